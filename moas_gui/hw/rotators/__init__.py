@@ -1,0 +1,1 @@
+"""moas_gui.hw.rotators."""

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Sets up everything moas-gui needs on a Debian or Ubuntu machine:
+#   scripts/setup.sh          the server (Qt's system libraries when root, a venv in .venv)
+#   scripts/setup.sh --test   also what the test suite needs (Hamlib, socat, xvfb, test extra)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+want_test=0
+[ "${1:-}" = "--test" ] && want_test=1
+
+apt_pkgs="libegl1 libgl1 libfontconfig1 libxkbcommon0 libdbus-1-3 libglib2.0-0 fonts-dejavu-core"
+if [ "$want_test" = 1 ]; then
+    apt_pkgs="$apt_pkgs libhamlib-utils socat"
+fi
+if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    missing=""
+    for p in $apt_pkgs; do
+        dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"
+    done
+    if [ -n "$missing" ]; then
+        echo "setup: installing Debian packages:$missing" >&2
+        apt-get update -qq >/dev/null
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $missing >/dev/null
+    fi
+fi
+
+py="${PYTHON:-python3}"
+[ -x .venv/bin/python ] || "$py" -m venv .venv
+extra=""
+[ "$want_test" = 1 ] && extra="[test]"
+stamp=".venv/.installed$extra"
+if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
+    .venv/bin/python -m pip install -q --disable-pip-version-check -e ".$extra"
+    touch "$stamp"
+fi

@@ -1,0 +1,352 @@
+"""A JSON reader that remembers where everything is, and explains mistakes.
+
+Python's ``json`` module stops at the first mistake and cannot say on which
+line a value sits.  Station builders edit these files by hand, so this reader:
+
+* keeps the line and column of every name and value (for messages about
+  meaning, like "antenna 12 does not exist", that must point somewhere);
+* recovers from the mistakes the manual warns about (a missing comma, an
+  extra comma before a closing bracket, ``True``/``False``, names without
+  quotes, single quotes, comments) and goes on, so that one run reports all
+  of them;
+* reports a name given twice in one group.
+
+It accepts nothing that strict JSON refuses: every recovery is also an error.
+"""
+
+from __future__ import annotations
+
+import re
+from bisect import bisect_right
+from dataclasses import dataclass, field
+
+from .problems import Problem, Severity
+
+Scalar = str | int | float | bool | None
+
+
+@dataclass(slots=True, eq=False)
+class Node:
+    line: int
+    column: int
+
+
+@dataclass(slots=True, eq=False)
+class JScalar(Node):
+    value: Scalar
+
+
+@dataclass(slots=True, eq=False)
+class Member:
+    key: str
+    line: int
+    column: int
+    value: Node
+
+
+@dataclass(slots=True, eq=False)
+class JObject(Node):
+    members: list[Member] = field(default_factory=list)
+
+    def get(self, key: str) -> Member | None:
+        for member in self.members:
+            if member.key == key:
+                return member
+        return None
+
+
+@dataclass(slots=True, eq=False)
+class JArray(Node):
+    items: list[Node] = field(default_factory=list)
+
+
+def describe(node: Node) -> str:
+    """A value's kind in words, for messages."""
+    if isinstance(node, JObject):
+        return "a group { }"
+    if isinstance(node, JArray):
+        return "a list [ ]"
+    assert isinstance(node, JScalar)
+    value = node.value
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return f"the number {value}"
+    return f'the text "{value}"'
+
+
+class _Stop(Exception):
+    """Raised when the reader cannot go on."""
+
+
+_WS = re.compile(r"[ \t\r\n\ufeff]*")
+_NUMBER = re.compile(r"[+-]?\d+(\.\d+)?([eE][+-]?\d+)?")
+_WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_\-]*")
+_STRING_BODY = re.compile(r'[^"\\\n]*')
+_ESCAPES = {'"': '"', "\\": "\\", "/": "/", "b": "\b", "f": "\f", "n": "\n", "r": "\r", "t": "\t"}
+_CLOSERS = {"{": "}", "[": "]"}
+
+
+class _Reader:
+    def __init__(self, text: str, filename: str) -> None:
+        self.text = text
+        self.filename = filename
+        self.pos = 0
+        self.problems: list[Problem] = []
+        self.line_starts = [0] + [m.end() for m in re.finditer(r"\n", text)]
+        self.depth = 0
+
+    # -- positions and messages --------------------------------------------
+    def where(self, offset: int) -> tuple[int, int]:
+        index = bisect_right(self.line_starts, offset) - 1
+        return index + 1, offset - self.line_starts[index] + 1
+
+    def error(self, offset: int, message: str) -> None:
+        line, column = self.where(offset)
+        self.problems.append(Problem(line, column, Severity.ERROR, message, self.filename))
+
+    def stop(self, offset: int, message: str) -> _Stop:
+        self.error(offset, message)
+        return _Stop()
+
+    def shown(self, offset: int) -> str:
+        if offset >= len(self.text):
+            return "the end of the file"
+        char = self.text[offset]
+        word = _WORD.match(self.text, offset)
+        if word:
+            return f"'{word.group()}'"
+        return repr(char) if char.isprintable() else f"character U+{ord(char):04X}"
+
+    # -- white space and comments ------------------------------------------
+    def skip(self) -> None:
+        text = self.text
+        while True:
+            self.pos = _WS.match(text, self.pos).end()  # type: ignore[union-attr]
+            if text.startswith("//", self.pos):
+                self.error(self.pos, "JSON has no comments: remove the '//' comment")
+                end = text.find("\n", self.pos)
+                self.pos = len(text) if end < 0 else end
+            elif text.startswith("/*", self.pos):
+                self.error(self.pos, "JSON has no comments: remove the '/* */' comment")
+                end = text.find("*/", self.pos + 2)
+                self.pos = len(text) if end < 0 else end + 2
+            else:
+                return
+
+    def peek(self) -> str:
+        return self.text[self.pos] if self.pos < len(self.text) else ""
+
+    # -- values ---------------------------------------------------------------
+    def value(self) -> Node:
+        self.skip()
+        start = self.pos
+        line, column = self.where(start)
+        char = self.peek()
+        if char == "{":
+            return self.group(start, line, column)
+        if char == "[":
+            return self.array(start, line, column)
+        if char in "\"'":
+            return JScalar(line, column, self.string())
+        if char and (char.isdigit() or char in "+-."):
+            return JScalar(line, column, self.number())
+        word = _WORD.match(self.text, self.pos)
+        if word:
+            self.pos = word.end()
+            name = word.group()
+            if name in ("true", "false", "null"):
+                return JScalar(line, column, None if name == "null" else name == "true")
+            if name.lower() in ("true", "false"):
+                self.error(start, f"write {name.lower()} in lowercase, not {name}")
+                return JScalar(line, column, name.lower() == "true")
+            if name.lower() in ("none", "null"):
+                self.error(start, f"write null in lowercase, not {name}")
+                return JScalar(line, column, None)
+            self.error(start, f'text must be in double quotes: write "{name}"')
+            return JScalar(line, column, name)
+        if not char:
+            raise self.stop(start, "the file ends where a value was expected")
+        raise self.stop(start, f"expected a value but found {self.shown(start)}")
+
+    def string(self) -> str:
+        text = self.text
+        quote = text[self.pos]
+        start = self.pos
+        if quote == "'":
+            end = text.find("'", start + 1)
+            newline = text.find("\n", start + 1)
+            if end < 0 or (0 <= newline < end):
+                raise self.stop(start, "a text in single quotes is not closed on its line")
+            self.error(start, "use double quotes (\") around names and text, not single quotes")
+            self.pos = end + 1
+            return text[start + 1 : end]
+        self.pos += 1
+        parts: list[str] = []
+        while True:
+            body = _STRING_BODY.match(text, self.pos)
+            assert body is not None
+            parts.append(body.group())
+            self.pos = body.end()
+            char = self.peek()
+            if char == '"':
+                self.pos += 1
+                return "".join(parts)
+            if char == "\\":
+                escape = text[self.pos + 1 : self.pos + 2]
+                if escape in _ESCAPES:
+                    parts.append(_ESCAPES[escape])
+                    self.pos += 2
+                elif escape == "u" and re.fullmatch(r"[0-9a-fA-F]{4}", text[self.pos + 2 : self.pos + 6]):
+                    parts.append(chr(int(text[self.pos + 2 : self.pos + 6], 16)))
+                    self.pos += 6
+                else:
+                    self.error(self.pos, "unknown escape in text: write \\\\ for a backslash")
+                    parts.append("\\")
+                    self.pos += 1
+                continue
+            raise self.stop(start, "a text in quotes is not closed on its line (missing \")")
+
+    def number(self) -> int | float:
+        start = self.pos
+        match = _NUMBER.match(self.text, self.pos)
+        if not match:
+            raise self.stop(start, f"expected a number but found {self.shown(start)}")
+        literal = match.group()
+        self.pos = match.end()
+        digits = literal.lstrip("+-")
+        if literal.startswith("+"):
+            self.error(start, f"numbers cannot start with '+': write {literal[1:]}")
+        if len(digits) > 1 and digits[0] == "0" and digits[1].isdigit():
+            self.error(start, f"numbers cannot have leading zeros: write {int(float(digits))}")
+        if re.fullmatch(r"[+-]?\d+", literal):
+            return int(literal)
+        return float(literal)
+
+    def opened(self, line: int) -> str:
+        return f"opened on line {line}"
+
+    def group(self, start: int, line: int, column: int) -> JObject:
+        node = JObject(line, column)
+        self.enter(start)
+        self.pos += 1
+        seen: dict[str, int] = {}
+        last_end = self.pos
+        expecting_member = True
+        while True:
+            self.skip()
+            char = self.peek()
+            if char == "}":
+                self.pos += 1
+                self.depth -= 1
+                return node
+            if not char:
+                raise self.stop(start, f"the group '{{' {self.opened(line)} is never closed with '}}'")
+            if char == ",":
+                if expecting_member:
+                    self.error(self.pos, "extra comma: there is no name and value before it")
+                comma = self.pos
+                self.pos += 1
+                self.skip()
+                if self.peek() == "}":
+                    self.error(comma, "extra comma after the last value of the group: remove it")
+                expecting_member = True
+                last_end = self.pos
+                continue
+            if char == "]":
+                raise self.stop(self.pos, f"found ']' but the group '{{' {self.opened(line)} needs '}}'")
+            if not expecting_member:
+                self.error(last_end, self.missing_comma(last_end))
+            key_at = self.pos
+            key = self.key()
+            key_line, key_column = self.where(key_at)
+            self.skip()
+            if self.peek() == ":":
+                self.pos += 1
+            else:
+                self.error(self.pos, f"missing ':' after the name \"{key}\"")
+            value = self.value()
+            if key in seen:
+                self.error(key_at, f"the name \"{key}\" appears twice in this group "
+                                   f"(first on line {seen[key]}); keep only one")
+            else:
+                seen[key] = key_line
+            node.members.append(Member(key, key_line, key_column, value))
+            last_end = self.pos
+            expecting_member = False
+
+    def key(self) -> str:
+        char = self.peek()
+        if char in "\"'":
+            return self.string()
+        word = _WORD.match(self.text, self.pos)
+        if word:
+            self.error(self.pos, f'names must be in double quotes: write "{word.group()}"')
+            self.pos = word.end()
+            return word.group()
+        raise self.stop(self.pos, f"expected a name in double quotes but found {self.shown(self.pos)}")
+
+    def missing_comma(self, offset: int) -> str:
+        line, _ = self.where(offset)
+        return f"missing comma after the value that ends on line {line}?"
+
+    def array(self, start: int, line: int, column: int) -> JArray:
+        node = JArray(line, column)
+        self.enter(start)
+        self.pos += 1
+        last_end = self.pos
+        expecting_item = True
+        while True:
+            self.skip()
+            char = self.peek()
+            if char == "]":
+                self.pos += 1
+                self.depth -= 1
+                return node
+            if not char:
+                raise self.stop(start, f"the list '[' {self.opened(line)} is never closed with ']'")
+            if char == ",":
+                if expecting_item:
+                    self.error(self.pos, "extra comma: there is no value before it")
+                comma = self.pos
+                self.pos += 1
+                self.skip()
+                if self.peek() == "]":
+                    self.error(comma, "extra comma after the last value of the list: remove it")
+                expecting_item = True
+                continue
+            if char == "}":
+                raise self.stop(self.pos, f"found '}}' but the list '[' {self.opened(line)} needs ']'")
+            if not expecting_item:
+                self.error(last_end, self.missing_comma(last_end))
+            node.items.append(self.value())
+            last_end = self.pos
+            expecting_item = False
+
+    def enter(self, offset: int) -> None:
+        self.depth += 1
+        if self.depth > 200:
+            raise self.stop(offset, "groups and lists are nested more than 200 deep")
+
+
+def parse(text: str, filename: str = "") -> tuple[Node | None, list[Problem]]:
+    """Read ``text``; return the tree (None when unreadable) and the problems found."""
+    reader = _Reader(text, filename)
+    reader.skip()
+    if reader.pos >= len(text):
+        reader.error(0, "the file is empty: a configuration is a group that starts with '{'")
+        return None, reader.problems
+    try:
+        root = reader.value()
+        reader.skip()
+        if reader.pos < len(text):
+            reader.error(reader.pos, f"unexpected {reader.shown(reader.pos)} after the end of the "
+                                     "configuration; the whole file must be one group { ... }")
+    except _Stop:
+        return None, reader.problems
+    return root, reader.problems
+
+
+__all__ = ["JArray", "JObject", "JScalar", "Member", "Node", "describe", "parse"]

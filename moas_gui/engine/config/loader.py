@@ -1,0 +1,102 @@
+"""Reading a ``.moas`` file into a :class:`~.model.Config`, or every reason it cannot be.
+
+A file with any error is never half-loaded: :func:`load_config` returns either a
+complete configuration (perhaps with warnings) or none at all.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from .jsontree import JObject, describe, parse
+from .model import Config
+from .problems import ConfigError, Problem, Severity
+from .reading import BAD, Reading
+from .schema import TOP
+from .validate import check
+
+MAX_BYTES = 10 * 1024 * 1024
+"""Files larger than this are refused: no station needs a configuration this big."""
+
+
+@dataclass(frozen=True, slots=True)
+class LoadResult:
+    """The outcome of reading a configuration: ``config`` is None when there are errors."""
+
+    config: Config | None
+    problems: tuple[Problem, ...]
+
+    @property
+    def errors(self) -> tuple[Problem, ...]:
+        return tuple(p for p in self.problems if p.severity is Severity.ERROR)
+
+    @property
+    def warnings(self) -> tuple[Problem, ...]:
+        return tuple(p for p in self.problems if p.severity is Severity.WARNING)
+
+    @property
+    def ok(self) -> bool:
+        return self.config is not None
+
+    def unwrap(self) -> Config:
+        """The configuration, or :class:`ConfigError` carrying every problem."""
+        if self.config is None:
+            raise ConfigError(self.problems)
+        return self.config
+
+
+def _whole_file(path: str, message: str) -> LoadResult:
+    return LoadResult(None, (Problem(0, 0, Severity.ERROR, message, path),))
+
+
+def load_config(path: str | Path) -> LoadResult:
+    """Read and check the configuration file at ``path``."""
+    path = Path(path)
+    name = str(path)
+    try:
+        size = path.stat().st_size
+        if path.is_dir():
+            return _whole_file(name, "this is a folder, not a configuration file")
+        if size > MAX_BYTES:
+            return _whole_file(name, f"the file is {size / 1_048_576:.1f} MB; a configuration "
+                                     "file is refused above 10 MB (is this the right file?)")
+        data = path.read_bytes()
+    except FileNotFoundError:
+        return _whole_file(name, "there is no such file")
+    except PermissionError:
+        return _whole_file(name, "the file cannot be read: permission denied")
+    except OSError as exc:
+        return _whole_file(name, f"the file cannot be read: {exc.strerror or exc}")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        return LoadResult(None, (Problem(line, column, Severity.ERROR,
+                                         "the file is not UTF-8 text (byte "
+                                         f"0x{data[exc.start]:02X}); save it as UTF-8", name),))
+    return parse_config(text, name, path)
+
+
+def parse_config(text: str, filename: str = "<config>", path: Path | None = None) -> LoadResult:
+    """Read and check configuration ``text`` (``filename`` is used in messages)."""
+    root, syntax = parse(text, filename)
+    reading = Reading(filename)
+    reading.problems.extend(syntax)
+    config: Config | None = None
+    if root is not None:
+        if not isinstance(root, JObject):
+            reading.error(root, f"a configuration is a group that starts with '{{', not {describe(root)}")
+        else:
+            values = reading.group(root, TOP, "the configuration")
+            if values is not BAD:
+                config = Config(path=path, **values)
+                reading.remember(config, root)
+                check(config, reading)
+    problems = tuple(sorted(reading.problems, key=lambda p: (p.line, p.column)))
+    has_errors = any(p.severity is Severity.ERROR for p in problems)
+    return LoadResult(None if has_errors else config, problems)
+
+
+__all__ = ["LoadResult", "MAX_BYTES", "load_config", "parse_config"]

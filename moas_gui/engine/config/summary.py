@@ -1,0 +1,71 @@
+"""A one-screen description of a valid configuration, for ``moas-server --check``."""
+
+from __future__ import annotations
+
+from .model import Config, RotatorControl
+
+BANDS = (
+    ("160 m", 1800, 2000), ("80 m", 3500, 4000), ("60 m", 5330, 5410), ("40 m", 7000, 7300),
+    ("30 m", 10100, 10150), ("20 m", 14000, 14350), ("17 m", 18068, 18168),
+    ("15 m", 21000, 21450), ("12 m", 24890, 24990), ("10 m", 28000, 29700),
+    ("6 m", 50000, 54000),
+)
+
+
+def _covers(config: Config, antenna_id: int, low: float, high: float) -> bool:
+    antenna = config.antenna(antenna_id)
+    if antenna is None:
+        return False
+    for control in antenna.control:
+        r = control.range
+        if (r.lower is None or r.lower <= high) and (r.upper is None or r.upper >= low):
+            return True
+    return False
+
+
+def summarize(config: Config) -> str:
+    """The station in a few lines: switches, radios, antennas per band, rotators."""
+    lines = [f"{config.name}: {len(config.antennas)} antennas, {len(config.systems)} systems, "
+             f"{len(config.radios)} radios, {len(config.switches)} switches, "
+             f"{len(config.rotators)} rotators, {len(config.functions)} functions, "
+             f"{len(config.layouts)} layouts"]
+    lines.append("Switches:")
+    for s in config.switches:
+        echo = f", unit id {s.echo}" if s.echo is not None else ""
+        lines.append(f"  {s.id}: port {s.port}, relays {s.first_relay}-{s.first_relay + 63}{echo}")
+    lines.append("Radios:")
+    single = config.switches[0].id if len(config.switches) == 1 else 0
+    for r in config.radios:
+        ports = ", ".join(f"switch {p.switch or single} port {p.port}" for p in r.switches)
+        mode = "interrupt" if r.interrupt else "wait"
+        extra = []
+        if r.always:
+            extra.append("inhibited by " + ", ".join(str(x) for x in r.always))
+        if r.sub_receiver is not None:
+            extra.append(f"sub receiver radio {r.sub_receiver}")
+        tail = f"; {'; '.join(extra)}" if extra else ""
+        lines.append(f"  station {r.station} radio {r.radio}: {ports}, {mode} mode{tail}")
+    lines.append("Antennas per band:")
+    for name, low, high in BANDS:
+        ids = [a.id for a in config.antennas if _covers(config, a.id, low, high)]
+        if ids:
+            labels = ", ".join(config.antenna(i).label for i in ids[:8])  # type: ignore[union-attr]
+            more = f" and {len(ids) - 8} more" if len(ids) > 8 else ""
+            lines.append(f"  {name:>5}: {len(ids):3d}  {labels}{more}")
+    if config.rotators:
+        lines.append("Rotators:")
+        for rot in config.rotators:
+            where = ""
+            if rot.control is RotatorControl.SERIAL:
+                where = f" {rot.model} on {rot.comm_port} via {rot.address}"
+            elif rot.control in (RotatorControl.ROTATOR_GENIUS, RotatorControl.HAMLIB):
+                where = f" at {rot.address}"
+            lines.append(f"  {rot.id}: {rot.label} ({rot.control.value}{where}), "
+                         f"{rot.rotation} degrees from {rot.ccw_limit}"
+                         f"{', with a stop' if rot.has_stop else ''}")
+    n1mm = "on" if config.use_n1mm_logger else "off"
+    lines.append(f"Clients on TCP {config.tcp_port}; N1MM Logger on UDP {config.udp_port}: {n1mm}")
+    return "\n".join(lines)
+
+
+__all__ = ["summarize"]

@@ -1,0 +1,400 @@
+"""Checks that need the whole file: references, duplicates, relays, systems.
+
+Each check reads the built objects and reports through :class:`Reading`, which
+knows the line and column every object came from.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+from collections import defaultdict
+from collections.abc import Iterable
+
+from . import model as m
+from .reading import Reading
+
+SERIAL_MODELS = {
+    "DCU1": 1, "RotorEZ": 2, "Yaesu": 4, "GS-232A": 4, "GS-232B": 4, "Alfaspid": 5,
+    "RC2800P-A": 8, "RC2800P-X": 9, "Prosistel D": 10,
+}
+"""Rotator model names accepted for Serial rotators, with the MOAS Rotator numbers."""
+
+
+class _Checker:
+    def __init__(self, config: m.Config, reading: Reading) -> None:
+        self.c = config
+        self.r = reading
+        self.antennas = {a.id for a in config.antennas}
+        self.systems = {s.id for s in config.systems}
+        self.functions = {f.id for f in config.functions}
+        self.rotators = {r.id for r in config.rotators}
+        self.radios = {r.ref for r in config.radios}
+        self.stations = {r.station for r in config.radios}
+        self.switches = {s.id for s in config.switches}
+
+    # -- helpers -------------------------------------------------------------
+    def duplicates(self, items: Iterable[object], key: str, what: str, ident: str = "ID") -> None:
+        first: dict[object, object] = {}
+        for item in items:
+            value = getattr(item, key)
+            if value in first:
+                line = getattr(self.r.at(first[value]), "line", "?")
+                self.r.error(self.r.at(item, ident), f"{what} {value} is defined twice "
+                             f"(also on line {line}); each needs its own number")
+            else:
+                first[value] = item
+
+    def antenna_refs(self, owner: object, key: str, ids: Iterable[int], what: str) -> None:
+        for antenna_id in ids:
+            if antenna_id not in self.antennas:
+                self.r.error(self.r.at(owner, key, antenna_id),
+                             f"{what} names antenna {antenna_id}, which is not in \"Antennas\"")
+
+    def radio_ref(self, owner: object, key: str, station: int | None, radio: int | None,
+                  what: str, value: object = None) -> bool:
+        if station is None:
+            return True
+        if radio is None:
+            if station not in self.stations:
+                self.r.error(self.r.at(owner, key, value), f"{what} names station {station}, "
+                             "which has no radio in \"Radios\"")
+                return False
+            return True
+        if m.RadioRef(station, radio) not in self.radios:
+            self.r.error(self.r.at(owner, key, value), f"{what} names station {station} radio "
+                         f"{radio}, which is not in \"Radios\"")
+            return False
+        return True
+
+    def relays(self, owner: object, key: str, relays: Iterable[int], what: str) -> None:
+        for relay in sorted(relays):
+            switch_id, local = divmod(relay, 100)
+            switch_id += 1
+            if local > 63:
+                self.r.error(self.r.at(owner, key, relay),
+                             f"{what} names relay {relay}; switch {switch_id} has relays "
+                             f"{(switch_id - 1) * 100}-{(switch_id - 1) * 100 + 63} only")
+            elif switch_id not in self.switches:
+                self.r.error(self.r.at(owner, key, relay),
+                             f"{what} names relay {relay}, which belongs to switch {switch_id}, "
+                             "but there is no such switch in \"Switches\"")
+
+    # -- the checks ----------------------------------------------------------
+    def run(self) -> None:
+        c = self.c
+        self.duplicates(c.antennas, "id", "antenna")
+        self.duplicates(c.systems, "id", "system")
+        self.duplicates(c.functions, "id", "function")
+        self.duplicates(c.rotators, "id", "rotator")
+        self.duplicates(c.switches, "id", "switch")
+        self.duplicates(c.templates, "name", "template", "Name")
+        self.duplicates(c.radios, "ref", "radio on", "Radio")
+        self.check_antennas()
+        self.check_systems()
+        self.check_functions()
+        self.check_layouts()
+        self.check_relative()
+        self.check_rotators()
+        self.check_radios()
+        self.check_misc()
+
+    def check_antennas(self) -> None:
+        templates = {t.name for t in self.c.templates}
+        for a in self.c.antennas:
+            label = f"antenna {a.id}"
+            self.antenna_refs(a, "InUse", a.in_use, label)
+            self.antenna_refs(a, "Alternate", a.alternate, label)
+            self.antenna_refs(a, "Conflicts", a.conflicts, label)
+            self.antenna_refs(a, "Fast", a.fast, label)
+            if a.rotator is not None and a.rotator not in self.rotators:
+                self.r.error(self.r.at(a, "Rotator"), f"{label} uses rotator {a.rotator}, "
+                             "which is not in \"Rotators\"")
+            if a.template and templates and a.template not in templates:
+                self.r.warning(self.r.at(a, "Template"), f"{label} names template "
+                               f"\"{a.template}\", which is not in \"Templates\"")
+            if a.rx_only and a.tx_only:
+                self.r.error(self.r.at(a, "TXOnly"), f"{label} cannot be both RXOnly and TXOnly")
+            for control in a.control:
+                for entry in control.stations:
+                    self.radio_ref(entry, "Station" if entry.radio is None else "Radio",
+                                   entry.station, entry.radio, f"{label}'s Control")
+                    for key, relays in (("Relays", entry.relays),
+                                        ("RXRelays", entry.rx_relays or ()),
+                                        ("PersistentRelays", entry.persistent_relays)):
+                        self.relays(entry, key, relays, f"{label}'s Control")
+
+    def check_systems(self) -> None:
+        antenna_home: dict[int, m.System] = {}
+        system_home: dict[int, m.System] = {}
+        for s in self.c.systems:
+            label = f"system {s.id}"
+            here: set[int] = set()
+            for key, ids in (("AdditiveAntennas", s.additive_antennas),
+                             ("ExclusiveAntennas", s.exclusive_antennas),
+                             ("SharedAntennas", s.shared_antennas)):
+                self.antenna_refs(s, key, ids, label)
+                for antenna_id in ids:
+                    other = antenna_home.get(antenna_id)
+                    if antenna_id in here:
+                        self.r.error(self.r.at(s, key, antenna_id),
+                                     f"antenna {antenna_id} is listed twice in {label}")
+                    elif other is not None:
+                        self.r.error(self.r.at(s, key, antenna_id), f"antenna {antenna_id} is in "
+                                     f"{label} and in system {other.id}; an antenna can be part "
+                                     "of only one system")
+                    here.add(antenna_id)
+                    antenna_home.setdefault(antenna_id, s)
+            for key, ids in (("AdditiveSystems", s.additive_systems),
+                             ("ExclusiveSystems", s.exclusive_systems),
+                             ("SharedSystems", s.shared_systems)):
+                for system_id in ids:
+                    if system_id not in self.systems:
+                        self.r.error(self.r.at(s, key, system_id), f"{label} names system "
+                                     f"{system_id}, which is not in \"Systems\"")
+                    elif system_id == s.id:
+                        self.r.error(self.r.at(s, key, system_id), f"{label} contains itself")
+                    else:
+                        other = system_home.get(system_id)
+                        if other is not None and other is not s:
+                            self.r.error(self.r.at(s, key, system_id), f"system {system_id} is "
+                                         f"in {label} and in system {other.id}; a system can be "
+                                         "part of only one system")
+                        system_home[system_id] = s
+        # A system that contains itself through others.
+        children = {s.id: set(s.member_systems) for s in self.c.systems}
+        reported: set[int] = set()
+        for s in self.c.systems:
+            path = self._cycle(s.id, children)
+            if path and s.id not in reported and len(path) > 2:
+                reported.update(path)
+                chain = " -> ".join(f"system {i}" for i in path)
+                self.r.error(self.r.at(s), f"systems contain each other in a circle: {chain}")
+
+    @staticmethod
+    def _cycle(start: int, children: dict[int, set[int]]) -> list[int] | None:
+        stack = [(start, [start])]
+        seen: set[int] = set()
+        while stack:
+            node, path = stack.pop()
+            for child in children.get(node, ()):
+                if child == start:
+                    return path + [start]
+                if child not in seen:
+                    seen.add(child)
+                    stack.append((child, path + [child]))
+        return None
+
+    def check_functions(self) -> None:
+        for f in self.c.functions:
+            self._function(f)
+
+    def _function(self, f: m.Function) -> None:
+        label = f"function {f.id} ({f.name})"
+        p = f.int_params
+        where = self.r.at(f, "IntParams")
+
+        def need(count: int, text: str, exact: bool = True) -> bool:
+            if (len(p) != count) if exact else (len(p) < count):
+                self.r.error(where, f"{label} needs {text} in \"IntParams\" "
+                             f"but has {len(p)} number{'s' if len(p) != 1 else ''}")
+                return False
+            return True
+
+        def radio(i: int) -> None:
+            self.radio_ref(f, "IntParams", p[i], p[i + 1], label, value=p[i])
+
+        name = f.name
+        if name in ("AntennaSwap", "Partner"):
+            if need(4, "four numbers: station and radio, station and radio"):
+                radio(0)
+                radio(2)
+        elif name == "Share":
+            if need(1, "the system number first, then any preferred antennas", exact=False):
+                if p[0] not in self.systems:
+                    self.r.error(where, f"{label} names system {p[0]}, which is not in \"Systems\"")
+                self.antenna_refs(f, "IntParams", p[1:], label)
+        elif name == "Relay":
+            if need(1, "the relay number, then optionally station, radio and antennas", exact=False):
+                self.relays(f, "IntParams", p[:1], label)
+                if len(p) == 2:
+                    self.r.error(where, f"{label} gives a station without a radio")
+                if len(p) >= 3:
+                    radio(1)
+                    self.antenna_refs(f, "IntParams", p[3:], label)
+                for s in f.string_params:
+                    if s not in ("T", "R", "S"):
+                        self.r.error(self.r.at(f, "StringParams", s),
+                                     f"{label}: \"{s}\" is not one of \"T\", \"R\", \"S\"")
+        elif name == "Inhibit":
+            if need(3, "three numbers: station, radio and inhibit buss"):
+                radio(0)
+        elif name == "Extra":
+            if "Transfer" in f.string_params:
+                if need(5, "five numbers with \"Transfer\": station, radio, other station, "
+                           "other radio, relay"):
+                    radio(0)
+                    radio(2)
+                    self.relays(f, "IntParams", p[4:], label)
+            elif need(3, "three numbers: station, radio and relay"):
+                radio(0)
+                self.relays(f, "IntParams", p[2:], label)
+        elif name == "AltActive":
+            if need(4, "at least four numbers: the radio, then radios that move it", exact=False):
+                if len(p) % 2:
+                    self.r.error(where, f"{label} needs station and radio pairs, but has an odd "
+                                 "count of numbers")
+                for i in range(0, len(p) - 1, 2):
+                    radio(i)
+
+    def check_layouts(self) -> None:
+        for layout in self.c.layouts:
+            self.radio_ref(layout, "Station" if layout.radio is None else "Radio",
+                           layout.station, layout.radio, "this layout")
+            for entry in layout.matrix:
+                taken: dict[tuple[int, int], m.Button] = {}
+                for b in entry.buttons:
+                    known = self.antennas if b.type is m.ButtonType.ANTENNA else self.functions
+                    if b.id not in known:
+                        kind = "antenna" if b.type is m.ButtonType.ANTENNA else "function"
+                        self.r.error(self.r.at(b, "ID"), f"this button shows {kind} {b.id}, "
+                                     f"which is not in \"{'Antennas' if kind == 'antenna' else 'Functions'}\"")
+                    if (layout.rows and b.row >= layout.rows) or (
+                            layout.columns and b.column >= layout.columns):
+                        self.r.error(self.r.at(b), f"this button at row {b.row} column {b.column} "
+                                     f"lies outside the layout's {layout.rows} rows and "
+                                     f"{layout.columns} columns (rows and columns count from 0)")
+                    if (b.row, b.column) in taken:
+                        self.r.error(self.r.at(b), f"two buttons at row {b.row} column "
+                                     f"{b.column} in the same Matrix entry")
+                    taken[(b.row, b.column)] = b
+
+    def check_relative(self) -> None:
+        for rel in self.c.relative_antennas:
+            self.radio_ref(rel, "Station" if rel.radio is None else "Radio",
+                           rel.station, rel.radio, "these relative antennas")
+            for entry in rel.antennas:
+                self.antenna_refs(entry, "IDs", entry.ids, "this relative list")
+                if entry.rx_ids is not None:
+                    self.antenna_refs(entry, "RXIDs", entry.rx_ids, "this relative list")
+                    if len(entry.rx_ids) != len(entry.ids):
+                        self.r.error(self.r.at(entry, "RXIDs"), f"\"RXIDs\" has "
+                                     f"{len(entry.rx_ids)} antennas but \"IDs\" has "
+                                     f"{len(entry.ids)}; they must be the same length")
+
+    def check_rotators(self) -> None:
+        users: dict[int, list[m.Antenna]] = defaultdict(list)
+        for a in self.c.antennas:
+            if a.rotator is not None:
+                users[a.rotator].append(a)
+        home: dict[int, m.System] = {}
+        for s in self.c.systems:
+            for antenna_id in s.member_antennas:
+                home[antenna_id] = s
+        for rot in self.c.rotators:
+            label = f"rotator {rot.id}"
+            node = self.r.node_of(rot)
+            if rot.control is m.RotatorControl.SERIAL:
+                if not rot.comm_port:
+                    self.r.error(node, f"{label} is Serial and needs \"CommPort\", the serial "
+                                 "port on the computer running MOAS Rotator")
+                if not rot.model:
+                    self.r.error(node, f"{label} is Serial and needs \"Model\", one of "
+                                 + ", ".join(f'"{k}"' for k in SERIAL_MODELS))
+                elif rot.model not in SERIAL_MODELS and not rot.model.isdigit():
+                    self.r.error(self.r.at(rot, "Model"), f"{label} has model \"{rot.model}\"; "
+                                 "known models are " + ", ".join(f'"{k}"' for k in SERIAL_MODELS))
+            elif rot.control in (m.RotatorControl.ROTATOR_GENIUS, m.RotatorControl.HAMLIB):
+                if node is not None and node.get("Address") is None:
+                    self.r.error(node, f"{label} is {rot.control.value} and needs \"Address\", "
+                                 "the controller's host (and :port)")
+            elif rot.control is m.RotatorControl.ELECTRICAL:
+                for a in users.get(rot.id, []):
+                    system = home.get(a.id)
+                    if system is None:
+                        self.r.error(self.r.at(a, "Rotator"), f"antenna {a.id} uses electrical "
+                                     f"{label}, so it must be part of an antenna system")
+                        continue
+                    for other in system.member_antennas:
+                        other_antenna = self.c.antenna(other)
+                        if other_antenna is not None and other_antenna.rotator != rot.id:
+                            self.r.error(self.r.at(other_antenna), f"antenna {other} is in "
+                                         f"system {system.id} with antennas of electrical {label}, "
+                                         f"so it must also say \"Rotator\": {rot.id}")
+
+    def check_radios(self) -> None:
+        used_ports: dict[tuple[int, int], m.Radio] = {}
+        single = next(iter(self.switches)) if len(self.switches) == 1 else None
+        for radio in self.c.radios:
+            label = f"station {radio.station} radio {radio.radio}"
+            for sp in radio.switches:
+                switch_id = sp.switch or single
+                if sp.switch == 0 and single is None:
+                    self.r.error(self.r.at(radio, "Switches"), f"{label} must say which "
+                                 "\"Switch\" its port is on, because there is "
+                                 f"{'no switch' if not self.switches else 'more than one switch'}")
+                    continue
+                if switch_id not in self.switches:
+                    self.r.error(self.r.at(radio, "Switches"), f"{label} is wired to switch "
+                                 f"{switch_id}, which is not in \"Switches\"")
+                    continue
+                assert switch_id is not None
+                other = used_ports.get((switch_id, sp.port))
+                if other is not None:
+                    self.r.error(self.r.at(radio, "Switches"), f"{label} and station "
+                                 f"{other.station} radio {other.radio} are both on port {sp.port} "
+                                 f"of switch {switch_id}")
+                used_ports[(switch_id, sp.port)] = radio
+            for key, refs in (("Always", radio.always), ("SameBand", radio.same_band),
+                              ("Partner", radio.partner), ("AltActive", radio.alt_active)):
+                for ref in refs:
+                    self.radio_ref(ref, "Radio", ref.station, ref.radio, f"{label}'s \"{key}\"")
+                    if ref == radio.ref and key != "Partner":
+                        self.r.error(self.r.at(ref), f"{label} lists itself in \"{key}\"")
+            if len(radio.partner) > 1:
+                self.r.error(self.r.at(radio, "Partner"), f"{label} has {len(radio.partner)} "
+                             "partners; only one is allowed")
+            for key, number in (("SubReceiver", radio.sub_receiver),
+                                ("AltReceiver", radio.alt_receiver)):
+                if number is not None and m.RadioRef(radio.station, number) not in self.radios:
+                    self.r.error(self.r.at(radio, key), f"{label}'s \"{key}\" is radio {number}, "
+                                 f"but station {radio.station} has no radio {number} in \"Radios\"")
+            for rule in radio.alternate:
+                self.antenna_refs(rule, "ThisAntennas", rule.this_antennas, f"{label}'s Alternate")
+                self.antenna_refs(rule, "OtherAntennas", rule.other_antennas, f"{label}'s Alternate")
+                if rule.antenna is not None:
+                    self.antenna_refs(rule, "Antenna", (rule.antenna,), f"{label}'s Alternate")
+            for entry in radio.relays:
+                for key, relays in (("Extra", entry.extra), ("Set", entry.set),
+                                    ("Reset", entry.reset)):
+                    self.relays(entry, key, relays, f"{label}'s Relays")
+
+    def check_misc(self) -> None:
+        c = self.c
+        if not c.switches:
+            self.r.warning(None, "there are no \"Switches\": the server will not control any relays")
+        if not c.radios:
+            self.r.warning(None, "there are no \"Radios\": no antenna can be selected")
+        for entry in c.n1mm_logger:
+            self.radio_ref(entry, "Station", entry.station, None, "this N1MMLogger entry")
+            try:
+                ipaddress.ip_address(entry.address)
+            except ValueError:
+                self.r.error(self.r.at(entry, "Address"), f"\"{entry.address}\" is not an IP "
+                             "address such as 192.168.1.20")
+        if c.use_n1mm_logger and not c.n1mm_logger:
+            self.r.warning(None, "UseN1MMLogger is true but \"N1MMLogger\" lists no computers; "
+                           "every packet will be ignored")
+        for allowed in c.client_allow or ():
+            try:
+                ipaddress.ip_network(allowed, strict=False)
+            except ValueError:
+                self.r.error(self.r.at(c, "ClientAllow", allowed), f"\"ClientAllow\" has \"{allowed}\", which is not an address "
+                             "or network such as 192.168.1.0/24")
+
+
+def check(config: m.Config, reading: Reading) -> None:
+    """Report every cross-reference problem of ``config`` through ``reading``."""
+    _Checker(config, reading).run()
+
+
+__all__ = ["SERIAL_MODELS", "check"]

@@ -1,0 +1,52 @@
+"""What can go wrong between this program and a MOAS II, as a small tree::
+
+    Moas2Error
+     +-- EncodeError (ValueError)   a command this program refuses to write
+     |    +-- CommandTooLong        it would exceed the 40-byte limit
+     |         +-- RelayListTooLong  more relays than one antenna command holds
+     +-- CommandRejected            a command the box answers with ``?U``/``?A``/``?T``
+     +-- PortError (OSError)        a port that cannot be opened or vanished
+
+Each error's message says what was wrong and where.
+"""
+
+from __future__ import annotations
+
+
+class Moas2Error(Exception):
+    """Anything wrong in talking to a MOAS II."""
+
+
+class EncodeError(Moas2Error, ValueError):
+    """A command with a value the protocol cannot carry."""
+
+
+class CommandTooLong(EncodeError):
+    """A command longer than the 40 bytes the driver allows itself."""
+
+
+class RelayListTooLong(CommandTooLong):
+    """An antenna command with more relays than fit in 40 bytes (35)."""
+
+
+class CommandRejected(Moas2Error):
+    """A command the box would refuse; ``code`` is its ``?`` letter."""
+
+    def __init__(self, code: str, reason: str) -> None:
+        super().__init__(reason)
+        self.code = code
+        self.reason = reason
+
+
+class PortError(Moas2Error, OSError):
+    """A serial port that cannot be opened, or that vanished."""
+
+
+__all__ = [
+    "CommandRejected",
+    "CommandTooLong",
+    "EncodeError",
+    "Moas2Error",
+    "PortError",
+    "RelayListTooLong",
+]

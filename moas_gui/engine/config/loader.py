@@ -94,7 +94,7 @@ def parse_config(text: str, filename: str = "<config>", path: Path | None = None
                 config = Config(path=path, **values)
                 reading.remember(config, root)
                 check(config, reading)
-    problems = tuple(sorted(reading.problems, key=lambda p: (p.line, p.column)))
+    problems = tuple(sorted(reading.problems, key=lambda p: (p.line == 0, p.line, p.column)))
     has_errors = any(p.severity is Severity.ERROR for p in problems)
     return LoadResult(None if has_errors else config, problems)
 

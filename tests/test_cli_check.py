@@ -32,7 +32,8 @@ def test_a_broken_file_lists_every_problem_with_its_place_and_exits_1(tmp_path: 
     lines = done.stdout.splitlines()
     assert lines[0] == f"{path}:2:46: error: missing comma after the value that ends on line 2?"
     assert lines[1] == f"{path}:3:14: error: write true in lowercase, not True"
-    assert "2 errors; the configuration cannot be used." in lines[-1]
+    assert "3 errors; the configuration cannot be used." in lines[-1]
+    assert "must be a whole number, not true" in lines[2]
     assert "Traceback" not in done.stderr
 
 

@@ -1,0 +1,204 @@
+"""What every kind of rotator shares: its status, the view clients see, the
+driver seam, errors and timing.
+
+Errors, by who caused them::
+
+    RotatorError (code, sentence)     a rotate/stop request that cannot be served
+      code "not_found"                no such rotator
+      code "bad_request"              the heading is not a number
+      code "unavailable"              the rotator exists but cannot turn now
+                                      (offline, unusable configuration, refused)
+
+    peer sent nonsense                never raised: a log line naming the
+                                      rotator and the peer, and the link carries on
+    peer went away                    never raised: the rotator shows
+                                      ``online: false`` and the link reconnects
+
+A driver is the one seam per kind (Test, Electrical, Serial, RotatorGenius,
+Hamlib): ``start``, ``close``, ``rotate(heading)``, ``stop()``, and a
+``publish`` callback it calls with a new :class:`RotatorStatus` whenever
+something changes.
+"""
+
+from __future__ import annotations
+
+import logging
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from moas_gui.engine.config.model import Rotator
+
+from .headings import Travel, whole_heading
+
+log = logging.getLogger("moas_gui.hw.rotators")
+
+ERROR_CODES = ("not_found", "unavailable", "bad_request")
+
+
+class RotatorError(Exception):
+    """A rotate or stop request that cannot be served; ``code`` is a client-protocol code."""
+
+    def __init__(self, code: str, message: str) -> None:
+        if code not in ERROR_CODES:
+            raise ValueError(f"unknown rotator error code {code!r}")
+        super().__init__(message)
+        self.code = code
+        self.message = message
+
+
+@dataclass(frozen=True, slots=True)
+class RotatorStatus:
+    """What a driver knows about its rotator, in compass degrees."""
+
+    heading: float | None = None
+    target: float | None = None
+    moving: bool = False
+    online: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class RotatorView:
+    """One entry of the client protocol's ``rotators`` list."""
+
+    id: int
+    short: str
+    heading: int | None
+    target: int | None
+    moving: bool
+    online: bool
+
+    @classmethod
+    def of(cls, rotator: Rotator, status: RotatorStatus) -> RotatorView:
+        return cls(
+            id=rotator.id,
+            short=rotator.label,
+            heading=None if status.heading is None else whole_heading(status.heading),
+            target=None if status.target is None else whole_heading(status.target),
+            moving=status.moving,
+            online=status.online,
+        )
+
+    def to_json(self) -> dict[str, object]:
+        return {
+            "id": self.id, "short": self.short, "heading": self.heading,
+            "target": self.target, "moving": self.moving, "online": self.online,
+        }
+
+
+@dataclass(frozen=True, slots=True)
+class Timing:
+    """Every delay the rotator code uses, in seconds; tests pass shorter ones."""
+
+    reconnect_min: float = 0.5
+    """First wait before reconnecting to a peer that went away; doubles each time."""
+    reconnect_max: float = 10.0
+    connect_timeout: float = 3.0
+    reply_timeout: float = 2.0
+    """How long a peer may take to answer one command before the link is reset."""
+    test_speed: float = 10.0
+    """Degrees per second of a Test rotator (6.9)."""
+    test_tick: float = 0.2
+    """How often a turning Test rotator reports its heading."""
+    arrival_tolerance: float = 2.0
+    """A turn is over when the rotator is this close to its target."""
+    stall_polls: int = 4
+    stall_min: float = 5.0
+    """A turn is over, short of its target, when the heading has not changed for
+    ``max(stall_polls * poll, stall_min)``."""
+
+
+class Backoff:
+    """Waits before reconnecting: ``low``, then twice as long each time, up to ``high``."""
+
+    def __init__(self, low: float, high: float) -> None:
+        self.low, self.high = low, high
+        self._next = low
+
+    def next(self) -> float:
+        wait = self._next
+        self._next = min(self._next * 2, self.high)
+        return wait
+
+    def reset(self) -> None:
+        self._next = self.low
+
+
+def describe(rotator: Rotator) -> str:
+    """``rotator 3 (Tribander)``: how log lines and errors name a rotator."""
+    name = rotator.short_name or rotator.long_name
+    return f"rotator {rotator.id} ({name})" if name else f"rotator {rotator.id}"
+
+
+Publish = Callable[[RotatorStatus], None]
+
+
+class RotatorDriver(ABC):
+    """The seam for one kind of rotator."""
+
+    def __init__(self, rotator: Rotator, travel: Travel, publish: Publish) -> None:
+        self.rotator = rotator
+        self.travel = travel
+        self._publish = publish
+        self._status = RotatorStatus()
+
+    @property
+    def name(self) -> str:
+        return describe(self.rotator)
+
+    @property
+    def status(self) -> RotatorStatus:
+        return self._status
+
+    def _set(self, status: RotatorStatus) -> None:
+        if status != self._status:
+            self._status = status
+            self._publish(status)
+
+    def _unavailable(self, why: str) -> RotatorError:
+        return RotatorError("unavailable", f"{self.name.capitalize()} {why}")
+
+    async def start(self) -> None:
+        """Begin work (connect, poll); returns at once, never raises for a peer's fault."""
+
+    async def close(self) -> None:
+        """Stop all work and release sockets and tasks."""
+
+    @abstractmethod
+    async def rotate(self, heading: float) -> None:
+        """Turn to compass ``heading`` (already checked to be a number 0..360)."""
+
+    @abstractmethod
+    async def stop(self) -> None:
+        """Stop turning."""
+
+
+class UnusableRotator(RotatorDriver):
+    """A rotator whose configuration cannot work; says why on every request."""
+
+    def __init__(self, rotator: Rotator, travel: Travel, publish: Publish, why: str) -> None:
+        super().__init__(rotator, travel, publish)
+        self.why = why
+
+    async def start(self) -> None:
+        log.error("%s cannot be used: %s", self.name.capitalize(), self.why)
+
+    async def rotate(self, heading: float) -> None:
+        raise self._unavailable(f"cannot be used: {self.why}")
+
+    async def stop(self) -> None:
+        raise self._unavailable(f"cannot be used: {self.why}")
+
+
+__all__ = [
+    "ERROR_CODES",
+    "Backoff",
+    "Publish",
+    "RotatorDriver",
+    "RotatorError",
+    "RotatorStatus",
+    "RotatorView",
+    "Timing",
+    "UnusableRotator",
+    "describe",
+]

@@ -1,0 +1,250 @@
+"""Serial rotators: one TCP connection per MOAS Rotator program, shared by all
+the rotators at that address.
+
+On connect the link sends ``VERSION``, then every rotator's ``CONFIGURE``
+(and, for a turn the program's departure interrupted, the ``ROTATE`` again).
+Heading reports go to the rotator they name.  When the program goes away its
+rotators show ``online: false`` (keeping their last heading) and the link
+tries again after 0.5 s, 1 s, 2 s ... up to ``Timing.reconnect_max``.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+
+from moas_gui.engine.config.model import Rotator
+
+from .base import Backoff, Publish, RotatorDriver, RotatorStatus, Timing
+from .headings import Travel, angular_distance, normalize
+from .moas_rotator_codec import (
+    BadLine,
+    HeadingReport,
+    ReportDecoder,
+    Scale,
+    VersionReport,
+    encode_configure,
+    encode_rotate,
+    encode_stop,
+    encode_version,
+)
+from .tracking import TurnTracker, linear_distance
+
+log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_link")
+
+MOAS_ROTATOR_PORT = 13020
+
+
+class MoasRotatorLink:
+    def __init__(self, host: str, port: int, timing: Timing) -> None:
+        self.host, self.port, self.timing = host, port, timing
+        self.drivers: dict[int, SerialRotator] = {}
+        self.version: str | None = None
+        self._writer: asyncio.StreamWriter | None = None
+        self._task: asyncio.Task[None] | None = None
+
+    @property
+    def where(self) -> str:
+        return f"MOAS Rotator at {self.host}:{self.port}"
+
+    @property
+    def connected(self) -> bool:
+        return self._writer is not None and not self._writer.is_closing()
+
+    def attach(self, driver: SerialRotator) -> None:
+        self.drivers[driver.rotator.id] = driver
+
+    async def start(self) -> None:
+        if self._task is None:
+            self._task = asyncio.create_task(self._run(), name=self.where)
+
+    async def close(self) -> None:
+        task, self._task = self._task, None
+        if task is not None:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+
+    async def send(self, data: bytes) -> None:
+        writer = self._writer
+        if writer is None or writer.is_closing():
+            raise ConnectionError(f"{self.where} is not connected")
+        writer.write(data)
+        await asyncio.wait_for(writer.drain(), self.timing.reply_timeout)
+
+    async def _run(self) -> None:
+        backoff = Backoff(self.timing.reconnect_min, self.timing.reconnect_max)
+        failures = 0
+        while True:
+            try:
+                reader, writer = await asyncio.wait_for(
+                    asyncio.open_connection(self.host, self.port), self.timing.connect_timeout
+                )
+            except (OSError, TimeoutError) as exc:
+                level = logging.WARNING if failures == 0 else logging.DEBUG
+                log.log(level, "%s: cannot connect (%s); will keep trying", self.where, exc or
+                        "timed out")
+                failures += 1
+                await asyncio.sleep(backoff.next())
+                continue
+            failures = 0
+            backoff.reset()
+            await self._session(reader, writer)
+            await asyncio.sleep(backoff.next())
+
+    async def _session(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        log.info("%s: connected", self.where)
+        self._writer = writer
+        try:
+            hello = bytearray(encode_version())
+            for driver in self.drivers.values():
+                hello += driver.link_up()
+            writer.write(bytes(hello))
+            await asyncio.wait_for(writer.drain(), self.timing.reply_timeout)
+            decoder = ReportDecoder()
+            while data := await reader.read(4096):
+                for report in decoder.feed(data):
+                    self._dispatch(report)
+            log.warning("%s closed the connection; its rotators are offline", self.where)
+        except (OSError, TimeoutError) as exc:
+            log.warning("%s: connection lost (%s); its rotators are offline", self.where, exc)
+        finally:
+            self._writer = None
+            for driver in self.drivers.values():
+                driver.link_down()
+            writer.close()
+            with contextlib.suppress(OSError):
+                await writer.wait_closed()
+
+    def _dispatch(self, report: HeadingReport | VersionReport | BadLine) -> None:
+        if isinstance(report, VersionReport):
+            self.version = report.version
+            log.info("%s: program version %s", self.where, report.version)
+            return
+        driver = self.drivers.get(report.rotator) if report.rotator is not None else None
+        if isinstance(report, HeadingReport):
+            if driver is None:
+                log.warning("%s reports rotator %d, which is not configured here; ignored",
+                            self.where, report.rotator)
+            else:
+                driver.on_report(report.degrees)
+            return
+        about = f" about {driver.name}" if driver is not None else ""
+        log.warning("%s sent a malformed line%s: %r (%s); ignored",
+                    self.where, about, report.line, report.reason)
+
+
+class SerialRotator(RotatorDriver):
+    """A rotator on a serial port of a computer running the MOAS Rotator program."""
+
+    def __init__(
+        self, rotator: Rotator, travel: Travel, publish: Publish, timing: Timing,
+        link: MoasRotatorLink, model_field: str, scale: Scale,
+    ) -> None:
+        super().__init__(rotator, travel, publish)
+        self.link, self.model_field, self.scale, self.timing = link, model_field, scale, timing
+        poll = max(rotator.poll, 0) / 1000
+        self.tracker = TurnTracker(
+            tolerance=timing.arrival_tolerance,
+            stall_after=max(timing.stall_polls * poll, timing.stall_min),
+            moving_window=2 * poll + 0.25,
+            distance=linear_distance if travel.bounded else angular_distance,
+        )
+        self._watch_every = min(max(poll, 0.1), 1.0)
+        self._online = False
+        self._task: asyncio.Task[None] | None = None
+        link.attach(self)
+
+    async def start(self) -> None:
+        self._publish_now()
+        self._task = asyncio.create_task(self._watch(), name=f"{self.name} watch")
+
+    async def close(self) -> None:
+        task, self._task = self._task, None
+        if task is not None:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+
+    # ---- called by the link ----------------------------------------------------------
+
+    def link_up(self) -> bytes:
+        """The program is (again) there: what to send for this rotator."""
+        self._online = True
+        out = encode_configure(self.rotator.id, self.model_field, self.rotator.comm_port,
+                               self.rotator.poll)
+        if self.tracker.target is not None:
+            log.info("%s: resuming the turn the program's departure interrupted", self.name)
+            out += encode_rotate(self.rotator.id, self._wire_degrees(self.tracker.target))
+            self.tracker.begin(self.tracker.target, self._now())
+        self._publish_now()
+        return out
+
+    def link_down(self) -> None:
+        self._online = False
+        self._publish_now()
+
+    def on_report(self, degrees: float) -> None:
+        if self.scale is Scale.COMPASS:
+            position = self.travel.nearest_position(degrees, near=self.tracker.position)
+        elif self.travel.bounded:
+            position = degrees
+        else:
+            position = normalize(degrees)
+        if self.tracker.observe(position, self._now()) == "arrived":
+            log.debug("%s reached its target", self.name)
+        self._publish_now()
+
+    # ---- requests --------------------------------------------------------------------
+
+    async def rotate(self, heading: float) -> None:
+        if not self.link.connected:
+            raise self._unavailable(f"cannot turn: {self.link.where} is not connected")
+        end = self.travel.nearest_position(heading, near=self.tracker.position)
+        if not self.travel.reaches(heading):
+            log.info("%s cannot point at %.0f degrees; turning to the end of its travel (%.0f)",
+                     self.name.capitalize(), heading, self.travel.heading_at(end))
+        try:
+            await self.link.send(encode_rotate(self.rotator.id, self._wire_degrees(end)))
+        except (OSError, TimeoutError) as exc:
+            raise self._unavailable(f"cannot turn: {exc}") from exc
+        self.tracker.begin(end, self._now())
+        self._publish_now()
+
+    async def stop(self) -> None:
+        self.tracker.end()
+        self._publish_now()
+        try:
+            await self.link.send(encode_stop(self.rotator.id))
+        except (OSError, TimeoutError) as exc:
+            raise self._unavailable(f"cannot be told to stop: {exc}") from exc
+
+    # ---- helpers ---------------------------------------------------------------------
+
+    def _wire_degrees(self, position: float) -> float:
+        if self.scale is Scale.COMPASS:
+            return round(self.travel.heading_at(position)) % 360
+        return position if self.travel.bounded else normalize(position)
+
+    def _now(self) -> float:
+        return asyncio.get_running_loop().time()
+
+    def _publish_now(self) -> None:
+        position, target = self.tracker.position, self.tracker.target
+        self._set(RotatorStatus(
+            heading=None if position is None else self.travel.heading_at(position),
+            target=None if target is None else self.travel.heading_at(target),
+            moving=self._online and self.tracker.moving(self._now()),
+            online=self._online,
+        ))
+
+    async def _watch(self) -> None:
+        while True:
+            await asyncio.sleep(self._watch_every)
+            if self._online and self.tracker.tick(self._now()) == "stalled":
+                log.info("%s stopped short of its target", self.name.capitalize())
+            self._publish_now()
+
+
+__all__ = ["MOAS_ROTATOR_PORT", "MoasRotatorLink", "SerialRotator"]

@@ -1,0 +1,94 @@
+"""Starting the local MOAS Rotator program (appendix B, ``StartMOASRotator``).
+
+When any Serial rotator is on this computer (Address 127.0.0.1, localhost,
+::1) and the configuration does not set ``StartMOASRotator`` to false, the
+server starts the program as a child process and stops it on exit.  If a
+program already answers on the port (started by hand), none is started.
+The child's output goes to the log under this module's logger.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import sys
+from collections.abc import Sequence
+
+log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_process")
+
+
+def default_command(port: int) -> list[str]:
+    """``python -m moas_gui.cli.rotator`` (the ``moas-rotator`` program), on ``port``."""
+    command = [sys.executable, "-m", "moas_gui.cli.rotator"]
+    if port != 13020:
+        command += ["--port", str(port)]
+    return command
+
+
+class LocalMoasRotator:
+    def __init__(self, command: Sequence[str], port: int, *, stop_timeout: float = 3.0) -> None:
+        self.command = list(command)
+        self.port = port
+        self.stop_timeout = stop_timeout
+        self.process: asyncio.subprocess.Process | None = None
+        self._output: asyncio.Task[None] | None = None
+
+    async def start(self) -> None:
+        """Start the program unless one already answers; never raises."""
+        if await _answers("127.0.0.1", self.port):
+            log.info("a MOAS Rotator program already answers on port %d; not starting another",
+                     self.port)
+            return
+        try:
+            self.process = await asyncio.create_subprocess_exec(
+                *self.command, stdin=asyncio.subprocess.DEVNULL,
+                stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.STDOUT,
+            )
+        except OSError as exc:
+            log.error("could not start the MOAS Rotator program (%s): %s",
+                      " ".join(self.command), exc)
+            return
+        log.info("started the MOAS Rotator program (pid %d): %s",
+                 self.process.pid, " ".join(self.command))
+        self._output = asyncio.create_task(self._relay(self.process), name="MOAS Rotator output")
+
+    async def stop(self) -> None:
+        process, self.process = self.process, None
+        if process is not None and process.returncode is None:
+            process.terminate()
+            try:
+                await asyncio.wait_for(process.wait(), self.stop_timeout)
+            except TimeoutError:
+                log.warning("the MOAS Rotator program (pid %d) did not stop; killing it",
+                            process.pid)
+                process.kill()
+                await process.wait()
+            log.info("stopped the MOAS Rotator program (pid %d)", process.pid)
+        task, self._output = self._output, None
+        if task is not None:
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+
+    async def _relay(self, process: asyncio.subprocess.Process) -> None:
+        assert process.stdout is not None
+        while line := await process.stdout.readline():
+            log.info("MOAS Rotator: %s", line.decode("utf-8", "replace").rstrip())
+        code = await process.wait()
+        if self.process is process:
+            log.error("the MOAS Rotator program (pid %d) exited with code %d",
+                      process.pid, code)
+
+
+async def _answers(host: str, port: int) -> bool:
+    try:
+        _, writer = await asyncio.wait_for(asyncio.open_connection(host, port), 1.0)
+    except (OSError, TimeoutError):
+        return False
+    writer.close()
+    with contextlib.suppress(OSError):
+        await writer.wait_closed()
+    return True
+
+
+__all__ = ["LocalMoasRotator", "default_command"]

@@ -6,9 +6,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 example="${1:-examples/big-station.moas}"
-if .venv/bin/moas-server --help | grep -q -- "--headless" && .venv/bin/python -c "import moas_gui.app" 2>/dev/null; then
-    exec .venv/bin/moas-server "$example"
-fi
 status=0
 for f in examples/*.moas; do
     .venv/bin/moas-server --check "$f" || status=1

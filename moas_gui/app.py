@@ -1,0 +1,387 @@
+"""The server: configuration, engine, switch links, clients, logger and rotators on one loop.
+
+This is the one place that wires the pieces together (``docs/architecture.md``).
+It runs the same under the window (a qasync loop) and headless (plain asyncio):
+
+    inputs                          ServerApp                      outputs
+    N1MM packets, client requests   -> engine call -> Changes ->   switch links (SwitchState)
+    switch T/R events, rotators                                    client events, the log
+
+Opening a configuration with errors changes nothing: the errors are logged and
+returned, and whatever ran before keeps running.  Closing the server leaves
+the relays as they are.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from moas_gui.engine.config import Config, LoadResult, load_config
+from moas_gui.status import ServerStatus, overall_state
+
+log = logging.getLogger("moas_gui.app")
+
+
+@dataclass(frozen=True, slots=True)
+class ServerOptions:
+    """How this run differs from the configuration file (command line, tests)."""
+
+    bind: str = "0.0.0.0"
+    """Address the client server listens on."""
+    tcp_port: int | None = None
+    """Overrides the configuration's ``TCPPort`` (0 picks a free port)."""
+    udp_port: int | None = None
+    """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
+    udp_bind: str = "0.0.0.0"
+    start_rotator_program: bool | None = None
+    """Overrides ``StartMOASRotator`` when not None."""
+    rotator_program_port: int = 13020
+    switch_timing: Any = None
+    """Timing of the switch links (ping interval, timeouts); None for the real defaults."""
+
+
+@dataclass
+class _Running:
+    """Everything that exists while one configuration runs."""
+
+    config: Config
+    engine: Any
+    links: dict[int, Any] = field(default_factory=dict)
+    switch_status: dict[int, str] = field(default_factory=dict)
+    clients: Any = None
+    n1mm: Any = None
+    rotators: Any = None
+    stopped: bool = False
+
+
+class ServerApp:
+    """The MOAS server, without any window."""
+
+    def __init__(self, options: ServerOptions | None = None) -> None:
+        self.options = options or ServerOptions()
+        self._run: _Running | None = None
+        self._path: Path | None = None
+        self._status_listeners: list[Callable[[ServerStatus], None]] = []
+        self._alert_listeners: list[Callable[[str, str], None]] = []
+        self._status = ServerStatus()
+        self._lock = asyncio.Lock()
+
+    # -- what the window and tests read ---------------------------------------------
+    @property
+    def config(self) -> Config | None:
+        return self._run.config if self._run else None
+
+    @property
+    def engine(self) -> Any:
+        return self._run.engine if self._run else None
+
+    @property
+    def status(self) -> ServerStatus:
+        return self._status
+
+    @property
+    def switches_stopped(self) -> bool:
+        return bool(self._run and self._run.stopped)
+
+    @property
+    def client_address(self) -> tuple[str, int] | None:
+        """Where clients connect (host, port), once the client server listens."""
+        if self._run is None or self._run.clients is None:
+            return None
+        return self._run.clients.address  # type: ignore[no-any-return]
+
+    @property
+    def n1mm_address(self) -> tuple[str, int] | None:
+        if self._run is None or self._run.n1mm is None:
+            return None
+        return self._run.n1mm.address  # type: ignore[no-any-return]
+
+    def emulators(self) -> dict[int, Any]:
+        """The in-process emulators of switches whose port is ``"emulator"``."""
+        if self._run is None:
+            return {}
+        found = {}
+        for switch_id, link in self._run.links.items():
+            emulator = getattr(link, "emulator", None)
+            if emulator is not None:
+                found[switch_id] = emulator
+        return found
+
+    def add_status_listener(self, listener: Callable[[ServerStatus], None]) -> None:
+        self._status_listeners.append(listener)
+
+    def add_alert_listener(self, listener: Callable[[str, str], None]) -> None:
+        self._alert_listeners.append(listener)
+
+    # -- opening and closing -----------------------------------------------------------
+    async def open(self, path: str | Path) -> LoadResult:
+        """Load ``path`` and, when it has no errors, run it instead of what ran before."""
+        async with self._lock:
+            started = time.perf_counter()
+            result = load_config(path)
+            for problem in result.warnings:
+                log.warning("%s", problem)
+            if result.config is None:
+                for problem in result.errors:
+                    log.error("%s", problem)
+                log.error("%s was not opened: %d error%s%s", path, len(result.errors),
+                          "s" if len(result.errors) != 1 else "",
+                          "; the running configuration carries on" if self._run else "")
+                return result
+            if self._run is not None:
+                log.info("Closing %s to open %s", self._status.file, Path(path).name)
+                await self._close_running()
+            self._path = Path(path)
+            await self._start(result.config)
+            log.info("Opened %s in %.0f ms", self._path.name, (time.perf_counter() - started) * 1000)
+            return result
+
+    async def restart(self) -> None:
+        """Close and reopen the current file (File > Restart)."""
+        if self._path is not None:
+            async with self._lock:
+                if self._run is not None:
+                    await self._close_running()
+            await self.open(self._path)
+
+    async def close(self) -> None:
+        """Stop serving; the relays stay as they are."""
+        async with self._lock:
+            if self._run is not None:
+                await self._close_running()
+            self._path = None
+            self._update_status()
+
+    async def _start(self, config: Config) -> None:
+        from moas_gui.engine import Engine
+
+        loop = asyncio.get_running_loop()
+        self._run = run = _Running(config=config, engine=Engine(config, now=loop.time()))
+        await self._start_switches(run)
+        await self._start_clients(run)
+        await self._start_n1mm(run)
+        await self._start_rotators(run)
+        self._update_status()
+
+    async def _close_running(self) -> None:
+        run, self._run = self._run, None
+        if run is None:
+            return
+        for part in (run.n1mm, run.clients, run.rotators):
+            if part is not None:
+                try:
+                    await part.close()
+                except Exception:  # noqa: BLE001 - closing must go on
+                    log.exception("while closing %s", type(part).__name__)
+        for link in run.links.values():
+            try:
+                await link.close()
+            except Exception:  # noqa: BLE001
+                log.exception("while closing switch link")
+        self._update_status()
+
+    # -- switches ----------------------------------------------------------------------
+    async def _start_switches(self, run: _Running) -> None:
+        from moas_gui.hw.moas2.link import SwitchLink
+
+        states = run.engine.switch_states()
+        for switch in run.config.switches:
+            run.switch_status[switch.id] = "connecting"
+            link = SwitchLink(
+                switch.id, switch.port, switch.echo,
+                on_status=lambda status, sid=switch.id: self._switch_status(sid, status),
+                on_tr=lambda port, tx, sid=switch.id: self._switch_tr(sid, port, tx),
+                **({"timing": self.options.switch_timing} if self.options.switch_timing else {}),
+            )
+            run.links[switch.id] = link
+            link.apply(states[switch.id])
+            await link.start()
+
+    def _switch_status(self, switch_id: int, status: str) -> None:
+        run = self._run
+        if run is None or switch_id not in run.switch_status:
+            return
+        before = run.switch_status[switch_id]
+        if before == status:
+            return
+        run.switch_status[switch_id] = status
+        if status == "unresponsive":
+            log.error("Switch %d is not responding", switch_id)
+            if before == "ok":
+                for listener in self._alert_listeners:
+                    listener("MOAS switch lost", f"Switch {switch_id} stopped responding.")
+        elif status == "ok":
+            log.info("Switch %d is %s", switch_id,
+                     "responding again" if before == "unresponsive" else "connected")
+        if run.clients is not None:
+            run.clients.publish_switch({"id": switch_id, "status": status})
+        self._update_status()
+
+    def _switch_tr(self, switch_id: int, port: int, transmitting: bool) -> None:
+        run = self._run
+        if run is None:
+            return
+        now = asyncio.get_running_loop().time()
+        self.apply_changes(run.engine.set_transmitting(switch_id, port, transmitting, now=now))
+
+    def reset_switches(self) -> None:
+        """File > Reset Switches: reset every switch and set the antennas in use again."""
+        if self._run is None:
+            return
+        log.info("Resetting the switches")
+        for link in self._run.links.values():
+            link.reset()
+
+    def stop_switches(self) -> None:
+        """File > Stop Switches: deactivate every switch (all relays off)."""
+        run = self._run
+        if run is None or run.stopped:
+            return
+        run.stopped = True
+        log.info("Switches stopped: all relays are off")
+        self.apply_changes(run.engine.stop())
+        for link in run.links.values():
+            link.stop()
+        self._update_status()
+
+    def start_switches(self) -> None:
+        run = self._run
+        if run is None or not run.stopped:
+            return
+        run.stopped = False
+        log.info("Switches started")
+        self.apply_changes(run.engine.start())
+        for link in run.links.values():
+            link.start_switch()
+        self._update_status()
+
+    async def save_switch_data(self, path: str | Path) -> Path:
+        """File > Save Switch Data: every switch's status replies and tables, to ``path``."""
+        run = self._run
+        if run is None:
+            raise RuntimeError("no configuration is open")
+        target = Path(path)
+        parts = []
+        for switch_id, link in sorted(run.links.items()):
+            parts.append(f"=== Switch {switch_id} ({run.switch_status.get(switch_id)}) ===\n"
+                         f"{await link.save_data()}")
+        target.write_text("\n".join(parts), encoding="utf-8")
+        return target
+
+    # -- engine changes ------------------------------------------------------------------
+    def apply_changes(self, changes: Any) -> None:
+        """Send an engine decision out: switch states to links, news to clients, lines to the log."""
+        run = self._run
+        if run is None:
+            return
+        for switch_id, state in changes.switches.items():
+            link = run.links.get(switch_id)
+            if link is not None:
+                link.apply(state)
+        for line in changes.log:
+            log.info("%s", line)
+        if run.clients is not None:
+            for ref in changes.radios:
+                run.clients.publish_radio(run.engine.radio_view(ref.station, ref.radio).to_json())
+            if changes.layouts:
+                run.clients.layouts_may_have_changed()
+
+    # -- clients, logger, rotators --------------------------------------------------------
+    async def _start_clients(self, run: _Running) -> None:
+        from moas_gui.backend import EngineBackend
+        from moas_gui.net.server import ClientServer
+
+        port = self.options.tcp_port if self.options.tcp_port is not None else run.config.tcp_port
+        run.clients = ClientServer(EngineBackend(self), host=self.options.bind, port=port,
+                                   allow=run.config.client_allow,
+                                   on_count=lambda _n: self._update_status())
+        try:
+            await run.clients.start()
+        except OSError as exc:
+            log.error("Clients cannot connect: TCP port %d cannot be opened (%s)", port,
+                      exc.strerror or exc)
+            run.clients = None
+
+    async def _start_n1mm(self, run: _Running) -> None:
+        if not run.config.use_n1mm_logger:
+            return
+        from moas_gui.net.n1mm import N1MMListener
+
+        port = self.options.udp_port if self.options.udp_port is not None else run.config.udp_port
+        run.n1mm = N1MMListener(run.config.n1mm_logger, self._logger_frequency,
+                                host=self.options.udp_bind, port=port)
+        try:
+            await run.n1mm.start()
+        except OSError as exc:
+            log.error("N1MM Logger packets cannot be received: UDP port %d cannot be opened (%s)",
+                      port, exc.strerror or exc)
+            run.n1mm = None
+
+    def _logger_frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
+        run = self._run
+        if run is None:
+            return
+        try:
+            changes = run.engine.set_frequency(station, radio, khz, tx_khz,
+                                               now=asyncio.get_running_loop().time())
+        except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
+            log.debug("N1MM Logger frequency for station %d radio %d ignored: %s",
+                      station, radio, exc)
+            return
+        self.apply_changes(changes)
+
+    async def _start_rotators(self, run: _Running) -> None:
+        if not run.config.rotators:
+            return
+        from moas_gui.hw.rotators.manager import RotatorManager
+
+        start = self.options.start_rotator_program
+        run.rotators = RotatorManager(
+            run.config,
+            on_change=self._rotator_changed,
+            select_direction=self._select_direction,
+            start_program=run.config.start_moas_rotator if start is None else start,
+            program_port=self.options.rotator_program_port,
+        )
+        await run.rotators.start()
+
+    def _rotator_changed(self, view: Any) -> None:
+        run = self._run
+        if run is not None and run.clients is not None:
+            run.clients.publish_rotator(view.to_json())
+
+    def _select_direction(self, rotator_id: int, heading: float) -> float | None:
+        run = self._run
+        if run is None:
+            return None
+        changes = run.engine.select_direction(rotator_id, heading)
+        self.apply_changes(changes)
+        return getattr(changes, "heading", heading)
+
+    # -- status ----------------------------------------------------------------------------
+    def _update_status(self) -> None:
+        run = self._run
+        if run is None:
+            status = ServerStatus()
+        else:
+            switches = tuple(sorted(run.switch_status.items()))
+            shown = tuple((i, "stopped" if run.stopped else s) for i, s in switches)
+            status = ServerStatus(
+                state=overall_state(True, run.stopped, [s for _, s in switches]),
+                file=self._path.name if self._path else None,
+                switches=shown,
+                clients=run.clients.client_count if run.clients is not None else 0,
+            )
+        if status != self._status:
+            self._status = status
+            for listener in self._status_listeners:
+                listener(status)
+
+
+__all__ = ["ServerApp", "ServerOptions"]

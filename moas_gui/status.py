@@ -1,0 +1,51 @@
+"""What the server is doing, in one value the window, tray and headless log share."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+
+class ServerState(str, Enum):
+    """The four states the status icon shows (manual 3.8)."""
+
+    NO_CONFIG = "no_config"
+    NORMAL = "normal"
+    UNRESPONSIVE = "unresponsive"
+    STOPPED = "stopped"
+
+
+@dataclass(frozen=True, slots=True)
+class ServerStatus:
+    state: ServerState = ServerState.NO_CONFIG
+    file: str | None = None
+    switches: tuple[tuple[int, str], ...] = ()
+    """``(switch id, status)`` with status ``connecting``, ``ok``, ``unresponsive`` or ``stopped``."""
+    clients: int = 0
+
+    @property
+    def summary(self) -> str:
+        """One line for the status bar and the tray tooltip."""
+        if self.file is None:
+            return "No configuration open"
+        parts = [self.file]
+        if self.switches:
+            parts.append(", ".join(f"switch {i} {s}" for i, s in self.switches))
+        else:
+            parts.append("no switches")
+        parts.append(f"{self.clients} client{'s' if self.clients != 1 else ''}")
+        return " \u2014 ".join(parts)
+
+
+def overall_state(has_config: bool, stopped: bool, switch_states: list[str]) -> ServerState:
+    """The icon state: no configuration, stopped, any switch unresponsive, or normal."""
+    if not has_config:
+        return ServerState.NO_CONFIG
+    if stopped:
+        return ServerState.STOPPED
+    if any(s in ("unresponsive", "connecting") for s in switch_states):
+        return ServerState.UNRESPONSIVE
+    return ServerState.NORMAL
+
+
+__all__ = ["ServerState", "ServerStatus", "overall_state"]

@@ -1,0 +1,373 @@
+"""The server window: the log, the File/View/Help menus, the status bar and the tray.
+
+It mirrors the original server (manual chapter 3) and holds no state of its
+own beyond what the user sees: everything it shows comes from the
+:class:`~moas_gui.app.ServerApp` it is given, and every menu item calls that.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections.abc import Callable
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from moas_gui import __version__
+from moas_gui.status import ServerState, ServerStatus
+
+from .log_view import LogLevel, LogView, QtLogHandler
+from .qt import (
+    QAction, QActionGroup, QApplication, QCloseEvent, QDesktopServices, QFileDialog, QIcon,
+    QMainWindow, QMenu, QMessageBox, QSettings, QSystemTrayIcon, QUrl, QWidget,
+)
+from .status_icons import icon_for
+
+if TYPE_CHECKING:
+    from moas_gui.app import ServerApp
+
+log = logging.getLogger("moas_gui.ui")
+
+RECENT_MAX = 4
+
+
+def docs_path() -> Path:
+    """The project's documentation folder (beside the package in a checkout)."""
+    return Path(__file__).resolve().parent.parent.parent / "docs"
+
+
+class ServerWindow(QMainWindow):
+    """The main window of ``moas-server``."""
+
+    def __init__(self, app: ServerApp, settings: QSettings, quit_requested: Callable[[], None],
+                 parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.app = app
+        self.settings = settings
+        self._quit_requested = quit_requested
+        self._tasks: set[asyncio.Task[object]] = set()
+        self._state: ServerState | None = None
+        self.client_windows: list[QWidget] = []
+        self.emulator_windows: dict[int, QWidget] = {}
+        self.last_dialog: QMessageBox | None = None
+        self.ask: Callable[[str, str], bool] = self._ask_dialog
+        """Asks the user a yes/no question; tests replace it with a fake that answers."""
+        self.choose_file: Callable[[str, bool], str] = self._file_dialog
+        """Asks for a file name (title, saving); tests replace it."""
+
+        self.setWindowTitle("MOAS Server")
+        self.resize(760, 420)
+        self.log_view = LogView(self)
+        self.setCentralWidget(self.log_view)
+        self.log_handler = QtLogHandler()
+        self.log_handler.bridge.record.connect(self.log_view.add_record)
+        logging.getLogger("moas_gui").addHandler(self.log_handler)
+
+        self._build_menus()
+        self._build_tray()
+        self.statusBar().showMessage("No configuration open")
+        show_bar = self.settings.value("view/statusBar", True, type=bool)
+        self.statusBar().setVisible(bool(show_bar))
+        self.action_status_bar.setChecked(bool(show_bar))
+        level = LogLevel(str(self.settings.value("view/logLevel", LogLevel.INFO.value)))
+        self.set_log_level(level)
+        app.add_status_listener(self.show_status)
+        app.add_alert_listener(self.alert)
+        self.show_status(app.status)
+
+    # -- menus -------------------------------------------------------------------
+    def _build_menus(self) -> None:
+        bar = self.menuBar()
+        file_menu = bar.addMenu("&File")
+        self.action_open = file_menu.addAction("&Open...", self.open_dialog)
+        self.action_open.setShortcut("Ctrl+O")
+        self.recent_menu = file_menu.addMenu("Recent &Files")
+        file_menu.addSeparator()
+        self.action_reset = file_menu.addAction("&Reset Switches", self.app.reset_switches)
+        self.action_save_data = file_menu.addAction("&Save Switch Data...", self.save_switch_data)
+        self.action_stop_start = file_menu.addAction("S&top Switches", self.toggle_switches)
+        file_menu.addSeparator()
+        self.action_restart = file_menu.addAction("Rest&art", self.restart)
+        self.action_exit = file_menu.addAction("E&xit", self.exit)
+        self.action_exit.setShortcut("Ctrl+Q")
+
+        view = bar.addMenu("&View")
+        self.action_status_bar = view.addAction("&Status Bar")
+        self.action_status_bar.setCheckable(True)
+        self.action_status_bar.toggled.connect(self._toggle_status_bar)
+        view.addSeparator()
+        group = QActionGroup(self)
+        self.level_actions: dict[LogLevel, QAction] = {}
+        for level, label in ((LogLevel.ERRORS, "Log &Errors"), (LogLevel.INFO, "Log &Info"),
+                             (LogLevel.DEBUG, "Log &Debug")):
+            action = view.addAction(label)
+            action.setCheckable(True)
+            group.addAction(action)
+            action.triggered.connect(lambda _=False, lv=level: self.set_log_level(lv))
+            self.level_actions[level] = action
+        view.addSeparator()
+        self.action_client = view.addAction("&Client", self.open_client)
+        self.emulator_menu = view.addMenu("E&mulator")
+
+        help_menu = bar.addMenu("&Help")
+        self.action_about = help_menu.addAction("&About MOAS Server", self.about)
+        self.action_manual = help_menu.addAction("&Manual", self.open_manual)
+        self._refresh_recent()
+        self._refresh_actions()
+
+    def _build_tray(self) -> None:
+        self.tray = QSystemTrayIcon(self)
+        menu = QMenu(self)
+        self.tray_show = menu.addAction("Hide Window", self.toggle_visible)
+        self.tray_stop_start = menu.addAction("Stop Switches", self.toggle_switches)
+        menu.addSeparator()
+        menu.addAction("Exit", self.exit)
+        self.tray_menu = menu
+        self.tray.setContextMenu(menu)
+        self.tray.activated.connect(self._tray_activated)
+        if QSystemTrayIcon.isSystemTrayAvailable():
+            self.tray.show()
+
+    def _tray_activated(self, reason: QSystemTrayIcon.ActivationReason) -> None:
+        if reason == QSystemTrayIcon.ActivationReason.Trigger:
+            self.toggle_visible()
+
+    # -- status ----------------------------------------------------------------------
+    def show_status(self, status: ServerStatus) -> None:
+        """Show ``status`` in the title, status bar, window icon and tray (called on every change)."""
+        if status.state is not self._state:
+            self._state = status.state
+            icon = icon_for(status.state)
+            self.setWindowIcon(icon)
+            self.tray.setIcon(icon)
+        self.statusBar().showMessage(status.summary)
+        self.tray.setToolTip(f"MOAS Server: {status.summary}")
+        title = "MOAS Server" if status.file is None else f"{status.file} - MOAS Server"
+        self.setWindowTitle(title)
+        self._refresh_actions()
+
+    def alert(self, title: str, message: str) -> None:
+        """A critical event (a switch lost): a tray message when there is a tray."""
+        if self.tray.isVisible() and QSystemTrayIcon.supportsMessages():
+            self.tray.showMessage(title, message, QSystemTrayIcon.MessageIcon.Critical, 10_000)
+
+    def _refresh_actions(self) -> None:
+        running = self.app.config is not None
+        stopped = self.app.switches_stopped
+        for action in (self.action_reset, self.action_save_data, self.action_stop_start,
+                       self.tray_stop_start, self.action_restart):
+            action.setEnabled(running)
+        label = "S&tart Switches" if stopped else "S&top Switches"
+        self.action_stop_start.setText(label)
+        self.tray_stop_start.setText(label.replace("&", ""))
+        self.emulator_menu.clear()
+        emulators = self.app.emulators()
+        for switch_id in sorted(emulators):
+            self.emulator_menu.addAction(f"Switch {switch_id}",
+                                         lambda s=switch_id: self.open_emulator(s))
+        self.emulator_menu.menuAction().setVisible(bool(emulators))
+
+    # -- file menu -------------------------------------------------------------------
+    def open_dialog(self) -> None:
+        path = self.choose_file("Open configuration", False)
+        if path:
+            self.open_file(path)
+
+    def open_file(self, path: str) -> None:
+        """Open ``path``; when one runs already, ask first, then restart on the new one."""
+        if self.app.config is not None:
+            current = self.app.status.file or "the current configuration"
+            if not self.ask("Open configuration",
+                            f"Stop {current} and open {Path(path).name}?\n\n"
+                            "The switches will be re-initialised from the new file."):
+                return
+        self._spawn(self._open(path))
+
+    async def _open(self, path: str) -> None:
+        result = await self.app.open(path)
+        if result.config is None:
+            shown = "\n".join(str(p) for p in result.errors[:20])
+            more = f"\n... and {len(result.errors) - 20} more" if len(result.errors) > 20 else ""
+            self._message(QMessageBox.Icon.Critical, "Configuration not opened",
+                          f"{path} has errors and was not opened"
+                          f"{'; the running configuration carries on' if self.app.config else ''}."
+                          f"\n\n{shown}{more}")
+            return
+        self._remember_recent(str(Path(path).resolve()))
+
+    def _remember_recent(self, path: str) -> None:
+        recent = [p for p in self.recent_files() if p != path]
+        recent.insert(0, path)
+        self.settings.setValue("recentFiles", recent[:RECENT_MAX])
+        self._refresh_recent()
+
+    def recent_files(self) -> list[str]:
+        value = self.settings.value("recentFiles", [])
+        if isinstance(value, str):
+            return [value]
+        return [str(v) for v in (value or [])][:RECENT_MAX]
+
+    def _refresh_recent(self) -> None:
+        self.recent_menu.clear()
+        recent = self.recent_files()
+        for number, path in enumerate(recent, 1):
+            self.recent_menu.addAction(f"&{number} {path}", lambda p=path: self.open_file(p))
+        self.recent_menu.setEnabled(bool(recent))
+
+    def save_switch_data(self) -> None:
+        path = self.choose_file("Save switch data", True)
+        if path:
+            self._spawn(self._save_switch_data(path))
+
+    async def _save_switch_data(self, path: str) -> None:
+        try:
+            await self.app.save_switch_data(path)
+        except OSError as exc:
+            log.error("Could not save switch data to %s: %s", path, exc.strerror or exc)
+        else:
+            log.info("Switch data saved to %s", path)
+
+    def toggle_switches(self) -> None:
+        if self.app.switches_stopped:
+            self.app.start_switches()
+        else:
+            self.app.stop_switches()
+
+    def restart(self) -> None:
+        self._spawn(self.app.restart())
+
+    def exit(self) -> None:
+        self.tray.hide()
+        self._quit_requested()
+
+    # -- view menu -------------------------------------------------------------------
+    def set_log_level(self, level: LogLevel) -> None:
+        self.log_view.set_level(level)
+        self.level_actions[level].setChecked(True)
+        self.settings.setValue("view/logLevel", level.value)
+
+    def _toggle_status_bar(self, visible: bool) -> None:
+        self.statusBar().setVisible(visible)
+        self.settings.setValue("view/statusBar", visible)
+
+    def open_client(self) -> None:
+        from .client_window import open_builtin_client
+
+        window = open_builtin_client(self.app)
+        if window is not None:
+            self.client_windows.append(window)
+
+    def open_emulator(self, switch_id: int) -> None:
+        window = self.emulator_windows.get(switch_id)
+        if window is None:
+            emulator = self.app.emulators().get(switch_id)
+            if emulator is None:
+                return
+            from .emulator_window import EmulatorWindow
+
+            window = EmulatorWindow(emulator)
+            window.setWindowTitle(f"MOAS II Emulator - switch {switch_id}")
+            self.emulator_windows[switch_id] = window
+        window.show()
+        window.raise_()
+
+    # -- help menu -------------------------------------------------------------------
+    def about(self) -> None:
+        self._message(QMessageBox.Icon.Information, "About MOAS Server",
+                      f"MOAS Server (moas-gui) version {__version__}\n\n"
+                      "An open-source server for the YCCC MOAS II antenna switch.")
+
+    def open_manual(self) -> None:
+        docs = docs_path()
+        target = docs / "README.md" if (docs / "README.md").exists() else docs
+        QDesktopServices.openUrl(QUrl.fromLocalFile(str(target)))
+
+    # -- window and tray -------------------------------------------------------------
+    def toggle_visible(self) -> None:
+        if self.isVisible():
+            self.hide()
+        else:
+            self.show()
+            self.raise_()
+            self.activateWindow()
+
+    def hideEvent(self, event: object) -> None:  # noqa: N802 (Qt's name)
+        self.tray_show.setText("Show Window")
+        super().hideEvent(event)  # type: ignore[arg-type]
+
+    def showEvent(self, event: object) -> None:  # noqa: N802 (Qt's name)
+        self.tray_show.setText("Hide Window")
+        super().showEvent(event)  # type: ignore[arg-type]
+
+    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 (Qt's name)
+        """Closing the window hides it to the tray when there is one; otherwise it exits."""
+        if self.tray.isVisible():
+            event.ignore()
+            self.hide()
+            if not self.settings.value("tray/noticeShown", False, type=bool):
+                self.settings.setValue("tray/noticeShown", True)
+                self.tray.showMessage("MOAS Server", "The server keeps running in the tray. "
+                                      "Use Exit in its menu to stop it.",
+                                      QSystemTrayIcon.MessageIcon.Information, 8000)
+            return
+        event.accept()
+        self.exit()
+
+    def shutdown(self) -> None:
+        logging.getLogger("moas_gui").removeHandler(self.log_handler)
+        self.tray.hide()
+        for window in [*self.client_windows, *self.emulator_windows.values()]:
+            window.close()
+
+    # -- helpers ---------------------------------------------------------------------
+    def _spawn(self, coroutine: object) -> None:
+        task = asyncio.ensure_future(coroutine)  # type: ignore[arg-type]
+        self._tasks.add(task)
+        task.add_done_callback(self._task_done)
+
+    def _task_done(self, task: asyncio.Task[object]) -> None:
+        self._tasks.discard(task)
+        if not task.cancelled() and task.exception() is not None:
+            log.error("Internal error: %s", task.exception(), exc_info=task.exception())
+
+    async def idle(self) -> None:
+        """Wait for every menu action started so far (for tests and orderly exit)."""
+        while self._tasks:
+            await asyncio.gather(*list(self._tasks), return_exceptions=True)
+
+    def _message(self, icon: QMessageBox.Icon, title: str, text: str) -> None:
+        box = QMessageBox(icon, title, text, QMessageBox.StandardButton.Ok, self)
+        box.setModal(False)
+        self.last_dialog = box
+        box.open()
+
+    def _ask_dialog(self, title: str, text: str) -> bool:
+        answer = QMessageBox.question(self, title, text)
+        return answer == QMessageBox.StandardButton.Yes
+
+    def _file_dialog(self, title: str, saving: bool) -> str:
+        if saving:
+            path, _ = QFileDialog.getSaveFileName(self, title, "moas-switch-data.txt",
+                                                  "Text files (*.txt);;All files (*)")
+        else:
+            path, _ = QFileDialog.getOpenFileName(self, title, "",
+                                                  "MOAS configurations (*.moas *.txt);;All files (*)")
+        return path
+
+
+def application_icon() -> QIcon:
+    return icon_for(ServerState.NORMAL)
+
+
+def ensure_application() -> QApplication:
+    existing = QApplication.instance()
+    if isinstance(existing, QApplication):
+        return existing
+    application = QApplication([])
+    application.setApplicationName("moas-server")
+    application.setOrganizationName("moas-gui")
+    application.setQuitOnLastWindowClosed(False)
+    return application
+
+
+__all__ = ["ServerWindow", "application_icon", "docs_path", "ensure_application"]

@@ -69,6 +69,11 @@ class Notice:
 
 
 @dataclass(frozen=True, slots=True)
+class Ack:
+    """The controller answered, with nothing to report (an acknowledgement, another axis)."""
+
+
+@dataclass(frozen=True, slots=True)
 class Garbage:
     """Bytes that fit no reply of this controller, with the reason."""
 
@@ -76,8 +81,8 @@ class Garbage:
     reason: str
 
 
-Event = Heading | Notice | Garbage
-Output = Send | Heading | Notice | Garbage
+Event = Heading | Notice | Ack | Garbage
+Output = Send | Heading | Notice | Ack | Garbage
 
 
 @dataclass(frozen=True, slots=True)
@@ -342,6 +347,7 @@ __all__ = [
     "DEFAULT_SPEED",
     "NEED_MORE",
     "NO_FRAME",
+    "Ack",
     "Axis",
     "ControllerCodec",
     "ControllerEmulator",

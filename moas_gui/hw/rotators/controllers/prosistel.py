@@ -20,6 +20,7 @@ from __future__ import annotations
 from .base import (
     NEED_MORE,
     NO_FRAME,
+    Ack,
     FrameScanner,
     Garbage,
     Heading,
@@ -48,8 +49,8 @@ SOFT_STOP = 997
 FAST_STOP = 999
 
 
-def parse_answer(body: bytes) -> Heading | Notice | Garbage | None:
-    """One answer without STX and CR, e.g. ``A,?,290,R``; None for acknowledgements."""
+def parse_answer(body: bytes) -> Heading | Notice | Ack | Garbage:
+    """One answer without STX and CR, e.g. ``A,?,290,R``."""
     fields = body.split(b",")
     if len(fields) < 2 or len(fields[0]) != 1:
         return Garbage(body, "not a Prosistel answer ('A,?,ddd,R')")
@@ -59,16 +60,16 @@ def parse_answer(body: bytes) -> Heading | Notice | Garbage | None:
                       f"{b','.join(fields[2:]).decode('ascii', 'replace')}")
     if command == b"?":
         if unit != b"A":
-            return None  # another unit's position (an elevation box on the same line)
+            return Ack()  # another unit's position (an elevation box on the same line)
         if len(fields) >= 3 and fields[2].strip().lstrip(b"-").isdigit():
             return Heading(float(int(fields[2])))
         return Garbage(body, "a Prosistel position answer without a number")
     if command in (b"G", b"S"):
-        return None
+        return Ack()
     return Garbage(body, f"a Prosistel answer to an unknown command {command!r}")
 
 
-def _match(buffer: bytes) -> tuple[int, Heading | Notice | Garbage | None]:
+def _match(buffer: bytes) -> tuple[int, Heading | Notice | Ack | Garbage | None]:
     first = buffer[0]
     if first in (0x0D, 0x0A):
         return 1, None
@@ -88,7 +89,7 @@ class ProsistelCodec:
     info = INFO
 
     def __init__(self) -> None:
-        self._scanner: FrameScanner[Heading | Notice | Garbage] = FrameScanner(
+        self._scanner: FrameScanner[Heading | Notice | Ack | Garbage] = FrameScanner(
             _match, "Prosistel answer (STX ... CR)")
 
     def opening(self) -> list[Send]:

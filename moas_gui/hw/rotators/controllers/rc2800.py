@@ -23,6 +23,7 @@ from __future__ import annotations
 import re
 
 from .base import (
+    Ack,
     FrameScanner,
     Garbage,
     Heading,
@@ -64,12 +65,12 @@ _ERROR = re.compile(rb"([AE])\s*ERR\s*=\s*(\w+)")
 _ECHO = re.compile(rb"[AES]?\s*-?\d*(?:\.\d*)?")
 
 
-def parse_line(line: bytes) -> Heading | Notice | Garbage | None:
-    """One RC2800 line (without CR/LF); None for lines to skip (elevation, echoes)."""
+def parse_line(line: bytes) -> Heading | Notice | Ack | Garbage | None:
+    """One RC2800 line (without CR/LF); None for echoed commands."""
     text = line.strip()
     found = _STATUS.fullmatch(text)
     if found is not None:
-        return Heading(float(found.group(2))) if found.group(1) == b"A" else None
+        return Heading(float(found.group(2))) if found.group(1) == b"A" else Ack()
     error = _ERROR.fullmatch(text)
     if error is not None:
         axis = "azimuth" if error.group(1) == b"A" else "elevation"
@@ -79,7 +80,7 @@ def parse_line(line: bytes) -> Heading | Notice | Garbage | None:
     return Garbage(line, "not an RC2800 status line ('A P= ddd.d S=n ST')")
 
 
-def _match(buffer: bytes) -> tuple[int, Heading | Notice | Garbage | None]:
+def _match(buffer: bytes) -> tuple[int, Heading | Notice | Ack | Garbage | None]:
     used, line = split_line(buffer)
     if line is None:
         return used, None
@@ -92,7 +93,7 @@ class RC2800Codec:
     def __init__(self, early: bool = True) -> None:
         self.info = INFO_A if early else INFO_X
         self._early = early
-        self._scanner: FrameScanner[Heading | Notice | Garbage] = FrameScanner(
+        self._scanner: FrameScanner[Heading | Notice | Ack | Garbage] = FrameScanner(
             _match, "RC2800 status line (ends with CR or LF)")
 
     def opening(self) -> list[Send]:

@@ -1,0 +1,124 @@
+"""``moas-rotator``: the MOAS Rotator program, or a rotator controller emulator.
+
+    moas-rotator [--bind ADDRESS] [--port N]      serve MOAS Servers on TCP (default 0.0.0.0:13020)
+    moas-rotator --emulate MODEL [--link PATH]    play a controller on a new pseudo-terminal
+
+The first line on standard output is what another program needs: the
+address listened on (``listening on 0.0.0.0:13020``), or the emulator's
+pseudo-terminal path.  Logging goes to standard error.  Both run until
+interrupted (Ctrl+C, SIGTERM).
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import logging
+import signal
+import sys
+import threading
+
+from moas_gui import __version__
+from moas_gui.hw.rotators.controllers.base import DEFAULT_SPEED, UnknownModel
+from moas_gui.hw.rotators.controllers.models import find_model, known_models
+from moas_gui.rotator_program.program import RotatorProgram
+from moas_gui.rotator_program.protocol import PORT
+
+log = logging.getLogger("moas_gui.rotator_program")
+
+
+def _arguments(argv: list[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        prog="moas-rotator",
+        description="The MOAS Rotator program: drives rotator controllers on serial ports "
+                    "for a MOAS Server connecting on TCP.",
+    )
+    parser.add_argument("--bind", default="0.0.0.0", metavar="ADDRESS",
+                        help="address to listen on (default 0.0.0.0: every interface, so "
+                             "that a server on another computer can connect; 127.0.0.1 "
+                             "when the server runs on this computer)")
+    parser.add_argument("--port", type=int, default=PORT,
+                        help=f"TCP port (default {PORT}; the MOAS Server always uses {PORT})")
+    parser.add_argument("--emulate", metavar="MODEL",
+                        help=f"emulate a controller instead ({known_models()})")
+    parser.add_argument("--link", metavar="PATH",
+                        help="with --emulate: also make PATH a link to the pseudo-terminal")
+    parser.add_argument("--speed", type=float, default=DEFAULT_SPEED, metavar="DEG/S",
+                        help=f"with --emulate: turning speed (default {DEFAULT_SPEED:g})")
+    parser.add_argument("--azimuth", type=float, default=0.0, metavar="DEG",
+                        help="with --emulate: heading at power-on (default 0)")
+    parser.add_argument("--log-level", default="INFO",
+                        choices=["DEBUG", "INFO", "WARNING", "ERROR"])
+    parser.add_argument("--version", action="version", version=f"moas-rotator {__version__}")
+    return parser.parse_args(argv)
+
+
+def _emulate(args: argparse.Namespace) -> int:
+    from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost
+
+    try:
+        model = find_model(args.emulate)
+    except UnknownModel as error:
+        print(f"moas-rotator: {error}", file=sys.stderr)
+        return 2
+    if args.speed <= 0:
+        print("moas-rotator: --speed must be more than 0", file=sys.stderr)
+        return 2
+    done = threading.Event()
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, lambda *_: done.set())
+    with EmulatorHost() as host:
+        try:
+            port = host.add(model.make_emulator(args.azimuth, args.speed, host.clock()),
+                            link=args.link)
+        except OSError as error:
+            print(f"moas-rotator: cannot make the pseudo-terminal: {error}", file=sys.stderr)
+            return 1
+        print(port.path, flush=True)
+        log.info("emulating %s (%s) on %s; stop with Ctrl+C", model.name,
+                 model.info.description, port.path)
+        while not done.wait(0.5):
+            pass
+    return 0
+
+
+async def _serve(args: argparse.Namespace) -> int:
+    program = RotatorProgram()
+    try:
+        host, port = await program.start(args.bind, args.port)
+    except OSError as error:
+        print(f"moas-rotator: cannot listen on {args.bind}:{args.port}: {error.strerror or error}"
+              " (is another MOAS Rotator running?)", file=sys.stderr)
+        return 2
+    print(f"listening on {host}:{port}", flush=True)
+    stop = asyncio.Event()
+    loop = asyncio.get_running_loop()
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        with contextlib.suppress(NotImplementedError, RuntimeError):
+            loop.add_signal_handler(signum, stop.set)
+    try:
+        await stop.wait()
+    finally:
+        await program.close()
+    log.info("stopped")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _arguments(argv)
+    logging.basicConfig(level=args.log_level, stream=sys.stderr,
+                        format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+    if args.emulate:
+        return _emulate(args)
+    if args.link:
+        print("moas-rotator: --link is only for --emulate", file=sys.stderr)
+        return 2
+    try:
+        return asyncio.run(_serve(args))
+    except KeyboardInterrupt:
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,243 @@
+"""The MOAS Rotator program: TCP 13020 in front of any number of rotator drivers.
+
+Decisions (see also docs/rotators-serial.md):
+
+- One server connection at a time.  A new connection replaces the old one,
+  which is closed; the MOAS Server reconnects after a restart, and a
+  half-dead old connection must not keep the new one out.
+- The program keeps no configuration of its own, but rotators stay
+  configured and polled when the server goes away: a turn in progress runs
+  to its end, nothing is stopped by a network hiccup, and ports stay open.
+  A rotator's headings go only to a connection that has configured that
+  rotator; a CONFIGURE that repeats the current set-up keeps the running
+  driver and reports the last heading at once.
+- A CONFIGURE that cannot be carried out (unknown model) leaves the rotator
+  as it was; one that gives a port to another rotator number takes the port
+  away from the rotator that had it.
+- Every command that cannot be obeyed gives one log line saying which
+  rotator and why; nothing else stops.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import time
+from collections.abc import Callable
+
+from moas_gui import __version__
+from moas_gui.hw.rotators.controllers.base import ControllerError
+from moas_gui.hw.rotators.controllers.models import find_model
+
+from .driver import RETRY, RotatorDriver
+from .protocol import (
+    PORT,
+    BadCommand,
+    Command,
+    CommandReader,
+    Configure,
+    Rotate,
+    Stop,
+    VersionRequest,
+    heading_message,
+    version_message,
+)
+from .serial_link import Opener, PortError, open_serial, split_port
+
+log = logging.getLogger(__name__)
+
+WRITE_BUFFER_LIMIT = 1 << 20
+"""Bytes queued for a server that does not read before it is disconnected."""
+
+
+class RotatorProgram:
+    """The program; see the module docstring."""
+
+    def __init__(self, *, opener: Opener = open_serial, retry: float = RETRY,
+                 clock: Callable[[], float] = time.monotonic, version: str = __version__) -> None:
+        self.rotators: dict[int, RotatorDriver] = {}
+        self._opener = opener
+        self._retry = retry
+        self._clock = clock
+        self._version = version
+        self._server: asyncio.Server | None = None
+        self._writer: asyncio.StreamWriter | None = None
+        self._peer = ""
+        self._announced: set[int] = set()
+        self._handlers: set[asyncio.Task[None]] = set()
+
+    # -- running ---------------------------------------------------------------------------
+
+    async def start(self, host: str = "0.0.0.0", port: int = PORT) -> tuple[str, int]:
+        """Listens on ``host``:``port``; returns the address really bound."""
+        self._server = await asyncio.start_server(self._connection, host, port,
+                                                  reuse_address=True)
+        address = self._server.sockets[0].getsockname()
+        log.info("listening on %s:%d", address[0], address[1])
+        return address[0], address[1]
+
+    async def close(self) -> None:
+        if self._server is not None:
+            self._server.close()
+        writer, self._writer = self._writer, None
+        if writer is not None:
+            writer.close()
+        for task in list(self._handlers):
+            task.cancel()
+        for task in list(self._handlers):
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await task
+        for driver in list(self.rotators.values()):
+            await driver.close()
+        self.rotators.clear()
+        if self._server is not None:
+            with contextlib.suppress(Exception):
+                await self._server.wait_closed()
+            self._server = None
+
+    @property
+    def connected(self) -> bool:
+        """True while a server is connected."""
+        return self._writer is not None
+
+    # -- the server connection -------------------------------------------------------------
+
+    async def _connection(self, reader: asyncio.StreamReader,
+                          writer: asyncio.StreamWriter) -> None:
+        task = asyncio.current_task()
+        if task is not None:
+            self._handlers.add(task)
+        peer = _peer(writer)
+        old, self._writer = self._writer, writer
+        if old is not None:
+            log.info("server connection from %s replaces the one from %s", peer, self._peer)
+            old.close()
+        else:
+            log.info("server connected from %s", peer)
+        self._peer = peer
+        self._announced = set()
+        commands = CommandReader()
+        try:
+            while True:
+                try:
+                    data = await reader.read(4096)
+                except (ConnectionError, OSError):
+                    break
+                if not data or self._writer is not writer:
+                    break
+                for command in commands.feed(data):
+                    await self._obey(command)
+        finally:
+            if self._writer is writer:
+                self._writer = None
+                log.info("server at %s disconnected; %d rotator(s) stay configured and polled",
+                         peer, len(self.rotators))
+            writer.close()
+            if task is not None:
+                self._handlers.discard(task)
+
+    def _send(self, data: bytes) -> None:
+        writer = self._writer
+        if writer is None or writer.is_closing():
+            return
+        if writer.transport.get_write_buffer_size() > WRITE_BUFFER_LIMIT:
+            log.warning("server at %s reads nothing; disconnecting it", self._peer)
+            self._writer = None
+            writer.close()
+            return
+        writer.write(data)
+
+    def _report(self, rotator: int, degrees: int) -> None:
+        if rotator in self._announced:
+            self._send(heading_message(rotator, degrees))
+
+    # -- commands --------------------------------------------------------------------------
+
+    async def _obey(self, command: Command | BadCommand) -> None:
+        if isinstance(command, BadCommand):
+            where = f"rotator {command.rotator}: " if command.rotator is not None else ""
+            log.warning("%sbad command from the server %r: %s", where, command.line,
+                        command.reason)
+        elif isinstance(command, VersionRequest):
+            self._send(version_message(self._version))
+        elif isinstance(command, Configure):
+            await self._configure(command)
+        elif isinstance(command, Rotate):
+            self._rotate(command)
+        elif isinstance(command, Stop):
+            self._stop(command)
+
+    async def _configure(self, command: Configure) -> None:
+        rotator = command.rotator
+        try:
+            model = find_model(command.model)
+        except ControllerError as error:
+            current = self.rotators.get(rotator)
+            kept = f"; it stays {current.label}" if current is not None else ""
+            log.warning("rotator %d: CONFIGURE refused: %s%s", rotator, error, kept)
+            return
+        self._announced.add(rotator)
+        current = self.rotators.get(rotator)
+        if current is not None and current.same_setup(model, command.port, command.poll_ms):
+            log.info("%s: configured again, unchanged", current.label)
+            if current.heading is not None:
+                self._send(heading_message(rotator, current.heading))
+            return
+        if current is not None:
+            log.info("%s: replaced by a new configuration", current.label)
+            del self.rotators[rotator]
+            await current.close()
+        device = split_port(command.port)[0]
+        for other in list(self.rotators.values()):
+            if split_port(other.port)[0] == device:
+                log.warning("%s: gives its port up to rotator %d", other.label, rotator)
+                del self.rotators[other.rotator]
+                await other.close()
+        driver = RotatorDriver(rotator, model, command.port, command.poll_ms, self._report,
+                               opener=self._opener, retry=self._retry, clock=self._clock)
+        self.rotators[rotator] = driver
+        log.info("%s: configured, %s", driver.label, _polling(driver))
+        driver.start()
+
+    def _rotate(self, command: Rotate) -> None:
+        driver = self.rotators.get(command.rotator)
+        if driver is None:
+            log.warning("rotator %d: ROTATE %g refused: this rotator is not configured",
+                        command.rotator, command.degrees)
+            return
+        try:
+            driver.rotate(command.degrees)
+        except (ControllerError, PortError) as error:
+            log.warning("%s: ROTATE %g refused: %s", driver.label, command.degrees, error)
+
+    def _stop(self, command: Stop) -> None:
+        driver = self.rotators.get(command.rotator)
+        if driver is None:
+            log.warning("rotator %d: STOP refused: this rotator is not configured",
+                        command.rotator)
+            return
+        try:
+            driver.stop()
+        except PortError as error:
+            log.warning("%s: STOP not sent: %s", driver.label, error)
+
+
+def _peer(writer: asyncio.StreamWriter) -> str:
+    peer = writer.get_extra_info("peername")
+    if isinstance(peer, tuple) and len(peer) >= 2:
+        return f"{peer[0]}:{peer[1]}"
+    return str(peer)
+
+
+def _polling(driver: RotatorDriver) -> str:
+    info = driver.codec.info
+    if not info.has_readback:
+        return "no position readback (headings are estimated after each turn)"
+    if info.unsolicited:
+        return (f"reports by itself (poll time ignored; checked every "
+                f"{driver.poll_interval:g} s)")
+    return f"polled every {driver.poll_interval * 1000:g} ms"
+
+
+__all__ = ["WRITE_BUFFER_LIMIT", "RotatorProgram"]

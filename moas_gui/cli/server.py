@@ -1,11 +1,23 @@
-"""``moas-server``: the MOAS II server (``--check FILE`` checks a configuration)."""
+"""``moas-server``: the MOAS II server.
+
+``moas-server [FILE]`` opens the window (and FILE at once, which is what a
+double-click does); ``--headless FILE`` runs the same server without a window;
+``--check FILE`` explains every problem of a configuration and exits.
+"""
 
 from __future__ import annotations
 
 import argparse
+import asyncio
+import logging
+import signal
 import sys
+from pathlib import Path
 
 from moas_gui import __version__
+
+log = logging.getLogger("moas_gui.server")
+INSTANCE_NAME = "moas-server"
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -18,6 +30,20 @@ def _parser() -> argparse.ArgumentParser:
                              "exit status 0 only when the file is usable")
     parser.add_argument("--headless", action="store_true",
                         help="run without a window, logging to standard error")
+    parser.add_argument("--log-level", choices=("error", "info", "debug"), default="info",
+                        help="what the headless server logs (default info)")
+    parser.add_argument("--bind", default="0.0.0.0",
+                        help="address the client server listens on (default all)")
+    parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
+    parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
+    parser.add_argument("--no-rotator-program", action="store_true",
+                        help="never start the local MOAS Rotator program")
+    parser.add_argument("--new-instance", action="store_true",
+                        help="do not hand FILE to a server that is already running")
+    parser.add_argument("--install-desktop", action="store_true",
+                        help="register .moas files and a menu entry for this user, and exit")
+    parser.add_argument("--uninstall-desktop", action="store_true",
+                        help="remove what --install-desktop registered, and exit")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     return parser
 
@@ -40,16 +66,127 @@ def check(path: str) -> int:
     return 0
 
 
+def _options(args: argparse.Namespace) -> object:
+    from moas_gui.app import ServerOptions
+
+    return ServerOptions(bind=args.bind, tcp_port=args.tcp_port, udp_port=args.udp_port,
+                         start_rotator_program=False if args.no_rotator_program else None)
+
+
+def _hand_over(args: argparse.Namespace) -> bool:
+    """True when another running server took ``args.file``."""
+    if args.new_instance or not args.file:
+        return False
+    from moas_gui.single_instance import hand_over
+
+    if hand_over(INSTANCE_NAME, str(Path(args.file).resolve())):
+        print(f"moas-server: handed {args.file} to the server that is already running")
+        return True
+    return False
+
+
+async def _serve_headless(args: argparse.Namespace) -> int:
+    from moas_gui.app import ServerApp
+    from moas_gui.single_instance import claim
+
+    app = ServerApp(_options(args))  # type: ignore[arg-type]
+    result = await app.open(args.file)
+    if result.config is None:
+        return 1
+    stop = asyncio.Event()
+    loop = asyncio.get_running_loop()
+    for number in (signal.SIGINT, signal.SIGTERM):
+        try:
+            loop.add_signal_handler(number, stop.set)
+        except (NotImplementedError, RuntimeError):  # Windows
+            signal.signal(number, lambda *_: loop.call_soon_threadsafe(stop.set))
+    instance = await _claim(claim, lambda path: asyncio.ensure_future(app.open(path)))
+    log.info("Serving %s; stop with Ctrl+C", args.file)
+    await stop.wait()
+    log.info("Stopping; the relays keep their state")
+    if instance is not None:
+        await instance.close()
+    await app.close()
+    return 0
+
+
+async def _claim(claim: object, on_file: object) -> object:
+    try:
+        return await claim(INSTANCE_NAME, on_file)  # type: ignore[operator]
+    except OSError as exc:
+        log.debug("Single-instance socket unavailable: %s", exc)
+        return None
+
+
+def run_headless(args: argparse.Namespace) -> int:
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)-7s %(message)s", "%H:%M:%S"))
+    root = logging.getLogger("moas_gui")
+    root.addHandler(handler)
+    root.setLevel({"error": logging.WARNING, "info": logging.INFO,
+                   "debug": logging.DEBUG}[args.log_level])
+    if _hand_over(args):
+        return 0
+    return asyncio.run(_serve_headless(args))
+
+
+def run_window(args: argparse.Namespace) -> int:
+    if _hand_over(args):
+        return 0
+    import qasync
+
+    from moas_gui.app import ServerApp
+    from moas_gui.single_instance import claim
+    from moas_gui.ui.qt import QSettings
+    from moas_gui.ui.server_window import ServerWindow, application_icon, ensure_application
+
+    logging.getLogger("moas_gui").setLevel(logging.DEBUG)
+    qt_app = ensure_application()
+    qt_app.setWindowIcon(application_icon())
+    loop = qasync.QEventLoop(qt_app)
+    asyncio.set_event_loop(loop)
+    quit_event = asyncio.Event()
+
+    async def serve() -> int:
+        app = ServerApp(_options(args))  # type: ignore[arg-type]
+        settings = QSettings()
+        window = ServerWindow(app, settings, quit_event.set)
+        window.show()
+        instance = await _claim(claim, lambda path: window.open_file(path))
+        if args.file:
+            window.open_file(args.file)
+        await quit_event.wait()
+        await window.idle()
+        if instance is not None:
+            await instance.close()  # type: ignore[attr-defined]
+        await app.close()
+        window.shutdown()
+        return 0
+
+    with loop:
+        return loop.run_until_complete(serve())
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    if args.install_desktop or args.uninstall_desktop:
+        from moas_gui import desktop
+
+        done = desktop.install_desktop() if args.install_desktop else desktop.uninstall_desktop()
+        for line in done:
+            print(line)
+        return 0
     if args.check:
         if not args.file:
             print("moas-server: --check needs a configuration file", file=sys.stderr)
             return 2
         return check(args.file)
-    print("moas-server: the server itself is not built yet; use --check FILE to check a "
-          "configuration.", file=sys.stderr)
-    return 2
+    if args.headless:
+        if not args.file:
+            print("moas-server: --headless needs a configuration file", file=sys.stderr)
+            return 2
+        return run_headless(args)
+    return run_window(args)
 
 
 if __name__ == "__main__":

@@ -1,1 +1,28 @@
-"""moas_gui.hw.rotators."""
+"""Rotators for the server: the heading rules, one driver per kind of rotator
+(Test, Electrical, Serial through the MOAS Rotator program, Rotator Genius,
+Hamlib rotctld) and the manager that serves them to clients.
+
+The serial controllers themselves and the MOAS Rotator program live in
+``controllers/`` and ``moas_gui.rotator_program``.  See ``docs/rotators.md``.
+"""
+
+from .base import RotatorError, RotatorStatus, RotatorView, Timing
+from .fake_moas_rotator import FakeMoasRotator
+from .genius_emulator import GeniusModel, GeniusServer
+from .headings import (
+    Travel,
+    Turn,
+    angular_distance,
+    antenna_heading,
+    closest_direction,
+    normalize,
+    plan_turn,
+    rotator_heading_for,
+)
+from .manager import RotatorManager
+
+__all__ = [
+    "FakeMoasRotator", "GeniusModel", "GeniusServer", "RotatorError", "RotatorManager",
+    "RotatorStatus", "RotatorView", "Timing", "Travel", "Turn", "angular_distance",
+    "antenna_heading", "closest_direction", "normalize", "plan_turn", "rotator_heading_for",
+]

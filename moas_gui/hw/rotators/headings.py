@@ -186,6 +186,39 @@ def plan_turn(travel: Travel, current: float, heading: float) -> Turn:
     return Turn(start, travel.nearest_position(heading, near=start), clamped)
 
 
+def window_base(travel: Travel, low: float) -> float:
+    """Where position 0 sits on an unwrapped azimuth scale whose lowest value is
+    ``low`` (Hamlib's ``min_az``): the first of ``CCWLimit + k*360`` not below it.
+
+    On such a scale (rotctld's, for example) 0 is north, values run past 360
+    for the overlap and below 0 for a stop west of north: a rotator with its
+    stop at south on a -180..180 scale has base -180, so west is -90.
+    """
+    base = travel.ccw_limit - FULL_TURN * math.floor((travel.ccw_limit - low) / FULL_TURN)
+    return base if base >= low - EPSILON else base + FULL_TURN
+
+
+def azimuth_of(travel: Travel, position: float, low: float, high: float) -> float:
+    """``position`` written on the unwrapped scale ``low..high`` (clamped into it)."""
+    if travel.bounded:
+        azimuth = window_base(travel, low) + position
+    else:
+        azimuth = normalize(travel.heading_at(position))
+    for candidate in (azimuth, azimuth - FULL_TURN, azimuth + FULL_TURN):
+        if low - EPSILON <= candidate <= high + EPSILON:
+            return candidate
+    return min(max(azimuth, low), high)
+
+
+def position_of(travel: Travel, azimuth: float, low: float, near: float | None = None) -> float:
+    """The position an unwrapped ``azimuth`` (scale starting at ``low``) stands for."""
+    if travel.bounded:
+        position = azimuth - window_base(travel, low)
+        if -EPSILON <= position <= travel.rotation + EPSILON:
+            return travel.clamp(position)
+    return travel.nearest_position(normalize(azimuth), near=near)
+
+
 def closest_direction(directions: tuple[float, ...], heading: float) -> float | None:
     """Of an electrical rotator's fixed directions, the one closest to ``heading``
     (ties: the lowest); ``None`` when there are none."""
@@ -195,6 +228,7 @@ def closest_direction(directions: tuple[float, ...], heading: float) -> float | 
 
 
 __all__ = [
-    "Travel", "Turn", "angular_distance", "antenna_heading", "closest_direction", "normalize",
-    "plan_turn", "rotator_heading_for", "whole_heading",
+    "Travel", "Turn", "angular_distance", "antenna_heading", "azimuth_of", "closest_direction",
+    "normalize", "plan_turn", "position_of", "rotator_heading_for", "whole_heading",
+    "window_base",
 ]

@@ -1,0 +1,245 @@
+"""The server's rotators: one driver per configured rotator, one view per rotator.
+
+Usage (asyncio, no Qt)::
+
+    manager = RotatorManager.from_config(config, on_change=broadcast,
+                                         select_direction=engine_select)
+    await manager.start()
+    manager.views()                  # the client protocol's "rotators" list
+    await manager.rotate(1, 270)     # RotatorError(code, sentence) when it cannot
+    await manager.stop(1)
+    await manager.close()
+
+``on_change(view)`` is called whenever a rotator's ``heading`` (whole
+degrees), ``target``, ``moving`` or ``online`` changes: exactly the client
+protocol's ``rotator`` event.  Serial rotators at the same address share one
+connection to their MOAS Rotator program, as do the two rotators of one
+Rotator Genius.  A rotator whose configuration cannot work (bad Address,
+unknown Model, Rotation out of range) is shown offline and answers every
+request with ``unavailable`` and the reason; the others carry on.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable, Iterable, Sequence
+
+from moas_gui.engine.config.model import Antenna, Config, Rotator, RotatorControl
+from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
+
+from .addresses import is_local, split_address
+from .base import (
+    RotatorDriver,
+    RotatorError,
+    RotatorStatus,
+    RotatorView,
+    Timing,
+    UnusableRotator,
+    describe,
+)
+from .electrical import ElectricalRotator, SelectDirection
+from .genius import GENIUS_PORT, GeniusLink, GeniusRotator
+from .hamlib import HamlibRotator
+from .hamlib_codec import HAMLIB_PORT
+from .headings import Travel, normalize
+from .moas_rotator_codec import check_field, model_field
+from .moas_rotator_link import MOAS_ROTATOR_PORT, MoasRotatorLink, SerialRotator
+from .moas_rotator_process import LocalMoasRotator, default_command
+from .simulated import SimulatedRotator
+
+log = logging.getLogger("moas_gui.hw.rotators.manager")
+
+OnChange = Callable[[RotatorView], None]
+
+
+class RotatorManager:
+    def __init__(
+        self,
+        rotators: Sequence[Rotator],
+        *,
+        on_change: OnChange | None = None,
+        antennas: Sequence[Antenna] = (),
+        select_direction: SelectDirection | None = None,
+        start_moas_rotator: bool = True,
+        moas_rotator_port: int = MOAS_ROTATOR_PORT,
+        moas_rotator_command: Sequence[str] | None = None,
+        rotctld_host: str | None = "127.0.0.1",
+        timing: Timing | None = None,
+    ) -> None:
+        """``rotctld_host``: where the rotctld-compatible listeners of rotators with
+        a ``RotctldPort`` bind (``None``: no listeners)."""
+        self.timing = timing or Timing()
+        self.on_change = on_change
+        self.rotctld_host = rotctld_host
+        self._rotators = {r.id: r for r in rotators}
+        self._views: dict[int, RotatorView] = {
+            r.id: RotatorView.of(r, RotatorStatus()) for r in rotators
+        }
+        self._moas_links: dict[tuple[str, int], MoasRotatorLink] = {}
+        self._genius_links: dict[tuple[str, int], GeniusLink] = {}
+        self.drivers: dict[int, RotatorDriver] = {}
+        for rotator in rotators:
+            self.drivers[rotator.id] = self._driver(
+                rotator, antennas, select_direction, moas_rotator_port
+            )
+        self.local_program: LocalMoasRotator | None = None
+        local = [port for host, port in self._moas_links if is_local(host)]
+        if start_moas_rotator and local:
+            command = moas_rotator_command or default_command(local[0])
+            self.local_program = LocalMoasRotator(command, local[0])
+        self.listeners: list[RotctldServer] = []
+
+    @classmethod
+    def from_config(cls, config: Config, **options: object) -> RotatorManager:
+        """A manager for ``config``'s rotators (and the antennas of Electrical ones)."""
+        options.setdefault("start_moas_rotator", config.start_moas_rotator)
+        return cls(config.rotators, antennas=config.antennas, **options)  # type: ignore[arg-type]
+
+    # ---- building --------------------------------------------------------------------
+
+    def _driver(self, rotator: Rotator, antennas: Sequence[Antenna],
+                select: SelectDirection | None, moas_port: int) -> RotatorDriver:
+        publish = self._publisher(rotator)
+        try:
+            travel = Travel(rotator.ccw_limit, rotator.rotation, rotator.has_stop)
+        except ValueError as exc:
+            return UnusableRotator(rotator, Travel(), publish, str(exc))
+        try:
+            return self._build(rotator, travel, publish, antennas, select, moas_port)
+        except ValueError as exc:
+            return UnusableRotator(rotator, travel, publish, str(exc))
+
+    def _build(self, rotator: Rotator, travel: Travel, publish: Callable[[RotatorStatus], None],
+               antennas: Sequence[Antenna], select: SelectDirection | None,
+               moas_port: int) -> RotatorDriver:
+        control = rotator.control
+        if control is RotatorControl.TEST:
+            return SimulatedRotator(rotator, travel, publish, self.timing)
+        if control is RotatorControl.ELECTRICAL:
+            directions = tuple(float(a.offset) for a in _antennas_turned_by(rotator, antennas))
+            return ElectricalRotator(rotator, travel, publish, directions, select)
+        if control is RotatorControl.SERIAL:
+            field, scale = model_field(rotator.model)
+            if not rotator.comm_port:
+                raise ValueError("CommPort is missing (the serial port on the MOAS Rotator "
+                                 "computer, e.g. COM14)")
+            check_field("CommPort", rotator.comm_port)
+            key = split_address(rotator.address or "127.0.0.1", moas_port)
+            link = self._moas_links.get(key)
+            if link is None:
+                link = self._moas_links[key] = MoasRotatorLink(key[0], key[1], self.timing)
+            return SerialRotator(rotator, travel, publish, self.timing, link, field, scale)
+        if control is RotatorControl.ROTATOR_GENIUS:
+            if rotator.port not in (1, 2):
+                raise ValueError(f"Port must be 1 or 2 (which rotator of the Rotator Genius), "
+                                 f"not {rotator.port}")
+            key = split_address(rotator.address, GENIUS_PORT)
+            genius = self._genius_links.get(key)
+            if genius is None:
+                genius = self._genius_links[key] = GeniusLink(key[0], key[1], self.timing)
+            return GeniusRotator(rotator, travel, publish, genius)
+        if control is RotatorControl.HAMLIB:
+            host, port = split_address(rotator.address, HAMLIB_PORT)
+            return HamlibRotator(rotator, travel, publish, self.timing, host, port)
+        raise ValueError(f"Control {control!r} is not a kind of rotator this server knows")
+
+    def _publisher(self, rotator: Rotator) -> Callable[[RotatorStatus], None]:
+        def publish(status: RotatorStatus) -> None:
+            view = RotatorView.of(rotator, status)
+            if view == self._views.get(rotator.id):
+                return
+            self._views[rotator.id] = view
+            if self.on_change is not None:
+                try:
+                    self.on_change(view)
+                except Exception:
+                    log.exception("the rotator change callback failed for %s", describe(rotator))
+        return publish
+
+    # ---- life ------------------------------------------------------------------------
+
+    async def start(self) -> None:
+        if self.local_program is not None:
+            await self.local_program.start()
+        for driver in self.drivers.values():
+            await driver.start()
+        for link in self._links():
+            await link.start()
+        if self.rotctld_host is not None:
+            self.listeners = await start_rotctld_servers(
+                self, self._rotators.values(), self.rotctld_host
+            )
+
+    async def close(self) -> None:
+        for listener in self.listeners:
+            await listener.close()
+        self.listeners = []
+        for link in self._links():
+            await link.close()
+        for driver in self.drivers.values():
+            await driver.close()
+        if self.local_program is not None:
+            await self.local_program.stop()
+
+    def _links(self) -> Iterable[MoasRotatorLink | GeniusLink]:
+        yield from self._moas_links.values()
+        yield from self._genius_links.values()
+
+    # ---- what clients see ------------------------------------------------------------
+
+    def views(self) -> list[RotatorView]:
+        """Every rotator not marked Invisible, in configuration order."""
+        return [self._views[i] for i, r in self._rotators.items() if not r.invisible]
+
+    def view(self, rotator_id: int) -> RotatorView:
+        self._rotator(rotator_id)
+        return self._views[rotator_id]
+
+    def rotator(self, rotator_id: int) -> Rotator:
+        return self._rotator(rotator_id)
+
+    # ---- requests --------------------------------------------------------------------
+
+    async def rotate(self, rotator_id: object, heading: object) -> None:
+        """Turn to compass ``heading``; a heading outside the travel turns to the
+        nearer end.  Raises :class:`RotatorError`."""
+        rotator = self._rotator(rotator_id)
+        if isinstance(heading, bool) or not isinstance(heading, int | float):
+            raise RotatorError("bad_request", f"heading must be a number of degrees, "
+                               f"not {heading!r}")
+        if not math.isfinite(heading):
+            raise RotatorError("bad_request", f"heading must be a finite number, not {heading}")
+        await self.drivers[rotator.id].rotate(normalize(float(heading)))
+
+    async def stop(self, rotator_id: object) -> None:
+        rotator = self._rotator(rotator_id)
+        await self.drivers[rotator.id].stop()
+
+    def note_direction(self, rotator_id: int, heading: float) -> None:
+        """An Electrical rotator's array now points at ``heading`` (the server
+        calls this when the engine's selection changed the direction)."""
+        driver = self.drivers.get(rotator_id)
+        if isinstance(driver, ElectricalRotator):
+            driver.note_direction(heading)
+
+    def _rotator(self, rotator_id: object) -> Rotator:
+        if isinstance(rotator_id, bool) or not isinstance(rotator_id, int):
+            raise RotatorError("bad_request", f"rotator must be a rotator number, "
+                               f"not {rotator_id!r}")
+        rotator = self._rotators.get(rotator_id)
+        if rotator is None:
+            raise RotatorError("not_found", f"there is no rotator {rotator_id}")
+        return rotator
+
+
+def _antennas_turned_by(rotator: Rotator, antennas: Iterable[Antenna]) -> list[Antenna]:
+    """The antennas naming this rotator; an antenna made of others has its Rotator
+    ignored (6.4)."""
+    return [
+        a for a in antennas
+        if a.rotator == rotator.id and not (set(a.in_use) - {a.id})
+    ]
+
+
+__all__ = ["OnChange", "RotatorManager"]

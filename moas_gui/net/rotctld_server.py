@@ -1,0 +1,186 @@
+"""A rotctld-compatible listener per rotator (config key ``RotctldPort``).
+
+Any program that can drive Hamlib's ``rotctld`` (``rotctl -m 2 -r
+HOST:PORT``, loggers, satellite trackers) can read and turn that rotator.
+Served: ``p``/``\\get_pos``, ``P``/``\\set_pos``, ``S``/``\\stop``,
+``_``/``\\get_info``, ``\\dump_state``, ``q``, in default and extended
+(``+``) form.  Other rotctld commands answer ``RPRT -4`` (not implemented);
+text that is no rotctld command gets no answer, exactly as from rotctld, and
+a log line.  An offline rotator, or one whose heading is not known yet,
+answers ``p`` with ``RPRT -5``; a refused turn answers ``RPRT -9``.
+
+Listeners bind 127.0.0.1 unless told otherwise: only programs on the server's
+computer can use them.  A station whose logging computers should turn
+rotators binds the server's address on the station network (or 0.0.0.0
+behind the station's firewall); rotctld has no authentication.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+from collections.abc import Awaitable, Iterable
+from typing import Protocol
+
+from moas_gui.engine.config.model import Rotator
+from moas_gui.hw.rotators.base import RotatorError, RotatorView, describe
+from moas_gui.hw.rotators.headings import Travel, normalize
+
+from .rotctld_codec import (
+    EINVAL,
+    ENIMPL,
+    ERJCTED,
+    ETIMEOUT,
+    Request,
+    RequestParser,
+    Scale,
+    answer,
+    azimuth_for,
+    dump_state,
+    parse_number,
+    scale_for,
+)
+
+log = logging.getLogger("moas_gui.hw.rotators.rotctld_listener")
+
+SERVED = frozenset({"get_pos", "set_pos", "stop", "get_info", "dump_state", "quit"})
+
+
+class RotatorService(Protocol):
+    """What a listener needs from the rotator manager."""
+
+    def view(self, rotator_id: int) -> RotatorView: ...
+
+    async def rotate(self, rotator_id: object, heading: object) -> None: ...
+
+    async def stop(self, rotator_id: object) -> None: ...
+
+
+class RotctldServer:
+    def __init__(self, service: RotatorService, rotator: Rotator, host: str, port: int) -> None:
+        self.service, self.rotator = service, rotator
+        self.host, self.port = host, port
+        try:
+            travel = Travel(rotator.ccw_limit, rotator.rotation, rotator.has_stop)
+        except ValueError:
+            travel = Travel()
+        self.scale: Scale = scale_for(travel)
+        self._server: asyncio.Server | None = None
+        self._sessions: set[asyncio.Task[None]] = set()
+        self._writers: set[asyncio.StreamWriter] = set()
+
+    @property
+    def where(self) -> str:
+        return f"rotctld listener for {describe(self.rotator)} on {self.host}:{self.port}"
+
+    async def start(self) -> int:
+        """Listen; returns the port.  Raises ``OSError`` when it cannot bind."""
+        self._server = await asyncio.start_server(self._serve, self.host, self.port)
+        self.port = self._server.sockets[0].getsockname()[1]
+        log.info("%s: listening", self.where)
+        return self.port
+
+    async def close(self) -> None:
+        if self._server is not None:
+            self._server.close()
+            self._server = None
+        for writer in list(self._writers):
+            writer.close()
+        sessions = list(self._sessions)
+        for task in sessions:
+            task.cancel()
+        for task in sessions:
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        task = asyncio.current_task()
+        assert task is not None
+        self._sessions.add(task)
+        self._writers.add(writer)
+        peer = writer.get_extra_info("peername")
+        parser = RequestParser()
+        try:
+            while data := await reader.read(4096):
+                for request in parser.feed(data):
+                    if request.name == "quit":
+                        return
+                    reply = await self._handle(request, peer)
+                    if reply:
+                        writer.write(reply)
+                if parser.overflowed:
+                    log.warning("%s: %s sent over 4096 bytes without a command; dropped",
+                                self.where, peer)
+                    parser.overflowed = False
+                await writer.drain()
+        except (ConnectionError, OSError):
+            pass
+        finally:
+            self._sessions.discard(task)
+            self._writers.discard(writer)
+            writer.close()
+            with contextlib.suppress(OSError, asyncio.CancelledError):
+                await writer.wait_closed()
+
+    async def _handle(self, request: Request, peer: object) -> bytes:
+        if not request.known:
+            log.warning("%s: %s sent %r, which is not a rotctld command; no answer (as rotctld)",
+                        self.where, peer, request.name)
+            return b""
+        if request.name not in SERVED:
+            log.info("%s: %s asked for %s, which this listener does not do", self.where, peer,
+                     request.name)
+            return answer(request, code=ENIMPL)
+        if request.name == "dump_state":
+            return dump_state(request, self.scale)
+        if request.name == "get_info":
+            return answer(request, (("Info", f"MOAS {self.rotator.label}"[:48]),))
+        if request.name == "get_pos":
+            view = self.service.view(self.rotator.id)
+            if not view.online or view.heading is None:
+                return answer(request, code=ETIMEOUT)
+            azimuth = azimuth_for(self.scale, view.heading)
+            return answer(request, (("Azimuth", f"{azimuth:.2f}"), ("Elevation", "0.00")))
+        if request.name == "set_pos":
+            return await self._set_pos(request, peer)
+        return await self._call(request, self.service.stop(self.rotator.id))
+
+    async def _set_pos(self, request: Request, peer: object) -> bytes:
+        azimuth = parse_number(request.args[0])
+        elevation = parse_number(request.args[1])
+        if azimuth is None or elevation is None:
+            log.warning("%s: %s sent set_pos with %r: not two numbers", self.where, peer,
+                        " ".join(request.args))
+            return answer(request, code=EINVAL)
+        return await self._call(request, self.service.rotate(self.rotator.id, normalize(azimuth)))
+
+    async def _call(self, request: Request, action: Awaitable[None]) -> bytes:
+        try:
+            await action
+        except RotatorError as exc:
+            log.info("%s: %s refused: %s", self.where, request.name, exc.message)
+            return answer(request, code=EINVAL if exc.code == "bad_request" else ERJCTED)
+        return answer(request)
+
+
+async def start_rotctld_servers(
+    service: RotatorService, rotators: Iterable[Rotator], host: str
+) -> list[RotctldServer]:
+    """A listener for every rotator with a ``RotctldPort``; a port that cannot be
+    opened is logged and skipped."""
+    servers: list[RotctldServer] = []
+    for rotator in rotators:
+        if rotator.rotctld_port is None:
+            continue
+        server = RotctldServer(service, rotator, host, rotator.rotctld_port)
+        try:
+            await server.start()
+        except OSError as exc:
+            log.error("%s: cannot listen: %s", server.where, exc)
+            continue
+        servers.append(server)
+    return servers
+
+
+__all__ = ["RotatorService", "RotctldServer", "start_rotctld_servers"]

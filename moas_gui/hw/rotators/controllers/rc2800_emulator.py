@@ -69,7 +69,7 @@ class RC2800Emulator:
     def advance(self, now: float) -> bytes:
         for axis in self._axes.values():
             axis.advance(now)
-        if not self._early or now - self._last_report_time < REPORT_EVERY:
+        if not self._early or now - self._last_report_time < REPORT_EVERY - 1e-9:
             return b""
         if self._reading(b"A") == self._last_reported:
             return b""

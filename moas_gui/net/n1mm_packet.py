@@ -1,0 +1,256 @@
+"""N1MM Logger+ ``<RadioInfo>`` packets: bytes in, a frozen :class:`RadioInfo` out.
+
+Sans-IO: no sockets, no clock.  :func:`parse_radio_info` takes the bytes of one
+UDP datagram and returns what the packet says about one radio, or raises
+:class:`N1MMPacketError` whose :attr:`~N1MMPacketError.reason` says which kind
+of bad packet it was (the listener counts them by reason)::
+
+    ProtocolError (moas_gui.errors)
+     +-- N1MMPacketError  reason: too_large | not_xml | doctype | not_radio_info
+                                  | missing_field | bad_value
+
+Facts the parser relies on (``shared/specs/logger-network.md`` section 1):
+
+- one XML document per datagram; the root element names the message.  Only
+  ``RadioInfo`` is ours; ``contactinfo``, ``AppInfo``, ``spot`` and the others
+  are refused with reason ``not_radio_info`` (not an error of the sender);
+- element names are case-sensitive; unknown elements are ignored, missing
+  optional ones tolerated; only ``RadioNr`` and ``Freq`` are required;
+- ``Freq`` and ``TXFreq`` are integers in units of 10 Hz (``1420000`` is
+  14,200.00 kHz); :class:`RadioInfo` holds kHz;
+- booleans are ``True``/``False``; an empty element means "unknown" (``None``);
+- text may hold Windows-1252 bytes although the declaration says UTF-8, so the
+  bytes are decoded as UTF-8 with replacement characters.
+
+Safety: a document type declaration is refused before any entity in it is
+read (no entity expansion of any kind), and packets over
+:data:`MAX_PACKET_BYTES` are refused without being parsed.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from typing import Final
+
+from moas_gui.errors import ProtocolError
+
+MAX_PACKET_BYTES: Final = 16 * 1024
+"""A real RadioInfo packet is about 900 bytes; anything over 16 KiB is refused unread."""
+
+MAX_KHZ: Final = 300_000_000.0
+"""300 GHz: above every amateur band.  A larger frequency is refused as absurd."""
+
+MAX_RADIO_NR: Final = 99
+"""N1MM sends 1 or 2; the parser accepts 1-99 and leaves the mapping to the listener."""
+
+REASONS: Final = (
+    "too_large", "not_xml", "doctype", "not_radio_info", "missing_field", "bad_value",
+)
+"""Every value :attr:`N1MMPacketError.reason` can take."""
+
+
+class N1MMPacketError(ProtocolError):
+    """A datagram that is not a usable RadioInfo packet; :attr:`reason` is one of :data:`REASONS`."""
+
+    def __init__(self, reason: str, message: str) -> None:
+        super().__init__(message)
+        self.reason = reason
+
+
+@dataclass(frozen=True, slots=True)
+class RadioInfo:
+    """What one RadioInfo packet says about one radio.
+
+    ``khz`` is the receive frequency, ``tx_khz`` the transmit frequency
+    (``TXFreq``; equal to ``khz`` when the packet has no usable ``TXFreq``).
+    ``khz`` is ``None`` when the logger has no frequency for the radio
+    (``Freq`` of 0, as a logger without a CAT connection may send).
+    Booleans are ``None`` when the packet leaves them empty or out.
+    """
+
+    radio_nr: int
+    khz: float | None
+    tx_khz: float | None
+    station_name: str = ""
+    app: str = ""
+    mode: str = ""
+    is_split: bool | None = None
+    is_transmitting: bool | None = None
+    is_connected: bool | None = None
+    active_radio_nr: int | None = None
+    """Transmit focus: the radio that will transmit next (the same in every radio's packet)."""
+    focus_radio_nr: int | None = None
+    """Receive focus: the radio the operator listens to."""
+    antenna: int | None = None
+    """The row of N1MM's own Antennas table; unrelated to this server's antenna IDs."""
+    radio_name: str = ""
+
+
+class _RefuseDoctype(ET.TreeBuilder):
+    """Builds the tree but stops at a document type declaration (before its entities)."""
+
+    def doctype(self, name: str, pubid: str, system: str) -> None:
+        raise N1MMPacketError(
+            "doctype", f"refused a document type declaration ({name!r}): "
+                       "N1MM packets never have one and it could declare entities")
+
+
+def _decode(data: bytes) -> str:
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    return data.decode("utf-8", errors="replace")
+
+
+def _parse_xml(data: bytes) -> ET.Element:
+    parser = ET.XMLParser(target=_RefuseDoctype())
+    try:
+        parser.feed(_decode(data))
+        root: ET.Element = parser.close()
+    except ET.ParseError as exc:
+        raise N1MMPacketError("not_xml", f"not XML: {exc}") from None
+    return root
+
+
+def _fields(root: ET.Element) -> dict[str, str]:
+    """The text of each direct child; the first wins when a name repeats."""
+    fields: dict[str, str] = {}
+    for child in root:
+        if isinstance(child.tag, str) and child.tag not in fields:
+            fields[child.tag] = (child.text or "").strip()
+    return fields
+
+
+def _int(fields: dict[str, str], name: str) -> int | None:
+    """The integer in element ``name``; ``None`` when absent or empty."""
+    text = fields.get(name, "")
+    if not text:
+        return None
+    if len(text) > 20:
+        raise N1MMPacketError("bad_value", f"<{name}> is too long to be a number: {text[:20]!r}...")
+    try:
+        return int(text)
+    except ValueError:
+        raise N1MMPacketError("bad_value", f"<{name}> is not a whole number: {text!r}") from None
+
+
+def _khz(fields: dict[str, str], name: str) -> float | None:
+    """``name`` in 10 Hz units as kHz; ``None`` when absent, empty or 0."""
+    units = _int(fields, name)
+    if units is None or units == 0:
+        return None
+    khz = units / 100.0
+    if khz < 0 or khz > MAX_KHZ:
+        raise N1MMPacketError(
+            "bad_value", f"<{name}>{fields[name]}</{name}> is {khz:,.2f} kHz, not a radio frequency")
+    return khz
+
+
+def _bool(fields: dict[str, str], name: str) -> bool | None:
+    text = fields.get(name, "").lower()
+    if text in ("true", "1"):
+        return True
+    if text in ("false", "0"):
+        return False
+    return None
+
+
+def parse_radio_info(data: bytes) -> RadioInfo:
+    """Read one datagram; raise :class:`N1MMPacketError` when it is not a usable RadioInfo."""
+    if len(data) > MAX_PACKET_BYTES:
+        raise N1MMPacketError(
+            "too_large", f"packet of {len(data)} bytes is over the {MAX_PACKET_BYTES}-byte limit")
+    root = _parse_xml(data)
+    if root.tag != "RadioInfo":
+        raise N1MMPacketError("not_radio_info", f"<{str(root.tag)[:40]}> packet is not RadioInfo")
+    fields = _fields(root)
+    for name in ("RadioNr", "Freq"):
+        if name not in fields:
+            raise N1MMPacketError("missing_field", f"RadioInfo without <{name}>")
+    radio_nr = _int(fields, "RadioNr")
+    if radio_nr is None or not 1 <= radio_nr <= MAX_RADIO_NR:
+        raise N1MMPacketError(
+            "bad_value", f"<RadioNr>{fields['RadioNr']}</RadioNr> is not a radio number 1-{MAX_RADIO_NR}")
+    khz = _khz(fields, "Freq")
+    tx_khz = _khz(fields, "TXFreq") if khz is not None else None
+    if khz is not None and tx_khz is None:
+        tx_khz = khz
+    return RadioInfo(
+        radio_nr=radio_nr,
+        khz=khz,
+        tx_khz=tx_khz,
+        station_name=fields.get("StationName", ""),
+        app=fields.get("app", ""),
+        mode=fields.get("Mode", ""),
+        is_split=_bool(fields, "IsSplit"),
+        is_transmitting=_bool(fields, "IsTransmitting"),
+        is_connected=_bool(fields, "IsConnected"),
+        active_radio_nr=_optional_int(fields, "ActiveRadioNr"),
+        focus_radio_nr=_optional_int(fields, "FocusRadioNr"),
+        antenna=_optional_int(fields, "Antenna"),
+        radio_name=fields.get("RadioName", ""),
+    )
+
+
+def _optional_int(fields: dict[str, str], name: str) -> int | None:
+    """An informative integer: a bad one is read as unknown rather than refusing the packet."""
+    try:
+        return _int(fields, name)
+    except N1MMPacketError:
+        return None
+
+
+def radio_info_packet(
+    radio_nr: int,
+    khz: float,
+    tx_khz: float | None = None,
+    *,
+    station_name: str = "STATION1",
+    is_transmitting: bool = False,
+    active_radio_nr: int | None = None,
+    mode: str = "CW",
+) -> bytes:
+    """A RadioInfo datagram as N1MM Logger+ writes it (the fake logger used by tests and
+    benchmarks, and a way to feed the server by hand)."""
+    tx = khz if tx_khz is None else tx_khz
+    active = radio_nr if active_radio_nr is None else active_radio_nr
+    lines = [
+        '<?xml version="1.0" encoding="utf-8"?>',
+        "<RadioInfo>",
+        "\t<app>N1MM</app>",
+        f"\t<StationName>{_escape(station_name)}</StationName>",
+        f"\t<RadioNr>{radio_nr}</RadioNr>",
+        f"\t<Freq>{round(khz * 100)}</Freq>",
+        f"\t<TXFreq>{round(tx * 100)}</TXFreq>",
+        f"\t<Mode>{_escape(mode)}</Mode>",
+        "\t<OpCall></OpCall>",
+        "\t<IsRunning>False</IsRunning>",
+        "\t<Antenna>0</Antenna>",
+        f"\t<FocusRadioNr>{active}</FocusRadioNr>",
+        f"\t<IsSplit>{tx != khz}</IsSplit>",
+        f"\t<ActiveRadioNr>{active}</ActiveRadioNr>",
+        f"\t<IsTransmitting>{is_transmitting}</IsTransmitting>",
+        "\t<FunctionKeyCaption></FunctionKeyCaption>",
+        "\t<RadioName></RadioName>",
+        "\t<AuxAntSelected>-1</AuxAntSelected>",
+        "\t<AuxAntSelectedName></AuxAntSelectedName>",
+        "\t<IsConnected>True</IsConnected>",
+        "</RadioInfo>",
+    ]
+    return ("\r\n".join(lines) + "\r\n").encode("utf-8")
+
+
+def _escape(text: str) -> str:
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
+__all__ = [
+    "MAX_KHZ",
+    "MAX_PACKET_BYTES",
+    "MAX_RADIO_NR",
+    "REASONS",
+    "N1MMPacketError",
+    "RadioInfo",
+    "parse_radio_info",
+    "radio_info_packet",
+]

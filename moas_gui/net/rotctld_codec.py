@@ -94,10 +94,10 @@ class RequestParser:
             if i >= len(text):
                 return None
         if text[i] == "\\":
-            end = _word_end(text, i + 1)
-            if end is None:
+            name_end = _word_end(text, i + 1)
+            if name_end is None:
                 return None
-            name, i = text[i + 1:end], end
+            name, i = text[i + 1:name_end], name_end
             count = LONG_NAMES.get(name)
         else:
             letter = text[i]
@@ -114,11 +114,11 @@ class RequestParser:
         args: list[str] = []
         for _ in range(count):
             start = _skip_space(text, i)
-            end = _word_end(text, start)
-            if start >= len(text) or end is None:
+            word_end = _word_end(text, start)
+            if start >= len(text) or word_end is None:
                 return None
-            args.append(text[start:end])
-            i = end
+            args.append(text[start:word_end])
+            i = word_end
         return i, Request(name, tuple(args), separator)
 
 

@@ -1,0 +1,137 @@
+"""``moas-emulator``: a MOAS II switch with no hardware.
+
+    moas-emulator                       a window, serving a new pseudo-terminal
+    moas-emulator --headless            the same without a window
+    moas-emulator --link ~/moas1        also make ~/moas1 a link to the port
+    moas-emulator --port COM7           serve a serial port instead (Windows)
+
+The first line printed is the port's path (flushed at once), so a script
+can read it; a configuration can name the ``--link`` path instead, which
+stays the same from one run to the next.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import logging
+import signal
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from ..hw.moas2.emulator.box import EmulatedBox
+from ..hw.moas2.emulator.model import EmulatorModel
+from ..hw.moas2.emulator.serve import (
+    Endpoint,
+    PtyEndpoint,
+    SerialEndpoint,
+    make_link,
+    remove_link,
+    serve,
+)
+from ..hw.moas2.errors import PortError
+
+log = logging.getLogger("moas_gui.hw.moas2.emulator")
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="moas-emulator",
+        description="Emulate a YCCC MOAS II switch on a pseudo-terminal or a serial port.",
+    )
+    p.add_argument("--headless", action="store_true", help="no window; stop with Ctrl-C")
+    p.add_argument("--link", type=Path, metavar="PATH",
+                   help="make PATH a symbolic link to the port (a stable name for a configuration)")
+    p.add_argument("--port", metavar="NAME",
+                   help="serve this serial port (e.g. COM7) instead of a new pseudo-terminal")
+    p.add_argument("--unit-id", type=int, default=0, metavar="N",
+                   help="the stored unit identifier, 0-99 (what the configuration's Echo checks)")
+    p.add_argument("--firmware", default="100", metavar="VER",
+                   help="three-character firmware version reported by ':' (default 100)")
+    p.add_argument("--log-level", default="warning",
+                   choices=["debug", "info", "warning", "error"], help="stderr log level")
+    return p
+
+
+def _open_endpoint(port: str | None) -> Endpoint:
+    if port:
+        return SerialEndpoint(port)
+    if sys.platform == "win32":
+        raise PortError("Windows has no pseudo-terminals: give --port with one end of a COM pair")
+    return PtyEndpoint()
+
+
+async def _run(args: argparse.Namespace, windowed: bool) -> int:
+    loop = asyncio.get_running_loop()
+    box = EmulatedBox(EmulatorModel(unit_id=args.unit_id, version=args.firmware))
+    try:
+        endpoint = _open_endpoint(args.port)
+    except PortError as exc:
+        print(f"moas-emulator: {exc}", file=sys.stderr)
+        return 2
+    serve(box, endpoint, loop)
+    try:
+        if args.link:
+            make_link(endpoint.path, args.link)
+    except (PortError, OSError) as exc:
+        print(f"moas-emulator: cannot make the link {args.link}: {exc}", file=sys.stderr)
+        endpoint.close()
+        return 2
+    print(endpoint.path, flush=True)
+    if args.link:
+        print(f"linked at {args.link}", flush=True)
+
+    stop = asyncio.Event()
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        with contextlib.suppress(NotImplementedError, RuntimeError, ValueError):
+            loop.add_signal_handler(signum, stop.set)
+    window = None
+    if windowed:
+        from ..ui.emulator_window import EmulatorWindow
+
+        window = EmulatorWindow(box, port=endpoint.path)
+        window.closed.connect(stop.set)
+        window.show()
+    try:
+        await stop.wait()
+    finally:
+        if window is not None:
+            window.close()
+        box.close()
+        endpoint.close()
+        if args.link:
+            remove_link(args.link, endpoint.path)
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    if not 0 <= args.unit_id <= 99:
+        print("moas-emulator: --unit-id must be 0-99", file=sys.stderr)
+        return 2
+    if len(args.firmware) != 3 or not args.firmware.isalnum():
+        print("moas-emulator: --firmware must be three letters or digits", file=sys.stderr)
+        return 2
+    logging.basicConfig(
+        level=args.log_level.upper(), stream=sys.stderr, format="%(levelname)s %(name)s: %(message)s"
+    )
+    if args.headless:
+        try:
+            return asyncio.run(_run(args, windowed=False))
+        except KeyboardInterrupt:
+            return 0
+    import qasync  # type: ignore[import-untyped]
+    from PySide6.QtWidgets import QApplication
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    app.setApplicationName("MOAS II emulator")
+    try:
+        return int(qasync.run(_run(args, windowed=True)))
+    except KeyboardInterrupt:
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

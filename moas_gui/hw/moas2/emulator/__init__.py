@@ -1,0 +1,11 @@
+"""The MOAS II emulator: the firmware as a pure model (:mod:`.model`), an
+asyncio driver that keeps its timers (:mod:`.box`), and a pseudo-terminal or
+serial port to serve it on (:mod:`.serve`)."""
+
+from __future__ import annotations
+
+from .model import INPUT_BUFFER, EmulatorModel
+from .station import Kind, Phase, Slot
+from .view import BoxView, StationView
+
+__all__ = ["INPUT_BUFFER", "BoxView", "EmulatorModel", "Kind", "Phase", "Slot", "StationView"]

@@ -1,0 +1,477 @@
+"""An asyncio client of the moas-gui client protocol (no Qt).
+
+:class:`ClientConnection` keeps one TCP connection to a server open for as
+long as it runs: it connects, says ``hello``, keeps the server's snapshot
+current from the change events, matches each reply to its request by ``id``,
+and when the connection fails or drops it tries again after a growing pause
+(:class:`Backoff`), for ever, until :meth:`ClientConnection.close`::
+
+    start() -> CONNECTING --hello answered--> CONNECTED --lost--> RECONNECTING --+
+                   |                              ^                              |
+                   +--refused / timed out---------+------------ after back-off --+
+
+Requests fail quickly rather than hang: with :class:`NotConnected` when there
+is no connection, with :class:`RequestTimeout` when no reply comes in time,
+with :class:`ConnectionLost` when the connection drops before the reply, and
+with :class:`ServerError` (carrying the protocol's error ``code`` and the
+server's sentence) when the server refuses.  Anything unusable the server
+sends is reported to listeners as :class:`~moas_gui.client.events.ProblemSeen`
+and logged (logger ``moas_gui.client``); the connection and the snapshot carry
+on unharmed.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
+from typing import Any, Literal
+
+from moas_gui import __version__
+from moas_gui.errors import MoasError, ProtocolError
+
+from .codec import ClientCodec, Event, Garbled, Reply
+from .events import (
+    ClientEvent,
+    LayoutChanged,
+    LinkChanged,
+    LinkState,
+    LogReceived,
+    ProblemSeen,
+    RadioChanged,
+    RotatorChanged,
+    StateReceived,
+    SwitchChanged,
+)
+from .model import (
+    LayoutView,
+    RadioKey,
+    Snapshot,
+    parse_layout,
+    parse_radio,
+    parse_rotator,
+    parse_snapshot,
+    parse_switch,
+)
+
+__all__ = [
+    "Backoff",
+    "ClientConnection",
+    "ClientError",
+    "ConnectionLost",
+    "Listener",
+    "NotConnected",
+    "RequestTimeout",
+    "Selection",
+    "ServerError",
+    "Target",
+]
+
+log = logging.getLogger("moas_gui.client")
+
+Target = Literal["both", "tx", "rx"]
+Listener = Callable[[ClientEvent], None]
+
+
+class ClientError(MoasError):
+    """A request that did not get a successful reply."""
+
+
+class ServerError(ClientError):
+    """The server refused a request: ``code`` is the protocol's error code."""
+
+    def __init__(self, cmd: str, code: str, message: str) -> None:
+        self.cmd = cmd
+        self.code = code
+        self.message = message
+        super().__init__(f"{cmd}: {message} ({code})")
+
+
+class NotConnected(ClientError):
+    """There is no connection to send the request on."""
+
+
+class ConnectionLost(ClientError):
+    """The connection dropped before the reply came."""
+
+
+class RequestTimeout(ClientError):
+    """No reply came in time."""
+
+
+@dataclass(frozen=True, slots=True)
+class Backoff:
+    """Pauses between connection attempts: ``first``, then times ``factor``, at most ``most``."""
+
+    first: float = 0.25
+    factor: float = 2.0
+    most: float = 5.0
+
+    def delays(self) -> Iterator[float]:
+        delay = self.first
+        while True:
+            yield delay
+            delay = min(delay * self.factor, self.most)
+
+
+@dataclass(frozen=True, slots=True)
+class Selection:
+    """The antennas of a radio after a ``select`` or ``relative`` request."""
+
+    tx: int | None
+    rx: int | None
+
+
+class ClientConnection:
+    """One client's connection to a moas-gui server; see the module notes."""
+
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        *,
+        name: str = f"moas-client {__version__}",
+        station: int | None = None,
+        radio: int | None = None,
+        want_log: bool = False,
+        timeout: float = 5.0,
+        connect_timeout: float = 3.0,
+        backoff: Backoff | None = None,
+    ) -> None:
+        self.host = host
+        self.port = port
+        self.name = name
+        self.station = station
+        self.radio = radio
+        self.want_log = want_log
+        self.timeout = timeout
+        self.connect_timeout = connect_timeout
+        self.backoff = backoff or Backoff()
+
+        self.link = LinkState.CONNECTING
+        self.snapshot: Snapshot | None = None
+        """The server's state as last told, or None before the first ``state``."""
+        self.layouts: dict[RadioKey, LayoutView] = {}
+        """The last layout received for each radio."""
+        self.server: Mapping[str, Any] = {}
+        """The ``hello`` result: ``server``, ``version``, ``protocol``."""
+        self.connects = 0
+        """How many times a connection was made and greeted (1 after the first)."""
+
+        self._listeners: list[Listener] = []
+        self._codec = ClientCodec()
+        self._writer: asyncio.StreamWriter | None = None
+        self._pending: dict[int, tuple[str, asyncio.Future[Mapping[str, Any]]]] = {}
+        self._closing = False
+        self._wake = asyncio.Event()
+        self._connected = asyncio.Event()
+        self._task: asyncio.Task[None] | None = None
+
+    @property
+    def address(self) -> str:
+        host = f"[{self.host}]" if ":" in self.host else self.host
+        return f"{host}:{self.port}"
+
+    # -- listeners ------------------------------------------------------------------------------
+    def subscribe(self, listener: Listener) -> Callable[[], None]:
+        """Calls ``listener`` with every event from now on; returns the way to stop."""
+        self._listeners.append(listener)
+
+        def unsubscribe() -> None:
+            with contextlib.suppress(ValueError):
+                self._listeners.remove(listener)
+
+        return unsubscribe
+
+    def _emit(self, event: ClientEvent) -> None:
+        for listener in list(self._listeners):
+            try:
+                listener(event)
+            except Exception:
+                log.exception("A client listener failed on %s", type(event).__name__)
+
+    # -- running --------------------------------------------------------------------------------
+    def start(self) -> asyncio.Task[None]:
+        """Runs the connection in a task of the current loop (once)."""
+        if self._task is None:
+            self._task = asyncio.ensure_future(self.run())
+        return self._task
+
+    async def run(self) -> None:
+        """Connects, and reconnects after each loss, until :meth:`close`."""
+        delays = self.backoff.delays()
+        try:
+            while not self._closing:
+                greeted = await self._attempt()
+                if self._closing:
+                    break
+                if greeted:
+                    delays = self.backoff.delays()
+                delay = next(delays)
+                self._set_link(LinkState.RECONNECTING,
+                               f"{self._last_problem}; trying again in {delay:g} s")
+                self._wake.clear()
+                with contextlib.suppress(TimeoutError):
+                    await asyncio.wait_for(self._wake.wait(), delay)
+        finally:
+            self._set_link(LinkState.CLOSED, "closed")
+
+    async def wait_connected(self, timeout: float | None = None) -> None:
+        """Returns once the server has answered ``hello`` (raises TimeoutError)."""
+        await asyncio.wait_for(self._connected.wait(), timeout)
+
+    def close(self) -> None:
+        """Stops for good: drops the connection and fails waiting requests."""
+        self._closing = True
+        self._wake.set()
+        if self._writer is not None:
+            self._writer.close()
+        if self._task is not None and not self._task.done():
+            self._task.cancel()
+
+    async def aclose(self) -> None:
+        """:meth:`close`, then waits until the connection task has ended."""
+        self.close()
+        if self._task is not None:
+            with contextlib.suppress(asyncio.CancelledError):
+                await self._task
+
+    _last_problem = "not connected"
+
+    async def _attempt(self) -> bool:
+        """One connection, from connect to loss; True when ``hello`` was answered."""
+        try:
+            reader, writer = await asyncio.wait_for(
+                asyncio.open_connection(self.host, self.port), self.connect_timeout)
+        except TimeoutError:
+            self._last_problem = f"no answer from {self.address} within {self.connect_timeout:g} s"
+            return False
+        except OSError as exc:
+            self._last_problem = f"cannot connect to {self.address}: {_reason(exc)}"
+            return False
+        self._codec = ClientCodec()
+        self._writer = writer
+        reading = asyncio.ensure_future(self._read(reader))
+        greeted = False
+        try:
+            greeted = await self._greet()
+            if greeted:
+                await reading
+        finally:
+            self._writer = None
+            reading.cancel()
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await reading
+            writer.close()
+            with contextlib.suppress(Exception):
+                await writer.wait_closed()
+            self._connected.clear()
+            self._fail_pending(ConnectionLost(f"the connection to {self.address} was lost"))
+        return greeted
+
+    async def _greet(self) -> bool:
+        args: dict[str, Any] = {"client": self.name}
+        if self.station is not None:
+            args["station"] = self.station
+        if self.radio is not None:
+            args["radio"] = self.radio
+        if self.want_log:
+            args["log"] = True
+        try:
+            self.server = await self.request("hello", args)
+        except ClientError as exc:
+            self._last_problem = f"{self.address} did not answer hello: {exc}"
+            return False
+        self.connects += 1
+        version = self.server.get("version", "?")
+        self._set_link(LinkState.CONNECTED,
+                       f"{self.address} ({self.server.get('server', 'server')} {version})")
+        self._connected.set()
+        return True
+
+    async def _read(self, reader: asyncio.StreamReader) -> None:
+        try:
+            while True:
+                data = await reader.read(65536)
+                if not data:
+                    self._last_problem = f"{self.address} closed the connection"
+                    return
+                for item in self._codec.feed(data):
+                    self._handle(item)
+        except OSError as exc:
+            self._last_problem = f"the connection to {self.address} failed: {_reason(exc)}"
+        finally:
+            self._fail_pending(ConnectionLost(f"the connection to {self.address} was lost"))
+
+    def _set_link(self, state: LinkState, detail: str) -> None:
+        if state == self.link and state != LinkState.RECONNECTING:
+            return
+        self.link = state
+        log.info("Client link to %s: %s (%s)", self.address, state.value, detail)
+        self._emit(LinkChanged(state, detail))
+
+    # -- incoming -------------------------------------------------------------------------------
+    def _handle(self, item: Reply | Event | Garbled) -> None:
+        if isinstance(item, Garbled):
+            self._problem(f"{self.address} sent {item.reason}")
+        elif isinstance(item, Reply):
+            self._handle_reply(item)
+        else:
+            try:
+                self._handle_event(item)
+            except ProtocolError as exc:
+                self._problem(f"{self.address} sent a '{item.name}' event the client cannot "
+                              f"use ({exc}); ignored")
+
+    def _handle_reply(self, reply: Reply) -> None:
+        waiting = self._pending.pop(reply.id, None) if isinstance(reply.id, int) else None
+        if waiting is None:
+            if reply.ok:
+                self._problem(f"{self.address} sent a reply to request {reply.id!r}, "
+                              "which nobody is waiting for")
+            else:
+                self._problem(f"{self.address} refused a line: {reply.message} ({reply.code})")
+            return
+        cmd, future = waiting
+        if future.done():
+            return
+        if reply.ok:
+            future.set_result(reply.result)
+        else:
+            future.set_exception(ServerError(cmd, reply.code, reply.message))
+
+    def _handle_event(self, event: Event) -> None:
+        body = event.body
+        match event.name:
+            case "state":
+                self.snapshot = parse_snapshot(body, "state event")
+                self._emit(StateReceived(self.snapshot))
+            case "radio":
+                radio = parse_radio(body, "radio event")
+                if self.snapshot is not None:
+                    self.snapshot = self.snapshot.with_radio(radio)
+                self._emit(RadioChanged(radio))
+            case "rotator":
+                rotator = parse_rotator(body, "rotator event")
+                if self.snapshot is not None:
+                    self.snapshot = self.snapshot.with_rotator(rotator)
+                self._emit(RotatorChanged(rotator))
+            case "switch":
+                switch = parse_switch(body, "switch event")
+                if self.snapshot is not None:
+                    self.snapshot = self.snapshot.with_switch(switch)
+                self._emit(SwitchChanged(switch))
+            case "layout":
+                layout = parse_layout(body, "layout event")
+                self.layouts[layout.key] = layout
+                self._emit(LayoutChanged(layout))
+            case "log":
+                level, message = body.get("level"), body.get("message")
+                if not isinstance(level, str) or not isinstance(message, str):
+                    raise ProtocolError("'level' and 'message' must be strings")
+                self._emit(LogReceived(level, message))
+            case _:
+                log.debug("Ignoring unknown event %r from %s", event.name, self.address)
+
+    def _problem(self, message: str) -> None:
+        log.warning("%s", message)
+        self._emit(ProblemSeen(message))
+
+    def _fail_pending(self, error: ClientError) -> None:
+        pending, self._pending = self._pending, {}
+        for _, future in pending.values():
+            if not future.done():
+                future.set_exception(error)
+
+    # -- requests -------------------------------------------------------------------------------
+    async def request(self, cmd: str, args: Mapping[str, Any] | None = None) -> Mapping[str, Any]:
+        """Sends ``cmd`` and returns the ``result`` of its reply (see module notes for errors)."""
+        writer = self._writer
+        if writer is None or writer.is_closing():
+            raise NotConnected(f"{cmd}: not connected to {self.address}")
+        try:
+            request_id, data = self._codec.encode(cmd, args)
+        except (TypeError, ValueError) as exc:
+            raise ClientError(f"{cmd}: the request cannot be written as JSON ({exc})") from None
+        future: asyncio.Future[Mapping[str, Any]] = asyncio.get_running_loop().create_future()
+        self._pending[request_id] = (cmd, future)
+        try:
+            writer.write(data)
+            await writer.drain()
+            return await asyncio.wait_for(asyncio.shield(future), self.timeout)
+        except TimeoutError:
+            raise RequestTimeout(
+                f"{cmd}: no reply from {self.address} within {self.timeout:g} s") from None
+        except OSError as exc:
+            raise ConnectionLost(f"{cmd}: the connection to {self.address} failed: "
+                                 f"{_reason(exc)}") from None
+        finally:
+            self._pending.pop(request_id, None)
+            if not future.done():
+                future.cancel()
+
+    async def state(self) -> Snapshot:
+        snapshot = parse_snapshot(await self.request("state"), "state reply")
+        self.snapshot = snapshot
+        return snapshot
+
+    async def frequency(self, station: int, radio: int, khz: float,
+                        tx_khz: float | None = None) -> None:
+        args: dict[str, Any] = {"station": station, "radio": radio, "khz": khz}
+        if tx_khz is not None:
+            args["tx_khz"] = tx_khz
+        await self.request("frequency", args)
+
+    async def select(self, station: int, radio: int, antenna: int, target: Target = "both",
+                     exclusive: bool = False) -> Selection:
+        args: dict[str, Any] = {"station": station, "radio": radio, "antenna": antenna,
+                                "target": target}
+        if exclusive:
+            args["exclusive"] = True
+        return _selection("select", await self.request("select", args))
+
+    async def function(self, station: int, radio: int, function: int) -> None:
+        await self.request("function", {"station": station, "radio": radio,
+                                        "function": function})
+
+    async def relative(self, station: int, radio: int, *, step: int | None = None,
+                       index: int | None = None) -> Selection:
+        if (step is None) == (index is None):
+            raise ValueError("relative needs exactly one of step and index")
+        args: dict[str, Any] = {"station": station, "radio": radio}
+        if step is not None:
+            args["step"] = step
+        else:
+            args["index"] = index
+        return _selection("relative", await self.request("relative", args))
+
+    async def layout(self, station: int, radio: int, rows: int, columns: int) -> LayoutView:
+        """The closest layout; the server then sends its changes as ``layout`` events."""
+        result = await self.request("layout", {"station": station, "radio": radio,
+                                               "rows": rows, "columns": columns})
+        try:
+            layout = parse_layout(result, "layout reply")
+        except ProtocolError as exc:
+            raise ClientError(f"layout: {exc}") from None
+        self.layouts[layout.key] = layout
+        return layout
+
+    async def rotate(self, rotator: int, heading: float) -> None:
+        await self.request("rotate", {"rotator": rotator, "heading": heading})
+
+    async def stop(self, rotator: int) -> None:
+        await self.request("stop", {"rotator": rotator})
+
+
+def _selection(cmd: str, result: Mapping[str, Any]) -> Selection:
+    tx, rx = result.get("tx"), result.get("rx")
+    for name, value in (("tx", tx), ("rx", rx)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, int)):
+            raise ClientError(f"{cmd}: the reply's '{name}' is {value!r}, not an antenna number")
+    return Selection(tx, rx)
+
+
+def _reason(exc: OSError) -> str:
+    return exc.strerror or str(exc) or type(exc).__name__

@@ -9,8 +9,18 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from moas_gui.hw.rotators.headings import (
-    Travel, Turn, angular_distance, antenna_heading, azimuth_of, closest_direction, normalize,
-    plan_turn, position_of, rotator_heading_for, whole_heading, window_base,
+    Travel,
+    Turn,
+    angular_distance,
+    antenna_heading,
+    azimuth_of,
+    closest_direction,
+    normalize,
+    plan_turn,
+    position_of,
+    rotator_heading_for,
+    whole_heading,
+    window_base,
 )
 
 bearings = st.floats(min_value=-1000, max_value=1000, allow_nan=False)

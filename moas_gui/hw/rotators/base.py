@@ -147,6 +147,11 @@ class RotatorDriver(ABC):
         return describe(self.rotator)
 
     @property
+    def title(self) -> str:
+        """The name at the start of a sentence: ``Rotator 3 (Tribander)``."""
+        return self.name[:1].upper() + self.name[1:]
+
+    @property
     def status(self) -> RotatorStatus:
         return self._status
 
@@ -156,7 +161,7 @@ class RotatorDriver(ABC):
             self._publish(status)
 
     def _unavailable(self, why: str) -> RotatorError:
-        return RotatorError("unavailable", f"{self.name.capitalize()} {why}")
+        return RotatorError("unavailable", f"{self.title} {why}")
 
     async def start(self) -> None:
         """Begin work (connect, poll); returns at once, never raises for a peer's fault."""
@@ -181,7 +186,7 @@ class UnusableRotator(RotatorDriver):
         self.why = why
 
     async def start(self) -> None:
-        log.error("%s cannot be used: %s", self.name.capitalize(), self.why)
+        log.error("%s cannot be used: %s", self.title, self.why)
 
     async def rotate(self, heading: float) -> None:
         raise self._unavailable(f"cannot be used: {self.why}")

@@ -43,7 +43,7 @@ class ElectricalRotator(RotatorDriver):
         if not self.directions:
             log.warning(
                 "%s is Electrical but no antenna names it as its Rotator; "
-                "a request will be passed on as it is", self.name.capitalize(),
+                "a request will be passed on as it is", self.title,
             )
         self._set(RotatorStatus(online=True))
 

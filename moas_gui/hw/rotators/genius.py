@@ -217,7 +217,7 @@ class GeniusRotator(RotatorDriver):
         azimuth = whole_heading(self.travel.heading_at(end))
         if not self.travel.reaches(heading):
             log.info("%s cannot point at %.0f degrees; turning to the end of its travel (%d)",
-                     self.name.capitalize(), heading, azimuth)
+                     self.title, heading, azimuth)
         reply = await self._ask(encode_move(self.rotor, azimuth), "A")
         if not reply.ok:
             raise self._unavailable(f"was refused the turn to {azimuth} degrees by {self.link.where}")

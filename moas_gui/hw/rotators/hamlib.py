@@ -87,7 +87,7 @@ class HamlibRotator(RotatorDriver):
         end = self.travel.nearest_position(heading, near=self.tracker.position)
         if not self.travel.reaches(heading):
             log.info("%s cannot point at %.0f degrees; turning to the end of its travel (%.0f)",
-                     self.name.capitalize(), heading, self.travel.heading_at(end))
+                     self.title, heading, self.travel.heading_at(end))
         azimuth = azimuth_of(self.travel, end, self.limits.min_az, self.limits.max_az)
         reply = await self._ask(encode_set_pos(azimuth, self.elevation), "turn")
         if reply.code != 0:
@@ -167,7 +167,7 @@ class HamlibRotator(RotatorDriver):
             while True:
                 self._take_position(await self._request(encode_get_pos()))
                 if self.tracker.tick(self._now()) == "stalled":
-                    log.info("%s stopped short of its target", self.name.capitalize())
+                    log.info("%s stopped short of its target", self.title)
                 self._publish_now()
                 await asyncio.sleep(self.poll)
         except TimeoutError:

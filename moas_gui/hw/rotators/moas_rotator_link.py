@@ -204,7 +204,7 @@ class SerialRotator(RotatorDriver):
         end = self.travel.nearest_position(heading, near=self.tracker.position)
         if not self.travel.reaches(heading):
             log.info("%s cannot point at %.0f degrees; turning to the end of its travel (%.0f)",
-                     self.name.capitalize(), heading, self.travel.heading_at(end))
+                     self.title, heading, self.travel.heading_at(end))
         try:
             await self.link.send(encode_rotate(self.rotator.id, self._wire_degrees(end)))
         except (OSError, TimeoutError) as exc:
@@ -243,7 +243,7 @@ class SerialRotator(RotatorDriver):
         while True:
             await asyncio.sleep(self._watch_every)
             if self._online and self.tracker.tick(self._now()) == "stalled":
-                log.info("%s stopped short of its target", self.name.capitalize())
+                log.info("%s stopped short of its target", self.title)
             self._publish_now()
 
 

@@ -48,7 +48,7 @@ class SimulatedRotator(RotatorDriver):
         if turn.clamped:
             log.info(
                 "%s cannot point at %.0f degrees; turning to the end of its travel (%.0f)",
-                self.name.capitalize(), heading, self.travel.heading_at(turn.end),
+                self.title, heading, self.travel.heading_at(turn.end),
             )
         self.position = turn.start
         if turn.direction == 0:

@@ -1,0 +1,132 @@
+"""One client's connection as the server sees it: who it is, what it follows,
+and its outgoing queue.
+
+The outgoing queue is the transport's write buffer.  :meth:`Connection.send`
+hands a line to it and returns at once (the operating system sends it when
+the client reads); if the client stops reading, the buffer grows, and once it
+holds more than ``max_pending`` bytes the connection is cut and the reason
+logged.  Nothing ever waits for one client, so a stuck one cannot delay the
+others or the code that published the event.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections import OrderedDict
+from dataclasses import dataclass
+from typing import Any
+
+from .framing import LineSplitter
+
+log = logging.getLogger("moas_gui.net")
+
+LayoutKey = tuple[int, int, int, int]
+"""``(station, radio, rows, columns)`` as a client asked for a layout."""
+
+
+@dataclass(frozen=True, slots=True)
+class ClientInfo:
+    """A connected client, for the server's window."""
+
+    address: str
+    name: str | None
+    station: int | None
+    radio: int | None
+    log: bool
+    layouts: int
+
+
+def format_peer(peer: Any) -> str:
+    """``host:port`` (``[host]:port`` for IPv6) from a socket's peer name."""
+    if isinstance(peer, tuple) and len(peer) >= 2:
+        host, port = str(peer[0]), peer[1]
+        return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+    return str(peer)
+
+
+def clean_name(name: str, limit: int = 64) -> str:
+    """A client's name made safe for a log line: printable, one line, short."""
+    text = "".join(ch if ch.isprintable() else "?" for ch in name).strip()
+    if len(text) > limit:
+        text = text[: limit - 3] + "..."
+    return text or "?"
+
+
+class Connection:
+    """State of one connected client; the server drives it."""
+
+    def __init__(
+        self,
+        writer: asyncio.StreamWriter,
+        address: str,
+        *,
+        max_pending: int,
+        max_layouts: int,
+    ) -> None:
+        self.writer = writer
+        self.address = address
+        self.max_pending = max_pending
+        self.max_layouts = max_layouts
+        self.splitter = LineSplitter()
+        self.name: str | None = None
+        self.station: int | None = None
+        self.radio: int | None = None
+        self.greeted = False
+        """Said hello: receives change events."""
+        self.wants_log = False
+        self.bad_lines = 0
+        """Bad lines in a row; three close the connection."""
+        self.layouts: OrderedDict[LayoutKey, Any] = OrderedDict()
+        """Layouts this connection follows, with the last one it was sent."""
+        self.closed = False
+        self.close_reason: str | None = None
+
+    def __str__(self) -> str:
+        if self.name is None:
+            return f"client at {self.address}"
+        return f'client "{self.name}" at {self.address}'
+
+    def info(self) -> ClientInfo:
+        return ClientInfo(
+            self.address, self.name, self.station, self.radio, self.wants_log, len(self.layouts)
+        )
+
+    def follow(self, key: LayoutKey, layout: Any) -> None:
+        """Remember ``layout`` as sent for ``key``; the oldest followed layout is
+        forgotten when there would be more than ``max_layouts``."""
+        self.layouts[key] = layout
+        self.layouts.move_to_end(key)
+        while len(self.layouts) > self.max_layouts:
+            self.layouts.popitem(last=False)
+
+    def send(self, line: bytes) -> bool:
+        """Queues ``line``; cuts the connection when its queue overflows.
+        Returns whether the line was queued."""
+        if self.closed:
+            return False
+        transport = self.writer.transport
+        if transport.is_closing():
+            return False
+        transport.write(line)
+        pending = transport.get_write_buffer_size()
+        if pending > self.max_pending:
+            self.abort(f"it stopped reading ({pending:,} bytes waiting to be sent)")
+            return False
+        return True
+
+    def close(self, reason: str) -> None:
+        """Closes after what is queued has been sent."""
+        if not self.closed:
+            self.closed, self.close_reason = True, reason
+            self.writer.close()
+
+    def abort(self, reason: str) -> None:
+        """Closes at once, dropping what is queued."""
+        if not self.closed:
+            self.closed, self.close_reason = True, reason
+            log.warning("Disconnecting %s: %s", self, reason)
+            self.writer.transport.abort()
+
+
+__all__ = ["ClientInfo", "Connection", "LayoutKey", "clean_name", "format_peer"]

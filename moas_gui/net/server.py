@@ -1,0 +1,385 @@
+"""The client protocol server: TCP, JSON lines, one asyncio loop, no Qt.
+
+::
+
+    server = ClientServer(backend, port=config.tcp_port, allow=config.client_allow)
+    await server.start()
+    ...                      # the app calls server.publish_radio(entry) etc. after changes
+    await server.close()
+
+Each connection is read line by line (:mod:`.framing`), each line read as a
+request (:mod:`.commands`) and answered exactly once, in order; the backend
+(:mod:`.backend`) does the work.  Events are written to every greeted client
+the moment they are published (:mod:`.connection` explains why a client that
+stops reading cannot hold anyone up).  Peers outside the allowed networks
+(:mod:`.access`) are closed at once.  Every call here runs on the loop's
+thread; none of them waits.
+
+Log lines (logger ``moas_gui.net``): connects, hellos and disconnects at Info;
+refused peers and clients cut off for not reading at Warning; each bad line or
+refused request at Debug; a backend failure at Error with its traceback.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+from collections.abc import Callable, Iterable, Mapping
+from typing import Any
+
+from .access import allowed_networks, is_allowed
+from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
+from .commands import BadLine, BadRequest, Request, parse_line
+from .connection import ClientInfo, Connection, LayoutKey, clean_name, format_peer
+from .framing import MAX_LINE, Line, LongLine
+from .messages import EncodeError, event, hello_result, reply_error, reply_ok
+
+log = logging.getLogger("moas_gui.net")
+
+DEFAULT_PORT = 12059
+MAX_BAD_LINES = 3
+"""Bad lines in a row after which a connection is closed."""
+LOG_LEVELS: tuple[LogLevel, ...] = ("error", "info", "debug")
+_READ_CHUNK = 65_536
+
+
+class ClientServer:
+    """Serves the client protocol for one backend; implements :class:`~.backend.EventSink`.
+
+    ``host`` ``None`` listens on every interface (access control decides who
+    may stay); tests give ``"127.0.0.1"`` and port 0.  ``allow`` is the
+    configuration's ``ClientAllow`` (``None``: loopback and private networks).
+    ``max_pending`` bounds each client's outgoing queue in bytes;
+    ``max_layouts`` bounds the layouts one connection follows.
+    """
+
+    def __init__(
+        self,
+        backend: ClientBackend,
+        *,
+        host: str | None = None,
+        port: int = DEFAULT_PORT,
+        allow: Iterable[str] | None = None,
+        max_pending: int = 1 << 20,
+        max_layouts: int = 16,
+    ) -> None:
+        self.backend = backend
+        self.host = host
+        self.port = port
+        self._allowed = allowed_networks(allow)
+        self.max_pending = max_pending
+        self.max_layouts = max_layouts
+        self._server: asyncio.Server | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._connections: dict[Connection, None] = {}
+        self._tasks: set[asyncio.Task[Any]] = set()
+        self._layout_refresh: asyncio.Handle | None = None
+        self._handlers: dict[str, Callable[[Connection, Request], None]] = {
+            "hello": self._hello,
+            "state": self._state,
+            "frequency": self._frequency,
+            "select": self._select,
+            "function": self._function,
+            "relative": self._relative,
+            "layout": self._layout,
+            "rotate": self._rotate,
+            "stop": self._stop,
+        }
+
+    # ---- life -----------------------------------------------------------------------
+
+    async def start(self) -> int:
+        """Starts listening; returns the port (the system's choice when 0 was given)."""
+        self._loop = asyncio.get_running_loop()
+        self._server = await asyncio.start_server(self._serve, self.host, self.port)
+        self.port = self._server.sockets[0].getsockname()[1]
+        where = self.host if self.host is not None else "every interface"
+        log.info("Accepting clients on TCP port %d (%s)", self.port, where)
+        return self.port
+
+    async def close(self) -> None:
+        """Stops listening and closes every connection."""
+        if self._server is not None:
+            self._server.close()
+        for conn in tuple(self._connections):
+            conn.close("the server is closing")
+        if self._layout_refresh is not None:
+            self._layout_refresh.cancel()
+            self._layout_refresh = None
+        tasks = tuple(self._tasks)
+        if tasks:
+            _done, pending = await asyncio.wait(tasks, timeout=1.0)
+            for task in pending:
+                task.cancel()
+            await asyncio.gather(*pending, return_exceptions=True)
+        if self._server is not None:
+            await self._server.wait_closed()
+            self._server = None
+
+    def set_allow(self, allow: Iterable[str] | None) -> None:
+        """New ``ClientAllow`` (after a configuration is loaded); applies to new connections."""
+        self._allowed = allowed_networks(allow)
+
+    @property
+    def client_count(self) -> int:
+        return len(self._connections)
+
+    def clients(self) -> tuple[ClientInfo, ...]:
+        return tuple(conn.info() for conn in self._connections)
+
+    # ---- events (EventSink) ---------------------------------------------------------
+
+    def publish_state(self) -> None:
+        try:
+            snapshot = self.backend.snapshot()
+            line = event("state", snapshot)
+        except RequestError as e:
+            log.debug("No state event for clients: %s", e.message)
+            return
+        except Exception:
+            log.exception("Could not write the state event for clients")
+            return
+        self._broadcast(line)
+        self.layouts_may_have_changed()
+
+    def publish_radio(self, entry: Mapping[str, Any]) -> None:
+        self._publish("radio", entry)
+
+    def publish_rotator(self, entry: Mapping[str, Any]) -> None:
+        self._publish("rotator", entry)
+
+    def publish_switch(self, entry: Mapping[str, Any]) -> None:
+        self._publish("switch", entry)
+
+    def publish_log(self, level: LogLevel, message: str) -> None:
+        if level not in LOG_LEVELS:
+            raise ValueError(f"log level {level!r} is not one of {', '.join(LOG_LEVELS)}")
+        try:
+            line = event("log", {"level": level, "message": str(message)})
+        except EncodeError:
+            log.exception("Could not write a log event for clients")
+            return
+        for conn in tuple(self._connections):
+            if conn.greeted and conn.wants_log:
+                conn.send(line)
+
+    def layouts_may_have_changed(self) -> None:
+        """Re-checks every followed layout soon (once per loop turn, however
+        often this is called) and sends those that changed."""
+        if self._layout_refresh is None and self._loop is not None and not self._loop.is_closed():
+            self._layout_refresh = self._loop.call_soon(self._refresh_layouts)
+
+    def _publish(self, name: str, entry: Mapping[str, Any]) -> None:
+        try:
+            line = event(name, entry)
+        except EncodeError:
+            log.exception("Could not write a %s event for clients", name)
+            return
+        self._broadcast(line)
+
+    def _broadcast(self, line: bytes) -> None:
+        for conn in tuple(self._connections):
+            if conn.greeted:
+                conn.send(line)
+
+    def _refresh_layouts(self) -> None:
+        self._layout_refresh = None
+        fresh: dict[LayoutKey, tuple[Any, bytes] | None] = {}
+        for conn in tuple(self._connections):
+            for key, last in tuple(conn.layouts.items()):
+                if key not in fresh:
+                    fresh[key] = self._ask_layout(key)
+                now = fresh[key]
+                if now is not None and now[0] != last and not conn.closed:
+                    conn.layouts[key] = now[0]
+                    conn.send(now[1])
+
+    def _ask_layout(self, key: LayoutKey) -> tuple[Any, bytes] | None:
+        try:
+            layout = self.backend.layout(*key)
+            return layout, event("layout", layout)
+        except RequestError as e:
+            log.debug("Layout %s not sent to clients: %s", key, e.message)
+        except Exception:
+            log.exception("Could not refresh layout %s for clients", key)
+        return None
+
+    # ---- connections ----------------------------------------------------------------
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        task = asyncio.current_task()
+        if task is not None:
+            self._tasks.add(task)
+        peer = writer.get_extra_info("peername")
+        address = format_peer(peer)
+        try:
+            host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
+            if not is_allowed(host, self._allowed):
+                log.warning(
+                    "Refused a client from %s: the address is not in the allowed networks "
+                    "(ClientAllow in the configuration decides)", address,
+                )
+                writer.transport.abort()
+                return
+            await self._converse(reader, writer, address)
+        finally:
+            if task is not None:
+                self._tasks.discard(task)
+
+    async def _converse(
+        self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter, address: str
+    ) -> None:
+        conn = Connection(
+            writer, address, max_pending=self.max_pending, max_layouts=self.max_layouts
+        )
+        self._connections[conn] = None
+        log.info("Client connected from %s", address)
+        lost: str | None = None
+        try:
+            while not conn.closed:
+                data = await reader.read(_READ_CHUNK)
+                if not data:
+                    break
+                for item in conn.splitter.feed(data):
+                    self._take(conn, item)
+                    if conn.closed:
+                        break
+                await asyncio.sleep(0)  # a client sending a flood must not starve the others
+        except (ConnectionError, OSError) as e:
+            lost = str(e) or type(e).__name__
+        finally:
+            del self._connections[conn]
+            if conn.close_reason is not None:
+                how = f"disconnected by the server: {conn.close_reason}"
+            elif lost is not None:
+                how = f"connection lost: {lost}"
+            else:
+                how = "disconnected"
+            log.info("Client %s %s", _who(conn), how)
+            if not conn.closed:
+                writer.close()
+            with contextlib.suppress(Exception):
+                await writer.wait_closed()
+
+    def _take(self, conn: Connection, item: Line | LongLine) -> None:
+        """Answers one line."""
+        if isinstance(item, LongLine):
+            parsed: Request | BadRequest | BadLine | None = BadLine(
+                f"the line is longer than {MAX_LINE:,} bytes"
+            )
+        else:
+            parsed = parse_line(item.data)
+        if parsed is None:
+            return
+        if isinstance(parsed, BadLine):
+            conn.bad_lines += 1
+            log.debug("Bad line from %s: %s", conn, parsed.message)
+            conn.send(reply_error(None, ErrorCode.BAD_REQUEST, parsed.message))
+            if conn.bad_lines >= MAX_BAD_LINES:
+                conn.close(f"{MAX_BAD_LINES} bad lines in a row")
+            return
+        conn.bad_lines = 0
+        if isinstance(parsed, BadRequest):
+            log.debug("Refused a request from %s: %s", conn, parsed.message)
+            self._reply_error(conn, parsed.id, parsed.code, parsed.message)
+            return
+        try:
+            self._handlers[parsed.cmd](conn, parsed)
+        except RequestError as e:
+            log.debug("Refused %s from %s: %s", parsed.cmd, conn, e.message)
+            self._reply_error(conn, parsed.id, e.code, e.message)
+        except Exception as e:
+            log.exception("The server failed on %s from %s", parsed.cmd, conn)
+            self._reply_error(
+                conn, parsed.id, ErrorCode.INTERNAL,
+                f"the server failed on {parsed.cmd}: {type(e).__name__}: {e}",
+            )
+
+    def _reply(self, conn: Connection, request: Request, result: Any) -> None:
+        try:
+            line = reply_ok(request.id, result)
+        except EncodeError as e:
+            log.error("The reply to %s from %s is not JSON: %s", request.cmd, conn, e)
+            self._reply_error(
+                conn, request.id, ErrorCode.INTERNAL, f"the server's reply to {request.cmd} "
+                "could not be written; the server's log says why",
+            )
+            return
+        conn.send(line)
+
+    def _reply_error(self, conn: Connection, request_id: Any, code: ErrorCode, text: str) -> None:
+        try:
+            line = reply_error(request_id, code, text)
+        except EncodeError:  # the id itself cannot be written back
+            line = reply_error(None, code, text)
+        conn.send(line)
+
+    # ---- commands -------------------------------------------------------------------
+
+    def _hello(self, conn: Connection, request: Request) -> None:
+        args = request.args
+        conn.name = clean_name(args["client"])
+        conn.station, conn.radio = args["station"], args["radio"]
+        conn.wants_log = args["log"]
+        serves = ""
+        if conn.station is not None:
+            serves = f" for station {conn.station}" + (
+                f" radio {conn.radio}" if conn.radio is not None else ""
+            )
+        log.info("Client at %s is \"%s\"%s", conn.address, conn.name, serves)
+        self._reply(conn, request, hello_result())
+        conn.greeted = True
+        try:
+            line = event("state", self.backend.snapshot())
+        except RequestError as e:
+            log.debug("No state event for %s yet: %s", conn, e.message)
+            return
+        conn.send(line)
+
+    def _state(self, conn: Connection, request: Request) -> None:
+        self._reply(conn, request, self.backend.snapshot())
+
+    def _frequency(self, conn: Connection, request: Request) -> None:
+        a = request.args
+        self.backend.frequency(a["station"], a["radio"], a["khz"], a["tx_khz"])
+        self._reply(conn, request, {})
+
+    def _select(self, conn: Connection, request: Request) -> None:
+        a = request.args
+        result = self.backend.select(
+            a["station"], a["radio"], a["antenna"], a["target"], a["exclusive"]
+        )
+        self._reply(conn, request, result)
+
+    def _function(self, conn: Connection, request: Request) -> None:
+        a = request.args
+        self.backend.function(a["station"], a["radio"], a["function"])
+        self._reply(conn, request, {})
+
+    def _relative(self, conn: Connection, request: Request) -> None:
+        a = request.args
+        result = self.backend.relative(a["station"], a["radio"], a["step"], a["index"])
+        self._reply(conn, request, result)
+
+    def _layout(self, conn: Connection, request: Request) -> None:
+        a = request.args
+        key: LayoutKey = (a["station"], a["radio"], a["rows"], a["columns"])
+        layout = self.backend.layout(*key)
+        conn.follow(key, layout)
+        self._reply(conn, request, layout)
+
+    def _rotate(self, conn: Connection, request: Request) -> None:
+        self.backend.rotate(request.args["rotator"], request.args["heading"])
+        self._reply(conn, request, {})
+
+    def _stop(self, conn: Connection, request: Request) -> None:
+        self.backend.stop(request.args["rotator"])
+        self._reply(conn, request, {})
+
+
+def _who(conn: Connection) -> str:
+    return f'"{conn.name}" at {conn.address}' if conn.name else f"at {conn.address}"
+
+
+__all__ = ["DEFAULT_PORT", "LOG_LEVELS", "MAX_BAD_LINES", "ClientServer"]

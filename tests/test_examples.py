@@ -10,6 +10,7 @@ check that each example really shows what its section of chapter 7 describes.
 from __future__ import annotations
 
 import json
+import re
 from collections import Counter, defaultdict
 from collections.abc import Iterator
 from functools import cache
@@ -882,3 +883,30 @@ def test_ms_one_amp_moves_the_listener_to_the_vertical_when_both_use_tribanders_
     on_160 = [a for a in ants.values() if 160 in {band_of(c) for c in a["Control"]}]
     assert len(on_160) == 1, "only one station at a time on 160"
     assert cfg["ProtectSameBand"] is False
+
+
+# ------------------------------------------------------------------ the guide and the list
+
+GUIDE = EXAMPLES.parent / "docs" / "configuration.md"
+
+
+def test_the_guide_and_the_examples_readme_speak_of_every_example() -> None:
+    guide = GUIDE.read_text(encoding="utf-8")
+    readme = (EXAMPLES / "README.md").read_text(encoding="utf-8")
+    for name in NAMES:
+        assert f"(`{name}.moas`)" in guide, f"no section for {name} in the guide"
+        assert f"| `{name}.moas` |" in readme, f"no line for {name} in examples/README.md"
+
+
+def test_json_snippets_in_the_guide_are_valid_json() -> None:
+    blocks = re.findall(r"```json\n(.*?)```", GUIDE.read_text(encoding="utf-8"), re.DOTALL)
+    assert len(blocks) >= 10
+    for block in blocks:
+        for text in (block, "{" + block + "}", "[" + block + "]"):
+            try:
+                strict_loads(text)
+                break
+            except ValueError:
+                continue
+        else:
+            pytest.fail(f"not JSON, even as a list or group:\n{block}")

@@ -1,0 +1,141 @@
+"""Each emulator checked by the real Hamlib client for its controller (``rotctl -m N``).
+
+For every model, two ``rotctl`` runs go at the same time, each on its own
+emulator on its own pseudo-terminal:
+
+- a fast rotator: read the position, set it, read it again;
+- a rotator at a realistic speed: set it, then stop it half-way.
+
+Hamlib is the judge of the bytes: if an emulator answered differently from
+what Hamlib's driver for that controller expects, ``rotctl`` would print an
+error or a wrong number.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import time
+from collections.abc import Iterator
+
+import pytest
+
+from moas_gui.hw.rotators.controllers.models import find_model
+from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
+
+ROTCTL = shutil.which("rotctl")
+
+START = 123.0
+FAST = 2000.0
+"""Degrees per second of the 'fast' rotator: any turn is over before rotctl reads again."""
+SLOW = 100.0
+"""Degrees per second of the rotator that is stopped half-way (rotctl waits 0-1 s between
+the set and the stop, depending on the model)."""
+
+# (our model, rotctl -m, extra rotctl options)
+CASES = [
+    ("DCU1", 403, []),
+    ("RotorEZ", 401, []),
+    ("GS-232A", 601, []),
+    ("Yaesu", 603, []),
+    ("RC2800P-X", 1001, []),
+    ("RC2800P-A", 1002, []),
+    ("Rot2Prog", 901, []),
+    ("Rot1Prog", 902, []),
+    ("Alfaspid", 902, []),
+    ("Prosistel D", 1701, []),
+]
+
+
+RUNNING: list[subprocess.Popen[str]] = []
+
+
+@pytest.fixture
+def host() -> Iterator[EmulatorHost]:
+    with EmulatorHost() as running:
+        try:
+            yield running
+        finally:
+            while RUNNING:  # a failed test leaves its other rotctl behind: end it
+                process = RUNNING.pop()
+                if process.poll() is None:
+                    process.kill()
+                process.communicate()
+
+
+def rotctl(hamlib: int, path: str, *commands: str) -> subprocess.Popen[str]:
+    assert ROTCTL is not None, "Hamlib's rotctl is missing: scripts/setup.sh --test installs it"
+    process = subprocess.Popen([ROTCTL, "-m", str(hamlib), "-r", path, *commands],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    RUNNING.append(process)
+    return process
+
+
+def finish(process: subprocess.Popen[str]) -> tuple[int, list[float], str]:
+    """Exit code, the numbers printed, and all text printed (rotctl puts errors on stdout)."""
+    try:
+        out, err = process.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        out, err = process.communicate()
+        pytest.fail(f"rotctl did not finish: {err[-500:]}")
+    numbers = []
+    for line in out.split():
+        try:
+            numbers.append(float(line))
+        except ValueError:
+            pass
+    return process.returncode, numbers, out + err
+
+
+def state(host: EmulatorHost, port: ServedPort) -> tuple[float, bool]:
+    return host.call(port, lambda emulator, now: (emulator.azimuth, emulator.busy))
+
+
+@pytest.mark.parametrize(("model", "hamlib", "options"), CASES,
+                         ids=[f"{m}-{h}" for m, h, _ in CASES])
+def test_rotctl_reads_sets_and_stops_the_emulator(host: EmulatorHost, model: str, hamlib: int,
+                                                  options: list[str]) -> None:
+    maker = find_model(model)
+    fast = host.add(maker.make_emulator(START, FAST, host.clock()))
+    slow = host.add(maker.make_emulator(START, SLOW, host.clock()))
+    has_readback = maker.info.has_readback
+
+    read = ["p"] if has_readback else []
+    fast_run = rotctl(hamlib, fast.path, *options, *read, "P", "200", "0", *read)
+    slow_run = rotctl(hamlib, slow.path, *options, "P", "300", "0", "S", *read)
+
+    code, numbers, err = finish(fast_run)
+    assert code == 0, err[-800:]
+    if has_readback:
+        assert numbers[0] == pytest.approx(START, abs=0.05)
+        # Some models read at once after the set: the turn is under way, or over.
+        assert numbers[2] != START
+    time.sleep(0.3)  # the last turn ends (the DCU-1 only starts after rotctl's pause)
+    assert state(host, fast)[0] == pytest.approx(200.0, abs=0.05)
+
+    code, numbers, err = finish(slow_run)
+    assert code == 0, err[-800:]
+    time.sleep(0.2)
+    azimuth, busy = state(host, slow)
+    assert not busy, "the stop did not stop the emulator"
+    assert abs(azimuth - START) > 0.05, "the set did not start a turn"
+    assert abs(azimuth - 300.0) > 5, "the stop came after the turn was over"
+    if has_readback:  # read after the stop: where the emulator stands, to its resolution
+        assert numbers[0] == pytest.approx(azimuth, abs=0.51)
+
+
+def test_rotctl_finds_no_position_readback_on_a_dcu1(host: EmulatorHost) -> None:
+    port = host.add(find_model("DCU1").make_emulator(START))
+    code, _, err = finish(rotctl(403, port.path, "p"))
+    assert code != 0
+    assert "Feature not available" in err
+
+
+def test_rotctl_gets_the_rotorez_heading_after_the_power_on_byte(host: EmulatorHost) -> None:
+    from moas_gui.hw.rotators.controllers.rotorez_emulator import RotorEZEmulator
+
+    port = host.add(RotorEZEmulator(bearing=77.0, stray_byte=True))
+    code, numbers, err = finish(rotctl(401, port.path, "p"))
+    assert code == 0, err[-800:]
+    assert numbers[0] == 77.0

@@ -1,1 +1,53 @@
-"""moas_gui.hw.moas2."""
+"""The YCCC MOAS II switch: its protocol (sans-IO codec), an emulator of its
+firmware, and the switch link that drives one box for the server.
+
+* :mod:`.sixbit`, :mod:`.messages`, :mod:`.commands`, :mod:`.replies`,
+  :mod:`.decoder`: the codec (no ports, no clock).
+* :mod:`.emulator`: the firmware as a pure model, and the pieces that run it
+  in real time on a pseudo-terminal or serial port.
+* :mod:`.sync`: the commands that take a box from one state to another.
+* :mod:`.transport`, :mod:`.link`: the port seam and the link itself.
+"""
+
+from __future__ import annotations
+
+from .commands import MAX_COMMAND, MAX_PAIRS, MAX_RELAYS, encode, encode_all, parse_command, split
+from .decoder import SwitchDecoder
+from .errors import (
+    CommandRejected,
+    CommandTooLong,
+    EncodeError,
+    Moas2Error,
+    PortError,
+    RelayListTooLong,
+)
+from .link import EMULATOR_PORT, LinkStatus, LinkTiming, SwitchLink
+from .replies import encode_reply, parse_reply
+from .sync import Plan, count_bytes, difference, initialise
+
+__all__ = [
+    "EMULATOR_PORT",
+    "MAX_COMMAND",
+    "MAX_PAIRS",
+    "MAX_RELAYS",
+    "CommandRejected",
+    "CommandTooLong",
+    "EncodeError",
+    "LinkStatus",
+    "LinkTiming",
+    "Moas2Error",
+    "Plan",
+    "PortError",
+    "RelayListTooLong",
+    "SwitchDecoder",
+    "SwitchLink",
+    "count_bytes",
+    "difference",
+    "encode",
+    "encode_all",
+    "encode_reply",
+    "initialise",
+    "parse_command",
+    "parse_reply",
+    "split",
+]

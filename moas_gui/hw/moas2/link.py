@@ -1,0 +1,488 @@
+"""The switch link: one object per MOAS II that makes the box hold what the
+engine wants, and reports what the box says.
+
+Its life, in plain words:
+
+* ``connect()`` starts it.  It opens the port (or the built-in emulator for
+  the port name ``"emulator"``), asks the unit id (``:;``) and, when the
+  configuration gives ``Echo``, refuses a box with another id.  Then it
+  resets and loads the box from the latest state (:func:`.sync.initialise`),
+  checks the box answers, and asks the box status to learn who transmits.
+* ``apply(state)`` writes the difference from the last state sent, at once
+  (no timer in between), as the fewest bytes (:func:`.sync.difference`).
+  Before the box is ready it only remembers the state.
+* It pings once a second.  Three seconds without a well-formed message, or
+  the port going away, make it ``unresponsive``; it then closes the port and
+  tries again after 0.5 s, 1 s, 2 s ... up to 8 s, and on success loads the
+  box again from the latest state.  A box that answers a ping "inactive"
+  while it should be active was reset or lost power: it is loaded again.
+* Each ping closes a batch of the commands written before it; a ``?`` error
+  is blamed on the batch not yet answered, narrowed by the error letter,
+  and logged naming the command.
+* ``stop()`` resets the box and loads it without activating it (all relays
+  off); ``start()`` activates it again; ``reset()`` reloads it; ``save_data``
+  writes every status reply and the tables to a text file.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import time
+from collections import deque
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from enum import Enum
+from pathlib import Path
+from typing import Any, TypeVar
+
+from ...engine.switchstate import STATIONS, SwitchState
+from .commands import encode, split
+from .decoder import SwitchDecoder
+from .emulator.box import EmulatedBox
+from .emulator.model import EmulatorModel
+from .errors import PortError
+from .messages import (
+    AntennaEvent,
+    AntennaStatus,
+    BoxStatus,
+    Command,
+    ErrorReply,
+    Malformed,
+    Ping,
+    PolarityStatus,
+    Pong,
+    ReceiveEvent,
+    RelayStatus,
+    RelayStatusRequest,
+    StateOp,
+    StatusKind,
+    StatusRequest,
+    TransmitEvent,
+    TRState,
+    UnitId,
+    UnitIdReply,
+)
+from .replies import encode_reply
+from .sync import DEFAULT_EVENTS, Plan, difference, initialise, stopped
+from .transport import EmulatorTransport, SerialTransport, Transport
+
+log = logging.getLogger("moas_gui.hw.moas2.link")
+
+EMULATOR_PORT = "emulator"
+"""The port name that means "the built-in emulator"."""
+
+_R = TypeVar("_R")
+
+
+class LinkStatus(str, Enum):
+    CONNECTING = "connecting"
+    OK = "ok"
+    UNRESPONSIVE = "unresponsive"
+    STOPPED = "stopped"
+
+
+@dataclass(frozen=True, slots=True)
+class LinkTiming:
+    """The link's clocks, in seconds (tests shorten them)."""
+
+    ping_interval: float = 1.0
+    answer_timeout: float = 3.0
+    retry_first: float = 0.5
+    retry_max: float = 8.0
+
+
+@dataclass(slots=True)
+class _Batch:
+    expect_active: bool | None
+    commands: list[bytes] = field(default_factory=list)
+
+
+_CAN_CAUSE: dict[str, Callable[[bytes], bool]] = {
+    "T": lambda c: c[:1] in (b"~", b"@"),
+    "A": lambda c: c not in (b"';", b"|;"),
+}
+"""Which commands can draw each error letter (others: any command)."""
+
+
+class SwitchLink:
+    """Owns one MOAS II switch."""
+
+    def __init__(
+        self,
+        switch_id: int,
+        port: str,
+        echo: int | None = None,
+        *,
+        on_status: Callable[[LinkStatus], None] | None = None,
+        on_tr: Callable[[int, bool], None] | None = None,
+        on_error: Callable[[str], None] | None = None,
+        indicate_tr: bool = True,
+        timing: LinkTiming = LinkTiming(),
+        transport: Transport | None = None,
+    ) -> None:
+        self.switch_id = switch_id
+        self.port = port
+        self.echo = echo
+        self.timing = timing
+        self._on_status = on_status
+        self._on_tr = on_tr
+        self._on_error = on_error
+        self._events = DEFAULT_EVENTS if indicate_tr else (StateOp.ANTENNA_EVENTS_ON,)
+        self.emulator: EmulatedBox | None = None
+        if transport is None:
+            if port == EMULATOR_PORT:
+                self.emulator = EmulatedBox(EmulatorModel(unit_id=echo or 0))
+                transport = EmulatorTransport(self.emulator)
+            else:
+                transport = SerialTransport(port)
+        elif isinstance(transport, EmulatorTransport):
+            self.emulator = transport.box
+        self._transport = transport
+        self._decoder = SwitchDecoder()
+        self._desired = SwitchState()
+        self._sent: SwitchState | None = None
+        self._stopped = False
+        self._status = LinkStatus.CONNECTING
+        self._open = False
+        self._lost: asyncio.Event | None = None
+        self._task: asyncio.Task[None] | None = None
+        self._waiters: list[tuple[type, asyncio.Future[Any]]] = []
+        self._pings: deque[_Batch] = deque()
+        self._batch = _Batch(None)
+        self._last_heard = 0.0
+        self._last_problem = ""
+        self._tr: dict[int, bool] = {}
+        self.unit: UnitIdReply | None = None
+        self.bytes_written = 0
+        self.replies: dict[type, tuple[float, bytes]] = {}
+        self.errors: deque[str] = deque(maxlen=50)
+
+    # ------------------------------------------------------------------ public
+
+    @property
+    def status(self) -> LinkStatus:
+        return self._status
+
+    @property
+    def ready(self) -> bool:
+        """The box is initialised and every ``apply`` goes straight out."""
+        return self._open and self._sent is not None
+
+    @property
+    def where(self) -> str:
+        return f"switch {self.switch_id} on {self._transport.description}"
+
+    def connect(self) -> None:
+        """Start talking to the switch (needs a running event loop)."""
+        if self._task is None or self._task.done():
+            self._lost = asyncio.Event()
+            self._task = asyncio.get_running_loop().create_task(
+                self._supervise(), name=f"switch {self.switch_id}"
+            )
+
+    async def close(self) -> None:
+        """Stop talking to the switch; the box keeps its relays."""
+        task, self._task = self._task, None
+        if task is not None:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+        self._close_port("closed")
+
+    def apply(self, state: SwitchState) -> int:
+        """Make the box hold ``state``; returns the bytes written now."""
+        self._desired = state
+        if not self.ready or self._sent is None:
+            return 0
+        target = self._effective(state)
+        written = self._send(difference(self._sent, target, events=self._events))
+        self._sent = target
+        return written
+
+    def stop(self) -> None:
+        """Stop Switches: all relays off (reset, and load without activating)."""
+        self._stopped = True
+        self.apply(self._desired)
+        if self.ready:
+            self._set_status(LinkStatus.STOPPED)
+
+    def start(self) -> None:
+        """Start Switches: activate a stopped switch again."""
+        self._stopped = False
+        self.apply(self._desired)
+        if self.ready:
+            self._set_status(LinkStatus.OK)
+
+    def reset(self) -> None:
+        """Reset Switches: reset the box and load it again from the latest state."""
+        if self.ready:
+            log.info("%s: resetting and loading it again", self.where)
+            self._load()
+
+    async def save_data(self, path: str | Path) -> Path:
+        """Write every status reply and the tables to ``path`` (text)."""
+        path = Path(path)
+        lines = [
+            f"MOAS II switch {self.switch_id}",
+            f"port: {self.port} ({self._transport.description})",
+            f"status: {self._status.value}",
+            f"written: {time.strftime('%Y-%m-%d %H:%M:%S')}",
+            "",
+        ]
+        asked: list[tuple[Command, type[Any]]] = [
+            (UnitId(), UnitIdReply),
+            (StatusRequest(StatusKind.BOX), BoxStatus),
+            (StatusRequest(StatusKind.POLARITY), PolarityStatus),
+            (RelayStatusRequest(), RelayStatus),
+            (Ping(), Pong),
+        ]
+        for command, reply_type in asked:
+            reply: Any = await self._ask(command, reply_type) if self.ready else None
+            sent = encode(command).decode()
+            if reply is None:
+                lines.append(f"{sent:6} -> no answer")
+            else:
+                lines.append(f"{sent:6} -> {encode_reply(reply).decode()}  {reply}")
+        state = self._sent if self._sent is not None else self._effective(self._desired)
+        lines += ["", "Tables and settings as loaded (the commands, one per line):"]
+        lines += [f"  {encode(part).decode()}" for c in initialise(state).commands for part in split(c)]
+        lines += ["", f"conflict pairs: {sorted(state.conflicts)}"]
+        lines += [f"fast pairs: {sorted(state.fast)}", f"systems: {list(state.systems)}"]
+        lines += ["", "Recent errors:", *(f"  {e}" for e in self.errors)]
+        if not self.errors:
+            lines.append("  none")
+        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        return path
+
+    # ------------------------------------------------------------------ supervision
+
+    async def _supervise(self) -> None:
+        delay = self.timing.retry_first
+        while True:
+            reached = await self._session()
+            self._close_port("session ended")
+            self._set_status(LinkStatus.UNRESPONSIVE)
+            if reached:
+                delay = self.timing.retry_first
+            await asyncio.sleep(delay)
+            delay = min(delay * 2, self.timing.retry_max)
+
+    async def _session(self) -> bool:
+        """One connection; True if the box became ready."""
+        assert self._lost is not None
+        try:
+            self._lost.clear()
+            self._decoder.reset()
+            self._transport.open(self._on_data, self._on_port_lost)
+        except PortError as exc:
+            self._problem(logging.WARNING, f"{self.where}: cannot open the port: {exc}; will retry")
+            return False
+        self._open = True
+        self._pings.clear()
+        self._batch = _Batch(None)
+        self._tr.clear()
+        unit = await self._ask(UnitId(), UnitIdReply)
+        if unit is None:
+            self._problem(logging.WARNING, f"{self.where} does not answer; will retry")
+            return False
+        self.unit = unit
+        if self.echo is not None and unit.unit != self.echo:
+            self._problem(
+                logging.ERROR,
+                f"{self.where} says it is unit {unit.unit}, but the configuration's Echo is "
+                f"{self.echo}: not driving it (is it on the wrong port?)",
+            )
+            return False
+        self._load()
+        if await self._ask(Ping(), Pong) is None:
+            self._problem(logging.WARNING, f"{self.where} stopped answering while loading")
+            return False
+        await self._ask(StatusRequest(StatusKind.BOX), BoxStatus)
+        if self._last_problem:
+            log.info("%s answers again", self.where)
+        self._last_problem = ""
+        self._set_status(LinkStatus.STOPPED if self._stopped else LinkStatus.OK)
+        loop = asyncio.get_running_loop()
+        while True:
+            with contextlib.suppress(TimeoutError):
+                await asyncio.wait_for(self._lost.wait(), self.timing.ping_interval)
+            if self._lost.is_set():
+                return True
+            if loop.time() - self._last_heard > self.timing.answer_timeout:
+                log.warning(
+                    "%s stopped answering (nothing for %.1f s)", self.where,
+                    self.timing.answer_timeout,
+                )
+                return True
+            self._ping()
+
+    def _load(self) -> None:
+        target = self._effective(self._desired)
+        self._send(initialise(target, events=self._events))
+        self._sent = target
+
+    def _effective(self, state: SwitchState) -> SwitchState:
+        return stopped(state) if self._stopped else state
+
+    def _close_port(self, why: str) -> None:
+        self._open = False
+        self._sent = None
+        self._transport.close()
+        for _, future in self._waiters:
+            if not future.done():
+                future.set_exception(PortError(why))
+        self._waiters.clear()
+
+    def _on_port_lost(self, reason: str) -> None:
+        log.warning("%s: the port went away: %s", self.where, reason)
+        self._open = False
+        self._sent = None
+        if self._lost is not None:
+            self._lost.set()
+        for _, future in self._waiters:
+            if not future.done():
+                future.set_exception(PortError(reason))
+
+    def _set_status(self, status: LinkStatus) -> None:
+        if status is not self._status:
+            self._status = status
+            log.info("%s is %s", self.where, status.value)
+            if self._on_status is not None:
+                self._on_status(status)
+
+    def _problem(self, level: int, text: str) -> None:
+        """Log a retry problem once, not every retry."""
+        log.log(level if text != self._last_problem else logging.DEBUG, "%s", text)
+        self._last_problem = text
+
+    # ------------------------------------------------------------------ writing
+
+    def _send(self, plan: Plan) -> int:
+        for problem in plan.problems:
+            log.error("switch %d: %s", self.switch_id, problem)
+        parts = [encode(part) for command in plan.commands for part in split(command)]
+        if not parts:
+            return 0
+        data = b"".join(parts)
+        self._write(data)
+        self._batch.commands += parts
+        return len(data)
+
+    def _write(self, data: bytes) -> None:
+        try:
+            self._transport.write(data)
+        except PortError as exc:
+            self._on_port_lost(str(exc))
+            return
+        self.bytes_written += len(data)
+
+    def _ping(self) -> None:
+        expect = self._sent.active if self._sent is not None else None
+        self._pings.append(_Batch(expect, self._batch.commands))
+        self._batch = _Batch(None)
+        self._write(b"';")
+
+    async def _ask(self, command: Command, reply_type: type[_R]) -> _R | None:
+        """Send ``command`` and wait for a message of ``reply_type``."""
+        if not self._open:
+            return None
+        future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
+        self._waiters.append((reply_type, future))
+        if isinstance(command, Ping):
+            self._ping()
+        else:
+            self._write(encode(command))
+        try:
+            result: _R = await asyncio.wait_for(future, self.timing.answer_timeout)
+            return result
+        except (TimeoutError, PortError):
+            return None
+        finally:
+            with contextlib.suppress(ValueError):
+                self._waiters.remove((reply_type, future))
+
+    # ------------------------------------------------------------------ reading
+
+    def _on_data(self, data: bytes) -> None:
+        for message in self._decoder.feed(data):
+            if isinstance(message, Malformed):
+                log.debug("%s: skipped %r: %s", self.where, message.raw, message.reason)
+                continue
+            self._last_heard = asyncio.get_running_loop().time()
+            self._handle(message)
+            for reply_type, future in self._waiters:
+                if isinstance(message, reply_type) and not future.done():
+                    future.set_result(message)
+                    break
+
+    def _handle(self, message: object) -> None:
+        if isinstance(message, BoxStatus | PolarityStatus | RelayStatus | UnitIdReply):
+            self.replies[type(message)] = (time.time(), encode_reply(message))
+        if isinstance(message, Pong):
+            self._pong(message)
+        elif isinstance(message, ErrorReply):
+            self._error(message)
+        elif isinstance(message, TransmitEvent | ReceiveEvent):
+            self._tr_changed(message.station, isinstance(message, TransmitEvent))
+        elif isinstance(message, BoxStatus):
+            for number, letter in zip(STATIONS, message.tr, strict=False):
+                self._tr_changed(number, letter is TRState.TRANSMIT)
+        elif isinstance(message, AntennaEvent) and message.status in (
+            AntennaStatus.TX_CONFLICT,
+            AntennaStatus.RX_CONFLICT,
+        ):
+            kind = "transmit" if message.status is AntennaStatus.TX_CONFLICT else "receive"
+            log.warning(
+                "%s holds station %d's %s antenna (slot %d): it conflicts with another "
+                "station's antenna", self.where, message.station, kind, message.antenna,
+            )
+        else:
+            log.debug("%s: %s", self.where, message)
+
+    def _pong(self, pong: Pong) -> None:
+        if not self._pings:
+            return
+        batch = self._pings.popleft()
+        if batch.expect_active is not None and pong.active != batch.expect_active and self.ready:
+            log.warning(
+                "%s says it is %s, which it should not be: it was reset or lost power; "
+                "loading it again", self.where, "active" if pong.active else "inactive",
+            )
+            self._pings.clear()
+            self._load()
+
+    def _error(self, reply: ErrorReply) -> None:
+        commands = self._pings[0].commands if self._pings else self._batch.commands
+        fits = _CAN_CAUSE.get(reply.code, _any_command)
+        suspects = [c.decode() for c in commands if fits(c)]
+        what = f"?{reply.code} ({reply.meaning})"
+        if len(suspects) == 1:
+            text = f"{self.where} refused {suspects[0]}: {what}"
+        elif suspects:
+            text = f"{self.where} answered {what} to one of: {' '.join(_last(suspects, 8))}"
+        else:
+            text = f"{self.where} sent {what} for no command this link sent"
+        log.error("%s", text)
+        self.errors.append(text)
+        if self._on_error is not None:
+            self._on_error(text)
+
+    def _tr_changed(self, station: int, transmitting: bool) -> None:
+        if self._tr.get(station) is transmitting:
+            return
+        self._tr[station] = transmitting
+        if self._on_tr is not None:
+            self._on_tr(station, transmitting)
+
+
+def _any_command(command: bytes) -> bool:
+    return True
+
+
+def _last(items: list[str], n: int) -> Iterable[str]:
+    return items if len(items) <= n else ["...", *items[-n:]]
+
+
+__all__ = ["EMULATOR_PORT", "LinkStatus", "LinkTiming", "SwitchLink"]

@@ -66,13 +66,15 @@ def allowed_networks(client_allow: Iterable[str] | None) -> tuple[IPNetwork, ...
 def peer_address(address: str) -> IPAddress | None:
     """The address to judge for a peer as a socket reports it, or ``None`` when
     it is not an IP address at all."""
-    text = address.split("%", 1)[0].strip()
     try:
-        parsed = ipaddress.ip_address(text)
+        parsed = ipaddress.ip_address(address.strip())
     except ValueError:
         return None
-    if isinstance(parsed, ipaddress.IPv6Address) and parsed.ipv4_mapped is not None:
-        return parsed.ipv4_mapped
+    if isinstance(parsed, ipaddress.IPv6Address):
+        if parsed.ipv4_mapped is not None:
+            return parsed.ipv4_mapped
+        if parsed.scope_id is not None:
+            return ipaddress.IPv6Address(int(parsed))
     return parsed
 
 

@@ -1,0 +1,53 @@
+"""Serve the client protocol over the fake backend, for client authors and benchmarks.
+
+``python -m moas_gui.net.fake_server [--host 127.0.0.1] [--port 12059]``
+prints ``port N`` on its first line once it listens, then serves the
+demonstration station of :mod:`moas_gui.net.fake_station` until interrupted.
+No switch, engine or configuration file is involved.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import logging
+import signal
+import sys
+
+from .fake_backend import FakeBackend
+from .server import DEFAULT_PORT, ClientServer
+
+
+async def serve(host: str, port: int) -> None:
+    backend = FakeBackend()
+    server = ClientServer(backend, host=host, port=port)
+    backend.attach(server)
+    bound = await server.start()
+    print(f"port {bound}", flush=True)
+    stop = asyncio.Event()
+    loop = asyncio.get_running_loop()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        with contextlib.suppress(NotImplementedError, RuntimeError):
+            loop.add_signal_handler(sig, stop.set)
+    try:
+        await stop.wait()
+    finally:
+        await server.close()
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--host", default="127.0.0.1", help="address to listen on")
+    parser.add_argument("--port", type=int, default=DEFAULT_PORT, help="TCP port (0: any)")
+    parser.add_argument("--log", default="INFO", help="log level (DEBUG, INFO, WARNING)")
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=args.log.upper(), stream=sys.stderr,
+                        format="%(asctime)s %(levelname)s %(message)s")
+    with contextlib.suppress(KeyboardInterrupt):
+        asyncio.run(serve(args.host, args.port))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

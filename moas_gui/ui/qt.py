@@ -15,14 +15,16 @@ from PySide6.QtGui import (
     QTextCursor,
 )
 from PySide6.QtWidgets import (
-    QApplication, QCheckBox, QComboBox, QDialog, QDialogButtonBox, QDoubleSpinBox, QFileDialog,
+    QAbstractButton, QApplication, QButtonGroup, QCheckBox, QComboBox, QDialog, QDialogButtonBox,
+    QDoubleSpinBox, QFileDialog,
     QFrame, QGridLayout, QGroupBox, QHBoxLayout, QLabel, QLineEdit, QMainWindow, QMenu,
     QMessageBox, QPlainTextEdit, QPushButton, QSizePolicy, QSpinBox, QStatusBar,
     QSystemTrayIcon, QToolButton, QVBoxLayout, QWidget,
 )
 
 __all__ = [
-    "QAction", "QActionGroup", "QApplication", "QBrush", "QByteArray", "QCheckBox",
+    "QAbstractButton", "QAction", "QActionGroup", "QApplication", "QBrush", "QButtonGroup",
+    "QByteArray", "QCheckBox",
     "QCloseEvent", "QColor", "QComboBox", "QDesktopServices", "QDialog", "QDialogButtonBox",
     "QDoubleSpinBox", "QFileDialog", "QFont", "QFontDatabase", "QFrame", "QGridLayout",
     "QGroupBox", "QHBoxLayout", "QIcon", "QLabel", "QLineEdit", "QMainWindow", "QMenu",

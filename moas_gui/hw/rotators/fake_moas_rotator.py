@@ -2,9 +2,10 @@
 
 It speaks appendix B exactly (through :mod:`.moas_rotator_codec`) and, behind
 it, simulates one controller per configured ``CommPort``: a ROTATE moves that
-controller's number towards the target at ``speed`` degrees a second and every
-whole-degree change is reported to every connected server, as is the current
-value right after CONFIGURE.  Like the real program it keeps no configuration
+controller's number towards the target at ``speed`` degrees a second (for the
+compass models DCU1 and RotorEZ, the shorter way round, wrapping at 360) and
+every whole-degree change is reported to every connected server, as is the
+current value right after CONFIGURE.  Like the real program it keeps no configuration
 of its own: after :meth:`FakeMoasRotator.restart` it has forgotten every
 CONFIGURE, while the controllers (the hardware) keep where they point.
 
@@ -41,6 +42,8 @@ from .moas_rotator_codec import (
 
 log = logging.getLogger("moas_gui.hw.rotators.fake_moas_rotator")
 
+COMPASS_NAMES = frozenset({"1", "2", "DCU1", "RotorEZ"})
+
 
 @dataclass(slots=True)
 class SimulatedController:
@@ -49,6 +52,7 @@ class SimulatedController:
     degrees: float = 0.0
     target: float | None = None
     reported: int | None = None
+    compass: bool = False
 
 
 class FakeMoasRotator:
@@ -152,6 +156,7 @@ class FakeMoasRotator:
         elif isinstance(command, Configure):
             self.configured[command.rotator] = command.port
             controller = self.controllers.setdefault(command.port, SimulatedController())
+            controller.compass = command.model in COMPASS_NAMES
             controller.reported = round(controller.degrees)
             writer.write(encode_heading(command.rotator, controller.degrees))
         elif isinstance(command, Rotate | Stop):
@@ -175,16 +180,22 @@ class FakeMoasRotator:
                 if controller.target is None:
                     continue
                 gap = controller.target - controller.degrees
+                if controller.compass:
+                    gap = (gap + 180.0) % 360.0 - 180.0
                 if abs(gap) <= step:
                     controller.degrees, controller.target = controller.target, None
                 else:
                     controller.degrees += step if gap > 0 else -step
+                if controller.compass:
+                    controller.degrees %= 360.0
             self._report_changes()
 
     def _report_changes(self) -> None:
         for rotator, port in self.configured.items():
             controller = self.controllers[port]
             whole = round(controller.degrees)
+            if controller.compass:
+                whole %= 360
             if whole != controller.reported:
                 controller.reported = whole
                 for writer in self._writers:

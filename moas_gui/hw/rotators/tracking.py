@@ -5,7 +5,9 @@ whether it moves or where it is going.  :class:`TurnTracker` infers both from
 the heading reports and the clock (passed in):
 
 - ``begin(target)``: a turn was asked for; moving, with that target.
-- a report within ``tolerance`` of the target ends the turn (arrived);
+- a report within ``tolerance`` of the target ends the turn (arrived: not
+  moving from that moment, and coasting the last degrees does not count as
+  movement; the same after ``end()``, a stop);
 - no change of position for ``stall_after`` seconds ends it too (stopped short:
   a jam, a limit, a controller that gave up);
 - without a turn of ours, a position that changed in the last
@@ -38,23 +40,33 @@ class TurnTracker:
     target: float | None = None
     position: float | None = None
     last_change: float = float("-inf")
+    settled: float | None = None
+    """Where the last turn ended: coasting within ``tolerance`` of it is not movement."""
 
     def begin(self, target: float, now: float) -> None:
         self.target = target
+        self.settled = None
         self.last_change = now
         if self.position is not None and self.distance(self.position, target) <= self.tolerance:
             self.target = None
 
     def end(self) -> None:
+        """The turn is over (stopped): not moving from now on."""
         self.target = None
+        self.settled = self.position
+        self.last_change = float("-inf")
 
     def observe(self, position: float, now: float) -> str | None:
         """Take a report; returns ``"arrived"`` when it ends the turn."""
-        if self.position is not None and self.distance(position, self.position) > NOISE:
+        changed = self.position is not None and self.distance(position, self.position) > NOISE
+        coasting = self.settled is not None and \
+            self.distance(position, self.settled) <= self.tolerance
+        if changed and not coasting:
+            self.settled = None
             self.last_change = now
         self.position = position
         if self.target is not None and self.distance(position, self.target) <= self.tolerance:
-            self.target = None
+            self.end()
             return "arrived"
         return None
 

@@ -8,8 +8,8 @@ that are nonetheless real:
   asked to transmit, a transmit-only one asked to receive, and any change of
   the transmit antenna while the radio transmits;
 * a frequency change keeps antennas that still cover it, and otherwise takes
-  the lowest-numbered free antenna that does; a radio left without a transmit
-  antenna is inhibited with a note saying why;
+  the lowest-numbered free antenna that does (never a transmit-only one); a
+  radio left without a transmit antenna is inhibited with a note saying why;
 * functions ``swap`` (with the other station's radio, when each antenna covers
   the other's frequency) and ``rx_tx``; relative lists per frequency range,
   circular, skipping antennas that are unavailable (manual appendix G);
@@ -315,8 +315,9 @@ class FakeBackend:
         return self._fits(r, a.id, "tx") and self._fits(r, a.id, "rx")
 
     def _first_free(self, r: _Radio, role: str) -> int | None:
+        """Automatic choice: never a transmit-only antenna (a dummy load, say)."""
         return next((a.id for a in sorted(self.station.antennas, key=lambda a: a.id)
-                     if self._fits(r, a.id, role)), None)
+                     if not a.tx_only and self._fits(r, a.id, role)), None)
 
     def _button_state(self, r: _Radio, a: FakeAntenna | None) -> str:
         if a is None:

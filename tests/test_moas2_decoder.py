@@ -3,6 +3,8 @@ error of the manual, in any pieces, through garbage."""
 
 from __future__ import annotations
 
+import itertools
+
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -106,7 +108,7 @@ def test_any_chunking_gives_the_same_messages(cuts: list[int]) -> None:
     points = sorted({0, len(STREAM), *cuts})
     decoder = SwitchDecoder()
     out = []
-    for a, b in zip(points, points[1:], strict=False):
+    for a, b in itertools.pairwise(points):
         out += decoder.feed(STREAM[a:b])
     assert out == MESSAGES
 

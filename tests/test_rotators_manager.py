@@ -31,11 +31,12 @@ class Recorder:
     def of(self, rotator_id: int) -> list[RotatorView]:
         return [v for v in self.views if v.id == rotator_id]
 
-    async def wait_for(self, test: Callable[[RotatorView], bool], timeout: float = 5.0) -> \
-            RotatorView:
+    async def wait_for(self, test: Callable[[RotatorView], bool], timeout: float = 5.0,
+                       since: int = 0) -> RotatorView:
+        """The first view (from number ``since`` on) that passes ``test``."""
         async with asyncio.timeout(timeout):
             while True:
-                for view in self.views:
+                for view in self.views[since:]:
                     if test(view):
                         return view
                 self._changed.clear()

@@ -65,32 +65,34 @@ class GeniusModel:
     )
 
     def advance(self, now: float) -> None:
+        """Finish the turns that are over by ``now``."""
         for rotor in self.rotors:
-            if rotor.turn is not None:
-                rotor.position = rotor.position_at(now, self.speed)
-                rotor.turn_began = now
-                rotor.turn = Turn(rotor.position, rotor.turn.end)
-                if rotor.turn.direction == 0:
-                    rotor.turn = None
+            turn = rotor.turn
+            if turn is not None and (now - rotor.turn_began) * self.speed >= turn.degrees:
+                rotor.position, rotor.turn = turn.end, None
+
+    def _halt(self, rotor: EmulatedRotor, now: float) -> None:
+        rotor.position = rotor.position_at(now, self.speed)
+        rotor.turn = None
 
     def set_azimuth(self, rotor_number: int, azimuth: float, now: float) -> None:
         """Someone turned the rotor by hand: it now points at ``azimuth``."""
-        self.advance(now)
         rotor = self.rotors[rotor_number - 1]
         rotor.turn = None
         rotor.position = rotor.travel.nearest_position(azimuth)
 
     def status(self, now: float) -> Status:
         self.advance(now)
-        blocks = tuple(self._block(rotor) for rotor in self.rotors)
+        blocks = tuple(self._block(rotor, now) for rotor in self.rotors)
         return Status((blocks[0], blocks[1]), active="2")
 
-    def _block(self, rotor: EmulatedRotor) -> RotorBlock:
+    def _block(self, rotor: EmulatedRotor, now: float) -> RotorBlock:
         travel = rotor.travel
         turn = rotor.turn
         moving = 0 if turn is None else (1 if turn.direction > 0 else 2)
+        position = rotor.position_at(now, self.speed)
         return RotorBlock(
-            azimuth=whole_heading(travel.heading_at(rotor.position)) if rotor.sensor else None,
+            azimuth=whole_heading(travel.heading_at(position)) if rotor.sensor else None,
             limit_cw=rotor.limit_cw, limit_ccw=rotor.limit_ccw,
             configuration=rotor.configuration, moving=moving, offset=rotor.offset,
             target=None if turn is None else whole_heading(travel.heading_at(turn.end)),
@@ -105,7 +107,7 @@ class GeniusModel:
             return encode_status(self.status(now))
         if command.kind == "S":
             for rotor in self.rotors:
-                rotor.turn = None
+                self._halt(rotor, now)
             return encode_reply("S", True)
         assert command.rotor is not None
         rotor = self.rotors[command.rotor - 1]
@@ -118,8 +120,10 @@ class GeniusModel:
             assert command.azimuth is not None
             if command.azimuth > 360 or not travel.reaches(command.azimuth):
                 return encode_reply("A", False)
+            self._halt(rotor, now)
             self._start(rotor, plan_turn(travel, rotor.position, command.azimuth), now)
             return encode_reply("A", True)
+        self._halt(rotor, now)
         end = travel.rotation if command.kind == "P" else 0.0
         self._start(rotor, Turn(rotor.position, end), now)
         return encode_reply(command.kind, True)

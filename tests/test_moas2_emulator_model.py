@@ -3,51 +3,20 @@ replies, errors, the input buffer, antennas and the conflict resolver."""
 
 from __future__ import annotations
 
-from moas_gui.hw.moas2.emulator.model import INPUT_BUFFER, EmulatorModel
+from moas_gui.hw.moas2.emulator.model import INPUT_BUFFER
 from moas_gui.hw.moas2.emulator.station import Phase
+from moas_gui.hw.moas2.emulator.stepped import SteppedBox
 
 
-class Box:
-    """An emulated box with a hand-driven clock (milliseconds)."""
-
-    def __init__(self, unit_id: int = 0) -> None:
-        self.model = EmulatorModel(unit_id=unit_id)
-        self.ms = 0.0
-
-    def send(self, text: str, at: float | None = None) -> str:
-        if at is not None:
-            self.ms = at
-        return self.model.feed(text.encode("latin-1"), self.ms / 1000).decode()
-
-    def wait(self, until: float) -> str:
-        self.ms = until
-        return self.model.advance(until / 1000).decode()
-
-    def key(self, station: int, on: bool, at: float | None = None) -> str:
-        if at is not None:
-            self.ms = at
-        return self.model.set_tr(station, on, self.ms / 1000).decode()
-
-    @property
-    def relays(self) -> set[int]:
-        return set(self.model.relays())
-
-    def station(self, n: int):  # noqa: ANN201 - a StationView
-        return self.model.view().station(n)
-
-
-def active_box(events: str = "") -> Box:
-    box = Box()
-    box.send(f"*{events};" if events else "")
-    box.send("*1;")
-    return box
+def active_box(events: str = "") -> SteppedBox:
+    return SteppedBox(active=True, events=events)
 
 
 # --------------------------------------------------------------------------- power-on state
 
 
 def test_power_on_state_is_inactive_with_everything_at_its_defaults() -> None:
-    box = Box()
+    box = SteppedBox()
     view = box.model.view()
     assert not view.active and not view.resolver_on
     assert box.send("';") == ".;"
@@ -63,12 +32,12 @@ def test_power_on_state_is_inactive_with_everything_at_its_defaults() -> None:
 
 
 def test_ping_answers_active_once_activated() -> None:
-    box = Box()
+    box = SteppedBox()
     assert box.send("';*1;';") == ".;!;"
 
 
 def test_unit_id_is_reported_set_and_survives_a_reset() -> None:
-    box = Box(unit_id=4)
+    box = SteppedBox(unit_id=4)
     assert box.send(":;") == ":1004;"
     assert box.send(":17;") == ":10017;"
     box.send("*0;")
@@ -76,7 +45,7 @@ def test_unit_id_is_reported_set_and_survives_a_reset() -> None:
 
 
 def test_antennas_sent_while_inactive_are_remembered_and_selected_on_activation() -> None:
-    box = Box()
+    box = SteppedBox()
     box.send("&1;!1B1123;!2TAF;")
     assert box.relays == set()
     assert box.station(1).pending == (("T", 1), ("R", 1))
@@ -302,7 +271,7 @@ def test_receive_event_shows_the_transmit_antenna_when_receiving_on_it() -> None
 
 
 def test_inhibit_replies_only_when_enabled_and_active() -> None:
-    box = Box()
+    box = SteppedBox()
     assert box.send("*I;(12;") == ""
     box.send("*1;")
     assert box.send("(3;") == "(123;"
@@ -312,7 +281,7 @@ def test_inhibit_replies_only_when_enabled_and_active() -> None:
 
 
 def test_vendor_extension_answers_with_its_name() -> None:
-    assert Box().send("#anything;") == "#moas-gui-emulator;"
+    assert SteppedBox().send("#anything;") == "#moas-gui-emulator;"
 
 
 def test_phase_is_receive_for_every_station_at_rest() -> None:

@@ -33,7 +33,7 @@ def bad_line(line: bytes) -> BadLine:
     return parsed
 
 
-GOOD = {
+GOOD: dict[str, dict[str, Any]] = {
     "hello": {"client": "Button client", "station": 1, "radio": 2, "log": True},
     "state": {},
     "frequency": {"station": 1, "radio": 1, "khz": 14025.5, "tx_khz": 14030},

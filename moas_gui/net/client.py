@@ -123,7 +123,8 @@ class ProtocolClient:
         if "event" in message and "ok" not in message:
             self.events.put_nowait(message)
             return
-        future = self._pending.get(message.get("id"))
+        request_id = message.get("id")
+        future = self._pending.get(request_id) if type(request_id) is int else None
         if future is not None and not future.done():
             future.set_result(message)
         else:

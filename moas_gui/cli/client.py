@@ -1,13 +1,100 @@
-"""``moas-client``: the button and compass client window for another computer."""
+"""``moas-client [HOST[:PORT]]``: the button and compass client window on its own.
+
+Connects to a moas-gui server (default ``127.0.0.1:12059``) and keeps trying
+until it answers; closing the window ends the program.  ``--quit-after``
+closes it by itself after some seconds (for tests and demonstrations); the
+exit status is then 0 when the server was reached at least once, 3 when not.
+"""
 
 from __future__ import annotations
 
+import argparse
+import asyncio
+import logging
 import sys
+
+from moas_gui import __version__
+from moas_gui.client.address import DEFAULT_HOST, DEFAULT_PORT, parse_address
+
+EXIT_NEVER_CONNECTED = 3
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="moas-client",
+        description="The MOAS button and compass client: antenna buttons and rotator "
+                    "control for one radio, from any computer on the station's network.")
+    parser.add_argument("address", nargs="?", default=None, metavar="HOST[:PORT]",
+                        help=f"the server (default {DEFAULT_HOST}:{DEFAULT_PORT}); "
+                             "IPv6 as [ADDRESS]:PORT")
+    parser.add_argument("--station", type=int, help="station to show first")
+    parser.add_argument("--radio", type=int, help="radio to show first")
+    parser.add_argument("--rows", type=int, default=4, help="button rows (default 4)")
+    parser.add_argument("--columns", type=int, default=3, help="button columns (default 3)")
+    parser.add_argument("--name", default=f"moas-client {__version__}",
+                        help="the name the server's log shows for this client")
+    parser.add_argument("--quit-after", type=float, metavar="SECONDS",
+                        help="close by itself after SECONDS (for tests)")
+    parser.add_argument("-v", "--verbose", action="store_true", help="log to standard error")
+    parser.add_argument("--version", action="version", version=f"moas-client {__version__}")
+    return parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    print("moas-client: the client window is not built yet.", file=sys.stderr)
-    return 2
+    parser = _parser()
+    args = parser.parse_args(argv)
+    try:
+        host, port = parse_address(args.address)
+    except ValueError as exc:
+        parser.error(str(exc))
+    for name in ("rows", "columns"):
+        if not 1 <= getattr(args, name) <= 50:
+            parser.error(f"--{name} must be between 1 and 50, not {getattr(args, name)}")
+    if args.quit_after is not None and args.quit_after <= 0:
+        parser.error(f"--quit-after must be more than 0 seconds, not {args.quit_after:g}")
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                        stream=sys.stderr, format="%(asctime)s %(levelname)s %(message)s")
+    return run(host, port, args)
+
+
+def run(host: str, port: int, args: argparse.Namespace) -> int:
+    """Shows the window on a qasync loop until it is closed (or ``--quit-after``)."""
+    import qasync  # type: ignore[import-untyped]
+
+    from moas_gui.client.connection import ClientConnection
+    from moas_gui.ui.client_window import ClientWindow
+    from moas_gui.ui.qt import QApplication
+
+    qt_app = QApplication.instance() or QApplication([sys.argv[0]])
+    loop = qasync.QEventLoop(qt_app)
+    asyncio.set_event_loop(loop)
+
+    async def show() -> int:
+        done = asyncio.Event()
+        connection = ClientConnection(host, port, name=args.name, station=args.station,
+                                      radio=args.radio)
+        window = ClientWindow(connection, station=args.station, radio=args.radio,
+                              rows=args.rows, columns=args.columns)
+        window.closed.connect(done.set)
+        window.start()
+        window.show()
+        if args.quit_after is not None:
+            loop.call_later(args.quit_after, done.set)
+        await done.wait()
+        window.close()
+        await window.aclose()
+        window.deleteLater()
+        if args.quit_after is not None and connection.connects == 0:
+            print(f"moas-client: could not reach the server at {connection.address}",
+                  file=sys.stderr)
+            return EXIT_NEVER_CONNECTED
+        return 0
+
+    try:
+        with loop:
+            return int(loop.run_until_complete(show()))
+    finally:
+        asyncio.set_event_loop(None)
 
 
 if __name__ == "__main__":

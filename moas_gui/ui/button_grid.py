@@ -1,0 +1,194 @@
+"""The grid of antenna and function buttons (manual 5.16).
+
+The grid shows what the server's layout says and nothing more: each button
+carries the server's :class:`~moas_gui.client.model.ButtonView` and is drawn
+by its state (colours and second cues in :mod:`.client_style`).  A click emits
+:attr:`ButtonGrid.pressed`, a double-click :attr:`ButtonGrid.double_pressed`;
+an unavailable button is disabled, so it cannot be pressed at all.  Which
+antennas a press adds, removes or replaces is the server's decision.
+
+A double-click is a click followed by a double-click: the first press is sent
+at once (no waiting to see whether a second comes, which would slow every
+ordinary press), and the double-click then asks for the exclusive selection.
+"""
+
+from __future__ import annotations
+
+from moas_gui.client.model import ButtonState, ButtonType, ButtonView, LayoutView
+
+from .client_style import Colours
+from .qt import (
+    QAbstractButton,
+    QBrush,
+    QColor,
+    QFont,
+    QGridLayout,
+    QMouseEvent,
+    QPainter,
+    QPaintEvent,
+    QPen,
+    QRectF,
+    QSize,
+    QSizePolicy,
+    Qt,
+    QWidget,
+    Signal,
+)
+
+__all__ = ["ButtonGrid", "LayoutButton", "grid_size"]
+
+CHECK = "\u2714"
+
+
+def grid_size(layout: LayoutView | None, rows: int, columns: int) -> tuple[int, int]:
+    """Rows and columns to show: those chosen, grown to hold every button of
+    the layout (a button is never hidden because the grid is too small)."""
+    if layout is not None:
+        for button in layout.buttons:
+            rows = max(rows, button.row + 1)
+            columns = max(columns, button.column + 1)
+    return rows, columns
+
+
+class LayoutButton(QAbstractButton):
+    """One button of the grid, painted by its state."""
+
+    double_clicked = Signal()
+
+    def __init__(self, view: ButtonView, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.view = view
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
+        self.setMinimumSize(96, 52)
+        self.setCursor(Qt.CursorShape.PointingHandCursor)
+        self.show_view(view)
+
+    def show_view(self, view: ButtonView) -> None:
+        self.view = view
+        self.setText(view.label or f"#{view.id}")
+        self.setEnabled(view.state is not ButtonState.UNAVAILABLE)
+        kind = "function" if view.type is ButtonType.FUNCTION else "antenna"
+        self.setToolTip(f"{view.label} ({kind} {view.id}): {view.state.value}")
+        self.setAccessibleName(f"{view.label} {view.state.value}")
+        self.update()
+
+    def sizeHint(self) -> QSize:
+        return QSize(132, 64)
+
+    def mouseDoubleClickEvent(self, event: QMouseEvent) -> None:
+        if self.isEnabled() and event.button() == Qt.MouseButton.LeftButton:
+            event.accept()
+            self.double_clicked.emit()
+            return
+        super().mouseDoubleClickEvent(event)
+
+    def paintEvent(self, event: QPaintEvent) -> None:
+        view = self.view
+        painter = QPainter(self)
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing)
+        rect = QRectF(self.rect()).adjusted(3, 3, -3, -3)
+        state = view.state
+        is_function = view.type is ButtonType.FUNCTION
+        if state is ButtonState.SELECTED:
+            fill, text_colour, frame = Colours.SELECTED, Colours.SELECTED_TEXT, Colours.SELECTED_FRAME
+            pen = QPen(frame, 4)
+        elif state is ButtonState.AVAILABLE:
+            fill = Colours.FUNCTION if is_function else Colours.AVAILABLE
+            text_colour = Colours.AVAILABLE_TEXT
+            frame = Colours.FUNCTION_FRAME if is_function else Colours.AVAILABLE_FRAME
+            pen = QPen(frame, 1.5)
+        else:
+            fill, text_colour = Colours.UNAVAILABLE, Colours.UNAVAILABLE_TEXT
+            pen = QPen(Colours.UNAVAILABLE_HATCH, 2, Qt.PenStyle.DashLine)
+        if self.isDown():
+            fill = fill.lighter(140)
+        painter.setPen(pen)
+        painter.setBrush(QBrush(fill))
+        painter.drawRoundedRect(rect, 8, 8)
+        if state is ButtonState.UNAVAILABLE:
+            painter.setBrush(QBrush(Colours.UNAVAILABLE_HATCH, Qt.BrushStyle.BDiagPattern))
+            painter.setPen(Qt.PenStyle.NoPen)
+            painter.drawRoundedRect(rect.adjusted(2, 2, -2, -2), 7, 7)
+        if self.hasFocus():
+            painter.setPen(QPen(QColor("#80d8ff"), 1, Qt.PenStyle.DotLine))
+            painter.setBrush(Qt.BrushStyle.NoBrush)
+            painter.drawRoundedRect(rect.adjusted(5, 5, -5, -5), 5, 5)
+
+        font = QFont(self.font())
+        font.setPointSizeF(max(11.0, min(16.0, rect.height() / 4.2)))
+        font.setBold(state is not ButtonState.UNAVAILABLE)
+        font.setStrikeOut(state is ButtonState.UNAVAILABLE)
+        painter.setFont(font)
+        painter.setPen(text_colour)
+        label = self.text()
+        if state is ButtonState.SELECTED:
+            label = f"{CHECK} {label}"
+        if is_function:
+            label = f"\u0192 {label}" if state is not ButtonState.SELECTED else label
+        painter.drawText(rect.adjusted(6, 2, -6, -2),
+                         int(Qt.AlignmentFlag.AlignCenter) | int(Qt.TextFlag.TextWordWrap), label)
+        painter.end()
+
+
+class ButtonGrid(QWidget):
+    """Rows and columns of :class:`LayoutButton`; see the module notes."""
+
+    pressed = Signal(object)
+    """A :class:`ButtonView` was clicked."""
+    double_pressed = Signal(object)
+    """A :class:`ButtonView` was double-clicked (exclusive selection)."""
+
+    def __init__(self, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self._grid = QGridLayout(self)
+        self._grid.setSpacing(6)
+        self._grid.setContentsMargins(0, 0, 0, 0)
+        self._buttons: dict[tuple[int, int], LayoutButton] = {}
+        self.layout_view: LayoutView | None = None
+        self.rows = 0
+        self.columns = 0
+
+    @property
+    def buttons(self) -> tuple[LayoutButton, ...]:
+        return tuple(self._buttons[key] for key in sorted(self._buttons))
+
+    def button_for(self, kind: ButtonType, ident: int) -> LayoutButton | None:
+        for button in self.buttons:
+            if button.view.type is kind and button.view.id == ident:
+                return button
+        return None
+
+    def show_layout(self, layout: LayoutView | None, rows: int, columns: int) -> None:
+        """Shows ``layout`` in a grid of at least ``rows`` x ``columns`` cells.
+
+        Buttons already on screen are updated in place (so a double-click is
+        not lost when the first click's change arrives between the clicks)."""
+        self.layout_view = layout
+        rows, columns = grid_size(layout, rows, columns)
+        wanted = {(b.row, b.column): b for b in layout.buttons} if layout else {}
+        for cell in list(self._buttons):
+            if cell not in wanted:
+                gone = self._buttons.pop(cell)
+                self._grid.removeWidget(gone)
+                gone.deleteLater()
+        for cell, view in wanted.items():
+            existing = self._buttons.get(cell)
+            if existing is not None:
+                existing.show_view(view)
+                continue
+            button = LayoutButton(view, self)
+            button.clicked.connect(lambda _=False, b=button: self.pressed.emit(b.view))
+            button.double_clicked.connect(lambda b=button: self.double_pressed.emit(b.view))
+            self._buttons[cell] = button
+            self._grid.addWidget(button, *cell)
+        if (rows, columns) != (self.rows, self.columns):
+            self._set_shape(rows, columns)
+
+    def _set_shape(self, rows: int, columns: int) -> None:
+        for row in range(max(rows, self.rows)):
+            self._grid.setRowStretch(row, 1 if row < rows else 0)
+            self._grid.setRowMinimumHeight(row, 52 if row < rows else 0)
+        for column in range(max(columns, self.columns)):
+            self._grid.setColumnStretch(column, 1 if column < columns else 0)
+            self._grid.setColumnMinimumWidth(column, 96 if column < columns else 0)
+        self.rows, self.columns = rows, columns

@@ -1,0 +1,564 @@
+"""The button and compass client window (manual 4.3, 5.15-5.20).
+
+One window serves one radio at a time, chosen by station and radio.  It shows
+only what the server says (through a
+:class:`~moas_gui.client.connection.ClientConnection`) and sends every wish as
+a protocol request; it holds no selection logic of its own.  The built-in
+client of the server window and ``moas-client`` on another computer are the
+same window over the same protocol (the built-in one over loopback)::
+
+    +-------------------------------------------------------------------------+
+    | (o) Connected to 127.0.0.1:12059                          big-station   |
+    | Station [1] Radio [1]   Select for [TX+RX][TX][RX]   Rows [4] Cols [3]  |
+    | 14025.0 kHz   TX 20m stack   RX Beverage NE           [TX] [INHIBITED]  |
+    | +-------------------------------------------+  +----------------------+ |
+    | |  button grid (layout)                     |  | rotator [v]          | |
+    | +-------------------------------------------+  |     compass          | |
+    | Relative  [< Prev] [list v] [Go] [Next >]      |  045 deg   [STOP]    | |
+    | Frequency [14025.0] [ ] split TX [     ] [Set] +----------------------+ |
+    | status line: the server's last refusal                                  |
+    +-------------------------------------------------------------------------+
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections.abc import Coroutine
+from typing import Any, Protocol
+
+from moas_gui.client.connection import ClientConnection, ClientError, ServerError, Target
+from moas_gui.client.events import (
+    ClientEvent,
+    LayoutChanged,
+    LinkChanged,
+    LinkState,
+    ProblemSeen,
+    RadioChanged,
+    RotatorChanged,
+    StateReceived,
+)
+from moas_gui.client.model import ButtonType, ButtonView, LayoutView, RadioView, Snapshot
+
+from .button_grid import ButtonGrid
+from .client_style import CLIENT_STYLESHEET, Colours
+from .compass import CompassPanel, compass_targets
+from .qt import (
+    QButtonGroup,
+    QCheckBox,
+    QCloseEvent,
+    QComboBox,
+    QDoubleSpinBox,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QMainWindow,
+    QPushButton,
+    QSpinBox,
+    Qt,
+    QVBoxLayout,
+    QWidget,
+    Signal,
+)
+
+__all__ = ["ClientWindow", "open_builtin_client"]
+
+log = logging.getLogger("moas_gui.ui")
+
+TARGETS: tuple[tuple[Target, str, str], ...] = (
+    ("both", "TX + RX", "A press selects the antenna for transmit and receive"),
+    ("tx", "TX only", "A press selects the transmit antenna only"),
+    ("rx", "RX only", "A press selects a different receive antenna"),
+)
+
+
+class ServerAppLike(Protocol):
+    @property
+    def client_address(self) -> tuple[str, int]: ...
+
+
+def loopback_for(host: str) -> str:
+    """The address a client on the same computer uses for a server bound to ``host``."""
+    if host in ("", "0.0.0.0"):
+        return "127.0.0.1"
+    if host == "::":
+        return "::1"
+    return host
+
+
+def open_builtin_client(server_app: ServerAppLike) -> ClientWindow:
+    """The server's View > Client: a client window connected over loopback, shown."""
+    host, port = server_app.client_address
+    connection = ClientConnection(loopback_for(host), port, name="built-in client")
+    window = ClientWindow(connection)
+    window.start()
+    window.show()
+    return window
+
+
+class ClientWindow(QMainWindow):
+    """See the module notes.  ``start()`` begins connecting (needs a running loop)."""
+
+    closed = Signal()
+    """The window was closed (its connection is closing)."""
+
+    def __init__(self, connection: ClientConnection, *, station: int | None = None,
+                 radio: int | None = None, rows: int = 4, columns: int = 3,
+                 parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.connection = connection
+        self.snapshot: Snapshot | None = None
+        self.layout_view: LayoutView | None = None
+        self.last_error = ""
+        self._wanted_radio = (station, radio)
+        self._layout_asked: tuple[int, int, int, int] | None = None
+        self._layout_shape: tuple[int, int] | None = None
+        self._tasks: set[asyncio.Task[Any]] = set()
+        self._closed = False
+        self.link_state = connection.link
+
+        self.setWindowTitle(f"MOAS Client \u2013 {connection.address}")
+        self.setStyleSheet(CLIENT_STYLESHEET)
+        self._build(rows, columns)
+        self._show_link(connection.link, "")
+        self._unsubscribe = connection.subscribe(self._on_event)
+        self.resize(1040, 660)
+
+    # -- building ---------------------------------------------------------------------------------
+    def _build(self, rows: int, columns: int) -> None:
+        root = QWidget(self)
+        root.setObjectName("clientRoot")
+        self.setCentralWidget(root)
+        outer = QVBoxLayout(root)
+        outer.setContentsMargins(10, 8, 10, 6)
+        outer.setSpacing(8)
+
+        top = QHBoxLayout()
+        self.link_label = QLabel(root)
+        self.link_label.setObjectName("link")
+        self.config_label = QLabel(root)
+        self.config_label.setStyleSheet("color: #9fb1bd;")
+        top.addWidget(self.link_label)
+        top.addStretch(1)
+        top.addWidget(self.config_label)
+        outer.addLayout(top)
+
+        choose = QHBoxLayout()
+        self.station_box = QComboBox(root)
+        self.radio_box = QComboBox(root)
+        self.station_box.setMinimumWidth(70)
+        self.radio_box.setMinimumWidth(70)
+        choose.addWidget(QLabel("Station", root))
+        choose.addWidget(self.station_box)
+        choose.addWidget(QLabel("Radio", root))
+        choose.addWidget(self.radio_box)
+        choose.addSpacing(18)
+        choose.addWidget(QLabel("Select for", root))
+        self.target_group = QButtonGroup(self)
+        self.target_buttons: dict[Target, QPushButton] = {}
+        for target, text, tip in TARGETS:
+            button = QPushButton(text, root)
+            button.setCheckable(True)
+            button.setToolTip(tip)
+            self.target_group.addButton(button)
+            self.target_buttons[target] = button
+            choose.addWidget(button)
+        self.target_buttons["both"].setChecked(True)
+        choose.addStretch(1)
+        self.rows_box = QSpinBox(root)
+        self.columns_box = QSpinBox(root)
+        for box, value in ((self.rows_box, rows), (self.columns_box, columns)):
+            box.setRange(1, 50)
+            box.setValue(value)
+        choose.addWidget(QLabel("Rows", root))
+        choose.addWidget(self.rows_box)
+        choose.addWidget(QLabel("Columns", root))
+        choose.addWidget(self.columns_box)
+        outer.addLayout(choose)
+
+        display_row = QHBoxLayout()
+        self.display = QLabel("\u2013", root)
+        self.display.setObjectName("display")
+        self.display.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.badge_tx = QLabel("\u25cf TRANSMITTING", root)
+        self.badge_tx.setObjectName("badgeTx")
+        self.badge_inhibit = QLabel("INHIBITED", root)
+        self.badge_inhibit.setObjectName("badgeInhibit")
+        self.badge_tx.hide()
+        self.badge_inhibit.hide()
+        display_row.addWidget(self.display, 1)
+        display_row.addWidget(self.badge_tx)
+        display_row.addWidget(self.badge_inhibit)
+        outer.addLayout(display_row)
+        self.note_label = QLabel(root)
+        self.note_label.setStyleSheet("color: #ffab40; font-weight: bold;")
+        self.note_label.setWordWrap(True)
+        self.note_label.hide()
+        outer.addWidget(self.note_label)
+
+        body = QHBoxLayout()
+        left = QVBoxLayout()
+        self.grid = ButtonGrid(root)
+        left.addWidget(self.grid, 1)
+        left.addWidget(self._build_relative(root))
+        left.addWidget(self._build_frequency(root))
+        body.addLayout(left, 3)
+        compass_box = QGroupBox("Rotator", root)
+        compass_layout = QVBoxLayout(compass_box)
+        self.compass_panel = CompassPanel(compass_box)
+        compass_layout.addWidget(self.compass_panel)
+        body.addWidget(compass_box, 2)
+        outer.addLayout(body, 1)
+
+        self.statusBar().setSizeGripEnabled(False)
+
+        self.station_box.currentIndexChanged.connect(self._station_chosen)
+        self.radio_box.currentIndexChanged.connect(lambda _i: self._radio_chosen())
+        self.rows_box.valueChanged.connect(lambda _v: self._ask_layout())
+        self.columns_box.valueChanged.connect(lambda _v: self._ask_layout())
+        self.grid.pressed.connect(lambda view: self._pressed(view, exclusive=False))
+        self.grid.double_pressed.connect(lambda view: self._pressed(view, exclusive=True))
+        self.compass_panel.rotate_requested.connect(self._rotate)
+        self.compass_panel.stop_requested.connect(self._stop)
+        self._set_usable(False)
+
+    def _build_relative(self, parent: QWidget) -> QGroupBox:
+        box = QGroupBox("Relative", parent)
+        row = QHBoxLayout(box)
+        self.previous_button = QPushButton("\u25c0 Previous", box)
+        self.next_button = QPushButton("Next \u25b6", box)
+        self.relative_box = QComboBox(box)
+        self.relative_box.setMinimumWidth(180)
+        self.relative_box.setToolTip("The relative antenna list for this frequency")
+        self.relative_go = QPushButton("Use", box)
+        row.addWidget(self.previous_button)
+        row.addWidget(self.relative_box, 1)
+        row.addWidget(self.relative_go)
+        row.addWidget(self.next_button)
+        self.previous_button.clicked.connect(lambda: self._relative(step=-1))
+        self.next_button.clicked.connect(lambda: self._relative(step=+1))
+        self.relative_go.clicked.connect(
+            lambda: self._relative(index=max(0, self.relative_box.currentIndex())))
+        return box
+
+    def _build_frequency(self, parent: QWidget) -> QGroupBox:
+        box = QGroupBox("Frequency (testing without a logger)", parent)
+        row = QHBoxLayout(box)
+        self.khz_box = _khz_box(box)
+        self.split_box = QCheckBox("Split TX", box)
+        self.tx_khz_box = _khz_box(box)
+        self.tx_khz_box.setEnabled(False)
+        self.frequency_button = QPushButton("Set", box)
+        row.addWidget(self.khz_box, 1)
+        row.addWidget(self.split_box)
+        row.addWidget(self.tx_khz_box, 1)
+        row.addWidget(self.frequency_button)
+        self.split_box.toggled.connect(self.tx_khz_box.setEnabled)
+        self.frequency_button.clicked.connect(self._send_frequency)
+        self.khz_box.editingFinished.connect(self._frequency_entered)
+        return box
+
+    # -- life -----------------------------------------------------------------------------------
+    def start(self) -> None:
+        """Starts the connection on the running loop."""
+        self.connection.start()
+
+    async def aclose(self) -> None:
+        """Closes the window's connection and waits for its requests to end."""
+        self._closed = True
+        self._unsubscribe()
+        for task in list(self._tasks):
+            task.cancel()
+        await self.connection.aclose()
+
+    def closeEvent(self, event: QCloseEvent) -> None:
+        self._closed = True
+        self._unsubscribe()
+        for task in list(self._tasks):
+            task.cancel()
+        self.connection.close()
+        super().closeEvent(event)
+        self.closed.emit()
+
+    @property
+    def station(self) -> int | None:
+        data = self.station_box.currentData()
+        return data if isinstance(data, int) else None
+
+    @property
+    def radio(self) -> int | None:
+        data = self.radio_box.currentData()
+        return data if isinstance(data, int) else None
+
+    @property
+    def radio_view(self) -> RadioView | None:
+        if self.snapshot is None or self.station is None or self.radio is None:
+            return None
+        return self.snapshot.radio(self.station, self.radio)
+
+    @property
+    def target(self) -> Target:
+        for target, button in self.target_buttons.items():
+            if button.isChecked():
+                return target
+        return "both"
+
+    def status_text(self) -> str:
+        return self.statusBar().currentMessage()
+
+    # -- events from the server -----------------------------------------------------------------
+    def _on_event(self, event: ClientEvent) -> None:
+        if self._closed:
+            return
+        match event:
+            case LinkChanged(state, detail):
+                self._show_link(state, detail)
+            case StateReceived(snapshot):
+                self._show_snapshot(snapshot)
+            case RadioChanged(radio):
+                self.snapshot = self.connection.snapshot
+                if radio.key == (self.station, self.radio):
+                    self._show_radio()
+                    self._show_compass()
+            case RotatorChanged():
+                self.snapshot = self.connection.snapshot
+                self._show_compass()
+            case LayoutChanged(layout):
+                if self._layout_asked is not None and layout.key == self._layout_asked[:2] \
+                        and (layout.rows, layout.columns) == self._layout_shape:
+                    self._show_layout(layout)
+            case ProblemSeen(message):
+                self._error(message)
+            case _:
+                pass
+
+    def _show_link(self, state: LinkState, detail: str) -> None:
+        colour = {LinkState.CONNECTED: Colours.CONNECTED,
+                  LinkState.RECONNECTING: Colours.RECONNECTING}.get(state, Colours.CLOSED)
+        text = {
+            LinkState.CONNECTING: f"\u25cc Connecting to {self.connection.address}\u2026",
+            LinkState.CONNECTED: f"\u25cf Connected to {detail or self.connection.address}",
+            LinkState.RECONNECTING: f"\u25cc Reconnecting: {detail}",
+            LinkState.CLOSED: "\u2715 Closed",
+        }[state]
+        self.link_label.setText(text)
+        fg = "black" if state in (LinkState.CONNECTED, LinkState.RECONNECTING) else "white"
+        self.link_label.setStyleSheet(f"background: {colour.name()}; color: {fg};")
+        self.link_state = state
+        connected = state is LinkState.CONNECTED
+        self._set_usable(connected and self.snapshot is not None)
+        if connected and self.last_error.startswith("Connection:"):
+            self._clear_error()
+
+    def _set_usable(self, usable: bool) -> None:
+        for widget in (self.grid, self.previous_button, self.next_button, self.relative_go,
+                       self.frequency_button, self.compass_panel):
+            widget.setEnabled(usable)
+
+    def _show_snapshot(self, snapshot: Snapshot) -> None:
+        self.snapshot = snapshot
+        self.config_label.setText(snapshot.config)
+        keep_station = self.station if self.station is not None else self._wanted_radio[0]
+        self.station_box.blockSignals(True)
+        self.station_box.clear()
+        for station in snapshot.stations:
+            self.station_box.addItem(f"{station}", station)
+        index = self.station_box.findData(keep_station)
+        self.station_box.setCurrentIndex(max(index, 0))
+        self.station_box.blockSignals(False)
+        self._fill_radios()
+        self._set_usable(self.connection.link is LinkState.CONNECTED)
+
+    def _station_chosen(self, _index: int = 0) -> None:
+        self._fill_radios()
+
+    def _fill_radios(self) -> None:
+        keep_radio = self.radio if self.radio is not None else self._wanted_radio[1]
+        self.radio_box.blockSignals(True)
+        self.radio_box.clear()
+        if self.snapshot is not None and self.station is not None:
+            for radio in self.snapshot.radios_of(self.station):
+                self.radio_box.addItem(f"{radio}", radio)
+        index = self.radio_box.findData(keep_radio)
+        self.radio_box.setCurrentIndex(max(index, 0))
+        self.radio_box.blockSignals(False)
+        self._radio_chosen()
+
+    def _radio_chosen(self) -> None:
+        radio = self.radio_view
+        if radio is not None and radio.khz is not None:
+            self.khz_box.setValue(radio.khz)
+            self.tx_khz_box.setValue(radio.tx_khz if radio.tx_khz is not None else radio.khz)
+            self.split_box.setChecked(radio.tx_khz is not None and radio.tx_khz != radio.khz)
+        self._show_radio()
+        self._ask_layout(force=True)
+        self._show_compass()
+
+    def _show_radio(self) -> None:
+        radio = self.radio_view
+        snapshot = self.snapshot
+        if radio is None or snapshot is None:
+            self.display.setText("no radio")
+            self.badge_tx.hide()
+            self.badge_inhibit.hide()
+            self.note_label.hide()
+            return
+        parts = [_frequency_text(radio)]
+        tx = snapshot.antenna(radio.tx)
+        rx = snapshot.antenna(radio.rx)
+        parts.append(f"TX  {tx.name if tx else 'none'}")
+        parts.append(f"RX  {rx.name if rx else 'none'}")
+        alt = snapshot.antenna(radio.alt)
+        if alt is not None:
+            parts.append(f"ALT  {alt.name}")
+        self.display.setText("     ".join(parts))
+        self.badge_tx.setVisible(radio.transmitting)
+        self.badge_inhibit.setVisible(radio.inhibited)
+        self.note_label.setText(radio.note)
+        self.note_label.setVisible(bool(radio.note))
+        self._show_relative(radio, snapshot)
+
+    def _show_relative(self, radio: RadioView, snapshot: Snapshot) -> None:
+        before = self.relative_box.currentIndex()
+        self.relative_box.blockSignals(True)
+        self.relative_box.clear()
+        if radio.relative is not None:
+            for index, antenna_id in enumerate(radio.relative):
+                antenna = snapshot.antenna(antenna_id)
+                mark = "\u2714 " if antenna_id == radio.tx else ""
+                name = antenna.name if antenna else f"Antenna {antenna_id}"
+                self.relative_box.addItem(f"{mark}{index + 1}. {name}", index)
+        else:
+            for index in range(8):
+                self.relative_box.addItem(f"Position {index + 1}", index)
+        self.relative_box.setCurrentIndex(max(0, min(before, self.relative_box.count() - 1)))
+        self.relative_box.blockSignals(False)
+
+    def _show_compass(self) -> None:
+        snapshot = self.snapshot
+        if snapshot is None:
+            self.compass_panel.show_targets(())
+            return
+        radio = self.radio_view
+        targets = compass_targets(snapshot, radio, self.layout_view)
+        tx = snapshot.antenna(radio.tx) if radio else None
+        self.compass_panel.show_targets(targets, prefer=tx.rotator if tx else None)
+
+    def _ask_layout(self, force: bool = False) -> None:
+        if self.station is None or self.radio is None:
+            self.layout_view = None
+            self.grid.show_layout(None, self.rows_box.value(), self.columns_box.value())
+            return
+        key = (self.station, self.radio, self.rows_box.value(), self.columns_box.value())
+        if key == self._layout_asked and not force:
+            return
+        self._layout_asked = key
+        self._spawn(self._fetch_layout(key), "Layout")
+
+    async def _fetch_layout(self, key: tuple[int, int, int, int]) -> None:
+        layout = await self.connection.layout(*key)
+        if key == self._layout_asked:
+            self._layout_shape = (layout.rows, layout.columns)
+            self._show_layout(layout)
+
+    def _show_layout(self, layout: LayoutView) -> None:
+        self.layout_view = layout
+        self.grid.show_layout(layout, self.rows_box.value(), self.columns_box.value())
+        self._show_compass()
+
+    # -- the user's wishes ----------------------------------------------------------------------
+    def _pressed(self, view: ButtonView, exclusive: bool) -> None:
+        station, radio = self.station, self.radio
+        if station is None or radio is None:
+            return
+        if view.type is ButtonType.FUNCTION:
+            if not exclusive:
+                self._spawn(self.connection.function(station, radio, view.id),
+                            f"Function {view.label}")
+            return
+        self._spawn(self.connection.select(station, radio, view.id, self.target, exclusive),
+                    f"Select {view.label}")
+
+    def _relative(self, *, step: int | None = None, index: int | None = None) -> None:
+        if self.station is None or self.radio is None:
+            return
+        self._spawn(self.connection.relative(self.station, self.radio, step=step, index=index),
+                    "Relative")
+
+    def _frequency_entered(self) -> None:
+        if self.khz_box.hasFocus():
+            self._send_frequency()
+
+    def _send_frequency(self) -> None:
+        if self.station is None or self.radio is None:
+            return
+        tx = self.tx_khz_box.value() if self.split_box.isChecked() else None
+        self._spawn(self.connection.frequency(self.station, self.radio, self.khz_box.value(), tx),
+                    "Frequency")
+
+    def _rotate(self, rotator: int, heading: float) -> None:
+        self._spawn(self.connection.rotate(rotator, heading), f"Turn to {heading:.0f}\u00b0")
+
+    def _stop(self, rotator: int) -> None:
+        self._spawn(self.connection.stop(rotator), "Stop")
+
+    # -- running requests -----------------------------------------------------------------------
+    def _spawn(self, coro: Coroutine[Any, Any, Any], what: str) -> None:
+        if self._closed:
+            coro.close()
+            return
+        try:
+            task = asyncio.ensure_future(self._guarded(coro, what))
+        except RuntimeError:
+            coro.close()
+            self._error(f"{what}: no event loop is running")
+            return
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+
+    async def _guarded(self, coro: Coroutine[Any, Any, Any], what: str) -> None:
+        try:
+            await coro
+        except ServerError as exc:
+            self._error(f"{what}: {exc.message}")
+        except ClientError as exc:
+            self._error(f"Connection: {what}: {exc}")
+        except asyncio.CancelledError:
+            raise
+        except Exception:
+            log.exception("%s failed in the client window", what)
+            self._error(f"{what} failed; the log says why")
+
+    def _error(self, message: str) -> None:
+        if self._closed:
+            return
+        self.last_error = message
+        self.statusBar().showMessage(f"\u26a0 {message}")
+
+    def _clear_error(self) -> None:
+        self.last_error = ""
+        self.statusBar().clearMessage()
+
+    @property
+    def pending(self) -> int:
+        """Requests still waiting for their reply."""
+        return len(self._tasks)
+
+
+def _khz_box(parent: QWidget) -> QDoubleSpinBox:
+    box = QDoubleSpinBox(parent)
+    box.setRange(0.0, 10_000_000.0)
+    box.setDecimals(1)
+    box.setSingleStep(1.0)
+    box.setSuffix(" kHz")
+    box.setKeyboardTracking(False)
+    box.setMinimumWidth(130)
+    return box
+
+
+def _frequency_text(radio: RadioView) -> str:
+    if radio.khz is None:
+        return "no frequency"
+    if radio.tx_khz is not None and radio.tx_khz != radio.khz:
+        return f"RX {radio.khz:.1f}  TX {radio.tx_khz:.1f} kHz"
+    return f"{radio.khz:.1f} kHz"

@@ -1,0 +1,109 @@
+"""Helpers shared by the client tests (imported as ``test_client_support``).
+
+* :func:`run_on_qt` runs a coroutine on a qasync loop over the test's
+  QApplication, so Qt signals and asyncio both work inside it (SETUP-NOTES:
+  never ``qtbot.waitSignal`` inside a coroutine; await or poll instead).
+* :class:`LiveServer` is the project's real client protocol server over its
+  fake backend, on 127.0.0.1 and a port the system picks; it can be stopped
+  and started again on the same port.
+* :func:`until` polls a condition while the loop runs.
+
+The one test here checks the helpers themselves, so a broken helper shows up
+as its own failure rather than as a puzzle in every other test.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from collections.abc import Callable, Coroutine
+from typing import Any, Self, TypeVar
+
+import qasync  # type: ignore[import-untyped]
+
+from moas_gui.net.fake_backend import FakeBackend
+from moas_gui.net.fake_station import DEMO_STATION, FakeStation
+from moas_gui.net.server import ClientServer
+
+T = TypeVar("T")
+
+LOOPBACK = "127.0.0.1"
+
+
+def run_on_qt(qapp: Any, coro: Coroutine[Any, Any, T], timeout: float = 30.0) -> T:
+    """Runs ``coro`` to its end on a fresh qasync loop (failing after ``timeout``)."""
+    loop = qasync.QEventLoop(qapp)
+    asyncio.set_event_loop(loop)
+    try:
+        return loop.run_until_complete(asyncio.wait_for(coro, timeout))
+    finally:
+        pending = [t for t in asyncio.all_tasks(loop) if not t.done()]
+        for task in pending:
+            task.cancel()
+        if pending:
+            loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
+        loop.run_until_complete(loop.shutdown_asyncgens())
+        asyncio.set_event_loop(None)
+        loop.close()
+
+
+async def until(condition: Callable[[], object], timeout: float = 5.0,
+                what: str = "the condition") -> None:
+    """Waits until ``condition()`` is true, polling every few milliseconds."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"{what} did not happen within {timeout:g} s")
+        await asyncio.sleep(0.005)
+
+
+class LiveServer:
+    """The protocol server over a :class:`FakeBackend`, on 127.0.0.1."""
+
+    def __init__(self, station: FakeStation = DEMO_STATION) -> None:
+        self.station = station
+        self.backend = FakeBackend(station)
+        self.server: ClientServer | None = None
+        self.port = 0
+
+    async def start(self) -> Self:
+        self.server = ClientServer(self.backend, host=LOOPBACK, port=self.port)
+        self.backend.attach(self.server)
+        self.port = await self.server.start()
+        return self
+
+    async def stop(self) -> None:
+        if self.server is not None:
+            await self.server.close()
+            self.backend.attach(None)
+            self.server = None
+
+    async def __aenter__(self) -> Self:
+        return await self.start()
+
+    async def __aexit__(self, *exc: object) -> None:
+        await self.stop()
+
+    def calls(self, name: str) -> list[tuple[Any, ...]]:
+        """The arguments of every backend call named ``name``, in order."""
+        return [args for call, args in self.backend.calls if call == name]
+
+
+def test_live_server_restarts_on_the_same_port(qapp: Any) -> None:
+    async def scenario() -> tuple[int, int]:
+        live = LiveServer()
+        await live.start()
+        first = live.port
+        await live.stop()
+        await live.start()
+        second = live.port
+        reader, writer = await asyncio.open_connection(LOOPBACK, second)
+        writer.write(b'{"id": 1, "cmd": "state"}\n')
+        line = await reader.readline()
+        writer.close()
+        await live.stop()
+        assert b'"ok":true' in line.replace(b" ", b"")
+        return first, second
+
+    first, second = run_on_qt(qapp, scenario())
+    assert first == second != 0

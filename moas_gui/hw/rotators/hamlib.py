@@ -61,6 +61,8 @@ class HamlibRotator(RotatorDriver):
         self._reader: asyncio.StreamReader | None = None
         self._writer: asyncio.StreamWriter | None = None
         self._task: asyncio.Task[None] | None = None
+        self._answering = False
+        """True once the daemon has answered a position in this connection."""
 
     @property
     def where(self) -> str:
@@ -84,6 +86,8 @@ class HamlibRotator(RotatorDriver):
     # ---- requests --------------------------------------------------------------------
 
     async def rotate(self, heading: float) -> None:
+        if not self._answering:
+            raise self._unavailable(f"cannot turn: {self.where} is not connected")
         end = self.travel.nearest_position(heading, near=self.tracker.position)
         if not self.travel.reaches(heading):
             log.info("%s cannot point at %.0f degrees; turning to the end of its travel (%.0f)",
@@ -166,6 +170,7 @@ class HamlibRotator(RotatorDriver):
             self._learn_limits(await self._request(encode_dump_state()))
             while True:
                 self._take_position(await self._request(encode_get_pos()))
+                self._answering = True
                 if self.tracker.tick(self._now()) == "stalled":
                     log.info("%s stopped short of its target", self.title)
                 self._publish_now()
@@ -177,6 +182,7 @@ class HamlibRotator(RotatorDriver):
             log.warning("%s: %s: %s; reconnecting", self.name, self.where, exc)
         finally:
             self._reader = self._writer = None
+            self._answering = False
             self._publish_now()
             writer.close()
             with contextlib.suppress(OSError):
@@ -213,7 +219,7 @@ class HamlibRotator(RotatorDriver):
 
     def _publish_now(self) -> None:
         position, target = self.tracker.position, self.tracker.target
-        online = self.connected
+        online = self.connected and self._answering
         self._set(RotatorStatus(
             heading=None if position is None else self.travel.heading_at(position),
             target=None if target is None else self.travel.heading_at(target),

@@ -95,6 +95,9 @@ INPUT_BUFFER = 128
 
 VENDOR_TEXT = "moas-gui-emulator"
 
+_SLACK = 1e-9
+"""Seconds a timer may be early and still count as run out (float rounding)."""
+
 _KIND_OF: dict[AntennaKind, tuple[Kind, ...]] = {
     AntennaKind.TX: (Kind.TX,),
     AntennaKind.RX: (Kind.RX,),
@@ -402,7 +405,7 @@ class EmulatorModel:
     # ------------------------------------------------------------------ time
 
     def _advance_to(self, now: float) -> None:
-        while (deadline := self.next_deadline()) is not None and deadline <= now:
+        while (deadline := self.next_deadline()) is not None and deadline <= now + _SLACK:
             self._now = max(self._now, deadline)
             self._settle()
         self._now = max(self._now, now)
@@ -420,7 +423,7 @@ class EmulatorModel:
         while True:
             due = [
                 st for st in self.stations.values()
-                if st.deadline is not None and st.deadline <= self._now
+                if st.deadline is not None and st.deadline <= self._now + _SLACK
             ]
             if not due:
                 return moved

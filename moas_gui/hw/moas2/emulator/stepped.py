@@ -21,6 +21,7 @@ class SteppedBox:
     def __init__(self, unit_id: int = 0, *, active: bool = False, events: str = "") -> None:
         self.model = EmulatorModel(unit_id=unit_id)
         self.ms = 0.0
+        self._origin = 0.0
         if events:
             self.send(f"*{events};")
         if active:
@@ -30,18 +31,30 @@ class SteppedBox:
         """Commands from the computer (``at`` ms, default: now)."""
         if at is not None:
             self.ms = at
-        return self.model.feed(text.encode("latin-1"), self.ms / 1000).decode("latin-1")
+        return self.model.feed(text.encode("latin-1"), self._seconds()).decode("latin-1")
 
     def wait(self, until: float) -> str:
         """Let time pass up to ``until`` ms."""
         self.ms = until
-        return self.model.advance(until / 1000).decode("latin-1")
+        return self.model.advance(self._seconds()).decode("latin-1")
 
     def key(self, station: int, on: bool, at: float | None = None) -> str:
         """Assert or release a station's key line."""
         if at is not None:
             self.ms = at
-        return self.model.set_tr(station, on, self.ms / 1000).decode("latin-1")
+        return self.model.set_tr(station, on, self._seconds()).decode("latin-1")
+
+    def settle(self) -> str:
+        """Let every running timer run out, then call that moment 0 ms."""
+        out = []
+        while (deadline := self.model.next_deadline()) is not None:
+            out.append(self.model.advance(deadline).decode("latin-1"))
+        self._origin = self.model.now * 1000
+        self.ms = 0.0
+        return "".join(out)
+
+    def _seconds(self) -> float:
+        return (self._origin + self.ms) / 1000
 
     @property
     def relays(self) -> set[int]:

@@ -1,0 +1,149 @@
+"""What follows from the radios' antennas: inhibits and alternate receive antennas.
+
+Inhibit by the server (the switch's "inhibit by command"), per radio, when:
+
+* its frequency is known and it has no transmit antenna, or its transmit
+  antenna does not cover its transmit frequency (appendix F steps 1, 6, 7;
+  this project applies it whatever ``OutOfBand`` says, for safety);
+* its frequency is not known yet and ``OutOfBand`` is set;
+* its transmit antenna has ``Inhibit`` set.
+
+With ``InhibitOnlyOnTransmit`` the inhibit is asserted only while the radio
+transmits.  Radio-to-radio inhibits (Always, SameBand, inhibit busses) are
+loaded into the switch (``~``) and it applies them itself.
+
+Alternate receive antennas, per radio, from three sources in this order:
+
+1. Shared transmit antennas (5.12, 5.13): when another radio transmits on an
+   antenna this radio's receive antenna conflicts with, this radio must not
+   listen there.  It moves to its partner's receive antenna when the partner
+   conditions hold, else to its alternate receiver's antenna, else to none.
+2. ``Alternate`` rules (6.10.2) for the other radios that match them.
+3. ``AltActive`` radios with the antenna of the alternate receiver.
+
+The switch has one alternate antenna per station: when sources disagree, the
+first wins and triggers wanting something else are dropped (for source 1,
+disagreeing triggers all get "none").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from .config.model import RadioRef
+from .index import ConfigIndex, Kind
+from .ranges import describe_khz
+from .rules import permitted, related, unusable
+from .state import State
+
+
+def inhibit_reason(ix: ConfigIndex, st: State, ref: RadioRef) -> str:
+    """Why the server inhibits ``ref`` now (empty when it does not)."""
+    info = ix.radios[ref]
+    if info.kind is not Kind.MAIN:
+        return ""
+    rs = st.radios[ref]
+    if rs.khz is None and rs.tx is None:
+        return "no frequency reported yet" if info.radio.out_of_band else ""
+    if rs.tx is None:
+        return "no transmit antenna" + (f": {rs.note}" if rs.note else "")
+    tx_freq = rs.tx_freq
+    if not info.covers(rs.tx, tx_freq):
+        return f"{ix.name(rs.tx)} does not cover {describe_khz(tx_freq)}"
+    if ix.antennas[rs.tx].inhibit:
+        return f"{ix.name(rs.tx)} is set to inhibit transmit"
+    return ""
+
+
+def partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef) -> int | None:
+    """5.13: the partner's receive antenna, when every condition of the manual holds."""
+    if st.partners.get(ref) != other:
+        return None
+    me, them = st.radios[ref], st.radios[other]
+    shared = them.tx
+    if shared is None or them.rx is None or them.rx == shared:
+        return None
+    canon = ix.canon[shared]
+    count = 0
+    for r in ix.mains:
+        rs = st.radios[r]
+        if any(a is not None and ix.canon[a] == canon for a in (rs.tx, rs.rx)):
+            count += 1
+    if count != 2:
+        return None
+    if unusable(ix, st, ix.radios[ref], them.rx, me.khz, "rx") is not None:
+        return None
+    if me.tx is not None and me.tx != them.rx and not ix.is_fast(me.tx, them.rx):
+        return None
+    return them.rx
+
+
+def alternates(ix: ConfigIndex, st: State
+               ) -> dict[RadioRef, tuple[int | None, frozenset[RadioRef]]]:
+    """Per main radio: its alternate receive antenna and the radios that switch it there."""
+    out: dict[RadioRef, tuple[int | None, frozenset[RadioRef]]] = {}
+    for ref in ix.mains:
+        info = ix.radios[ref]
+        rs = st.radios[ref]
+        alt_radio = st.radios.get(info.alt) if info.alt is not None else None
+        manual = alt_radio.rx if alt_radio is not None else None
+        safety: list[tuple[RadioRef, int | None]] = []
+        others: list[tuple[RadioRef, int | None]] = []
+        if rs.rx is not None:
+            for t in ix.mains:
+                if related(ix, ref, t):
+                    continue
+                ts = st.radios[t]
+                if ts.tx is not None and ix.conflict(rs.rx, ts.tx) and permitted(
+                        ix, st, ref, t, rs.rx, ts.tx):
+                    want = partner_alternate(ix, st, ref, t)
+                    safety.append((t, want if want is not None else manual))
+            allowed = st.alt_active.get(ref)
+            for rule in info.radio.alternate:
+                if rule.this_antennas and ix.canon[rs.rx] not in {
+                        ix.canon.get(a, a) for a in rule.this_antennas}:
+                    continue
+                if rs.khz is None or not rule.range.contains(rs.khz):
+                    continue
+                want = rule.antenna
+                if want is not None and (want not in ix.antennas or unusable(
+                        ix, st, info, want, rs.khz, "rx") is not None):
+                    want = None
+                for t in ix.mains:
+                    if related(ix, ref, t) or (allowed is not None and t not in allowed):
+                        continue
+                    ts = st.radios[t]
+                    if ts.tx is None or ts.tx_freq is None or not rule.range.contains(ts.tx_freq):
+                        continue
+                    if rule.other_antennas and ix.canon[ts.tx] not in {
+                            ix.canon.get(a, a) for a in rule.other_antennas}:
+                        continue
+                    others.append((t, want))
+            if allowed is not None and manual is not None:
+                others.extend((t, manual) for t in sorted(allowed) if t in ix.radios
+                              and not related(ix, ref, t))
+        if safety:
+            wants = {w for _, w in safety}
+            alt = wants.pop() if len(wants) == 1 else None
+        elif others:
+            alt = others[0][1]
+        else:
+            out[ref] = (manual, frozenset())
+            continue
+        triggers = {t for t, w in safety}
+        triggers |= {t for t, w in others if w == alt and t not in triggers}
+        out[ref] = (alt, frozenset(triggers))
+    return out
+
+
+def inhibited_by(ix: ConfigIndex, st: State, ref: RadioRef,
+                 transmitting: Mapping[RadioRef, bool]) -> RadioRef | None:
+    """A transmitting radio whose transmission inhibits ``ref`` now, if any."""
+    from .rules import inhibits
+    for t in ix.mains:
+        if t != ref and transmitting.get(t, False) and inhibits(ix, st, t, ref):
+            return t
+    return None
+
+
+__all__ = ["alternates", "inhibit_reason", "inhibited_by", "partner_alternate"]

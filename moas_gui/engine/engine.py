@@ -1,0 +1,372 @@
+"""The engine: antenna selection and every rule of the manual, with no I/O.
+
+Feed it what happens (a radio's frequency, a T/R change of a switch port, a
+button press, a function, a direction) and it answers with a
+:class:`~.changes.Changes`: radios whose view changed, the complete wanted
+state of each switch that changed, and sentences for the log.  Time is passed
+in (``now``, seconds on any monotonic clock); when omitted the last time seen
+is used.  A request that cannot be met raises an :class:`~.errors.EngineError`
+and leaves the engine exactly as it was.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from types import MappingProxyType
+
+from .changes import NO_CHANGES, Changes
+from .config.model import Config, RadioRef
+from .derive import alternates, inhibit_reason, inhibited_by
+from .errors import BadRequest, NotFound, NotRunning
+from .functions import function, is_on, refresh_relays, run, status
+from .index import ConfigIndex, Kind
+from .layouts import layout_view
+from .manual import select_antenna, select_direction
+from .outputs import build, radio_relays, slot_needs
+from .relative import relative as relative_select
+from .selection import recheck, select_by_frequency
+from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
+from .state import RadioState, State
+from .switchstate import SwitchState
+from .systems import is_selected
+from .views import AVAILABLE, SELECTED, UNAVAILABLE, AntennaView, LayoutView, RadioView
+from .work import Work, radio_name
+
+
+class Engine:
+    """One configuration's antenna switching brain (see the module docstring)."""
+
+    def __init__(self, config: Config, now: float = 0.0) -> None:
+        ix = ConfigIndex(config)
+        self._ix = ix
+        self._classes = SlotClasses(ix)
+        st = State()
+        st.now = now
+        for ref in ix.order:
+            st.radios[ref] = RadioState()
+        st.shared = dict(ix.systems.initial_shared)
+        for ref in ix.mains:
+            cfg = ix.radios[ref].radio
+            st.busses[ref] = frozenset(cfg.inhibit_buss)
+            st.alt_active[ref] = frozenset(cfg.alt_active) if cfg.alt_active else None
+            for other in cfg.partner[:1]:
+                if other in ix.radios and other != ref and ref not in st.partners \
+                        and other not in st.partners:
+                    st.partners[ref] = other
+                    st.partners[other] = ref
+        self._state = st
+        self._maps: dict[int, SlotMap] = {w: initial_map(self._classes, w) for w in ix.switch_ids}
+        self._switch_states: dict[int, SwitchState] = {}
+        self._owners: dict[int, dict[int, RadioRef | None]] = {}
+        self._views: dict[RadioRef, RadioView] = {}
+        self._commit(Work(ix, st), force=True)
+
+    # -- reading ---------------------------------------------------------------------------
+    @property
+    def config(self) -> Config:
+        return self._ix.config
+
+    @property
+    def running(self) -> bool:
+        return self._state.running
+
+    def switch_states(self) -> dict[int, SwitchState]:
+        """The complete wanted state of every switch now."""
+        return dict(self._switch_states)
+
+    def radio_view(self, station: int, radio: int) -> RadioView:
+        return self._views[self._radio(station, radio)]
+
+    def radios(self) -> tuple[RadioView, ...]:
+        return tuple(self._views[r] for r in sorted(self._views))
+
+    def antenna_views(self) -> tuple[AntennaView, ...]:
+        out = []
+        for a in self._ix.ids:
+            ant = self._ix.antennas[a]
+            out.append(AntennaView(a, ant.label, ant.title, ant.rotator))
+        return tuple(out)
+
+    def slot_of(self, switch_id: int, antenna: int, station: int, radio: int) -> int | None:
+        """The switch slot standing for ``antenna`` on that radio's ports (None: none now)."""
+        key = self._classes.key(antenna, RadioRef(station, radio))
+        return self._maps[switch_id].key_slot.get(key)
+
+    def function_status(self, station: int, radio: int, function_id: int) -> tuple[bool, str]:
+        """Whether a function can run now for this radio, and why not."""
+        ref = self._radio(station, radio)
+        f = function(self._ix, function_id)
+        verdict = status(self._ix, self._state, ref, f)
+        return verdict.available, verdict.reason
+
+    def function_on(self, function_id: int) -> bool:
+        """Whether a toggling function (Share, Relay, Inhibit, Extra, Partner, AltActive) is on."""
+        return is_on(self._ix, self._state, function(self._ix, function_id))
+
+    def layout(self, station: int, radio: int, rows: int, columns: int) -> LayoutView:
+        """The configured layout closest to ``rows`` x ``columns``, with button states (5.16)."""
+        ref = self._radio(station, radio)
+        for name, value in (("rows", rows), ("columns", columns)):
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise BadRequest(f"{name} must be a whole number of at least 1 (not {value!r})")
+        ix, st = self._ix, self._state
+        rs = st.radios[ref]
+
+        def antenna_state(a: int) -> str:
+            canon = ix.canon[a]
+            for held in (rs.tx, rs.rx):
+                if held is not None and is_selected(ix.systems, ix.comps, ix.comps[held], canon):
+                    return SELECTED
+            return AVAILABLE if self._would_work(
+                lambda w: select_antenna(w, ref, a, "both", False)) else UNAVAILABLE
+
+        def function_state(fid: int) -> str:
+            f = ix.functions[fid]
+            if is_on(ix, st, f):
+                return SELECTED
+            return AVAILABLE if status(ix, st, ref, f).available else UNAVAILABLE
+
+        return layout_view(ix, ref, rs.khz, rows, columns, antenna_state, function_state)
+
+    def electrical_heading(self, rotator_id: int) -> float | None:
+        """The offset of the antenna of an electrical rotator in use, if any."""
+        ix, st = self._ix, self._state
+        for ref in ix.order:
+            rs = st.radios[ref]
+            for a in (rs.tx, rs.rx):
+                if a is not None and ix.antennas[a].rotator == rotator_id:
+                    return float(ix.antennas[a].offset)
+        return None
+
+    # -- operations ------------------------------------------------------------------------
+    def set_frequency(self, station: int, radio: int, khz: float, tx_khz: float | None = None,
+                      now: float | None = None) -> Changes:
+        """A logger reported this radio's frequency (kHz); selection per appendix F."""
+        ref = self._radio(station, radio)
+        khz = _frequency("khz", khz)
+        tx = None if tx_khz is None else _frequency("tx_khz", tx_khz)
+        info = self._ix.radios[ref]
+        if info.kind is Kind.ALT:
+            raise BadRequest(f"{radio_name(ref)} is the alternate receiver of {info.main} and "
+                             "follows its frequency")
+
+        def op(w: Work) -> None:
+            self._frequency(w, ref, khz, None if tx == khz else tx)
+        return self._run(op, now)
+
+    def set_transmitting(self, switch_id: int, port: int, transmitting: bool,
+                         now: float | None = None) -> Changes:
+        """A switch port's T/R line changed (the switch's ``<`` / ``>`` events)."""
+        ix = self._ix
+        if switch_id not in ix.switches:
+            raise NotFound(f"There is no switch {switch_id} in the configuration")
+        if not 1 <= port <= 6:
+            raise BadRequest(f"port must be 1-6 (not {port})")
+
+        def op(w: Work) -> None:
+            st = w.st
+            st.ports_tr[(switch_id, port)] = bool(transmitting)
+            if not transmitting:
+                self._maps[switch_id] = receive_seen(self._maps[switch_id], port)
+            ref = ix.port_radio.get((switch_id, port))
+            if ref is None:
+                return
+            info = ix.radios[ref]
+            was = st.radios[ref].transmitting
+            now_tx = any(st.ports_tr.get(p, False) for p in info.ports)
+            if info.kind is not Kind.MAIN:
+                now_tx = False
+            if was == now_tx:
+                return
+            st.radios[ref] = st.radios[ref].with_(transmitting=now_tx)
+            if now_tx:
+                freq = st.radios[ref].tx_freq
+                latched = set(st.latched)
+                for tr in info.radio.relays:
+                    if freq is not None and tr.range.contains(freq):
+                        latched |= tr.set
+                        latched -= tr.reset
+                st.latched = frozenset(latched)
+        return self._run(op, now, need_running=False)
+
+    def select(self, station: int, radio: int, antenna: int, target: str = "both",
+               exclusive: bool = False, now: float | None = None) -> Changes:
+        """A button press: additive toggles, exclusive selects alone (``exclusive`` = double-click)."""
+        ref = self._radio(station, radio)
+        return self._run(lambda w: select_antenna(w, ref, antenna, target, exclusive), now)
+
+    def run_function(self, station: int, radio: int, function_id: int,
+                     now: float | None = None) -> Changes:
+        ref = self._radio(station, radio)
+        f = function(self._ix, function_id)
+        return self._run(lambda w: run(w, ref, f), now)
+
+    def relative(self, station: int, radio: int, step: int | None = None,
+                 index: int | None = None, now: float | None = None) -> Changes:
+        """Appendix G: the next (+1) or previous (-1) relative antenna, or the one at ``index``."""
+        ref = self._radio(station, radio)
+        return self._run(lambda w: relative_select(w, ref, step, index), now)
+
+    def select_direction(self, rotator_id: int, heading: float,
+                         now: float | None = None) -> Changes:
+        """An electrical rotator turned: the antenna whose offset is closest (5.15)."""
+        if self._ix.config.rotator(rotator_id) is None:
+            raise NotFound(f"There is no rotator {rotator_id}")
+        if isinstance(heading, bool) or not isinstance(heading, (int, float)) \
+                or not math.isfinite(heading):
+            raise BadRequest(f"heading must be a number of degrees (not {heading!r})")
+        return self._run(lambda w: select_direction(w, rotator_id, float(heading)), now)
+
+    def stop(self) -> Changes:
+        """Stop Switches: every switch inactive, all relays off (3.4.5)."""
+        def op(w: Work) -> None:
+            if w.st.running:
+                w.st.running = False
+                w.log.append("Switches stopped: all relays off")
+        return self._run(op, None, need_running=False)
+
+    def start(self) -> Changes:
+        """Start Switches: the switches hold the current antennas again."""
+        def op(w: Work) -> None:
+            if not w.st.running:
+                w.st.running = True
+                w.log.append("Switches started")
+        return self._run(op, None, need_running=False)
+
+    def reset(self) -> Changes:
+        """Reset Switches: every switch's complete state, to be loaded again (3.4.3)."""
+        return Changes(switches=MappingProxyType(dict(self._switch_states)),
+                       log=("Switches reset: loading the current antennas again",))
+
+    # -- internals -------------------------------------------------------------------------
+    def _radio(self, station: int, radio: int) -> RadioRef:
+        for name, value in (("station", station), ("radio", radio)):
+            if isinstance(value, bool) or not isinstance(value, int):
+                raise BadRequest(f"{name} must be a whole number (not {value!r})")
+        ref = RadioRef(station, radio)
+        if ref not in self._ix.radios:
+            raise NotFound(f"There is no {ref} in the configuration")
+        return ref
+
+    def _frequency(self, w: Work, ref: RadioRef, khz: float, tx: float | None) -> None:
+        ix, st = w.ix, w.st
+        info = ix.radios[ref]
+        old = st.radios[ref].khz
+        st.radios[ref] = st.radios[ref].with_(khz=khz, tx_khz=tx)
+        select_by_frequency(w, ref, old)
+        if info.kind is not Kind.MAIN:
+            return
+        for extra in (info.sub, info.alt):
+            if extra is None or extra not in ix.radios:
+                continue
+            einfo = ix.radios[extra]
+            follows = einfo.kind is Kind.ALT or info.radio.use_main_freq or \
+                einfo.radio.use_main_freq
+            if follows:
+                eold = st.radios[extra].khz
+                st.radios[extra] = st.radios[extra].with_(khz=khz)
+                select_by_frequency(w, extra, eold)
+
+    def _would_work(self, op: Callable[[Work], None]) -> bool:
+        w = Work(self._ix, self._state.clone())
+        try:
+            op(w)
+        except Exception:  # noqa: BLE001 - any refusal means "unavailable"
+            return False
+        return True
+
+    def _run(self, op: Callable[[Work], None], now: float | None,
+             need_running: bool = True) -> Changes:
+        if need_running and not self._state.running:
+            raise NotRunning("The switches are stopped; start them first")
+        st = self._state.clone()
+        if now is not None:
+            st.now = max(st.now, float(now))
+        w = Work(self._ix, st)
+        saved_maps = dict(self._maps)
+        try:
+            op(w)
+            recheck(w)
+            refresh_relays(self._ix, st, w)
+            return self._commit(w)
+        except Exception:
+            self._maps = saved_maps
+            raise
+
+    def _commit(self, w: Work, force: bool = False) -> Changes:
+        ix, st = self._ix, w.st
+        alts = alternates(ix, st)
+        from .functions import extra_relays
+        extras = extra_relays(ix, st)
+        ports = {ref: radio_relays(ix, st, ref, alts.get(ref), extras)
+                 for ref in ix.order if ix.radios[ref].kind is not Kind.ALT}
+        needed = slot_needs(ix, self._classes, ports)
+        maps = {}
+        for sw in ix.switch_ids:
+            busy, unknown = self._busy(st, sw)
+            switch = ix.switches[sw]
+            settle = SETTLE_MARGIN_S + (switch.inhibit_time + switch.interrupt_mode_delay) / 1000
+            maps[sw] = allocate(self._classes, self._maps[sw], needed[sw], st.now, busy, unknown,
+                                settle)
+        built = build(ix, st, self._classes, maps, ports, alts, self._switch_states, self._owners)
+        transmitting = {ref: st.radios[ref].transmitting for ref in ix.mains}
+        views = {ref: self._view(st, ref, alts, transmitting) for ref in ix.order}
+        changed_radios = {ref for ref, v in views.items() if self._views.get(ref) != v}
+        changed_switches = {sw: s for sw, s in built.states.items()
+                            if force or self._switch_states.get(sw) != s}
+        old = self._state
+        layouts = bool(changed_radios) or force or (
+            old.shared != st.shared or old.busses != st.busses or old.partners != st.partners
+            or old.alt_active != st.alt_active or old.relay_on != st.relay_on
+            or old.extra_on != st.extra_on or old.stored != st.stored)
+        self._state = st
+        self._maps = maps
+        self._switch_states = built.states
+        self._owners = built.station0_owner
+        self._views = views
+        return Changes(frozenset(changed_radios), MappingProxyType(changed_switches), layouts,
+                       tuple(w.log)) if (changed_radios or changed_switches or layouts
+                                          or w.log) else NO_CHANGES
+
+    def _busy(self, st: State, switch: int) -> tuple[frozenset[int], bool]:
+        indicate = self._ix.switches[switch].indicate_tr
+        busy = set()
+        unknown = False
+        for port in range(1, 7):
+            tr = st.ports_tr.get((switch, port))
+            if tr is None and not indicate:
+                busy.add(port)
+                unknown = True
+            elif tr:
+                busy.add(port)
+        return frozenset(busy), unknown
+
+    def _view(self, st: State, ref: RadioRef,
+              alts: dict[RadioRef, tuple[int | None, frozenset[RadioRef]]],
+              transmitting: dict[RadioRef, bool]) -> RadioView:
+        ix = self._ix
+        rs = st.radios[ref]
+        info = ix.radios[ref]
+        reason = inhibit_reason(ix, st, ref)
+        note = reason or rs.note
+        inhibited = bool(reason)
+        if info.kind is Kind.MAIN and not inhibited:
+            by = inhibited_by(ix, st, ref, transmitting)
+            if by is not None:
+                inhibited = True
+                note = note or f"inhibited while {by} transmits"
+        alt = alts.get(ref, (None, frozenset()))[0] if info.kind is Kind.MAIN else None
+        return RadioView(ref.station, ref.radio, rs.khz,
+                         rs.tx_freq if info.kind is Kind.MAIN else None,
+                         rs.tx, rs.rx, alt, rs.transmitting, inhibited, note)
+
+
+def _frequency(name: str, value: float) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+            or value <= 0:
+        raise BadRequest(f"{name} must be a positive number of kHz (not {value!r})")
+    return float(value)
+
+
+__all__ = ["Engine"]

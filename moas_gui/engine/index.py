@@ -1,0 +1,305 @@
+"""Everything the engine looks up, computed once per configuration.
+
+The per-frequency-change path must not scan the configuration, so every
+question it asks is answered here by a dict or a short tuple: which antennas a
+radio can use and through which relays in which range, conflicts and fast
+pairs (made symmetric), alternate paths, components, systems, ports.
+
+Alternate paths (5.8): antennas that list each other in ``Alternate`` are one
+*path group*; its *canonical* member (the one listed in a system, else the
+lowest ID) names the physical antenna on buttons and in components.
+
+Radios come in three kinds: the configured radios (MAIN), their sub receivers
+(SUB, ``SubReceiver``) and their alternate receivers (ALT, ``AltReceiver``: a
+radio number whose selected antenna becomes the main radio's alternate receive
+antenna).  SUB and ALT radios only receive.
+"""
+
+from __future__ import annotations
+
+from bisect import bisect_left
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from enum import Enum
+
+from .config.model import Antenna, Config, Function, Radio, RadioRef, StationRelays, Switch
+from .ranges import INF, Path, Segment, bound, merge_segments, path_at
+from .systems import SystemIndex, build_system_index
+
+SWITCH_RELAYS = 64
+"""Relays per switch: switch N owns (N-1)*100 .. (N-1)*100+63."""
+
+
+class Kind(str, Enum):
+    MAIN = "main"
+    SUB = "sub"
+    ALT = "alt"
+
+
+@dataclass(frozen=True, slots=True)
+class RadioInfo:
+    ref: RadioRef
+    kind: Kind
+    radio: Radio
+    main: RadioRef | None
+    """For SUB and ALT radios: the radio they belong to."""
+    sub: RadioRef | None
+    alt: RadioRef | None
+    ports: tuple[tuple[int, int], ...]
+    """(switch id, port 1-6) pairs of this radio's own T/R and inhibit lines."""
+    paths: Mapping[int, tuple[Path, ...]]
+    segments: Mapping[int, tuple[Segment, ...]]
+    bands: tuple[Segment, ...]
+    """Every segment of every usable antenna, narrowest first."""
+    antennas: tuple[int, ...]
+    """Antennas this radio has relays for, by ID."""
+    points: tuple[float, ...] = ()
+    """Every range boundary, sorted: between two of them the covering antennas do not change."""
+    _covering: dict[tuple[int, bool], tuple[int, ...]] = field(default_factory=dict,
+                                                                 compare=False, repr=False)
+
+    def covering(self, khz: float | None) -> tuple[int, ...]:
+        """Antennas (by ID) with a range holding ``khz`` for this radio; cached per interval."""
+        if khz is None:
+            key = (-1, True)
+        else:
+            i = bisect_left(self.points, khz)
+            key = (i, i < len(self.points) and self.points[i] == khz)
+        found = self._covering.get(key)
+        if found is None:
+            found = tuple(a for a in self.antennas if path_at(self.paths[a], khz) is not None)
+            self._covering[key] = found
+        return found
+
+    @property
+    def receive_only(self) -> bool:
+        return self.kind is not Kind.MAIN
+
+    def path(self, antenna: int, khz: float | None) -> Path | None:
+        return path_at(self.paths.get(antenna, ()), khz)
+
+    def covers(self, antenna: int, khz: float | None) -> bool:
+        return path_at(self.paths.get(antenna, ()), khz) is not None
+
+    def band(self, khz: float | None) -> Segment | None:
+        if khz is None:
+            return None
+        for seg in self.bands:
+            if seg[0] <= khz <= seg[1]:
+                return seg
+        return None
+
+    def segment(self, antenna: int, khz: float | None) -> Segment | None:
+        if khz is None:
+            return None
+        for seg in self.segments.get(antenna, ()):
+            if seg[0] <= khz <= seg[1]:
+                return seg
+        return None
+
+
+def switch_of_relay(relay: int) -> int:
+    return relay // 100 + 1
+
+
+def _most_specific(entries: tuple[StationRelays, ...], station: int, radio: int,
+                   exact_radio: bool = False) -> StationRelays | None:
+    best: StationRelays | None = None
+    best_score = -1
+    for e in entries:
+        if not e.applies_to(station, radio):
+            continue
+        if exact_radio and e.radio != radio:
+            continue
+        score = (e.station is not None) + (e.radio is not None)
+        if score > best_score:
+            best, best_score = e, score
+    return best
+
+
+def _paths_for(antenna: Antenna, station: int, radio: int, fallback_radio: int | None
+               ) -> tuple[Path, ...]:
+    out: list[Path] = []
+    for cr in antenna.control:
+        entry = None
+        if fallback_radio is not None:
+            entry = _most_specific(cr.stations, station, radio, exact_radio=True)
+            if entry is None:
+                entry = _most_specific(cr.stations, station, fallback_radio)
+        else:
+            entry = _most_specific(cr.stations, station, radio)
+        if entry is None:
+            continue
+        relays = frozenset(entry.relays)
+        out.append(Path(
+            bound(cr.range.lower, -INF), bound(cr.range.upper, INF), relays,
+            frozenset(entry.rx_relays) if entry.rx_relays is not None else relays,
+            frozenset(entry.persistent_relays),
+        ))
+    out.sort(key=lambda p: (p.lower, p.upper))
+    return tuple(out)
+
+
+def _symmetric(antennas: tuple[Antenna, ...], attr: str) -> dict[int, frozenset[int]]:
+    ids = {a.id for a in antennas}
+    sets: dict[int, set[int]] = {a.id: set() for a in antennas}
+    for a in antennas:
+        for b in getattr(a, attr):
+            if b in ids:
+                sets[a.id].add(b)
+                sets[b].add(a.id)
+    return {k: frozenset(v) for k, v in sets.items()}
+
+
+class ConfigIndex:
+    """Lookups for one configuration (built once; never changes)."""
+
+    def __init__(self, config: Config) -> None:
+        self.config = config
+        self.antennas: dict[int, Antenna] = {a.id: a for a in config.antennas}
+        self.ids: tuple[int, ...] = tuple(sorted(self.antennas))
+        self.conflicts = _symmetric(config.antennas, "conflicts")
+        self.fast = _symmetric(config.antennas, "fast")
+        self._build_path_groups(config)
+        self.systems: SystemIndex = build_system_index(config.systems, self.canon, self.comps)
+        self.switches: dict[int, Switch] = {s.id: s for s in config.switches}
+        self.switch_ids: tuple[int, ...] = tuple(sorted(self.switches))
+        self.functions: dict[int, Function] = {f.id: f for f in config.functions}
+        self._build_radios(config)
+
+    # -- antennas -------------------------------------------------------------------------
+    def _build_path_groups(self, config: Config) -> None:
+        parent = {a: a for a in self.antennas}
+
+        def find(a: int) -> int:
+            while parent[a] != a:
+                parent[a] = parent[parent[a]]
+                a = parent[a]
+            return a
+
+        for ant in config.antennas:
+            for b in ant.alternate:
+                if b in parent:
+                    parent[find(ant.id)] = find(b)
+        groups: dict[int, list[int]] = {}
+        for aid in self.antennas:
+            groups.setdefault(find(aid), []).append(aid)
+        in_system: set[int] = set()
+        for s in config.systems:
+            in_system.update(s.member_antennas)
+        self.canon: dict[int, int] = {}
+        self.group: dict[int, tuple[int, ...]] = {}
+        for members in groups.values():
+            members.sort()
+            listed = [m for m in members if m in in_system]
+            head = listed[0] if listed else members[0]
+            ordered = (head, *[m for m in members if m != head])
+            for m in members:
+                self.canon[m] = head
+                self.group[m] = ordered
+        self.comps: dict[int, frozenset[int]] = {}
+        for ant in config.antennas:
+            parts = ant.in_use or (ant.id,)
+            self.comps[ant.id] = frozenset(self.canon[c] for c in parts if c in self.canon)
+        combos: dict[frozenset[int], list[int]] = {}
+        for aid in self.ids:
+            combos.setdefault(self.comps[aid], []).append(aid)
+        self.combos: dict[frozenset[int], tuple[int, ...]] = {
+            k: tuple(sorted(v, key=lambda i: (self.canon[i] != i, i))) for k, v in combos.items()
+        }
+
+    def conflict(self, a: int, b: int) -> bool:
+        return b in self.conflicts.get(a, ())
+
+    def is_fast(self, a: int, b: int) -> bool:
+        return b in self.fast.get(a, ())
+
+    def can_transmit(self, a: int) -> bool:
+        return not self.antennas[a].rx_only
+
+    def can_receive(self, a: int) -> bool:
+        return not self.antennas[a].tx_only
+
+    def name(self, a: int | None) -> str:
+        if a is None:
+            return "none"
+        ant = self.antennas.get(a)
+        return f"Antenna {a}" if ant is None else f"{ant.title}"
+
+    def describe(self, a: int) -> str:
+        ant = self.antennas.get(a)
+        if ant is None:
+            return f"Antenna {a}"
+        return f"Antenna {a} ({ant.label})"
+
+    # -- radios ---------------------------------------------------------------------------
+    def _build_radios(self, config: Config) -> None:
+        single = self.switch_ids[0] if len(self.switch_ids) == 1 else None
+        configured = {r.ref: r for r in config.radios}
+        subs: dict[RadioRef, RadioRef] = {}
+        alts: dict[RadioRef, RadioRef] = {}
+        for r in config.radios:
+            if r.sub_receiver is not None and r.sub_receiver != r.radio:
+                subs[RadioRef(r.station, r.sub_receiver)] = r.ref
+            if r.alt_receiver is not None and r.alt_receiver != r.radio:
+                alts[RadioRef(r.station, r.alt_receiver)] = r.ref
+        infos: dict[RadioRef, RadioInfo] = {}
+        mains = [r for r in config.radios if r.ref not in subs and r.ref not in alts]
+        for r in mains:
+            sub = (RadioRef(r.station, r.sub_receiver)
+                   if r.sub_receiver is not None and r.sub_receiver != r.radio else None)
+            alt = (RadioRef(r.station, r.alt_receiver)
+                   if r.alt_receiver is not None and r.alt_receiver != r.radio else None)
+            infos[r.ref] = self._radio_info(r, Kind.MAIN, None, sub, alt, single)
+        for ref, main in sorted(subs.items()):
+            if main in infos and ref not in infos:
+                radio = configured.get(ref, Radio(ref.station, ref.radio))
+                infos[ref] = self._radio_info(radio, Kind.SUB, main, None, None, single)
+        for ref, main in sorted(alts.items()):
+            if main in infos and ref not in infos:
+                radio = configured.get(ref, Radio(ref.station, ref.radio))
+                infos[ref] = self._radio_info(radio, Kind.ALT, main, None, None, single)
+        self.radios: dict[RadioRef, RadioInfo] = infos
+        self.mains: tuple[RadioRef, ...] = tuple(sorted(r for r in infos
+                                                        if infos[r].kind is Kind.MAIN))
+        self.order: tuple[RadioRef, ...] = (
+            self.mains
+            + tuple(sorted(r for r in infos if infos[r].kind is Kind.SUB))
+            + tuple(sorted(r for r in infos if infos[r].kind is Kind.ALT)))
+        self.port_radio: dict[tuple[int, int], RadioRef] = {}
+        for ref in self.order:
+            for sp in infos[ref].ports:
+                self.port_radio.setdefault(sp, ref)
+        self.switch_radios: dict[int, tuple[RadioRef, ...]] = {
+            w: tuple(ref for ref in self.order if any(p[0] == w for p in infos[ref].ports))
+            for w in self.switch_ids
+        }
+
+    def _radio_info(self, radio: Radio, kind: Kind, main: RadioRef | None,
+                    sub: RadioRef | None, alt: RadioRef | None, single: int | None
+                    ) -> RadioInfo:
+        ports: list[tuple[int, int]] = []
+        if kind is not Kind.ALT:
+            for sp in radio.switches:
+                w = sp.switch or single
+                if w is not None and w in self.switches and 1 <= sp.port <= 6:
+                    ports.append((w, sp.port))
+        fallback = main.radio if kind is Kind.ALT and main is not None else None
+        paths: dict[int, tuple[Path, ...]] = {}
+        segments: dict[int, tuple[Segment, ...]] = {}
+        for a in self.ids:
+            p = _paths_for(self.antennas[a], radio.station, radio.radio, fallback)
+            if p:
+                paths[a] = p
+                segments[a] = merge_segments((x.lower, x.upper) for x in p)
+        bands = sorted({s for segs in segments.values() for s in segs},
+                       key=lambda s: (s[1] - s[0], s[0]))
+        points = sorted({v for ps in paths.values() for p in ps for v in (p.lower, p.upper)})
+        return RadioInfo(radio.ref, kind, radio, main, sub, alt, tuple(ports), paths, segments,
+                         tuple(bands), tuple(sorted(paths)), tuple(points))
+
+    def radio_info(self, ref: RadioRef) -> RadioInfo | None:
+        return self.radios.get(ref)
+
+
+__all__ = ["SWITCH_RELAYS", "ConfigIndex", "Kind", "RadioInfo", "switch_of_relay"]

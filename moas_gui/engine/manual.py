@@ -1,0 +1,185 @@
+"""What the operator asks for directly: a button press, a direction (5.15, 5.16).
+
+``select`` targets: "both" sets the transmit and receive antennas (a
+receive-only antenna sets only the receive antenna, a transmit-only one only
+the transmit antenna: "It is not necessary to press the RX button before
+selecting" a Beverage); "tx" and "rx" set one.  A receive antenna different
+from the transmit antenna must be fast with it, else the switch would receive
+on the transmit antenna anyway, so the press is refused with the reason.
+
+Shared systems (5.10): a radio joining a shared system that others use gets
+their member, whatever it pressed; a radio already on it changes the member
+for every user.
+"""
+
+from __future__ import annotations
+
+from .config.model import RadioRef
+from .errors import BadRequest, NotFound, Unavailable
+from .index import Kind
+from .rules import plan, shared_member, shared_users, unusable
+from .selection import place
+from .systems import press
+from .work import Work, radio_name
+
+TARGETS = ("both", "tx", "rx")
+
+
+def _why_not(w: Work, ref: RadioRef, tx: int | None, rx: int | None) -> str:
+    ix, st = w.ix, w.st
+    info = ix.radios[ref]
+    khz = st.radios[ref].khz
+    for role, a in (("tx", tx), ("rx", rx)):
+        if a is not None:
+            reasons = [unusable(ix, st, info, p, khz, role) for p in ix.group[a]]
+            if all(reasons):
+                return reasons[0] or ""
+    if tx is not None and rx is not None and tx != rx and not ix.is_fast(tx, rx):
+        return (f"{radio_name(ref)} cannot receive on {ix.describe(rx)} while transmitting on "
+                f"{ix.describe(tx)}: the switch cannot change between them fast enough")
+    first = tx if tx is not None else rx
+    assert first is not None
+    for p in ix.group[first]:
+        result, reason = plan(ix, st, ref, p, also=(rx,) if tx is not None and rx is not None
+                              and rx != tx else ())
+        if result is None and reason:
+            return reason
+    return f"{ix.describe(first)} cannot be used by {ref} now"
+
+
+def select_antenna(w: Work, ref: RadioRef, antenna: int, target: str, exclusive: bool) -> None:
+    ix, st = w.ix, w.st
+    info = ix.radios[ref]
+    ant = ix.antennas.get(antenna)
+    if ant is None:
+        raise NotFound(f"There is no antenna {antenna}")
+    if target not in TARGETS:
+        raise BadRequest(f"target must be one of both, tx, rx (not {target!r})")
+    rs = st.radios[ref]
+    if info.kind is not Kind.MAIN:
+        if target == "tx":
+            raise BadRequest(f"{radio_name(ref)} only receives; it has no transmit antenna")
+        target = "rx"
+    if target == "both":
+        role = "rx" if ant.rx_only else "tx" if ant.tx_only else "both"
+    else:
+        role = target
+    if role == "tx" and ant.rx_only:
+        raise Unavailable(f"{ix.describe(antenna)} is receive only")
+    if role == "rx" and ant.tx_only:
+        raise Unavailable(f"{ix.describe(antenna)} is transmit only")
+    base = rs.rx if role == "rx" else (rs.tx if rs.tx is not None else rs.rx)
+    current = ix.comps[base] if base is not None else frozenset()
+    wanted = press(ix.systems, ix.comps, current, ix.canon[antenna], exclusive)
+    if not wanted:
+        w.log.append(f"{radio_name(ref)}: press on {ix.name(antenna)} ignored: it would leave "
+                     "no antenna selected")
+        return
+    candidates = list(ix.combos.get(wanted, ()))
+    if ix.comps[antenna] == wanted and antenna in candidates:
+        candidates.remove(antenna)
+        candidates.insert(0, antenna)
+    if not candidates:
+        names = ", ".join(ix.name(c) for c in sorted(wanted))
+        raise Unavailable(f"No antenna combines {names} for {ref}")
+    if base is not None and ix.comps[base] == wanted and (role != "both" or rs.tx == rs.rx) \
+            and base in candidates:
+        return
+    reason = ""
+    for c in candidates:
+        tx, rx = _roles(w, ref, role, c)
+        if _shared_press(w, ref, c, role):
+            return
+        if place(w, ref, tx, rx, rs.note if rs.khz is None else ""):
+            return
+        reason = reason or _why_not(w, ref, tx, rx)
+    raise Unavailable(reason[0].upper() + reason[1:] if reason else
+                      f"{ix.describe(antenna)} cannot be used now")
+
+
+def _roles(w: Work, ref: RadioRef, role: str, c: int) -> tuple[int | None, int | None]:
+    ix = w.ix
+    rs = w.st.radios[ref]
+    if role == "both":
+        return c, c
+    if role == "tx":
+        rx = rs.rx if rs.rx is not None else (c if ix.can_receive(c) else None)
+        return c, rx
+    return rs.tx, c
+
+
+def _shared_press(w: Work, ref: RadioRef, c: int, role: str) -> bool:
+    """5.10 for a press on a shared member; True when it was handled here."""
+    ix, st = w.ix, w.st
+    system = shared_member(ix, st, c)
+    if system is None:
+        return False
+    others = shared_users(ix, st, system, ref)
+    if not others:
+        return False
+    rs = st.radios[ref]
+    mine = [a for a in (rs.tx, rs.rx) if a is not None and shared_member(ix, st, a) == system]
+    if not mine:
+        member = others[0][1]
+        tx, rx = _roles(w, ref, role, member)
+        if not place(w, ref, tx, rx):
+            raise Unavailable(_why_not(w, ref, tx, rx))
+        w.log.append(f"{radio_name(ref)} joined the shared system on {ix.name(member)}, "
+                     "which its other users have selected")
+        return True
+    for other, _member in others:
+        ors = st.radios[other]
+        oinfo = ix.radios[other]
+        on_tx = ors.tx is not None and shared_member(ix, st, ors.tx) == system
+        on_rx = ors.rx is not None and shared_member(ix, st, ors.rx) == system
+        why = unusable(ix, st, oinfo, c, ors.khz, "both" if on_tx and on_rx else
+                       "tx" if on_tx else "rx")
+        if why:
+            raise Unavailable(f"{ix.describe(c)} cannot be used by {other}, which shares "
+                              f"this system: {why}")
+        w.set_pair(other,
+                   c if ors.tx is not None and shared_member(ix, st, ors.tx) == system else ors.tx,
+                   c if ors.rx is not None and shared_member(ix, st, ors.rx) == system else ors.rx,
+                   ors.note)
+    tx, rx = _roles(w, ref, role, c)
+    if not place(w, ref, tx, rx):
+        raise Unavailable(_why_not(w, ref, tx, rx))
+    return True
+
+
+def select_direction(w: Work, rotator: int, heading: float) -> None:
+    ix, st = w.ix, w.st
+    members = [a for a in ix.ids if ix.antennas[a].rotator == rotator]
+    if not members:
+        raise Unavailable(f"No antenna is turned by rotator {rotator}")
+
+    def gap(a: int) -> float:
+        d = abs((ix.antennas[a].offset - heading) % 360)
+        return min(d, 360 - d)
+
+    ranked = sorted(members, key=lambda a: (gap(a), a))
+    users = [ref for ref in ix.order
+             if any(a in members for a in (st.radios[ref].tx, st.radios[ref].rx))]
+    if not users:
+        raise Unavailable(f"No radio is using an antenna of rotator {rotator}")
+    done = False
+    for ref in users:
+        rs = st.radios[ref]
+        if done and any(shared_member(ix, st, a) is not None
+                        for a in (rs.tx, rs.rx) if a is not None):
+            continue
+        for target in ranked:
+            role = ("both" if rs.tx in members and rs.rx in members else
+                    "tx" if rs.tx in members else "rx")
+            tx, rx = _roles(w, ref, role, target)
+            if (tx, rx) == (rs.tx, rs.rx) or _shared_press(w, ref, target, role) or place(
+                    w, ref, tx, rx):
+                done = True
+                break
+        else:
+            raise Unavailable(f"No antenna of rotator {rotator} near {heading:g} degrees can be "
+                              f"used by {ref} now")
+    w.log.append(f"Rotator {rotator}: {ix.name(ranked[0])} is closest to {heading:g} degrees")
+
+
+__all__ = ["TARGETS", "select_antenna", "select_direction"]

@@ -1,0 +1,267 @@
+"""From the engine's state to what every switch must hold (:class:`SwitchState`).
+
+Per switch port of a radio: the transmit, receive and alternate antennas as
+slots with the relays of this switch, persistent relays when the other
+antenna belongs to another group (5.7), a sub receiver without a port of its
+own riding on its main radio's receive relays (and transmit relays with
+``PersistSubReceiver``), and the extra relays closed while transmitting.
+Relays on a switch where the radio has no port go to that switch's station 0
+(no hot-switch protection there: the manual's chapter 8 advice).
+
+Station 0 relays that belong to a transmitting radio (its Relay functions,
+its relays on a switch without its port), and the extra relays of a
+transmitting port, keep their previous value until that radio receives: the
+engine never changes a transmitting radio's RF path behind the switch's back.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from .config.model import RadioRef
+from .derive import inhibit_reason
+from .functions import relay_contributions
+from .index import ConfigIndex, Kind, switch_of_relay
+from .ranges import Path, nearest_path, path_at
+from .rules import permitted, related
+from .slots import SlotClasses, SlotKey, SlotMap
+from .state import State
+from .switchstate import NO_ANTENNA, STATIONS, StationAntennas, SwitchState
+
+
+@dataclass(frozen=True, slots=True)
+class PortAntennas:
+    """What one radio puts on its ports: antennas and global relay numbers."""
+
+    tx: int | None
+    tx_relays: frozenset[int]
+    rx: int | None
+    rx_relays: frozenset[int]
+    alt: int | None
+    alt_relays: frozenset[int]
+    extra: frozenset[int]
+
+
+def _path(paths: tuple[Path, ...], khz: float | None) -> Path | None:
+    return path_at(paths, khz) or nearest_path(paths, khz)
+
+
+def _group(ix: ConfigIndex, antenna: int) -> object:
+    canon = ix.canon[antenna]
+    return ix.systems.top.get(canon, ("antenna", canon))
+
+
+def radio_relays(ix: ConfigIndex, st: State, ref: RadioRef,
+                 alt: tuple[int | None, frozenset[RadioRef]] | None,
+                 extras: Mapping[RadioRef, frozenset[int]]) -> PortAntennas:
+    info = ix.radios[ref]
+    rs = st.radios[ref]
+    tx_path = rx_path = None
+    if rs.tx is not None:
+        paths = info.paths.get(rs.tx, ())
+        tx_path = path_at(paths, rs.tx_freq) or _path(paths, rs.khz)
+    if rs.rx is not None:
+        rx_path = _path(info.paths.get(rs.rx, ()), rs.khz)
+    tx_relays = tx_path.relays if tx_path else frozenset()
+    rx_relays = rx_path.rx_relays if rx_path else frozenset()
+    if (rs.tx is not None and rs.rx is not None and tx_path and rx_path
+            and _group(ix, rs.tx) != _group(ix, rs.rx)):
+        tx_relays = tx_relays | rx_path.persistent
+        rx_relays = rx_relays | tx_path.persistent
+    if info.kind is Kind.SUB and info.ports and not info.radio.persist_sub_receiver:
+        return PortAntennas(None, frozenset(), rs.rx, rx_relays, None, frozenset(), frozenset())
+    if info.kind is Kind.SUB and info.ports:
+        return PortAntennas(rs.rx, rx_relays, rs.rx, rx_relays, None, frozenset(), frozenset())
+    sub = info.sub
+    if sub is not None and sub in ix.radios and not ix.radios[sub].ports:
+        ss = st.radios[sub]
+        if ss.rx is not None:
+            p = _path(ix.radios[sub].paths.get(ss.rx, ()), ss.khz)
+            if p is not None:
+                rx_relays = rx_relays | p.rx_relays
+                if info.radio.persist_sub_receiver:
+                    tx_relays = tx_relays | p.rx_relays
+    alt_antenna = alt[0] if alt else None
+    alt_relays: frozenset[int] = frozenset()
+    if alt_antenna is not None:
+        source = info
+        if info.alt is not None and info.alt in ix.radios and \
+                st.radios[info.alt].rx == alt_antenna:
+            source = ix.radios[info.alt]
+        p = _path(source.paths.get(alt_antenna, ()), rs.khz)
+        if p is None:
+            alt_antenna = None
+        else:
+            alt_relays = p.rx_relays
+    return PortAntennas(rs.tx, tx_relays, rs.rx, rx_relays, alt_antenna, alt_relays,
+                        extras.get(ref, frozenset()))
+
+
+def _local(relays: frozenset[int], switch: int) -> frozenset[int]:
+    base = (switch - 1) * 100
+    return frozenset(r - base for r in relays if base <= r <= base + 63)
+
+
+@dataclass(slots=True)
+class Built:
+    states: dict[int, SwitchState]
+    station0_owner: dict[int, dict[int, RadioRef | None]]
+    needed: dict[int, set[SlotKey]]
+
+
+def slot_needs(ix: ConfigIndex, classes: SlotClasses, ports: Mapping[RadioRef, PortAntennas]
+               ) -> dict[int, set[SlotKey]]:
+    needed: dict[int, set[SlotKey]] = {w: set() for w in ix.switch_ids}
+    for ref, pa in ports.items():
+        info = ix.radios[ref]
+        for w, _port in info.ports:
+            for a in (pa.tx, pa.rx, pa.alt):
+                if a is not None:
+                    needed[w].add(classes.key(a, ref))
+    return needed
+
+
+def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, SlotMap],
+          ports: Mapping[RadioRef, PortAntennas],
+          alts: Mapping[RadioRef, tuple[int | None, frozenset[RadioRef]]],
+          previous: Mapping[int, SwitchState],
+          previous_owner: Mapping[int, Mapping[int, RadioRef | None]]) -> Built:
+    """Every switch's wanted state (``maps`` must already hold every slot key needed)."""
+    from .rules import inhibits
+    transmitting = {ref for ref in ix.radios if st.radios[ref].transmitting}
+    inhibited = {ref for ref in ix.mains if inhibit_reason(ix, st, ref)
+                 and (ref in transmitting or not ix.radios[ref].radio.inhibit_only_on_transmit)}
+    contributions: dict[int, dict[int, RadioRef | None]] = {w: {} for w in ix.switch_ids}
+
+    def add0(relays: frozenset[int], owner: RadioRef | None) -> None:
+        for r in relays:
+            w = switch_of_relay(r)
+            if w in contributions and r - (w - 1) * 100 <= 63:
+                contributions[w].setdefault(r - (w - 1) * 100, owner)
+
+    add0(st.latched, None)
+    for relay, owner in relay_contributions(ix, st):
+        add0(frozenset({relay}), owner)
+    for ref, pa in ports.items():
+        own = {w for w, _p in ix.radios[ref].ports}
+        off_port = (pa.tx_relays if pa.tx is not None else pa.rx_relays) | (
+            pa.extra if ref in transmitting else frozenset())
+        add0(frozenset(r for r in off_port if switch_of_relay(r) not in own), ref)
+    states: dict[int, SwitchState] = {}
+    for w in ix.switch_ids:
+        sw = ix.switches[w]
+        m = maps[w]
+        prev = previous.get(w)
+        stations = [StationAntennas() for _ in STATIONS]
+        inh: set[int] = set()
+        interrupt: set[int] = set()
+        delay = sw.interrupt_mode_delay
+        port_of: dict[RadioRef, list[int]] = {}
+        for ref in ix.switch_radios[w]:
+            info = ix.radios[ref]
+            found = ports.get(ref)
+            if found is None:
+                continue
+            pa = found
+            for sw_id, port in info.ports:
+                if sw_id != w:
+                    continue
+                port_of.setdefault(ref, []).append(port)
+                extra = _local(pa.extra, w)
+                if ref in transmitting and prev is not None:
+                    extra = prev.station(port).extra
+                stations[port - 1] = StationAntennas(
+                    m.slot(classes.key(pa.tx, ref)) if pa.tx is not None else NO_ANTENNA,
+                    _local(pa.tx_relays, w) if pa.tx is not None else frozenset(),
+                    m.slot(classes.key(pa.rx, ref)) if pa.rx is not None else NO_ANTENNA,
+                    _local(pa.rx_relays, w) if pa.rx is not None else frozenset(),
+                    m.slot(classes.key(pa.alt, ref)) if pa.alt is not None else NO_ANTENNA,
+                    _local(pa.alt_relays, w) if pa.alt is not None else frozenset(),
+                    extra,
+                )
+                if ref in inhibited:
+                    inh.add(port)
+                if info.kind is Kind.MAIN and info.radio.interrupt:
+                    interrupt.add(port)
+                    if info.radio.interrupt_mode_delay is not None:
+                        delay = max(delay, info.radio.interrupt_mode_delay)
+        inhibit_others = [set[int]() for _ in STATIONS]
+        use_alt = [set[int]() for _ in STATIONS]
+        mains_here = [r for r in port_of if ix.radios[r].kind is Kind.MAIN]
+        for t in mains_here:
+            for r in mains_here:
+                if r != t and inhibits(ix, st, t, r):
+                    for tp in port_of[t]:
+                        inhibit_others[tp - 1].update(p for p in port_of[r] if p != tp)
+        for r in mains_here:
+            for t in alts.get(r, (None, frozenset()))[1]:
+                for tp in port_of.get(t, ()):
+                    use_alt[tp - 1].update(p for p in port_of[r] if p != tp)
+        waived = _waivers(ix, st, classes, m, ports, port_of)
+        owners = _station0(contributions[w], previous_owner.get(w, {}),
+                           prev.station0 if prev else frozenset(), transmitting)
+        states[w] = SwitchState(
+            stations=tuple(stations),
+            station0=frozenset(owners),
+            conflicts=m.conflicts - waived if waived else m.conflicts,
+            fast=m.fast,
+            systems=m.systems,
+            inhibited=frozenset(inh),
+            inhibit_others=tuple(frozenset(s) for s in inhibit_others),
+            use_alternate=tuple(frozenset(s) for s in use_alt),
+            interrupt=frozenset(interrupt),
+            receive_delay=(0, 0, 0, 0, 0, 0),
+            inhibit_time=sw.inhibit_time,
+            interrupt_delay=delay,
+            active=st.running,
+        )
+        contributions[w] = owners
+    return Built(states, contributions, {})
+
+
+def _station0(wanted: dict[int, RadioRef | None], prev_owner: Mapping[int, RadioRef | None],
+              prev: frozenset[int], transmitting: set[RadioRef]) -> dict[int, RadioRef | None]:
+    out: dict[int, RadioRef | None] = {}
+    for relay, owner in wanted.items():
+        if owner is None or owner not in transmitting or relay in prev:
+            out[relay] = owner
+    for relay in prev:
+        owner = prev_owner.get(relay)
+        if relay not in out and owner is not None and owner in transmitting:
+            out[relay] = owner
+    return out
+
+
+def _waivers(ix: ConfigIndex, st: State, classes: SlotClasses, m: SlotMap,
+             ports: Mapping[RadioRef, PortAntennas], port_of: Mapping[RadioRef, list[int]]
+             ) -> frozenset[tuple[int, int]]:
+    """Conflict pairs two radios here may hold together with the manual's permission."""
+    refs = list(port_of)
+    if len(refs) < 2:
+        return frozenset()
+    out: set[tuple[int, int]] = set()
+    for i, a in enumerate(refs):
+        pa = ports[a]
+        for b in refs[i + 1:]:
+            pb = ports[b]
+            fam = related(ix, a, b)
+            for x, x_is_alt in ((pa.tx, False), (pa.rx, False), (pa.alt, True)):
+                if x is None:
+                    continue
+                for y, y_is_alt in ((pb.tx, False), (pb.rx, False), (pb.alt, True)):
+                    if y is None or not ix.conflict(x, y):
+                        continue
+                    ok = fam or (not x_is_alt and not y_is_alt and permitted(ix, st, a, b, x, y))
+                    if not ok and x_is_alt and not y_is_alt:
+                        ok = st.partners.get(a) == b and y == pb.rx and x == y
+                    if not ok and y_is_alt and not x_is_alt:
+                        ok = st.partners.get(b) == a and x == pa.rx and x == y
+                    if ok:
+                        s1 = m.slot(classes.key(x, a))
+                        s2 = m.slot(classes.key(y, b))
+                        out.add((s1, s2) if s1 <= s2 else (s2, s1))
+    return frozenset(out)
+
+
+__all__ = ["Built", "PortAntennas", "build", "radio_relays", "slot_needs"]

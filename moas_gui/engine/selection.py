@@ -1,0 +1,278 @@
+"""Selection by frequency: appendix F, step by step.
+
+1. Same-band protection: with ``ProtectSameBand``, a radio arriving on a band
+   another radio is operating on gets no antenna (and is inhibited), unless the
+   two are configured to work one band together (an Always, SameBand or
+   inhibit-buss relation between them).
+2. The current antenna stays while the new frequency is in the same segment
+   (contiguous ranges) as the old one.
+3. History: the antennas this radio used last on this band (TX and RX; if the
+   pair is not free, either one alone when it can do both jobs).
+4. The lowest-ID free antenna covering the frequency, skipping TX-only, RX-only
+   and ``NoSelect`` antennas.
+5. The lowest-ID free TX-only antenna with the lowest-ID free RX-only antenna
+   that is fast with it.
+6. Nothing free covers the frequency: the antenna whose range is nearest,
+   starting with the current one (so 14000 -> 13999 changes nothing); the
+   radio is inhibited because its antenna does not cover the frequency.
+7. Nothing at all: no antenna, inhibited.
+
+Sub and alternate receivers only receive: steps 2-7 for the receive antenna,
+RX-only antennas allowed after the others in step 4.  After every operation,
+:func:`recheck` re-runs steps 1 and 3-5 for every radio left without a suitable
+antenna, and changes it only when something suitable was found.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from .config.model import RadioRef
+from .index import Kind, RadioInfo
+from .ranges import describe_khz, distance, in_segment
+from .rules import join_shared, plan, related, unusable
+from .work import Work
+
+SAME_BAND = "already on this band"
+
+
+def _choices(w: Work, info: RadioInfo, antenna: int, role: str) -> list[int]:
+    """The paths of ``antenna`` this radio can use for ``role`` now, preferred first."""
+    out = []
+    st = w.st
+    rs = st.radios[info.ref]
+    for a in w.ix.group[antenna]:
+        target = join_shared(w.ix, st, info.ref, a)
+        if target in out:
+            continue
+        if unusable(w.ix, st, info, target, rs.khz, role) is None:
+            out.append(target)
+    return out
+
+
+def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = "",
+          takeover: bool = True) -> bool:
+    """Give ``ref`` the antennas ``tx``/``rx`` (any free path of them); False if impossible."""
+    ix = w.ix
+    info = ix.radios[ref]
+    if info.kind is not Kind.MAIN:
+        tx = None
+    if tx is not None and rx is not None and ix.canon[tx] == ix.canon[rx]:
+        for a in _choices(w, info, tx, "both"):
+            p, _ = plan(ix, w.st, ref, a, takeover=takeover)
+            if p is not None:
+                w.apply_plan(p)
+                w.set_pair(ref, a, a, note)
+                return True
+        return False
+    tx_choices = _choices(w, info, tx, "tx") if tx is not None else [None]
+    rx_choices = _choices(w, info, rx, "rx") if rx is not None else [None]
+    for t in tx_choices:
+        for r in rx_choices:
+            if t is not None and r is not None and not ix.is_fast(t, r):
+                continue
+            first = t if t is not None else r
+            if first is None:
+                continue
+            also = (r,) if t is not None and r is not None else ()
+            p, _ = plan(ix, w.st, ref, first, also=also, takeover=takeover)
+            if p is not None:
+                w.apply_plan(p)
+                w.set_pair(ref, t, r, note)
+                return True
+    return False
+
+
+def band_neighbour(w: Work, ref: RadioRef) -> RadioRef | None:
+    """Step 1: another radio operating on this radio's band that it may not share."""
+    ix, st = w.ix, w.st
+    info = ix.radios[ref]
+    rs = st.radios[ref]
+    band = info.band(rs.khz)
+    if band is None:
+        return None
+    mine = info.radio
+    for other in ix.mains:
+        if related(ix, ref, other):
+            continue
+        ors = st.radios[other]
+        if ors.tx is None and ors.rx is None:
+            continue
+        if not in_segment(band, ors.khz):
+            continue
+        theirs = ix.radios[other].radio
+        if (other in mine.always or ref in theirs.always or other in mine.same_band
+                or ref in theirs.same_band
+                or st.busses.get(ref, frozenset()) & st.busses.get(other, frozenset())):
+            continue
+        return other
+    return None
+
+
+def _keep_current(w: Work, ref: RadioRef, old_khz: float | None) -> bool:
+    """Step 2.  True when the current antennas stay (perhaps with a new RX)."""
+    ix = w.ix
+    info = ix.radios[ref]
+    rs = w.st.radios[ref]
+    khz = rs.khz
+    cur = rs.tx if info.kind is Kind.MAIN else rs.rx
+    if cur is None or not in_segment(info.segment(cur, old_khz), khz):
+        return False
+    if info.kind is not Kind.MAIN:
+        w.set_pair(ref, None, cur)
+        return True
+    rx = rs.rx
+    if rx is not None and rx != cur and info.covers(rx, khz):
+        w.set_pair(ref, cur, rx)
+        return True
+    if ix.can_receive(cur):
+        w.set_pair(ref, cur, cur)
+        return True
+    for r in _rx_only(w, info, khz):
+        if ix.is_fast(cur, r) and place(w, ref, cur, r):
+            return True
+    w.set_pair(ref, cur, None)
+    return True
+
+
+def _rx_only(w: Work, info: RadioInfo, khz: float | None) -> Iterable[int]:
+    for a in info.covering(khz):
+        ant = w.ix.antennas[a]
+        if ant.rx_only and not ant.no_select and ant.enabled:
+            yield a
+
+
+def _suitable_steps(w: Work, ref: RadioRef) -> bool:
+    """Steps 3, 4 and 5."""
+    ix, st = w.ix, w.st
+    info = ix.radios[ref]
+    rs = st.radios[ref]
+    khz = rs.khz
+    main = info.kind is Kind.MAIN
+    band = info.band(khz)
+    remembered = st.history.get(ref, {}).get(band) if band is not None else None
+    if remembered is not None:
+        htx, hrx = remembered
+        if main and htx is not None and hrx is not None and place(w, ref, htx, hrx):
+            return True
+        for a in (htx, hrx):
+            if a is None:
+                continue
+            if main and ix.can_transmit(a) and ix.can_receive(a) and place(w, ref, a, a):
+                return True
+            if not main and ix.can_receive(a) and place(w, ref, None, a):
+                return True
+    covering = info.covering(khz)
+    for a in covering:
+        ant = ix.antennas[a]
+        if ant.no_select or ant.tx_only or ant.rx_only or not ant.enabled:
+            continue
+        if place(w, ref, a if main else None, a):
+            return True
+    if not main:
+        for a in _rx_only(w, info, khz):
+            if place(w, ref, None, a):
+                return True
+        return False
+    for t in covering:
+        ant = ix.antennas[t]
+        if not ant.tx_only or ant.no_select or not ant.enabled:
+            continue
+        for r in _rx_only(w, info, khz):
+            if ix.is_fast(t, r) and place(w, ref, t, r):
+                return True
+    return False
+
+
+def _nearest(w: Work, ref: RadioRef) -> bool:
+    """Step 6."""
+    ix, st = w.ix, w.st
+    info = ix.radios[ref]
+    rs = st.radios[ref]
+    khz = rs.khz
+    if khz is None:
+        return False
+    best: int | None = None
+    best_d = float("inf")
+    current = rs.tx if rs.tx is not None else rs.rx
+    order = ([current] if current is not None else []) + [a for a in info.antennas
+                                                          if a != current]
+    for a in order:
+        ant = ix.antennas[a]
+        if not ant.enabled or ant.tx_only or (ant.no_select and a != current):
+            continue
+        d = distance(info.paths[a], khz)
+        if d >= best_d:
+            continue
+        if unusable(ix, st, info, a, khz, "rx", nearest=True) is not None:
+            continue
+        if plan(ix, st, ref, a, takeover=False)[0] is None:
+            continue
+        best, best_d = a, d
+    if best is None:
+        return False
+    covered = best_d == 0
+    note = "" if covered else f"no free antenna covers {describe_khz(khz)}; nearest used"
+    tx = best if info.kind is Kind.MAIN and ix.can_transmit(best) else None
+    w.set_pair(ref, tx, best, note)
+    return True
+
+
+def select_by_frequency(w: Work, ref: RadioRef, old_khz: float | None,
+                        suitable_only: bool = False) -> bool:
+    """Run appendix F for ``ref`` at its current frequency; True if its antennas changed."""
+    ix, st = w.ix, w.st
+    info = ix.radios[ref]
+    before = st.radios[ref]
+    if before.khz is None:
+        return False
+    if info.kind is Kind.MAIN and ix.config.protect_same_band:
+        other = band_neighbour(w, ref)
+        if other is not None:
+            return w.set_pair(ref, None, None, f"{other} is {SAME_BAND}")
+    if suitable_only and before.note.endswith(SAME_BAND):
+        suitable_only = False
+    if not suitable_only and _keep_current(w, ref, old_khz) or _suitable_steps(w, ref):
+        pass
+    elif suitable_only:
+        return False
+    elif not _nearest(w, ref):
+        w.set_pair(ref, None, None, f"no antenna can be connected at {describe_khz(before.khz)}")
+    return _changed(w, ref, before)
+
+
+def _changed(w: Work, ref: RadioRef, before: object) -> bool:
+    return w.st.radios[ref] != before
+
+
+def unsuitable(w: Work, ref: RadioRef) -> bool:
+    """Whether ``ref`` has no antenna, or one that does not cover its frequency."""
+    info = w.ix.radios[ref]
+    rs = w.st.radios[ref]
+    if rs.khz is None:
+        return False
+    if info.kind is Kind.MAIN:
+        return (rs.tx is None or not info.covers(rs.tx, rs.khz)
+                or (rs.rx is not None and not info.covers(rs.rx, rs.khz)) or rs.rx is None)
+    return rs.rx is None or not info.covers(rs.rx, rs.khz)
+
+
+def recheck(w: Work) -> None:
+    """Give radios without a suitable antenna another chance (appendix F, last paragraphs)."""
+    ix = w.ix
+    for ref in list(w.pending):
+        w.pending.remove(ref)
+        select_by_frequency(w, ref, None)
+    for _ in range(len(ix.order) + 1):
+        progressed = False
+        for ref in ix.order:
+            if unsuitable(w, ref) and select_by_frequency(w, ref, None, suitable_only=True):
+                progressed = True
+            while w.pending:
+                select_by_frequency(w, w.pending.pop(0), None)
+                progressed = True
+        if not progressed:
+            break
+
+
+__all__ = ["band_neighbour", "place", "recheck", "select_by_frequency", "unsuitable"]

@@ -1,0 +1,90 @@
+"""What clients are shown: radios, antennas and button layouts, in the client
+protocol's shapes (``to_dict()`` gives the JSON object of the protocol)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+
+@dataclass(frozen=True, slots=True)
+class RadioView:
+    """One entry of the protocol's ``radios`` list."""
+
+    station: int
+    radio: int
+    khz: float | None = None
+    tx_khz: float | None = None
+    tx: int | None = None
+    rx: int | None = None
+    alt: int | None = None
+    transmitting: bool = False
+    inhibited: bool = False
+    note: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "station": self.station, "radio": self.radio, "khz": self.khz,
+            "tx_khz": self.tx_khz, "tx": self.tx, "rx": self.rx, "alt": self.alt,
+            "transmitting": self.transmitting, "inhibited": self.inhibited, "note": self.note,
+        }
+
+
+@dataclass(frozen=True, slots=True)
+class AntennaView:
+    """One entry of the protocol's ``antennas`` list."""
+
+    id: int
+    short: str
+    long: str
+    rotator: int | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"id": self.id, "short": self.short, "long": self.long, "rotator": self.rotator}
+
+
+SELECTED = "selected"
+AVAILABLE = "available"
+UNAVAILABLE = "unavailable"
+
+
+@dataclass(frozen=True, slots=True)
+class ButtonView:
+    row: int
+    column: int
+    type: str
+    """``"Antenna"`` or ``"Function"``."""
+    id: int
+    label: str
+    state: str
+    """``selected``, ``available`` or ``unavailable``."""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"row": self.row, "column": self.column, "type": self.type, "id": self.id,
+                "label": self.label, "state": self.state}
+
+
+@dataclass(frozen=True, slots=True)
+class LayoutView:
+    """The layout a client asked for: the configured one closest to its size."""
+
+    station: int
+    radio: int
+    rows: int
+    columns: int
+    buttons: tuple[ButtonView, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"station": self.station, "radio": self.radio, "rows": self.rows,
+                "columns": self.columns, "buttons": [b.to_dict() for b in self.buttons]}
+
+
+__all__ = [
+    "AVAILABLE",
+    "SELECTED",
+    "UNAVAILABLE",
+    "AntennaView",
+    "ButtonView",
+    "LayoutView",
+    "RadioView",
+]

@@ -1,0 +1,87 @@
+"""One operation in progress: the cloned state, and what it changed so far."""
+
+from __future__ import annotations
+
+from .config.model import RadioRef
+from .index import ConfigIndex, Kind
+from .rules import Plan
+from .state import State
+
+
+def radio_name(ref: RadioRef) -> str:
+    return f"Station {ref.station} radio {ref.radio}"
+
+
+class Work:
+    """The state an operation edits, plus its log lines and the radios it touched."""
+
+    def __init__(self, ix: ConfigIndex, st: State) -> None:
+        self.ix = ix
+        self.st = st
+        self.log: list[str] = []
+        self.touched: set[RadioRef] = set()
+        """Radios whose antennas changed in this operation."""
+        self.pending: list[RadioRef] = []
+        """Radios that lost an antenna to a takeover and must be selected again."""
+
+    def set_pair(self, ref: RadioRef, tx: int | None, rx: int | None, note: str = "") -> bool:
+        """Give ``ref`` these antennas; True when anything changed."""
+        rs = self.st.radios[ref]
+        info = self.ix.radios[ref]
+        if info.kind is not Kind.MAIN:
+            tx = None
+        if rs.tx == tx and rs.rx == rx and rs.note == note:
+            return False
+        moved = rs.tx != tx or rs.rx != rx
+        self.st.radios[ref] = rs.with_(tx=tx, rx=rx, note=note)
+        if moved:
+            self.touched.add(ref)
+            self.log.append(self.describe(ref))
+        self.remember(ref)
+        return True
+
+    def remember(self, ref: RadioRef) -> None:
+        """Appendix F step 3: note what this radio uses on this band."""
+        rs = self.st.radios[ref]
+        info = self.ix.radios[ref]
+        band = info.band(rs.khz)
+        if band is None:
+            return
+        if info.kind is Kind.MAIN:
+            if rs.tx is None or not info.covers(rs.tx, rs.khz):
+                return
+            if rs.rx is not None and not info.covers(rs.rx, rs.khz):
+                return
+        elif rs.rx is None or not info.covers(rs.rx, rs.khz):
+            return
+        self.st.remember(ref, band, (rs.tx, rs.rx))
+
+    def describe(self, ref: RadioRef) -> str:
+        rs = self.st.radios[ref]
+        ix = self.ix
+        if self.ix.radios[ref].kind is not Kind.MAIN:
+            return f"{radio_name(ref)}: RX {ix.name(rs.rx)}"
+        text = f"{radio_name(ref)}: TX {ix.name(rs.tx)}, RX {ix.name(rs.rx)}"
+        if rs.note:
+            text += f" ({rs.note})"
+        return text
+
+    def apply_plan(self, p: Plan) -> None:
+        """Move blocking radios to other paths, and take antennas from radios they do not suit."""
+        for (other, role), antenna in p.moves.items():
+            rs = self.st.radios[other]
+            if rs.tx == rs.rx:
+                self.set_pair(other, antenna, antenna, rs.note)
+            elif role == "tx":
+                self.set_pair(other, antenna, rs.rx, rs.note)
+            else:
+                self.set_pair(other, rs.tx, antenna, rs.note)
+            self.log.append(f"{radio_name(other)} moved to another path of the same antenna "
+                            f"({self.ix.name(antenna)}) to make room")
+        for other in p.takeovers:
+            rs = self.st.radios[other]
+            if self.set_pair(other, None, None, "its antenna was taken by a radio it suits"):
+                self.pending.append(other)
+
+
+__all__ = ["Work", "radio_name"]

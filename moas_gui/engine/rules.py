@@ -178,10 +178,12 @@ def _blocks(ix: ConfigIndex, st: State, ref: RadioRef, x: int, other: RadioRef, 
 
 
 def plan(ix: ConfigIndex, st: State, ref: RadioRef, antenna: int, *,
-         also: Sequence[int] = (), takeover: bool = True) -> tuple[Plan | None, str]:
+         also: Sequence[int] = (), takeover: bool = True,
+         repath: bool = True) -> tuple[Plan | None, str]:
     """Whether ``ref`` can hold ``antenna`` (plus ``also``, its other role) without conflict.
 
-    Returns the plan, or None and a sentence naming the radio in the way.
+    Returns the plan, or None and a sentence naming the radio in the way.  With
+    ``repath`` False no other radio is moved to another path.
     """
     result = Plan(antenna)
     mine = (antenna, *also)
@@ -200,7 +202,7 @@ def plan(ix: ConfigIndex, st: State, ref: RadioRef, antenna: int, *,
             result.takeovers.append(other)
             continue
         for role, y in roles:
-            moved = _repath(ix, st, ref, mine, other, role, y, held, result)
+            moved = _repath(ix, st, ref, mine, other, role, y, held, result) if repath else None
             if moved is None:
                 return None, (f"{ix.describe(y)} is in use by {other}"
                               if y in mine or ix.canon[y] in {ix.canon[m] for m in mine}

@@ -52,34 +52,41 @@ def _choices(w: Work, info: RadioInfo, antenna: int, role: str) -> list[int]:
 
 def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = "",
           takeover: bool = True) -> bool:
-    """Give ``ref`` the antennas ``tx``/``rx`` (any free path of them); False if impossible."""
+    """Give ``ref`` the antennas ``tx``/``rx`` (any free path of them); False if impossible.
+
+    Paths that disturb nobody are preferred; only then is another radio moved to
+    another path of its antenna to make room.
+    """
     ix = w.ix
     info = ix.radios[ref]
     if info.kind is not Kind.MAIN:
         tx = None
     if tx is not None and rx is not None and ix.canon[tx] == ix.canon[rx]:
-        for a in _choices(w, info, tx, "both"):
-            p, _ = plan(ix, w.st, ref, a, takeover=takeover)
-            if p is not None:
-                w.apply_plan(p)
-                w.set_pair(ref, a, a, note)
-                return True
+        choices = _choices(w, info, tx, "both")
+        for repath in (False, True):
+            for a in choices:
+                p, _ = plan(ix, w.st, ref, a, takeover=takeover, repath=repath)
+                if p is not None:
+                    w.apply_plan(p)
+                    w.set_pair(ref, a, a, note)
+                    return True
         return False
     tx_choices = _choices(w, info, tx, "tx") if tx is not None else [None]
     rx_choices = _choices(w, info, rx, "rx") if rx is not None else [None]
-    for t in tx_choices:
-        for r in rx_choices:
-            if t is not None and r is not None and not ix.is_fast(t, r):
-                continue
-            first = t if t is not None else r
-            if first is None:
-                continue
-            also = (r,) if t is not None and r is not None else ()
-            p, _ = plan(ix, w.st, ref, first, also=also, takeover=takeover)
-            if p is not None:
-                w.apply_plan(p)
-                w.set_pair(ref, t, r, note)
-                return True
+    for repath in (False, True):
+        for t in tx_choices:
+            for r in rx_choices:
+                if t is not None and r is not None and not ix.is_fast(t, r):
+                    continue
+                first = t if t is not None else r
+                if first is None:
+                    continue
+                also = (r,) if t is not None and r is not None else ()
+                p, _ = plan(ix, w.st, ref, first, also=also, takeover=takeover, repath=repath)
+                if p is not None:
+                    w.apply_plan(p)
+                    w.set_pair(ref, t, r, note)
+                    return True
     return False
 
 

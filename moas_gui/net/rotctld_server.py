@@ -88,11 +88,12 @@ class RotctldServer:
         for writer in list(self._writers):
             writer.close()
         sessions = list(self._sessions)
-        for task in sessions:
-            task.cancel()
-        for task in sessions:
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+        if sessions:
+            _, late = await asyncio.wait(sessions, timeout=1.0)
+            for task in late:
+                task.cancel()
+            if late:
+                await asyncio.wait(late)
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
@@ -116,11 +117,13 @@ class RotctldServer:
                 await writer.drain()
         except (ConnectionError, OSError):
             pass
+        except asyncio.CancelledError:
+            pass  # closing: end this session quietly (the task must not end cancelled)
         finally:
             self._sessions.discard(task)
             self._writers.discard(writer)
             writer.close()
-            with contextlib.suppress(OSError, asyncio.CancelledError):
+            with contextlib.suppress(OSError):
                 await writer.wait_closed()
 
     async def _handle(self, request: Request, peer: object) -> bytes:

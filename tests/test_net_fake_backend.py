@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from typing import Any
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from moas_gui.net.backend import ErrorCode, LogLevel, RequestError
 from moas_gui.net.fake_backend import FakeBackend
@@ -298,3 +301,42 @@ def test_every_call_is_recorded_in_order(fake: FakeBackend) -> None:
     fake.select(1, 1, 1, "tx", True)
     fake.stop(1)
     assert fake.calls == [("select", (1, 1, 1, "tx", True)), ("stop", (1,))]
+
+
+# ---- any well-typed request is served or refused with a reason ------------------------------
+
+SMALL = st.sampled_from([0, 1, 2, 3]) | st.integers(min_value=0, max_value=2_147_483_647)
+KHZ = st.sampled_from([0.0, 1800.0, 3550.5, 7000.0, 7300.0, 14025.0, 14350.0, 29700.0]) \
+    | st.floats(min_value=0, max_value=1e9)
+CALLS = st.one_of(
+    st.tuples(st.just("frequency"), SMALL, SMALL, KHZ, st.none() | KHZ),
+    st.tuples(st.just("select"), SMALL, SMALL, st.integers(0, 9),
+              st.sampled_from(["both", "tx", "rx"]), st.booleans()),
+    st.tuples(st.just("function"), SMALL, SMALL, SMALL),
+    st.tuples(st.just("relative"), SMALL, SMALL, st.sampled_from([1, -1]), st.none()),
+    st.tuples(st.just("relative"), SMALL, SMALL, st.none(), SMALL),
+    st.tuples(st.just("layout"), SMALL, SMALL, st.integers(1, 1000), st.integers(1, 1000)),
+    st.tuples(st.just("rotate"), SMALL, st.floats(min_value=-360, max_value=720)),
+    st.tuples(st.just("stop"), SMALL),
+    st.tuples(st.just("set_transmitting"), st.just(1) | st.just(2), st.just(1), st.booleans()),
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(CALLS, max_size=40))
+def test_any_sequence_of_well_typed_calls_is_served_or_refused_with_a_code(
+    calls: list[tuple[Any, ...]],
+) -> None:
+    sink = RecordingSink()
+    fake = FakeBackend(sink=sink)
+    for name, *args in calls:
+        try:
+            getattr(fake, name)(*args)
+        except RequestError as e:
+            assert e.message
+        snapshot = fake.snapshot()
+        json.dumps(snapshot, allow_nan=False)
+        used = [a for r in snapshot["radios"] for a in {r["tx"], r["rx"]} if a is not None]
+        assert len(used) == len(set(used)), f"two radios share an antenna: {snapshot['radios']}"
+    for kind, entry in sink.events:
+        json.dumps(entry, allow_nan=False)

@@ -299,11 +299,14 @@ def _share(w: Work, system: int, preferred: tuple[int, ...]) -> None:
                        and ix.systems.shared_system(ix.canon[a]) is not None
                        and ix.systems.shared_system(ix.canon[a])[0] == system  # type: ignore[index]
                        for a in (st.radios[r].tx, st.radios[r].rx))]
+    held = {}
     for r in affected:
         rs = st.radios[r]
         cur = rs.tx if rs.tx is not None else rs.rx
         assert cur is not None
+        held[r] = cur
         w.set_pair(r, None, None, rs.note)
+    for r, cur in held.items():
         if on:
             members = [a for a in ix.ids if ix.systems.shared_system(ix.canon[a]) == (system, True)]
             size = len(ix.comps[cur])

@@ -8,8 +8,18 @@ from pathlib import Path
 from moas_gui.engine import Engine
 from moas_gui.engine.config import load_config
 from moas_gui.engine.config.model import (
-    Antenna, Config, ControlRange, FrequencyRange, Function, Layout, Radio, RadioRef,
-    StationRelays, Switch, SwitchPort, System,
+    Antenna,
+    Config,
+    ControlRange,
+    FrequencyRange,
+    Function,
+    Layout,
+    Radio,
+    RadioRef,
+    StationRelays,
+    Switch,
+    SwitchPort,
+    System,
 )
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"

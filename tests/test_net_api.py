@@ -1,0 +1,68 @@
+"""The public names of moas_gui.net's client protocol parts are frozen here, so
+the API cannot drift silently."""
+
+from __future__ import annotations
+
+import importlib
+
+import pytest
+
+import moas_gui.net
+
+PUBLIC = {
+    "moas_gui.net": [
+        "DEFAULT_ALLOW", "DEFAULT_PORT", "ClientBackend", "ClientInfo", "ClientLogHandler",
+        "ClientServer", "ConnectionClosed", "ErrorCode", "EventSink", "FakeBackend",
+        "ProtocolClient", "RequestError", "allowed_networks", "is_allowed", "parse_allow_list",
+    ],
+    "moas_gui.net.backend": [
+        "ClientBackend", "ErrorCode", "EventSink", "JSONObject", "LogLevel", "RequestError",
+        "Target",
+    ],
+    "moas_gui.net.server": ["DEFAULT_PORT", "LOG_LEVELS", "MAX_BAD_LINES", "ClientServer"],
+    "moas_gui.net.access": [
+        "DEFAULT_ALLOW", "DEFAULT_ALLOW_TEXT", "IPAddress", "IPNetwork", "allowed_networks",
+        "is_allowed", "parse_allow_list", "peer_address",
+    ],
+    "moas_gui.net.framing": ["MAX_LINE", "Line", "LineSplitter", "LongLine"],
+    "moas_gui.net.commands": [
+        "COMMANDS", "Arg", "BadLine", "BadRequest", "Command", "Kind", "Request",
+        "check_request", "describe", "parse_line",
+    ],
+    "moas_gui.net.messages": [
+        "EVENTS", "PROTOCOL_VERSION", "SERVER_NAME", "EncodeError", "encode", "event",
+        "hello_result", "reply_error", "reply_ok",
+    ],
+    "moas_gui.net.connection": ["ClientInfo", "Connection", "LayoutKey", "clean_name",
+                                "format_peer"],
+    "moas_gui.net.client": ["ConnectionClosed", "ProtocolClient"],
+    "moas_gui.net.fake_backend": ["FakeBackend"],
+    "moas_gui.net.log_events": ["ClientLogHandler", "client_level"],
+}
+
+
+@pytest.mark.parametrize("module", sorted(PUBLIC))
+def test_public_names_are_exactly_these(module: str) -> None:
+    imported = importlib.import_module(module)
+    assert sorted(imported.__all__) == sorted(PUBLIC[module])
+    for name in imported.__all__:
+        assert hasattr(imported, name), f"{module} lists {name} but has no such name"
+
+
+def test_the_server_is_an_event_sink_and_the_fake_a_backend() -> None:
+    from moas_gui.net.backend import ClientBackend, EventSink
+
+    for name in ("snapshot", "frequency", "select", "function", "relative", "layout",
+                 "rotate", "stop"):
+        assert name in ClientBackend.__dict__ and callable(getattr(moas_gui.net.FakeBackend, name))
+    for name in ("publish_state", "publish_radio", "publish_rotator", "publish_switch",
+                 "layouts_may_have_changed", "publish_log"):
+        assert name in EventSink.__dict__ and callable(getattr(moas_gui.net.ClientServer, name))
+
+
+def test_the_fake_and_the_server_satisfy_the_protocols_for_the_type_checker() -> None:
+    from moas_gui.net.backend import ClientBackend, EventSink
+
+    backend: ClientBackend = moas_gui.net.FakeBackend()
+    sink: EventSink = moas_gui.net.ClientServer(backend, host="127.0.0.1", port=0)
+    assert sink.client_count == 0  # type: ignore[attr-defined]

@@ -27,10 +27,13 @@ def default_command(port: int) -> list[str]:
 
 
 class LocalMoasRotator:
-    def __init__(self, command: Sequence[str], port: int, *, stop_timeout: float = 3.0) -> None:
+    def __init__(self, command: Sequence[str], port: int, *, start_timeout: float = 5.0,
+                 stop_timeout: float = 3.0) -> None:
         self.command = list(command)
         self.port = port
+        self.start_timeout = start_timeout
         self.stop_timeout = stop_timeout
+        self._listening = asyncio.Event()
         self.process: asyncio.subprocess.Process | None = None
         self._output: asyncio.Task[None] | None = None
 
@@ -51,7 +54,12 @@ class LocalMoasRotator:
             return
         log.info("started the MOAS Rotator program (pid %d): %s",
                  self.process.pid, " ".join(self.command))
+        self._listening = asyncio.Event()
         self._output = asyncio.create_task(self._relay(self.process), name="MOAS Rotator output")
+        # let it open its port before the first connection attempt (it says
+        # "listening on ..."); if it never says so, the link just keeps trying
+        with contextlib.suppress(TimeoutError):
+            await asyncio.wait_for(self._listening.wait(), self.start_timeout)
 
     async def stop(self) -> None:
         process, self.process = self.process, None
@@ -73,7 +81,11 @@ class LocalMoasRotator:
     async def _relay(self, process: asyncio.subprocess.Process) -> None:
         assert process.stdout is not None
         while line := await process.stdout.readline():
-            log.info("MOAS Rotator: %s", line.decode("utf-8", "replace").rstrip())
+            text = line.decode("utf-8", "replace").rstrip()
+            if "listening on" in text:
+                self._listening.set()
+            log.info("MOAS Rotator: %s", text)
+        self._listening.set()
         code = await process.wait()
         if self.process is process:
             log.error("the MOAS Rotator program (pid %d) exited with code %d",

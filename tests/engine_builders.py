@@ -110,5 +110,66 @@ def pair(e: Engine, station: int, number: int) -> tuple[int | None, int | None]:
     return v.tx, v.rx
 
 
+
+
+def _conflict(cfg: Config, a: int, b: int) -> bool:
+    ant_a, ant_b = cfg.antenna(a), cfg.antenna(b)
+    assert ant_a is not None and ant_b is not None
+    return b in ant_a.conflicts or a in ant_b.conflicts
+
+
+def _fast(cfg: Config, a: int, b: int) -> bool:
+    ant_a, ant_b = cfg.antenna(a), cfg.antenna(b)
+    assert ant_a is not None and ant_b is not None
+    return b in ant_a.fast or a in ant_b.fast
+
+
+def table_problems(e: Engine) -> list[str]:
+    """Where a switch's slots or tables disagree with the configuration for antennas in use."""
+    cfg = e.config
+    problems: list[str] = []
+    only = cfg.switches[0].id if len(cfg.switches) == 1 else None
+    states = e.switch_states()
+    used: dict[int, list[tuple[RadioRef, int, str, int]]] = {}
+    for view in e.radios():
+        r = cfg.radio(view.station, view.radio)
+        if r is None:
+            continue
+        for sp in r.switches:
+            w = sp.switch or only
+            assert w is not None
+            port = states[w].station(sp.port)
+            for role, antenna_id, slot in (("tx", view.tx, port.tx), ("rx", view.rx, port.rx)):
+                if antenna_id is None:
+                    if slot != 63:
+                        problems.append(f"{r.ref} {role}: no antenna but slot {slot}")
+                    continue
+                want = e.slot_of(w, antenna_id, view.station, view.radio)
+                if slot != want:
+                    problems.append(f"{r.ref} {role}: slot {slot}, expected {want}")
+                used.setdefault(w, []).append((r.ref, antenna_id, role, slot))
+            if view.tx is not None and view.rx is not None and port.tx != port.rx:
+                pair_ = (min(port.tx, port.rx), max(port.tx, port.rx))
+                if (pair_ in states[w].fast) != _fast(cfg, view.tx, view.rx):
+                    problems.append(f"{r.ref}: fast table disagrees for {view.tx}/{view.rx}")
+    for w, items in used.items():
+        table = states[w].conflicts
+        for i, (ra, a, _ra, sa) in enumerate(items):
+            for rb, b, _rb, sb in items[i + 1:]:
+                if ra == rb:
+                    continue
+                expected = _conflict(cfg, a, b)
+                present = (min(sa, sb), max(sa, sb)) in table
+                if present and not expected:
+                    problems.append(f"switch {w}: slots {sa}/{sb} conflict, antennas {a}/{b} "
+                                    "do not")
+                if expected and not present and not e.may_share(ra, a, rb, b):
+                    problems.append(f"switch {w}: antennas {a}/{b} of {ra} and {rb} conflict "
+                                    f"but slots {sa}/{sb} do not")
+                if expected and not e.may_share(ra, a, rb, b):
+                    problems.append(f"{ra} on {a} and {rb} on {b} conflict")
+    return problems
+
+
 __all__ = ["BANDS", "EXAMPLES", "antenna", "config", "engine", "example", "pair", "radio",
-           "ref", "so2r"]
+           "ref", "so2r", "table_problems"]

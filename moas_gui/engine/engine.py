@@ -93,6 +93,14 @@ class Engine:
         key = self._classes.key(antenna, RadioRef(station, radio))
         return self._maps[switch_id].key_slot.get(key)
 
+    def may_share(self, a: RadioRef, antenna_a: int, b: RadioRef, antenna_b: int) -> bool:
+        """Whether radios ``a`` and ``b`` may hold these conflicting antennas together now
+        (a shared system in shared mode, or shared transmit antennas between interlocked
+        radios; a radio and its own sub or alternate receiver)."""
+        from .rules import permitted, related
+        return related(self._ix, a, b) or permitted(self._ix, self._state, a, b, antenna_a,
+                                                     antenna_b)
+
     def function_status(self, station: int, radio: int, function_id: int) -> tuple[bool, str]:
         """Whether a function can run now for this radio, and why not."""
         ref = self._radio(station, radio)

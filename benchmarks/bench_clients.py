@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import functools
 import json
 import os
 import statistics
@@ -97,7 +98,9 @@ class Bench:
         loop = asyncio.get_running_loop()
         for _ in range(count):
             number = len(self.peers)
-            _, peer = await loop.create_connection(lambda: Peer(number, self), HOST, self.port)
+            _, peer = await loop.create_connection(
+                functools.partial(Peer, number, self), HOST, self.port
+            )
             self.peers.append(peer)
             await peer.request(0, {"cmd": "hello", "client": f"bench {number}"})
 
@@ -175,7 +178,7 @@ async def sustained(bench: Bench, rate: int, seconds: float) -> dict[str, float]
             sent_at[sent] = time.perf_counter()
             future = sender.request(sent, MIX[sent % len(MIX)])
             pending.add(future)
-            future.add_done_callback(lambda f, n=sent: done(n, f))
+            future.add_done_callback(functools.partial(done, sent))
         await asyncio.sleep(0.0005)
     backlog_at_end = len(pending)
     if pending:
@@ -216,7 +219,36 @@ def report_rate(title: str, r: dict[str, float], cpu: float | None, own: float) 
     print(f"  clients' CPU          {own * 100:7.1f} % of one core (this process)")
 
 
-async def main(args: argparse.Namespace) -> None:
+async def measure(args: argparse.Namespace, pid: int, port: int) -> None:
+    bench = Bench(port)
+    print(f"Client protocol server benchmark (fake backend, server pid {pid}, "
+          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f})")
+    await bench.connect(args.clients)
+    latencies = await fan_out(bench, args.presses)
+    print(f"\nFan-out: {args.clients} clients, {args.presses} presses; time from a select "
+          f"on one client to the radio event at all {args.clients - 1} others")
+    print(f"  p50 {ms(statistics.median(latencies))}   p90 {ms(percentile(latencies, 90))}"
+          f"   p99 {ms(percentile(latencies, 99))}   max {ms(max(latencies))}"
+          f"   (target p99 < 20 ms)")
+    within = sum(1 for x in latencies if x < 0.010) / len(latencies)
+    print(f"  presses heard by every client within 10 ms: {within * 100:.1f} %")
+
+    listeners = len(bench.peers)
+    bench.close()
+    await asyncio.sleep(0.2)
+    for title in (f"Sustained: one client, {args.rate} requests/s for {args.seconds:g} s",
+                  f"Sustained with {listeners} more clients listening to every event"):
+        if not title.startswith("Sustained:"):
+            await bench.connect(listeners)
+        before, own = cpu_seconds(pid), time.process_time()
+        result = await sustained(bench, args.rate, args.seconds)
+        cpu = (cpu_seconds(pid) - before) / args.seconds
+        own = (time.process_time() - own) / args.seconds
+        report_rate(title, result, cpu, own)
+    bench.close()
+
+
+def main(args: argparse.Namespace) -> None:
     server = subprocess.Popen(
         [sys.executable, "-m", "moas_gui.net.fake_server", "--host", HOST, "--port", "0",
          "--log", "WARNING"],
@@ -225,38 +257,7 @@ async def main(args: argparse.Namespace) -> None:
     try:
         assert server.stdout is not None
         port = int(server.stdout.readline().split()[1])
-        bench = Bench(port)
-
-        print(f"Client protocol server benchmark (fake backend, server pid {server.pid}, "
-              f"{os.cpu_count()} cores)")
-        await bench.connect(args.clients)
-        latencies = await fan_out(bench, args.presses)
-        print(f"\nFan-out: {args.clients} clients, {args.presses} presses; time from a select "
-              f"on one client to the radio event at all {args.clients - 1} others")
-        print(f"  p50 {ms(statistics.median(latencies))}   p90 {ms(percentile(latencies, 90))}"
-              f"   p99 {ms(percentile(latencies, 99))}   max {ms(max(latencies))}"
-              f"   (target p99 < 20 ms)")
-        within = sum(1 for x in latencies if x < 0.010) / len(latencies)
-        print(f"  presses heard by every client within 10 ms: {within * 100:.1f} %")
-
-        listening = bench.peers[:]
-        bench.close()
-        await asyncio.sleep(0.2)
-        before, own = cpu_seconds(server.pid), time.process_time()
-        result = await sustained(bench, args.rate, args.seconds)
-        cpu = (cpu_seconds(server.pid) - before) / args.seconds
-        own = (time.process_time() - own) / args.seconds
-        report_rate(f"Sustained: one client, {args.rate} requests/s for {args.seconds:g} s",
-                    result, cpu, own)
-
-        await bench.connect(len(listening))
-        before, own = cpu_seconds(server.pid), time.process_time()
-        result = await sustained(bench, args.rate, args.seconds)
-        cpu = (cpu_seconds(server.pid) - before) / args.seconds
-        own = (time.process_time() - own) / args.seconds
-        report_rate(f"Sustained with {len(listening)} more clients listening to every event",
-                    result, cpu, own)
-        bench.close()
+        asyncio.run(measure(args, server.pid, port))
     finally:
         server.terminate()
         server.wait(10)
@@ -268,4 +269,4 @@ if __name__ == "__main__":
     parser.add_argument("--presses", type=int, default=1000)
     parser.add_argument("--rate", type=int, default=1000)
     parser.add_argument("--seconds", type=float, default=5.0)
-    asyncio.run(main(parser.parse_args()))
+    main(parser.parse_args())

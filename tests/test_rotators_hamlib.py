@@ -292,6 +292,27 @@ async def test_a_silent_daemon_is_dropped_after_the_reply_timeout(
         await manager.close()
 
 
+@pytest.mark.asyncio
+async def test_a_daemon_that_never_finishes_dump_state_is_used_without_its_limits(
+    scripted: Callable[[Script], ScriptedRotctld], caplog: pytest.LogCaptureFixture
+) -> None:
+    def script(line: str) -> bytes | None:
+        if line == "+\\dump_state":
+            return b"dump_state:\n0\n1\n"  # an old daemon: no RPRT line
+        return south_stop_daemon()(line)
+
+    daemon = scripted(script)
+    await daemon.start()
+    recorder = Recorder()
+    manager = await running(hamlib_rotator(daemon.port), recorder)
+    try:
+        await recorder.wait_for(lambda v: v.online and v.heading == 270)
+        assert "gave no complete answer to dump_state" in caplog.text
+        assert daemon.lines.count("+\\dump_state") == 1
+    finally:
+        await manager.close()
+
+
 # ---- the codec ---------------------------------------------------------------------------
 
 def test_extended_replies_are_framed_by_their_rprt_line() -> None:

@@ -63,6 +63,8 @@ class HamlibRotator(RotatorDriver):
         self._task: asyncio.Task[None] | None = None
         self._answering = False
         """True once the daemon has answered a position in this connection."""
+        self._skip_dump_state = False
+        """Set when the daemon would not answer dump_state (so later connections skip it)."""
 
     @property
     def where(self) -> str:
@@ -167,7 +169,15 @@ class HamlibRotator(RotatorDriver):
         log.info("%s: connected to %s", self.name, self.where)
         self._reader, self._writer = reader, writer
         try:
-            self._learn_limits(await self._request(encode_dump_state()))
+            if not self._skip_dump_state:
+                try:
+                    self._learn_limits(await self._request(encode_dump_state()))
+                except TimeoutError:
+                    self._skip_dump_state = True
+                    log.warning("%s: %s gave no complete answer to dump_state; will do "
+                                "without its limits (%g..%g)", self.name, self.where,
+                                self.limits.min_az, self.limits.max_az)
+                    raise
             while True:
                 self._take_position(await self._request(encode_get_pos()))
                 self._answering = True

@@ -169,7 +169,7 @@ class N1MMListener(asyncio.DatagramProtocol):
         self._limiter = _LogLimiter(log_interval, clock)
         self._last: dict[tuple[int, int], tuple[float, float]] = {}
         self._heard: dict[tuple[int, int], float] = {}
-        self._transport: asyncio.DatagramTransport | None = None
+        self._transport: asyncio.BaseTransport | None = None
         self._closed: asyncio.Future[None] | None = None
         self._received = self._accepted = self._delivered = 0
         self._no_frequency = self._unknown = self._callback_errors = 0
@@ -254,7 +254,6 @@ class N1MMListener(asyncio.DatagramProtocol):
     # -- asyncio -----------------------------------------------------------------
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.DatagramTransport)
         self._transport = transport
 
     def datagram_received(self, data: bytes, addr: tuple[str | int, ...]) -> None:
@@ -321,8 +320,9 @@ class N1MMListener(asyncio.DatagramProtocol):
 
     async def close(self) -> None:
         """Stop listening (idempotent)."""
-        if self._transport is not None:
-            self._transport.close()
+        if self._transport is None:
+            return
+        self._transport.close()
         if self._closed is not None:
             await self._closed
 

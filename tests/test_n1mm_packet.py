@@ -198,6 +198,14 @@ def test_entity_declarations_are_refused_before_anything_expands() -> None:
     assert refused(external) == "doctype"
 
 
+def test_disguised_document_type_declarations_never_reach_an_entity() -> None:
+    lowercase = b'<!doctype a [<!ENTITY x "y">]><RadioInfo><RadioNr>1</RadioNr><Freq>&x;</Freq></RadioInfo>'
+    utf16 = '<?xml version="1.0" encoding="utf-16"?><!DOCTYPE a [<!ENTITY x "1400000">]>' \
+            "<RadioInfo><RadioNr>1</RadioNr><Freq>&x;</Freq></RadioInfo>"
+    assert refused(lowercase) == "not_xml"
+    assert refused(utf16.encode("utf-16")) == "not_xml"
+
+
 def test_packets_over_the_size_limit_are_refused_unread() -> None:
     filler = "<Pad>" + "x" * MAX_PACKET_BYTES + "</Pad>"
     assert refused(packet("<RadioNr>1</RadioNr>", "<Freq>1400000</Freq>", filler)) == "too_large"

@@ -14,8 +14,9 @@ arguments; :func:`parse_line` turns one line into exactly one of
 
 Arguments absent and arguments given as ``null`` are the same thing.  Names a
 command does not know are ignored, so that clients written for a later
-version of the protocol still work.  The documentation
-(``docs/client-protocol.md``) is written from the same table.
+version of the protocol still work.  ``docs/client-protocol.md`` documents
+the same table, and a test checks that every command and argument in it is
+documented there.
 """
 
 from __future__ import annotations

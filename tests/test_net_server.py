@@ -14,6 +14,7 @@ import pytest
 import pytest_asyncio
 
 from moas_gui import __version__
+from moas_gui.errors import HardwareError
 from moas_gui.net.backend import RequestError
 from moas_gui.net.client import ProtocolClient
 from moas_gui.net.fake_backend import FakeBackend
@@ -620,3 +621,13 @@ async def test_a_client_that_stops_reading_is_cut_off_and_the_others_get_every_e
     finally:
         stuck.close()
         await dispose(rig)
+
+
+@pytest.mark.asyncio
+async def test_a_port_in_use_is_reported_with_its_number(rig: Rig) -> None:
+    second = ClientServer(FakeBackend(), host=HOST, port=rig.server.port)
+    with pytest.raises(HardwareError, match=f"cannot accept clients on TCP port {rig.server.port}"):
+        await second.start()
+    await second.close()
+    client = await rig.connect("still served")
+    assert await client.request("stop", rotator=1) == {}

@@ -28,6 +28,8 @@ import logging
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
+from moas_gui.errors import HardwareError
+
 from .access import allowed_networks, is_allowed
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
 from .commands import BadLine, BadRequest, Request, parse_line
@@ -90,9 +92,18 @@ class ClientServer:
     # ---- life -----------------------------------------------------------------------
 
     async def start(self) -> int:
-        """Starts listening; returns the port (the system's choice when 0 was given)."""
+        """Starts listening; returns the port (the system's choice when 0 was given).
+
+        Raises :class:`~moas_gui.errors.HardwareError` saying which port when it
+        cannot listen (the port is in use, say)."""
         self._loop = asyncio.get_running_loop()
-        self._server = await asyncio.start_server(self._serve, self.host, self.port)
+        try:
+            self._server = await asyncio.start_server(self._serve, self.host, self.port)
+        except OSError as e:
+            raise HardwareError(
+                f"cannot accept clients on TCP port {self.port}: {e.strerror or e} "
+                "(is another moas-server running? TCPPort in the configuration sets the port)"
+            ) from e
         self.port = self._server.sockets[0].getsockname()[1]
         where = self.host if self.host is not None else "every interface"
         log.info("Accepting clients on TCP port %d (%s)", self.port, where)
@@ -221,6 +232,7 @@ class ClientServer:
                     "(ClientAllow in the configuration decides)", address,
                 )
                 writer.transport.abort()
+                writer.close()
                 return
             await self._converse(reader, writer, address)
         finally:

@@ -17,18 +17,18 @@ from types import MappingProxyType
 
 from .changes import NO_CHANGES, Changes
 from .config.model import Config, RadioRef
-from .derive import alternates, inhibit_reason, inhibited_by
+from .derive import alternates, inhibit_reason
 from .errors import BadRequest, NotFound, NotRunning
-from .functions import function, is_on, refresh_relays, run, status
+from .functions import extra_relays, function, is_on, refresh_relays, run, status
 from .index import ConfigIndex, Kind
 from .layouts import layout_view
 from .manual import select_antenna, select_direction
-from .outputs import build, radio_relays, slot_needs
+from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, slot_needs
 from .relative import relative as relative_select
 from .selection import recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
-from .switchstate import SwitchState
+from .switchstate import StationAntennas, SwitchState
 from .systems import is_selected
 from .views import AVAILABLE, SELECTED, UNAVAILABLE, AntennaView, LayoutView, RadioView
 from .work import Work, radio_name
@@ -60,6 +60,8 @@ class Engine:
         self._switch_states: dict[int, SwitchState] = {}
         self._owners: dict[int, dict[int, RadioRef | None]] = {}
         self._views: dict[RadioRef, RadioView] = {}
+        self._port_cache: dict[RadioRef, tuple[object, PortAntennas]] = {}
+        self._station_cache: dict[tuple[object, ...], StationAntennas] = {}
         self._commit(Work(ix, st), force=True)
 
     # -- reading ---------------------------------------------------------------------------
@@ -305,10 +307,18 @@ class Engine:
     def _commit(self, w: Work, force: bool = False) -> Changes:
         ix, st = self._ix, w.st
         alts = alternates(ix, st)
-        from .functions import extra_relays
         extras = extra_relays(ix, st)
-        ports = {ref: radio_relays(ix, st, ref, alts.get(ref), extras)
-                 for ref in ix.order if ix.radios[ref].kind is not Kind.ALT}
+        ports = {}
+        for ref in ix.order:
+            if ix.radios[ref].kind is Kind.ALT:
+                continue
+            key = (st.radios[ref], alts.get(ref), extras.get(ref))
+            cached = self._port_cache.get(ref)
+            if cached is not None and cached[0] == key and not ix.radios[ref].sub:
+                ports[ref] = cached[1]
+            else:
+                ports[ref] = radio_relays(ix, st, ref, alts.get(ref), extras)
+                self._port_cache[ref] = (key, ports[ref])
         needed = slot_needs(ix, self._classes, ports)
         maps = {}
         for sw in ix.switch_ids:
@@ -317,12 +327,15 @@ class Engine:
             settle = SETTLE_MARGIN_S + (switch.inhibit_time + switch.interrupt_mode_delay) / 1000
             maps[sw] = allocate(self._classes, self._maps[sw], needed[sw], st.now, busy, unknown,
                                 settle)
-        built = build(ix, st, self._classes, maps, ports, alts, self._switch_states, self._owners)
-        transmitting = {ref: st.radios[ref].transmitting for ref in ix.mains}
-        views = {ref: self._view(st, ref, alts, transmitting) for ref in ix.order}
+        transmitting = frozenset(ref for ref in ix.mains if st.radios[ref].transmitting)
+        inputs = Inputs(ports, alts, {ref: inhibit_reason(ix, st, ref) for ref in ix.mains},
+                        inhibit_pairs(ix, st), transmitting)
+        built = build(ix, st, self._classes, maps, inputs, self._switch_states, self._owners,
+                      self._station_cache)
+        views = {ref: self._view(st, ref, inputs) for ref in ix.order}
         changed_radios = {ref for ref, v in views.items() if self._views.get(ref) != v}
         changed_switches = {sw: s for sw, s in built.states.items()
-                            if force or self._switch_states.get(sw) != s}
+                            if force or self._switch_states.get(sw) is not s}
         old = self._state
         layouts = bool(changed_radios) or force or (
             old.shared != st.shared or old.busses != st.busses or old.partners != st.partners
@@ -333,9 +346,10 @@ class Engine:
         self._switch_states = built.states
         self._owners = built.station0_owner
         self._views = views
+        if not (changed_radios or changed_switches or layouts or w.log):
+            return NO_CHANGES
         return Changes(frozenset(changed_radios), MappingProxyType(changed_switches), layouts,
-                       tuple(w.log)) if (changed_radios or changed_switches or layouts
-                                          or w.log) else NO_CHANGES
+                       tuple(w.log))
 
     def _busy(self, st: State, switch: int) -> tuple[frozenset[int], bool]:
         indicate = self._ix.switches[switch].indicate_tr
@@ -350,24 +364,25 @@ class Engine:
                 busy.add(port)
         return frozenset(busy), unknown
 
-    def _view(self, st: State, ref: RadioRef,
-              alts: dict[RadioRef, tuple[int | None, frozenset[RadioRef]]],
-              transmitting: dict[RadioRef, bool]) -> RadioView:
+    def _view(self, st: State, ref: RadioRef, inputs: Inputs) -> RadioView:
         ix = self._ix
         rs = st.radios[ref]
         info = ix.radios[ref]
-        reason = inhibit_reason(ix, st, ref)
+        main = info.kind is Kind.MAIN
+        reason = inputs.reasons.get(ref, "") if main else ""
         note = reason or rs.note
         inhibited = bool(reason)
-        if info.kind is Kind.MAIN and not inhibited:
-            by = inhibited_by(ix, st, ref, transmitting)
-            if by is not None:
-                inhibited = True
-                note = note or f"inhibited while {by} transmits"
-        alt = alts.get(ref, (None, frozenset()))[0] if info.kind is Kind.MAIN else None
-        return RadioView(ref.station, ref.radio, rs.khz,
-                         rs.tx_freq if info.kind is Kind.MAIN else None,
+        if main and not inhibited and inputs.transmitting:
+            for t in inputs.transmitting:
+                if (t, ref) in inputs.inhibit_pairs:
+                    inhibited = True
+                    note = note or f"inhibited while {t} transmits"
+                    break
+        alt = inputs.alts.get(ref, (None, frozenset()))[0] if main else None
+        view = RadioView(ref.station, ref.radio, rs.khz, rs.tx_freq if main else None,
                          rs.tx, rs.rx, alt, rs.transmitting, inhibited, note)
+        old = self._views.get(ref)
+        return old if old == view else view
 
 
 def _frequency(name: str, value: float) -> float:

@@ -274,6 +274,25 @@ class ConfigIndex:
             w: tuple(ref for ref in self.order if any(p[0] == w for p in infos[ref].ports))
             for w in self.switch_ids
         }
+        self.switch_ports: dict[tuple[RadioRef, int], tuple[int, ...]] = {
+            (ref, w): tuple(p for sw, p in infos[ref].ports if sw == w)
+            for w in self.switch_ids for ref in self.switch_radios[w]
+        }
+        self.all_switches = frozenset(self.switch_ids)
+        self.radio_switches: dict[RadioRef, frozenset[int]] = {
+            ref: frozenset(w for w, _p in infos[ref].ports) for ref in self.order
+        }
+        self.interrupt: dict[int, tuple[frozenset[int], int]] = {}
+        for w in self.switch_ids:
+            ports: set[int] = set()
+            delay = self.switches[w].interrupt_mode_delay
+            for ref in self.switch_radios[w]:
+                info = infos[ref]
+                if info.kind is Kind.MAIN and info.radio.interrupt:
+                    ports.update(self.switch_ports[(ref, w)])
+                    if info.radio.interrupt_mode_delay is not None:
+                        delay = max(delay, info.radio.interrupt_mode_delay)
+            self.interrupt[w] = (frozenset(ports), delay)
 
     def _radio_info(self, radio: Radio, kind: Kind, main: RadioRef | None,
                     sub: RadioRef | None, alt: RadioRef | None, single: int | None

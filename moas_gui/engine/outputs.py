@@ -20,7 +20,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from .config.model import RadioRef
-from .derive import inhibit_reason
 from .functions import relay_contributions
 from .index import ConfigIndex, Kind, switch_of_relay
 from .ranges import Path, nearest_path, path_at
@@ -122,15 +121,46 @@ def slot_needs(ix: ConfigIndex, classes: SlotClasses, ports: Mapping[RadioRef, P
     return needed
 
 
-def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, SlotMap],
-          ports: Mapping[RadioRef, PortAntennas],
-          alts: Mapping[RadioRef, tuple[int | None, frozenset[RadioRef]]],
-          previous: Mapping[int, SwitchState],
-          previous_owner: Mapping[int, Mapping[int, RadioRef | None]]) -> Built:
-    """Every switch's wanted state (``maps`` must already hold every slot key needed)."""
+_LOCAL: dict[tuple[frozenset[int], int], frozenset[int]] = {}
+
+
+def _local_cached(relays: frozenset[int], switch: int) -> frozenset[int]:
+    key = (relays, switch)
+    found = _LOCAL.get(key)
+    if found is None:
+        if len(_LOCAL) > 65536:
+            _LOCAL.clear()
+        found = _LOCAL[key] = _local(relays, switch)
+    return found
+
+
+@dataclass(frozen=True, slots=True)
+class Inputs:
+    """What every switch's state is built from, computed once per operation."""
+
+    ports: Mapping[RadioRef, PortAntennas]
+    alts: Mapping[RadioRef, tuple[int | None, frozenset[RadioRef]]]
+    reasons: Mapping[RadioRef, str]
+    """Why the server inhibits each main radio (empty: it does not)."""
+    inhibit_pairs: frozenset[tuple[RadioRef, RadioRef]]
+    """(transmitter, inhibited) pairs of radio-to-radio inhibits now."""
+    transmitting: frozenset[RadioRef]
+
+
+def inhibit_pairs(ix: ConfigIndex, st: State) -> frozenset[tuple[RadioRef, RadioRef]]:
     from .rules import inhibits
-    transmitting = {ref for ref in ix.radios if st.radios[ref].transmitting}
-    inhibited = {ref for ref in ix.mains if inhibit_reason(ix, st, ref)
+    return frozenset((t, r) for t in ix.mains for r in ix.mains
+                     if t != r and inhibits(ix, st, t, r))
+
+
+def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, SlotMap],
+          inputs: Inputs, previous: Mapping[int, SwitchState],
+          previous_owner: Mapping[int, Mapping[int, RadioRef | None]],
+          cache: dict[tuple[object, ...], StationAntennas]) -> Built:
+    """Every switch's wanted state (``maps`` must already hold every slot key needed)."""
+    ports = inputs.ports
+    transmitting = inputs.transmitting
+    inhibited = {ref for ref, why in inputs.reasons.items() if why
                  and (ref in transmitting or not ix.radios[ref].radio.inhibit_only_on_transmit)}
     contributions: dict[int, dict[int, RadioRef | None]] = {w: {} for w in ix.switch_ids}
 
@@ -144,63 +174,63 @@ def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, S
     for relay, owner in relay_contributions(ix, st):
         add0(frozenset({relay}), owner)
     for ref, pa in ports.items():
-        own = {w for w, _p in ix.radios[ref].ports}
+        own = ix.radio_switches[ref]
+        if own == ix.all_switches:
+            continue
         off_port = (pa.tx_relays if pa.tx is not None else pa.rx_relays) | (
             pa.extra if ref in transmitting else frozenset())
         add0(frozenset(r for r in off_port if switch_of_relay(r) not in own), ref)
+    if len(cache) > 4096:
+        cache.clear()
     states: dict[int, SwitchState] = {}
     for w in ix.switch_ids:
         sw = ix.switches[w]
         m = maps[w]
         prev = previous.get(w)
-        stations = [StationAntennas() for _ in STATIONS]
+        stations = [_IDLE] * 6
         inh: set[int] = set()
-        interrupt: set[int] = set()
-        delay = sw.interrupt_mode_delay
         port_of: dict[RadioRef, list[int]] = {}
         for ref in ix.switch_radios[w]:
-            info = ix.radios[ref]
             found = ports.get(ref)
             if found is None:
                 continue
             pa = found
-            for sw_id, port in info.ports:
-                if sw_id != w:
-                    continue
+            for port in ix.switch_ports[(ref, w)]:
                 port_of.setdefault(ref, []).append(port)
-                extra = _local(pa.extra, w)
                 if ref in transmitting and prev is not None:
                     extra = prev.station(port).extra
-                stations[port - 1] = StationAntennas(
-                    m.slot(classes.key(pa.tx, ref)) if pa.tx is not None else NO_ANTENNA,
-                    _local(pa.tx_relays, w) if pa.tx is not None else frozenset(),
-                    m.slot(classes.key(pa.rx, ref)) if pa.rx is not None else NO_ANTENNA,
-                    _local(pa.rx_relays, w) if pa.rx is not None else frozenset(),
-                    m.slot(classes.key(pa.alt, ref)) if pa.alt is not None else NO_ANTENNA,
-                    _local(pa.alt_relays, w) if pa.alt is not None else frozenset(),
-                    extra,
-                )
+                else:
+                    extra = _local_cached(pa.extra, w)
+                key = (w, ref, pa, extra, id(m.key_slot))
+                station = cache.get(key)
+                if station is None:
+                    station = cache[key] = StationAntennas(
+                        m.slot(classes.key(pa.tx, ref)) if pa.tx is not None else NO_ANTENNA,
+                        _local_cached(pa.tx_relays, w) if pa.tx is not None else frozenset(),
+                        m.slot(classes.key(pa.rx, ref)) if pa.rx is not None else NO_ANTENNA,
+                        _local_cached(pa.rx_relays, w) if pa.rx is not None else frozenset(),
+                        m.slot(classes.key(pa.alt, ref)) if pa.alt is not None else NO_ANTENNA,
+                        _local_cached(pa.alt_relays, w) if pa.alt is not None else frozenset(),
+                        extra,
+                    )
+                stations[port - 1] = station
                 if ref in inhibited:
                     inh.add(port)
-                if info.kind is Kind.MAIN and info.radio.interrupt:
-                    interrupt.add(port)
-                    if info.radio.interrupt_mode_delay is not None:
-                        delay = max(delay, info.radio.interrupt_mode_delay)
         inhibit_others = [set[int]() for _ in STATIONS]
         use_alt = [set[int]() for _ in STATIONS]
-        mains_here = [r for r in port_of if ix.radios[r].kind is Kind.MAIN]
-        for t in mains_here:
-            for r in mains_here:
-                if r != t and inhibits(ix, st, t, r):
-                    for tp in port_of[t]:
-                        inhibit_others[tp - 1].update(p for p in port_of[r] if p != tp)
-        for r in mains_here:
-            for t in alts.get(r, (None, frozenset()))[1]:
+        for t, r in inputs.inhibit_pairs:
+            if t in port_of and r in port_of:
+                for tp in port_of[t]:
+                    inhibit_others[tp - 1].update(p for p in port_of[r] if p != tp)
+        for r, r_ports in port_of.items():
+            for t in inputs.alts.get(r, _NO_ALT)[1]:
                 for tp in port_of.get(t, ()):
-                    use_alt[tp - 1].update(p for p in port_of[r] if p != tp)
-        waived = _waivers(ix, st, classes, m, ports, port_of)
+                    use_alt[tp - 1].update(p for p in r_ports if p != tp)
+        waived = (_waivers(ix, st, classes, m, ports, port_of) if classes.any_owned
+                  else frozenset())
         owners = _station0(contributions[w], previous_owner.get(w, {}),
                            prev.station0 if prev else frozenset(), transmitting)
+        interrupt, delay = ix.interrupt[w]
         states[w] = SwitchState(
             stations=tuple(stations),
             station0=frozenset(owners),
@@ -210,18 +240,25 @@ def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, S
             inhibited=frozenset(inh),
             inhibit_others=tuple(frozenset(s) for s in inhibit_others),
             use_alternate=tuple(frozenset(s) for s in use_alt),
-            interrupt=frozenset(interrupt),
+            interrupt=interrupt,
             receive_delay=(0, 0, 0, 0, 0, 0),
             inhibit_time=sw.inhibit_time,
             interrupt_delay=delay,
             active=st.running,
         )
+        if prev is not None and prev == states[w]:
+            states[w] = prev
         contributions[w] = owners
     return Built(states, contributions, {})
 
 
+_IDLE = StationAntennas()
+_NO_ALT: tuple[int | None, frozenset[RadioRef]] = (None, frozenset())
+
+
 def _station0(wanted: dict[int, RadioRef | None], prev_owner: Mapping[int, RadioRef | None],
-              prev: frozenset[int], transmitting: set[RadioRef]) -> dict[int, RadioRef | None]:
+              prev: frozenset[int], transmitting: frozenset[RadioRef]
+              ) -> dict[int, RadioRef | None]:
     out: dict[int, RadioRef | None] = {}
     for relay, owner in wanted.items():
         if owner is None or owner not in transmitting or relay in prev:
@@ -264,4 +301,5 @@ def _waivers(ix: ConfigIndex, st: State, classes: SlotClasses, m: SlotMap,
     return frozenset(out)
 
 
-__all__ = ["Built", "PortAntennas", "build", "radio_relays", "slot_needs"]
+__all__ = ["Built", "Inputs", "PortAntennas", "build", "inhibit_pairs", "radio_relays",
+           "slot_needs"]

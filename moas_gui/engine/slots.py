@@ -73,6 +73,8 @@ class SlotClasses:
             self.klass[a] = k
             self.members.setdefault(k, []).append(a)
         self.rep: dict[int, int] = {k: v[0] for k, v in self.members.items()}
+        self.any_owned = any(self.per_radio.values())
+        """Whether any antenna is keyed per radio (only then can a conflict be waived)."""
 
     def key(self, antenna: int, owner: RadioRef) -> SlotKey:
         return (self.klass[antenna], owner if self.per_radio[antenna] else None)

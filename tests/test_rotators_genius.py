@@ -142,7 +142,9 @@ async def test_malformed_replies_are_logged_with_the_rotator_and_polling_carries
 
 
 @pytest.mark.asyncio
-async def test_a_refused_turn_is_unavailable(genius: GeniusServer) -> None:
+async def test_a_refused_turn_is_unavailable(
+    genius: GeniusServer, caplog: pytest.LogCaptureFixture
+) -> None:
     genius.model.rotors[0].limit_ccw, genius.model.rotors[0].limit_cw = 0, 300
     recorder = Recorder()
     # the configuration believes in a full turn; the controller knows better
@@ -152,6 +154,11 @@ async def test_a_refused_turn_is_unavailable(genius: GeniusServer) -> None:
         with pytest.raises(RotatorError, match="refused the turn to 330") as caught:
             await manager.rotate(1, 330)
         assert caught.value.code == "unavailable"
+        manager.start_rotate(1, 331)  # the same without waiting: the refusal is logged
+        async with asyncio.timeout(2):
+            while "turning rotator 1 (Tower 1) to 331 failed" not in caplog.text:
+                await asyncio.sleep(0.02)
+        assert "refused the turn to 331" in caplog.text
     finally:
         await manager.close()
 

@@ -204,6 +204,48 @@ async def test_electrical_without_a_selection_callback_is_unavailable() -> None:
         await manager.close()
 
 
+# ---- requests that do not wait ---------------------------------------------------------
+
+@pytest.mark.asyncio
+async def test_start_rotate_turns_in_the_background(
+    manager: RotatorManager, recorder: Recorder
+) -> None:
+    manager.start_rotate(2, 3)
+    await recorder.wait_for(lambda v: v.id == 2 and v.heading == 3 and not v.moving)
+    manager.start_rotate(2, 100)
+    await recorder.wait_for(lambda v: v.id == 2 and v.moving)
+    manager.start_stop(2)
+    await recorder.wait_for(lambda v: v.id == 2 and not v.moving and v.target is None,
+                            since=len(recorder.views) - 1)
+
+
+@pytest.mark.asyncio
+async def test_start_rotate_raises_at_once_what_it_can_know(manager: RotatorManager) -> None:
+    with pytest.raises(RotatorError) as caught:
+        manager.start_rotate(42, 10)
+    assert caught.value.code == "not_found"
+    with pytest.raises(RotatorError) as caught:
+        manager.start_rotate(2, "east")
+    assert caught.value.code == "bad_request"
+    with pytest.raises(RotatorError) as caught:
+        manager.start_rotate(1, 99)  # the engine refuses the electrical selection
+    assert caught.value.code == "unavailable"
+    manager.start_rotate(1, 200)
+    assert manager.view(1).heading == 225
+
+
+@pytest.mark.asyncio
+async def test_start_rotate_of_an_unusable_rotator_raises_unavailable() -> None:
+    manager = RotatorManager([make_rotator(rotation=0)], timing=FAST)
+    await manager.start()
+    try:
+        with pytest.raises(RotatorError, match="Rotation must be") as caught:
+            manager.start_rotate(2, 10)
+        assert caught.value.code == "unavailable"
+    finally:
+        await manager.close()
+
+
 # ---- errors ---------------------------------------------------------------------------
 
 @pytest.mark.asyncio

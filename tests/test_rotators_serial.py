@@ -165,6 +165,31 @@ async def test_program_going_away_mid_turn_shows_offline_then_reconfigures_and_f
 
 
 @pytest.mark.asyncio
+async def test_a_stop_while_the_program_is_away_cancels_the_resumed_turn(
+    fake: FakeMoasRotator,
+) -> None:
+    recorder = Recorder()
+    manager = await running([serial(1)], fake, recorder)
+    try:
+        await recorder.wait_for(lambda v: v.online)
+        manager.start_rotate(1, 40)
+        await recorder.wait_for(lambda v: v.heading is not None and v.heading >= 3)
+        await fake.drop()
+        await recorder.wait_for(lambda v: not v.online)
+        with pytest.raises(RotatorError) as caught:
+            manager.start_stop(1)
+        assert caught.value.code == "unavailable"
+        assert manager.view(1).target is None
+        before = len(fake.commands)
+        await fake.start()
+        await fake.wait_for(lambda: 1 in fake.configured)
+        await asyncio.sleep(0.2)
+        assert not any(isinstance(c, Rotate) for c in fake.commands[before:])
+    finally:
+        await manager.close()
+
+
+@pytest.mark.asyncio
 async def test_malformed_lines_are_logged_naming_the_rotator_and_reports_carry_on(
     fake: FakeMoasRotator, caplog: pytest.LogCaptureFixture
 ) -> None:

@@ -163,6 +163,13 @@ class RotatorDriver(ABC):
     def _unavailable(self, why: str) -> RotatorError:
         return RotatorError("unavailable", f"{self.title} {why}")
 
+    def check_ready(self) -> None:
+        """Raise ``RotatorError("unavailable", ...)`` when a request could not be
+        served now (offline, unusable); cheap and synchronous."""
+
+    def forget_turn(self) -> None:
+        """Drop any turn waiting to be resumed (a stop was asked for)."""
+
     async def start(self) -> None:
         """Begin work (connect, poll); returns at once, never raises for a peer's fault."""
 
@@ -184,6 +191,9 @@ class UnusableRotator(RotatorDriver):
     def __init__(self, rotator: Rotator, travel: Travel, publish: Publish, why: str) -> None:
         super().__init__(rotator, travel, publish)
         self.why = why
+
+    def check_ready(self) -> None:
+        raise self._unavailable(f"cannot be used: {self.why}")
 
     async def start(self) -> None:
         log.error("%s cannot be used: %s", self.title, self.why)

@@ -47,9 +47,17 @@ class ElectricalRotator(RotatorDriver):
             )
         self._set(RotatorStatus(online=True))
 
-    async def rotate(self, heading: float) -> None:
+    def check_ready(self) -> None:
         if self.select_direction is None:
             raise self._unavailable("is Electrical but the server gave no way to select antennas")
+
+    async def rotate(self, heading: float) -> None:
+        self.turn(heading)
+
+    def turn(self, heading: float) -> None:
+        """Select the direction now (nothing here waits)."""
+        self.check_ready()
+        assert self.select_direction is not None
         chosen = closest_direction(self.directions, heading)
         try:
             self.select_direction(self.rotator.id, whole_heading(heading))

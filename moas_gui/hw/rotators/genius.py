@@ -205,14 +205,14 @@ class GeniusRotator(RotatorDriver):
     def link_down(self) -> None:
         self._set(RotatorStatus(heading=self._status.heading, online=False))
 
-    def _check_online(self) -> None:
+    def check_ready(self) -> None:
         if not self.link.connected:
             raise self._unavailable(f"cannot turn: {self.link.where} is not connected")
         if not self._sensor:
             raise self._unavailable(f"cannot turn: {self.link.where} reports no sensor")
 
     async def rotate(self, heading: float) -> None:
-        self._check_online()
+        self.check_ready()
         end = self.travel.nearest_position(heading, near=self.position)
         azimuth = whole_heading(self.travel.heading_at(end))
         if not self.travel.reaches(heading):
@@ -225,7 +225,7 @@ class GeniusRotator(RotatorDriver):
                                 moving=True, online=True))
 
     async def stop(self) -> None:
-        self._check_online()
+        self.check_ready()
         reply = await self._ask(encode_stop(), "S")
         if not reply.ok:
             raise self._unavailable(f"could not be stopped: {self.link.where} answered F")

@@ -87,9 +87,16 @@ class HamlibRotator(RotatorDriver):
 
     # ---- requests --------------------------------------------------------------------
 
-    async def rotate(self, heading: float) -> None:
+    def check_ready(self) -> None:
         if not self._answering:
             raise self._unavailable(f"cannot turn: {self.where} is not connected")
+
+    def forget_turn(self) -> None:
+        self.tracker.end()
+        self._publish_now()
+
+    async def rotate(self, heading: float) -> None:
+        self.check_ready()
         end = self.travel.nearest_position(heading, near=self.tracker.position)
         if not self.travel.reaches(heading):
             log.info("%s cannot point at %.0f degrees; turning to the end of its travel (%.0f)",
@@ -104,8 +111,7 @@ class HamlibRotator(RotatorDriver):
         self._publish_now()
 
     async def stop(self) -> None:
-        self.tracker.end()
-        self._publish_now()
+        self.forget_turn()
         reply = await self._ask(encode_stop(), "stop")
         if reply.code != 0:
             raise self._unavailable(f"could not be stopped by {self.where}: "

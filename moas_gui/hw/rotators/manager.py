@@ -8,6 +8,7 @@ Usage (asyncio, no Qt)::
     manager.views()                  # the client protocol's "rotators" list
     await manager.rotate(1, 270)     # RotatorError(code, sentence) when it cannot
     await manager.stop(1)
+    manager.start_rotate(1, 270)     # the same without waiting (errors found at once raise)
     await manager.close()
 
 ``on_change(view)`` is called whenever a rotator's ``heading`` (whole
@@ -21,9 +22,10 @@ request with ``unavailable`` and the reason; the others carry on.
 
 from __future__ import annotations
 
+import asyncio
 import logging
 import math
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Coroutine, Iterable, Sequence
 
 from moas_gui.engine.config.model import Antenna, Config, Rotator, RotatorControl
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
@@ -89,6 +91,7 @@ class RotatorManager:
             command = moas_rotator_command or default_command(local[0])
             self.local_program = LocalMoasRotator(command, local[0])
         self.listeners: list[RotctldServer] = []
+        self._tasks: set[asyncio.Task[None]] = set()
 
     @classmethod
     def from_config(cls, config: Config, **options: object) -> RotatorManager:
@@ -172,6 +175,10 @@ class RotatorManager:
             )
 
     async def close(self) -> None:
+        for task in list(self._tasks):
+            task.cancel()
+        if self._tasks:
+            await asyncio.wait(self._tasks)
         for listener in self.listeners:
             await listener.close()
         self.listeners = []
@@ -203,18 +210,56 @@ class RotatorManager:
 
     async def rotate(self, rotator_id: object, heading: object) -> None:
         """Turn to compass ``heading``; a heading outside the travel turns to the
-        nearer end.  Raises :class:`RotatorError`."""
+        nearer end.  Returns once the controller took the request.  Raises
+        :class:`RotatorError`."""
+        driver, wanted = self._request(rotator_id, heading)
+        await driver.rotate(wanted)
+
+    async def stop(self, rotator_id: object) -> None:
+        await self.drivers[self._rotator(rotator_id).id].stop()
+
+    def start_rotate(self, rotator_id: object, heading: object) -> None:
+        """``rotate`` for callers that cannot wait (the client protocol's backend):
+        what can be checked at once raises :class:`RotatorError` here; the
+        request then goes on in the background, and a later refusal by the
+        controller is logged."""
+        driver, wanted = self._request(rotator_id, heading)
+        driver.check_ready()
+        if isinstance(driver, ElectricalRotator):
+            driver.turn(wanted)  # selecting antennas waits for nothing: errors come back now
+            return
+        self._background(driver.rotate(wanted), f"turning {driver.name} to {wanted:.0f}")
+
+    def start_stop(self, rotator_id: object) -> None:
+        """``stop`` for callers that cannot wait; see :meth:`start_rotate`."""
+        driver = self.drivers[self._rotator(rotator_id).id]
+        driver.forget_turn()
+        driver.check_ready()
+        self._background(driver.stop(), f"stopping {driver.name}")
+
+    def _request(self, rotator_id: object, heading: object) -> tuple[RotatorDriver, float]:
         rotator = self._rotator(rotator_id)
         if isinstance(heading, bool) or not isinstance(heading, int | float):
             raise RotatorError("bad_request", f"heading must be a number of degrees, "
                                f"not {heading!r}")
         if not math.isfinite(heading):
             raise RotatorError("bad_request", f"heading must be a finite number, not {heading}")
-        await self.drivers[rotator.id].rotate(normalize(float(heading)))
+        return self.drivers[rotator.id], normalize(float(heading))
 
-    async def stop(self, rotator_id: object) -> None:
-        rotator = self._rotator(rotator_id)
-        await self.drivers[rotator.id].stop()
+    def _background(self, work: Coroutine[object, object, None], what: str) -> None:
+        task = asyncio.create_task(work, name=what)
+        self._tasks.add(task)
+        task.add_done_callback(lambda done: self._finished(done, what))
+
+    def _finished(self, task: asyncio.Task[None], what: str) -> None:
+        self._tasks.discard(task)
+        if task.cancelled():
+            return
+        error = task.exception()
+        if isinstance(error, RotatorError):
+            log.warning("%s failed: %s", what, error.message)
+        elif error is not None:
+            log.error("%s failed unexpectedly", what, exc_info=error)
 
     def note_direction(self, rotator_id: int, heading: float) -> None:
         """An Electrical rotator's array now points at ``heading`` (the server

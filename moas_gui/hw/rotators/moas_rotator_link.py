@@ -198,9 +198,16 @@ class SerialRotator(RotatorDriver):
 
     # ---- requests --------------------------------------------------------------------
 
-    async def rotate(self, heading: float) -> None:
+    def check_ready(self) -> None:
         if not self.link.connected:
             raise self._unavailable(f"cannot turn: {self.link.where} is not connected")
+
+    def forget_turn(self) -> None:
+        self.tracker.end()
+        self._publish_now()
+
+    async def rotate(self, heading: float) -> None:
+        self.check_ready()
         end = self.travel.nearest_position(heading, near=self.tracker.position)
         if not self.travel.reaches(heading):
             log.info("%s cannot point at %.0f degrees; turning to the end of its travel (%.0f)",
@@ -213,8 +220,7 @@ class SerialRotator(RotatorDriver):
         self._publish_now()
 
     async def stop(self) -> None:
-        self.tracker.end()
-        self._publish_now()
+        self.forget_turn()
         try:
             await self.link.send(encode_stop(self.rotator.id))
         except (OSError, TimeoutError) as exc:

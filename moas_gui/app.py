@@ -58,6 +58,7 @@ class _Running:
     n1mm: Any = None
     rotators: Any = None
     stopped: bool = False
+    ticker: asyncio.Task[None] | None = None
 
 
 class ServerApp:
@@ -94,13 +95,17 @@ class ServerApp:
         """Where clients connect (host, port), once the client server listens."""
         if self._run is None or self._run.clients is None:
             return None
-        return self._run.clients.address  # type: ignore[no-any-return]
+        host = self.options.bind
+        if host in ("0.0.0.0", "", "::"):
+            host = "127.0.0.1"
+        return host, int(self._run.clients.port)
 
     @property
     def n1mm_address(self) -> tuple[str, int] | None:
-        if self._run is None or self._run.n1mm is None:
+        if self._run is None or self._run.n1mm is None or self._run.n1mm.port is None:
             return None
-        return self._run.n1mm.address  # type: ignore[no-any-return]
+        host = self.options.udp_bind
+        return ("127.0.0.1" if host in ("0.0.0.0", "", "::") else host), int(self._run.n1mm.port)
 
     def emulators(self) -> dict[int, Any]:
         """The in-process emulators of switches whose port is ``"emulator"``."""
@@ -168,11 +173,20 @@ class ServerApp:
         await self._start_n1mm(run)
         await self._start_rotators(run)
         self._update_status()
+        run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
+
+    async def _tick(self, run: _Running) -> None:
+        """Refresh the status (the number of clients) twice a second while ``run`` runs."""
+        while self._run is run:
+            await asyncio.sleep(0.5)
+            self._update_status()
 
     async def _close_running(self) -> None:
         run, self._run = self._run, None
         if run is None:
             return
+        if run.ticker is not None:
+            run.ticker.cancel()
         for part in (run.n1mm, run.clients, run.rotators):
             if part is not None:
                 try:
@@ -193,15 +207,17 @@ class ServerApp:
         states = run.engine.switch_states()
         for switch in run.config.switches:
             run.switch_status[switch.id] = "connecting"
+            extra = {"timing": self.options.switch_timing} if self.options.switch_timing else {}
             link = SwitchLink(
                 switch.id, switch.port, switch.echo,
-                on_status=lambda status, sid=switch.id: self._switch_status(sid, status),
+                on_status=lambda status, sid=switch.id: self._switch_status(sid, status.value),
                 on_tr=lambda port, tx, sid=switch.id: self._switch_tr(sid, port, tx),
-                **({"timing": self.options.switch_timing} if self.options.switch_timing else {}),
+                indicate_tr=switch.indicate_tr,
+                **extra,
             )
             run.links[switch.id] = link
             link.apply(states[switch.id])
-            await link.start()
+            link.connect()
 
     def _switch_status(self, switch_id: int, status: str) -> None:
         run = self._run
@@ -258,7 +274,7 @@ class ServerApp:
         log.info("Switches started")
         self.apply_changes(run.engine.start())
         for link in run.links.values():
-            link.start_switch()
+            link.start()
         self._update_status()
 
     async def save_switch_data(self, path: str | Path) -> Path:
@@ -269,8 +285,12 @@ class ServerApp:
         target = Path(path)
         parts = []
         for switch_id, link in sorted(run.links.items()):
-            parts.append(f"=== Switch {switch_id} ({run.switch_status.get(switch_id)}) ===\n"
-                         f"{await link.save_data()}")
+            part = target.with_name(f".{target.name}.switch{switch_id}")
+            try:
+                await link.save_data(part)
+                parts.append(part.read_text(encoding="utf-8"))
+            finally:
+                part.unlink(missing_ok=True)
         target.write_text("\n".join(parts), encoding="utf-8")
         return target
 
@@ -288,25 +308,26 @@ class ServerApp:
             log.info("%s", line)
         if run.clients is not None:
             for ref in changes.radios:
-                run.clients.publish_radio(run.engine.radio_view(ref.station, ref.radio).to_json())
+                run.clients.publish_radio(run.engine.radio_view(ref.station, ref.radio).to_dict())
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
 
     # -- clients, logger, rotators --------------------------------------------------------
     async def _start_clients(self, run: _Running) -> None:
         from moas_gui.backend import EngineBackend
+        from moas_gui.errors import HardwareError
         from moas_gui.net.server import ClientServer
 
         port = self.options.tcp_port if self.options.tcp_port is not None else run.config.tcp_port
         run.clients = ClientServer(EngineBackend(self), host=self.options.bind, port=port,
-                                   allow=run.config.client_allow,
-                                   on_count=lambda _n: self._update_status())
+                                   allow=run.config.client_allow)
         try:
             await run.clients.start()
-        except OSError as exc:
-            log.error("Clients cannot connect: TCP port %d cannot be opened (%s)", port,
-                      exc.strerror or exc)
+        except HardwareError as exc:
+            log.error("Clients cannot connect: %s", exc)
             run.clients = None
+            return
+        run.clients.publish_state()
 
     async def _start_n1mm(self, run: _Running) -> None:
         if not run.config.use_n1mm_logger:
@@ -314,10 +335,9 @@ class ServerApp:
         from moas_gui.net.n1mm import N1MMListener
 
         port = self.options.udp_port if self.options.udp_port is not None else run.config.udp_port
-        run.n1mm = N1MMListener(run.config.n1mm_logger, self._logger_frequency,
-                                host=self.options.udp_bind, port=port)
+        run.n1mm = N1MMListener.from_config(run.config, self._logger_frequency)
         try:
-            await run.n1mm.start()
+            await run.n1mm.start(port, self.options.udp_bind)
         except OSError as exc:
             log.error("N1MM Logger packets cannot be received: UDP port %d cannot be opened (%s)",
                       port, exc.strerror or exc)
@@ -342,27 +362,30 @@ class ServerApp:
         from moas_gui.hw.rotators.manager import RotatorManager
 
         start = self.options.start_rotator_program
-        run.rotators = RotatorManager(
+        run.rotators = RotatorManager.from_config(
             run.config,
             on_change=self._rotator_changed,
             select_direction=self._select_direction,
-            start_program=run.config.start_moas_rotator if start is None else start,
-            program_port=self.options.rotator_program_port,
+            start_moas_rotator=run.config.start_moas_rotator if start is None else start,
+            moas_rotator_port=self.options.rotator_program_port,
         )
         await run.rotators.start()
+
+    @property
+    def rotator_manager(self) -> Any:
+        return self._run.rotators if self._run else None
 
     def _rotator_changed(self, view: Any) -> None:
         run = self._run
         if run is not None and run.clients is not None:
             run.clients.publish_rotator(view.to_json())
 
-    def _select_direction(self, rotator_id: int, heading: float) -> float | None:
+    def _select_direction(self, rotator_id: int, heading: int) -> None:
         run = self._run
         if run is None:
-            return None
-        changes = run.engine.select_direction(rotator_id, heading)
-        self.apply_changes(changes)
-        return getattr(changes, "heading", heading)
+            return
+        self.apply_changes(run.engine.select_direction(rotator_id, heading,
+                                                       now=asyncio.get_running_loop().time()))
 
     # -- status ----------------------------------------------------------------------------
     def _update_status(self) -> None:

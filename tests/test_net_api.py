@@ -36,6 +36,7 @@ PUBLIC = {
     "moas_gui.net.connection": ["ClientInfo", "Connection", "LayoutKey", "clean_name",
                                 "format_peer"],
     "moas_gui.net.client": ["ConnectionClosed", "ProtocolClient"],
+    "moas_gui.net.dispatch": ["HANDLERS", "MAX_BAD_LINES", "answer"],
     "moas_gui.net.fake_backend": ["FakeBackend"],
     "moas_gui.net.log_events": ["ClientLogHandler", "client_level"],
 }
@@ -47,6 +48,13 @@ def test_public_names_are_exactly_these(module: str) -> None:
     assert sorted(imported.__all__) == sorted(PUBLIC[module])
     for name in imported.__all__:
         assert hasattr(imported, name), f"{module} lists {name} but has no such name"
+
+
+def test_every_command_has_a_handler() -> None:
+    from moas_gui.net.commands import COMMANDS
+    from moas_gui.net.dispatch import HANDLERS
+
+    assert set(HANDLERS) == set(COMMANDS)
 
 
 def test_the_server_is_an_event_sink_and_the_fake_a_backend() -> None:

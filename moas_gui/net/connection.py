@@ -17,7 +17,9 @@ from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
 
+from .backend import ErrorCode
 from .framing import LineSplitter
+from .messages import EncodeError, reply_error, reply_ok
 
 log = logging.getLogger("moas_gui.net")
 
@@ -114,6 +116,25 @@ class Connection:
             self.abort(f"it stopped reading ({pending:,} bytes waiting to be sent)")
             return False
         return True
+
+    def reply(self, request_id: Any, cmd: str, result: Any) -> None:
+        """Queues the reply to a request; a result that is not JSON becomes an
+        ``internal`` error reply and an Error log line."""
+        try:
+            line = reply_ok(request_id, result)
+        except EncodeError as e:
+            log.error("The reply to %s from %s is not JSON: %s", cmd, self, e)
+            self.reply_error(request_id, ErrorCode.INTERNAL, f"the server's reply to {cmd} "
+                             "could not be written; the server's log says why")
+            return
+        self.send(line)
+
+    def reply_error(self, request_id: Any, code: ErrorCode, message: str) -> None:
+        try:
+            line = reply_error(request_id, code, message)
+        except EncodeError:  # the id itself cannot be written back
+            line = reply_error(None, code, message)
+        self.send(line)
 
     def close(self, reason: str) -> None:
         """Closes after what is queued has been sent."""

@@ -7,9 +7,9 @@
     ...                      # the app calls server.publish_radio(entry) etc. after changes
     await server.close()
 
-Each connection is read line by line (:mod:`.framing`), each line read as a
-request (:mod:`.commands`) and answered exactly once, in order; the backend
-(:mod:`.backend`) does the work.  Events are written to every greeted client
+Each connection is read line by line (:mod:`.framing`), and each line is
+answered exactly once, in order (:mod:`.dispatch`, :mod:`.commands`); the
+backend (:mod:`.backend`) does the work.  Events are written to every greeted client
 the moment they are published (:mod:`.connection` explains why a client that
 stops reading cannot hold anyone up).  Peers outside the allowed networks
 (:mod:`.access`) are closed at once.  Every call here runs on the loop's
@@ -25,23 +25,20 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 from moas_gui.errors import HardwareError
 
 from .access import allowed_networks, is_allowed
-from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
-from .commands import BadLine, BadRequest, Request, parse_line
-from .connection import ClientInfo, Connection, LayoutKey, clean_name, format_peer
-from .framing import MAX_LINE, Line, LongLine
-from .messages import EncodeError, event, hello_result, reply_error, reply_ok
+from .backend import ClientBackend, LogLevel, RequestError
+from .connection import ClientInfo, Connection, LayoutKey, format_peer
+from .dispatch import MAX_BAD_LINES, answer
+from .messages import EncodeError, event
 
 log = logging.getLogger("moas_gui.net")
 
 DEFAULT_PORT = 12059
-MAX_BAD_LINES = 3
-"""Bad lines in a row after which a connection is closed."""
 LOG_LEVELS: tuple[LogLevel, ...] = ("error", "info", "debug")
 _READ_CHUNK = 65_536
 
@@ -77,17 +74,6 @@ class ClientServer:
         self._connections: dict[Connection, None] = {}
         self._tasks: set[asyncio.Task[Any]] = set()
         self._layout_refresh: asyncio.Handle | None = None
-        self._handlers: dict[str, Callable[[Connection, Request], None]] = {
-            "hello": self._hello,
-            "state": self._state,
-            "frequency": self._frequency,
-            "select": self._select,
-            "function": self._function,
-            "relative": self._relative,
-            "layout": self._layout,
-            "rotate": self._rotate,
-            "stop": self._stop,
-        }
 
     # ---- life -----------------------------------------------------------------------
 
@@ -254,7 +240,7 @@ class ClientServer:
                 if not data:
                     break
                 for item in conn.splitter.feed(data):
-                    self._take(conn, item)
+                    answer(self.backend, conn, item)
                     if conn.closed:
                         break
                 await asyncio.sleep(0)  # a client sending a flood must not starve the others
@@ -273,121 +259,6 @@ class ClientServer:
                 writer.close()
             with contextlib.suppress(Exception):
                 await writer.wait_closed()
-
-    def _take(self, conn: Connection, item: Line | LongLine) -> None:
-        """Answers one line."""
-        if isinstance(item, LongLine):
-            parsed: Request | BadRequest | BadLine | None = BadLine(
-                f"the line is longer than {MAX_LINE:,} bytes"
-            )
-        else:
-            parsed = parse_line(item.data)
-        if parsed is None:
-            return
-        if isinstance(parsed, BadLine):
-            conn.bad_lines += 1
-            log.debug("Bad line from %s: %s", conn, parsed.message)
-            conn.send(reply_error(None, ErrorCode.BAD_REQUEST, parsed.message))
-            if conn.bad_lines >= MAX_BAD_LINES:
-                conn.close(f"{MAX_BAD_LINES} bad lines in a row")
-            return
-        conn.bad_lines = 0
-        if isinstance(parsed, BadRequest):
-            log.debug("Refused a request from %s: %s", conn, parsed.message)
-            self._reply_error(conn, parsed.id, parsed.code, parsed.message)
-            return
-        try:
-            self._handlers[parsed.cmd](conn, parsed)
-        except RequestError as e:
-            log.debug("Refused %s from %s: %s", parsed.cmd, conn, e.message)
-            self._reply_error(conn, parsed.id, e.code, e.message)
-        except Exception as e:
-            log.exception("The server failed on %s from %s", parsed.cmd, conn)
-            self._reply_error(
-                conn, parsed.id, ErrorCode.INTERNAL,
-                f"the server failed on {parsed.cmd}: {type(e).__name__}: {e}",
-            )
-
-    def _reply(self, conn: Connection, request: Request, result: Any) -> None:
-        try:
-            line = reply_ok(request.id, result)
-        except EncodeError as e:
-            log.error("The reply to %s from %s is not JSON: %s", request.cmd, conn, e)
-            self._reply_error(
-                conn, request.id, ErrorCode.INTERNAL, f"the server's reply to {request.cmd} "
-                "could not be written; the server's log says why",
-            )
-            return
-        conn.send(line)
-
-    def _reply_error(self, conn: Connection, request_id: Any, code: ErrorCode, text: str) -> None:
-        try:
-            line = reply_error(request_id, code, text)
-        except EncodeError:  # the id itself cannot be written back
-            line = reply_error(None, code, text)
-        conn.send(line)
-
-    # ---- commands -------------------------------------------------------------------
-
-    def _hello(self, conn: Connection, request: Request) -> None:
-        args = request.args
-        conn.name = clean_name(args["client"])
-        conn.station, conn.radio = args["station"], args["radio"]
-        conn.wants_log = args["log"]
-        serves = ""
-        if conn.station is not None:
-            serves = f" for station {conn.station}" + (
-                f" radio {conn.radio}" if conn.radio is not None else ""
-            )
-        log.info("Client at %s is \"%s\"%s", conn.address, conn.name, serves)
-        self._reply(conn, request, hello_result())
-        conn.greeted = True
-        try:
-            line = event("state", self.backend.snapshot())
-        except RequestError as e:
-            log.debug("No state event for %s yet: %s", conn, e.message)
-            return
-        conn.send(line)
-
-    def _state(self, conn: Connection, request: Request) -> None:
-        self._reply(conn, request, self.backend.snapshot())
-
-    def _frequency(self, conn: Connection, request: Request) -> None:
-        a = request.args
-        self.backend.frequency(a["station"], a["radio"], a["khz"], a["tx_khz"])
-        self._reply(conn, request, {})
-
-    def _select(self, conn: Connection, request: Request) -> None:
-        a = request.args
-        result = self.backend.select(
-            a["station"], a["radio"], a["antenna"], a["target"], a["exclusive"]
-        )
-        self._reply(conn, request, result)
-
-    def _function(self, conn: Connection, request: Request) -> None:
-        a = request.args
-        self.backend.function(a["station"], a["radio"], a["function"])
-        self._reply(conn, request, {})
-
-    def _relative(self, conn: Connection, request: Request) -> None:
-        a = request.args
-        result = self.backend.relative(a["station"], a["radio"], a["step"], a["index"])
-        self._reply(conn, request, result)
-
-    def _layout(self, conn: Connection, request: Request) -> None:
-        a = request.args
-        key: LayoutKey = (a["station"], a["radio"], a["rows"], a["columns"])
-        layout = self.backend.layout(*key)
-        conn.follow(key, layout)
-        self._reply(conn, request, layout)
-
-    def _rotate(self, conn: Connection, request: Request) -> None:
-        self.backend.rotate(request.args["rotator"], request.args["heading"])
-        self._reply(conn, request, {})
-
-    def _stop(self, conn: Connection, request: Request) -> None:
-        self.backend.stop(request.args["rotator"])
-        self._reply(conn, request, {})
 
 
 def _who(conn: Connection) -> str:

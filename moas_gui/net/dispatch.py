@@ -1,0 +1,145 @@
+"""Answering one line of one connection: the bad-line rule, then the command.
+
+:func:`answer` takes what :mod:`.framing` split off and replies exactly once
+(a blank line excepted), calling the backend for the work.  A refusal by the
+backend (:class:`~.backend.RequestError`) becomes an error reply with its code
+and sentence; any other failure becomes an ``internal`` error reply and an
+Error log line with the traceback, and the connection carries on.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from typing import Any
+
+from .backend import ClientBackend, ErrorCode, RequestError
+from .commands import BadLine, BadRequest, Request, parse_line
+from .connection import Connection, LayoutKey, clean_name
+from .framing import MAX_LINE, Line, LongLine
+from .messages import event, hello_result
+
+log = logging.getLogger("moas_gui.net")
+
+MAX_BAD_LINES = 3
+"""Bad lines in a row after which a connection is closed."""
+
+
+def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> None:
+    """Answers one line."""
+    if isinstance(item, LongLine):
+        parsed: Request | BadRequest | BadLine | None = BadLine(
+            f"the line is longer than {MAX_LINE:,} bytes"
+        )
+    else:
+        parsed = parse_line(item.data)
+    if parsed is None:
+        return
+    if isinstance(parsed, BadLine):
+        conn.bad_lines += 1
+        log.debug("Bad line from %s: %s", conn, parsed.message)
+        conn.reply_error(None, ErrorCode.BAD_REQUEST, parsed.message)
+        if conn.bad_lines >= MAX_BAD_LINES:
+            conn.close(f"{MAX_BAD_LINES} bad lines in a row")
+        return
+    conn.bad_lines = 0
+    if isinstance(parsed, BadRequest):
+        log.debug("Refused a request from %s: %s", conn, parsed.message)
+        conn.reply_error(parsed.id, parsed.code, parsed.message)
+        return
+    try:
+        HANDLERS[parsed.cmd](backend, conn, parsed)
+    except RequestError as e:
+        log.debug("Refused %s from %s: %s", parsed.cmd, conn, e.message)
+        conn.reply_error(parsed.id, e.code, e.message)
+    except Exception as e:
+        log.exception("The server failed on %s from %s", parsed.cmd, conn)
+        conn.reply_error(
+            parsed.id, ErrorCode.INTERNAL,
+            f"the server failed on {parsed.cmd}: {type(e).__name__}: {e}",
+        )
+
+
+def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    args = request.args
+    conn.name = clean_name(args["client"])
+    conn.station, conn.radio = args["station"], args["radio"]
+    conn.wants_log = args["log"]
+    serves = ""
+    if conn.station is not None:
+        serves = f" for station {conn.station}" + (
+            f" radio {conn.radio}" if conn.radio is not None else ""
+        )
+    log.info('Client at %s is "%s"%s', conn.address, conn.name, serves)
+    conn.reply(request.id, request.cmd, hello_result())
+    conn.greeted = True
+    try:
+        line = event("state", backend.snapshot())
+    except RequestError as e:
+        log.debug("No state event for %s yet: %s", conn, e.message)
+        return
+    conn.send(line)
+
+
+def _state(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    conn.reply(request.id, request.cmd, backend.snapshot())
+
+
+def _frequency(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    a = request.args
+    backend.frequency(a["station"], a["radio"], a["khz"], a["tx_khz"])
+    conn.reply(request.id, request.cmd, {})
+
+
+def _select(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    a = request.args
+    result = backend.select(a["station"], a["radio"], a["antenna"], a["target"], a["exclusive"])
+    conn.reply(request.id, request.cmd, result)
+
+
+def _function(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    a = request.args
+    backend.function(a["station"], a["radio"], a["function"])
+    conn.reply(request.id, request.cmd, {})
+
+
+def _relative(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    a = request.args
+    result = backend.relative(a["station"], a["radio"], a["step"], a["index"])
+    conn.reply(request.id, request.cmd, result)
+
+
+def _layout(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    a = request.args
+    key: LayoutKey = (a["station"], a["radio"], a["rows"], a["columns"])
+    layout = backend.layout(*key)
+    conn.follow(key, layout)
+    conn.reply(request.id, request.cmd, layout)
+
+
+def _rotate(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    backend.rotate(request.args["rotator"], request.args["heading"])
+    conn.reply(request.id, request.cmd, {})
+
+
+def _stop(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    backend.stop(request.args["rotator"])
+    conn.reply(request.id, request.cmd, {})
+
+
+Handler = Callable[[ClientBackend, Connection, Request], Any]
+
+HANDLERS: dict[str, Handler] = {
+    "hello": _hello,
+    "state": _state,
+    "frequency": _frequency,
+    "select": _select,
+    "function": _function,
+    "relative": _relative,
+    "layout": _layout,
+    "rotate": _rotate,
+    "stop": _stop,
+}
+
+
+__all__ = ["HANDLERS", "MAX_BAD_LINES", "answer"]

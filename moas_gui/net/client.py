@@ -24,7 +24,7 @@ import json
 import logging
 from typing import Any
 
-from .backend import JSONObject, RequestError
+from .backend import ErrorCode, JSONObject, RequestError
 from .framing import Line, LineSplitter
 from .messages import encode
 
@@ -78,7 +78,10 @@ class ProtocolClient:
         if reply.get("ok"):
             return reply.get("result")
         error = reply.get("error") or {}
-        raise RequestError(error.get("code", "internal"), str(error.get("message", "")))
+        code, message = str(error.get("code", "internal")), str(error.get("message", ""))
+        if code not in {c.value for c in ErrorCode}:  # a code from a later protocol version
+            code, message = ErrorCode.INTERNAL, f"{code}: {message}"
+        raise RequestError(code, message)
 
     # ---- receiving ------------------------------------------------------------------
 

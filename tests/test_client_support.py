@@ -31,7 +31,12 @@ LOOPBACK = "127.0.0.1"
 
 
 def run_on_qt(qapp: Any, coro: Coroutine[Any, Any, T], timeout: float = 30.0) -> T:
-    """Runs ``coro`` to its end on a fresh qasync loop (failing after ``timeout``)."""
+    """Runs ``coro`` to its end on a fresh qasync loop (failing after ``timeout``).
+
+    Closing the last window would make Qt quit and stop the loop under the
+    coroutine, so that is switched off while it runs."""
+    quit_on_close = qapp.quitOnLastWindowClosed()
+    qapp.setQuitOnLastWindowClosed(False)
     loop = qasync.QEventLoop(qapp)
     asyncio.set_event_loop(loop)
     try:
@@ -45,6 +50,7 @@ def run_on_qt(qapp: Any, coro: Coroutine[Any, Any, T], timeout: float = 30.0) ->
         loop.run_until_complete(loop.shutdown_asyncgens())
         asyncio.set_event_loop(None)
         loop.close()
+        qapp.setQuitOnLastWindowClosed(quit_on_close)
 
 
 async def until(condition: Callable[[], object], timeout: float = 5.0,

@@ -40,6 +40,7 @@ from moas_gui.client.events import (
 )
 from moas_gui.client.model import ButtonType, ButtonView, LayoutView, RadioView, Snapshot
 
+from .binding_guard import guard_none_refcount
 from .button_grid import ButtonGrid
 from .client_style import CLIENT_STYLESHEET, Colours
 from .compass import CompassPanel, compass_targets
@@ -105,6 +106,7 @@ class ClientWindow(QMainWindow):
     def __init__(self, connection: ClientConnection, *, station: int | None = None,
                  radio: int | None = None, rows: int = 4, columns: int = 3,
                  parent: QWidget | None = None) -> None:
+        guard_none_refcount()
         super().__init__(parent)
         self.connection = connection
         self.snapshot: Snapshot | None = None
@@ -115,6 +117,8 @@ class ClientWindow(QMainWindow):
         self._layout_shape: tuple[int, int] | None = None
         self._tasks: set[asyncio.Task[Any]] = set()
         self._closed = False
+        self._stations: list[int] = []
+        self._radios: list[int] = []
         self.link_state = connection.link
 
         self.setWindowTitle(f"MOAS Client \u2013 {connection.address}")
@@ -280,15 +284,16 @@ class ClientWindow(QMainWindow):
         super().closeEvent(event)
         self.closed.emit()
 
+    # The numbers behind the combo boxes are kept here, not as item data:
+    # PySide6 6.12's QComboBox.currentData() loses a reference to None each time
+    # it returns None, which ends in a crash when Python exits.
     @property
     def station(self) -> int | None:
-        data = self.station_box.currentData()
-        return data if isinstance(data, int) else None
+        return _at(self._stations, self.station_box.currentIndex())
 
     @property
     def radio(self) -> int | None:
-        data = self.radio_box.currentData()
-        return data if isinstance(data, int) else None
+        return _at(self._radios, self.radio_box.currentIndex())
 
     @property
     def radio_view(self) -> RadioView | None:
@@ -361,10 +366,11 @@ class ClientWindow(QMainWindow):
         keep_station = self.station if self.station is not None else self._wanted_radio[0]
         self.station_box.blockSignals(True)
         self.station_box.clear()
-        for station in snapshot.stations:
-            self.station_box.addItem(f"{station}", station)
-        index = self.station_box.findData(keep_station)
-        self.station_box.setCurrentIndex(max(index, 0))
+        self._stations = list(snapshot.stations)
+        for station in self._stations:
+            self.station_box.addItem(f"{station}")
+        index = _index_of(self._stations, keep_station)
+        self.station_box.setCurrentIndex(index if self._stations else -1)
         self.station_box.blockSignals(False)
         self._fill_radios()
         self._set_usable(self.connection.link is LinkState.CONNECTED)
@@ -376,11 +382,13 @@ class ClientWindow(QMainWindow):
         keep_radio = self.radio if self.radio is not None else self._wanted_radio[1]
         self.radio_box.blockSignals(True)
         self.radio_box.clear()
+        self._radios = []
         if self.snapshot is not None and self.station is not None:
-            for radio in self.snapshot.radios_of(self.station):
-                self.radio_box.addItem(f"{radio}", radio)
-        index = self.radio_box.findData(keep_radio)
-        self.radio_box.setCurrentIndex(max(index, 0))
+            self._radios = list(self.snapshot.radios_of(self.station))
+            for radio in self._radios:
+                self.radio_box.addItem(f"{radio}")
+        index = _index_of(self._radios, keep_radio)
+        self.radio_box.setCurrentIndex(index if self._radios else -1)
         self.radio_box.blockSignals(False)
         self._radio_chosen()
 
@@ -427,10 +435,10 @@ class ClientWindow(QMainWindow):
                 antenna = snapshot.antenna(antenna_id)
                 mark = "\u2714 " if antenna_id == radio.tx else ""
                 name = antenna.name if antenna else f"Antenna {antenna_id}"
-                self.relative_box.addItem(f"{mark}{index + 1}. {name}", index)
+                self.relative_box.addItem(f"{mark}{index + 1}. {name}")
         else:
             for index in range(8):
-                self.relative_box.addItem(f"Position {index + 1}", index)
+                self.relative_box.addItem(f"Position {index + 1}")
         self.relative_box.setCurrentIndex(max(0, min(before, self.relative_box.count() - 1)))
         self.relative_box.blockSignals(False)
 
@@ -562,3 +570,11 @@ def _frequency_text(radio: RadioView) -> str:
     if radio.tx_khz is not None and radio.tx_khz != radio.khz:
         return f"RX {radio.khz:.1f}  TX {radio.tx_khz:.1f} kHz"
     return f"{radio.khz:.1f} kHz"
+
+
+def _at(items: list[int], index: int) -> int | None:
+    return items[index] if 0 <= index < len(items) else None
+
+
+def _index_of(items: list[int], wanted: int | None) -> int:
+    return items.index(wanted) if wanted in items else 0

@@ -631,3 +631,28 @@ async def test_a_port_in_use_is_reported_with_its_number(rig: Rig) -> None:
     await second.close()
     client = await rig.connect("still served")
     assert await client.request("stop", rotator=1) == {}
+
+
+@pytest.mark.asyncio
+async def test_closing_does_not_wait_for_a_client_that_never_reads(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    caplog.set_level(logging.INFO, logger="moas_gui.net")
+    rig = await make_rig(max_pending=64 * 1024 * 1024)
+    rig.server.close_grace = 0.2
+    stuck = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    try:
+        stuck.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        stuck.setblocking(False)
+        await asyncio.get_running_loop().sock_connect(stuck, (HOST, rig.server.port))
+        stuck.send(b'{"id": 1, "cmd": "hello", "client": "stuck", "log": true}\n')
+        await until(lambda: any(i.name == "stuck" for i in rig.server.clients()))
+        for number in range(2000):  # 8 MB: more than the kernel's buffers hold
+            rig.server.publish_log("info", f"{number} " + "x" * 4000)
+        await asyncio.wait_for(rig.server.close(), 10)
+        assert rig.server.client_count == 0
+        assert any('"stuck"' in r.getMessage() and "the server is closing" in r.getMessage()
+                   for r in caplog.records)
+    finally:
+        stuck.close()
+        await dispose(rig)

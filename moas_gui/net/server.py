@@ -23,7 +23,6 @@ refused request at Debug; a backend failure at Error with its traceback.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 from collections.abc import Iterable, Mapping
 from typing import Any
@@ -50,8 +49,13 @@ class ClientServer:
     may stay); tests give ``"127.0.0.1"`` and port 0.  ``allow`` is the
     configuration's ``ClientAllow`` (``None``: loopback and private networks).
     ``max_pending`` bounds each client's outgoing queue in bytes;
-    ``max_layouts`` bounds the layouts one connection follows.
+    ``max_layouts`` bounds the layouts one connection follows.  With ``host``
+    ``None`` and port 0 each address family would get a port of its own: give
+    a port, or a host, then.
     """
+
+    close_grace = 2.0
+    """Seconds a closing connection may take to send what is queued."""
 
     def __init__(
         self,
@@ -106,7 +110,7 @@ class ClientServer:
             self._layout_refresh = None
         tasks = tuple(self._tasks)
         if tasks:
-            _done, pending = await asyncio.wait(tasks, timeout=1.0)
+            _done, pending = await asyncio.wait(tasks, timeout=self.close_grace + 1.0)
             for task in pending:
                 task.cancel()
             await asyncio.gather(*pending, return_exceptions=True)
@@ -257,8 +261,17 @@ class ClientServer:
             log.info("Client %s %s", _who(conn), how)
             if not conn.closed:
                 writer.close()
-            with contextlib.suppress(Exception):
+            await self._closed(writer)
+
+    async def _closed(self, writer: asyncio.StreamWriter) -> None:
+        """Waits for what is queued to be sent, but not for a peer that never reads."""
+        try:
+            async with asyncio.timeout(self.close_grace):
                 await writer.wait_closed()
+        except TimeoutError:
+            writer.transport.abort()
+        except Exception:  # noqa: BLE001 - the connection is gone either way
+            log.debug("Closing a client connection: the transport reported an error")
 
 
 def _who(conn: Connection) -> str:

@@ -103,6 +103,14 @@ def test_the_controller_side_reads_commands_by_length() -> None:
     assert isinstance(out[4], Garbage)
 
 
+@given(st.binary(max_size=200))
+def test_the_controller_side_survives_any_bytes(data: bytes) -> None:
+    decoder = CommandDecoder()
+    decoder.feed(data)
+    out = decoder.feed(b"h" * 22 + b"|h")  # 22 bytes complete any command left pending
+    assert out[-1] == Command("h", raw=b"|h")
+
+
 # ---- the emulator's model ------------------------------------------------------------------
 
 def test_model_turns_at_its_speed_and_reports_target_and_direction() -> None:

@@ -10,6 +10,8 @@ from collections.abc import AsyncIterator
 
 import pytest
 import pytest_asyncio
+from hypothesis import given
+from hypothesis import strategies as st
 from test_rotators_manager import Recorder
 
 from moas_gui.engine.config.model import Rotator, RotatorControl
@@ -68,6 +70,14 @@ def test_a_flood_without_commands_is_dropped_and_flagged() -> None:
     parser.feed(b"\\" + b"x" * 5000)
     assert parser.overflowed
     assert parser.feed(b"\np\n") == [Request("get_pos")]
+
+
+@given(st.binary(max_size=300))
+def test_the_parser_survives_any_bytes(data: bytes) -> None:
+    parser = RequestParser()
+    parser.feed(data)
+    parser.feed(b"\n# resync\n")
+    assert parser.feed(b"\np\n")[-1] == Request("get_pos")
 
 
 def test_default_and_extended_answers_match_rotctld() -> None:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import ipaddress
 
+from .ascii import is_digits
+
 LOCAL_NAMES = frozenset({"localhost", "localhost.localdomain"})
 
 
@@ -31,7 +33,7 @@ def split_address(address: str, default_port: int) -> tuple[str, int]:
         raise ValueError(f"the Address {address!r} has no usable host name")
     if not port_text:
         return host, default_port
-    if not port_text.isdigit() or not 0 < int(port_text) < 65536:
+    if not is_digits(port_text) or not 0 < int(port_text) < 65536:
         raise ValueError(f"the port in the Address {address!r} must be a number 1-65535")
     return host, int(port_text)
 

@@ -27,6 +27,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .ascii import is_digits
+
 NO_VALUE = 999
 BLOCK = 34
 STATUS_LENGTH = 4 + 2 * BLOCK
@@ -146,7 +148,7 @@ class ReplyDecoder:
             if len(buf) < 6:
                 return None
             digits, status = bytes(buf[2:5]).decode("latin-1"), buf[5]
-            if status in STATUS_OK and digits.strip().isdigit():
+            if status in STATUS_OK and is_digits(digits.strip()):
                 return 6, Reply("A", status == ord("K"), int(digits))
             return self._skip("a |A reply must end in K or F")
         if kind in "ASPMc":
@@ -182,7 +184,7 @@ def decode_block(block: bytes, rotor: int) -> RotorBlock:
     def number(first: int, last: int, what: str) -> int:
         field = text[first:last + 1].strip()
         body = field[1:] if field[:1] == "-" else field
-        if not body.isdigit():
+        if not is_digits(body):
             raise ValueError(f"{where}: {what} {text[first:last + 1]!r} is not a number")
         return int(field)
 
@@ -258,7 +260,7 @@ def _command(kind: str, raw: bytes) -> Command | Garbage:
         return Garbage(raw, f"|{kind} names rotator {chr(raw[2])!r}, not 1 or 2")
     if kind == "A":
         digits = raw[3:6].decode("latin-1").strip()
-        if not digits.isdigit():
+        if not is_digits(digits):
             return Garbage(raw, "|A needs a 3-digit azimuth")
         return Command(kind, rotor, int(digits), raw)
     return Command(kind, rotor, raw=raw)

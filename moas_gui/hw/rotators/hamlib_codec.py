@@ -12,6 +12,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .ascii import is_digits
+
 HAMLIB_PORT = 4533
 
 ERROR_NAMES = {
@@ -83,7 +85,7 @@ class ReplyAssembler:
             code_text = line[4:].strip()
             lines, self._lines = self._lines, []
             body = code_text[1:] if code_text[:1] == "-" else code_text
-            code = int(code_text) if body.isdigit() else -8
+            code = int(code_text) if is_digits(body) else -8
             header = lines[0].rstrip(":") if lines else ""
             return ExtendedReply(header, tuple(_record(text) for text in lines[1:]), code)
         if line:

@@ -30,6 +30,8 @@ import math
 from dataclasses import dataclass
 from enum import Enum
 
+from .ascii import is_digits
+
 MAX_LINE = 256
 """A line longer than this (bytes, without terminator) is thrown away."""
 
@@ -62,7 +64,7 @@ def model_field(model: str) -> tuple[str, Scale]:
     text = model.strip()
     if not text:
         raise ValueError(f"Model is missing (one of {', '.join(MODEL_NUMBERS)})")
-    if text.isdigit():
+    if is_digits(text):
         number = int(text)
         return str(number), SCALES.get(number, Scale.FROM_CCW_STOP)
     wanted = _squash(text)
@@ -253,7 +255,7 @@ def encode_heading(rotator: int, degrees: float) -> bytes:
 
 def _is_int(text: str) -> bool:
     body = text[1:] if text[:1] == "-" else text
-    return body.isdigit()
+    return is_digits(body)
 
 
 def _number(text: str) -> float | None:

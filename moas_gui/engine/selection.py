@@ -213,7 +213,7 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
             continue
         if unusable(ix, st, info, a, khz, "rx", nearest=True) is not None:
             continue
-        if plan(ix, st, ref, a, takeover=False)[0] is None:
+        if plan(ix, st, ref, a, takeover=False, repath=False)[0] is None:
             continue
         best, best_d = a, d
     if best is None:

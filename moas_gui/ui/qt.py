@@ -11,7 +11,8 @@ from PySide6.QtCore import (
 )
 from PySide6.QtGui import (
     QAction, QActionGroup, QBrush, QCloseEvent, QColor, QDesktopServices, QFont,
-    QFontDatabase, QIcon, QMouseEvent, QPainter, QPainterPath, QPaintEvent, QPen, QPixmap,
+    QFontDatabase, QIcon, QMouseEvent, QPainter, QPainterPath, QPaintEvent, QPalette, QPen,
+    QPixmap,
     QTextCursor,
 )
 from PySide6.QtWidgets import (
@@ -28,7 +29,8 @@ __all__ = [
     "QCloseEvent", "QColor", "QComboBox", "QDesktopServices", "QDialog", "QDialogButtonBox",
     "QDoubleSpinBox", "QFileDialog", "QFont", "QFontDatabase", "QFrame", "QGridLayout",
     "QGroupBox", "QHBoxLayout", "QIcon", "QLabel", "QLineEdit", "QMainWindow", "QMenu",
-    "QMessageBox", "QMouseEvent", "QObject", "QPaintEvent", "QPainter", "QPainterPath", "QPen",
+    "QMessageBox", "QMouseEvent", "QObject", "QPaintEvent", "QPainter", "QPainterPath",
+    "QPalette", "QPen",
     "QPixmap", "QPlainTextEdit", "QPoint", "QPointF", "QPushButton", "QRectF", "QSettings",
     "QSize", "QSizePolicy", "QSpinBox", "QStatusBar", "QSystemTrayIcon", "QTextCursor",
     "QTimer", "QToolButton", "QUrl", "QVBoxLayout", "QWidget", "Qt", "Signal",

@@ -65,7 +65,8 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
     from moas_gui.ui.client_window import ClientWindow
     from moas_gui.ui.qt import QApplication
 
-    qt_app = QApplication.instance() or QApplication([sys.argv[0]])
+    existing = QApplication.instance()
+    qt_app = existing if isinstance(existing, QApplication) else QApplication([sys.argv[0]])
     # The window's own closed signal ends the program; Qt's quit would stop the loop early.
     qt_app.setQuitOnLastWindowClosed(False)
     loop = qasync.QEventLoop(qt_app)

@@ -17,9 +17,9 @@ antennas.
 
 from __future__ import annotations
 
-from .qt import QColor
+from .qt import QColor, QPalette
 
-__all__ = ["CLIENT_STYLESHEET", "Colours"]
+__all__ = ["CLIENT_STYLESHEET", "Colours", "dark_palette"]
 
 
 class Colours:
@@ -62,8 +62,7 @@ class Colours:
 
 
 CLIENT_STYLESHEET = """
-QWidget#clientRoot, QMainWindow { background: #101418; color: #eef3f6; }
-QWidget { color: #eef3f6; font-size: 11pt; }
+QWidget#clientRoot, QMainWindow { background: #101418; }
 QLabel#display { font-size: 15pt; font-weight: bold; padding: 6px 10px;
                  background: #1b2228; border: 1px solid #34414b; border-radius: 6px; }
 QLabel#link { font-size: 11pt; font-weight: bold; padding: 3px 8px; border-radius: 4px; }
@@ -72,13 +71,12 @@ QLabel#badgeTx { background: #e53935; color: white; font-weight: bold; font-size
 QLabel#badgeInhibit { background: #ff6d00; color: black; font-weight: bold; font-size: 12pt;
                       padding: 3px 10px; border-radius: 4px; }
 QLabel#heading { font-size: 16pt; font-weight: bold; }
-QGroupBox { border: 1px solid #34414b; border-radius: 6px; margin-top: 14px; padding: 6px;
+QLabel { color: #eef3f6; font-size: 11pt; }
+QCheckBox { color: #eef3f6; font-size: 11pt; }
+QGroupBox { color: #eef3f6; font-size: 11pt; border: 1px solid #34414b; border-radius: 6px; margin-top: 14px; padding: 6px;
             font-weight: bold; }
 QGroupBox::title { subcontrol-origin: margin; left: 10px; padding: 0 4px; color: #9fb1bd; }
-QComboBox, QSpinBox, QDoubleSpinBox { background: #1b2228; border: 1px solid #4a5a66;
-            border-radius: 4px; padding: 3px 6px; min-height: 24px; }
-QComboBox QAbstractItemView { background: #1b2228; selection-background-color: #2d4a63; }
-QPushButton { background: #26323b; border: 1px solid #5d7180; border-radius: 5px;
+QPushButton { color: #eef3f6; font-size: 11pt; background: #26323b; border: 1px solid #5d7180; border-radius: 5px;
               padding: 5px 12px; min-height: 24px; font-weight: bold; }
 QPushButton:hover { border-color: #9fb1bd; }
 QPushButton:pressed { background: #3b4b57; }
@@ -90,3 +88,22 @@ QPushButton#stop:disabled { background: #2a2022; color: #6d5f60; border-color: #
 QCheckBox { spacing: 6px; }
 QStatusBar { background: #1b2228; color: #ffab91; font-weight: bold; }
 """
+
+
+def dark_palette(base: QPalette) -> QPalette:
+    """``base`` turned dark, for the widgets the style sheet leaves to the style
+    (combo boxes and spin boxes keep their own arrows this way)."""
+    palette = QPalette(base)
+    roles = QPalette.ColorRole
+    for role, colour in (
+        (roles.Window, Colours.WINDOW), (roles.WindowText, Colours.TEXT),
+        (roles.Base, Colours.PANEL), (roles.AlternateBase, QColor("#222b32")),
+        (roles.Text, Colours.TEXT), (roles.Button, QColor("#26323b")),
+        (roles.ButtonText, Colours.TEXT), (roles.Highlight, Colours.AVAILABLE),
+        (roles.HighlightedText, QColor("#ffffff")), (roles.ToolTipBase, Colours.PANEL),
+        (roles.ToolTipText, Colours.TEXT), (roles.PlaceholderText, Colours.DIM_TEXT),
+    ):
+        palette.setColor(role, colour)
+    for role in (roles.Text, roles.WindowText, roles.ButtonText):
+        palette.setColor(QPalette.ColorGroup.Disabled, role, Colours.DIM_TEXT)
+    return palette

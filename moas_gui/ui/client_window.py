@@ -42,7 +42,7 @@ from moas_gui.client.model import ButtonType, ButtonView, LayoutView, RadioView,
 
 from .binding_guard import guard_none_refcount
 from .button_grid import ButtonGrid
-from .client_style import CLIENT_STYLESHEET, Colours
+from .client_style import CLIENT_STYLESHEET, Colours, dark_palette
 from .compass import CompassPanel, compass_targets
 from .qt import (
     QButtonGroup,
@@ -122,8 +122,10 @@ class ClientWindow(QMainWindow):
         self.link_state = connection.link
 
         self.setWindowTitle(f"MOAS Client \u2013 {connection.address}")
+        self.setPalette(dark_palette(self.palette()))
         self.setStyleSheet(CLIENT_STYLESHEET)
         self._build(rows, columns)
+        self._darken_inputs()
         self._show_link(connection.link, "")
         self._unsubscribe = connection.subscribe(self._on_event)
         self.resize(1040, 660)
@@ -225,6 +227,19 @@ class ClientWindow(QMainWindow):
         self.compass_panel.rotate_requested.connect(self._rotate)
         self.compass_panel.stop_requested.connect(self._stop)
         self._set_usable(False)
+
+    def _darken_inputs(self) -> None:
+        """Combo and spin boxes are drawn by the style (so they keep their arrows):
+        they get the dark palette and a larger font one by one."""
+        palette = dark_palette(self.palette())
+        for widget in (self.station_box, self.radio_box, self.rows_box, self.columns_box,
+                       self.relative_box, self.khz_box, self.tx_khz_box,
+                       self.compass_panel.chooser):
+            widget.setPalette(palette)
+            font = widget.font()
+            font.setPointSizeF(max(font.pointSizeF(), 11.0))
+            widget.setFont(font)
+            widget.setMinimumHeight(30)
 
     def _build_relative(self, parent: QWidget) -> QGroupBox:
         box = QGroupBox("Relative", parent)

@@ -189,6 +189,9 @@ def test_presses_while_the_switches_are_stopped_are_refused() -> None:
     assert all(not s.active for s in changes.switches.values())
     with pytest.raises(NotRunning):
         e.select(1, 1, 3)
+    e.set_frequency(1, 1, 7025)               # reports are still taken while stopped
+    assert pair(e, 1, 1) == (1, 1)
+    e.set_frequency(1, 1, 14025)
     e.start()
     e.select(1, 1, 3)
     assert pair(e, 1, 1) == (3, 3)

@@ -163,7 +163,7 @@ class Engine:
 
         def op(w: Work) -> None:
             self._frequency(w, ref, khz, None if tx == khz else tx)
-        return self._run(op, now)
+        return self._run(op, now, need_running=False)
 
     def set_transmitting(self, switch_id: int, port: int, transmitting: bool,
                          now: float | None = None) -> Changes:

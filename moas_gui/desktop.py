@@ -103,7 +103,7 @@ def desktop_entry(command: Sequence[str]) -> str:
     return "\n".join([
         "[Desktop Entry]",
         "Type=Application",
-        "Version=1.5",
+        "Version=1.4",
         "Name=MOAS Server",
         "GenericName=Antenna Switch Server",
         "Comment=Drive YCCC MOAS II antenna switches from a .moas configuration",

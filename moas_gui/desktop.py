@@ -197,10 +197,16 @@ def _refresh_linux(data: Path, run: Runner, which: Callable[[str], str | None]) 
 def uninstall_linux(data: Path, config: Path, run: Runner = run_tool,
                     which: Callable[[str], str | None] = shutil.which) -> list[str]:
     done: list[str] = []
+    icons = 0
     for path in linux_files([], data):
         if path.exists():
             path.unlink()
-            done.append(f"removed {path}")
+            if path.suffix in (".png", ".svg"):
+                icons += 1
+            else:
+                done.append(f"removed {path}")
+    if icons:
+        done.append(f"removed {icons} icons from {data / 'icons' / 'hicolor'}")
     mimeapps = config / "mimeapps.list"
     if mimeapps.exists() and _forget_default(mimeapps):
         done.append(f"removed the .moas association from {mimeapps}")

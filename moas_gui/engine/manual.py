@@ -134,6 +134,10 @@ def _shared_press(w: Work, ref: RadioRef, c: int, role: str) -> bool:
         on_rx = ors.rx is not None and shared_member(ix, st, ors.rx) == system
         why = unusable(ix, st, oinfo, c, ors.khz, "both" if on_tx and on_rx else
                        "tx" if on_tx else "rx")
+        if why is None and on_tx != on_rx:
+            keep = ors.rx if on_tx else ors.tx
+            if keep is not None and not ix.is_fast(c, keep):
+                why = f"the change between {ix.describe(c)} and {ix.describe(keep)} is slow"
         if why:
             raise Unavailable(f"{ix.describe(c)} cannot be used by {other}, which shares "
                               f"this system: {why}")

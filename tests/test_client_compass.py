@@ -232,3 +232,18 @@ def test_the_window_compass_turns_and_stops_the_rotator(qapp: QApplication, qtbo
                 window.close()
 
     run_on_qt(qapp, scenario())
+
+
+def test_the_panel_follows_the_transmit_rotator_until_the_user_picks_one(qtbot: Any) -> None:
+    panel = CompassPanel()
+    qtbot.addWidget(panel)
+    one, two = (CompassTarget(RotatorView(i, f"R{i}", heading=0.0)) for i in (1, 2))
+    panel.show_targets((one, two), prefer=1)
+    assert panel.current is one
+    panel.show_targets((one, two), prefer=2)
+    assert panel.current is two
+    assert panel.choose(1)
+    panel.show_targets((one, two), prefer=2)
+    assert panel.current is one
+    panel.show_targets((two,), prefer=None)
+    assert panel.current is two

@@ -326,6 +326,7 @@ class CompassPanel(QWidget):
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.targets: tuple[CompassTarget, ...] = ()
+        self._user_choice: int | None = None
         self.chooser = QComboBox(self)
         self.chooser.setAccessibleName("Rotator")
         self.compass = CompassWidget(self)
@@ -346,6 +347,7 @@ class CompassPanel(QWidget):
         box.addLayout(row)
 
         self.chooser.currentIndexChanged.connect(self._chosen)
+        self.chooser.activated.connect(self._picked)
         self.compass.rotate_requested.connect(self._rotate)
         self.stop_button.clicked.connect(self._stop)
         self._chosen()
@@ -356,11 +358,13 @@ class CompassPanel(QWidget):
         return self.targets[index] if 0 <= index < len(self.targets) else None
 
     def show_targets(self, targets: tuple[CompassTarget, ...], prefer: int | None = None) -> None:
-        """Shows ``targets``, keeping the rotator chosen before when it is still
-        there, else rotator ``prefer``, else the first."""
+        """Shows ``targets``: the rotator the user chose while it is there, else
+        rotator ``prefer`` (the transmit antenna's), else the one shown before,
+        else the first."""
         before = self.current.rotator.id if self.current else None
         self.targets = targets
-        wanted = before if any(t.rotator.id == before for t in targets) else prefer
+        present = {t.rotator.id for t in targets}
+        wanted = next((r for r in (self._user_choice, prefer, before) if r in present), None)
         index = next((i for i, t in enumerate(targets) if t.rotator.id == wanted), 0)
         self.chooser.blockSignals(True)
         self.chooser.clear()
@@ -372,11 +376,17 @@ class CompassPanel(QWidget):
         self._chosen()
 
     def choose(self, rotator_id: int) -> bool:
+        """Shows rotator ``rotator_id`` as if the user had picked it."""
         for index, target in enumerate(self.targets):
             if target.rotator.id == rotator_id:
                 self.chooser.setCurrentIndex(index)
+                self._user_choice = rotator_id
                 return True
         return False
+
+    def _picked(self, _index: int) -> None:
+        current = self.current
+        self._user_choice = current.rotator.id if current else None
 
     def _chosen(self, _index: int = 0) -> None:
         target = self.current

@@ -42,14 +42,13 @@ from moas_gui.client.model import ButtonType, ButtonView, LayoutView, RadioView,
 
 from .binding_guard import guard_none_refcount
 from .button_grid import ButtonGrid
+from .client_panels import FrequencyBox, RelativeStrip, frequency_text
 from .client_style import CLIENT_STYLESHEET, Colours, dark_palette
 from .compass import CompassPanel, compass_targets
 from .qt import (
     QButtonGroup,
-    QCheckBox,
     QCloseEvent,
     QComboBox,
-    QDoubleSpinBox,
     QGroupBox,
     QHBoxLayout,
     QLabel,
@@ -206,8 +205,18 @@ class ClientWindow(QMainWindow):
         left = QVBoxLayout()
         self.grid = ButtonGrid(root)
         left.addWidget(self.grid, 1)
-        left.addWidget(self._build_relative(root))
-        left.addWidget(self._build_frequency(root))
+        self.relative_strip = RelativeStrip(root)
+        self.frequency_box = FrequencyBox(root)
+        left.addWidget(self.relative_strip)
+        left.addWidget(self.frequency_box)
+        self.previous_button = self.relative_strip.previous_button
+        self.next_button = self.relative_strip.next_button
+        self.relative_box = self.relative_strip.list_box
+        self.relative_go = self.relative_strip.use_button
+        self.khz_box = self.frequency_box.khz_box
+        self.split_box = self.frequency_box.split_box
+        self.tx_khz_box = self.frequency_box.tx_khz_box
+        self.frequency_button = self.frequency_box.set_button
         body.addLayout(left, 3)
         compass_box = QGroupBox("Rotator", root)
         compass_layout = QVBoxLayout(compass_box)
@@ -226,6 +235,9 @@ class ClientWindow(QMainWindow):
         self.grid.double_pressed.connect(lambda view: self._pressed(view, exclusive=True))
         self.compass_panel.rotate_requested.connect(self._rotate)
         self.compass_panel.stop_requested.connect(self._stop)
+        self.relative_strip.step_requested.connect(lambda step: self._relative(step=step))
+        self.relative_strip.index_requested.connect(lambda index: self._relative(index=index))
+        self.frequency_box.frequency_requested.connect(self._send_frequency)
         self._set_usable(False)
 
     def _darken_inputs(self) -> None:
@@ -240,42 +252,6 @@ class ClientWindow(QMainWindow):
             font.setPointSizeF(max(font.pointSizeF(), 11.0))
             widget.setFont(font)
             widget.setMinimumHeight(30)
-
-    def _build_relative(self, parent: QWidget) -> QGroupBox:
-        box = QGroupBox("Relative", parent)
-        row = QHBoxLayout(box)
-        self.previous_button = QPushButton("\u25c0 Previous", box)
-        self.next_button = QPushButton("Next \u25b6", box)
-        self.relative_box = QComboBox(box)
-        self.relative_box.setMinimumWidth(180)
-        self.relative_box.setToolTip("The relative antenna list for this frequency")
-        self.relative_go = QPushButton("Use", box)
-        row.addWidget(self.previous_button)
-        row.addWidget(self.relative_box, 1)
-        row.addWidget(self.relative_go)
-        row.addWidget(self.next_button)
-        self.previous_button.clicked.connect(lambda: self._relative(step=-1))
-        self.next_button.clicked.connect(lambda: self._relative(step=+1))
-        self.relative_go.clicked.connect(
-            lambda: self._relative(index=max(0, self.relative_box.currentIndex())))
-        return box
-
-    def _build_frequency(self, parent: QWidget) -> QGroupBox:
-        box = QGroupBox("Frequency (testing without a logger)", parent)
-        row = QHBoxLayout(box)
-        self.khz_box = _khz_box(box)
-        self.split_box = QCheckBox("Split TX", box)
-        self.tx_khz_box = _khz_box(box)
-        self.tx_khz_box.setEnabled(False)
-        self.frequency_button = QPushButton("Set", box)
-        row.addWidget(self.khz_box, 1)
-        row.addWidget(self.split_box)
-        row.addWidget(self.tx_khz_box, 1)
-        row.addWidget(self.frequency_button)
-        self.split_box.toggled.connect(self.tx_khz_box.setEnabled)
-        self.frequency_button.clicked.connect(self._send_frequency)
-        self.khz_box.editingFinished.connect(self._frequency_entered)
-        return box
 
     # -- life -----------------------------------------------------------------------------------
     def start(self) -> None:
@@ -408,11 +384,7 @@ class ClientWindow(QMainWindow):
         self._radio_chosen()
 
     def _radio_chosen(self) -> None:
-        radio = self.radio_view
-        if radio is not None and radio.khz is not None:
-            self.khz_box.setValue(radio.khz)
-            self.tx_khz_box.setValue(radio.tx_khz if radio.tx_khz is not None else radio.khz)
-            self.split_box.setChecked(radio.tx_khz is not None and radio.tx_khz != radio.khz)
+        self.frequency_box.show_radio(self.radio_view)
         self._show_radio()
         self._ask_layout(force=True)
         self._show_compass()
@@ -426,7 +398,7 @@ class ClientWindow(QMainWindow):
             self.badge_inhibit.hide()
             self.note_label.hide()
             return
-        parts = [_frequency_text(radio)]
+        parts = [frequency_text(radio)]
         tx = snapshot.antenna(radio.tx)
         rx = snapshot.antenna(radio.rx)
         parts.append(f"TX  {tx.name if tx else 'none'}")
@@ -439,23 +411,7 @@ class ClientWindow(QMainWindow):
         self.badge_inhibit.setVisible(radio.inhibited)
         self.note_label.setText(radio.note)
         self.note_label.setVisible(bool(radio.note))
-        self._show_relative(radio, snapshot)
-
-    def _show_relative(self, radio: RadioView, snapshot: Snapshot) -> None:
-        before = self.relative_box.currentIndex()
-        self.relative_box.blockSignals(True)
-        self.relative_box.clear()
-        if radio.relative is not None:
-            for index, antenna_id in enumerate(radio.relative):
-                antenna = snapshot.antenna(antenna_id)
-                mark = "\u2714 " if antenna_id == radio.tx else ""
-                name = antenna.name if antenna else f"Antenna {antenna_id}"
-                self.relative_box.addItem(f"{mark}{index + 1}. {name}")
-        else:
-            for index in range(8):
-                self.relative_box.addItem(f"Position {index + 1}")
-        self.relative_box.setCurrentIndex(max(0, min(before, self.relative_box.count() - 1)))
-        self.relative_box.blockSignals(False)
+        self.relative_strip.show_list(radio, snapshot)
 
     def _show_compass(self) -> None:
         snapshot = self.snapshot
@@ -508,15 +464,10 @@ class ClientWindow(QMainWindow):
         self._spawn(self.connection.relative(self.station, self.radio, step=step, index=index),
                     "Relative")
 
-    def _frequency_entered(self) -> None:
-        if self.khz_box.hasFocus():
-            self._send_frequency()
-
-    def _send_frequency(self) -> None:
+    def _send_frequency(self, khz: float, tx_khz: float | None) -> None:
         if self.station is None or self.radio is None:
             return
-        tx = self.tx_khz_box.value() if self.split_box.isChecked() else None
-        self._spawn(self.connection.frequency(self.station, self.radio, self.khz_box.value(), tx),
+        self._spawn(self.connection.frequency(self.station, self.radio, khz, tx_khz),
                     "Frequency")
 
     def _rotate(self, rotator: int, heading: float) -> None:
@@ -566,25 +517,6 @@ class ClientWindow(QMainWindow):
     def pending(self) -> int:
         """Requests still waiting for their reply."""
         return len(self._tasks)
-
-
-def _khz_box(parent: QWidget) -> QDoubleSpinBox:
-    box = QDoubleSpinBox(parent)
-    box.setRange(0.0, 10_000_000.0)
-    box.setDecimals(1)
-    box.setSingleStep(1.0)
-    box.setSuffix(" kHz")
-    box.setKeyboardTracking(False)
-    box.setMinimumWidth(130)
-    return box
-
-
-def _frequency_text(radio: RadioView) -> str:
-    if radio.khz is None:
-        return "no frequency"
-    if radio.tx_khz is not None and radio.tx_khz != radio.khz:
-        return f"RX {radio.khz:.1f}  TX {radio.tx_khz:.1f} kHz"
-    return f"{radio.khz:.1f} kHz"
 
 
 def _at(items: list[int], index: int) -> int | None:

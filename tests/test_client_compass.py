@@ -247,3 +247,15 @@ def test_the_panel_follows_the_transmit_rotator_until_the_user_picks_one(qtbot: 
     assert panel.current is one
     panel.show_targets((two,), prefer=None)
     assert panel.current is two
+
+
+def test_an_electrical_system_shows_its_directions_and_the_one_in_use(qtbot: Any) -> None:
+    compass = CompassWidget()
+    qtbot.addWidget(compass)
+    compass.resize(300, 300)
+    target = compass_targets(SNAPSHOT, RadioView(1, 1, 3700.0, tx=11, rx=11), None)[0]
+    assert target.rotator.electrical and [d.active for d in target.directions] == [True, False]
+    compass.show_target(target)
+    assert close(colour_at(compass, 45, 0.72), Colours.DIRECTION)
+    assert not close(colour_at(compass, 225, 0.72), Colours.DIRECTION)  # hollow: not in use
+    assert not close(colour_at(compass, 135, 0.72), Colours.DIRECTION)

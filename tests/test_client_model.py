@@ -91,3 +91,17 @@ def test_change_events_replace_one_entry_and_keep_the_rest() -> None:
     added = moved.with_radio(RadioView(2, 1, 7000.0))
     assert added.stations == (1, 2) and added.antenna(6) is not None
     assert added.with_switch(SwitchView(1, "stopped")).switches[0].status == "stopped"
+
+
+def test_the_client_packages_public_names_are_frozen() -> None:
+    from moas_gui import client
+
+    assert sorted(client.__all__) == sorted([
+        "DEFAULT_PORT", "AntennaView", "Backoff", "ButtonState", "ButtonType", "ButtonView",
+        "ClientConnection", "ClientError", "ClientEvent", "ConnectionLost", "LayoutChanged",
+        "LayoutView", "LinkChanged", "LinkState", "LogReceived", "NotConnected", "ProblemSeen",
+        "RadioChanged", "RadioView", "RequestTimeout", "RotatorChanged", "RotatorView",
+        "Selection", "ServerError", "Snapshot", "StateReceived", "SwitchChanged", "SwitchView",
+        "parse_address",
+    ])
+    assert all(hasattr(client, name) for name in client.__all__)

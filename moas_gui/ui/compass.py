@@ -212,8 +212,6 @@ class CompassWidget(QWidget):
             painter.end()
             return
         rotator = target.rotator
-        for direction in target.directions:
-            self._paint_direction(painter, direction, online)
         if online and rotator.target is not None and (rotator.moving or rotator.target
                                                         != rotator.heading):
             aim = antenna_heading(rotator.target, target.offset)
@@ -226,6 +224,8 @@ class CompassWidget(QWidget):
             painter.drawLine(centre, self.point_for_heading(self._drag, 1.0))
         if rotator.heading is not None:
             self._paint_needle(painter, antenna_heading(rotator.heading, target.offset), online)
+        for direction in target.directions:  # on top of the needle: the one in use stays seen
+            self._paint_direction(painter, direction, online)
         painter.setPen(Qt.PenStyle.NoPen)
         painter.setBrush(QBrush(Colours.COMPASS_RING))
         painter.drawEllipse(centre, 7, 7)

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 from test_engine_properties import FREQUENCIES
 
 from moas_gui.engine import Engine, EngineError, SwitchState
-from moas_gui.engine.config.model import Config
+from moas_gui.engine.config.model import Config, RadioRef
 from moas_gui.hw.moas2.emulator import EmulatorModel
 from moas_gui.hw.moas2.sync import difference, initialise
 
@@ -79,6 +79,43 @@ def _converged(rig: Rig) -> None:
                                                       sorted(_expected_relays(want)))
 
 
+def _held_conflicts(rig: Rig, cfg: Config) -> list[str]:
+    """Antennas the boxes hold right now (not what is pending) that the configuration
+    says conflict, between radios the manual does not let share them."""
+    e = rig.engine
+    only = cfg.switches[0].id if len(cfg.switches) == 1 else None
+    owners: dict[tuple[int, int], RadioRef] = {}
+    antennas_of: dict[tuple[int, RadioRef, int], int] = {}
+    for r in cfg.radios:
+        for sp in r.switches:
+            w = sp.switch or only
+            assert w is not None
+            owners[(w, sp.port)] = r.ref
+            for a in cfg.antennas:
+                slot = e.slot_of(w, a.id, r.station, r.radio)
+                if slot is not None:
+                    antennas_of.setdefault((w, r.ref, slot), a.id)
+    problems = []
+    for w, box in rig.boxes.items():
+        view = box.view()
+        held = []
+        for n in range(1, 7):
+            ref = owners.get((w, n))
+            sv = view.station(n)
+            if ref is None:
+                continue
+            for slot in {sv.tx.antenna, sv.rx.antenna} - {63}:
+                held.append((ref, antennas_of[(w, ref, slot)]))
+        for i, (ra, a) in enumerate(held):
+            for rb, b in held[i + 1:]:
+                ant_a, ant_b = cfg.antenna(a), cfg.antenna(b)
+                assert ant_a is not None and ant_b is not None
+                clash = b in ant_a.conflicts or a in ant_b.conflicts
+                if ra != rb and clash and not e.may_share(ra, a, rb, b):
+                    problems.append(f"switch {w}: {ra} holds {a}, {rb} holds {b}")
+    return problems
+
+
 def _ops(cfg: Config) -> st.SearchStrategy[list[tuple[Any, ...]]]:
     e = Engine(cfg)
     radios = [(v.station, v.radio) for v in e.radios() if cfg.radio(v.station, v.radio)]
@@ -130,6 +167,8 @@ def test_box_holds_what_the_engine_wants_once_everyone_receives(name: str) -> No
                     else:
                         keyed.discard((w, sp.port))
             rig.push()
+            rig.tick(0.05)
+            assert _held_conflicts(rig, cfg) == []
         for w, port in sorted(keyed):
             rig.key(w, port, False)
         rig.tick(1.0)

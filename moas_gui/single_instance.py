@@ -1,0 +1,372 @@
+"""One server per user: a second ``moas-server FILE`` hands FILE to the running one and exits.
+
+Two servers would fight over the same serial ports, so the first one to start
+*claims* the instance and every later one *hands over* its file::
+
+    server = claim("moas-server")
+    if server is None:                       # another instance is running
+        if hand_over("moas-server", args.file):
+            return 0                         # it opens the file; we are done
+        print("another moas-server is running but does not answer")
+        return 1
+    ...                                      # then, on the asyncio loop:
+    await server.start(on_open)              # on_open(Path | None), on the loop
+    ...
+    server.close()
+
+How, without Qt (the headless server uses it too):
+
+- **Who is running** is an exclusive lock on ``<name>.lock`` in a per-user
+  directory (``flock`` on POSIX, ``msvcrt.locking`` on Windows).  The system
+  drops the lock when its process ends, however it ends, so a crash never
+  leaves a false "running" behind.
+- **How to reach it** is a Unix-domain socket ``<name>.sock`` beside the lock
+  on POSIX (the directory is ``$XDG_RUNTIME_DIR/moas-gui``, else
+  ``<temp>/moas-gui-<uid>``, mode 0700 and checked to be the user's own).  On
+  Windows it is a TCP port on 127.0.0.1 written with a random token in
+  ``<name>.port`` under ``%LOCALAPPDATA%\\moas-gui``; a request must carry the
+  token, which only the same user can read.
+- **A stale socket** (the last instance crashed and left its socket file) is
+  recognised because its lock is free: :func:`claim` removes it and binds anew.
+
+The request is one line of JSON, ``{"open": "/absolute/path.moas"}`` (or
+``null``: just show the window), and the reply ``{"ok": true}`` once the
+callback has taken it.  Anything else gets ``{"ok": false, "error": ...}``, a
+log line, and the server carries on.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import hmac
+import json
+import logging
+import os
+import re
+import secrets
+import socket
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Final, Literal
+
+log = logging.getLogger("moas_gui.single_instance")
+
+DEFAULT_NAME: Final = "moas-server"
+MAX_REQUEST: Final = 64 * 1024
+HAND_OVER_TIMEOUT: Final = 10.0
+"""Seconds :func:`hand_over` waits for a starting instance to take the file."""
+
+Transport = Literal["unix", "tcp"]
+OpenCallback = Callable[[Path | None], object]
+
+
+class InstanceError(OSError):
+    """The per-user instance directory is unsafe or unusable; the message says why."""
+
+
+def default_transport() -> Transport:
+    return "tcp" if sys.platform == "win32" or not hasattr(socket, "AF_UNIX") else "unix"
+
+
+def instance_dir() -> Path:
+    """The per-user directory for the lock and the socket (made if missing)."""
+    if sys.platform == "win32":
+        base = os.environ.get("LOCALAPPDATA") or tempfile.gettempdir()
+        return Path(base) / "moas-gui"
+    runtime = os.environ.get("XDG_RUNTIME_DIR", "")
+    if runtime and os.path.isabs(runtime) and os.path.isdir(runtime):
+        return Path(runtime) / "moas-gui"
+    return Path(tempfile.gettempdir()) / f"moas-gui-{os.getuid()}"
+
+
+def _prepare(directory: Path) -> None:
+    """Make ``directory`` (0700) or check that the existing one is this user's alone."""
+    try:
+        directory.mkdir(mode=0o700, parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InstanceError(exc.errno, f"cannot make the instance directory {directory}: "
+                                       f"{exc.strerror}") from exc
+    if sys.platform == "win32":
+        return
+    info = directory.lstat()
+    if directory.is_symlink() or info.st_uid != os.getuid():
+        raise InstanceError(f"{directory} belongs to someone else (or is a link); "
+                            "remove it or set XDG_RUNTIME_DIR")
+    if info.st_mode & 0o077:
+        raise InstanceError(f"{directory} can be read or written by other users "
+                            f"(mode {info.st_mode & 0o777:o}); make it 700")
+
+
+def _safe_name(name: str) -> str:
+    if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}", name):
+        raise ValueError(f"instance name {name!r}: use letters, digits, '.', '_' and '-'")
+    return name
+
+
+# -- the lock ------------------------------------------------------------------------------
+
+
+def _lock(path: Path) -> int | None:
+    """An open descriptor holding the exclusive lock on ``path``, or None if someone has it."""
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
+    try:
+        if sys.platform == "win32":
+            import msvcrt
+
+            msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)
+        else:
+            import fcntl
+
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def _unlock(fd: int) -> None:
+    try:
+        if sys.platform == "win32":
+            import msvcrt
+
+            os.lseek(fd, 0, os.SEEK_SET)
+            msvcrt.locking(fd, msvcrt.LK_UNLCK, 1)
+        else:
+            import fcntl
+
+            fcntl.flock(fd, fcntl.LOCK_UN)
+    finally:
+        os.close(fd)
+
+
+def _someone_holds(path: Path) -> bool:
+    fd = _lock(path)
+    if fd is None:
+        return True
+    _unlock(fd)
+    return False
+
+
+# -- the server side -----------------------------------------------------------------------
+
+
+class InstanceServer:
+    """The running instance: holds the lock and the listening socket; see :func:`claim`."""
+
+    def __init__(self, name: str, directory: Path, lock_fd: int, sock: socket.socket,
+                 transport: Transport, token: str) -> None:
+        self.name = name
+        self.directory = directory
+        self.transport = transport
+        self._lock_fd: int | None = lock_fd
+        self._sock = sock
+        self._token = token
+        self._server: asyncio.AbstractServer | None = None
+        self._on_open: OpenCallback | None = None
+
+    @property
+    def address(self) -> str:
+        """The socket path, or ``127.0.0.1:port``."""
+        where = self._sock.getsockname()
+        return str(where) if self.transport == "unix" else f"{where[0]}:{where[1]}"
+
+    async def start(self, on_open: OpenCallback) -> None:
+        """Serve hand-overs on the running loop; ``on_open(path)`` is called for each."""
+        self._on_open = on_open
+        if self.transport == "unix":
+            self._server = await asyncio.start_unix_server(
+                self._serve, sock=self._sock, limit=MAX_REQUEST)
+        else:
+            self._server = await asyncio.start_server(
+                self._serve, sock=self._sock, limit=MAX_REQUEST)
+
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        try:
+            async with asyncio.timeout(5):
+                line = await reader.readline()
+            path, error = self._read_request(line)
+            if error is None:
+                error = self._deliver(path)
+            reply = {"ok": True} if error is None else {"ok": False, "error": error}
+            if error is not None:
+                log.warning("Refused a hand-over on %s: %s", self.address, error)
+            writer.write(json.dumps(reply).encode() + b"\n")
+            await writer.drain()
+        except (TimeoutError, ValueError, ConnectionError) as exc:
+            log.warning("Hand-over connection on %s dropped: %s", self.address,
+                        exc or type(exc).__name__)
+        finally:
+            writer.close()
+            with contextlib.suppress(ConnectionError):
+                await writer.wait_closed()
+
+    def _read_request(self, line: bytes) -> tuple[Path | None, str | None]:
+        try:
+            request = json.loads(line)
+        except (UnicodeDecodeError, json.JSONDecodeError):
+            return None, f"not a JSON line: {line[:60]!r}"
+        if not isinstance(request, dict) or "open" not in request:
+            return None, "the request has no 'open'"
+        if self.transport == "tcp" and not hmac.compare_digest(
+                str(request.get("token", "")), self._token):
+            return None, "wrong token (not from this user)"
+        target = request["open"]
+        if target is None:
+            return None, None
+        if not isinstance(target, str) or not target or "\0" in target:
+            return None, f"'open' must be a path or null, not {target!r:.60}"
+        return Path(target), None
+
+    def _deliver(self, path: Path | None) -> str | None:
+        assert self._on_open is not None
+        try:
+            self._on_open(path)
+        except Exception as exc:
+            log.exception("Opening %s handed over by another moas-server failed", path)
+            return f"the running instance could not take it: {exc}"
+        log.info("Another moas-server handed over %s", path or "(no file: show the window)")
+        return None
+
+    def close(self) -> None:
+        """Stop serving, remove the socket (or port file) and release the lock (idempotent)."""
+        if self._server is not None:
+            self._server.close()
+            self._server = None
+        if self._lock_fd is None:
+            return
+        address_file = self.directory / (
+            f"{self.name}.sock" if self.transport == "unix" else f"{self.name}.port")
+        with contextlib.suppress(OSError):
+            self._sock.close()
+        with contextlib.suppress(FileNotFoundError):
+            address_file.unlink()
+        _unlock(self._lock_fd)
+        self._lock_fd = None
+
+
+def claim(name: str = DEFAULT_NAME, *, directory: Path | None = None,
+          transport: Transport | None = None) -> InstanceServer | None:
+    """Become the running instance, or return ``None`` when another one runs.
+
+    Raises :class:`InstanceError` when the per-user directory is unsafe.
+    """
+    name = _safe_name(name)
+    directory = directory or instance_dir()
+    transport = transport or default_transport()
+    _prepare(directory)
+    lock_fd = _lock(directory / f"{name}.lock")
+    if lock_fd is None:
+        return None
+    try:
+        if transport == "unix":
+            sock, token = _bind_unix(directory / f"{name}.sock"), ""
+        else:
+            sock, token = _bind_tcp(directory / f"{name}.port")
+    except BaseException:
+        _unlock(lock_fd)
+        raise
+    return InstanceServer(name, directory, lock_fd, sock, transport, token)
+
+
+def _bind_unix(path: Path) -> socket.socket:
+    if len(os.fsencode(path)) > 100:
+        raise InstanceError(f"the socket path {path} is too long for a Unix socket; "
+                            "set XDG_RUNTIME_DIR to a shorter directory")
+    if path.exists() or path.is_symlink():
+        log.info("Removing %s, left by a moas-server that ended without cleaning up", path)
+        path.unlink()
+    sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    try:
+        sock.bind(str(path))
+        os.chmod(path, 0o600)
+        sock.listen(16)
+        sock.setblocking(False)
+    except BaseException:
+        sock.close()
+        raise
+    return sock
+
+
+def _bind_tcp(port_file: Path) -> tuple[socket.socket, str]:
+    sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    try:
+        sock.bind(("127.0.0.1", 0))
+        sock.listen(16)
+        sock.setblocking(False)
+        token = secrets.token_hex(16)
+        scratch = port_file.with_suffix(".tmp")
+        fd = os.open(scratch, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+        with os.fdopen(fd, "w", encoding="utf-8") as out:
+            json.dump({"port": sock.getsockname()[1], "token": token}, out)
+        os.replace(scratch, port_file)
+    except BaseException:
+        sock.close()
+        raise
+    return sock, token
+
+
+# -- the client side -----------------------------------------------------------------------
+
+
+def hand_over(name: str = DEFAULT_NAME, path: str | os.PathLike[str] | None = None, *,
+              directory: Path | None = None, transport: Transport | None = None,
+              timeout: float = HAND_OVER_TIMEOUT) -> bool:
+    """Give ``path`` (made absolute) to the running instance; True once it has taken it.
+
+    False at once when no instance runs; False after ``timeout`` seconds when
+    one runs but does not answer.
+    """
+    name = _safe_name(name)
+    directory = directory or instance_dir()
+    transport = transport or default_transport()
+    request: dict[str, object] = {
+        "open": None if path is None else str(Path(path).expanduser().absolute())}
+    deadline = time.monotonic() + timeout
+    while True:
+        if not _someone_holds(directory / f"{name}.lock"):
+            return False
+        try:
+            return _ask(directory, name, transport, request, deadline)
+        except (OSError, ValueError) as exc:
+            if time.monotonic() >= deadline:
+                log.warning("The running moas-server did not take %s: %s", request["open"], exc)
+                return False
+            time.sleep(0.05)
+
+
+def _ask(directory: Path, name: str, transport: Transport, request: dict[str, object],
+         deadline: float) -> bool:
+    if transport == "unix":
+        sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        address: str | tuple[str, int] = str(directory / f"{name}.sock")
+    else:
+        details = json.loads((directory / f"{name}.port").read_text(encoding="utf-8"))
+        request = {**request, "token": str(details["token"])}
+        sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        address = ("127.0.0.1", int(details["port"]))
+    with sock:
+        sock.settimeout(max(0.05, deadline - time.monotonic()))
+        sock.connect(address)
+        sock.sendall(json.dumps(request).encode() + b"\n")
+        reply = b""
+        while not reply.endswith(b"\n"):
+            sock.settimeout(max(0.05, deadline - time.monotonic()))
+            chunk = sock.recv(4096)
+            if not chunk:
+                raise ConnectionResetError("the running instance closed the connection")
+            reply += chunk
+    answer = json.loads(reply)
+    if not answer.get("ok"):
+        log.warning("The running moas-server refused %s: %s", request["open"], answer.get("error"))
+        return False
+    return True
+
+
+__all__ = [
+    "DEFAULT_NAME", "InstanceError", "InstanceServer", "OpenCallback", "claim",
+    "default_transport", "hand_over", "instance_dir",
+]

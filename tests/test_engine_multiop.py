@@ -154,3 +154,23 @@ def test_antenna_change_while_transmitting_is_left_to_the_switch() -> None:
     assert e.switch_states()[1].station(1).tx == e.slot_of(1, 47, 1, 1)
     assert 1 in e.switch_states()[1].interrupt
     assert set(changes.switches) == {1, 2}
+
+
+def test_alternate_receiver_antenna_is_used_when_an_alt_active_radio_transmits() -> None:
+    rel = {(1, 1): [0], (1, 2): [8], (1, 3): [16]}
+    e = engine(config([
+        antenna(0, (20,), rel),
+        antenna(1, (20,), {(1, 1): [1], (1, 2): [9], (1, 3): [17]}),
+        antenna(2, (20,), {(1, 1): [2], (1, 2): [10], (1, 3): [18]}, rx_only=True,
+                conflicts=()),
+    ], [radio(1, 1, 1, alt_receiver=3, alt_active=(RadioRef(1, 2),)), radio(1, 2, 2)]))
+    e.set_frequency(1, 1, 14025)
+    e.set_frequency(1, 2, 14100)
+    assert e.radio_view(1, 3).khz == 14025.0    # the alternate receiver follows radio 1
+    e.select(1, 3, 2)
+    assert pair(e, 1, 3) == (None, 2)
+    st = e.switch_states()[1]
+    assert st.use_alternate[1] == {1}
+    assert st.station(1).alt == e.slot_of(1, 2, 1, 1)
+    assert st.station(1).alt_relays == {18}      # the alternate receiver's own relays
+    assert e.radio_view(1, 1).alt == 2

@@ -94,6 +94,8 @@ class RotatorDriver:
         self._silent = False
         self._open_failures = 0
         self._was_open = False
+        self._opening = True
+        """True until the first attempt to open the port is over (commands wait for it)."""
         self._garbage_at = -math.inf
         self._garbage_hidden = 0
 
@@ -125,15 +127,13 @@ class RotatorDriver:
         task, self._task = self._task, None
         if task is not None:
             task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+            await asyncio.wait({task}, timeout=2.0)
         self._close_link()
 
     def rotate(self, degrees: float) -> None:
         """Turns to ``degrees`` soon; raises ControllerError/PortError saying why not."""
         check_range(self.codec.info, degrees)
-        if self._link is None:
-            raise PortError(f"port {self.port} is not open")
+        self._check_usable()
         self._rotate_pending = degrees
         self._wake.set()
 
@@ -141,10 +141,13 @@ class RotatorDriver:
         """Stops the rotator as soon as the port allows; raises PortError when not open."""
         self._rotate_pending = None
         self._followups.clear()
-        if self._link is None:
-            raise PortError(f"port {self.port} is not open")
+        self._check_usable()
         self._stop_pending = True
         self._wake.set()
+
+    def _check_usable(self) -> None:
+        if self._link is None and not self._opening:
+            raise PortError(f"port {self.port} is not open")
 
     # -- the task --------------------------------------------------------------------------
 
@@ -170,10 +173,11 @@ class RotatorDriver:
         except PortError as error:
             self._open_failures += 1
             if self._open_failures == 1:
-                log.warning("%s: %s; trying again every %g s", self.label, error, self._retry)
+                self._drop(error)
             else:
                 log.debug("%s: still cannot open: %s", self.label, error)
             return False
+        self._opening = False
         self._link = link
         self._lost = None
         self._misses = 0
@@ -313,6 +317,7 @@ class RotatorDriver:
             raise PortError(f"port {self.port} failed: {self._lost}")
 
     def _drop(self, error: PortError) -> None:
+        self._opening = False
         dropped = self._rotate_pending is not None or self._stop_pending
         log.warning("%s: %s; trying again every %g s%s", self.label, error, self._retry,
                     " (a pending command was dropped)" if dropped else "")

@@ -65,7 +65,7 @@ class RotatorProgram:
         self._writer: asyncio.StreamWriter | None = None
         self._peer = ""
         self._announced: set[int] = set()
-        self._handlers: set[asyncio.Task[None]] = set()
+        self._handlers: dict[asyncio.Task[None], asyncio.StreamWriter] = {}
 
     # -- running ---------------------------------------------------------------------------
 
@@ -80,14 +80,14 @@ class RotatorProgram:
     async def close(self) -> None:
         if self._server is not None:
             self._server.close()
-        writer, self._writer = self._writer, None
-        if writer is not None:
-            writer.close()
-        for task in list(self._handlers):
-            task.cancel()
-        for task in list(self._handlers):
-            with contextlib.suppress(asyncio.CancelledError, Exception):
-                await task
+        self._writer = None
+        handlers = dict(self._handlers)
+        for writer in handlers.values():
+            writer.close()  # each handler then sees the end of its stream and returns
+        if handlers:
+            _, late = await asyncio.wait(handlers, timeout=2.0)
+            for task in late:
+                task.cancel()
         for driver in list(self.rotators.values()):
             await driver.close()
         self.rotators.clear()
@@ -107,7 +107,7 @@ class RotatorProgram:
                           writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
         if task is not None:
-            self._handlers.add(task)
+            self._handlers[task] = writer
         peer = _peer(writer)
         old, self._writer = self._writer, writer
         if old is not None:
@@ -135,7 +135,7 @@ class RotatorProgram:
                          peer, len(self.rotators))
             writer.close()
             if task is not None:
-                self._handlers.discard(task)
+                self._handlers.pop(task, None)
 
     def _send(self, data: bytes) -> None:
         writer = self._writer

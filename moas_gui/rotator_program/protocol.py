@@ -80,6 +80,11 @@ def _number(text: str) -> bool:
     return text.lstrip("+-").isdigit()
 
 
+def _looks_like_port(text: str) -> bool:
+    """COM3, /dev/ttyUSB0, socket://host:port, a Windows device path and the like."""
+    return text.upper().startswith("COM") or "/" in text or "\\" in text
+
+
 def _rotator(text: str) -> int | None:
     return int(text) if text.isdigit() else None
 
@@ -118,6 +123,9 @@ def _model_and_port(middle: list[str]) -> tuple[str, str] | str:
             return second, first
         if first_is:
             return f"cannot tell the port from the model: {first!r} and {second!r} are both models"
+        first_port, second_port = _looks_like_port(first), _looks_like_port(second)
+        if first_port != second_port:  # an unknown model beside a port: the model is refused
+            return (second, first) if first_port else (first, second)
         return f"unknown rotator model: neither {first!r} nor {second!r} names a model"
     # A name with a space ("Prosistel D"), or a port name with one: longest model name first.
     for cut in range(len(middle) - 1, 0, -1):

@@ -20,13 +20,15 @@ import logging
 import sys
 import threading
 from collections.abc import Awaitable, Callable
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 import serial  # type: ignore[import-untyped]
 
 from moas_gui.hw.rotators.controllers.base import SerialSettings
 
 log = logging.getLogger(__name__)
+
+T = TypeVar("T")
 
 WRITE_TIMEOUT = 0.5
 """Seconds a write may take before the port counts as failed."""
@@ -168,7 +170,7 @@ async def open_serial(port: str, settings: SerialSettings, on_data: Callable[[by
     loop = asyncio.get_running_loop()
     thread = use_thread if use_thread is not None else not _watchable(name, loop)
     try:
-        handle = await asyncio.to_thread(_open)
+        handle = await _in_daemon_thread(_open)
     except (serial.SerialException, OSError, ValueError) as error:
         raise PortError(f"cannot open {name}: {error}") from error
     try:
@@ -176,6 +178,35 @@ async def open_serial(port: str, settings: SerialSettings, on_data: Callable[[by
     except Exception as error:
         handle.close()
         raise PortError(f"cannot watch {name}: {error}") from error
+
+
+async def _in_daemon_thread(work: Callable[[], T]) -> T:
+    """Runs ``work`` in a thread of its own, so that an open that hangs (a confused USB
+    driver) can neither block the event loop nor hold up the program's exit."""
+    loop = asyncio.get_running_loop()
+    future: asyncio.Future[T] = loop.create_future()
+
+    def settle(result: T | None, error: BaseException | None) -> None:
+        if future.done():
+            close = getattr(result, "close", None)
+            if callable(close):
+                close()  # nobody waits for it any more
+            return
+        if error is not None:
+            future.set_exception(error)
+        else:
+            future.set_result(result)  # type: ignore[arg-type]
+
+    def run() -> None:
+        try:
+            result = work()
+        except BaseException as error:  # noqa: BLE001 - handed to the waiting coroutine
+            loop.call_soon_threadsafe(settle, None, error)
+        else:
+            loop.call_soon_threadsafe(settle, result, None)
+
+    threading.Thread(target=run, daemon=True, name="serial-open").start()
+    return await future
 
 
 def _watchable(name: str, loop: asyncio.AbstractEventLoop) -> bool:

@@ -20,7 +20,14 @@ from pathlib import Path
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.config import load_config
 from moas_gui.engine.config.model import (
-    Antenna, Config, ControlRange, FrequencyRange, Radio, RadioRef, StationRelays, Switch,
+    Antenna,
+    Config,
+    ControlRange,
+    FrequencyRange,
+    Radio,
+    RadioRef,
+    StationRelays,
+    Switch,
     SwitchPort,
 )
 

@@ -28,8 +28,6 @@ disagreeing triggers all get "none").
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-
 from .config.model import RadioRef
 from .index import ConfigIndex, Kind
 from .ranges import describe_khz
@@ -136,14 +134,4 @@ def alternates(ix: ConfigIndex, st: State
     return out
 
 
-def inhibited_by(ix: ConfigIndex, st: State, ref: RadioRef,
-                 transmitting: Mapping[RadioRef, bool]) -> RadioRef | None:
-    """A transmitting radio whose transmission inhibits ``ref`` now, if any."""
-    from .rules import inhibits
-    for t in ix.mains:
-        if t != ref and transmitting.get(t, False) and inhibits(ix, st, t, ref):
-            return t
-    return None
-
-
-__all__ = ["alternates", "inhibit_reason", "inhibited_by", "partner_alternate"]
+__all__ = ["alternates", "inhibit_reason", "partner_alternate"]

@@ -92,6 +92,8 @@ class Engine:
 
     def slot_of(self, switch_id: int, antenna: int, station: int, radio: int) -> int | None:
         """The switch slot standing for ``antenna`` on that radio's ports (None: none now)."""
+        if antenna not in self._ix.antennas or switch_id not in self._maps:
+            return None
         key = self._classes.key(antenna, RadioRef(station, radio))
         return self._maps[switch_id].key_slot.get(key)
 

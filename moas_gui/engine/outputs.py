@@ -106,7 +106,7 @@ def _local(relays: frozenset[int], switch: int) -> frozenset[int]:
 class Built:
     states: dict[int, SwitchState]
     station0_owner: dict[int, dict[int, RadioRef | None]]
-    needed: dict[int, set[SlotKey]]
+    """Per switch: each station 0 relay and the radio it belongs to (None: nobody)."""
 
 
 def slot_needs(ix: ConfigIndex, classes: SlotClasses, ports: Mapping[RadioRef, PortAntennas]
@@ -249,7 +249,7 @@ def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, S
         if prev is not None and prev == states[w]:
             states[w] = prev
         contributions[w] = owners
-    return Built(states, contributions, {})
+    return Built(states, contributions)
 
 
 _IDLE = StationAntennas()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shlex
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -153,9 +154,10 @@ def test_macos_gets_instructions_and_nothing_is_written(xdg: Path) -> None:
 def test_without_a_command_the_installed_server_is_named_by_its_absolute_path(xdg: Path) -> None:
     install_desktop(system="Linux", run=FakeTools().run, which=FakeTools().which)
     exec_line = entry_keys((xdg / "applications" / "moas-server.desktop").read_text())["Exec"]
-    program = exec_line.removesuffix(" %f").strip('"')
-    assert Path(program).is_absolute() and Path(program).exists()
-    assert server_command()[0] == program
+    words = shlex.split(exec_line)
+    assert words[-1] == "%f"
+    assert Path(words[0]).is_absolute() and Path(words[0]).exists()
+    assert words[:-1] == server_command()
 
 
 def test_xdg_data_home_is_honoured_only_when_absolute() -> None:

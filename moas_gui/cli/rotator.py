@@ -55,8 +55,13 @@ def _arguments(argv: list[str] | None) -> argparse.Namespace:
 
 
 def _emulate(args: argparse.Namespace) -> int:
-    from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost
-
+    try:
+        from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost
+    except ImportError:
+        print("moas-rotator: emulators need pseudo-terminals (Linux, macOS, BSD); on Windows "
+              "use a virtual COM port pair and the emulator models from Python",
+              file=sys.stderr)
+        return 2
     try:
         model = find_model(args.emulate)
     except UnknownModel as error:

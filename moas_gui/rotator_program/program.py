@@ -71,8 +71,9 @@ class RotatorProgram:
 
     async def start(self, host: str = "0.0.0.0", port: int = PORT) -> tuple[str, int]:
         """Listens on ``host``:``port``; returns the address really bound."""
-        self._server = await asyncio.start_server(self._connection, host, port,
-                                                  reuse_address=True)
+        # asyncio sets SO_REUSEADDR on POSIX by itself (a restart need not wait for
+        # TIME_WAIT); on Windows that option would let two programs share the port.
+        self._server = await asyncio.start_server(self._connection, host, port)
         address = self._server.sockets[0].getsockname()
         log.info("listening on %s:%d", address[0], address[1])
         return address[0], address[1]

@@ -234,7 +234,7 @@ class FrameScanner(Generic[T]):
         junk = bytearray()
         i = 0
         while i < len(buffer):
-            n, value = self._match(buffer[i:])
+            n, value = self._match(buffer[i : i + self._limit])
             if n == NEED_MORE and len(buffer) - i < self._limit:
                 break
             if n <= 0:

@@ -37,7 +37,6 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import Any, NamedTuple
 
-from ....engine.switchstate import STATIONS
 from ..commands import parse_command
 from ..errors import CommandRejected
 from ..messages import (
@@ -89,6 +88,8 @@ from .pairs import PairTable
 from .resolver import CLAIMING, KIND_ORDER, Candidate, choose
 from .station import NO_SLOT, Kind, Phase, Request, Slot, Station, Timer, Trigger, next_phase
 from .view import BoxView, StationView
+
+STATIONS = (1, 2, 3, 4, 5, 6)
 
 INPUT_BUFFER = 128
 """Characters the box can hold of one command."""

@@ -1,0 +1,188 @@
+"""The emulated MOAS II's safety rules, tried on many random stations and
+histories (hypothesis):
+
+* the relays of a transmitting station never change in wait mode;
+* in interrupt mode they change only while its inhibit is asserted;
+* two stations never hold conflicting antennas (alternates aside), and a
+  station on an alternate that conflicts closes no relays.
+
+The clock moves one millisecond at a time and the rules are checked after
+every step and every command, so a change cannot slip between two looks.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from moas_gui.hw.moas2.emulator.model import EmulatorModel
+from moas_gui.hw.moas2.emulator.station import Kind
+from moas_gui.hw.moas2.sixbit import to_char
+
+ANTENNAS = [0, 1, 2, 3, 4, 5, 63]
+STATIONS = range(1, 7)
+BUSY = [1, 2, 3]
+"""The stations the histories use: few, so that they meet often."""
+
+
+@dataclass(frozen=True)
+class Setup:
+    conflicts: list[tuple[int, int]]
+    fast: list[tuple[int, int]]
+    interrupt: frozenset[int]
+    inhibit_ms: int
+    interrupt_ms: int
+    receive_ms: dict[int, int]
+    alternates: dict[int, frozenset[int]]
+    systems: dict[int, int]
+
+    def commands(self) -> str:
+        pairs = "".join(to_char(a) + to_char(b) for a, b in self.conflicts)
+        fast = "".join(to_char(a) + to_char(b) for a, b in self.fast)
+        text = f"%C{pairs};&F{fast};[{self.inhibit_ms};]{self.interrupt_ms};"
+        if self.interrupt:
+            text += "/I" + "".join(map(str, sorted(self.interrupt))) + ";"
+        for n, ms in self.receive_ms.items():
+            text += f"\\{n}{ms};"
+        for n, others in self.alternates.items():
+            text += f"@{n}{''.join(map(str, sorted(others - {n})))};"
+        if self.systems:
+            text += "_S" + "".join(to_char(a) + to_char(s) for a, s in self.systems.items()) + ";"
+        return text + "*1;"
+
+
+_pair = st.tuples(st.sampled_from(ANTENNAS[:-1]), st.sampled_from(ANTENNAS[:-1]))
+setups = st.builds(
+    Setup,
+    conflicts=st.lists(_pair, max_size=8).map(lambda p: p + [(a, a) for a in range(6)]),
+    fast=st.lists(_pair, max_size=10),
+    interrupt=st.frozensets(st.sampled_from(BUSY)),
+    inhibit_ms=st.integers(5, 12),
+    interrupt_ms=st.integers(0, 5),
+    receive_ms=st.dictionaries(st.sampled_from(BUSY), st.integers(0, 8), max_size=3),
+    alternates=st.dictionaries(
+        st.sampled_from(BUSY), st.frozensets(st.sampled_from(BUSY)), max_size=2
+    ),
+    systems=st.dictionaries(st.sampled_from(ANTENNAS[:-1]), st.integers(1, 2), max_size=2),
+)
+
+_antenna_op = st.tuples(
+    st.just("antenna"),
+    st.sampled_from(BUSY),
+    st.sampled_from("BTRAX"),
+    st.sampled_from(ANTENNAS),
+    st.frozensets(st.integers(0, 15), max_size=4),
+)
+operations = st.lists(
+    st.one_of(
+        _antenna_op,
+        _antenna_op,
+        st.tuples(st.just("key"), st.sampled_from(BUSY), st.just(True)),
+        st.tuples(st.just("key"), st.sampled_from(BUSY), st.booleans()),
+        st.tuples(st.just("wait"), st.integers(1, 12)),
+        st.tuples(st.just("wait"), st.integers(1, 12)),
+        st.tuples(st.just("resolver"), st.booleans()),
+    ),
+    min_size=15,
+    max_size=50,
+)
+
+
+class Watcher:
+    """Runs the model and checks the rules after every look."""
+
+    def __init__(self, setup: Setup) -> None:
+        self.model = EmulatorModel()
+        self.setup = setup
+        self.ms = 0
+        self.model.feed(setup.commands().encode(), 0.0)
+        self.before = self.look()
+
+    def look(self) -> dict[int, tuple[bool, frozenset[int]]]:
+        view = self.model.view()
+        return {s.number: (s.transmitting, s.closed) for s in view.stations}
+
+    def check(self) -> None:
+        now = self.look()
+        for n in STATIONS:
+            was_on_air, was_closed = self.before[n]
+            on_air, closed = now[n]
+            if was_on_air and on_air and closed != was_closed:
+                assert n in self.setup.interrupt, f"station {n} relays moved on the air in wait mode"
+                assert self.model.inhibited(n), f"station {n} relays moved without inhibit"
+        self.check_conflicts()
+        self.before = now
+
+    def check_conflicts(self) -> None:
+        claims = {}
+        for n, station in self.model.stations.items():
+            held = {station.current[Kind.TX].antenna, station.current[Kind.RX].antenna}
+            if Kind.TX in station.incoming:
+                held.add(station.incoming[Kind.TX].antenna)
+            claims[n] = held
+        table = self.model.conflicts
+        for a in STATIONS:
+            for b in STATIONS:
+                if a < b:
+                    for x in claims[a]:
+                        for y in claims[b]:
+                            assert not table.get(x, y), f"stations {a}, {b} hold {x}, {y}"
+        for view in self.model.view().stations:
+            if view.on_alternate and any(
+                table.get(view.alt.antenna, y) for m in STATIONS if m != view.number
+                for y in claims[m]
+            ):
+                assert view.closed == frozenset(), f"station {view.number} on a busy alternate"
+
+    def run(self, op: tuple) -> None:  # type: ignore[type-arg]
+        kind = op[0]
+        if kind == "antenna":
+            _, station, letter, antenna, relays = op
+            if letter == "X":
+                antenna = 0
+            text = f"!{station}{letter}{to_char(antenna)}{''.join(to_char(r) for r in sorted(relays))};"
+            self.model.feed(text.encode(), self.ms / 1000)
+            self.check()
+        elif kind == "key":
+            self.model.set_tr(op[1], op[2], self.ms / 1000)
+            self.check()
+        elif kind == "resolver":
+            self.model.feed(b"*R;" if op[1] else b"*r;", self.ms / 1000)
+            self.check()
+        else:
+            for _ in range(op[1]):
+                self.ms += 1
+                self.model.advance(self.ms / 1000)
+                self.check()
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(setups, operations)
+def test_safety_rules_hold_through_any_history(setup: Setup, ops: list) -> None:  # type: ignore[type-arg]
+    watcher = Watcher(setup)
+    for op in ops:
+        watcher.run(op)
+    # Finally let everyone go back to receive and every timer run out.
+    for n in BUSY:
+        watcher.run(("key", n, False))
+    watcher.run(("resolver", True))
+    watcher.run(("wait", 80))
+    assert watcher.model.next_deadline() is None
+    assert not any(watcher.model.inhibited(n) for n in STATIONS)
+
+
+@settings(max_examples=60, deadline=None)
+@given(setups, st.lists(_antenna_op, max_size=25))
+def test_with_everyone_receiving_no_request_waits_except_for_a_conflict(
+    setup: Setup, ops: list  # type: ignore[type-arg]
+) -> None:
+    watcher = Watcher(setup)
+    for op in ops:
+        watcher.run(op)
+    watcher.run(("wait", 80))
+    for n, station in watcher.model.stations.items():
+        for kind, request in station.pending.items():
+            assert kind in (Kind.TX, Kind.RX), f"station {n} {kind} waits with nobody on the air"
+            assert request.conflict_reported, f"station {n} {kind} waits but not for a conflict"

@@ -186,7 +186,11 @@ class SwitchLink:
         """Stop talking to the switch; the box keeps its relays."""
         task, self._task = self._task, None
         if task is not None:
-            task.cancel()
+            # Python 3.11's wait_for can swallow a cancellation that arrives together
+            # with the awaited answer; keep cancelling until the task has really ended.
+            while not task.done():
+                task.cancel()
+                await asyncio.wait({task}, timeout=0.2)
             with contextlib.suppress(asyncio.CancelledError):
                 await task
         self._close_port("closed")

@@ -40,7 +40,6 @@ from moas_gui.client.events import (
 )
 from moas_gui.client.model import ButtonType, ButtonView, LayoutView, RadioView, Snapshot
 
-from .binding_guard import guard_none_refcount
 from .button_grid import ButtonGrid
 from .client_panels import FrequencyBox, RelativeStrip, frequency_text
 from .client_style import CLIENT_STYLESHEET, Colours, dark_palette
@@ -105,7 +104,6 @@ class ClientWindow(QMainWindow):
     def __init__(self, connection: ClientConnection, *, station: int | None = None,
                  radio: int | None = None, rows: int = 4, columns: int = 3,
                  parent: QWidget | None = None) -> None:
-        guard_none_refcount()
         super().__init__(parent)
         self.connection = connection
         self.snapshot: Snapshot | None = None

@@ -37,15 +37,25 @@ class ServerStatus:
         return " \u2014 ".join(parts)
 
 
+DESCRIPTIONS = {
+    ServerState.NORMAL: "All switches answering",
+    ServerState.UNRESPONSIVE: "A switch is not answering",
+    ServerState.STOPPED: "Switches stopped: relays off",
+    ServerState.NO_CONFIG: "No configuration open",
+}
+
+
 def overall_state(has_config: bool, stopped: bool, switch_states: list[str]) -> ServerState:
-    """The icon state: no configuration, stopped, any switch unresponsive, or normal."""
+    """The one state the icon shows: no configuration, then a switch that does not
+    answer (even while stopped: it needs attention before a start), then stopped,
+    then normal."""
     if not has_config:
         return ServerState.NO_CONFIG
-    if stopped:
-        return ServerState.STOPPED
     if any(s in ("unresponsive", "connecting") for s in switch_states):
         return ServerState.UNRESPONSIVE
+    if stopped:
+        return ServerState.STOPPED
     return ServerState.NORMAL
 
 
-__all__ = ["ServerState", "ServerStatus", "overall_state"]
+__all__ = ["DESCRIPTIONS", "ServerState", "ServerStatus", "overall_state"]

@@ -17,14 +17,14 @@ from moas_gui.ui.icons import (
     FILE_ICON,
     ICON_DIR,
     PNG_SIZES,
-    StatusState,
     build_icon,
     icon_path,
-    overall_state,
     status_icon,
+    status_icon_name,
 )
+from moas_gui.status import DESCRIPTIONS, ServerState, overall_state
 
-NAMES = [state.icon_name for state in StatusState] + [FILE_ICON]
+NAMES = [status_icon_name(state) for state in ServerState] + [FILE_ICON]
 
 
 def render(name: str, size: int) -> QImage:
@@ -91,22 +91,22 @@ def test_the_png_fallbacks_match_their_svg_drawings(qapp: QApplication) -> None:
 
 @pytest.mark.parametrize("size", [16, 24, 32])
 def test_the_four_states_differ_in_shape_not_only_in_colour(qapp: QApplication, size: int) -> None:
-    masks = {state: foreground(render(state.icon_name, size)) for state in StatusState}
-    for a, b in itertools.combinations(StatusState, 2):
+    masks = {state: foreground(render(status_icon_name(state), size)) for state in ServerState}
+    for a, b in itertools.combinations(ServerState, 2):
         differing = sum(x != y for x, y in zip(masks[a], masks[b], strict=True))
         assert differing >= size * size // 12, f"{a.name} and {b.name} look alike at {size} px"
 
 
 def test_the_four_states_differ_in_colour(qapp: QApplication) -> None:
-    tiles = {state: render(state.icon_name, 32).pixelColor(3, 28) for state in StatusState}
-    for a, b in itertools.combinations(StatusState, 2):
+    tiles = {state: render(status_icon_name(state), 32).pixelColor(3, 28) for state in ServerState}
+    for a, b in itertools.combinations(ServerState, 2):
         ca, cb = tiles[a], tiles[b]
         distance = abs(ca.red() - cb.red()) + abs(ca.green() - cb.green()) + abs(ca.blue() - cb.blue())
         assert distance > 90, f"{a.name} and {b.name} have nearly the same colour"
 
 
 def test_status_icon_gives_a_cached_icon_of_every_size_for_every_state(qapp: QApplication) -> None:
-    for state in StatusState:
+    for state in ServerState:
         icon = status_icon(state)
         assert icon is status_icon(state)
         assert not icon.isNull()
@@ -117,7 +117,7 @@ def test_status_icon_gives_a_cached_icon_of_every_size_for_every_state(qapp: QAp
 
 
 def test_without_the_svg_engine_the_png_renderings_are_used(qapp: QApplication) -> None:
-    for name in (APP_ICON, FILE_ICON, StatusState.STOPPED.icon_name):
+    for name in (APP_ICON, FILE_ICON, status_icon_name(ServerState.STOPPED)):
         icon = build_icon(name, use_svg=False)
         for size in PNG_SIZES:
             got = icon.pixmap(QSize(size, size)).toImage()
@@ -145,19 +145,16 @@ def test_windows_ico_files_hold_png_images_from_16_to_256_px() -> None:
 
 
 def test_a_switch_fault_outranks_stopped_and_no_configuration_outranks_all() -> None:
-    assert overall_state(configured=False, stopped=True, any_unresponsive=True) \
-        is StatusState.UNCONFIGURED
-    assert overall_state(configured=True, stopped=True, any_unresponsive=True) \
-        is StatusState.UNRESPONSIVE
-    assert overall_state(configured=True, stopped=True, any_unresponsive=False) \
-        is StatusState.STOPPED
-    assert overall_state(configured=True, stopped=False, any_unresponsive=False) \
-        is StatusState.NORMAL
-    assert all(state.description for state in StatusState)
+    assert overall_state(False, True, ["unresponsive"]) is ServerState.NO_CONFIG
+    assert overall_state(True, True, ["stopped", "unresponsive"]) is ServerState.UNRESPONSIVE
+    assert overall_state(True, True, ["stopped"]) is ServerState.STOPPED
+    assert overall_state(True, False, ["ok", "ok"]) is ServerState.NORMAL
+    assert overall_state(True, False, ["ok", "connecting"]) is ServerState.UNRESPONSIVE
+    assert all(DESCRIPTIONS[state] for state in ServerState)
 
 
 def test_the_public_names_do_not_drift() -> None:
     assert sorted(icons.__all__) == sorted([
-        "APP_ICON", "FILE_ICON", "ICON_DIR", "PNG_SIZES", "StatusState", "app_icon",
-        "build_icon", "file_icon", "icon_path", "named_icon", "overall_state", "status_icon",
+        "APP_ICON", "FILE_ICON", "ICON_DIR", "PNG_SIZES", "app_icon",
+        "build_icon", "file_icon", "icon_path", "named_icon", "status_icon", "status_icon_name",
         "svg_icons_available"])

@@ -14,7 +14,7 @@ state              colour  badge (lower right)
 ``NORMAL``         green   none
 ``UNRESPONSIVE``   orange  warning triangle with ``!``
 ``STOPPED``        red     square stop sign
-``UNCONFIGURED``   grey    round question mark
+``NO_CONFIG``      grey    round question mark
 =================  ======  =================================
 
 Needs a ``QGuiApplication``.  Icons are made once and cached.
@@ -23,12 +23,12 @@ Needs a ``QGuiApplication``.  Icons are made once and cached.
 from __future__ import annotations
 
 import functools
-from enum import Enum
 from pathlib import Path
 from typing import Final
 
-from PySide6.QtCore import QSize
-from PySide6.QtGui import QIcon
+from moas_gui.status import ServerState
+
+from .qt import QIcon, QSize
 
 ICON_DIR: Final = Path(__file__).resolve().parent.parent / "resources" / "icons"
 PNG_SIZES: Final = (16, 22, 24, 32, 48, 64, 128, 256)
@@ -36,45 +36,17 @@ APP_ICON: Final = "moas-normal"
 FILE_ICON: Final = "application-x-moas"
 
 
-class StatusState(Enum):
-    """What the server's icon shows, in the window and in the tray."""
-
-    NORMAL = "normal"
-    UNRESPONSIVE = "unresponsive"
-    STOPPED = "stopped"
-    UNCONFIGURED = "unconfigured"
-
-    @property
-    def icon_name(self) -> str:
-        return f"moas-{self.value}"
-
-    @property
-    def description(self) -> str:
-        """A short sentence for a tooltip or status bar."""
-        return _DESCRIPTIONS[self]
-
-
-_DESCRIPTIONS: Final = {
-    StatusState.NORMAL: "All switches answering",
-    StatusState.UNRESPONSIVE: "A switch is not answering",
-    StatusState.STOPPED: "Switches stopped: relays off",
-    StatusState.UNCONFIGURED: "No configuration open",
+_ICON_NAMES: Final = {
+    ServerState.NORMAL: "moas-normal",
+    ServerState.UNRESPONSIVE: "moas-unresponsive",
+    ServerState.STOPPED: "moas-stopped",
+    ServerState.NO_CONFIG: "moas-unconfigured",
 }
 
 
-def overall_state(*, configured: bool, stopped: bool, any_unresponsive: bool) -> StatusState:
-    """The one state to show: no configuration, then a switch fault, then stopped, then normal.
-
-    A switch that stops answering is shown even while the switches are stopped:
-    it needs attention before they are started again.
-    """
-    if not configured:
-        return StatusState.UNCONFIGURED
-    if any_unresponsive:
-        return StatusState.UNRESPONSIVE
-    if stopped:
-        return StatusState.STOPPED
-    return StatusState.NORMAL
+def status_icon_name(state: ServerState) -> str:
+    """The file name (without extension) of the icon for ``state``."""
+    return _ICON_NAMES[state]
 
 
 def icon_path(name: str, size: int | None = None) -> Path:
@@ -108,9 +80,9 @@ def named_icon(name: str) -> QIcon:
     return build_icon(name, use_svg=svg_icons_available())
 
 
-def status_icon(state: StatusState) -> QIcon:
+def status_icon(state: ServerState) -> QIcon:
     """The icon for ``state`` (cached: the same ``QIcon`` every time)."""
-    return named_icon(state.icon_name)
+    return named_icon(status_icon_name(state))
 
 
 def app_icon() -> QIcon:
@@ -124,7 +96,7 @@ def file_icon() -> QIcon:
 
 
 __all__ = [
-    "APP_ICON", "FILE_ICON", "ICON_DIR", "PNG_SIZES", "StatusState", "app_icon", "build_icon",
-    "file_icon", "icon_path", "named_icon", "overall_state", "status_icon",
+    "APP_ICON", "FILE_ICON", "ICON_DIR", "PNG_SIZES", "app_icon", "build_icon",
+    "file_icon", "icon_path", "named_icon", "status_icon", "status_icon_name",
     "svg_icons_available",
 ]

@@ -21,7 +21,7 @@ from .qt import (
     QAction, QActionGroup, QApplication, QCloseEvent, QDesktopServices, QFileDialog, QIcon,
     QMainWindow, QMenu, QMessageBox, QSettings, QSystemTrayIcon, QUrl, QWidget,
 )
-from .status_icons import icon_for
+from .icons import app_icon, status_icon
 
 if TYPE_CHECKING:
     from moas_gui.app import ServerApp
@@ -137,7 +137,7 @@ class ServerWindow(QMainWindow):
         """Show ``status`` in the title, status bar, window icon and tray (called on every change)."""
         if status.state is not self._state:
             self._state = status.state
-            icon = icon_for(status.state)
+            icon = status_icon(status.state)
             self.setWindowIcon(icon)
             self.tray.setIcon(icon)
         self.statusBar().showMessage(status.summary)
@@ -356,7 +356,7 @@ class ServerWindow(QMainWindow):
 
 
 def application_icon() -> QIcon:
-    return icon_for(ServerState.NORMAL)
+    return app_icon()
 
 
 def ensure_application() -> QApplication:

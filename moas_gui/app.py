@@ -232,9 +232,6 @@ class ServerApp:
             if before == "ok":
                 for listener in self._alert_listeners:
                     listener("MOAS switch lost", f"Switch {switch_id} stopped responding.")
-        elif status == "ok":
-            log.info("Switch %d is %s", switch_id,
-                     "responding again" if before == "unresponsive" else "connected")
         if run.clients is not None:
             run.clients.publish_switch({"id": switch_id, "status": status})
         self._update_status()

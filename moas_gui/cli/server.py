@@ -73,21 +73,35 @@ def _options(args: argparse.Namespace) -> object:
                          start_rotator_program=False if args.no_rotator_program else None)
 
 
-def _hand_over(args: argparse.Namespace) -> bool:
-    """True when another running server took ``args.file``."""
-    if args.new_instance or not args.file:
-        return False
-    from moas_gui.single_instance import hand_over
+def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | None]:
+    """Become the one running server, or hand FILE to the one that runs.
 
-    if hand_over(INSTANCE_NAME, str(Path(args.file).resolve())):
-        print(f"moas-server: handed {args.file} to the server that is already running")
-        return True
-    return False
+    Returns ``(instance, None)`` to go on serving (``instance`` is None with
+    ``--new-instance``), or ``(None, exit status)`` when another server took over.
+    """
+    if args.new_instance:
+        return None, None
+    from moas_gui.single_instance import InstanceError, claim, hand_over
+
+    try:
+        instance = claim(INSTANCE_NAME)
+    except InstanceError as exc:
+        log.warning("Cannot check for another running moas-server: %s", exc)
+        return None, None
+    if instance is not None:
+        return instance, None
+    target = str(Path(args.file).resolve()) if args.file else None
+    if hand_over(INSTANCE_NAME, target):
+        print(f"moas-server: {'handed ' + args.file + ' to' if args.file else 'showed'} "
+              "the server that is already running", file=sys.stderr)
+        return None, 0
+    print("moas-server: another moas-server is running but does not answer; "
+          "use --new-instance to start one anyway", file=sys.stderr)
+    return None, 1
 
 
-async def _serve_headless(args: argparse.Namespace) -> int:
+async def _serve_headless(args: argparse.Namespace, instance: object | None) -> int:
     from moas_gui.app import ServerApp
-    from moas_gui.single_instance import claim
 
     app = ServerApp(_options(args))  # type: ignore[arg-type]
     result = await app.open(args.file)
@@ -100,22 +114,14 @@ async def _serve_headless(args: argparse.Namespace) -> int:
             loop.add_signal_handler(number, stop.set)
         except (NotImplementedError, RuntimeError):  # Windows
             signal.signal(number, lambda *_: loop.call_soon_threadsafe(stop.set))
-    instance = await _claim(claim, lambda path: asyncio.ensure_future(app.open(path)))
+    if instance is not None:
+        await instance.start(  # type: ignore[attr-defined]
+            lambda path: path and asyncio.ensure_future(app.open(path)))
     log.info("Serving %s; stop with Ctrl+C", args.file)
     await stop.wait()
     log.info("Stopping; the relays keep their state")
-    if instance is not None:
-        await instance.close()
     await app.close()
     return 0
-
-
-async def _claim(claim: object, on_file: object) -> object:
-    try:
-        return await claim(INSTANCE_NAME, on_file)  # type: ignore[operator]
-    except OSError as exc:
-        log.debug("Single-instance socket unavailable: %s", exc)
-        return None
 
 
 def run_headless(args: argparse.Namespace) -> int:
@@ -125,18 +131,31 @@ def run_headless(args: argparse.Namespace) -> int:
     root.addHandler(handler)
     root.setLevel({"error": logging.WARNING, "info": logging.INFO,
                    "debug": logging.DEBUG}[args.log_level])
-    if _hand_over(args):
-        return 0
-    return asyncio.run(_serve_headless(args))
+    instance, status = _become_instance(args)
+    if status is not None:
+        return status
+    try:
+        return asyncio.run(_serve_headless(args, instance))
+    finally:
+        if instance is not None:
+            instance.close()  # type: ignore[attr-defined]
 
 
 def run_window(args: argparse.Namespace) -> int:
-    if _hand_over(args):
-        return 0
+    instance, status = _become_instance(args)
+    if status is not None:
+        return status
+    try:
+        return _run_window(args, instance)
+    finally:
+        if instance is not None:
+            instance.close()  # type: ignore[attr-defined]
+
+
+def _run_window(args: argparse.Namespace, instance: object | None) -> int:
     import qasync
 
     from moas_gui.app import ServerApp
-    from moas_gui.single_instance import claim
     from moas_gui.ui.qt import QSettings
     from moas_gui.ui.server_window import ServerWindow, application_icon, ensure_application
 
@@ -152,13 +171,13 @@ def run_window(args: argparse.Namespace) -> int:
         settings = QSettings()
         window = ServerWindow(app, settings, quit_event.set)
         window.show()
-        instance = await _claim(claim, lambda path: window.open_file(path))
+        if instance is not None:
+            await instance.start(  # type: ignore[attr-defined]
+                lambda path: window.open_file(str(path)) if path else window.bring_to_front())
         if args.file:
             window.open_file(args.file)
         await quit_event.wait()
         await window.idle()
-        if instance is not None:
-            await instance.close()  # type: ignore[attr-defined]
         await app.close()
         window.shutdown()
         return 0

@@ -113,7 +113,6 @@ class ServerWindow(QMainWindow):
         self.action_about = help_menu.addAction("&About MOAS Server", self.about)
         self.action_manual = help_menu.addAction("&Manual", self.open_manual)
         self._refresh_recent()
-        self._refresh_actions()
 
     def _build_tray(self) -> None:
         self.tray = QSystemTrayIcon(self)
@@ -283,6 +282,12 @@ class ServerWindow(QMainWindow):
         QDesktopServices.openUrl(QUrl.fromLocalFile(str(target)))
 
     # -- window and tray -------------------------------------------------------------
+    def bring_to_front(self) -> None:
+        """Show the window on top (another launch without a file asked for it)."""
+        self.show()
+        self.raise_()
+        self.activateWindow()
+
     def toggle_visible(self) -> None:
         if self.isVisible():
             self.hide()

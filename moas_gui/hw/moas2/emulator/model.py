@@ -278,7 +278,9 @@ class EmulatorModel:
             return
         st = self.stations[c.station]
         self._seq += 1
-        slot = Slot(c.antenna, frozenset(c.relays))
+        # Extra relays belong to no antenna: the antenna character is ignored.
+        antenna = 63 if c.kind is AntennaKind.EXTRA else c.antenna
+        slot = Slot(antenna, frozenset(c.relays))
         for kind in _KIND_OF[c.kind]:
             st.pending[kind] = Request(slot, self._seq)
 

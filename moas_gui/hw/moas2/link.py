@@ -225,6 +225,11 @@ class SwitchLink:
             log.info("%s: resetting and loading it again", self.where)
             self._load()
 
+    async def ask_relays(self) -> frozenset[int] | None:
+        """The relays the box says are closed (``|;``), or None without an answer."""
+        reply = await self._ask(RelayStatusRequest(), RelayStatus) if self.ready else None
+        return reply.relays if reply is not None else None
+
     async def save_data(self, path: str | Path) -> Path:
         """Write every status reply and the tables to ``path`` (text)."""
         path = Path(path)

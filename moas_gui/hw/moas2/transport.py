@@ -143,13 +143,16 @@ class SerialTransport:
     def close(self) -> None:
         self._stop_reading()
         self._on_lost = None
+        if self._thread is not None and self._thread is not threading.current_thread():
+            # Let the reader leave its read (0.1 s timeout) before the port closes.
+            with contextlib.suppress(*_SERIAL_ERRORS, AttributeError):
+                self._serial.cancel_read()
+            self._thread.join(timeout=1)
+        self._thread = None
         if self._serial is not None:
             with contextlib.suppress(*_SERIAL_ERRORS):
                 self._serial.close()
             self._serial = None
-        if self._thread is not None and self._thread is not threading.current_thread():
-            self._thread.join(timeout=1)
-        self._thread = None
 
 
 class EmulatorTransport:

@@ -1,0 +1,458 @@
+"""The switch link against an emulated box served on a real pseudo-terminal
+and opened with pyserial: loading, differences, pings, a port that goes and
+comes back, garbage, a box that stops answering or is reset behind the
+link's back, errors, Stop/Start/Reset, Save Switch Data."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections.abc import AsyncIterator, Callable
+from pathlib import Path
+
+import pytest
+import pytest_asyncio
+
+from moas_gui.engine.switchstate import StationAntennas, SwitchState
+from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
+from moas_gui.hw.moas2.emulator.model import EmulatorModel
+from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
+from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.transport import SerialTransport
+
+FAST = LinkTiming(ping_interval=0.05, answer_timeout=0.3, retry_first=0.05, retry_max=0.2)
+IDLE = StationAntennas()
+
+
+def band(slot: int, relays: set[int]) -> StationAntennas:
+    return StationAntennas(tx=slot, tx_relays=frozenset(relays), rx=slot,
+                           rx_relays=frozenset(relays))
+
+
+def wanted(*stations: StationAntennas, **more: object) -> SwitchState:
+    padded = tuple(stations) + (IDLE,) * (6 - len(stations))
+    return SwitchState(stations=padded, conflicts=frozenset({(a, a) for a in range(10)}),
+                       **more)  # type: ignore[arg-type]
+
+
+STATE_A = wanted(band(1, {1, 2}), band(2, {8}))
+STATE_B = wanted(band(3, {5}), band(2, {8}))
+
+
+async def until(condition: Callable[[], bool], timeout: float = 3.0) -> None:
+    loop = asyncio.get_running_loop()
+    end = loop.time() + timeout
+    while not condition():
+        if loop.time() > end:
+            raise AssertionError("timed out waiting")
+        await asyncio.sleep(0.01)
+
+
+class Served:
+    """An emulated box on a pseudo-terminal, reachable at a stable link path."""
+
+    def __init__(self, link: Path, unit_id: int = 0) -> None:
+        self.link = link
+        self.unit_id = unit_id
+        self.box: EmulatedBox
+        self.endpoint: PtyEndpoint
+        self.received = bytearray()
+
+    def start(self) -> None:
+        self.box = EmulatedBox(EmulatorModel(unit_id=self.unit_id))
+        self.endpoint = PtyEndpoint()
+        serve(self.box, self.endpoint, asyncio.get_running_loop())
+        self.box.add_listener(self._traffic)
+        make_link(self.endpoint.path, self.link)
+
+    def _traffic(self, kind: Traffic, data: bytes) -> None:
+        if kind is Traffic.RECEIVED:
+            self.received += data
+
+    def stop(self) -> None:
+        self.box.close()
+        self.endpoint.close()
+
+    @property
+    def relays(self) -> frozenset[int]:
+        return self.box.view().relays
+
+
+@pytest_asyncio.fixture
+async def served(tmp_path: Path) -> AsyncIterator[Served]:
+    s = Served(tmp_path / "moas1")
+    s.start()
+    yield s
+    s.stop()
+
+
+def make_link_to(served: Served, echo: int | None = None, **kw: object) -> tuple[SwitchLink, list]:
+    statuses: list[LinkStatus] = []
+    link = SwitchLink(1, str(served.link), echo, on_status=statuses.append, timing=FAST,
+                      **kw)  # type: ignore[arg-type]
+    return link, statuses
+
+
+# --------------------------------------------------------------------------- loading and changes
+
+
+@pytest.mark.asyncio
+async def test_link_loads_the_box_and_then_sends_only_differences(served: Served) -> None:
+    link, statuses = make_link_to(served)
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: link.status is LinkStatus.OK)
+        assert statuses == [LinkStatus.OK]
+        await until(lambda: served.relays == {1, 2, 8})
+        assert served.received.startswith(b":;*0;%C")
+        before = len(served.received)
+        written = link.apply(STATE_B)
+        assert written == len(b"!1B35;")
+        await until(lambda: served.relays == {5, 8})
+        assert bytes(served.received[before:]).startswith(b"!1B35;")
+        assert await link.ask_relays() == {5, 8}
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_apply_writes_before_returning() -> None:
+    link = SwitchLink(1, "emulator", timing=FAST)
+    link.connect()
+    try:
+        await until(lambda: link.ready)
+        assert link.emulator is not None
+        link.apply(STATE_A)
+        assert link.emulator.view().relays == {1, 2, 8}  # no await in between
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_pings_keep_the_link_ok(served: Served) -> None:
+    link, statuses = make_link_to(served)
+    link.connect()
+    try:
+        await until(lambda: link.status is LinkStatus.OK)
+        await asyncio.sleep(FAST.answer_timeout * 3)
+        assert statuses == [LinkStatus.OK]
+        assert served.received.count(b"';") >= 4
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_transmit_and_receive_reach_the_callback(served: Served) -> None:
+    events: list[tuple[int, bool]] = []
+    link, _ = make_link_to(served, on_tr=lambda s, t: events.append((s, t)))
+    served.box.set_tr(3, True)
+    link.connect()
+    try:
+        await until(lambda: len(events) == 6)
+        assert (3, True) in events and (1, False) in events
+        events.clear()
+        served.box.set_tr(3, False)
+        served.box.set_tr(1, True)
+        # Station 3 was keyed when the box was activated: it finishes its
+        # activation inhibit before it can go back to receive.
+        await until(lambda: sorted(events) == [(1, True), (3, False)])
+    finally:
+        await link.close()
+
+
+# --------------------------------------------------------------------------- unit id
+
+
+@pytest.mark.asyncio
+async def test_a_box_with_another_unit_id_is_not_driven(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    other = Served(tmp_path / "moas2", unit_id=2)
+    other.start()
+    link, statuses = make_link_to(other, echo=1)
+    link.apply(STATE_A)
+    caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2")
+    link.connect()
+    try:
+        await until(lambda: statuses == [LinkStatus.UNRESPONSIVE])
+        await asyncio.sleep(0.3)
+        assert b"*0;" not in other.received
+        assert other.relays == frozenset()
+        errors = [r for r in caplog.records if r.levelno == logging.ERROR]
+        assert len(errors) == 1, "the refusal is logged once, not at every retry"
+        assert "unit 2" in errors[0].message and "Echo is 1" in errors[0].message
+    finally:
+        await link.close()
+        other.stop()
+
+
+@pytest.mark.asyncio
+async def test_a_box_with_the_expected_unit_id_is_driven(tmp_path: Path) -> None:
+    right = Served(tmp_path / "moas7", unit_id=7)
+    right.start()
+    link, _ = make_link_to(right, echo=7)
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: right.relays == {1, 2, 8})
+    finally:
+        await link.close()
+        right.stop()
+
+
+# --------------------------------------------------------------------------- ports that go away
+
+
+@pytest.mark.asyncio
+async def test_a_port_that_cannot_be_opened_is_named_and_retried(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    later = Served(tmp_path / "not-yet")
+    link, statuses = make_link_to(later)
+    link.apply(STATE_A)
+    caplog.set_level(logging.WARNING, "moas_gui.hw.moas2")
+    link.connect()
+    try:
+        await until(lambda: statuses == [LinkStatus.UNRESPONSIVE])
+        message = caplog.records[0].message
+        assert "not-yet" in message and "cannot open the port" in message
+        assert "No such file" in message
+        later.start()
+        await until(lambda: link.status is LinkStatus.OK)
+        await until(lambda: later.relays == {1, 2, 8})
+    finally:
+        await link.close()
+        later.stop()
+
+
+@pytest.mark.asyncio
+async def test_port_closed_and_reopened_mid_stream_ends_in_the_latest_relays(
+    served: Served,
+) -> None:
+    link, statuses = make_link_to(served)
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: served.relays == {1, 2, 8})
+        served.stop()  # the pseudo-terminal vanishes, as a USB cable pulled
+        await until(lambda: link.status is LinkStatus.UNRESPONSIVE)
+        assert link.apply(STATE_B) == 0  # remembered, not written
+        served.start()  # a new, freshly powered box at the same path
+        await until(lambda: link.status is LinkStatus.OK)
+        await until(lambda: served.relays == {5, 8})
+        assert statuses == [LinkStatus.OK, LinkStatus.UNRESPONSIVE, LinkStatus.OK]
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_garbage_from_the_box_is_skipped_and_logged_at_debug(
+    served: Served, caplog: pytest.LogCaptureFixture
+) -> None:
+    link, statuses = make_link_to(served)
+    caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2.link")
+    link.connect()
+    try:
+        await until(lambda: link.status is LinkStatus.OK)
+        served.endpoint.write(b"\xff\x00garbage;=+-!9Z;<1")
+        link.apply(STATE_A)
+        await until(lambda: served.relays == {1, 2, 8})
+        await asyncio.sleep(FAST.answer_timeout)
+        assert statuses == [LinkStatus.OK]
+        skipped = [r for r in caplog.records if "skipped" in r.message]
+        assert skipped and all(r.levelno == logging.DEBUG for r in skipped)
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_a_box_that_stops_answering_is_unresponsive_and_reloaded_when_back(
+    served: Served,
+) -> None:
+    link, statuses = make_link_to(served)
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: served.relays == {1, 2, 8})
+        served.box.attach(None)  # it hears but says nothing
+        await until(lambda: link.status is LinkStatus.UNRESPONSIVE)
+        link.apply(STATE_B)
+        served.box.model.feed(b"*0;", served.box.now())  # and it lost power meanwhile
+        served.box.attach(served.endpoint.write)
+        await until(lambda: link.status is LinkStatus.OK)
+        await until(lambda: served.relays == {5, 8})
+        assert statuses == [LinkStatus.OK, LinkStatus.UNRESPONSIVE, LinkStatus.OK]
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_a_box_reset_behind_the_links_back_is_loaded_again(
+    served: Served, caplog: pytest.LogCaptureFixture
+) -> None:
+    link, statuses = make_link_to(served)
+    link.apply(STATE_A)
+    caplog.set_level(logging.WARNING, "moas_gui.hw.moas2.link")
+    link.connect()
+    try:
+        await until(lambda: served.relays == {1, 2, 8})
+        served.box.receive(b"*0;")  # power dipped: the box is back in power-on state
+        assert served.relays == frozenset()
+        await until(lambda: served.relays == {1, 2, 8})
+        assert statuses == [LinkStatus.OK]
+        assert any("reset or lost power" in r.message for r in caplog.records)
+    finally:
+        await link.close()
+
+
+# --------------------------------------------------------------------------- errors
+
+
+@pytest.mark.asyncio
+async def test_an_error_from_the_box_names_the_command_that_caused_it(
+    served: Served, caplog: pytest.LogCaptureFixture
+) -> None:
+    errors: list[str] = []
+
+    def refuse_interlocks(kind: Traffic, data: bytes) -> None:
+        if kind is Traffic.RECEIVED and b"~" in data:
+            served.endpoint.write(b"?T;")
+
+    served.box.add_listener(refuse_interlocks)
+    link, _ = make_link_to(served, on_error=errors.append)
+    caplog.set_level(logging.ERROR, "moas_gui.hw.moas2.link")
+    link.connect()
+    try:
+        await until(lambda: link.status is LinkStatus.OK)
+        others = (frozenset({2}),) + (frozenset(),) * 5
+        link.apply(wanted(band(1, {1}), band(2, {2}), inhibit_others=others))
+        await until(lambda: bool(errors))
+        assert "refused ~12;" in errors[0]
+        assert "?T" in errors[0] and "itself" in errors[0]
+        assert caplog.records[-1].levelno == logging.ERROR
+    finally:
+        await link.close()
+
+
+# --------------------------------------------------------------------------- the File menu
+
+
+@pytest.mark.asyncio
+async def test_stop_turns_every_relay_off_and_start_restores_the_latest(served: Served) -> None:
+    link, statuses = make_link_to(served)
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: served.relays == {1, 2, 8})
+        link.stop()
+        assert link.status is LinkStatus.STOPPED
+        await until(lambda: served.relays == frozenset())
+        await until(lambda: not served.box.view().active)
+        link.apply(STATE_B)
+        await asyncio.sleep(FAST.answer_timeout)
+        assert served.relays == frozenset()
+        assert link.status is LinkStatus.STOPPED, "an inactive box is what a stopped link wants"
+        link.start()
+        await until(lambda: served.relays == {5, 8})
+        assert statuses == [LinkStatus.OK, LinkStatus.STOPPED, LinkStatus.OK]
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_reset_reloads_the_box_with_the_current_state(served: Served) -> None:
+    link, _ = make_link_to(served)
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: served.relays == {1, 2, 8})
+        served.box.receive(b"!1B9z;")  # someone meddled
+        await until(lambda: served.relays == {8, 61})
+        before = len(served.received)
+        link.reset()
+        await until(lambda: served.relays == {1, 2, 8})
+        assert bytes(served.received[before:]).startswith(b"*0;")
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_save_switch_data_writes_every_status_reply_and_the_tables(
+    served: Served, tmp_path: Path
+) -> None:
+    link, _ = make_link_to(served)
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: served.relays == {1, 2, 8})
+        path = await link.save_data(tmp_path / "switch1.txt")
+        text = path.read_text()
+        for expected in (":1000;", '"BRRRRRR', '"I;', "|00000000046;", "';     -> !;",
+                         "%C00112233445566778899;", "conflict pairs", "Recent errors"):
+            assert expected in text, expected
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_save_switch_data_without_a_switch_says_no_answer(tmp_path: Path) -> None:
+    link = SwitchLink(4, str(tmp_path / "absent"), timing=FAST)
+    path = await link.save_data(tmp_path / "s4.txt")
+    text = path.read_text()
+    assert "MOAS II switch 4" in text and "no answer" in text
+
+
+# --------------------------------------------------------------------------- more than one, threads
+
+
+@pytest.mark.asyncio
+async def test_two_switches_at_once(tmp_path: Path) -> None:
+    one, two = Served(tmp_path / "a"), Served(tmp_path / "b")
+    one.start()
+    two.start()
+    link1, _ = make_link_to(one)
+    link2 = SwitchLink(2, str(two.link), timing=FAST)
+    link1.apply(STATE_A)
+    link2.apply(STATE_B)
+    link1.connect()
+    link2.connect()
+    try:
+        await until(lambda: one.relays == {1, 2, 8} and two.relays == {5, 8})
+    finally:
+        await link1.close()
+        await link2.close()
+        one.stop()
+        two.stop()
+
+
+@pytest.mark.asyncio
+async def test_the_reader_thread_works_as_well_as_add_reader(served: Served) -> None:
+    link = SwitchLink(1, str(served.link), timing=FAST,
+                      transport=SerialTransport(str(served.link), use_thread=True))
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: link.status is LinkStatus.OK)
+        await until(lambda: served.relays == {1, 2, 8})
+        served.stop()
+        await until(lambda: link.status is LinkStatus.UNRESPONSIVE)
+        served.start()
+        link.apply(STATE_B)
+        await until(lambda: served.relays == {5, 8})
+    finally:
+        await link.close()
+
+
+@pytest.mark.asyncio
+async def test_the_emulator_port_name_gives_an_in_process_box_to_show() -> None:
+    link = SwitchLink(3, "emulator", echo=12, timing=FAST)
+    assert link.emulator is not None
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: link.emulator is not None and link.emulator.view().relays == {1, 2, 8})
+        assert link.emulator.view().unit_id == 12
+        assert link.status is LinkStatus.OK
+    finally:
+        await link.close()

@@ -1,19 +1,23 @@
-"""What can go wrong between this program and a MOAS II, as a small tree::
+"""What can go wrong between this program and a MOAS II, as a small tree
+under the project's :mod:`moas_gui.errors`::
 
-    Moas2Error
-     +-- EncodeError (ValueError)   a command this program refuses to write
-     |    +-- CommandTooLong        it would exceed the 40-byte limit
-     |         +-- RelayListTooLong  more relays than one antenna command holds
-     +-- CommandRejected            a command the box answers with ``?U``/``?A``/``?T``
-     +-- PortError (OSError)        a port that cannot be opened or vanished
+    MoasError
+     +-- Moas2Error
+          +-- EncodeError (ValueError)      a command this program refuses to write
+          |    +-- CommandTooLong           it would exceed the 40-byte limit
+          |         +-- RelayListTooLong    more relays than one antenna command holds
+          +-- CommandRejected (ProtocolError)  what the box answers ``?U``/``?A``/``?T``
+          +-- PortError (HardwareError, OSError)  a port that cannot be opened or vanished
 
 Each error's message says what was wrong and where.
 """
 
 from __future__ import annotations
 
+from ...errors import HardwareError, MoasError, ProtocolError
 
-class Moas2Error(Exception):
+
+class Moas2Error(MoasError):
     """Anything wrong in talking to a MOAS II."""
 
 
@@ -29,7 +33,7 @@ class RelayListTooLong(CommandTooLong):
     """An antenna command with more relays than fit in 40 bytes (35)."""
 
 
-class CommandRejected(Moas2Error):
+class CommandRejected(Moas2Error, ProtocolError):
     """A command the box would refuse; ``code`` is its ``?`` letter."""
 
     def __init__(self, code: str, reason: str) -> None:
@@ -38,7 +42,7 @@ class CommandRejected(Moas2Error):
         self.reason = reason
 
 
-class PortError(Moas2Error, OSError):
+class PortError(Moas2Error, HardwareError, OSError):
     """A serial port that cannot be opened, or that vanished."""
 
 

@@ -112,7 +112,7 @@ async def test_link_survives_the_emulator_process_being_replaced(tmp_path: Path)
         StationAntennas(tx=1, tx_relays=frozenset({1, 2}), rx=1, rx_relays=frozenset({1, 2})),
         *(StationAntennas(),) * 5,
     ))
-    timing = LinkTiming(ping_interval=0.1, answer_timeout=0.5, retry_first=0.1, retry_max=0.3)
+    timing = LinkTiming(ping_interval=0.1, answer_timeout=1.0, retry_first=0.1, retry_max=0.3)
     statuses: list[LinkStatus] = []
     proc, _ = await asyncio.to_thread(start, "--link", str(link_path))
     link = SwitchLink(1, str(link_path), timing=timing, on_status=statuses.append)

@@ -98,7 +98,7 @@ def test_closing_the_window_stops_listening(qtbot, window: EmulatorWindow,  # ty
 
 def test_switch_link_runs_on_the_qt_event_loop(qapp: QApplication, tmp_path: Path) -> None:
     loop = qasync.QEventLoop(qapp)
-    timing = LinkTiming(ping_interval=0.05, answer_timeout=0.3, retry_first=0.05, retry_max=0.2)
+    timing = LinkTiming(ping_interval=0.05, answer_timeout=1.0, retry_first=0.05, retry_max=0.2)
     state = SwitchState(stations=(
         StationAntennas(tx=1, tx_relays=frozenset({4}), rx=1, rx_relays=frozenset({4})),
         *(StationAntennas(),) * 5,
@@ -112,7 +112,7 @@ def test_switch_link_runs_on_the_qt_event_loop(qapp: QApplication, tmp_path: Pat
         link.apply(state)
         link.connect()
         try:
-            for _ in range(200):
+            for _ in range(800):
                 if link.status is LinkStatus.OK:
                     break
                 await asyncio.sleep(0.01)

@@ -457,3 +457,26 @@ async def test_the_emulator_port_name_gives_an_in_process_box_to_show() -> None:
         assert link.status is LinkStatus.OK
     finally:
         await link.close()
+
+
+@pytest.mark.asyncio
+async def test_a_failing_callback_is_logged_and_the_link_carries_on(
+    served: Served, caplog: pytest.LogCaptureFixture
+) -> None:
+    def broken(station: int, transmitting: bool) -> None:
+        raise RuntimeError("server bug")
+
+    link, statuses = make_link_to(served, on_tr=broken)
+    link.apply(STATE_A)
+    caplog.set_level(logging.ERROR, "moas_gui.hw.moas2.link")
+    link.connect()
+    try:
+        await until(lambda: served.relays == {1, 2, 8})
+        served.box.set_tr(1, True)
+        await until(lambda: any("callback failed" in r.getMessage() for r in caplog.records))
+        served.box.set_tr(1, False)  # (a transmitting station would hold its change)
+        link.apply(STATE_B)
+        await until(lambda: served.relays == {5, 8})
+        assert statuses == [LinkStatus.OK]
+    finally:
+        await link.close()

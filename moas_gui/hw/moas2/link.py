@@ -31,8 +31,8 @@ import contextlib
 import logging
 import time
 from collections import deque
-from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass
 from enum import Enum
 from pathlib import Path
 from typing import Any, TypeVar
@@ -40,6 +40,7 @@ from typing import Any, TypeVar
 from ...engine.switchstate import STATIONS, SwitchState
 from .commands import encode, split
 from .decoder import SwitchDecoder
+from .diagnostics import Batch, blame, switch_data
 from .emulator.box import EmulatedBox
 from .emulator.model import EmulatorModel
 from .errors import PortError
@@ -93,19 +94,6 @@ class LinkTiming:
     retry_max: float = 8.0
 
 
-@dataclass(slots=True)
-class _Batch:
-    expect_active: bool | None
-    commands: list[bytes] = field(default_factory=list)
-
-
-_CAN_CAUSE: dict[str, Callable[[bytes], bool]] = {
-    "T": lambda c: c[:1] in (b"~", b"@"),
-    "A": lambda c: c not in (b"';", b"|;"),
-}
-"""Which commands can draw each error letter (others: any command)."""
-
-
 class SwitchLink:
     """Owns one MOAS II switch."""
 
@@ -149,8 +137,8 @@ class SwitchLink:
         self._lost: asyncio.Event | None = None
         self._task: asyncio.Task[None] | None = None
         self._waiters: list[tuple[type, asyncio.Future[Any]]] = []
-        self._pings: deque[_Batch] = deque()
-        self._batch = _Batch(None)
+        self._pings: deque[Batch] = deque()
+        self._batch = Batch(None)
         self._last_heard = 0.0
         self._last_problem = ""
         self._tr: dict[int, bool] = {}
@@ -233,13 +221,6 @@ class SwitchLink:
     async def save_data(self, path: str | Path) -> Path:
         """Write every status reply and the tables to ``path`` (text)."""
         path = Path(path)
-        lines = [
-            f"MOAS II switch {self.switch_id}",
-            f"port: {self.port} ({self._transport.description})",
-            f"status: {self._status.value}",
-            f"written: {time.strftime('%Y-%m-%d %H:%M:%S')}",
-            "",
-        ]
         asked: list[tuple[Command, type[Any]]] = [
             (UnitId(), UnitIdReply),
             (StatusRequest(StatusKind.BOX), BoxStatus),
@@ -247,22 +228,17 @@ class SwitchLink:
             (RelayStatusRequest(), RelayStatus),
             (Ping(), Pong),
         ]
+        answers = []
         for command, reply_type in asked:
-            reply: Any = await self._ask(command, reply_type) if self.ready else None
-            sent = encode(command).decode()
-            if reply is None:
-                lines.append(f"{sent:6} -> no answer")
-            else:
-                lines.append(f"{sent:6} -> {encode_reply(reply).decode()}  {reply}")
+            reply = await self._ask(command, reply_type) if self.ready else None
+            answers.append((command, reply))
+        header = [
+            f"MOAS II switch {self.switch_id}",
+            f"port: {self.port} ({self._transport.description})",
+            f"status: {self._status.value}",
+        ]
         state = self._sent if self._sent is not None else self._effective(self._desired)
-        lines += ["", "Tables and settings as loaded (the commands, one per line):"]
-        lines += [f"  {encode(part).decode()}" for c in initialise(state).commands for part in split(c)]
-        lines += ["", f"conflict pairs: {sorted(state.conflicts)}"]
-        lines += [f"fast pairs: {sorted(state.fast)}", f"systems: {list(state.systems)}"]
-        lines += ["", "Recent errors:", *(f"  {e}" for e in self.errors)]
-        if not self.errors:
-            lines.append("  none")
-        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        path.write_text(switch_data(header, answers, state, self.errors), encoding="utf-8")
         return path
 
     # ------------------------------------------------------------------ supervision
@@ -290,7 +266,7 @@ class SwitchLink:
             return False
         self._open = True
         self._pings.clear()
-        self._batch = _Batch(None)
+        self._batch = Batch(None)
         self._tr.clear()
         unit = await self._ask(UnitId(), UnitIdReply)
         if unit is None:
@@ -359,7 +335,7 @@ class SwitchLink:
             self._status = status
             log.info("%s is %s", self.where, status.value)
             if self._on_status is not None:
-                self._on_status(status)
+                self._call(self._on_status, status)
 
     def _problem(self, level: int, text: str) -> None:
         """Log a retry problem once, not every retry."""
@@ -389,8 +365,8 @@ class SwitchLink:
 
     def _ping(self) -> None:
         expect = self._sent.active if self._sent is not None else None
-        self._pings.append(_Batch(expect, self._batch.commands))
-        self._batch = _Batch(None)
+        self._pings.append(Batch(expect, self._batch.commands))
+        self._batch = Batch(None)
         self._write(b"';")
 
     async def _ask(self, command: Command, reply_type: type[_R]) -> _R | None:
@@ -464,34 +440,25 @@ class SwitchLink:
 
     def _error(self, reply: ErrorReply) -> None:
         commands = self._pings[0].commands if self._pings else self._batch.commands
-        fits = _CAN_CAUSE.get(reply.code, _any_command)
-        suspects = [c.decode() for c in commands if fits(c)]
-        what = f"?{reply.code} ({reply.meaning})"
-        if len(suspects) == 1:
-            text = f"{self.where} refused {suspects[0]}: {what}"
-        elif suspects:
-            text = f"{self.where} answered {what} to one of: {' '.join(_last(suspects, 8))}"
-        else:
-            text = f"{self.where} sent {what} for no command this link sent"
+        text = blame(self.where, reply, commands)
         log.error("%s", text)
         self.errors.append(text)
         if self._on_error is not None:
-            self._on_error(text)
+            self._call(self._on_error, text)
 
     def _tr_changed(self, station: int, transmitting: bool) -> None:
         if self._tr.get(station) is transmitting:
             return
         self._tr[station] = transmitting
         if self._on_tr is not None:
-            self._on_tr(station, transmitting)
+            self._call(self._on_tr, station, transmitting)
 
-
-def _any_command(command: bytes) -> bool:
-    return True
-
-
-def _last(items: list[str], n: int) -> Iterable[str]:
-    return items if len(items) <= n else ["...", *items[-n:]]
+    def _call(self, callback: Callable[..., None], *args: object) -> None:
+        """Call the server back; a failing callback is logged, the link carries on."""
+        try:
+            callback(*args)
+        except Exception:  # whatever the caller's code raises, the link carries on
+            log.exception("%s: the %s callback failed", self.where, callback)
 
 
 __all__ = ["EMULATOR_PORT", "LinkStatus", "LinkTiming", "SwitchLink"]

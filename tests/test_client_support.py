@@ -21,6 +21,7 @@ from typing import Any, Self, TypeVar
 
 import qasync  # type: ignore[import-untyped]
 
+from moas_gui.aio import cancel_and_wait
 from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.fake_station import DEMO_STATION, FakeStation
 from moas_gui.net.server import ClientServer
@@ -43,10 +44,9 @@ def run_on_qt(qapp: Any, coro: Coroutine[Any, Any, T], timeout: float = 30.0) ->
         return loop.run_until_complete(asyncio.wait_for(coro, timeout))
     finally:
         pending = [t for t in asyncio.all_tasks(loop) if not t.done()]
-        for task in pending:
-            task.cancel()
         if pending:
-            loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
+            loop.run_until_complete(asyncio.wait_for(
+                asyncio.gather(*(cancel_and_wait(t) for t in pending)), 10))
         loop.run_until_complete(loop.shutdown_asyncgens())
         asyncio.set_event_loop(None)
         loop.close()

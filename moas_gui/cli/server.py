@@ -159,7 +159,6 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
     from moas_gui.ui.qt import QSettings
     from moas_gui.ui.server_window import ServerWindow, application_icon, ensure_application
 
-    logging.getLogger("moas_gui").setLevel(logging.DEBUG)
     qt_app = ensure_application()
     qt_app.setWindowIcon(application_icon())
     loop = qasync.QEventLoop(qt_app)

@@ -61,7 +61,9 @@ class ServerWindow(QMainWindow):
         self.setCentralWidget(self.log_view)
         self.log_handler = QtLogHandler()
         self.log_handler.bridge.record.connect(self.log_view.add_record)
-        logging.getLogger("moas_gui").addHandler(self.log_handler)
+        product_log = logging.getLogger("moas_gui")
+        product_log.addHandler(self.log_handler)
+        product_log.setLevel(logging.DEBUG)  # the view filters by the chosen level
 
         self._build_menus()
         self._build_tray()
@@ -250,11 +252,13 @@ class ServerWindow(QMainWindow):
         self.settings.setValue("view/statusBar", visible)
 
     def open_client(self) -> None:
+        """View > Client: the built-in client, talking to this server over loopback."""
+        if self.app.client_address is None:
+            log.error("The client needs a running configuration: open one first")
+            return
         from .client_window import open_builtin_client
 
-        window = open_builtin_client(self.app)
-        if window is not None:
-            self.client_windows.append(window)
+        self.client_windows.append(open_builtin_client(self.app))
 
     def open_emulator(self, switch_id: int) -> None:
         window = self.emulator_windows.get(switch_id)
@@ -264,7 +268,7 @@ class ServerWindow(QMainWindow):
                 return
             from .emulator_window import EmulatorWindow
 
-            window = EmulatorWindow(emulator)
+            window = EmulatorWindow(emulator, port=f"switch {switch_id} (built in)")
             window.setWindowTitle(f"MOAS II Emulator - switch {switch_id}")
             self.emulator_windows[switch_id] = window
         window.show()

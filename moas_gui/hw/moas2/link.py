@@ -37,6 +37,7 @@ from enum import Enum
 from pathlib import Path
 from typing import Any, TypeVar
 
+from ...aio import cancel_and_wait
 from ...engine.switchstate import STATIONS, SwitchState
 from .commands import encode, split
 from .decoder import SwitchDecoder
@@ -174,13 +175,7 @@ class SwitchLink:
         """Stop talking to the switch; the box keeps its relays."""
         task, self._task = self._task, None
         if task is not None:
-            # Python 3.11's wait_for can swallow a cancellation that arrives together
-            # with the awaited answer; keep cancelling until the task has really ended.
-            while not task.done():
-                task.cancel()
-                await asyncio.wait({task}, timeout=0.2)
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+            await cancel_and_wait(task)
         self._close_port("closed")
 
     def apply(self, state: SwitchState) -> int:

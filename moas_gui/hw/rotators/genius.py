@@ -20,6 +20,7 @@ import asyncio
 import contextlib
 import logging
 
+from moas_gui.aio import cancel_and_wait
 from moas_gui.engine.config.model import Rotator
 
 from .base import Backoff, Publish, RotatorDriver, RotatorStatus, Timing
@@ -73,9 +74,7 @@ class GeniusLink:
     async def close(self) -> None:
         task, self._task = self._task, None
         if task is not None:
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+            await cancel_and_wait(task)
 
     async def request(self, command: bytes, answer: str) -> Status | Reply:
         """Send one command and wait for its answer (``"h"`` or a command letter).

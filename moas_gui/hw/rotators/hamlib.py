@@ -21,6 +21,7 @@ import asyncio
 import contextlib
 import logging
 
+from moas_gui.aio import cancel_and_wait
 from moas_gui.engine.config.model import Rotator
 
 from .base import Backoff, Publish, RotatorDriver, RotatorStatus, Timing
@@ -81,9 +82,7 @@ class HamlibRotator(RotatorDriver):
     async def close(self) -> None:
         task, self._task = self._task, None
         if task is not None:
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+            await cancel_and_wait(task)
 
     # ---- requests --------------------------------------------------------------------
 

@@ -14,6 +14,7 @@ import asyncio
 import contextlib
 import logging
 
+from moas_gui.aio import cancel_and_wait
 from moas_gui.engine.config.model import Rotator
 
 from .base import Backoff, Publish, RotatorDriver, RotatorStatus, Timing
@@ -62,9 +63,7 @@ class MoasRotatorLink:
     async def close(self) -> None:
         task, self._task = self._task, None
         if task is not None:
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+            await cancel_and_wait(task)
 
     async def send(self, data: bytes) -> None:
         writer = self._writer
@@ -163,9 +162,7 @@ class SerialRotator(RotatorDriver):
     async def close(self) -> None:
         task, self._task = self._task, None
         if task is not None:
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+            await cancel_and_wait(task)
 
     # ---- called by the link ----------------------------------------------------------
 

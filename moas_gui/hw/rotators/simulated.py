@@ -8,9 +8,9 @@ seconds.  It starts at its counterclockwise stop and is always online.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 
+from moas_gui.aio import cancel_and_wait
 from moas_gui.engine.config.model import Rotator
 
 from .base import Publish, RotatorDriver, RotatorStatus, Timing
@@ -94,9 +94,7 @@ class SimulatedRotator(RotatorDriver):
     async def _cancel_task(self) -> None:
         task, self._task = self._task, None
         if task is not None and not task.done():
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+            await cancel_and_wait(task)
 
 
 __all__ = ["SimulatedRotator"]

@@ -35,7 +35,7 @@ def test_radio_entry_has_the_protocol_fields() -> None:
         "station": 1, "radio": 1, "khz": 14025.0, "tx_khz": 14025.0, "tx": 0, "rx": 0,
         "alt": None, "transmitting": False, "inhibited": False, "note": ""}
     assert e.antenna_views()[0].to_dict() == {"id": 0, "short": "Tri", "long": "Tribander",
-                                              "rotator": None}
+                                              "rotator": None, "offset": 0}
 
 
 def test_changes_merge_and_report_emptiness() -> None:

@@ -94,7 +94,9 @@ async def test_views_follow_the_client_protocol_and_hide_invisible_rotators(
     views = manager.views()
     assert [v.id for v in views] == [2, 1]
     assert views[0].to_json() == {"id": 2, "short": "10 side", "heading": 0, "target": None,
-                                  "moving": False, "online": True}
+                                  "moving": False, "online": True, "long": "10 side",
+                                  "ccw_limit": 0, "rotation": 300, "has_stop": False,
+                                  "electrical": False}
     assert manager.view(3).short == "Hidden"
 
 

@@ -87,7 +87,7 @@ class Engine:
         out = []
         for a in self._ix.ids:
             ant = self._ix.antennas[a]
-            out.append(AntennaView(a, ant.label, ant.title, ant.rotator))
+            out.append(AntennaView(a, ant.label, ant.title, ant.rotator, ant.offset))
         return tuple(out)
 
     def slot_of(self, switch_id: int, antenna: int, station: int, radio: int) -> int | None:

@@ -38,9 +38,12 @@ class AntennaView:
     short: str
     long: str
     rotator: int | None = None
+    offset: int = 0
+    """Degrees between the rotator's heading and the antenna's (its mounting, 6.4)."""
 
     def to_dict(self) -> dict[str, Any]:
-        return {"id": self.id, "short": self.short, "long": self.long, "rotator": self.rotator}
+        return {"id": self.id, "short": self.short, "long": self.long, "rotator": self.rotator,
+                "offset": self.offset}
 
 
 SELECTED = "selected"

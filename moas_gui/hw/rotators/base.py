@@ -27,7 +27,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from moas_gui.engine.config.model import Rotator
+from moas_gui.engine.config.model import Rotator, RotatorControl
 
 from .headings import Travel, whole_heading
 
@@ -59,7 +59,11 @@ class RotatorStatus:
 
 @dataclass(frozen=True, slots=True)
 class RotatorView:
-    """One entry of the client protocol's ``rotators`` list."""
+    """One entry of the client protocol's ``rotators`` list.
+
+    Besides the contract's fields it carries what a compass needs to draw the
+    travel: ``long``, ``ccw_limit``, ``rotation``, ``has_stop`` and
+    ``electrical`` (a switched array such as a 4-square)."""
 
     id: int
     short: str
@@ -67,6 +71,11 @@ class RotatorView:
     target: int | None
     moving: bool
     online: bool
+    long: str = ""
+    ccw_limit: int = 0
+    rotation: int = 360
+    has_stop: bool = False
+    electrical: bool = False
 
     @classmethod
     def of(cls, rotator: Rotator, status: RotatorStatus) -> RotatorView:
@@ -77,12 +86,19 @@ class RotatorView:
             target=None if status.target is None else whole_heading(status.target),
             moving=status.moving,
             online=status.online,
+            long=rotator.long_name or rotator.label,
+            ccw_limit=rotator.ccw_limit,
+            rotation=rotator.rotation,
+            has_stop=rotator.has_stop,
+            electrical=rotator.control is RotatorControl.ELECTRICAL,
         )
 
     def to_json(self) -> dict[str, object]:
         return {
             "id": self.id, "short": self.short, "heading": self.heading,
             "target": self.target, "moving": self.moving, "online": self.online,
+            "long": self.long, "ccw_limit": self.ccw_limit, "rotation": self.rotation,
+            "has_stop": self.has_stop, "electrical": self.electrical,
         }
 
 

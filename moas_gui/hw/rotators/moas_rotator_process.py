@@ -19,8 +19,11 @@ log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_process")
 
 
 def default_command(port: int) -> list[str]:
-    """``python -m moas_gui.cli.rotator`` (the ``moas-rotator`` program), on ``port``."""
-    command = [sys.executable, "-m", "moas_gui.cli.rotator"]
+    """``python -m moas_gui.cli.rotator`` (the ``moas-rotator`` program), on ``port``.
+
+    The program the server starts serves this computer's rotators to this server
+    only, so it listens on the loopback address."""
+    command = [sys.executable, "-m", "moas_gui.cli.rotator", "--bind", "127.0.0.1"]
     if port != 13020:
         command += ["--port", str(port)]
     return command

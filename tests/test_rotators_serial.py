@@ -302,7 +302,7 @@ def test_no_program_is_started_when_the_configuration_says_false_or_none_is_loca
     assert RotatorManager([serial(1, model="Bad Model")]).local_program is None
     started = RotatorManager([serial(1, address="127.0.0.1")]).local_program
     assert started is not None and started.command == default_command(13020)
-    assert started.command[1:] == ["-m", "moas_gui.cli.rotator"]
+    assert started.command[1:] == ["-m", "moas_gui.cli.rotator", "--bind", "127.0.0.1"]
 
 
 @pytest.mark.asyncio

@@ -286,3 +286,14 @@ def test_warnings_alone_leave_the_configuration_usable() -> None:
     result = parse_config('{"Colour": "red"}', "t.moas")
     assert result.config is not None
     assert {p.severity for p in result.problems} == {Severity.WARNING}
+
+
+def test_more_relays_than_one_switch_command_carries_is_an_error() -> None:
+    data = json.loads(text_of())
+    data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = list(range(0, 36))
+    text = json.dumps(data, indent=2)
+    messages = [m for _, _, m in errors(text)]
+    assert "antenna 2's Control sets 36 relays on switch 1 at once; a MOAS II command " \
+           "carries at most 35" in messages
+    data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = list(range(0, 35))
+    assert parse_config(json.dumps(data), "t.moas").ok

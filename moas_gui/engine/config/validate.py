@@ -13,6 +13,10 @@ from collections.abc import Iterable
 from . import model as m
 from .reading import Reading
 
+MAX_RELAYS_PER_COMMAND = 35
+"""One MOAS II antenna command of at most 40 bytes carries at most 35 relays, and a
+second command for the same station replaces the first (``docs/switch.md``)."""
+
 SERIAL_MODELS = {
     "DCU1": 1, "RotorEZ": 2, "Yaesu": 4, "GS-232A": 4, "GS-232B": 4, "Alfaspid": 5,
     "RC2800P-A": 8, "RC2800P-X": 9, "Prosistel D": 10,
@@ -67,7 +71,16 @@ class _Checker:
         return True
 
     def relays(self, owner: object, key: str, relays: Iterable[int], what: str) -> None:
-        for relay in sorted(relays):
+        relays = sorted(relays)
+        per_switch: dict[int, int] = defaultdict(int)
+        for relay in relays:
+            per_switch[relay // 100 + 1] += 1
+        for switch_id, count in sorted(per_switch.items()):
+            if count > MAX_RELAYS_PER_COMMAND:
+                self.r.error(self.r.at(owner, key), f"{what} sets {count} relays on switch "
+                             f"{switch_id} at once; a MOAS II command carries at most "
+                             f"{MAX_RELAYS_PER_COMMAND}")
+        for relay in relays:
             switch_id, local = divmod(relay, 100)
             switch_id += 1
             if local > 63:
@@ -397,4 +410,4 @@ def check(config: m.Config, reading: Reading) -> None:
     _Checker(config, reading).run()
 
 
-__all__ = ["SERIAL_MODELS", "check"]
+__all__ = ["MAX_RELAYS_PER_COMMAND", "SERIAL_MODELS", "check"]

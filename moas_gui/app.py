@@ -191,12 +191,12 @@ class ServerApp:
             if part is not None:
                 try:
                     await part.close()
-                except Exception:  # noqa: BLE001 - closing must go on
+                except Exception:
                     log.exception("while closing %s", type(part).__name__)
         for link in run.links.values():
             try:
                 await link.close()
-            except Exception:  # noqa: BLE001
+            except Exception:
                 log.exception("while closing switch link")
         self._update_status()
 

@@ -64,8 +64,8 @@ def test_unquoted_names_and_single_quotes_are_explained() -> None:
 
 def test_duplicate_names_in_one_group_are_errors_with_the_first_line() -> None:
     found = messages('{"Buttons": [],\n "Buttons": []}')
-    assert found == [(2, 2, 'the name "Buttons" appears twice in this group (first on line 1); '
-                             'keep only one')]
+    assert found == [(2, 2, ('the name "Buttons" appears twice in this group (first on line 1); '
+                              'keep only one'))]
 
 
 def test_numbers_with_leading_zeros_or_plus_are_explained() -> None:
@@ -91,8 +91,8 @@ def test_a_wrong_closing_bracket_is_explained() -> None:
 
 
 def test_empty_file_and_text_after_the_end() -> None:
-    assert messages("   \n") == [(1, 1, "the file is empty: a configuration is a group that "
-                                        "starts with '{'")]
+    assert messages("   \n") == [(1, 1, ("the file is empty: a configuration is a group that "
+                                         "starts with '{'"))]
     assert "after the end" in messages('{"A": 1} }')[0][2]
 
 

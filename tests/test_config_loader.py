@@ -8,7 +8,12 @@ from pathlib import Path
 import pytest
 
 from moas_gui.engine.config import (
-    ButtonType, ConfigError, RotatorControl, Severity, load_config, parse_config,
+    ButtonType,
+    ConfigError,
+    RotatorControl,
+    Severity,
+    load_config,
+    parse_config,
 )
 
 BASE: dict = {
@@ -98,7 +103,7 @@ def test_a_single_value_where_a_list_is_needed_is_explained() -> None:
     data = json.loads(text_of())
     data["Antennas"][0]["Conflicts"] = 1
     text = json.dumps(data, indent=2)
-    ((line, column, message),) = errors(text)
+    ((line, _column, message),) = errors(text)
     assert line == line_of(text, '"Conflicts"')
     assert message == '"Conflicts" of this antenna must be a list, even of one value: write [1]'
 
@@ -130,7 +135,7 @@ def test_switch_ids_ports_and_relays_out_of_range() -> None:
     assert any("is 7; it must be from 1 to 6" in m for m in texts)
     assert any("relay 64; switch 1 has relays 0-63 only" in m for m in texts)
     assert any("relay 105, which belongs to switch 2" in m for m in texts)
-    relay_line = [line for line, _, m in found if "relay 64" in m][0]
+    relay_line = next(line for line, _, m in found if "relay 64" in m)
     assert relay_line == line_of(text, "64,")
 
 
@@ -290,10 +295,10 @@ def test_warnings_alone_leave_the_configuration_usable() -> None:
 
 def test_more_relays_than_one_switch_command_carries_is_an_error() -> None:
     data = json.loads(text_of())
-    data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = list(range(0, 36))
+    data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = list(range(36))
     text = json.dumps(data, indent=2)
     messages = [m for _, _, m in errors(text)]
     assert "antenna 2's Control sets 36 relays on switch 1 at once; a MOAS II command " \
            "carries at most 35" in messages
-    data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = list(range(0, 35))
+    data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = list(range(35))
     assert parse_config(json.dumps(data), "t.moas").ok

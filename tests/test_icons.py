@@ -11,6 +11,7 @@ from PySide6.QtGui import QColor, QImage, QPainter
 from PySide6.QtSvg import QSvgRenderer
 from PySide6.QtWidgets import QApplication
 
+from moas_gui.status import DESCRIPTIONS, ServerState, overall_state
 from moas_gui.ui import icons
 from moas_gui.ui.icons import (
     APP_ICON,
@@ -22,7 +23,6 @@ from moas_gui.ui.icons import (
     status_icon,
     status_icon_name,
 )
-from moas_gui.status import DESCRIPTIONS, ServerState, overall_state
 
 NAMES = [status_icon_name(state) for state in ServerState] + [FILE_ICON]
 

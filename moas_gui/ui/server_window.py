@@ -16,12 +16,24 @@ from typing import TYPE_CHECKING
 from moas_gui import __version__
 from moas_gui.status import ServerState, ServerStatus
 
+from .icons import app_icon, status_icon
 from .log_view import LogLevel, LogView, QtLogHandler
 from .qt import (
-    QAction, QActionGroup, QApplication, QCloseEvent, QDesktopServices, QFileDialog, QIcon,
-    QMainWindow, QMenu, QMessageBox, QSettings, QSystemTrayIcon, QUrl, QWidget,
+    QAction,
+    QActionGroup,
+    QApplication,
+    QCloseEvent,
+    QDesktopServices,
+    QFileDialog,
+    QIcon,
+    QMainWindow,
+    QMenu,
+    QMessageBox,
+    QSettings,
+    QSystemTrayIcon,
+    QUrl,
+    QWidget,
 )
-from .icons import app_icon, status_icon
 
 if TYPE_CHECKING:
     from moas_gui.app import ServerApp
@@ -300,15 +312,15 @@ class ServerWindow(QMainWindow):
             self.raise_()
             self.activateWindow()
 
-    def hideEvent(self, event: object) -> None:  # noqa: N802 (Qt's name)
+    def hideEvent(self, event: object) -> None:
         self.tray_show.setText("Show Window")
         super().hideEvent(event)  # type: ignore[arg-type]
 
-    def showEvent(self, event: object) -> None:  # noqa: N802 (Qt's name)
+    def showEvent(self, event: object) -> None:
         self.tray_show.setText("Hide Window")
         super().showEvent(event)  # type: ignore[arg-type]
 
-    def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 (Qt's name)
+    def closeEvent(self, event: QCloseEvent) -> None:
         """Closing the window hides it to the tray when there is one; otherwise it exits."""
         if self.tray.isVisible():
             event.ignore()

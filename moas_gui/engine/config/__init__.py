@@ -5,12 +5,42 @@ or every problem, with line and column, and never a half-loaded file.
 """
 
 from .loader import MAX_BYTES, LoadResult, load_config, parse_config
-from .model import *  # noqa: F403
-from .model import __all__ as _model_names
+from .model import (
+    ALL_FREQUENCIES,
+    FUNCTION_NAMES,
+    AlternateRule,
+    Antenna,
+    Button,
+    ButtonType,
+    Config,
+    ControlRange,
+    FrequencyRange,
+    Function,
+    Layout,
+    MatrixEntry,
+    N1MMStation,
+    Radio,
+    RadioRef,
+    RelativeAntennas,
+    RelativeRange,
+    Rotator,
+    RotatorControl,
+    StationRelays,
+    Switch,
+    SwitchPort,
+    System,
+    Template,
+    TemplateInfo,
+    TransmitRelays,
+)
 from .problems import ConfigError, Problem, Severity
 from .validate import SERIAL_MODELS
 
 __all__ = [
-    "ConfigError", "LoadResult", "MAX_BYTES", "Problem", "SERIAL_MODELS", "Severity",
-    "load_config", "parse_config", *_model_names,
+    "ALL_FREQUENCIES", "FUNCTION_NAMES", "MAX_BYTES", "SERIAL_MODELS", "AlternateRule",
+    "Antenna", "Button", "ButtonType", "Config", "ConfigError", "ControlRange",
+    "FrequencyRange", "Function", "Layout", "LoadResult", "MatrixEntry", "N1MMStation",
+    "Problem", "Radio", "RadioRef", "RelativeAntennas", "RelativeRange", "Rotator",
+    "RotatorControl", "Severity", "StationRelays", "Switch", "SwitchPort", "System",
+    "Template", "TemplateInfo", "TransmitRelays", "load_config", "parse_config",
 ]

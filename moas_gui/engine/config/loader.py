@@ -99,4 +99,4 @@ def parse_config(text: str, filename: str = "<config>", path: Path | None = None
     return LoadResult(None if has_errors else config, problems)
 
 
-__all__ = ["LoadResult", "MAX_BYTES", "load_config", "parse_config"]
+__all__ = ["MAX_BYTES", "LoadResult", "load_config", "parse_config"]

@@ -248,6 +248,19 @@ def ignored(node: Node, reading: Reading, label: str) -> Any:
 
 
 __all__ = [
-    "BAD", "Field", "GroupSpec", "INT32_MAX", "INT32_MIN", "Kind", "Reading", "boolean",
-    "group_of", "ignored", "integer", "list_of", "number", "one_of", "text",
+    "BAD",
+    "INT32_MAX",
+    "INT32_MIN",
+    "Field",
+    "GroupSpec",
+    "Kind",
+    "Reading",
+    "boolean",
+    "group_of",
+    "ignored",
+    "integer",
+    "list_of",
+    "number",
+    "one_of",
+    "text",
 ]

@@ -6,7 +6,16 @@ from typing import Any
 
 from . import model as m
 from .reading import (
-    Field, GroupSpec, boolean, group_of, ignored, integer, list_of, number, one_of, text,
+    Field,
+    GroupSpec,
+    boolean,
+    group_of,
+    ignored,
+    integer,
+    list_of,
+    number,
+    one_of,
+    text,
 )
 
 ID = integer(0, what="an identifier from 0 to 2,147,483,647")

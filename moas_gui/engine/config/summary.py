@@ -25,10 +25,10 @@ def _covers(config: Config, antenna_id: int, low: float, high: float) -> bool:
 
 def summarize(config: Config) -> str:
     """The station in a few lines: switches, radios, antennas per band, rotators."""
-    lines = [f"{config.name}: {len(config.antennas)} antennas, {len(config.systems)} systems, "
-             f"{len(config.radios)} radios, {len(config.switches)} switches, "
-             f"{len(config.rotators)} rotators, {len(config.functions)} functions, "
-             f"{len(config.layouts)} layouts"]
+    lines = [(f"{config.name}: {len(config.antennas)} antennas, {len(config.systems)} systems, "
+              f"{len(config.radios)} radios, {len(config.switches)} switches, "
+              f"{len(config.rotators)} rotators, {len(config.functions)} functions, "
+              f"{len(config.layouts)} layouts")]
     lines.append("Switches:")
     for s in config.switches:
         echo = f", unit id {s.echo}" if s.echo is not None else ""

@@ -251,13 +251,13 @@ class _Checker:
             elif need(3, "three numbers: station, radio and relay"):
                 radio(0)
                 self.relays(f, "IntParams", p[2:], label)
-        elif name == "AltActive":
-            if need(4, "at least four numbers: the radio, then radios that move it", exact=False):
-                if len(p) % 2:
-                    self.r.error(where, f"{label} needs station and radio pairs, but has an odd "
-                                 "count of numbers")
-                for i in range(0, len(p) - 1, 2):
-                    radio(i)
+        elif name == "AltActive" and need(
+                4, "at least four numbers: the radio, then radios that move it", exact=False):
+            if len(p) % 2:
+                self.r.error(where, f"{label} needs station and radio pairs, but has an odd "
+                             "count of numbers")
+            for i in range(0, len(p) - 1, 2):
+                radio(i)
 
     def check_layouts(self) -> None:
         for layout in self.c.layouts:

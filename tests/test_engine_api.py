@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 from engine_builders import engine, so2r
@@ -28,12 +29,27 @@ def test_public_names_are_frozen() -> None:
     ]
 
 
+def test_a_radio_entry_lists_its_relative_antennas_at_its_frequency() -> None:
+    from moas_gui.engine.config import load_config
+
+    path = Path(__file__).resolve().parent.parent / "examples" / "big-station.moas"
+    config = load_config(path).unwrap()
+    e = Engine(config)
+    e.set_frequency(1, 1, 14025)
+    listed = e.radio_view(1, 1).relative
+    expected = next(entry.ids for group in config.relative_antennas
+                    if group.station in (None, 1) and group.radio in (None, 1)
+                    for entry in group.antennas if entry.range.contains(14025))
+    assert listed == expected and len(listed) > 1
+    assert e.radio_view(1, 1).to_dict()["relative"] == list(expected)
+
+
 def test_radio_entry_has_the_protocol_fields() -> None:
     e = engine(so2r())
     e.set_frequency(1, 1, 14025)
     assert e.radio_view(1, 1).to_dict() == {
         "station": 1, "radio": 1, "khz": 14025.0, "tx_khz": 14025.0, "tx": 0, "rx": 0,
-        "alt": None, "transmitting": False, "inhibited": False, "note": ""}
+        "alt": None, "transmitting": False, "inhibited": False, "note": "", "relative": None}
     assert e.antenna_views()[0].to_dict() == {"id": 0, "short": "Tri", "long": "Tribander",
                                               "rotator": None, "offset": 0}
 

@@ -25,6 +25,7 @@ from .layouts import layout_view
 from .manual import select_antenna, select_direction
 from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, slot_needs
 from .relative import relative as relative_select
+from .relative import relative_list
 from .selection import recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
@@ -381,8 +382,10 @@ class Engine:
                     note = note or f"inhibited while {t} transmits"
                     break
         alt = inputs.alts.get(ref, (None, frozenset()))[0] if main else None
+        listed = relative_list(ix, ref, rs.khz)
         view = RadioView(ref.station, ref.radio, rs.khz, rs.tx_freq if main else None,
-                         rs.tx, rs.rx, alt, rs.transmitting, inhibited, note)
+                         rs.tx, rs.rx, alt, rs.transmitting, inhibited, note,
+                         None if listed is None else listed[1].ids)
         old = self._views.get(ref)
         return old if old == view else view
 

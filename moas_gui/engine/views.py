@@ -21,12 +21,15 @@ class RadioView:
     transmitting: bool = False
     inhibited: bool = False
     note: str = ""
+    relative: tuple[int, ...] | None = None
+    """The radio's relative antenna list at its frequency (antenna IDs), if it has one."""
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "station": self.station, "radio": self.radio, "khz": self.khz,
             "tx_khz": self.tx_khz, "tx": self.tx, "rx": self.rx, "alt": self.alt,
             "transmitting": self.transmitting, "inhibited": self.inhibited, "note": self.note,
+            "relative": None if self.relative is None else list(self.relative),
         }
 
 

@@ -1,0 +1,389 @@
+"""The client protocol end to end: real TCP sockets on 127.0.0.1 against the real
+server core (:class:`ServerApp`) running the example stations on the built-in
+switch emulator.  Each request is checked by what a client reads back and by the
+relays the emulated switch then holds."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import logging
+import socket
+from collections.abc import AsyncIterator, Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+import pytest_asyncio
+
+from moas_gui import __version__
+from moas_gui.app import ServerApp, ServerOptions
+from moas_gui.client.connection import Backoff, ClientConnection
+from moas_gui.engine.config import Config, load_config
+from moas_gui.hw.moas2.link import LinkTiming
+from moas_gui.status import ServerState
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+FAST = LinkTiming(ping_interval=0.2, answer_timeout=1.0, retry_first=0.1, retry_max=0.5)
+
+Message = dict[str, Any]
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+async def until(condition: Callable[[], bool], timeout: float = 5.0, what: str = "") -> None:
+    loop = asyncio.get_running_loop()
+    end = loop.time() + timeout
+    while not condition():
+        if loop.time() > end:
+            raise AssertionError(f"not in time: {what or 'condition'}")
+        await asyncio.sleep(0.02)
+
+
+class Peer:
+    """One client connection: JSON lines out, every line the server sends kept in order."""
+
+    def __init__(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        self.reader, self.writer = reader, writer
+        self.messages: list[Message] = []
+        self.eof = False
+        self._arrived = asyncio.Event()
+        self._next_id = 0
+        self._task = asyncio.create_task(self._read())
+
+    @classmethod
+    async def connect(cls, address: tuple[str, int]) -> Peer:
+        return cls(*await asyncio.open_connection(*address))
+
+    async def _read(self) -> None:
+        try:
+            while line := await self.reader.readline():
+                self.messages.append(json.loads(line))
+                self._arrived.set()
+        except ConnectionError:
+            pass
+        finally:
+            self.eof = True
+            self._arrived.set()
+
+    def mark(self) -> int:
+        return len(self.messages)
+
+    def send(self, cmd: str, **args: Any) -> int:
+        self._next_id += 1
+        self.writer.write(json.dumps({"id": self._next_id, "cmd": cmd, **args}).encode() + b"\n")
+        return self._next_id
+
+    def send_raw(self, data: bytes) -> None:
+        self.writer.write(data)
+
+    async def wait_for(self, wanted: Callable[[Message], bool], since: int = 0,
+                       timeout: float = 5.0, what: str = "a message") -> Message:
+        loop = asyncio.get_running_loop()
+        end = loop.time() + timeout
+        seen = since
+        while True:
+            for message in self.messages[seen:]:
+                if wanted(message):
+                    return message
+            seen = len(self.messages)
+            if self.eof:
+                raise AssertionError(f"the server closed the connection before {what}")
+            self._arrived.clear()
+            left = end - loop.time()
+            if left <= 0:
+                raise AssertionError(f"no {what} within {timeout} s; got {self.messages[since:]}")
+            try:
+                await asyncio.wait_for(self._arrived.wait(), left)
+            except TimeoutError:
+                pass
+
+    async def event(self, name: str, since: int = 0, timeout: float = 5.0,
+                    where: Callable[[Message], bool] = lambda m: True) -> Message:
+        return await self.wait_for(lambda m: m.get("event") == name and where(m), since,
+                                   timeout, f"{name} event")
+
+    def events(self, name: str, since: int = 0) -> list[Message]:
+        return [m for m in self.messages[since:] if m.get("event") == name]
+
+    async def request(self, cmd: str, **args: Any) -> Message:
+        ident = self.send(cmd, **args)
+        return await self.wait_for(lambda m: "ok" in m and m.get("id") == ident,
+                                   what=f"reply to {cmd}")
+
+    async def ok(self, cmd: str, **args: Any) -> Any:
+        reply = await self.request(cmd, **args)
+        assert reply["ok"] is True, reply
+        return reply["result"]
+
+    async def refused(self, cmd: str, **args: Any) -> tuple[str, str]:
+        reply = await self.request(cmd, **args)
+        assert reply["ok"] is False, reply
+        return reply["error"]["code"], reply["error"]["message"]
+
+    async def close(self) -> None:
+        self.writer.close()
+        await self._task
+
+
+@pytest_asyncio.fixture
+async def app() -> AsyncIterator[ServerApp]:
+    # The big station's serial rotators would look for a MOAS Rotator program: give
+    # them a port nobody listens on, so that they stay offline whatever else runs.
+    server = ServerApp(ServerOptions(bind="127.0.0.1", tcp_port=0, udp_port=0,
+                                     udp_bind="127.0.0.1", start_rotator_program=False,
+                                     rotator_program_port=free_port(), switch_timing=FAST))
+    yield server
+    await server.close()
+
+
+@pytest_asyncio.fixture
+async def peers() -> AsyncIterator[list[Peer]]:
+    made: list[Peer] = []
+    yield made
+    for peer in made:
+        await peer.close()
+
+
+async def run_example(app: ServerApp, name: str) -> Config:
+    path = EXAMPLES / name
+    assert (await app.open(path)).ok
+    await until(lambda: app.status.state is ServerState.NORMAL, what="the switches ready")
+    return load_config(path).unwrap()
+
+
+async def greeted(app: ServerApp, peers: list[Peer], name: str = "test", **args: Any) -> Peer:
+    """A client that said hello and got its state event."""
+    address = app.client_address
+    assert address is not None
+    peer = await Peer.connect(address)
+    peers.append(peer)
+    await peer.ok("hello", client=name, **args)
+    await peer.event("state")
+    return peer
+
+
+def wanted_relays(config: Config, held: dict[tuple[int, int], tuple[int, float]]
+                  ) -> dict[int, frozenset[int]]:
+    """Per switch, the relays the configuration gives each (station, radio) ->
+    (antenna, kHz) in ``held`` (relay n is relay n % 100 of switch n // 100 + 1)."""
+    out: dict[int, set[int]] = {switch.id: set() for switch in config.switches}
+    for (station, radio), (antenna_id, khz) in held.items():
+        antenna = config.antenna(antenna_id)
+        assert antenna is not None
+        entries = [entry for control in antenna.control if control.range.contains(khz)
+                   for entry in control.stations if entry.applies_to(station, radio)]
+        assert entries, f"antenna {antenna_id} has no relays at {khz} kHz"
+        for relay in entries[0].relays:
+            out[relay // 100 + 1].add(relay % 100)
+    return {switch: frozenset(relays) for switch, relays in out.items()}
+
+
+def held_relays(app: ServerApp) -> dict[int, frozenset[int]]:
+    return {switch: box.view().relays for switch, box in app.emulators().items()}
+
+
+async def relays_become(app: ServerApp, wanted: dict[int, frozenset[int]]) -> None:
+    try:
+        await until(lambda: held_relays(app) == wanted, what="the relays")
+    except AssertionError:
+        raise AssertionError(f"relays {held_relays(app)}, wanted {wanted}") from None
+
+
+# ---- hello and state -------------------------------------------------------------------
+
+
+@pytest.mark.asyncio
+async def test_hello_is_answered_then_the_big_station_state_follows(
+        app: ServerApp, peers: list[Peer]) -> None:
+    config = await run_example(app, "big-station.moas")
+    address = app.client_address
+    assert address is not None
+    peer = await Peer.connect(address)
+    peers.append(peer)
+    result = await peer.ok("hello", client="panel", station=1, radio=1)
+    assert result == {"server": "moas-gui", "version": __version__, "protocol": 1}
+    state = await peer.event("state")
+    assert peer.messages.index(state) == peer.messages.index(
+        next(m for m in peer.messages if "ok" in m)) + 1, "the state event follows the reply"
+
+    assert state["config"] == "big-station.moas"
+    assert [(r["station"], r["radio"]) for r in state["radios"]] == [(1, 1), (2, 1)]
+    assert all(r["khz"] is None and r["tx"] is None for r in state["radios"])
+    assert [a["id"] for a in state["antennas"]] == [a.id for a in config.antennas]
+    antennas = {a["id"]: a for a in state["antennas"]}
+    assert antennas[11].items() >= {"id": 11, "short": "SE", "long": "160 m 4-square SE",
+                            "rotator": 10, "offset": 135}.items()
+    assert antennas[42]["offset"] == 45 and antennas[42]["rotator"] is None
+    assert antennas[92]["offset"] == 270
+
+    rotators = {r["id"]: r for r in state["rotators"]}
+    assert sorted(rotators) == list(range(1, 13))
+    assert rotators[3].items() >= {"id": 3, "short": "20 5 el", "heading": None, "target": None,
+                           "moving": False, "online": False, "long": "20 m 5 element yagi",
+                           "ccw_limit": 0, "rotation": 450, "has_stop": True,
+                           "electrical": False}.items()
+    four_square = rotators[10]
+    assert four_square["electrical"] is True and four_square["online"] is True
+    assert (four_square["ccw_limit"], four_square["rotation"], four_square["has_stop"]) == (
+        0, 360, False)
+    assert rotators[1]["ccw_limit"] == 180 and rotators[1]["has_stop"] is True
+
+    assert state["switches"] == [{"id": 1, "status": "ok"}, {"id": 2, "status": "ok"}]
+
+    snapshot = await peer.ok("state")
+    assert snapshot == {k: v for k, v in state.items() if k != "event"}
+
+
+@pytest.mark.asyncio
+async def test_state_works_without_hello_and_events_wait_for_hello(
+        app: ServerApp, peers: list[Peer]) -> None:
+    await run_example(app, "small-station.moas")
+    address = app.client_address
+    assert address is not None
+    quiet = await Peer.connect(address)
+    peers.append(quiet)
+    snapshot = await quiet.ok("state")
+    assert snapshot["config"] == "small-station.moas"
+    assert [(r["station"], r["radio"]) for r in snapshot["radios"]] == [(1, 1), (1, 2)]
+    tribander = snapshot["rotators"][0]
+    assert (tribander["id"], tribander["heading"], tribander["online"]) == (1, 180, True)
+
+    await quiet.ok("frequency", station=1, radio=1, khz=14025)
+    watcher = await greeted(app, peers, "watcher")
+    since = watcher.mark()
+    await quiet.ok("frequency", station=1, radio=2, khz=7025)
+    await watcher.event("radio", since, where=lambda m: m["radio"] == 2)
+    assert not [m for m in quiet.messages if "event" in m], "no events before hello"
+
+
+# ---- frequency ----------------------------------------------------------------------------
+
+
+@pytest.mark.asyncio
+async def test_frequency_selects_an_antenna_and_the_switch_closes_its_relays(
+        app: ServerApp, peers: list[Peer]) -> None:
+    config = await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)
+    assert held_relays(app) == {1: frozenset()}
+
+    since = peer.mark()
+    assert await peer.ok("frequency", station=1, radio=1, khz=14025) == {}
+    radio = await peer.event("radio", since)
+    assert radio.items() >= {"station": 1, "radio": 1, "khz": 14025.0, "tx_khz": 14025.0,
+                             "tx": 0, "rx": 0, "alt": None, "transmitting": False,
+                             "inhibited": False, "note": ""}.items()
+    await relays_become(app, wanted_relays(config, {(1, 1): (0, 14025)}))
+
+    since = peer.mark()
+    await peer.ok("frequency", station=1, radio=2, khz=7025.5)
+    radio = await peer.event("radio", since)
+    assert (radio["radio"], radio["khz"], radio["tx"]) == (2, 7025.5, 1)
+    await relays_become(app, wanted_relays(config, {(1, 1): (0, 14025), (1, 2): (1, 7025.5)}))
+
+    since = peer.mark()
+    await peer.ok("frequency", station=1, radio=2, khz=7025.5, tx_khz=7190)
+    radio = await peer.event("radio", since)
+    assert (radio["khz"], radio["tx_khz"], radio["tx"]) == (7025.5, 7190.0, 1)
+
+
+# ---- select -----------------------------------------------------------------------------
+
+
+@pytest.mark.asyncio
+async def test_select_toggles_the_stack_and_sets_tx_and_rx_on_the_big_station(
+        app: ServerApp, peers: list[Peer]) -> None:
+    config = await run_example(app, "big-station.moas")
+    peer = await greeted(app, peers)
+    await peer.ok("frequency", station=1, radio=1, khz=14025)
+    assert (await peer.ok("state"))["radios"][0]["tx"] == 40  # the whole stack
+
+    async def press(antenna: int, tx: int, rx: int, **args: Any) -> None:
+        since = peer.mark()
+        assert await peer.ok("select", station=1, radio=1, antenna=antenna, **args) == {
+            "tx": tx, "rx": rx}
+        event = await peer.event("radio", since)
+        assert (event["tx"], event["rx"]) == (tx, rx)
+        # receiving: the switch holds the receive antenna's relays
+        await relays_become(app, wanted_relays(config, {(1, 1): (rx, 14025)}))
+
+    await press(42, 45, 45)  # additive: the middle yagi leaves the stack (top + bottom)
+    await press(43, 41, 41)  # and the bottom one: the top alone
+    await press(42, 44, 44)  # the middle one comes back: top + middle
+    await press(43, 43, 43, exclusive=True)  # a long press: the bottom yagi alone
+    await press(47, 43, 47, target="rx")  # the 5 element yagi to receive only
+    await press(40, 40, 47, target="tx")  # transmit on the whole stack
+    await press(47, 47, 47, target="both")
+
+    since = peer.mark()
+    assert await peer.ok("select", station=1, radio=1, antenna=47) == {"tx": 47, "rx": 47}
+    await asyncio.sleep(0.1)
+    assert not peer.events("radio", since), "pressing the selected antenna changes nothing"
+
+
+@pytest.mark.asyncio
+async def test_a_select_by_one_client_reaches_the_other_clients(
+        app: ServerApp, peers: list[Peer]) -> None:
+    await run_example(app, "small-station.moas")
+    picker = await greeted(app, peers, "picker")
+    watcher = await greeted(app, peers, "watcher")
+    await picker.ok("frequency", station=1, radio=1, khz=21025)
+    since = watcher.mark()
+    await picker.ok("select", station=1, radio=1, antenna=3)
+    event = await watcher.event("radio", since, where=lambda m: m["tx"] == 3)
+    assert (event["station"], event["radio"], event["khz"]) == (1, 1, 21025.0)
+
+
+# ---- functions --------------------------------------------------------------------------
+
+
+@pytest.mark.asyncio
+async def test_antenna_swap_trades_the_radios_antennas_on_the_small_station(
+        app: ServerApp, peers: list[Peer]) -> None:
+    config = await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)
+    await peer.ok("frequency", station=1, radio=1, khz=14025)
+    await peer.ok("frequency", station=1, radio=2, khz=7025)
+
+    # Tribander on 20 m and 40 m dipole: the tribander cannot serve radio 2 on 40 m.
+    available, reason = app.engine.function_status(1, 1, 0)
+    assert not available and reason
+    code, message = await peer.refused("function", station=1, radio=1, function=0)
+    assert code == "unavailable" and reason in message
+    await relays_become(app, wanted_relays(config, {(1, 1): (0, 14025), (1, 2): (1, 7025)}))
+
+    # Tribander on 15 m, the vertical on 20 m: each covers the other's band.
+    await peer.ok("frequency", station=1, radio=1, khz=21025)
+    await peer.ok("frequency", station=1, radio=2, khz=14025)
+    radios = {r["radio"]: r for r in (await peer.ok("state"))["radios"]}
+    assert (radios[1]["tx"], radios[2]["tx"]) == (0, 3)
+    since = peer.mark()
+    assert await peer.ok("function", station=1, radio=1, function=0) == {}
+    await peer.event("radio", since, where=lambda m: m["radio"] == 1 and m["tx"] == 3)
+    await peer.event("radio", since, where=lambda m: m["radio"] == 2 and m["tx"] == 0)
+    await relays_become(app, wanted_relays(config, {(1, 1): (3, 21025), (1, 2): (0, 14025)}))
+
+
+@pytest.mark.asyncio
+async def test_store_and_recall_bring_back_the_stored_antennas_on_the_big_station(
+        app: ServerApp, peers: list[Peer]) -> None:
+    config = await run_example(app, "big-station.moas")
+    peer = await greeted(app, peers)
+    await peer.ok("frequency", station=1, radio=1, khz=14025)
+    await peer.ok("select", station=1, radio=1, antenna=47, target="rx")
+    assert await peer.ok("function", station=1, radio=1, function=0) == {}  # Store
+    await peer.ok("select", station=1, radio=1, antenna=43, exclusive=True)
+    await relays_become(app, wanted_relays(config, {(1, 1): (43, 14025)}))
+
+    since = peer.mark()
+    assert await peer.ok("function", station=1, radio=1, function=1) == {}  # Recall
+    event = await peer.event("radio", since)
+    assert (event["tx"], event["rx"]) == (40, 47)
+    await relays_become(app, wanted_relays(config, {(1, 1): (47, 14025)}))
+
+    code, message = await peer.refused("function", station=1, radio=1, function=7)
+    assert code == "not_found" and "7" in message

@@ -21,8 +21,8 @@ def test_addresses_people_type(text: str | None, expected: tuple[str, int]) -> N
 
 
 @pytest.mark.parametrize(("text", "words"), [
-    ("host:port", "the port 'port' is not a number"),
-    ("host:70000", "the port 70000 is not between 1 and 65535"),
+    ("host:port", "the port 'port' is not a number from 1 to 65535"),
+    ("host:70000", "the port '70000' is not a number from 1 to 65535"),
     ("host:", "the port after ':' is empty"),
     (":12059", "the host name is empty"),
     ("[::1", "has no ']'"),

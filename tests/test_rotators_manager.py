@@ -293,9 +293,9 @@ async def test_headings_beyond_one_turn_are_folded(
      "Model 'Nonesuch Deluxe'"),
     ({"control": RotatorControl.SERIAL, "model": "Yaesu"}, "CommPort is missing"),
     ({"control": RotatorControl.SERIAL, "model": "Yaesu", "comm_port": "COM 3"}, "one word"),
-    ({"control": RotatorControl.ROTATOR_GENIUS, "address": "host:99999"}, "port in the Address"),
+    ({"control": RotatorControl.ROTATOR_GENIUS, "address": "host:99999"}, "port '99999' is not a number"),
     ({"control": RotatorControl.ROTATOR_GENIUS, "port": 3}, "Port must be 1 or 2"),
-    ({"control": RotatorControl.HAMLIB, "address": ""}, "Address is empty"),
+    ({"control": RotatorControl.HAMLIB, "address": ""}, "address is empty"),
 ])
 async def test_unusable_configuration_is_offline_and_says_why_while_others_carry_on(
     fields: dict[str, object], reason: str, caplog: pytest.LogCaptureFixture

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from moas_gui.engine.config import Config, LoadResult, load_config
+from moas_gui.engine.config.model import RotatorControl
 from moas_gui.status import ServerStatus, overall_state
 
 log = logging.getLogger("moas_gui.app")
@@ -303,6 +304,14 @@ class ServerApp:
                 link.apply(state)
         for line in changes.log:
             log.info("%s", line)
+        if run.rotators is not None and changes.radios:
+            # an Electrical rotator points where its antenna in use points, however
+            # that antenna was chosen (a button, a band change, a turn)
+            for rotator in run.config.rotators:
+                if rotator.control is RotatorControl.ELECTRICAL:
+                    heading = run.engine.electrical_heading(rotator.id)
+                    if heading is not None:
+                        run.rotators.note_direction(rotator.id, heading)
         if run.clients is not None:
             for ref in changes.radios:
                 run.clients.publish_radio(run.engine.radio_view(ref.station, ref.radio).to_dict())

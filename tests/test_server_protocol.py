@@ -387,3 +387,168 @@ async def test_store_and_recall_bring_back_the_stored_antennas_on_the_big_statio
 
     code, message = await peer.refused("function", station=1, radio=1, function=7)
     assert code == "not_found" and "7" in message
+
+
+# ---- relative and layout ------------------------------------------------------------------
+
+
+@pytest.mark.asyncio
+async def test_relative_steps_round_the_list_and_picks_by_index(
+        app: ServerApp, peers: list[Peer]) -> None:
+    config = await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)
+    await peer.ok("frequency", station=1, radio=1, khz=21025)  # list: tribander, 40 dipole, vertical
+
+    async def relative(expected: int, **how: int) -> None:
+        since = peer.mark()
+        assert await peer.ok("relative", station=1, radio=1, **how) == {
+            "tx": expected, "rx": expected}
+        await peer.event("radio", since, where=lambda m: m["tx"] == expected)
+
+    await relative(1, step=1)
+    await relative(3, step=1)
+    await relative(0, step=1)  # round to the start
+    await relative(3, step=-1)
+    await relative(1, index=1)
+    await relays_become(app, wanted_relays(config, {(1, 1): (1, 21025)}))
+
+    code, message = await peer.refused("relative", station=1, radio=1, index=7)
+    assert code == "not_found" and "7" in message
+    await peer.ok("frequency", station=1, radio=2, khz=14025)
+    await peer.ok("select", station=1, radio=2, antenna=3)  # radio 2 takes the vertical
+    code, message = await peer.refused("relative", station=1, radio=1, index=2)
+    assert code == "unavailable" and "vertical" in message.lower()
+    await relative(0, step=1)  # the vertical in use is skipped: 40 dipole -> tribander
+    await relative(1, step=1)
+    for both_or_neither in ({"step": 1, "index": 0}, {}):
+        code, message = await peer.refused("relative", station=1, radio=1, **both_or_neither)
+        assert code == "bad_request" and "step" in message and "index" in message
+    await peer.ok("frequency", station=1, radio=1, khz=10120)  # 30 m: no relative list
+    code, _ = await peer.refused("relative", station=1, radio=1, step=1)
+    assert code == "unavailable"
+
+
+@pytest.mark.asyncio
+async def test_a_followed_layout_changes_when_another_radio_takes_an_antenna(
+        app: ServerApp, peers: list[Peer]) -> None:
+    await run_example(app, "small-station.moas")
+    panel = await greeted(app, peers, "radio 1 panel", station=1, radio=1)
+    other = await greeted(app, peers, "radio 2 panel", station=1, radio=2)
+    await panel.ok("frequency", station=1, radio=1, khz=21025)
+    await other.ok("frequency", station=1, radio=2, khz=7025)
+
+    layout = await panel.ok("layout", station=1, radio=1, rows=5, columns=5)
+    assert (layout["station"], layout["radio"], layout["rows"], layout["columns"]) == (1, 1, 2, 3)
+    buttons = {(b["row"], b["column"]): b for b in layout["buttons"]}
+    assert buttons[(0, 0)] == {"row": 0, "column": 0, "type": "Antenna", "id": 0,
+                               "label": "Tribander", "state": "selected"}
+    assert buttons[(0, 2)]["id"] == 3 and buttons[(0, 2)]["state"] == "available"
+    assert buttons[(1, 0)]["type"] == "Function" and buttons[(1, 0)]["label"] == "Swap"
+    assert {b["state"] for b in layout["buttons"]} <= {"selected", "available", "unavailable"}
+
+    # radio 2 takes the vertical: radio 1's vertical button becomes unavailable
+    since = panel.mark()
+    await other.ok("select", station=1, radio=2, antenna=3)
+    changed = await panel.event("layout", since)
+    states = {b["id"]: b["state"] for b in changed["buttons"] if b["type"] == "Antenna"}
+    assert states == {0: "selected", 1: "available", 3: "unavailable"}
+    assert (changed["station"], changed["radio"], changed["rows"], changed["columns"]) == (
+        1, 1, 2, 3)
+    code, message = await panel.refused("select", station=1, radio=1, antenna=3)
+    assert code == "unavailable" and "station 1 radio 2" in message
+    assert not other.events("layout"), "layout events go only to who asked"
+
+    # radio 1 changes band: the layout shows that band's buttons
+    since = panel.mark()
+    await panel.ok("frequency", station=1, radio=1, khz=3525)
+    changed = await panel.event("layout", since)
+    assert {b["id"] for b in changed["buttons"] if b["type"] == "Antenna"} == {2, 3}
+
+
+# ---- rotators ----------------------------------------------------------------------------
+
+
+@pytest.mark.asyncio
+async def test_a_test_rotator_turns_at_ten_degrees_a_second_and_stops(
+        app: ServerApp, peers: list[Peer]) -> None:
+    await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)
+    loop = asyncio.get_running_loop()
+    start = (await peer.ok("state"))["rotators"][0]
+    assert (start["heading"], start["moving"], start["online"]) == (180, False, True)
+
+    since = peer.mark()
+    began = loop.time()
+    assert await peer.ok("rotate", rotator=1, heading=200) == {}
+    seen: list[tuple[float, int]] = []
+
+    def note(m: Message) -> bool:
+        if m.get("event") == "rotator" and m["id"] == 1:
+            seen.append((loop.time(), m["heading"]))
+            return not m["moving"]
+        return False
+
+    moving = await peer.event("rotator", since, where=lambda m: m["moving"])
+    assert moving["target"] == 200
+    arrived = await peer.wait_for(note, since, timeout=6, what="the arrival")
+    took = loop.time() - began
+    assert (arrived["heading"], arrived["target"], arrived["online"]) == (200, None, True)
+    headings = [h for _, h in seen]
+    assert headings == sorted(headings) and len(set(headings)) >= 4, headings
+    assert 1.5 <= took <= 3.5, f"20 degrees took {took:.2f} s"
+
+    since = peer.mark()
+    await peer.ok("rotate", rotator=1, heading=170)  # clockwise all the way round: 33 s
+    await peer.event("rotator", since, where=lambda m: m["moving"] and m["heading"] >= 203)
+    since = peer.mark()
+    assert await peer.ok("stop", rotator=1) == {}
+    stopped = await peer.event("rotator", since, where=lambda m: not m["moving"])
+    assert stopped["target"] is None and 203 <= stopped["heading"] < 230
+    await asyncio.sleep(0.5)
+    assert all(m["heading"] == stopped["heading"] for m in peer.events("rotator", since))
+
+
+@pytest.mark.asyncio
+async def test_turning_the_4_square_selects_the_antenna_nearest_the_heading(
+        app: ServerApp, peers: list[Peer]) -> None:
+    config = await run_example(app, "big-station.moas")
+    peer = await greeted(app, peers)
+
+    since = peer.mark()
+    await peer.ok("frequency", station=1, radio=1, khz=1825)
+    radio = await peer.event("radio", since)
+    assert radio["tx"] == 10  # the north-east direction
+
+    since = peer.mark()
+    assert await peer.ok("rotate", rotator=10, heading=200) == {}
+    radio = await peer.event("radio", since)
+    assert (radio["tx"], radio["rx"]) == (12, 12)  # south-west, 225 degrees
+    rotator = await peer.event("rotator", since, where=lambda m: m["id"] == 10)
+    assert (rotator["heading"], rotator["moving"], rotator["electrical"]) == (225, False, True)
+    await relays_become(app, wanted_relays(config, {(1, 1): (12, 1825)}))
+
+    since = peer.mark()
+    await peer.ok("rotate", rotator=10, heading=300)
+    assert (await peer.event("radio", since))["tx"] == 13
+    await relays_become(app, wanted_relays(config, {(1, 1): (13, 1825)}))
+    assert await peer.ok("stop", rotator=10) == {}
+
+    code, message = await peer.refused("rotate", rotator=11, heading=90)  # 80 m: unused
+    assert code == "unavailable" and "rotator 11" in message.lower()
+
+
+@pytest.mark.asyncio
+async def test_a_button_on_the_4_square_turns_its_compass_needle(
+        app: ServerApp, peers: list[Peer]) -> None:
+    await run_example(app, "big-station.moas")
+    peer = await greeted(app, peers)
+    since = peer.mark()
+    await peer.ok("frequency", station=1, radio=1, khz=1825)
+    needle = await peer.event("rotator", since, where=lambda m: m["id"] == 10)
+    assert needle["heading"] == 45
+    since = peer.mark()
+    await peer.ok("select", station=1, radio=1, antenna=11)  # the SE button
+    needle = await peer.event("rotator", since, where=lambda m: m["id"] == 10)
+    assert needle["heading"] == 135
+    state = await peer.ok("state")
+    assert next(r for r in state["rotators"] if r["id"] == 10)["heading"] == 135

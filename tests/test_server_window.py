@@ -76,6 +76,21 @@ def icon_is(window: ServerWindow, state: ServerState) -> bool:
         and window.tray.icon().cacheKey() == status_icon(state).cacheKey()
 
 
+async def running_with_an_antenna(harness: Harness, khz: float) -> tuple[ServerWindow, Any]:
+    """A window running small-station whose radio 1 is tuned to ``khz``; returns the
+    window and the built-in switch once it holds that antenna's relays."""
+    window = harness.make()
+    window.open_file(str(EXAMPLES / "small-station.moas"))
+    await window.idle()
+    app = harness.app
+    assert app is not None
+    await until(lambda: app.status.state is ServerState.NORMAL)
+    app.apply_changes(app.engine.set_frequency(1, 1, khz))
+    box = app.emulators()[1]
+    await until(lambda: bool(box.view().relays))
+    return window, box
+
+
 def test_a_new_window_shows_no_configuration(qapp: Any, harness: Harness) -> None:
     async def scenario() -> None:
         window = harness.make()
@@ -210,15 +225,7 @@ def test_the_status_bar_can_be_hidden_and_stays_hidden(qapp: Any, harness: Harne
 def test_stop_and_start_switches_turn_relays_off_and_back_with_icon_and_menu(
         qapp: Any, harness: Harness) -> None:
     async def scenario() -> None:
-        window = harness.make()
-        window.open_file(str(EXAMPLES / "small-station.moas"))
-        await window.idle()
-        app = harness.app
-        assert app is not None
-        await until(lambda: app.status.state is ServerState.NORMAL)
-        app.apply_changes(app.engine.set_frequency(1, 1, 14025.0))
-        box = app.emulators()[1]
-        await until(lambda: bool(box.view().relays))
+        window, box = await running_with_an_antenna(harness, 14025.0)
         held = box.view().relays
         window.action_stop_start.trigger()
         assert icon_is(window, ServerState.STOPPED)
@@ -236,15 +243,7 @@ def test_stop_and_start_switches_turn_relays_off_and_back_with_icon_and_menu(
 def test_reset_switches_resets_the_box_and_sets_the_antennas_again(
         qapp: Any, harness: Harness) -> None:
     async def scenario() -> None:
-        window = harness.make()
-        window.open_file(str(EXAMPLES / "small-station.moas"))
-        await window.idle()
-        app = harness.app
-        assert app is not None
-        await until(lambda: app.status.state is ServerState.NORMAL)
-        app.apply_changes(app.engine.set_frequency(1, 1, 7025.0))
-        box = app.emulators()[1]
-        await until(lambda: bool(box.view().relays))
+        window, box = await running_with_an_antenna(harness, 7025.0)
         held = box.view().relays
         received: list[bytes] = []
         box.add_listener(lambda kind, data=b"": received.append(data) if isinstance(data, bytes) else None)

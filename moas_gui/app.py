@@ -58,6 +58,7 @@ class _Running:
     clients: Any = None
     n1mm: Any = None
     rotators: Any = None
+    log_handler: logging.Handler | None = None
     stopped: bool = False
     ticker: asyncio.Task[None] | None = None
 
@@ -188,6 +189,8 @@ class ServerApp:
             return
         if run.ticker is not None:
             run.ticker.cancel()
+        if run.log_handler is not None:
+            logging.getLogger("moas_gui").removeHandler(run.log_handler)
         for part in (run.n1mm, run.clients, run.rotators):
             if part is not None:
                 try:
@@ -322,6 +325,7 @@ class ServerApp:
     async def _start_clients(self, run: _Running) -> None:
         from moas_gui.backend import EngineBackend
         from moas_gui.errors import HardwareError
+        from moas_gui.net.log_events import ClientLogHandler
         from moas_gui.net.server import ClientServer
 
         port = self.options.tcp_port if self.options.tcp_port is not None else run.config.tcp_port
@@ -333,6 +337,9 @@ class ServerApp:
             log.error("Clients cannot connect: %s", exc)
             run.clients = None
             return
+        # clients that said "log": true in hello get the product's log as events
+        run.log_handler = ClientLogHandler(run.clients)
+        logging.getLogger("moas_gui").addHandler(run.log_handler)
         run.clients.publish_state()
 
     async def _start_n1mm(self, run: _Running) -> None:

@@ -552,3 +552,156 @@ async def test_a_button_on_the_4_square_turns_its_compass_needle(
     assert needle["heading"] == 135
     state = await peer.ok("state")
     assert next(r for r in state["rotators"] if r["id"] == 10)["heading"] == 135
+
+
+# ---- refusals ----------------------------------------------------------------------------
+
+
+@pytest.mark.asyncio
+async def test_every_bad_request_is_refused_with_its_code_and_changes_nothing(
+        app: ServerApp, peers: list[Peer]) -> None:
+    await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)
+    bystander = await greeted(app, peers, "bystander")
+    await peer.ok("frequency", station=1, radio=1, khz=21025)  # tribander
+    await peer.ok("frequency", station=1, radio=2, khz=14025)
+    await peer.ok("select", station=1, radio=2, antenna=3)  # vertical
+    before, relays = await peer.ok("state"), held_relays(app)
+    await bystander.ok("state")  # its reply comes after the events so far
+    quiet_from = bystander.mark()
+
+    refusals: list[tuple[str, dict[str, Any], str, str]] = [
+        ("select", {"station": 9, "radio": 1, "antenna": 0}, "not_found", "station 9"),
+        ("frequency", {"station": 1, "radio": 5, "khz": 7000}, "not_found", "radio 5"),
+        ("select", {"station": 1, "radio": 1, "antenna": 999}, "not_found", "999"),
+        ("function", {"station": 1, "radio": 1, "function": 42}, "not_found", "42"),
+        ("layout", {"station": 3, "radio": 1, "rows": 2, "columns": 3}, "not_found", "station 3"),
+        ("rotate", {"rotator": 99, "heading": 90}, "not_found", "rotator 99"),
+        ("stop", {"rotator": 99}, "not_found", "rotator 99"),
+        ("select", {"station": 1, "radio": 2, "antenna": 0}, "unavailable", "station 1 radio 1"),
+        ("select", {"station": 1, "radio": 1, "antenna": 2}, "unavailable", "21025"),
+        ("select", {"station": 1, "radio": 1}, "bad_request", '"antenna"'),
+        ("select", {"station": 1, "radio": 1, "antenna": 1, "target": "up"}, "bad_request",
+         "target"),
+        ("select", {"station": "1", "radio": 1, "antenna": 1}, "bad_request", "station"),
+        ("select", {"station": 1, "radio": 1, "antenna": 1, "exclusive": 1}, "bad_request",
+         "exclusive"),
+        ("frequency", {"station": 1, "radio": 1, "khz": -5}, "bad_request", "khz"),
+        ("rotate", {"rotator": 1, "heading": 1000}, "bad_request", "heading"),
+        ("rotate", {"rotator": 1, "heading": "north"}, "bad_request", "heading"),
+        ("layout", {"station": 1, "radio": 1, "rows": 0, "columns": 3}, "bad_request", "rows"),
+        ("hello", {}, "bad_request", "client"),
+        ("selct", {"station": 1, "radio": 1, "antenna": 1}, "unknown_cmd", "select"),
+    ]
+    for cmd, args, code, words in refusals:
+        got_code, message = await peer.refused(cmd, **args)
+        assert (got_code, words in message) == (code, True), (cmd, args, got_code, message)
+
+    assert await peer.ok("state") == before
+    assert held_relays(app) == relays
+    assert not bystander.events("radio", quiet_from)
+    assert not bystander.events("rotator", quiet_from)
+
+
+@pytest.mark.asyncio
+async def test_lines_that_are_not_requests_get_id_null_and_three_in_a_row_close(
+        app: ServerApp, peers: list[Peer]) -> None:
+    await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)
+    bystander = await greeted(app, peers, "bystander")
+    since = peer.mark()
+    peer.send_raw(b"this is not JSON\n")
+    bad = await peer.wait_for(lambda m: "ok" in m, since, what="the bad line's reply")
+    assert bad["id"] is None and bad["error"]["code"] == "bad_request"
+    peer.send_raw(b'["a list"]\n')
+    await peer.ok("state")  # a request in between: the count starts again
+    peer.send_raw(b"\xff\xfe\n[1]\n42\n")
+    await until(lambda: peer.eof, what="the server closing the connection")
+    nulls = [m for m in peer.messages[since:] if "ok" in m and m["id"] is None]
+    assert len(nulls) == 5
+    assert (await bystander.ok("state"))["config"] == "small-station.moas"
+
+
+@pytest.mark.asyncio
+async def test_stopped_switches_refuse_selection_with_not_running_until_started(
+        app: ServerApp, peers: list[Peer]) -> None:
+    config = await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)
+    await peer.ok("frequency", station=1, radio=1, khz=21025)
+    app.stop_switches()
+    await until(lambda: held_relays(app) == {1: frozenset()}, what="all relays off")
+    for cmd, args in (("select", {"antenna": 3}), ("function", {"function": 1}),
+                      ("relative", {"step": 1})):
+        code, message = await peer.refused(cmd, station=1, radio=1, **args)
+        assert code == "not_running" and "stopped" in message, (cmd, message)
+    app.start_switches()
+    assert await peer.ok("select", station=1, radio=1, antenna=3) == {"tx": 3, "rx": 3}
+    await relays_become(app, wanted_relays(config, {(1, 1): (3, 21025)}))
+
+
+@pytest.mark.asyncio
+async def test_closing_the_configuration_disconnects_clients_and_stops_listening(
+        app: ServerApp, peers: list[Peer]) -> None:
+    await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)
+    address = app.client_address
+    assert address is not None
+    await app.close()
+    await until(lambda: peer.eof, what="the connection closed")
+    assert app.client_address is None
+    with pytest.raises(ConnectionRefusedError):
+        await asyncio.open_connection(*address)
+
+
+# ---- log events and restarts ---------------------------------------------------------------
+
+
+@pytest.mark.asyncio
+async def test_log_events_go_only_to_clients_that_asked(
+        app: ServerApp, peers: list[Peer], caplog: pytest.LogCaptureFixture) -> None:
+    caplog.set_level(logging.INFO, logger="moas_gui")  # as moas-server sets its log up
+    await run_example(app, "big-station.moas")
+    listener = await greeted(app, peers, "log window", log=True)
+    quiet = await greeted(app, peers, "panel")
+    since = listener.mark()
+    await greeted(app, peers, "newcomer")
+    line = await listener.event("log", since, where=lambda m: '"newcomer"' in m["message"])
+    assert line["level"] == "info" and "127.0.0.1" in line["message"]
+
+    await quiet.ok("frequency", station=1, radio=1, khz=1825)
+    await quiet.ok("rotate", rotator=10, heading=200)  # the engine says which antenna
+    await listener.event("log", since, where=lambda m: "Rotator 10" in m["message"])
+    assert not quiet.events("log")
+
+
+@pytest.mark.asyncio
+async def test_restart_disconnects_clients_and_the_built_in_client_reconnects_to_fresh_state(
+        tmp_path: Path, peers: list[Peer]) -> None:
+    port = free_port()
+    app = ServerApp(ServerOptions(bind="127.0.0.1", tcp_port=port, udp_port=0,
+                                  udp_bind="127.0.0.1", start_rotator_program=False,
+                                  switch_timing=FAST))
+    connection = ClientConnection("127.0.0.1", port, name="built-in client",
+                                  backoff=Backoff(first=0.05, most=0.2))
+    try:
+        await run_example(app, "small-station.moas")
+        raw = await greeted(app, peers, "script")
+        connection.start()
+        await connection.wait_connected(5)
+        await raw.ok("frequency", station=1, radio=1, khz=21025)
+        await until(lambda: connection.snapshot is not None and connection.snapshot.radio(
+            1, 1).khz == 21025.0, what="the built-in client seeing 15 m")  # type: ignore[union-attr]
+
+        await app.restart()
+        assert app.client_address == ("127.0.0.1", port)
+        await until(lambda: raw.eof, what="the script's connection closed")
+        await until(lambda: connection.connects == 2, what="the built-in client reconnecting")
+        await until(lambda: connection.snapshot is not None and connection.snapshot.radio(
+            1, 1).khz is None, what="the fresh state")  # type: ignore[union-attr]
+        await connection.request("frequency", {"station": 1, "radio": 1, "khz": 14025})
+        assert (await connection.select(1, 1, 3)).tx == 3
+        await relays_become(app, wanted_relays(load_config(EXAMPLES / "small-station.moas")
+                                               .unwrap(), {(1, 1): (3, 14025)}))
+    finally:
+        await connection.aclose()
+        await app.close()

@@ -5,6 +5,11 @@ When any Serial rotator is on this computer (Address 127.0.0.1, localhost,
 server starts the program as a child process and stops it on exit.  If a
 program already answers on the port (started by hand), none is started.
 The child's output goes to the log under this module's logger.
+
+A started program that exits by itself (a crash, killed) is started again
+after ``restart_min`` seconds, twice as long each time it dies again soon
+(at most ``restart_max``): the rotators it serves come back online without
+anyone restarting the server.
 """
 
 from __future__ import annotations
@@ -29,16 +34,26 @@ def default_command(port: int) -> list[str]:
     return command
 
 
+STEADY = 60.0
+"""Seconds a program must have run for its next restart to wait ``restart_min`` again."""
+
+
 class LocalMoasRotator:
     def __init__(self, command: Sequence[str], port: int, *, start_timeout: float = 5.0,
-                 stop_timeout: float = 3.0) -> None:
+                 stop_timeout: float = 3.0, restart_min: float = 1.0,
+                 restart_max: float = 30.0) -> None:
         self.command = list(command)
         self.port = port
         self.start_timeout = start_timeout
         self.stop_timeout = stop_timeout
+        self.restart_min = restart_min
+        self.restart_max = restart_max
+        self._restart_wait = restart_min
+        self._started_at = 0.0
         self._listening = asyncio.Event()
         self.process: asyncio.subprocess.Process | None = None
         self._output: asyncio.Task[None] | None = None
+        self._restart: asyncio.Task[None] | None = None
 
     async def start(self) -> None:
         """Start the program unless one already answers; never raises."""
@@ -57,6 +72,7 @@ class LocalMoasRotator:
             return
         log.info("started the MOAS Rotator program (pid %d): %s",
                  self.process.pid, " ".join(self.command))
+        self._started_at = asyncio.get_running_loop().time()
         self._listening = asyncio.Event()
         self._output = asyncio.create_task(self._relay(self.process), name="MOAS Rotator output")
         # let it open its port before the first connection attempt (it says
@@ -65,6 +81,11 @@ class LocalMoasRotator:
             await asyncio.wait_for(self._listening.wait(), self.start_timeout)
 
     async def stop(self) -> None:
+        restart, self._restart = self._restart, None
+        if restart is not None:
+            restart.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await restart
         process, self.process = self.process, None
         if process is not None and process.returncode is None:
             process.terminate()
@@ -91,8 +112,20 @@ class LocalMoasRotator:
         self._listening.set()
         code = await process.wait()
         if self.process is process:
-            log.error("the MOAS Rotator program (pid %d) exited with code %d",
-                      process.pid, code)
+            if asyncio.get_running_loop().time() - self._started_at >= STEADY:
+                self._restart_wait = self.restart_min
+            wait = self._restart_wait
+            self._restart_wait = min(wait * 2, self.restart_max)
+            log.error("the MOAS Rotator program (pid %d) exited with code %d; starting it "
+                      "again in %g s", process.pid, code, wait)
+            self._restart = asyncio.create_task(self._start_again(process, wait),
+                                                name="MOAS Rotator restart")
+
+    async def _start_again(self, dead: asyncio.subprocess.Process, wait: float) -> None:
+        await asyncio.sleep(wait)
+        if self.process is dead:  # not stopped meanwhile
+            self.process = None
+            await self.start()
 
 
 async def _answers(host: str, port: int) -> bool:

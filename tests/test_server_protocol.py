@@ -21,6 +21,7 @@ from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.client.connection import Backoff, ClientConnection
 from moas_gui.engine.config import Config, load_config
 from moas_gui.hw.moas2.link import LinkTiming
+from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.status import ServerState
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -239,6 +240,10 @@ async def test_hello_is_answered_then_the_big_station_state_follows(
 
     snapshot = await peer.ok("state")
     assert snapshot == {k: v for k, v in state.items() if k != "event"}
+
+    # no MOAS Rotator program answers for the serial rotators
+    code, message = await peer.refused("rotate", rotator=3, heading=90)
+    assert code == "unavailable" and "not connected" in message
 
 
 @pytest.mark.asyncio
@@ -634,13 +639,18 @@ async def test_stopped_switches_refuse_selection_with_not_running_until_started(
     config = await run_example(app, "small-station.moas")
     peer = await greeted(app, peers)
     await peer.ok("frequency", station=1, radio=1, khz=21025)
+    since = peer.mark()
     app.stop_switches()
+    await peer.event("switch", since, where=lambda m: m == {
+        "event": "switch", "id": 1, "status": "stopped"})
     await until(lambda: held_relays(app) == {1: frozenset()}, what="all relays off")
     for cmd, args in (("select", {"antenna": 3}), ("function", {"function": 1}),
                       ("relative", {"step": 1})):
         code, message = await peer.refused(cmd, station=1, radio=1, **args)
         assert code == "not_running" and "stopped" in message, (cmd, message)
+    since = peer.mark()
     app.start_switches()
+    await peer.event("switch", since, where=lambda m: m["status"] == "ok")
     assert await peer.ok("select", station=1, radio=1, antenna=3) == {"tx": 3, "rx": 3}
     await relays_become(app, wanted_relays(config, {(1, 1): (3, 21025)}))
 
@@ -680,6 +690,10 @@ async def test_log_events_go_only_to_clients_that_asked(
     assert not quiet.events("log")
 
 
+def log_handlers() -> int:
+    return sum(isinstance(h, ClientLogHandler) for h in logging.getLogger("moas_gui").handlers)
+
+
 @pytest.mark.asyncio
 async def test_restart_disconnects_clients_and_the_built_in_client_reconnects_to_fresh_state(
         tmp_path: Path, peers: list[Peer]) -> None:
@@ -700,6 +714,7 @@ async def test_restart_disconnects_clients_and_the_built_in_client_reconnects_to
 
         await app.restart()
         assert app.client_address == ("127.0.0.1", port)
+        assert log_handlers() == 1, "the old configuration's log handler is gone"
         await until(lambda: raw.eof, what="the script's connection closed")
         await until(lambda: connection.connects == 2, what="the built-in client reconnecting")
         await until(lambda: connection.snapshot is not None and connection.snapshot.radio(
@@ -711,3 +726,4 @@ async def test_restart_disconnects_clients_and_the_built_in_client_reconnects_to
     finally:
         await connection.aclose()
         await app.close()
+    assert log_handlers() == 0

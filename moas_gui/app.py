@@ -15,6 +15,7 @@ the relays as they are.
 from __future__ import annotations
 
 import asyncio
+import functools
 import logging
 import time
 from collections.abc import Callable
@@ -23,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from moas_gui.engine.config import Config, LoadResult, load_config
+from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.engine.config.model import RotatorControl
 from moas_gui.status import ServerStatus, overall_state
 
@@ -214,14 +216,17 @@ class ServerApp:
             extra = {"timing": self.options.switch_timing} if self.options.switch_timing else {}
             link = SwitchLink(
                 switch.id, switch.port, switch.echo,
-                on_status=lambda status, sid=switch.id: self._switch_status(sid, status.value),
-                on_tr=lambda port, tx, sid=switch.id: self._switch_tr(sid, port, tx),
+                on_status=functools.partial(self._link_status, switch.id),
+                on_tr=functools.partial(self._switch_tr, switch.id),
                 indicate_tr=switch.indicate_tr,
                 **extra,
             )
             run.links[switch.id] = link
             link.apply(states[switch.id])
             link.connect()
+
+    def _link_status(self, switch_id: int, status: LinkStatus) -> None:
+        self._switch_status(switch_id, status.value)
 
     def _switch_status(self, switch_id: int, status: str) -> None:
         run = self._run

@@ -73,7 +73,7 @@ TARGETS: tuple[tuple[Target, str, str], ...] = (
 
 class ServerAppLike(Protocol):
     @property
-    def client_address(self) -> tuple[str, int]: ...
+    def client_address(self) -> tuple[str, int] | None: ...
 
 
 def loopback_for(host: str) -> str:
@@ -87,7 +87,10 @@ def loopback_for(host: str) -> str:
 
 def open_builtin_client(server_app: ServerAppLike) -> ClientWindow:
     """The server's View > Client: a client window connected over loopback, shown."""
-    host, port = server_app.client_address
+    address = server_app.client_address
+    if address is None:
+        raise ValueError("the server is not accepting clients: no configuration is open")
+    host, port = address
     connection = ClientConnection(loopback_for(host), port, name="built-in client")
     window = ClientWindow(connection)
     window.start()

@@ -8,10 +8,11 @@ own beyond what the user sees: everything it shows comes from the
 from __future__ import annotations
 
 import asyncio
+import functools
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Coroutine
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from moas_gui import __version__
 from moas_gui.status import ServerState, ServerStatus
@@ -177,7 +178,7 @@ class ServerWindow(QMainWindow):
         emulators = self.app.emulators()
         for switch_id in sorted(emulators):
             self.emulator_menu.addAction(f"Switch {switch_id}",
-                                         lambda s=switch_id: self.open_emulator(s))
+                                         functools.partial(self.open_emulator, switch_id))
         self.emulator_menu.menuAction().setVisible(bool(emulators))
 
     # -- file menu -------------------------------------------------------------------
@@ -218,13 +219,15 @@ class ServerWindow(QMainWindow):
         value = self.settings.value("recentFiles", [])
         if isinstance(value, str):
             return [value]
-        return [str(v) for v in (value or [])][:RECENT_MAX]
+        if not isinstance(value, list):
+            return []
+        return [str(v) for v in value][:RECENT_MAX]
 
     def _refresh_recent(self) -> None:
         self.recent_menu.clear()
         recent = self.recent_files()
         for number, path in enumerate(recent, 1):
-            self.recent_menu.addAction(f"&{number} {path}", lambda p=path: self.open_file(p))
+            self.recent_menu.addAction(f"&{number} {path}", functools.partial(self.open_file, path))
         self.recent_menu.setEnabled(bool(recent))
 
     def save_switch_data(self) -> None:
@@ -341,8 +344,8 @@ class ServerWindow(QMainWindow):
             window.close()
 
     # -- helpers ---------------------------------------------------------------------
-    def _spawn(self, coroutine: object) -> None:
-        task = asyncio.ensure_future(coroutine)  # type: ignore[arg-type]
+    def _spawn(self, coroutine: Coroutine[Any, Any, object]) -> None:
+        task = asyncio.ensure_future(coroutine)
         self._tasks.add(task)
         task.add_done_callback(self._task_done)
 

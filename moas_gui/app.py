@@ -24,8 +24,8 @@ from pathlib import Path
 from typing import Any
 
 from moas_gui.engine.config import Config, LoadResult, load_config
-from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.engine.config.model import RotatorControl
+from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.status import ServerStatus, overall_state
 
 log = logging.getLogger("moas_gui.app")

@@ -373,3 +373,27 @@ def test_a_switch_that_stops_answering_changes_the_icon_and_back(
         await harness.close()
         again.close()
     run_on_qt(qapp, scenario(), timeout=60)
+
+
+def test_built_in_clients_follow_a_new_client_port(qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = harness.make()
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        window.action_client.trigger()
+        (first,) = window.client_windows
+        app = harness.app
+        assert app is not None and app.client_address is not None
+        old_port = app.client_address[1]
+        harness.answers.append(True)
+        window.open_file(str(EXAMPLES / "2x6.moas"))  # port 0: the system picks another
+        await window.idle()
+        assert app.client_address is not None and app.client_address[1] != old_port
+        (second,) = window.client_windows
+        assert second is not first and not first.isVisible()
+        assert second.connection.port == app.client_address[1]
+        await until(lambda: second.snapshot is not None and second.snapshot.config == "2x6.moas",
+                    timeout=10)
+        second.close()
+        await harness.close()
+    run_on_qt(qapp, scenario())

@@ -208,6 +208,20 @@ class ServerWindow(QMainWindow):
                           f"\n\n{shown}{more}")
             return
         self._remember_recent(str(Path(path).resolve()))
+        self._follow_client_port()
+
+    def _follow_client_port(self) -> None:
+        """Built-in clients of a configuration with another ``TCPPort`` would knock on
+        the old port for ever: replace them with ones on the new port."""
+        address = self.app.client_address
+        if address is None:
+            return
+        stale = [w for w in self.client_windows
+                 if getattr(getattr(w, "connection", None), "port", address[1]) != address[1]]
+        for window in stale:
+            self.client_windows.remove(window)
+            window.close()
+            self.open_client()
 
     def _remember_recent(self, path: str) -> None:
         recent = [p for p in self.recent_files() if p != path]

@@ -4,6 +4,8 @@
                    ``--bind`` address (127.0.0.1) instead of every address.
 ``n1mm PORT``      plays N1MM Logger on 127.0.0.1: station 1's radio tunes across a few
                    bands, so the server logs antenna changes.
+``client PORT SECONDS``  a client on 127.0.0.1:PORT that says hello, then stays connected
+                   for SECONDS (the status bar counts it).
 ``free-port KIND [PORT]``  prints PORT when that ``udp`` or ``tcp`` port of 127.0.0.1 is
                    free, or else any free one.
 ``geometry NAME``  prints ``X Y W H`` of the largest visible window whose title contains
@@ -15,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 import socket
 import subprocess
 import sys
@@ -43,6 +46,22 @@ def n1mm(port: int) -> int:
         for khz in (14025.0, 7012.0, 21030.0, 14210.0):
             udp.sendto(radio_info_packet(1, khz, station_name="RUN-PC"), ("127.0.0.1", port))
             time.sleep(0.4)
+    return 0
+
+
+def client(port: int, seconds: float) -> int:
+    """A client that says hello as the station's button box would, then stays a while."""
+    hello = {"id": 1, "cmd": "hello", "client": "button box", "station": 2, "radio": 1}
+    with socket.create_connection(("127.0.0.1", port), timeout=5) as conn:
+        conn.sendall((json.dumps(hello) + "\n").encode())
+        conn.settimeout(0.2)
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            try:
+                if not conn.recv(65536):
+                    break
+            except TimeoutError:
+                continue
     return 0
 
 
@@ -107,6 +126,8 @@ def main() -> int:
         return serve(rest)
     if command == "n1mm" and rest:
         return n1mm(int(rest[0]))
+    if command == "client" and len(rest) == 2:
+        return client(int(rest[0]), float(rest[1]))
     if command == "free-port" and rest and rest[0] in ("udp", "tcp"):
         return free_port(rest[0], int(rest[1]) if len(rest) > 1 else 0)
     if command == "geometry" and rest:

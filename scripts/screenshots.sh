@@ -114,6 +114,8 @@ window=$(xdotool search --onlyvisible --name "big-station.moas - MOAS Server" | 
 xdotool windowsize "$window" 960 400
 xdotool windowmove "$window" 24 24
 sleep 1.5                          # both emulated switches answer
+"$python" "$helper" client "$tcp" 60 &   # a button box connects
+pids+=($!)
 "$python" "$helper" n1mm "$udp"    # the operator tunes radio 1 across a few bands
 sleep 1
 import -frame -window "$window" -strip "$out/server-window.png"

@@ -36,6 +36,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="address the client server listens on (default all)")
     parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
     parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
+    parser.add_argument("--udp-bind", default="0.0.0.0",
+                        help="address the N1MM Logger listener binds (default all)")
     parser.add_argument("--no-rotator-program", action="store_true",
                         help="never start the local MOAS Rotator program")
     parser.add_argument("--new-instance", action="store_true",
@@ -70,6 +72,7 @@ def _options(args: argparse.Namespace) -> object:
     from moas_gui.app import ServerOptions
 
     return ServerOptions(bind=args.bind, tcp_port=args.tcp_port, udp_port=args.udp_port,
+                         udp_bind=args.udp_bind,
                          start_rotator_program=False if args.no_rotator_program else None)
 
 
@@ -170,6 +173,7 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
         settings = QSettings()
         window = ServerWindow(app, settings, quit_event.set)
         window.show()
+        _stop_on_signals(quit_event)
         if instance is not None:
             await instance.start(  # type: ignore[attr-defined]
                 lambda path: window.open_file(str(path)) if path else window.bring_to_front())
@@ -183,6 +187,16 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
 
     with loop:
         return loop.run_until_complete(serve())
+
+
+def _stop_on_signals(quit_event: asyncio.Event) -> None:
+    """SIGINT and SIGTERM end the window server as Exit does (the relays stay as they are)."""
+    loop = asyncio.get_running_loop()
+    for number in (signal.SIGINT, signal.SIGTERM):
+        try:
+            loop.add_signal_handler(number, quit_event.set)
+        except (NotImplementedError, RuntimeError):
+            signal.signal(number, lambda *_: loop.call_soon_threadsafe(quit_event.set))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -156,6 +156,8 @@ class ClientServer:
     def publish_log(self, level: LogLevel, message: str) -> None:
         if level not in LOG_LEVELS:
             raise ValueError(f"log level {level!r} is not one of {', '.join(LOG_LEVELS)}")
+        if not any(conn.greeted and conn.wants_log for conn in self._connections):
+            return
         try:
             line = event("log", {"level": level, "message": str(message)})
         except EncodeError:
@@ -172,6 +174,8 @@ class ClientServer:
             self._layout_refresh = self._loop.call_soon(self._refresh_layouts)
 
     def _publish(self, name: str, entry: Mapping[str, Any]) -> None:
+        if not self._connections:
+            return
         try:
             line = event(name, entry)
         except EncodeError:

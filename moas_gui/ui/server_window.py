@@ -139,6 +139,7 @@ class ServerWindow(QMainWindow):
         self.tray_menu = menu
         self.tray.setContextMenu(menu)
         self.tray.activated.connect(self._tray_activated)
+        self.tray.setIcon(status_icon(self.app.status.state))
         if QSystemTrayIcon.isSystemTrayAvailable():
             self.tray.show()
 

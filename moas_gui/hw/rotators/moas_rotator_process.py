@@ -17,6 +17,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import re
 import sys
 from collections.abc import Sequence
 
@@ -36,6 +37,20 @@ def default_command(port: int) -> list[str]:
 
 STEADY = 60.0
 """Seconds a program must have run for its next restart to wait ``restart_min`` again."""
+
+
+_PROGRAM_LOG = re.compile(
+    r"^\d{4}-\d\d-\d\d \d\d:\d\d:\d\d[,.]\d+ (?P<level>[A-Z]+) [\w.]+: (?P<text>.*)$")
+
+
+def relayed_line(text: str) -> tuple[int, str]:
+    """The level and message of a line the program logged (its own time stamp,
+    level and logger name dropped: the server's log adds its own)."""
+    match = _PROGRAM_LOG.match(text)
+    if match is None:
+        return logging.INFO, text
+    level = logging.getLevelName(match["level"])
+    return (level if isinstance(level, int) else logging.INFO), match["text"]
 
 
 class LocalMoasRotator:
@@ -108,7 +123,8 @@ class LocalMoasRotator:
             text = line.decode("utf-8", "replace").rstrip()
             if "listening on" in text:
                 self._listening.set()
-            log.info("MOAS Rotator: %s", text)
+            level, text = relayed_line(text)
+            log.log(level, "MOAS Rotator: %s", text)
         self._listening.set()
         code = await process.wait()
         if self.process is process:

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Generic, Protocol, TypeVar
+from typing import Any, Generic, Protocol, TypeVar
 
 
 class ControllerError(Exception):
@@ -343,6 +343,25 @@ DEFAULT_SPEED = 6.0
 """Degrees per second: a Hy-Gain HAM-IV or a Yaesu G-1000 turns 360 degrees in about a minute."""
 
 
+
+class ScannedCodec:
+    """What the codecs of line-framed controllers share: their replies come through a
+    :class:`FrameScanner`, they send nothing on opening, and they keep no timer."""
+
+    _scanner: FrameScanner[Any]
+
+    def opening(self) -> list[Send]:
+        return []
+
+    def receive(self, data: bytes, now: float) -> list[Output]:
+        return list(self._scanner.feed(data))
+
+    def deadline(self) -> float | None:
+        return None
+
+    def tick(self, now: float) -> list[Output]:
+        return []
+
 __all__ = [
     "DEFAULT_SPEED",
     "NEED_MORE",
@@ -360,6 +379,7 @@ __all__ = [
     "Notice",
     "OutOfRange",
     "Output",
+    "ScannedCodec",
     "Send",
     "SerialSettings",
     "UnknownModel",

@@ -27,6 +27,7 @@ from .base import (
     ModelInfo,
     Notice,
     Output,
+    ScannedCodec,
     Send,
     SerialSettings,
     check_range,
@@ -83,7 +84,7 @@ def _match(buffer: bytes) -> tuple[int, Heading | Notice | Ack | Garbage | None]
     return end + 1, parse_answer(buffer[1:end])
 
 
-class ProsistelCodec:
+class ProsistelCodec(ScannedCodec):
     """The driver's side of a Prosistel D box; see the module docstring."""
 
     info = INFO
@@ -105,14 +106,6 @@ class ProsistelCodec:
     def stop(self, now: float) -> list[Output]:
         return [Send(b"\x02AG%d\r" % SOFT_STOP, expects_reply=True)]
 
-    def receive(self, data: bytes, now: float) -> list[Output]:
-        return list(self._scanner.feed(data))
-
-    def deadline(self) -> float | None:
-        return None
-
-    def tick(self, now: float) -> list[Output]:
-        return []
 
 
 __all__ = ["FAST_STOP", "INFO", "SOFT_STOP", "ProsistelCodec", "parse_answer"]

@@ -30,6 +30,7 @@ from .base import (
     ModelInfo,
     Notice,
     Output,
+    ScannedCodec,
     Send,
     SerialSettings,
     check_range,
@@ -87,7 +88,7 @@ def _match(buffer: bytes) -> tuple[int, Heading | Notice | Ack | Garbage | None]
     return used, parse_line(line)
 
 
-class RC2800Codec:
+class RC2800Codec(ScannedCodec):
     """The driver's side of an RC2800P-A (``early=True``) or RC2800P-X."""
 
     def __init__(self, early: bool = True) -> None:
@@ -95,9 +96,6 @@ class RC2800Codec:
         self._early = early
         self._scanner: FrameScanner[Heading | Notice | Ack | Garbage] = FrameScanner(
             _match, "RC2800 status line (ends with CR or LF)")
-
-    def opening(self) -> list[Send]:
-        return []
 
     def poll(self, now: float) -> list[Output]:
         return [Send(b"A\r", expects_reply=True)]
@@ -112,14 +110,6 @@ class RC2800Codec:
     def stop(self, now: float) -> list[Output]:
         return [Send(b"A\rS\r", expects_reply=True)]
 
-    def receive(self, data: bytes, now: float) -> list[Output]:
-        return list(self._scanner.feed(data))
-
-    def deadline(self) -> float | None:
-        return None
-
-    def tick(self, now: float) -> list[Output]:
-        return []
 
 
 __all__ = ["INFO_A", "INFO_X", "RC2800Codec", "parse_line"]

@@ -24,6 +24,7 @@ from .base import (
     ModelInfo,
     Notice,
     Output,
+    ScannedCodec,
     Send,
     SerialSettings,
     check_range,
@@ -87,7 +88,7 @@ def _digits_then(buffer: bytes, at: int, length: int,
     return length, Heading(float(value % 360))
 
 
-class RotorEZCodec:
+class RotorEZCodec(ScannedCodec):
     """The driver's side of a Rotor-EZ; see the module docstring."""
 
     info = INFO
@@ -95,9 +96,6 @@ class RotorEZCodec:
     def __init__(self) -> None:
         self._scanner: FrameScanner[Heading | Notice] = FrameScanner(
             match_reply, "Rotor-EZ bearing (';ddd' or 'ddd;')")
-
-    def opening(self) -> list[Send]:
-        return []
 
     def poll(self, now: float) -> list[Output]:
         return [Send(b"AI1;", expects_reply=True)]
@@ -109,14 +107,6 @@ class RotorEZCodec:
     def stop(self, now: float) -> list[Output]:
         return [Send(b";")]
 
-    def receive(self, data: bytes, now: float) -> list[Output]:
-        return list(self._scanner.feed(data))
-
-    def deadline(self) -> float | None:
-        return None
-
-    def tick(self, now: float) -> list[Output]:
-        return []
 
 
 __all__ = ["BANNER_START", "INFO", "RotorEZCodec", "match_reply"]

@@ -26,6 +26,7 @@ from .base import (
     ModelInfo,
     Notice,
     Output,
+    ScannedCodec,
     Send,
     SerialSettings,
     check_range,
@@ -78,16 +79,13 @@ def _match(buffer: bytes) -> tuple[int, Heading | Notice | Garbage | None]:
     return used, parse_line(line) if line.strip() else None
 
 
-class YaesuCodec:
+class YaesuCodec(ScannedCodec):
     """The driver's side of a GS-232A or GS-232B; see the module docstring."""
 
     def __init__(self, info: ModelInfo = INFO_B) -> None:
         self.info = info
         self._scanner: FrameScanner[Heading | Notice | Garbage] = FrameScanner(
             _match, "GS-232 reply line (ends with CR)")
-
-    def opening(self) -> list[Send]:
-        return []
 
     def poll(self, now: float) -> list[Output]:
         return [Send(b"C\r", expects_reply=True)]
@@ -99,14 +97,6 @@ class YaesuCodec:
     def stop(self, now: float) -> list[Output]:
         return [Send(b"S\r")]
 
-    def receive(self, data: bytes, now: float) -> list[Output]:
-        return list(self._scanner.feed(data))
-
-    def deadline(self) -> float | None:
-        return None
-
-    def tick(self, now: float) -> list[Output]:
-        return []
 
 
 __all__ = ["INFO_A", "INFO_B", "YaesuCodec", "parse_line"]

@@ -76,14 +76,19 @@ def icon_is(window: ServerWindow, state: ServerState) -> bool:
         and window.tray.icon().cacheKey() == status_icon(state).cacheKey()
 
 
+async def running(harness: Harness, name: str = "small-station") -> tuple[ServerWindow, ServerApp]:
+    """A window that has opened example ``name``."""
+    window = harness.make()
+    window.open_file(str(EXAMPLES / f"{name}.moas"))
+    await window.idle()
+    assert harness.app is not None
+    return window, harness.app
+
+
 async def running_with_an_antenna(harness: Harness, khz: float) -> tuple[ServerWindow, Any]:
     """A window running small-station whose radio 1 is tuned to ``khz``; returns the
     window and the built-in switch once it holds that antenna's relays."""
-    window = harness.make()
-    window.open_file(str(EXAMPLES / "small-station.moas"))
-    await window.idle()
-    app = harness.app
-    assert app is not None
+    window, app = await running(harness)
     await until(lambda: app.status.state is ServerState.NORMAL)
     app.apply_changes(app.engine.set_frequency(1, 1, khz))
     box = app.emulators()[1]
@@ -257,11 +262,7 @@ def test_reset_switches_resets_the_box_and_sets_the_antennas_again(
 
 def test_save_switch_data_writes_the_chosen_file(qapp: Any, harness: Harness) -> None:
     async def scenario() -> None:
-        window = harness.make()
-        window.open_file(str(EXAMPLES / "small-station.moas"))
-        await window.idle()
-        app = harness.app
-        assert app is not None
+        window, app = await running(harness)
         await until(lambda: app.status.state is ServerState.NORMAL)
         target = harness.tmp_path / "switch-data.txt"
         harness.files.append(str(target))
@@ -275,11 +276,7 @@ def test_save_switch_data_writes_the_chosen_file(qapp: Any, harness: Harness) ->
 
 def test_restart_reopens_the_same_file(qapp: Any, harness: Harness) -> None:
     async def scenario() -> None:
-        window = harness.make()
-        window.open_file(str(EXAMPLES / "small-station.moas"))
-        await window.idle()
-        app = harness.app
-        assert app is not None
+        window, app = await running(harness)
         first_engine = app.engine
         window.action_restart.trigger()
         await window.idle()

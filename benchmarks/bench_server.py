@@ -478,28 +478,36 @@ def expected_commands(flood: Flood, packets: list[tuple[Ref, float]]) -> list[di
 
 def match(sent: list[int], packets: list[tuple[Ref, float]], expected: list[dict[int, str]],
           terminals: dict[int, Terminal], config: Any) -> dict[int, float]:
-    """Packet number -> ms from its ``sendto`` to the first byte of the command it caused.
+    """Packet number -> ms from its ``sendto`` until the switch holds what it, or a newer
+    packet of the same radio, asks for (the first byte of that command).
 
-    For each radio and switch port, walk the radio's packets in order beside the
-    commands that port received in order: a packet is answered when the next
-    command is the one it must cause; otherwise (dropped, or nothing sent) it
-    stays unanswered and the command waits for a later packet.  Where one packet
-    causes commands on several switches, the earliest counts.
+    For each radio and switch port, walk the commands that port received in order
+    beside the radio's packets: a command answers the first packet still waiting
+    whose expected command it is, and every older packet still waiting too -- the
+    server skipped those because a newer frequency had already arrived, so they
+    waited exactly that long for the switch to be up to date.  A packet that no
+    command ever answers stays unanswered.  Where one packet causes commands on
+    several switches, the earliest counts.
     """
     latencies: dict[int, float] = {}
     commands = {switch_id: t.commands() for switch_id, t in terminals.items()}
     for ref in sorted({ref for ref, _ in packets}):
         for switch_id, port in switch_ports(config, ref).items():
-            got = [(at, text) for at, text in commands.get(switch_id, [])
-                   if text.startswith(f"!{port}")]
-            position = 0
-            for seq, (packet_ref, _) in enumerate(packets):
-                wanted = expected[seq].get(switch_id) if packet_ref == ref else None
-                if wanted is None or position >= len(got) or got[position][1] != wanted:
+            waiting = [seq for seq, (packet_ref, _) in enumerate(packets)
+                       if packet_ref == ref and expected[seq].get(switch_id) is not None]
+            cursor = 0
+            for at, text in commands.get(switch_id, []):
+                if not text.startswith(f"!{port}"):
                     continue
-                delay = (got[position][0] - sent[seq]) / 1e6
-                latencies[seq] = min(delay, latencies.get(seq, delay))
-                position += 1
+                found = next((k for k in range(cursor, len(waiting))
+                              if expected[waiting[k]][switch_id] == text
+                              and sent[waiting[k]] <= at), None)
+                if found is None:
+                    continue
+                for seq in waiting[cursor:found + 1]:
+                    delay = (at - sent[seq]) / 1e6
+                    latencies[seq] = min(delay, latencies.get(seq, delay))
+                cursor = found + 1
     return latencies
 
 

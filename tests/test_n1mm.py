@@ -102,8 +102,23 @@ async def test_heartbeats_with_the_same_frequency_are_not_passed_on(station3: Ru
     await station3.send_and_settle(same, same, same)
     assert station3.recorder.calls == [(3, 1, 3525.0, 3525.0)]
     assert [u.changed for u in station3.recorder.updates] == [True, False, False]
-    await station3.send_and_settle(radio_info_packet(1, 3525.0, 3526.0), same)
+    await station3.send_and_settle(radio_info_packet(1, 3525.0, 3526.0))
+    await station3.send_and_settle(same)
     assert station3.recorder.calls[1:] == [(3, 1, 3525.0, 3526.0), (3, 1, 3525.0, 3525.0)]
+
+
+@pytest.mark.asyncio
+async def test_a_burst_tells_each_radio_only_its_latest_frequency(station3: Running) -> None:
+    """Packets waiting together are read together; a stale frequency is never acted on."""
+    burst = [radio_info_packet(1, khz) for khz in (7000.0, 7010.0, 7020.0)] + [
+        radio_info_packet(2, 1830.0), radio_info_packet(1, 7030.0)]
+    for data in burst:  # all sent before the event loop runs again: they wait together
+        station3.logger.send(data)
+    async with asyncio.timeout(5):
+        while station3.listener.stats().received < 5:
+            await asyncio.sleep(0.005)
+    assert sorted(station3.recorder.calls) == [(3, 1, 7030.0, 7030.0), (3, 2, 1830.0, 1830.0)]
+    assert len(station3.recorder.updates) == 5, "every packet is still read and counted"
 
 
 @pytest.mark.asyncio
@@ -183,8 +198,8 @@ async def test_a_failing_callback_is_logged_and_counted_and_the_listener_carries
     listener = N1MMListener({"127.0.0.1": 1}, broken, on_update=recorder.on_update)
     logger = Logger(await listener.start(port=0, host="127.0.0.1"))
     try:
-        await send_all(listener, logger, (radio_info_packet(1, 7000.0),
-                                          radio_info_packet(1, 7001.0)))
+        await send_all(listener, logger, (radio_info_packet(1, 7000.0),))
+        await send_all(listener, logger, (radio_info_packet(1, 7001.0),))
     finally:
         logger.close()
         await listener.close()

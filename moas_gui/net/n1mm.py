@@ -34,6 +34,7 @@ import asyncio
 import ipaddress
 import logging
 import socket
+import sys
 import time
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
@@ -56,6 +57,11 @@ LOG_INTERVAL: Final = 60.0
 
 FrequencyCallback = Callable[[int, int, float, float], object]
 """``on_frequency(station, radio, khz, tx_khz)``."""
+
+
+MAX_BURST: Final = 1000
+"""Datagrams taken at once behind the one the event loop delivered."""
+MAX_DATAGRAM: Final = 65536
 
 
 @dataclass(frozen=True, slots=True)
@@ -170,6 +176,8 @@ class N1MMListener(asyncio.DatagramProtocol):
         self._last: dict[tuple[int, int], tuple[float, float]] = {}
         self._heard: dict[tuple[int, int], float] = {}
         self._transport: asyncio.BaseTransport | None = None
+        self._sock: socket.socket | None = None
+        self._batch: dict[tuple[int, int], tuple[int, int, float, float]] | None = None
         self._closed: asyncio.Future[None] | None = None
         self._received = self._accepted = self._delivered = 0
         self._no_frequency = self._unknown = self._callback_errors = 0
@@ -221,7 +229,12 @@ class N1MMListener(asyncio.DatagramProtocol):
             if changed:
                 self._last[radio_key] = pair
                 self._delivered += 1
-                self._call(self._on_frequency, station, info.radio_nr, info.khz, info.tx_khz)
+                if self._batch is not None:  # a burst: only each radio's latest counts
+                    self._batch.pop(radio_key, None)
+                    self._batch[radio_key] = (station, info.radio_nr, info.khz, info.tx_khz)
+                else:
+                    self._call(self._on_frequency, station, info.radio_nr, info.khz,
+                               info.tx_khz)
         update = RadioUpdate(station, info.radio_nr, address, info, changed)
         if self._on_update is not None:
             self._call(self._on_update, update)
@@ -257,13 +270,33 @@ class N1MMListener(asyncio.DatagramProtocol):
         self._transport = transport
 
     def datagram_received(self, data: bytes, addr: tuple[str | int, ...]) -> None:
-        self.handle(data, str(addr[0]))
+        """Take this datagram and every one already waiting behind it; then tell each
+        radio's latest frequency once.  When packets come faster than antennas can be
+        chosen, stale frequencies are skipped instead of queueing up (the switch only
+        ever needs the newest)."""
+        if self._sock is None:
+            self.handle(data, str(addr[0]))
+            return
+        self._batch = {}
+        try:
+            self.handle(data, str(addr[0]))
+            for _ in range(MAX_BURST):
+                try:
+                    more, where = self._sock.recvfrom(MAX_DATAGRAM)
+                except OSError:  # nothing more waiting (or the socket is closing)
+                    break
+                self.handle(more, str(where[0]))
+        finally:
+            batch, self._batch = self._batch, None
+        for station, radio, khz, tx_khz in batch.values():
+            self._call(self._on_frequency, station, radio, khz, tx_khz)
 
     def error_received(self, exc: Exception) -> None:
         log.debug("N1MM listener socket error (ignored): %s", exc)
 
     def connection_lost(self, exc: Exception | None) -> None:
         self._transport = None
+        self._sock = None
         if self._closed is not None and not self._closed.done():
             self._closed.set_result(None)
 
@@ -289,6 +322,9 @@ class N1MMListener(asyncio.DatagramProtocol):
                                      f"{exc.strerror}") from exc
         self._closed = loop.create_future()
         await loop.create_datagram_endpoint(lambda: self, sock=sock)
+        # Reading what waits behind a datagram needs the socket itself; the proactor
+        # loops of Windows read through their own pending operation, so not there.
+        self._sock = sock if sys.platform != "win32" else None
         bound = int(sock.getsockname()[1])
         log.info("Listening for N1MM Logger on UDP %s:%d (%d station%s)", host, bound,
                  len(self._stations), "" if len(self._stations) == 1 else "s")

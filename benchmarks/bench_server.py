@@ -482,7 +482,7 @@ def match(sent: list[int], packets: list[tuple[Ref, float]], expected: list[dict
     packet of the same radio, asks for (the first byte of that command).
 
     For each radio and switch port, walk the commands that port received in order
-    beside the radio's packets: a command answers the first packet still waiting
+    beside the radio's packets: a command answers the newest packet sent before it
     whose expected command it is, and every older packet still waiting too -- the
     server skipped those because a newer frequency had already arrived, so they
     waited exactly that long for the switch to be up to date.  A packet that no
@@ -499,9 +499,14 @@ def match(sent: list[int], packets: list[tuple[Ref, float]], expected: list[dict
             for at, text in commands.get(switch_id, []):
                 if not text.startswith(f"!{port}"):
                     continue
-                found = next((k for k in range(cursor, len(waiting))
-                              if expected[waiting[k]][switch_id] == text
-                              and sent[waiting[k]] <= at), None)
+                # The server acts on the newest frequency it has read, so a command
+                # answers the newest waiting packet sent before it that asks for it.
+                found = None
+                for k in range(cursor, len(waiting)):
+                    if sent[waiting[k]] > at:
+                        break
+                    if expected[waiting[k]][switch_id] == text:
+                        found = k
                 if found is None:
                     continue
                 for seq in waiting[cursor:found + 1]:

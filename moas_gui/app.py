@@ -83,6 +83,11 @@ class ServerApp:
         return self._run.config if self._run else None
 
     @property
+    def path(self) -> Path | None:
+        """The configuration file that runs (or ran last), None before the first open."""
+        return self._path
+
+    @property
     def engine(self) -> Any:
         return self._run.engine if self._run else None
 

@@ -4,7 +4,7 @@ the status bar, and the status icon in each state."""
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -46,16 +46,16 @@ class Harness:
                                            switch_timing=FAST))
         window = ServerWindow(self.app, self.settings(), self._quit)
         window.ask = self._ask
-        window.choose_file = lambda title, saving: self.files.pop(0)
+        window.choose_file = lambda title, saving, chosen: chosen(self.files.pop(0))
         self.window = window
         return window
 
     def _quit(self) -> None:
         self.quit_requests += 1
 
-    def _ask(self, title: str, text: str) -> bool:
+    def _ask(self, title: str, text: str, answered: Callable[[bool], None]) -> None:
         self.questions.append(text)
-        return self.answers.pop(0)
+        answered(self.answers.pop(0))
 
     async def close(self) -> None:
         if self.window is not None:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from PySide6.QtCore import (
     QByteArray,
+    QEvent,
     QObject,
     QPoint,
     QPointF,
@@ -72,7 +73,7 @@ __all__ = [
     "QAbstractButton", "QAction", "QActionGroup", "QApplication", "QBrush", "QButtonGroup",
     "QByteArray", "QCheckBox",
     "QCloseEvent", "QColor", "QComboBox", "QDesktopServices", "QDialog", "QDialogButtonBox",
-    "QDoubleSpinBox", "QFileDialog", "QFont", "QFontDatabase", "QFrame", "QGridLayout",
+    "QDoubleSpinBox", "QEvent", "QFileDialog", "QFont", "QFontDatabase", "QFrame", "QGridLayout",
     "QGroupBox", "QHBoxLayout", "QIcon", "QLabel", "QLineEdit", "QMainWindow", "QMenu",
     "QMessageBox", "QMouseEvent", "QObject", "QPaintEvent", "QPainter", "QPainterPath",
     "QPalette", "QPen",

@@ -25,6 +25,7 @@ from .qt import (
     QApplication,
     QCloseEvent,
     QDesktopServices,
+    QEvent,
     QFileDialog,
     QIcon,
     QMainWindow,
@@ -32,6 +33,7 @@ from .qt import (
     QMessageBox,
     QSettings,
     QSystemTrayIcon,
+    Qt,
     QUrl,
     QWidget,
 )
@@ -63,10 +65,13 @@ class ServerWindow(QMainWindow):
         self.client_windows: list[QWidget] = []
         self.emulator_windows: dict[int, QWidget] = {}
         self.last_dialog: QMessageBox | None = None
-        self.ask: Callable[[str, str], bool] = self._ask_dialog
-        """Asks the user a yes/no question; tests replace it with a fake that answers."""
-        self.choose_file: Callable[[str, bool], str] = self._file_dialog
-        """Asks for a file name (title, saving); tests replace it."""
+        self.file_dialog: QFileDialog | None = None
+        self.ask: Callable[[str, str, Callable[[bool], None]], None] = self._ask_dialog
+        """Asks the user a yes/no question without waiting (a window-modal dialog
+        opened with ``open()``): the answer comes later to the callback.  Tests
+        replace it with a fake that answers."""
+        self.choose_file: Callable[[str, bool, Callable[[str], None]], None] = self._file_dialog
+        """Asks for a file name (title, saving, then the callback with the name), the same way."""
 
         self.setWindowTitle("MOAS Server")
         self.resize(760, 420)
@@ -80,7 +85,8 @@ class ServerWindow(QMainWindow):
 
         self._build_menus()
         self._build_tray()
-        self.statusBar().showMessage("No configuration open")
+        self._summary = "No configuration open"
+        self.statusBar().showMessage(self._summary)
         show_bar = self.settings.value("view/statusBar", True, type=bool)
         self.statusBar().setVisible(bool(show_bar))
         self.action_status_bar.setChecked(bool(show_bar))
@@ -155,11 +161,20 @@ class ServerWindow(QMainWindow):
             icon = status_icon(status.state)
             self.setWindowIcon(icon)
             self.tray.setIcon(icon)
+        self._summary = status.summary
         self.statusBar().showMessage(status.summary)
         self.tray.setToolTip(f"MOAS Server: {status.summary}")
         title = "MOAS Server" if status.file is None else f"{status.file} - MOAS Server"
         self.setWindowTitle(title)
         self._refresh_actions()
+
+    def event(self, event: QEvent) -> bool:
+        """A menu item without a status tip sends an empty one on hover, which would
+        blank the status bar until the next change: show the status again instead."""
+        if event.type() == QEvent.Type.StatusTip and not event.tip():  # type: ignore[attr-defined]
+            self.statusBar().showMessage(self._summary)
+            return True
+        return super().event(event)
 
     def alert(self, title: str, message: str) -> None:
         """A critical event (a switch lost): a tray message when there is a tray."""
@@ -177,25 +192,38 @@ class ServerWindow(QMainWindow):
         self.tray_stop_start.setText(label.replace("&", ""))
         self.emulator_menu.clear()
         emulators = self.app.emulators()
+        self._close_stale_emulator_windows(emulators)
         for switch_id in sorted(emulators):
             self.emulator_menu.addAction(f"Switch {switch_id}",
                                          functools.partial(self.open_emulator, switch_id))
         self.emulator_menu.menuAction().setVisible(bool(emulators))
 
+    def _close_stale_emulator_windows(self, emulators: dict[int, Any]) -> None:
+        """An emulator window whose switch no longer runs (another file, Restart) would
+        show frozen relays: close it."""
+        for switch_id, window in list(self.emulator_windows.items()):
+            if emulators.get(switch_id) is not getattr(window, "box", None):
+                del self.emulator_windows[switch_id]
+                window.close()
+                window.deleteLater()
+
     # -- file menu -------------------------------------------------------------------
     def open_dialog(self) -> None:
-        path = self.choose_file("Open configuration", False)
-        if path:
-            self.open_file(path)
+        self.choose_file("Open configuration", False,
+                         lambda path: self.open_file(path) if path else None)
 
     def open_file(self, path: str) -> None:
-        """Open ``path``; when one runs already, ask first, then restart on the new one."""
+        """Open ``path``; when one runs already, ask first, then restart on the new one.
+
+        Returns at once: the question is a non-blocking dialog whose answer
+        opens the file later (never a nested event loop, see docs/architecture.md)."""
         if self.app.config is not None:
             current = self.app.status.file or "the current configuration"
-            if not self.ask("Open configuration",
-                            f"Stop {current} and open {Path(path).name}?\n\n"
-                            "The switches will be re-initialised from the new file."):
-                return
+            self.ask("Open configuration",
+                     f"Stop {current} and open {Path(path).name}?\n\n"
+                     "The switches will be re-initialised from the new file.",
+                     lambda yes: self._spawn(self._open(path)) if yes else None)
+            return
         self._spawn(self._open(path))
 
     async def _open(self, path: str) -> None:
@@ -246,9 +274,8 @@ class ServerWindow(QMainWindow):
         self.recent_menu.setEnabled(bool(recent))
 
     def save_switch_data(self) -> None:
-        path = self.choose_file("Save switch data", True)
-        if path:
-            self._spawn(self._save_switch_data(path))
+        self.choose_file("Save switch data", True,
+                         lambda path: self._spawn(self._save_switch_data(path)) if path else None)
 
     async def _save_switch_data(self, path: str) -> None:
         try:
@@ -291,11 +318,11 @@ class ServerWindow(QMainWindow):
         self.client_windows.append(open_builtin_client(self.app))
 
     def open_emulator(self, switch_id: int) -> None:
+        emulator = self.app.emulators().get(switch_id)
+        if emulator is None:
+            return
         window = self.emulator_windows.get(switch_id)
-        if window is None:
-            emulator = self.app.emulators().get(switch_id)
-            if emulator is None:
-                return
+        if window is None or getattr(window, "box", None) is not emulator:
             from .emulator_window import EmulatorWindow
 
             window = EmulatorWindow(emulator, port=f"switch {switch_id} (built in)")
@@ -380,18 +407,39 @@ class ServerWindow(QMainWindow):
         self.last_dialog = box
         box.open()
 
-    def _ask_dialog(self, title: str, text: str) -> bool:
-        answer = QMessageBox.question(self, title, text)
-        return answer == QMessageBox.StandardButton.Yes
+    def _ask_dialog(self, title: str, text: str, answered: Callable[[bool], None]) -> None:
+        buttons = QMessageBox.StandardButton.Yes | QMessageBox.StandardButton.No
+        box = QMessageBox(QMessageBox.Icon.Question, title, text, buttons, self)
+        box.setDefaultButton(QMessageBox.StandardButton.No)
+        box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+        box.finished.connect(
+            lambda _result: answered(box.clickedButton() is box.button(QMessageBox.StandardButton.Yes)))
+        self.last_dialog = box
+        self.bring_to_front()
+        box.open()
 
-    def _file_dialog(self, title: str, saving: bool) -> str:
+    def _file_dialog(self, title: str, saving: bool, chosen: Callable[[str], None]) -> None:
         if saving:
-            path, _ = QFileDialog.getSaveFileName(self, title, "moas-switch-data.txt",
-                                                  "Text files (*.txt);;All files (*)")
+            dialog = QFileDialog(self, title, str(self._start_directory() / "moas-switch-data.txt"),
+                                 "Text files (*.txt);;All files (*)")
+            dialog.setAcceptMode(QFileDialog.AcceptMode.AcceptSave)
         else:
-            path, _ = QFileDialog.getOpenFileName(self, title, "",
-                                                  "MOAS configurations (*.moas *.txt);;All files (*)")
-        return path
+            dialog = QFileDialog(self, title, str(self._start_directory()),
+                                 "MOAS configurations (*.moas *.txt);;All files (*)")
+            dialog.setFileMode(QFileDialog.FileMode.ExistingFile)
+        dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+        dialog.fileSelected.connect(chosen)
+        self.file_dialog = dialog
+        dialog.open()
+
+    def _start_directory(self) -> Path:
+        """Where the Open and Save dialogs start: the open file's folder, else the last one."""
+        if self.app.path is not None:
+            return self.app.path.resolve().parent
+        recent = self.recent_files()
+        if recent:
+            return Path(recent[0]).parent
+        return Path.home()
 
 
 def application_icon() -> QIcon:

@@ -1,0 +1,133 @@
+"""The server window's questions are non-blocking dialogs: a hand-over or menu item
+arriving while the loop runs tasks never stops the loop; plus what the window
+shows around them (status bar on menu hover, emulator windows after a new file)."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+import shiboken6
+from PySide6.QtGui import QStatusTipEvent
+from test_client_support import run_on_qt, until
+from test_server_window import EXAMPLES, Harness
+
+from moas_gui.ui.qt import QApplication, QMessageBox
+
+
+@pytest.fixture
+def harness(tmp_path: Path) -> Iterator[Harness]:
+    yield Harness(tmp_path)
+
+
+def gone(widget: Any) -> bool:
+    """Closed (and maybe already deleted)."""
+    return not shiboken6.isValid(widget) or not widget.isVisible()
+
+
+def real_dialogs(harness: Harness) -> Any:
+    window = harness.make()
+    window.ask = window._ask_dialog
+    window.choose_file = window._file_dialog
+    return window
+
+
+def test_a_hand_over_inside_a_task_asks_without_stopping_the_loop(qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = real_dialogs(harness)
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        ticks = 0
+
+        async def ticker() -> None:
+            nonlocal ticks
+            while True:
+                ticks += 1
+                await asyncio.sleep(0.01)
+
+        beat = asyncio.ensure_future(ticker())
+
+        async def hand_over() -> None:  # as the instance server calls it: inside a task
+            window.open_file(str(EXAMPLES / "2x6.moas"))
+
+        await asyncio.wait_for(hand_over(), 2)
+        box = window.last_dialog
+        assert box is not None and box.isVisible() and "open 2x6.moas?" in box.text()
+        before = ticks
+        await until(lambda: ticks > before + 5, what="the loop running while the question waits")
+        box.button(QMessageBox.StandardButton.Yes).click()
+        await until(lambda: window._tasks == set() and harness.app is not None
+                    and harness.app.status.file == "2x6.moas", timeout=10)
+        beat.cancel()
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_no_in_the_real_dialog_keeps_the_running_file(qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = real_dialogs(harness)
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        window.open_file(str(EXAMPLES / "2x6.moas"))
+        assert window.last_dialog is not None
+        window.last_dialog.button(QMessageBox.StandardButton.No).click()
+        await asyncio.sleep(0.05)
+        await window.idle()
+        assert harness.app is not None and harness.app.status.file == "small-station.moas"
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_the_open_dialog_starts_in_the_open_files_folder(qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = real_dialogs(harness)
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        window.action_open.trigger()
+        dialog = window.file_dialog
+        assert dialog is not None and dialog.isVisible()
+        assert Path(dialog.directory().absolutePath()) == EXAMPLES.resolve()
+        dialog.reject()
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_hovering_a_menu_does_not_blank_the_status_bar(qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = harness.make()
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        await until(lambda: "switch 1 ok" in window.statusBar().currentMessage())
+        QApplication.sendEvent(window, QStatusTipEvent(""))  # what a hovered menu item sends
+        assert "switch 1 ok" in window.statusBar().currentMessage()
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_the_emulator_window_follows_a_new_file_and_a_restart(qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = harness.make()
+        window.open_file(str(EXAMPLES / "big-station.moas"))
+        await window.idle()
+        window.emulator_menu.actions()[0].trigger()
+        old = window.emulator_windows[1]
+        assert old.isVisible()
+        harness.answers.append(True)
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        assert gone(old), "the old station's emulator window is closed"
+        app = harness.app
+        assert app is not None
+        window.emulator_menu.actions()[0].trigger()
+        new = window.emulator_windows[1]
+        assert new is not old and new.box is app.emulators()[1]
+        window.action_restart.trigger()
+        await window.idle()
+        assert gone(new)
+        window.emulator_menu.actions()[0].trigger()
+        assert window.emulator_windows[1].box is app.emulators()[1]
+        await harness.close()
+    run_on_qt(qapp, scenario())

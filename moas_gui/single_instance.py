@@ -29,10 +29,14 @@ How, without Qt (the headless server uses it too):
 - **A stale socket** (the last instance crashed and left its socket file) is
   recognised because its lock is free: :func:`claim` removes it and binds anew.
 
-The request is one line of JSON, ``{"open": "/absolute/path.moas"}`` (or
-``null``: just show the window), and the reply ``{"ok": true}`` once the
-callback has taken it.  Anything else gets ``{"ok": false, "error": ...}``, a
-log line, and the server carries on.
+The request is one line of JSON, ``{"open": "/absolute/path.moas", "launch":
+{...}}`` (``open`` null: just show the window; ``launch`` what the second
+command line asked for, which the running server may refuse: a headless
+server takes no hand-over, other ports cannot be honoured), and the reply
+``{"ok": true}`` once the callback has taken it.  Anything else gets ``{"ok":
+false, "error": ...}``, a log line, and the server carries on.  On POSIX the
+socket also checks its peer's user id (``SO_PEERCRED`` where the system has
+it) and refuses any other user, root included.
 """
 
 from __future__ import annotations
@@ -46,10 +50,12 @@ import os
 import re
 import secrets
 import socket
+import struct
 import sys
 import tempfile
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Final, Literal
 
@@ -62,6 +68,18 @@ HAND_OVER_TIMEOUT: Final = 10.0
 
 Transport = Literal["unix", "tcp"]
 OpenCallback = Callable[[Path | None], object]
+Vetting = Callable[[Path | None, dict[str, object]], str | None]
+"""``vet(path, launch)``: why the running instance refuses this hand-over, or None."""
+
+
+@dataclass(frozen=True, slots=True)
+class HandOver:
+    """How a hand-over went: ``taken``, or ``refusal`` says why not; neither when nobody answered."""
+
+    taken: bool
+    refusal: str | None = None
+    running: bool = True
+    """False when no instance runs at all."""
 
 
 class InstanceError(OSError):
@@ -167,6 +185,7 @@ class InstanceServer:
         self._token = token
         self._server: asyncio.AbstractServer | None = None
         self._on_open: OpenCallback | None = None
+        self._vet: Vetting | None = None
 
     @property
     def address(self) -> str:
@@ -174,9 +193,11 @@ class InstanceServer:
         where = self._sock.getsockname()
         return str(where) if self.transport == "unix" else f"{where[0]}:{where[1]}"
 
-    async def start(self, on_open: OpenCallback) -> None:
-        """Serve hand-overs on the running loop; ``on_open(path)`` is called for each."""
+    async def start(self, on_open: OpenCallback, vet: Vetting | None = None) -> None:
+        """Serve hand-overs on the running loop; ``on_open(path)`` is called for each
+        that ``vet(path, launch)`` (when given) does not refuse."""
         self._on_open = on_open
+        self._vet = vet
         if self.transport == "unix":
             self._server = await asyncio.start_unix_server(
                 self._serve, sock=self._sock, limit=MAX_REQUEST)
@@ -188,7 +209,12 @@ class InstanceServer:
         try:
             async with asyncio.timeout(5):
                 line = await reader.readline()
-            path, error = self._read_request(line)
+            error = self._foreign_peer(writer)
+            path, launch = None, {}
+            if error is None:
+                path, launch, error = self._read_request(line)
+            if error is None and self._vet is not None:
+                error = self._vet(path, launch)
             if error is None:
                 error = self._deliver(path)
             reply = {"ok": True} if error is None else {"ok": False, "error": error}
@@ -204,22 +230,40 @@ class InstanceServer:
             with contextlib.suppress(ConnectionError):
                 await writer.wait_closed()
 
-    def _read_request(self, line: bytes) -> tuple[Path | None, str | None]:
+    def _foreign_peer(self, writer: asyncio.StreamWriter) -> str | None:
+        """Why the peer may not hand over (another user), or None."""
+        sock = writer.get_extra_info("socket")
+        if self.transport != "unix" or sock is None or not hasattr(socket, "SO_PEERCRED"):
+            return None
+        try:
+            credentials = sock.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED,
+                                          struct.calcsize("3i"))
+        except OSError as exc:
+            return f"cannot tell who is asking ({exc.strerror or exc})"
+        _pid, uid, _gid = struct.unpack("3i", credentials)
+        if uid != os.getuid():
+            return f"user id {uid} is not this server's user; only the same user may hand over"
+        return None
+
+    def _read_request(self, line: bytes) -> tuple[Path | None, dict[str, object], str | None]:
         try:
             request = json.loads(line)
         except (UnicodeDecodeError, json.JSONDecodeError):
-            return None, f"not a JSON line: {line[:60]!r}"
+            return None, {}, f"not a JSON line: {line[:60]!r}"
         if not isinstance(request, dict) or "open" not in request:
-            return None, "the request has no 'open'"
+            return None, {}, "the request has no 'open'"
         if self.transport == "tcp" and not hmac.compare_digest(
                 str(request.get("token", "")), self._token):
-            return None, "wrong token (not from this user)"
+            return None, {}, "wrong token (not from this user)"
+        launch = request.get("launch", {})
+        if not isinstance(launch, dict):
+            return None, {}, "'launch' must be an object"
         target = request["open"]
         if target is None:
-            return None, None
+            return None, launch, None
         if not isinstance(target, str) or not target or "\0" in target:
-            return None, f"'open' must be a path or null, not {target!r:.60}"
-        return Path(target), None
+            return None, {}, f"'open' must be a path or null, not {target!r:.60}"
+        return Path(target), launch, None
 
     def _deliver(self, path: Path | None) -> str | None:
         assert self._on_open is not None
@@ -318,28 +362,36 @@ def hand_over(name: str = DEFAULT_NAME, path: str | os.PathLike[str] | None = No
     """Give ``path`` (made absolute) to the running instance; True once it has taken it.
 
     False at once when no instance runs; False after ``timeout`` seconds when
-    one runs but does not answer.
+    one runs but does not answer; False when it refuses.
     """
+    return offer(name, path, directory=directory, transport=transport, timeout=timeout).taken
+
+
+def offer(name: str = DEFAULT_NAME, path: str | os.PathLike[str] | None = None,
+          launch: dict[str, object] | None = None, *, directory: Path | None = None,
+          transport: Transport | None = None, timeout: float = HAND_OVER_TIMEOUT) -> HandOver:
+    """Like :func:`hand_over`, with what this launch asked for, and the refusal's reason."""
     name = _safe_name(name)
     directory = directory or instance_dir()
     transport = transport or default_transport()
     request: dict[str, object] = {
-        "open": None if path is None else str(Path(path).expanduser().absolute())}
+        "open": None if path is None else str(Path(path).expanduser().absolute()),
+        "launch": launch or {}}
     deadline = time.monotonic() + timeout
     while True:
         if not _someone_holds(directory / f"{name}.lock"):
-            return False
+            return HandOver(taken=False, running=False)
         try:
             return _ask(directory, name, transport, request, deadline)
         except (OSError, ValueError) as exc:
             if time.monotonic() >= deadline:
                 log.warning("The running moas-server did not take %s: %s", request["open"], exc)
-                return False
+                return HandOver(taken=False)
             time.sleep(0.05)
 
 
 def _ask(directory: Path, name: str, transport: Transport, request: dict[str, object],
-         deadline: float) -> bool:
+         deadline: float) -> HandOver:
     if transport == "unix":
         sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
         address: str | tuple[str, int] = str(directory / f"{name}.sock")
@@ -362,11 +414,11 @@ def _ask(directory: Path, name: str, transport: Transport, request: dict[str, ob
     answer = json.loads(reply)
     if not answer.get("ok"):
         log.warning("The running moas-server refused %s: %s", request["open"], answer.get("error"))
-        return False
-    return True
+        return HandOver(taken=False, refusal=str(answer.get("error")))
+    return HandOver(taken=True)
 
 
 __all__ = [
-    "DEFAULT_NAME", "InstanceError", "InstanceServer", "OpenCallback", "claim",
-    "default_transport", "hand_over", "instance_dir",
+    "DEFAULT_NAME", "HandOver", "InstanceError", "InstanceServer", "OpenCallback", "Vetting",
+    "claim", "default_transport", "hand_over", "instance_dir", "offer",
 ]

@@ -43,30 +43,63 @@ def wait_for(condition: object, timeout: float = 15.0) -> None:
         time.sleep(0.1)
 
 
-def test_a_second_launch_hands_its_file_to_the_running_server(tmp_path: Path) -> None:
+def start_headless(tmp_path: Path, name: str = "small-station") -> tuple[
+        subprocess.Popen[str], dict[str, str], list[str], int]:
     runtime = tmp_path / "runtime"
     runtime.mkdir(mode=0o700)
-    env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime), PYTHONUNBUFFERED="1")
+    env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime), XDG_CONFIG_HOME=str(tmp_path),
+               PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen")
     tcp = free_port(socket.SOCK_STREAM)
-    common = ["--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
+    common = ["--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
               "--no-rotator-program"]
     first = subprocess.Popen(
-        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
-         *common], env=env, stderr=subprocess.PIPE, text=True)
+        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / f"{name}.moas"),
+         "--headless", *common], env=env, stderr=subprocess.PIPE, text=True)
+    wait_for(lambda: ask_state(tcp)["config"] == f"{name}.moas")
+    return first, env, common, tcp
+
+
+def second_launch(env: dict[str, str], *args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "moas_gui.cli.server", *args],
+                          env=env, capture_output=True, text=True, check=False, timeout=30)
+
+
+def stop(first: subprocess.Popen[str]) -> str:
+    first.terminate()
+    _, stderr = first.communicate(timeout=15)
+    assert first.returncode == 0, stderr
+    return stderr
+
+
+def test_a_headless_server_is_never_taken_over_by_a_double_click(tmp_path: Path) -> None:
+    first, env, common, tcp = start_headless(tmp_path)
     try:
-        wait_for(lambda: ask_state(tcp)["config"] == "small-station.moas")
-        second = subprocess.run(
-            [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "2x6.moas"), *common],
-            env=env, capture_output=True, text=True, check=False, timeout=30)
-        assert second.returncode == 0, second.stderr
-        assert "handed" in second.stderr and "already running" in second.stderr
-        wait_for(lambda: ask_state(tcp)["config"] == "2x6.moas")
-        assert first.poll() is None, "the first server keeps running"
+        for args in ([str(EXAMPLES / "big-station.moas")],                 # a double-click
+                     [str(EXAMPLES / "2x6.moas"), "--headless", *common]):  # another service
+            second = second_launch(env, *args)
+            assert second.returncode != 0, second.stderr
+            assert "refused" in second.stderr and "headless" in second.stderr, second.stderr
+            assert ask_state(tcp)["config"] == "small-station.moas"
+        assert first.poll() is None, "the headless server keeps running"
     finally:
-        first.terminate()
-        _, stderr = first.communicate(timeout=15)
-    assert first.returncode == 0
-    assert "Another moas-server handed over" in stderr
+        stderr = stop(first)
+    assert "Refused a hand-over" in stderr and "Another moas-server handed over" not in stderr
+
+
+def test_a_broken_or_missing_file_is_refused_by_the_new_process_alone(tmp_path: Path) -> None:
+    first, env, _common, tcp = start_headless(tmp_path)
+    broken = tmp_path / "broken.moas"
+    broken.write_text('{"Switches": [}')
+    try:
+        for path, why in ((broken, "broken.moas:1"), (tmp_path / "missing.moas", "missing.moas")):
+            second = second_launch(env, str(path))
+            assert second.returncode != 0
+            assert why in second.stderr and "untouched" in second.stderr, second.stderr
+            assert "Traceback" not in second.stderr
+        assert ask_state(tcp)["config"] == "small-station.moas"
+    finally:
+        stderr = stop(first)
+    assert "hand-over" not in stderr, "the running server never heard of the bad files"
 
 
 def test_new_instance_does_not_hand_over(tmp_path: Path) -> None:

@@ -258,5 +258,58 @@ def test_names_that_could_escape_the_directory_are_refused(directory: Path) -> N
 
 def test_the_public_names_do_not_drift() -> None:
     assert sorted(single_instance.__all__) == sorted([
-        "DEFAULT_NAME", "InstanceError", "InstanceServer", "OpenCallback", "claim",
-        "default_transport", "hand_over", "instance_dir"])
+        "DEFAULT_NAME", "HandOver", "InstanceError", "InstanceServer", "OpenCallback",
+        "Vetting", "claim", "default_transport", "hand_over", "instance_dir", "offer"])
+
+
+def test_a_refusal_reaches_the_second_launch_with_its_reason(directory: Path, tmp_path: Path) -> None:
+    seen: list[tuple[object, dict[str, object]]] = []
+
+    def vet(path: Path | None, launch: dict[str, object]) -> str | None:
+        seen.append((path, launch))
+        return "it runs headless" if launch.get("headless") else None
+
+    async def scenario() -> tuple[single_instance.HandOver, single_instance.HandOver]:
+        server = claim(NAME, directory=directory)
+        assert server is not None
+        opened: list[Path | None] = []
+        await server.start(opened.append, vet)
+        refused = await asyncio.to_thread(
+            single_instance.offer, NAME, tmp_path / "a.moas", {"headless": True},
+            directory=directory)
+        taken = await asyncio.to_thread(
+            single_instance.offer, NAME, tmp_path / "b.moas", {"headless": False},
+            directory=directory)
+        server.close()
+        assert opened == [tmp_path / "b.moas"]
+        return refused, taken
+
+    refused, taken = asyncio.run(scenario())
+    assert refused == single_instance.HandOver(taken=False, refusal="it runs headless")
+    assert taken.taken
+    assert seen == [(tmp_path / "a.moas", {"headless": True}), (tmp_path / "b.moas", {"headless": False})]
+
+
+@pytest.mark.skipif(not hasattr(socket, "SO_PEERCRED"), reason="needs SO_PEERCRED (Linux)")
+def test_the_hand_over_socket_refuses_another_user(
+        directory: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    async def scenario() -> single_instance.HandOver:
+        server = claim(NAME, directory=directory)
+        assert server is not None
+        opened: list[Path | None] = []
+        await server.start(opened.append)
+        real = os.getuid()
+        # the server now believes it belongs to another user: our uid is a stranger's
+        monkeypatch.setattr(single_instance.os, "getuid", lambda: real + 4242)
+        answer = await asyncio.to_thread(hand_over_offer, directory, tmp_path / "x.moas")
+        server.close()
+        assert opened == []
+        return answer
+
+    answer = asyncio.run(scenario())
+    assert not answer.taken and answer.refusal is not None
+    assert "only the same user" in answer.refusal
+
+
+def hand_over_offer(directory: Path, path: Path) -> single_instance.HandOver:
+    return single_instance.offer(NAME, path, directory=directory)

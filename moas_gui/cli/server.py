@@ -32,11 +32,11 @@ def _parser() -> argparse.ArgumentParser:
                         help="run without a window, logging to standard error")
     parser.add_argument("--log-level", choices=("error", "info", "debug"), default="info",
                         help="what the headless server logs (default info)")
-    parser.add_argument("--bind", default="0.0.0.0",
+    parser.add_argument("--bind",
                         help="address the client server listens on (default all)")
     parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
     parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
-    parser.add_argument("--udp-bind", default="0.0.0.0",
+    parser.add_argument("--udp-bind",
                         help="address the N1MM Logger listener binds (default all)")
     parser.add_argument("--no-rotator-program", action="store_true",
                         help="never start the local MOAS Rotator program")
@@ -71,8 +71,8 @@ def check(path: str) -> int:
 def _options(args: argparse.Namespace) -> object:
     from moas_gui.app import ServerOptions
 
-    return ServerOptions(bind=args.bind, tcp_port=args.tcp_port, udp_port=args.udp_port,
-                         udp_bind=args.udp_bind,
+    return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
+                         udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
                          start_rotator_program=False if args.no_rotator_program else None)
 
 
@@ -84,7 +84,7 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
     """
     if args.new_instance:
         return None, None
-    from moas_gui.single_instance import InstanceError, claim, hand_over
+    from moas_gui.single_instance import InstanceError, claim, offer
 
     try:
         instance = claim(INSTANCE_NAME)
@@ -93,14 +93,74 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
         return None, None
     if instance is not None:
         return instance, None
+    if args.file and not _usable(args.file):
+        return None, 1
     target = str(Path(args.file).resolve()) if args.file else None
-    if hand_over(INSTANCE_NAME, target):
+    answer = offer(INSTANCE_NAME, target, launch_request(args))
+    if answer.taken:
         print(f"moas-server: {'handed ' + args.file + ' to' if args.file else 'showed'} "
               "the server that is already running", file=sys.stderr)
         return None, 0
+    if answer.refusal is not None:
+        print(f"moas-server: the moas-server that is already running refused: {answer.refusal}",
+              file=sys.stderr)
+        return None, 1
+    if not answer.running:
+        print("moas-server: the running moas-server ended while this one started; "
+              "start it again", file=sys.stderr)
+        return None, 1
     print("moas-server: another moas-server is running but does not answer; "
           "use --new-instance to start one anyway", file=sys.stderr)
     return None, 1
+
+
+def launch_request(args: argparse.Namespace) -> dict[str, object]:
+    """What this command line asks of a server, for the running one to vet."""
+    launch: dict[str, object] = {"headless": bool(args.headless)}
+    for key in ("bind", "tcp_port", "udp_port", "udp_bind"):
+        value = getattr(args, key)
+        if value is not None:
+            launch[key] = value
+    return launch
+
+
+def _usable(path: str) -> bool:
+    """Whether ``path`` loads; when not, every problem goes to stderr (the running
+    server is not disturbed)."""
+    from moas_gui.engine.config import load_config
+
+    result = load_config(path)
+    if result.config is not None:
+        return True
+    for problem in result.errors:
+        print(problem, file=sys.stderr)
+    print(f"moas-server: {path} cannot be opened; the running moas-server carries on "
+          "untouched", file=sys.stderr)
+    return False
+
+
+def vet_launch(app: object, launch: dict[str, object], *, headless: bool) -> str | None:
+    """Why the running server (``app``, headless or not) refuses a second launch, or None."""
+    if headless:
+        status = app.status  # type: ignore[attr-defined]
+        return (f"it runs {status.file or 'a configuration'} headless and takes no hand-over; "
+                "stop it first (or use --new-instance with other ports)")
+    if launch.get("headless"):
+        return ("it runs with a window; a --headless server cannot start beside it "
+                "(stop it first, or use --new-instance with other ports)")
+    options = app.options  # type: ignore[attr-defined]
+    address = app.client_address  # type: ignore[attr-defined]
+    running = {"bind": options.bind, "udp_bind": options.udp_bind,
+               "tcp_port": options.tcp_port if options.tcp_port is not None
+               else (address[1] if address else None),
+               "udp_port": options.udp_port}
+    for key, value in running.items():
+        if key in launch and launch[key] != value:
+            flag = "--" + key.replace("_", "-")
+            shown = "the file's" if value is None else str(value)
+            return (f"it runs with {flag} {shown}, this launch asked for {flag} {launch[key]}; "
+                    "stop it first, or leave the option out to use the running server")
+    return None
 
 
 async def _serve_headless(args: argparse.Namespace, instance: object | None) -> int:
@@ -119,7 +179,7 @@ async def _serve_headless(args: argparse.Namespace, instance: object | None) -> 
             signal.signal(number, lambda *_: loop.call_soon_threadsafe(stop.set))
     if instance is not None:
         await instance.start(  # type: ignore[attr-defined]
-            lambda path: path and asyncio.ensure_future(app.open(path)))
+            lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True))
     log.info("Serving %s; stop with Ctrl+C", args.file)
     await stop.wait()
     log.info("Stopping; the relays keep their state")
@@ -176,7 +236,7 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
         _stop_on_signals(quit_event)
         if instance is not None:
             await instance.start(  # type: ignore[attr-defined]
-                lambda path: window.open_file(str(path)) if path else window.bring_to_front())
+                window.take_hand_over, lambda path, launch: vet_launch(app, launch, headless=False))
         if args.file:
             window.open_file(args.file)
         await quit_event.wait()

@@ -212,6 +212,19 @@ class ServerWindow(QMainWindow):
         self.choose_file("Open configuration", False,
                          lambda path: self.open_file(path) if path else None)
 
+    def take_hand_over(self, path: Path | None) -> None:
+        """Another launch handed ``path`` over: the same file (or none) brings this window
+        forward; another file is asked about (without waiting)."""
+        self.bring_to_front()
+        if path is None:
+            return
+        running = self.app.path
+        if running is not None and self.app.config is not None and \
+                Path(path).resolve() == running.resolve():
+            log.info("%s is already open", Path(path).name)
+            return
+        self.open_file(str(path))
+
     def open_file(self, path: str) -> None:
         """Open ``path``; when one runs already, ask first, then restart on the new one.
 

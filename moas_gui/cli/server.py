@@ -237,9 +237,14 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
         if instance is not None:
             await instance.start(  # type: ignore[attr-defined]
                 window.take_hand_over, lambda path, launch: vet_launch(app, launch, headless=False))
+        from moas_gui.ui.control_hook import start_if_asked
+
+        hook = await start_if_asked(window)
         if args.file:
             window.open_file(args.file)
         await quit_event.wait()
+        if hook is not None:
+            await hook.close()
         await window.idle()
         await app.close()
         window.shutdown()

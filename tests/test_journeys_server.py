@@ -1,0 +1,275 @@
+"""Journeys: the real ``moas-server`` process with its window, on the real qasync loop,
+driven as a person drives it (menus, tray menu, question dialogs, a second launch)
+and checked as a person checks it: the client port answers, the switch shows the
+right relays, the title, status bar and tray say the truth.
+
+The clicks go through the process's control hook (``moas_gui/ui/control_hook.py``,
+on only when the test sets ``MOAS_GUI_CONTROL_SOCKET``): it triggers the real
+QActions and clicks the real dialog buttons from the Qt event loop.  The window
+runs under ``QT_QPA_PLATFORM=offscreen`` (no system tray there, so the tray's
+menu is triggered directly).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def wait_for(condition: Callable[[], Any], timeout: float = 10.0, what: str = "") -> Any:
+    end = time.monotonic() + timeout
+    last: Any = None
+    while time.monotonic() < end:
+        try:
+            last = condition()
+        except OSError as exc:
+            last = exc
+        else:
+            if last:
+                return last
+        time.sleep(0.05)
+    raise AssertionError(f"{what or 'the condition'} not met in {timeout} s (last: {last!r})")
+
+
+class Server:
+    """One real ``moas-server`` with a window and the control hook."""
+
+    def __init__(self, tmp_path: Path, *, new_instance: bool = True) -> None:
+        self.runtime = tmp_path / "runtime"
+        self.runtime.mkdir(mode=0o700, exist_ok=True)
+        self.control = self.runtime / "control.sock"
+        self.tcp = free_port()
+        self.env = dict(os.environ, QT_QPA_PLATFORM="offscreen", PYTHONUNBUFFERED="1",
+                        XDG_RUNTIME_DIR=str(self.runtime),
+                        XDG_CONFIG_HOME=str(tmp_path / "config"),
+                        MOAS_GUI_CONTROL_SOCKET=str(self.control))
+        self.new_instance = new_instance
+        self.process: subprocess.Popen[str] | None = None
+        self._hook: socket.socket | None = None
+        self._reader: Any = None
+
+    def start(self, file: str) -> Server:
+        args = [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / file),
+                "--bind", "127.0.0.1", "--tcp-port", str(self.tcp), "--udp-port", "0",
+                "--udp-bind", "127.0.0.1", "--no-rotator-program"]
+        if self.new_instance:
+            args.append("--new-instance")
+        self.process = subprocess.Popen(args, env=self.env, stdout=subprocess.PIPE,
+                                        stderr=subprocess.STDOUT, text=True)
+        wait_for(self.control.exists, 20, "the control hook")
+        self._hook = socket.socket(socket.AF_UNIX)
+        self._hook.settimeout(5)
+        self._hook.connect(str(self.control))
+        self._reader = self._hook.makefile("rb")
+        return self
+
+    def ask(self, **request: Any) -> dict[str, Any]:
+        assert self._hook is not None, "not started"
+        self._hook.sendall(json.dumps(request).encode() + b"\n")
+        reply: dict[str, Any] = json.loads(self._reader.readline())
+        return reply
+
+    def click(self, *path: str) -> None:
+        reply = self.ask(do="menu", path=list(path))
+        assert reply["ok"], reply
+
+    def answer(self, button: str) -> None:
+        reply = self.ask(do="answer", button=button)
+        assert reply["ok"], reply
+
+    def look(self) -> dict[str, Any]:
+        return self.ask(do="look")
+
+    def shows(self, predicate: Callable[[dict[str, Any]], bool], what: str,
+              timeout: float = 10.0) -> dict[str, Any]:
+        return wait_for(lambda: (lambda seen: seen if predicate(seen) else None)(self.look()),
+                        timeout, what)  # type: ignore[no-any-return]
+
+    def client(self, request: dict[str, Any]) -> dict[str, Any]:
+        """One request on the client port, as any client sends it; the reply."""
+        with socket.create_connection(("127.0.0.1", self.tcp), timeout=5) as conn:
+            conn.sendall(json.dumps({"id": 1, **request}).encode() + b"\n")
+            reader = conn.makefile("rb")
+            while True:
+                message = json.loads(reader.readline())
+                if message.get("id") == 1:
+                    return message  # type: ignore[no-any-return]
+
+    def config(self) -> str | None:
+        return self.client({"cmd": "state"})["result"]["config"]  # type: ignore[no-any-return]
+
+    def ends_within(self, seconds: float) -> float:
+        assert self.process is not None
+        started = time.monotonic()
+        try:
+            self.process.wait(timeout=seconds)
+        except subprocess.TimeoutExpired:
+            raise AssertionError(f"the server still runs {seconds} s later") from None
+        return time.monotonic() - started
+
+    def output(self) -> str:
+        assert self.process is not None
+        if self._hook is not None:
+            self._hook.close()
+        if self.process.poll() is None:
+            self.process.kill()
+        out, _ = self.process.communicate(timeout=10)
+        (self.runtime.parent / "server-output.txt").write_text(out)
+        return out
+
+    def stop(self) -> None:
+        if self.process is not None and self.process.poll() is None:
+            self.process.kill()
+            self.process.communicate(timeout=10)
+
+
+@pytest.fixture
+def server(tmp_path: Path) -> Iterator[Server]:
+    running = Server(tmp_path)
+    yield running
+    running.stop()
+
+
+def normal(name: str) -> Callable[[dict[str, Any]], bool]:
+    """Title, status bar and tray all say ``name`` runs with its switches ok."""
+    def check(seen: dict[str, Any]) -> bool:
+        return (seen["title"] == f"{name} - MOAS Server"
+                and name in seen["status"] and "ok" in seen["status"]
+                and "stopped" not in seen["status"]
+                and seen["tray_tooltip"] == f"MOAS Server: {seen['status']}")
+    return check
+
+
+def relays(seen: dict[str, Any], switch: int = 1) -> list[int]:
+    return seen["emulators"].get(str(switch), [])  # type: ignore[no-any-return]
+
+
+def test_stop_start_reset_restart_and_the_emulator_window(server: Server) -> None:
+    server.start("small-station.moas")
+    server.shows(normal("small-station.moas"), "small-station running")
+    assert server.config() == "small-station.moas"
+    assert server.client({"cmd": "frequency", "station": 1, "radio": 1, "khz": 7150})["ok"]
+    server.click("View", "Emulator", "Switch 1")
+    on = relays(server.shows(lambda s: relays(s), "the 40 m antenna's relays on switch 1"))
+
+    server.click("File", "Stop Switches")
+    seen = server.shows(lambda s: "stopped" in s["status"] and not relays(s), "relays off")
+    assert "Start Switches" in seen["tray_menu"]
+    refused = server.client({"cmd": "select", "station": 1, "radio": 1, "antenna": 3})
+    assert not refused["ok"] and "stopped" in json.dumps(refused).lower()
+    server.click("Tray", "Start Switches")
+    assert relays(server.shows(lambda s: relays(s) == on, "the relays back")) == on
+    assert "Stop Switches" in server.look()["tray_menu"]
+
+    server.click("File", "Reset Switches")
+    server.shows(lambda s: relays(s) == on and normal("small-station.moas")(s), "after reset")
+    assert server.config() == "small-station.moas"
+
+    server.click("File", "Restart")
+    seen = server.shows(lambda s: any("Opened small-station.moas" in line for line in s["log"][-5:])
+                        and normal("small-station.moas")(s), "restarted")
+    assert "1" not in seen["emulators"], "the old switch's emulator window is closed"
+    assert server.config() == "small-station.moas"
+    server.click("View", "Emulator", "Switch 1")
+    assert server.client({"cmd": "frequency", "station": 1, "radio": 1, "khz": 7150})["ok"]
+    server.shows(lambda s: relays(s) == on, "the new switch shows the relays")
+
+    server.click("Tray", "Exit")
+    assert server.ends_within(2.0) < 2.0
+    out = server.output()
+    assert server.process is not None and server.process.returncode == 0, out
+    assert "Traceback" not in out
+
+
+def test_open_another_station_then_the_emulator_and_sigterm(server: Server) -> None:
+    server.start("big-station.moas")
+    server.shows(normal("big-station.moas"), "big-station running")
+    server.click("View", "Emulator", "Switch 1")
+    server.shows(lambda s: "1" in s["emulators"], "the emulator window")
+    server.click("File", "Recent Files", f"1 {(EXAMPLES / 'big-station.moas').resolve()}")
+    seen = server.shows(lambda s: s["dialogs"], "the question")
+    assert "Stop big-station.moas" in seen["dialogs"][0]["text"]
+    server.answer("No")
+    server.shows(lambda s: not s["dialogs"], "the question gone")
+    assert server.config() == "big-station.moas"
+    # File > Open through a real hand-over would need a file dialog; Recent Files
+    # and the second launch cover opening: here the second file comes from a launch.
+    second = subprocess.run(
+        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
+         "--new-instance", "--check"], env=server.env, capture_output=True, text=True,
+        timeout=30, check=False)
+    assert second.returncode == 0
+    assert server.process is not None
+    server.process.send_signal(signal.SIGTERM)
+    assert server.ends_within(2.0) < 2.0
+    assert "Traceback" not in server.output()
+
+
+def test_a_second_launch_with_another_file_asks_and_yes_switches_cleanly(tmp_path: Path) -> None:
+    server = Server(tmp_path, new_instance=False)
+    try:
+        server.start("small-station.moas")
+        server.shows(normal("small-station.moas"), "small-station running")
+        server.click("View", "Emulator", "Switch 1")
+
+        def launch(file: str, *extra: str) -> subprocess.CompletedProcess[str]:
+            return subprocess.run(
+                [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / file), *extra],
+                env=server.env, capture_output=True, text=True, timeout=30, check=False)
+
+        same = launch("small-station.moas")  # the same file: the window comes forward
+        assert same.returncode == 0, same.stderr
+        assert not server.look()["dialogs"]
+
+        other = launch("2x6.moas")  # a double-click on another file
+        assert other.returncode == 0 and "handed" in other.stderr, other.stderr
+        seen = server.shows(lambda s: s["dialogs"], "the question")
+        assert "open 2x6.moas?" in seen["dialogs"][0]["text"]
+        assert server.config() == "small-station.moas", "the port answers while it asks"
+        server.answer("No")
+        server.shows(lambda s: not s["dialogs"], "the question gone")
+        assert server.config() == "small-station.moas"
+
+        launch("2x6.moas")
+        server.shows(lambda s: s["dialogs"], "the question again")
+        server.answer("Yes")
+        seen = server.shows(normal("2x6.moas"), "2x6 running")
+        assert "1" not in seen["emulators"], "small-station's emulator window is gone"
+        assert server.config() == "2x6.moas"
+
+        conflict = launch("2x6.moas", "--tcp-port", str(free_port()))
+        assert conflict.returncode != 0 and "--tcp-port" in conflict.stderr, conflict.stderr
+        headless = launch("2x6.moas", "--headless")
+        assert headless.returncode != 0 and "headless" in headless.stderr, headless.stderr
+        broken = tmp_path / "broken.moas"
+        broken.write_text("{")
+        bad = launch(str(broken))
+        assert bad.returncode != 0 and "broken.moas" in bad.stderr
+        assert normal("2x6.moas")(server.look()) and server.config() == "2x6.moas"
+
+        server.click("File", "Stop Switches")
+        server.shows(lambda s: "stopped" in s["status"], "stopped")
+        server.click("Tray", "Exit")
+        assert server.ends_within(2.0) < 2.0
+        out = server.output()
+        assert "Traceback" not in out and "Cannot enter into task" not in out, out
+    finally:
+        server.stop()

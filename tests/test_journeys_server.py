@@ -100,8 +100,11 @@ class Server:
 
     def shows(self, predicate: Callable[[dict[str, Any]], bool], what: str,
               timeout: float = 10.0) -> dict[str, Any]:
-        return wait_for(lambda: (lambda seen: seen if predicate(seen) else None)(self.look()),
-                        timeout, what)  # type: ignore[no-any-return]
+        def seen_when_true() -> dict[str, Any] | None:
+            seen = self.look()
+            return seen if predicate(seen) else None
+
+        return wait_for(seen_when_true, timeout, what)  # type: ignore[no-any-return]
 
     def client(self, request: dict[str, Any]) -> dict[str, Any]:
         """One request on the client port, as any client sends it; the reply."""

@@ -109,7 +109,7 @@ class ControlHook:
                 return found[0]
             menu = found[0].menu()
             if not isinstance(menu, QMenu):
-                raise LookupError(f"{name!r} is not a menu")
+                raise TypeError(f"{name!r} is not a menu")
             actions = menu.actions()
         raise LookupError("empty menu path")
 

@@ -230,11 +230,35 @@ def test_server_errors_are_shown_in_the_status_line(qapp: QApplication, qtbot: A
             assert "there is no index 5" in window.status_text()
 
             live.backend.stop_switches()
-            qtbot.mouseClick(button(window, "Tribander"), Qt.MouseButton.LeftButton)
+            await until(lambda: window.switches_stopped, what="the switches shown stopped")
+            assert window.status_text() == "", "the old refusal is gone"
+            window._pressed(button(window, "Tribander").view, False)  # a click racing the stop
             await until(lambda: "switches are stopped" in window.status_text())
             assert window.status_text().startswith("\u26a0 Select Tribander:")
-            assert states(window)["20 Stack"] == "selected"
             assert window.isVisible()
+
+    run_on_qt(qapp, scenario())
+
+
+def test_stopped_switches_show_no_antenna_and_start_clears_the_refusal(
+        qapp: QApplication, qtbot: Any) -> None:
+    async def scenario() -> None:
+        async with LiveServer() as live, open_window(live) as window:
+            assert "Connected" in window.link_label.text()
+            live.backend.stop_switches()
+            await until(lambda: "Switches stopped" in window.link_label.text(),
+                        what="the stop in the link line")
+            assert "Connected" not in window.link_label.text()
+            assert window.display.text() == "Switches stopped: no antenna is connected"
+            assert "TX" not in window.display.text()
+            assert not window.grid.isEnabled() and not window.frequency_button.isEnabled()
+            window._pressed(button(window, "Tribander").view, False)  # a click racing the stop
+            await until(lambda: "switches are stopped" in window.status_text())
+            live.backend.start_switches()
+            await until(lambda: window.grid.isEnabled(), what="the grid usable again")
+            assert window.status_text() == "", "the refusal is gone after Start"
+            assert "Connected" in window.link_label.text()
+            assert "TX" in window.display.text()
 
     run_on_qt(qapp, scenario())
 

@@ -37,6 +37,7 @@ from moas_gui.client.events import (
     RadioChanged,
     RotatorChanged,
     StateReceived,
+    SwitchChanged,
 )
 from moas_gui.client.model import ButtonType, ButtonView, LayoutView, RadioView, Snapshot
 
@@ -112,6 +113,7 @@ class ClientWindow(QMainWindow):
         self.snapshot: Snapshot | None = None
         self.layout_view: LayoutView | None = None
         self.last_error = ""
+        self._link_detail = ""
         self._wanted_radio = (station, radio)
         self._layout_asked: tuple[int, int, int, int] | None = None
         self._layout_shape: tuple[int, int] | None = None
@@ -311,7 +313,14 @@ class ClientWindow(QMainWindow):
             case LinkChanged(state, detail):
                 self._show_link(state, detail)
             case StateReceived(snapshot):
+                self._clear_refusal()
                 self._show_snapshot(snapshot)
+                self._show_link(self.link_state, self._link_detail)
+            case SwitchChanged():
+                self.snapshot = self.connection.snapshot
+                self._clear_refusal()
+                self._show_link(self.link_state, self._link_detail)
+                self._show_radio()
             case RadioChanged(radio):
                 self.snapshot = self.connection.snapshot
                 if radio.key == (self.station, self.radio):
@@ -332,18 +341,24 @@ class ClientWindow(QMainWindow):
     def _show_link(self, state: LinkState, detail: str) -> None:
         colour = {LinkState.CONNECTED: Colours.CONNECTED,
                   LinkState.RECONNECTING: Colours.RECONNECTING}.get(state, Colours.CLOSED)
+        self._link_detail = detail
+        stopped = state is LinkState.CONNECTED and self.switches_stopped
+        if stopped:
+            colour = Colours.INHIBIT
         text = {
             LinkState.CONNECTING: f"\u25cc Connecting to {self.connection.address}\u2026",
             LinkState.CONNECTED: f"\u25cf Connected to {detail or self.connection.address}",
             LinkState.RECONNECTING: f"\u25cc Reconnecting: {detail}",
             LinkState.CLOSED: "\u2715 Closed",
         }[state]
+        if stopped:
+            text = "\u25a0 Switches stopped: all relays off"
         self.link_label.setText(text)
         fg = "black" if state in (LinkState.CONNECTED, LinkState.RECONNECTING) else "white"
         self.link_label.setStyleSheet(f"background: {colour.name()}; color: {fg};")
         self.link_state = state
         connected = state is LinkState.CONNECTED
-        self._set_usable(connected and self.snapshot is not None)
+        self._set_usable(connected and self.snapshot is not None and not stopped)
         if connected and self.last_error.startswith("Connection:"):
             self._clear_error()
 
@@ -365,7 +380,14 @@ class ClientWindow(QMainWindow):
         self.station_box.setCurrentIndex(index if self._stations else -1)
         self.station_box.blockSignals(False)
         self._fill_radios()
-        self._set_usable(self.connection.link is LinkState.CONNECTED)
+        self._set_usable(self.connection.link is LinkState.CONNECTED and not self.switches_stopped)
+
+    @property
+    def switches_stopped(self) -> bool:
+        """Every switch is stopped (File > Stop Switches): no antenna is connected."""
+        snapshot = self.snapshot
+        return bool(snapshot is not None and snapshot.switches
+                    and all(s.status == "stopped" for s in snapshot.switches))
 
     def _station_chosen(self, _index: int = 0) -> None:
         self._fill_radios()
@@ -393,8 +415,9 @@ class ClientWindow(QMainWindow):
     def _show_radio(self) -> None:
         radio = self.radio_view
         snapshot = self.snapshot
-        if radio is None or snapshot is None:
-            self.display.setText("no radio")
+        if radio is None or snapshot is None or self.switches_stopped:
+            self.display.setText("Switches stopped: no antenna is connected"
+                                 if self.switches_stopped else "no radio")
             self.badge_tx.hide()
             self.badge_inhibit.hide()
             self.note_label.hide()
@@ -509,6 +532,11 @@ class ClientWindow(QMainWindow):
             return
         self.last_error = message
         self.statusBar().showMessage(f"\u26a0 {message}")
+
+    def _clear_refusal(self) -> None:
+        """A server's refusal is old news once the switches or the configuration change."""
+        if self.last_error and not self.last_error.startswith("Connection:"):
+            self._clear_error()
 
     def _clear_error(self) -> None:
         self.last_error = ""

@@ -270,8 +270,7 @@ class ServerApp:
         run = self._run
         if run is None or run.stopped:
             return
-        run.stopped = True
-        log.info("Switches stopped: all relays are off")
+        run.stopped = True  # the engine logs "Switches stopped: all relays off"
         self.apply_changes(run.engine.stop())
         for link in run.links.values():
             link.stop()
@@ -281,8 +280,7 @@ class ServerApp:
         run = self._run
         if run is None or not run.stopped:
             return
-        run.stopped = False
-        log.info("Switches started")
+        run.stopped = False  # the engine logs "Switches started"
         self.apply_changes(run.engine.start())
         for link in run.links.values():
             link.start()

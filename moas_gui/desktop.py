@@ -119,14 +119,18 @@ def desktop_entry(command: Sequence[str]) -> str:
 
 
 def mime_package() -> str:
-    """The text of the shared-mime-info package that names ``*.moas`` files."""
+    """The text of the shared-mime-info package that names ``*.moas`` files.
+
+    The glob weighs more than the default 50 of the ``*.json`` glob and of the
+    JSON content sniffing, so desktops that only read shared-mime-info answer
+    ``application/x-moas`` rather than ``application/json``."""
     return f"""<?xml version="1.0" encoding="UTF-8"?>
 <mime-info xmlns="http://www.freedesktop.org/standards/shared-mime-info">
   <mime-type type="{MIME_TYPE}">
     <comment>MOAS II configuration</comment>
     <sub-class-of type="application/json"/>
     <icon name="{FILE_ICON_NAME}"/>
-    <glob pattern="*.moas"/>
+    <glob pattern="*.moas" weight="80"/>
   </mime-type>
 </mime-info>
 """

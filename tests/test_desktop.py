@@ -75,6 +75,7 @@ def test_linux_install_writes_menu_entry_file_type_and_icons(xdg: Path) -> None:
     assert kind is not None and kind.get("type") == "application/x-moas"
     glob = kind.find(f"{ns}glob")
     assert glob is not None and glob.get("pattern") == "*.moas"
+    assert int(glob.get("weight", "50")) > 50, "must outweigh the *.json glob (weight 50)"
 
     hicolor = xdg / "icons" / "hicolor"
     for size in (16, 22, 24, 32, 48, 64, 128, 256):

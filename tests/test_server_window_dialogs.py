@@ -131,3 +131,37 @@ def test_the_emulator_window_follows_a_new_file_and_a_restart(qapp: Any, harness
         assert window.emulator_windows[1].box is app.emulators()[1]
         await harness.close()
     run_on_qt(qapp, scenario())
+
+
+def test_log_errors_shows_errors_only(qapp: Any, harness: Harness) -> None:
+    import logging
+
+    from moas_gui.ui.log_view import LogLevel
+
+    async def scenario() -> None:
+        window = harness.make()
+        window.level_actions[LogLevel.ERRORS].trigger()
+        product = logging.getLogger("moas_gui.test")
+        product.warning("a warning for the journal")
+        product.error("an error for the operator")
+        await asyncio.sleep(0.05)
+        shown = window.log_view.shown_lines()
+        assert any("an error for the operator" in line for line in shown)
+        assert not any("a warning for the journal" in line for line in shown)
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_stop_and_start_each_log_one_line(qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = harness.make()
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        window.action_stop_start.trigger()
+        window.action_stop_start.trigger()
+        await asyncio.sleep(0.05)
+        lines = window.log_view.shown_lines()
+        assert sum("Switches stopped" in line for line in lines) == 1, lines
+        assert sum("Switches started" in line for line in lines) == 1, lines
+        await harness.close()
+    run_on_qt(qapp, scenario())

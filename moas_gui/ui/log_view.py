@@ -27,7 +27,7 @@ class LogLevel(str, Enum):
 
     @property
     def threshold(self) -> int:
-        return {LogLevel.ERRORS: logging.WARNING, LogLevel.INFO: logging.INFO,
+        return {LogLevel.ERRORS: logging.ERROR, LogLevel.INFO: logging.INFO,
                 LogLevel.DEBUG: logging.DEBUG}[self]
 
 

@@ -165,3 +165,35 @@ def test_stop_and_start_each_log_one_line(qapp: Any, harness: Harness) -> None:
         assert sum("Switches started" in line for line in lines) == 1, lines
         await harness.close()
     run_on_qt(qapp, scenario())
+
+
+def test_help_manual_opens_the_manual_or_says_where_it_is(qapp: Any, harness: Harness) -> None:
+    from moas_gui.ui.server_window import docs_path
+
+    async def scenario() -> None:
+        window = harness.make()
+        asked: list[str] = []
+        window.open_url = lambda url: asked.append(url.toLocalFile()) or True
+        window.action_manual.trigger()
+        assert asked == [str(docs_path() / "README.md")]
+        assert Path(asked[0]).is_file()
+        window.open_url = lambda url: False  # no viewer on this computer
+        window.action_manual.trigger()
+        box = window.last_dialog
+        assert box is not None and box.isVisible()
+        assert str(docs_path() / "README.md") in box.text()
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_the_manual_ships_inside_the_package() -> None:
+    from moas_gui.ui.server_window import docs_path
+
+    manual = docs_path()
+    assert manual.parent.name == "moas_gui" or (manual / "architecture.md").is_file()
+    import tomllib
+
+    project = tomllib.loads((EXAMPLES.parent / "pyproject.toml").read_text())
+    shipped = project["tool"]["setuptools"]["package-data"]["moas_gui"]
+    assert "manual/*.md" in shipped and "manual/images/*.png" in shipped
+    assert (EXAMPLES.parent / "moas_gui" / "manual" / "README.md").is_file()

@@ -47,8 +47,13 @@ RECENT_MAX = 4
 
 
 def docs_path() -> Path:
-    """The project's documentation folder (beside the package in a checkout)."""
-    return Path(__file__).resolve().parent.parent.parent / "docs"
+    """The manual: ``moas_gui/manual`` in an installed package (the build copies
+    ``docs/`` there), the ``docs`` folder in a checkout."""
+    package = Path(__file__).resolve().parent.parent
+    shipped = package / "manual"
+    if (shipped / "README.md").is_file():
+        return shipped
+    return package.parent / "docs"
 
 
 class ServerWindow(QMainWindow):
@@ -66,6 +71,8 @@ class ServerWindow(QMainWindow):
         self.emulator_windows: dict[int, QWidget] = {}
         self.last_dialog: QMessageBox | None = None
         self.file_dialog: QFileDialog | None = None
+        self.open_url: Callable[[QUrl], bool] = QDesktopServices.openUrl
+        """Opens a file in the desktop's viewer; False when none does (tests replace it)."""
         self.ask: Callable[[str, str, Callable[[bool], None]], None] = self._ask_dialog
         """Asks the user a yes/no question without waiting (a window-modal dialog
         opened with ``open()``): the answer comes later to the callback.  Tests
@@ -351,9 +358,13 @@ class ServerWindow(QMainWindow):
                       "An open-source server for the YCCC MOAS II antenna switch.")
 
     def open_manual(self) -> None:
+        """Help > Manual: the manual in the desktop's viewer, or where it is when none opens it."""
         docs = docs_path()
         target = docs / "README.md" if (docs / "README.md").exists() else docs
-        QDesktopServices.openUrl(QUrl.fromLocalFile(str(target)))
+        if not self.open_url(QUrl.fromLocalFile(str(target))):
+            self._message(QMessageBox.Icon.Information, "MOAS Server manual",
+                          f"No program on this computer opens {target.suffix or 'folder'} files."
+                          f"\n\nThe manual is at:\n{target}")
 
     # -- window and tray -------------------------------------------------------------
     def bring_to_front(self) -> None:

@@ -197,3 +197,25 @@ def test_the_manual_ships_inside_the_package() -> None:
     shipped = project["tool"]["setuptools"]["package-data"]["moas_gui"]
     assert "manual/*.md" in shipped and "manual/images/*.png" in shipped
     assert (EXAMPLES.parent / "moas_gui" / "manual" / "README.md").is_file()
+
+
+@pytest.mark.parametrize(("screen", "scale"), [((1280, 800), 1), ((1920, 1080), 2)])
+def test_client_and_emulator_windows_fit_a_laptop_and_a_scaled_screen(
+        qapp: Any, harness: Harness, screen: tuple[int, int], scale: int) -> None:
+    """The minimum size (in device-independent pixels, times the scale factor) fits the
+    screen less a taskbar and title bar, on big-station, the widest example."""
+    async def scenario() -> None:
+        window = harness.make()
+        window.open_file(str(EXAMPLES / "big-station.moas"))
+        await window.idle()
+        window.action_client.trigger()
+        (client,) = window.client_windows
+        await until(lambda: bool(client.grid.buttons), timeout=10)
+        window.open_emulator(1)
+        for shown in (client, window.emulator_windows[1]):
+            hint = shown.minimumSizeHint().expandedTo(shown.minimumSize())
+            assert hint.width() * scale <= screen[0] - 40, (type(shown).__name__, hint)
+            assert hint.height() * scale <= screen[1] - 100, (type(shown).__name__, hint)
+        client.close()
+        await harness.close()
+    run_on_qt(qapp, scenario())

@@ -49,15 +49,17 @@ from .qt import (
     QButtonGroup,
     QCloseEvent,
     QComboBox,
+    QFrame,
     QGroupBox,
     QHBoxLayout,
     QLabel,
     QMainWindow,
     QPushButton,
+    QScrollArea,
     QSpinBox,
-    Qt,
     QVBoxLayout,
     QWidget,
+    Qt,
     Signal,
 )
 
@@ -136,7 +138,10 @@ class ClientWindow(QMainWindow):
     def _build(self, rows: int, columns: int) -> None:
         root = QWidget(self)
         root.setObjectName("clientRoot")
-        self.setCentralWidget(root)
+        # on a small screen (a laptop, or scale 2) the window may be smaller than its
+        # content: the content scrolls instead of squeezing labels into each other
+        self.scroll_area = fit_small_screens(root, self)
+        self.setCentralWidget(self.scroll_area)
         outer = QVBoxLayout(root)
         outer.setContentsMargins(10, 8, 10, 6)
         outer.setSpacing(8)
@@ -546,6 +551,17 @@ class ClientWindow(QMainWindow):
     def pending(self) -> int:
         """Requests still waiting for their reply."""
         return len(self._tasks)
+
+
+def fit_small_screens(content: QWidget, parent: QWidget) -> QScrollArea:
+    """``content`` in a frameless scroll area: the window's minimum size no longer
+    grows with the content (long names, a big layout), so it fits any screen."""
+    area = QScrollArea(parent)
+    area.setWidgetResizable(True)
+    area.setFrameShape(QFrame.Shape.NoFrame)
+    area.setWidget(content)
+    area.setMinimumSize(480, 320)
+    return area
 
 
 def _at(items: list[int], index: int) -> int | None:

@@ -17,11 +17,13 @@ from PySide6.QtCore import QTimer, Signal
 from PySide6.QtGui import QCloseEvent, QFontDatabase
 from PySide6.QtWidgets import (
     QCheckBox,
+    QFrame,
     QGridLayout,
     QGroupBox,
     QHBoxLayout,
     QLabel,
     QPlainTextEdit,
+    QScrollArea,
     QVBoxLayout,
     QWidget,
 )
@@ -81,9 +83,20 @@ class EmulatorWindow(QWidget):
 
         layout = QVBoxLayout(self)
         self.header = QLabel()
+        self.header.setWordWrap(True)
         layout.addWidget(self.header)
-        layout.addWidget(self._build_relays())
-        layout.addWidget(self._build_stations())
+        # relays and stations scroll on a small screen instead of widening the window
+        panels = QWidget()
+        inner = QVBoxLayout(panels)
+        inner.setContentsMargins(0, 0, 0, 0)
+        inner.addWidget(self._build_relays())
+        inner.addWidget(self._build_stations())
+        self.scroll_area = QScrollArea()
+        self.scroll_area.setWidgetResizable(True)
+        self.scroll_area.setFrameShape(QFrame.Shape.NoFrame)
+        self.scroll_area.setWidget(panels)
+        self.scroll_area.setMinimumSize(420, 240)
+        layout.addWidget(self.scroll_area, 2)
         self.log = QPlainTextEdit()
         self.log.setReadOnly(True)
         self.log.setMaximumBlockCount(2000)

@@ -59,6 +59,7 @@ from PySide6.QtWidgets import (
     QMenu,
     QMessageBox,
     QPlainTextEdit,
+    QScrollArea,
     QPushButton,
     QSizePolicy,
     QSpinBox,
@@ -77,7 +78,7 @@ __all__ = [
     "QGroupBox", "QHBoxLayout", "QIcon", "QLabel", "QLineEdit", "QMainWindow", "QMenu",
     "QMessageBox", "QMouseEvent", "QObject", "QPaintEvent", "QPainter", "QPainterPath",
     "QPalette", "QPen",
-    "QPixmap", "QPlainTextEdit", "QPoint", "QPointF", "QPushButton", "QRectF", "QSettings",
+    "QPixmap", "QPlainTextEdit", "QScrollArea", "QPoint", "QPointF", "QPushButton", "QRectF", "QSettings",
     "QSize", "QSizePolicy", "QSpinBox", "QStatusBar", "QSystemTrayIcon", "QTextCursor",
     "QTimer", "QToolButton", "QUrl", "QVBoxLayout", "QWidget", "Qt", "Signal",
 ]

@@ -57,9 +57,9 @@ from .qt import (
     QPushButton,
     QScrollArea,
     QSpinBox,
+    Qt,
     QVBoxLayout,
     QWidget,
-    Qt,
     Signal,
 )
 

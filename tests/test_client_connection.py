@@ -294,3 +294,20 @@ async def _silent(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) ->
     with contextlib.suppress(Exception):
         await reader.read()
     writer.close()
+
+
+@pytest.mark.asyncio
+async def test_repeated_attempts_stay_out_of_the_info_log(caplog: pytest.LogCaptureFixture) -> None:
+    import logging
+
+    caplog.set_level(logging.DEBUG, logger="moas_gui")
+    async with raw_server(_silent) as port:
+        pass  # nobody listens there now
+    async with connected(port) as (_conn, rec):
+        await until(lambda: len([e for e in rec.of(LinkChanged)
+                                 if e.state is LinkState.RECONNECTING]) >= 3,  # type: ignore[attr-defined]
+                    what="three attempts")
+    attempts = [r for r in caplog.records if "Client link" in r.getMessage()
+                and "reconnecting" in r.getMessage()]
+    assert len(attempts) >= 3
+    assert [r.levelno for r in attempts].count(logging.INFO) == 1, "only the first is news"

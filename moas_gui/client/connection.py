@@ -308,8 +308,11 @@ class ClientConnection:
     def _set_link(self, state: LinkState, detail: str) -> None:
         if state == self.link and state != LinkState.RECONNECTING:
             return
+        # a server that stays away is retried every few seconds: only the first
+        # attempt goes to the info log, the rest to the debug log
+        level = logging.DEBUG if state == self.link else logging.INFO
         self.link = state
-        log.info("Client link to %s: %s (%s)", self.address, state.value, detail)
+        log.log(level, "Client link to %s: %s (%s)", self.address, state.value, detail)
         self._emit(LinkChanged(state, detail))
 
     # -- incoming -------------------------------------------------------------------------------

@@ -13,9 +13,20 @@ import time
 from collections import deque
 from enum import Enum
 
-from .qt import QFont, QFontDatabase, QObject, QPlainTextEdit, QTextCursor, QWidget, Signal
+from .qt import (
+    QFont,
+    QFontDatabase,
+    QObject,
+    QTextBlockFormat,
+    QTextCursor,
+    QTextEdit,
+    QWidget,
+    Signal,
+)
 
 MAX_RECORDS = 5000
+PREFIX_CHARS = len("12:34:56  warning ")
+"""Characters before the message: the time, two spaces, the level and a space."""
 
 
 class LogLevel(str, Enum):
@@ -53,13 +64,17 @@ class QtLogHandler(logging.Handler):
             pass
 
 
-class LogView(QPlainTextEdit):
-    """A read-only log that shows records at or above :attr:`level`."""
+class LogView(QTextEdit):
+    """A read-only log that shows records at or above :attr:`level`.
+
+    A record too long for the window wraps with its next lines indented to
+    where its message starts, so the time and level column stays clear."""
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.setReadOnly(True)
-        self.setMaximumBlockCount(MAX_RECORDS)
+        self.setAcceptRichText(False)
+        self.document().setMaximumBlockCount(MAX_RECORDS)
         self.setFont(QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont)
                      if QFontDatabase.families() else QFont("monospace"))
         self._records: deque[tuple[int, str]] = deque(maxlen=MAX_RECORDS)
@@ -73,14 +88,33 @@ class LogView(QPlainTextEdit):
         if level is self._level:
             return
         self._level = level
-        self.setPlainText("\n".join(text for number, text in self._records
-                                    if number >= level.threshold))
+        self.clear()
+        for number, text in self._records:
+            if number >= level.threshold:
+                self._append(text)
         self.moveCursor(QTextCursor.MoveOperation.End)
 
     def add_record(self, levelno: int, text: str) -> None:
         self._records.append((levelno, text))
         if levelno >= self._level.threshold:
-            self.appendPlainText(text)
+            bar = self.verticalScrollBar()
+            following = bar.value() >= bar.maximum() - 4
+            self._append(text)
+            if following:
+                bar.setValue(bar.maximum())
+
+    def _append(self, text: str) -> None:
+        indent = self.fontMetrics().horizontalAdvance(" " * PREFIX_CHARS)
+        shape = QTextBlockFormat()
+        shape.setLeftMargin(indent)
+        shape.setTextIndent(-indent)
+        cursor = QTextCursor(self.document())
+        cursor.movePosition(QTextCursor.MoveOperation.End)
+        if self.document().isEmpty():
+            cursor.setBlockFormat(shape)
+        else:
+            cursor.insertBlock(shape)
+        cursor.insertText(text)
 
     def shown_lines(self) -> list[str]:
         text = self.toPlainText()

@@ -37,6 +37,7 @@ from PySide6.QtGui import (
     QPalette,
     QPen,
     QPixmap,
+    QTextBlockFormat,
     QTextCursor,
 )
 from PySide6.QtWidgets import (
@@ -59,6 +60,7 @@ from PySide6.QtWidgets import (
     QMenu,
     QMessageBox,
     QPlainTextEdit,
+    QTextEdit,
     QPushButton,
     QScrollArea,
     QSizePolicy,
@@ -108,7 +110,7 @@ __all__ = [
     "QPalette",
     "QPen",
     "QPixmap",
-    "QPlainTextEdit",
+    "QPlainTextEdit", "QTextEdit",
     "QPoint",
     "QPointF",
     "QPushButton",
@@ -120,7 +122,7 @@ __all__ = [
     "QSpinBox",
     "QStatusBar",
     "QSystemTrayIcon",
-    "QTextCursor",
+    "QTextBlockFormat", "QTextCursor",
     "QTimer",
     "QToolButton",
     "QUrl",

@@ -126,3 +126,15 @@ def test_switch_link_runs_on_the_qt_event_loop(qapp: QApplication, tmp_path: Pat
         assert loop.run_until_complete(scenario()) == {4}
     finally:
         loop.close()
+
+
+def test_pings_and_their_answers_stay_out_of_the_log_unless_asked(
+        qtbot, window: EmulatorWindow, box: EmulatedBox) -> None:  # type: ignore[no-untyped-def]
+    box.receive(b"';")
+    box.receive(b'"B;')
+    text = window.log.toPlainText()
+    assert "';" not in text and 'in  "B;' in text
+    assert len(text.splitlines()) == 2, "the status request and its answer only"
+    window.show_pings.setChecked(True)
+    box.receive(b"';")
+    assert "in  ';" in window.log.toPlainText()

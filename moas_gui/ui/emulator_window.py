@@ -67,6 +67,10 @@ def _inhibit(st: StationView) -> str:
     return "yes: " + ", ".join(reasons)
 
 
+PING = b"';"
+"""The once-a-second ping of the server, as the box receives it."""
+
+
 class EmulatorWindow(QWidget):
     """A window on one :class:`EmulatedBox`."""
 
@@ -101,7 +105,14 @@ class EmulatorWindow(QWidget):
         self.log.setReadOnly(True)
         self.log.setMaximumBlockCount(2000)
         self.log.setFont(QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont))
-        layout.addWidget(QLabel("Bytes received (in) and sent (out):"))
+        above_log = QHBoxLayout()
+        above_log.addWidget(QLabel("Bytes received (in) and sent (out):"), 1)
+        self.show_pings = QCheckBox("Show pings")
+        self.show_pings.setToolTip("The server pings once a second; its pings and their "
+                                   "answers are left out of the log unless this is ticked")
+        above_log.addWidget(self.show_pings)
+        layout.addLayout(above_log)
+        self._answering_ping = False
         layout.addWidget(self.log, 1)
 
         self._stop_listening = box.add_listener(self._on_box)
@@ -151,9 +162,13 @@ class EmulatorWindow(QWidget):
 
     def _on_box(self, kind: Traffic, data: bytes) -> None:
         if kind is Traffic.RECEIVED:
-            self._log("in ", data)
+            self._answering_ping = data == PING
+            if not self._answering_ping or self.show_pings.isChecked():
+                self._log("in ", data)
         elif kind is Traffic.SENT:
-            self._log("out", data)
+            was_ping, self._answering_ping = self._answering_ping, False
+            if not was_ping or self.show_pings.isChecked():
+                self._log("out", data)
         if not self._refresh_queued:
             self._refresh_queued = True
             QTimer.singleShot(0, self.refresh)

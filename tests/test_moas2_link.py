@@ -480,3 +480,14 @@ async def test_a_failing_callback_is_logged_and_the_link_carries_on(
         assert statuses == [LinkStatus.OK]
     finally:
         await link.close()
+
+
+def test_the_debug_log_describes_box_messages_in_words() -> None:
+    from moas_gui.hw.moas2.link import describe
+    from moas_gui.hw.moas2.messages import AntennaEvent, AntennaStatus, InhibitReply, UnitIdReply
+
+    assert describe(AntennaEvent(station=1, status=AntennaStatus.TX_FAST, antenna=3)) == \
+        "antenna event: station 1, status tx fast (F), antenna 3"
+    assert describe(UnitIdReply(version="100", unit=0)) == "unit id reply: version 100, unit 0"
+    assert describe(InhibitReply(stations=frozenset({2, 1}))) == "inhibit reply: stations 1, 2"
+    assert describe(InhibitReply(stations=frozenset())) == "inhibit reply: stations none"

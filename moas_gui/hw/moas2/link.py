@@ -29,10 +29,11 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import re
 import time
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, is_dataclass
 from enum import Enum
 from pathlib import Path
 from typing import Any, TypeVar
@@ -419,7 +420,7 @@ class SwitchLink:
                 "station's antenna", self.where, message.station, kind, message.antenna,
             )
         else:
-            log.debug("%s: %s", self.where, message)
+            log.debug("%s: %s", self.where, describe(message))
 
     def _pong(self, pong: Pong) -> None:
         if not self._pings:
@@ -456,4 +457,23 @@ class SwitchLink:
             log.exception("%s: the %s callback failed", self.where, callback)
 
 
-__all__ = ["EMULATOR_PORT", "LinkStatus", "LinkTiming", "SwitchLink"]
+def describe(message: object) -> str:
+    """A message from the box in words for the debug log: ``antenna event: station 1,
+    status TX fast (F), antenna 3`` rather than its Python form."""
+    name = re.sub(r"(?<!^)(?=[A-Z])", " ", type(message).__name__).lower()
+    if not is_dataclass(message):
+        return name
+    parts = []
+    for item in fields(message):
+        value = getattr(message, item.name)
+        if isinstance(value, Enum):
+            shown = f"{value.name.replace('_', ' ').lower()} ({value.value})"
+        elif isinstance(value, frozenset | set | tuple | list):
+            shown = ", ".join(str(v) for v in sorted(value, key=str)) or "none"
+        else:
+            shown = str(value)
+        parts.append(f"{item.name.replace('_', ' ')} {shown}")
+    return f"{name}: {', '.join(parts)}" if parts else name
+
+
+__all__ = ["EMULATOR_PORT", "LinkStatus", "LinkTiming", "SwitchLink", "describe"]

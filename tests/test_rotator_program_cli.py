@@ -105,3 +105,12 @@ def test_a_port_already_in_use_is_explained(processes: list[subprocess.Popen[str
     assert result.returncode == 2
     assert f"cannot listen on 127.0.0.1:{port}" in result.stderr
     assert "another MOAS Rotator" in result.stderr
+
+
+def test_the_program_says_it_listens_once(processes: list[subprocess.Popen[str]]) -> None:
+    """The server relays the program's output to its log: one announcement, not two."""
+    program, listening = start(processes, "--bind", "127.0.0.1", "--port", "0")
+    assert listening.startswith("listening on 127.0.0.1:")
+    code, err = stop(program)
+    assert code == 0, err
+    assert "listening on" not in err

@@ -75,7 +75,7 @@ class RotatorProgram:
         # TIME_WAIT); on Windows that option would let two programs share the port.
         self._server = await asyncio.start_server(self._connection, host, port)
         address = self._server.sockets[0].getsockname()
-        log.info("listening on %s:%d", address[0], address[1])
+        log.debug("listening on %s:%d", address[0], address[1])  # moas-rotator prints it
         return address[0], address[1]
 
     async def close(self) -> None:

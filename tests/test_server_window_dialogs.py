@@ -219,3 +219,23 @@ def test_client_and_emulator_windows_fit_a_laptop_and_a_scaled_screen(
         client.close()
         await harness.close()
     run_on_qt(qapp, scenario())
+
+
+def test_the_client_content_fits_a_laptop_without_scrolling(qapp: Any, harness: Harness) -> None:
+    """On big-station, tuned to the band with the longest antenna names, the client's
+    content needs no more than a 1280x800 laptop gives it: nothing scrolls there."""
+    async def scenario() -> None:
+        window = harness.make()
+        window.open_file(str(EXAMPLES / "big-station.moas"))
+        await window.idle()
+        app = harness.app
+        assert app is not None
+        app.apply_changes(app.engine.set_frequency(1, 1, 14025.0))
+        window.action_client.trigger()
+        (client,) = window.client_windows
+        await until(lambda: "stack" in client.display.text(), timeout=10)
+        content = client.scroll_area.widget().minimumSizeHint()
+        assert content.width() <= 1240 and content.height() <= 720, content
+        client.close()
+        await harness.close()
+    run_on_qt(qapp, scenario())

@@ -43,6 +43,11 @@ class RelativeStrip(QGroupBox):
         self.next_button = QPushButton("Next \u25b6", self)
         self.list_box = QComboBox(self)
         self.list_box.setMinimumWidth(180)
+        # long antenna names must not widen the window: the list shows about
+        # 20 characters and opens wide enough for all of them
+        self.list_box.setSizeAdjustPolicy(
+            QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.list_box.setMinimumContentsLength(20)
         self.list_box.setToolTip("The relative antenna list for this frequency")
         self.use_button = QPushButton("Use", self)
         row.addWidget(self.previous_button)

@@ -45,6 +45,7 @@ from .button_grid import ButtonGrid
 from .client_panels import FrequencyBox, RelativeStrip, frequency_text
 from .client_style import CLIENT_STYLESHEET, Colours, dark_palette
 from .compass import CompassPanel, compass_targets
+from .elided_label import ElidedLabel
 from .qt import (
     QButtonGroup,
     QCloseEvent,
@@ -190,7 +191,7 @@ class ClientWindow(QMainWindow):
         outer.addLayout(choose)
 
         display_row = QHBoxLayout()
-        self.display = QLabel("\u2013", root)
+        self.display = ElidedLabel("\u2013", root)
         self.display.setObjectName("display")
         self.display.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.badge_tx = QLabel("\u25cf TRANSMITTING", root)

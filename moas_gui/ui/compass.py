@@ -328,6 +328,9 @@ class CompassPanel(QWidget):
         self.targets: tuple[CompassTarget, ...] = ()
         self._user_choice: int | None = None
         self.chooser = QComboBox(self)
+        self.chooser.setSizeAdjustPolicy(
+            QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.chooser.setMinimumContentsLength(16)
         self.chooser.setAccessibleName("Rotator")
         self.compass = CompassWidget(self)
         self.heading_label = QLabel("\u2013", self)

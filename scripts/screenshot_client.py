@@ -1,0 +1,72 @@
+"""Screenshots of the client window for docs/client.md, offscreen.
+
+Runs the server (big-station example, built-in emulated switches) and the
+built-in client in one process, tunes station 1 radio 1 to 20 m, and saves:
+
+- ``client-window.png`` at the window's usual size;
+- ``client-window-laptop.png`` at 1240x720, what fits a 1280x800 laptop screen.
+
+Usage: QT_QPA_PLATFORM=offscreen .venv/bin/python scripts/screenshot_client.py [FOLDER]
+"""
+
+from __future__ import annotations
+
+import asyncio
+import sys
+import tempfile
+from pathlib import Path
+
+import qasync
+
+from moas_gui.app import ServerApp, ServerOptions
+from moas_gui.ui.client_window import open_builtin_client
+from moas_gui.ui.qt import QSettings
+from moas_gui.ui.server_window import ServerWindow, ensure_application
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+async def settle(seconds: float = 0.6) -> None:
+    await asyncio.sleep(seconds)
+
+
+async def shoot(out: Path) -> None:
+    server = ServerApp(ServerOptions(bind="127.0.0.1", tcp_port=0, udp_port=0,
+                                     udp_bind="127.0.0.1", start_rotator_program=False))
+    with tempfile.TemporaryDirectory() as scratch:
+        window = ServerWindow(server, QSettings(str(Path(scratch) / "s.ini"),
+                                                QSettings.Format.IniFormat), lambda: None)
+        window.open_file(str(ROOT / "examples" / "big-station.moas"))
+        await window.idle()
+        server.apply_changes(server.engine.set_frequency(1, 1, 14025.0))
+        client = open_builtin_client(server)
+        for _ in range(200):
+            if client.grid.buttons:
+                break
+            await asyncio.sleep(0.05)
+        client.resize(1060, 700)
+        await settle()
+        client.grab().save(str(out / "client-window.png"))
+        client.resize(1240, 720)
+        await settle()
+        client.grab().save(str(out / "client-window-laptop.png"))
+        print(f"screenshot_client: wrote {out}/client-window.png and client-window-laptop.png")
+        await client.aclose()
+        client.close()
+        window.shutdown()
+        await server.close()
+
+
+def main() -> int:
+    out = Path(sys.argv[1] if len(sys.argv) > 1 else ROOT / "docs" / "images")
+    out.mkdir(parents=True, exist_ok=True)
+    app = ensure_application()
+    loop = qasync.QEventLoop(app)
+    asyncio.set_event_loop(loop)
+    with loop:
+        loop.run_until_complete(shoot(out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -135,6 +135,11 @@ def test_switch_ids_ports_and_relays_out_of_range() -> None:
     assert any("is 7; it must be from 1 to 6" in m for m in texts)
     assert any("relay 64; switch 1 has relays 0-63 only" in m for m in texts)
     assert any("relay 105, which belongs to switch 2" in m for m in texts)
+    data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = [999]
+    (message,) = [m for _, _, m in errors(json.dumps(data)) if "relay 999" in m]
+    assert "switch 10" in message and "no such switch" in message, message
+    assert "has relays 900-963 only" not in message, "switch 10 is not configured at all"
+    assert "relays: 0-63 on switch 1" in message
     relay_line = next(line for line, _, m in found if "relay 64" in m)
     assert relay_line == line_of(text, "64,")
 

@@ -83,14 +83,17 @@ class _Checker:
         for relay in relays:
             switch_id, local = divmod(relay, 100)
             switch_id += 1
-            if local > 63:
+            if switch_id not in self.switches:
+                configured = ", ".join(f"{(s - 1) * 100}-{(s - 1) * 100 + 63} on switch {s}"
+                                       for s in sorted(self.switches))
+                self.r.error(self.r.at(owner, key, relay),
+                             f"{what} names relay {relay}, which belongs to switch {switch_id}, "
+                             "but there is no such switch in \"Switches\""
+                             + (f" (relays: {configured})" if configured else ""))
+            elif local > 63:
                 self.r.error(self.r.at(owner, key, relay),
                              f"{what} names relay {relay}; switch {switch_id} has relays "
                              f"{(switch_id - 1) * 100}-{(switch_id - 1) * 100 + 63} only")
-            elif switch_id not in self.switches:
-                self.r.error(self.r.at(owner, key, relay),
-                             f"{what} names relay {relay}, which belongs to switch {switch_id}, "
-                             "but there is no such switch in \"Switches\"")
 
     # -- the checks ----------------------------------------------------------
     def run(self) -> None:

@@ -14,6 +14,8 @@ one JSON line, each reply one JSON line:
     too), as a click does: from the Qt event loop, after this reply.
 ``{"do": "answer", "button": "Yes"}``
     clicks a button of the open question dialog.
+``{"do": "close"}``
+    closes the server window, as its title bar's close button does.
 
 Nothing here runs in a normal launch.
 """
@@ -85,6 +87,9 @@ class ControlHook:
                 return {"ok": False, "error": f"{' > '.join(request['path'])} is disabled"}
             QTimer.singleShot(0, action.trigger)
             return {"ok": True}
+        if kind == "close":
+            QTimer.singleShot(0, self.window.close)  # the title bar's close button
+            return {"ok": True}
         if kind == "answer":
             for box in self._dialogs():
                 for button in box.buttons():
@@ -130,6 +135,8 @@ class ControlHook:
             "title": window.windowTitle(),
             "status": window.statusBar().currentMessage(),
             "tray_tooltip": window.tray.toolTip(),
+            "tray_visible": window.tray.isVisible(),
+            "window_visible": window.isVisible(),
             "tray_menu": [_plain(a.text()) for a in window.tray_menu.actions() if a.text()],
             "dialogs": [{"title": b.windowTitle(), "text": b.text(),
                          "buttons": [_plain(x.text()) for x in b.buttons()]}

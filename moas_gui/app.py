@@ -152,7 +152,15 @@ class ServerApp:
                 log.info("Closing %s to open %s", self._status.file, Path(path).name)
                 await self._close_running()
             self._path = Path(path)
-            await self._start(result.config)
+            try:
+                await self._start(result.config)
+            except Exception:
+                # whatever started is closed again, so the title, status bar and tray
+                # say "no configuration" instead of what is no longer true
+                log.exception("%s could not be started", self._path.name)
+                await self._close_running()
+                self._update_status()
+                raise
             log.info("Opened %s in %.0f ms", self._path.name, (time.perf_counter() - started) * 1000)
             return result
 

@@ -239,3 +239,30 @@ def test_the_client_content_fits_a_laptop_without_scrolling(qapp: Any, harness: 
         client.close()
         await harness.close()
     run_on_qt(qapp, scenario())
+
+
+def test_a_start_that_fails_half_way_shows_no_configuration(
+        qapp: Any, harness: Harness, monkeypatch: pytest.MonkeyPatch) -> None:
+    async def scenario() -> None:
+        window = harness.make()
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        app = harness.app
+        assert app is not None and app.client_address is not None
+        port = app.client_address[1]
+
+        async def broken(run: Any) -> None:
+            raise RuntimeError("the N1MM listener broke")
+
+        monkeypatch.setattr(app, "_start_n1mm", broken)
+        harness.answers.append(True)
+        window.open_file(str(EXAMPLES / "2x6.moas"))
+        await window.idle()
+        assert app.config is None and app.client_address is None
+        assert window.statusBar().currentMessage() == "No configuration open"
+        assert window.windowTitle() == "MOAS Server"
+        with pytest.raises(OSError):
+            await asyncio.open_connection("127.0.0.1", port)
+        assert any("could not be started" in line for line in window.log_view.shown_lines())
+        await harness.close()
+    run_on_qt(qapp, scenario())

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 from moas_gui import __version__
 from moas_gui.status import ServerState, ServerStatus
 
+from .dialogs import ask_yes_no, choose_file, docs_path, show_message
 from .icons import app_icon, status_icon
 from .log_view import LogLevel, LogView, QtLogHandler
 from .qt import (
@@ -33,7 +34,6 @@ from .qt import (
     QMessageBox,
     QSettings,
     QSystemTrayIcon,
-    Qt,
     QUrl,
     QWidget,
 )
@@ -44,16 +44,6 @@ if TYPE_CHECKING:
 log = logging.getLogger("moas_gui.ui")
 
 RECENT_MAX = 4
-
-
-def docs_path() -> Path:
-    """The manual: ``moas_gui/manual`` in an installed package (the build copies
-    ``docs/`` there), the ``docs`` folder in a checkout."""
-    package = Path(__file__).resolve().parent.parent
-    shipped = package / "manual"
-    if (shipped / "README.md").is_file():
-        return shipped
-    return package.parent / "docs"
 
 
 class ServerWindow(QMainWindow):
@@ -426,35 +416,14 @@ class ServerWindow(QMainWindow):
             await asyncio.gather(*list(self._tasks), return_exceptions=True)
 
     def _message(self, icon: QMessageBox.Icon, title: str, text: str) -> None:
-        box = QMessageBox(icon, title, text, QMessageBox.StandardButton.Ok, self)
-        box.setModal(False)
-        self.last_dialog = box
-        box.open()
+        self.last_dialog = show_message(self, icon, title, text)
 
     def _ask_dialog(self, title: str, text: str, answered: Callable[[bool], None]) -> None:
-        buttons = QMessageBox.StandardButton.Yes | QMessageBox.StandardButton.No
-        box = QMessageBox(QMessageBox.Icon.Question, title, text, buttons, self)
-        box.setDefaultButton(QMessageBox.StandardButton.No)
-        box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
-        box.finished.connect(
-            lambda _result: answered(box.clickedButton() is box.button(QMessageBox.StandardButton.Yes)))
-        self.last_dialog = box
         self.bring_to_front()
-        box.open()
+        self.last_dialog = ask_yes_no(self, title, text, answered)
 
     def _file_dialog(self, title: str, saving: bool, chosen: Callable[[str], None]) -> None:
-        if saving:
-            dialog = QFileDialog(self, title, str(self._start_directory() / "moas-switch-data.txt"),
-                                 "Text files (*.txt);;All files (*)")
-            dialog.setAcceptMode(QFileDialog.AcceptMode.AcceptSave)
-        else:
-            dialog = QFileDialog(self, title, str(self._start_directory()),
-                                 "MOAS configurations (*.moas *.txt);;All files (*)")
-            dialog.setFileMode(QFileDialog.FileMode.ExistingFile)
-        dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
-        dialog.fileSelected.connect(chosen)
-        self.file_dialog = dialog
-        dialog.open()
+        self.file_dialog = choose_file(self, title, saving, self._start_directory(), chosen)
 
     def _start_directory(self) -> Path:
         """Where the Open and Save dialogs start: the open file's folder, else the last one."""

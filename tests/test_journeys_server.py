@@ -132,6 +132,8 @@ class Server:
         assert self.process is not None
         if self._hook is not None:
             self._hook.close()
+            self._reader.close()
+            self._hook = None
         if self.process.poll() is None:
             self.process.kill()
         out, _ = self.process.communicate(timeout=10)
@@ -139,6 +141,9 @@ class Server:
         return out
 
     def stop(self) -> None:
+        if self._hook is not None:
+            self._hook.close()
+            self._reader.close()
         if self.process is not None and self.process.poll() is None:
             self.process.kill()
             self.process.communicate(timeout=10)
@@ -202,24 +207,40 @@ def test_stop_start_reset_restart_and_the_emulator_window(server: Server) -> Non
     assert "Traceback" not in out
 
 
-def test_open_another_station_then_the_emulator_and_sigterm(server: Server) -> None:
+def test_file_open_another_station_then_the_emulator_and_sigterm(server: Server) -> None:
     server.start("big-station.moas")
     server.shows(normal("big-station.moas"), "big-station running")
-    server.click("View", "Emulator", "Switch 1")
-    server.shows(lambda s: "1" in s["emulators"], "the emulator window")
-    server.click("File", "Recent Files", f"1 {(EXAMPLES / 'big-station.moas').resolve()}")
+    server.click("View", "Emulator", "Switch 2")
+    server.shows(lambda s: "2" in s["emulators"], "the emulator window of switch 2")
+
+    server.click("File", "Open...")
+    assert server.ask(do="choose", path=str(EXAMPLES / "small-station.moas"))["ok"]
     seen = server.shows(lambda s: s["dialogs"], "the question")
-    assert "Stop big-station.moas" in seen["dialogs"][0]["text"]
+    assert "Stop big-station.moas and open small-station.moas?" in seen["dialogs"][0]["text"]
     server.answer("No")
     server.shows(lambda s: not s["dialogs"], "the question gone")
     assert server.config() == "big-station.moas"
-    # File > Open through a real hand-over would need a file dialog; Recent Files
-    # and the second launch cover opening: here the second file comes from a launch.
-    second = subprocess.run(
-        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
-         "--new-instance", "--check"], env=server.env, capture_output=True, text=True,
-        timeout=30, check=False)
-    assert second.returncode == 0
+
+    server.click("File", "Open...")
+    assert server.ask(do="choose", path=str(EXAMPLES / "small-station.moas"))["ok"]
+    server.shows(lambda s: s["dialogs"], "the question again")
+    server.answer("Yes")
+    seen = server.shows(normal("small-station.moas"), "small-station running")
+    assert seen["emulators"] == {}, "big-station's emulator window is closed"
+    assert server.config() == "small-station.moas"
+    server.click("View", "Emulator", "Switch 1")
+    assert server.client({"cmd": "frequency", "station": 1, "radio": 1, "khz": 14025})["ok"]
+    held = relays(server.shows(lambda s: relays(s), "small-station's relays on switch 1"))
+
+    server.click("File", "Stop Switches")  # the client clicks while the switches are stopped
+    server.shows(lambda s: not relays(s), "all relays off")
+    refused = server.client({"cmd": "frequency", "station": 1, "radio": 1, "khz": 7150})
+    assert server.client({"cmd": "state"})["ok"], "the client port still answers"
+    server.click("File", "Start Switches")
+    seen = server.shows(lambda s: relays(s) and normal("small-station.moas")(s), "started")
+    if not refused["ok"]:
+        assert relays(seen) == held, "a refused request changed nothing"
+
     assert server.process is not None
     server.process.send_signal(signal.SIGTERM)
     assert server.ends_within(2.0) < 2.0

@@ -14,6 +14,8 @@ one JSON line, each reply one JSON line:
     too), as a click does: from the Qt event loop, after this reply.
 ``{"do": "answer", "button": "Yes"}``
     clicks a button of the open question dialog.
+``{"do": "choose", "path": "/path/station.moas"}``
+    picks a file in the open file dialog (File > Open, Save Switch Data).
 ``{"do": "close"}``
     closes the server window, as its title bar's close button does.
 
@@ -29,7 +31,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from .qt import QAction, QApplication, QMenu, QMessageBox, QTimer, QWidget
+from .qt import QAction, QApplication, QFileDialog, QLineEdit, QMenu, QMessageBox, QTimer, QWidget
 
 ENVIRONMENT = "MOAS_GUI_CONTROL_SOCKET"
 
@@ -86,6 +88,17 @@ class ControlHook:
             if not action.isEnabled():
                 return {"ok": False, "error": f"{' > '.join(request['path'])} is disabled"}
             QTimer.singleShot(0, action.trigger)
+            return {"ok": True}
+        if kind == "choose":
+            dialogs = [w for w in QApplication.topLevelWidgets()
+                       if isinstance(w, QFileDialog) and w.isVisible()]
+            if not dialogs:
+                return {"ok": False, "error": "no file dialog is open"}
+            name = dialogs[0].findChild(QLineEdit, "fileNameEdit")
+            if name is None:
+                return {"ok": False, "error": "the file dialog has no file name field"}
+            name.setText(str(request["path"]))  # typed, as a person does, then Open
+            QTimer.singleShot(0, dialogs[0].accept)
             return {"ok": True}
         if kind == "close":
             QTimer.singleShot(0, self.window.close)  # the title bar's close button

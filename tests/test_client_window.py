@@ -306,3 +306,16 @@ def test_open_builtin_client_connects_over_loopback(qapp: QApplication) -> None:
 
     run_on_qt(qapp, scenario())
     assert loopback_for("::") == "::1" and loopback_for("10.0.0.5") == "10.0.0.5"
+
+
+def test_a_refusal_clears_when_another_configuration_arrives(qapp: QApplication) -> None:
+    async def scenario() -> None:
+        async with LiveServer() as live, open_window(live) as window:
+            live.backend.stop_switches()
+            await until(lambda: window.switches_stopped)
+            window._pressed(button(window, "Tribander").view, False)
+            await until(lambda: "switches are stopped" in window.status_text())
+            live.backend.load()  # the server opens a configuration: a new state for everyone
+            await until(lambda: window.status_text() == "", what="the old refusal gone")
+
+    run_on_qt(qapp, scenario())

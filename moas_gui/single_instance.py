@@ -210,7 +210,8 @@ class InstanceServer:
             async with asyncio.timeout(5):
                 line = await reader.readline()
             error = self._foreign_peer(writer)
-            path, launch = None, {}
+            path: Path | None = None
+            launch: dict[str, object] = {}
             if error is None:
                 path, launch, error = self._read_request(line)
             if error is None and self._vet is not None:

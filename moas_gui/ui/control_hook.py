@@ -114,12 +114,13 @@ class ControlHook:
 
     def _find(self, path: list[str]) -> QAction:
         window = self.window
+        actions: list[QAction]
         if path[0] == "Tray":
             actions, path = window.tray_menu.actions(), path[1:]
         else:
             actions = window.menuBar().actions()
         for step, name in enumerate(path):
-            found = [a for a in actions if _plain(a.text()) == name and a.isVisible()]
+            found: list[QAction] = [a for a in actions if _plain(a.text()) == name and a.isVisible()]
             if not found:
                 shown = [_plain(a.text()) for a in actions if a.text()]
                 raise LookupError(f"no menu item {name!r} in {shown}")

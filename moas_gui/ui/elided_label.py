@@ -21,7 +21,7 @@ class ElidedLabel(QLabel):
         self._full = ""
         self.setText(text)
 
-    def text(self) -> str:  # type: ignore[override]
+    def text(self) -> str:
         """The whole text, however much of it shows."""
         return self._full
 
@@ -29,7 +29,7 @@ class ElidedLabel(QLabel):
         """What the label shows now (maybe cut with "…")."""
         return super().text()
 
-    def setText(self, text: str) -> None:  # type: ignore[override]
+    def setText(self, text: str) -> None:
         self._full = text
         if self.isVisible():
             self._fit()

@@ -97,6 +97,19 @@ class RadioInfo:
                 return seg
         return None
 
+    def used_segment(self, antenna: int, khz: float | None) -> Segment | None:
+        """The segment of ``antenna`` a radio at ``khz`` was using: the one holding ``khz``,
+        else the nearest one (the radio tuned beyond its edge, appendix F step 2)."""
+        if khz is None:
+            return None
+        best: Segment | None = None
+        best_d = float("inf")
+        for seg in self.segments.get(antenna, ()):
+            d = max(seg[0] - khz, khz - seg[1], 0.0)
+            if d < best_d:
+                best, best_d = seg, d
+        return best
+
 
 def switch_of_relay(relay: int) -> int:
     return relay // 100 + 1

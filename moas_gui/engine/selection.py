@@ -123,7 +123,7 @@ def _keep_current(w: Work, ref: RadioRef, old_khz: float | None) -> bool:
     rs = w.st.radios[ref]
     khz = rs.khz
     cur = rs.tx if info.kind is Kind.MAIN else rs.rx
-    if cur is None or not in_segment(info.segment(cur, old_khz), khz):
+    if cur is None or not in_segment(info.used_segment(cur, old_khz), khz):
         return False
     if info.kind is not Kind.MAIN:
         w.set_pair(ref, None, cur)
@@ -207,6 +207,9 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
     for a in order:
         ant = ix.antennas[a]
         if not ant.enabled or ant.tx_only or (ant.no_select and a != current):
+            continue
+        a = join_shared(ix, st, ref, a)
+        if a not in info.paths:
             continue
         d = distance(info.paths[a], khz)
         if d >= best_d:

@@ -3,7 +3,11 @@ implementation of appendix F; one test per rule, with the passage that decides i
 
 from __future__ import annotations
 
+import pytest
 from engine_builders import antenna, config, engine, pair, radio
+
+from moas_gui.engine.config.model import Config, Function, System
+from moas_gui.engine.errors import Unavailable
 
 
 def test_a_radio_joining_a_shared_system_out_of_band_gets_the_member_in_use() -> None:
@@ -61,3 +65,64 @@ def test_a_band_change_that_keeps_the_antenna_is_remembered() -> None:
     e.set_frequency(2, 1, 2000)
     assert pair(e, 2, 1) == (12, 12)
     assert pair(e, 1, 1) == (8, 8)
+
+
+def _beverages(protect: bool = False, sub: bool = False) -> Config:
+    """Two radios on 160 m: verticals 0 and 1, and two beverages on one coax (2, 3) in a
+    system of shared members only, toggled by Share (function 1)."""
+    refs = [(1, 1), (2, 1)] + ([(1, 3)] if sub else [])
+
+    def rel(n: int) -> dict[tuple[int, int], list[int]]:
+        return {r: [n + 8 * i] for i, r in enumerate(refs)}
+    every = (0, 1, 2, 3)
+    return config(
+        [antenna(0, (160,), rel(0), fast=every), antenna(1, (160,), rel(1), fast=every),
+         antenna(2, (160,), rel(2), rx_only=True, conflicts=(2, 3), fast=every),
+         antenna(3, (160,), rel(3), rx_only=True, conflicts=(2, 3), fast=every)],
+        [radio(1, 1, 1, sub_receiver=3 if sub else None), radio(2, 1, 2)],
+        systems=[System(id=1, shared_antennas=(2, 3), shared=True)],
+        functions=[Function(id=1, name="Share", int_params=(1,))],
+        protect_same_band=protect)
+
+
+def test_share_turned_off_leaves_one_radio_on_a_member_the_others_move() -> None:
+    """6.6.5 with 5.5: out of shared mode the members are ordinary antennas, and two radios
+    may not keep one coax's beverages together."""
+    e = engine(_beverages())
+    e.set_frequency(1, 1, 1830)
+    e.set_frequency(2, 1, 1840)
+    e.select(1, 1, 2, target="rx")
+    e.select(2, 1, 3, target="rx")
+    assert pair(e, 1, 1) == (0, 2) and pair(e, 2, 1) == (1, 2)
+    e.run_function(1, 1, 1)
+    assert not e.system_shared(1)
+    assert pair(e, 1, 1) == (0, 2)
+    assert pair(e, 2, 1)[1] not in (2, 3)
+
+
+def test_share_turned_on_brings_a_sub_receiver_to_its_main_radios_member() -> None:
+    """5.10: a shared system has one member for all its users; a sub receiver is "an
+    additional radio" (1.1.12)."""
+    e = engine(_beverages(sub=True))
+    e.run_function(1, 1, 1)
+    e.set_frequency(1, 1, 1830)
+    e.select(1, 1, 3, target="rx")
+    e.set_frequency(1, 3, 1830)
+    e.select(1, 3, 2)
+    assert pair(e, 1, 1) == (0, 3) and pair(e, 1, 3) == (None, 2)
+    e.run_function(1, 1, 1)
+    assert e.system_shared(1)
+    assert pair(e, 1, 1)[1] == pair(e, 1, 3)[1]
+
+
+def test_same_band_protection_refuses_a_press_connecting_the_second_radio() -> None:
+    """1.1.16: "that radio will not be connected to an antenna"."""
+    e = engine(_beverages(protect=True))
+    e.set_frequency(1, 1, 1830)
+    e.set_frequency(2, 1, 1840)
+    assert pair(e, 2, 1) == (None, None)
+    before = e.switch_states()
+    with pytest.raises(Unavailable, match="already on this band"):
+        e.select(2, 1, 1)
+    assert pair(e, 2, 1) == (None, None)
+    assert e.switch_states() == before

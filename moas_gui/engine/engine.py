@@ -18,7 +18,7 @@ from types import MappingProxyType
 from .changes import NO_CHANGES, Changes
 from .config.model import Config, RadioRef
 from .derive import alternates, inhibit_reason
-from .errors import BadRequest, NotFound, NotRunning
+from .errors import BadRequest, NotFound, NotRunning, Unavailable
 from .functions import extra_relays, function, is_on, refresh_relays, run, status
 from .index import ConfigIndex, Kind
 from .layouts import layout_view
@@ -26,7 +26,7 @@ from .manual import select_antenna, select_direction
 from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, slot_needs
 from .relative import relative as relative_select
 from .relative import relative_list
-from .selection import recheck, select_by_frequency
+from .selection import band_neighbour, recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
 from .switchstate import StationAntennas, SwitchState
@@ -112,6 +112,10 @@ class Engine:
         f = function(self._ix, function_id)
         verdict = status(self._ix, self._state, ref, f)
         return verdict.available, verdict.reason
+
+    def system_shared(self, system_id: int) -> bool:
+        """Whether a shared-capable system is in shared mode now (5.10, the Share function)."""
+        return self._state.shared.get(system_id, False)
 
     def function_on(self, function_id: int) -> bool:
         """Whether a toggling function (Share, Relay, Inhibit, Extra, Partner, AltActive) is on."""
@@ -300,6 +304,8 @@ class Engine:
         saved_maps = dict(self._maps)
         try:
             op(w)
+            if need_running:
+                _same_band_guard(w)
             recheck(w)
             refresh_relays(self._ix, st, w)
             return self._commit(w)
@@ -388,6 +394,23 @@ class Engine:
                          None if listed is None else listed[1].ids)
         old = self._views.get(ref)
         return old if old == view else view
+
+
+def _same_band_guard(w: Work) -> None:
+    """1.1.16: with ``ProtectSameBand`` a radio on another radio's band "will not be connected
+    to an antenna", so a press (or function, relative step, direction) connecting one there is
+    refused like any other unavailable antenna."""
+    ix = w.ix
+    if not ix.config.protect_same_band:
+        return
+    for ref in sorted(w.touched):
+        rs = w.st.radios[ref]
+        if ix.radios[ref].kind is not Kind.MAIN or (rs.tx is None and rs.rx is None):
+            continue
+        other = band_neighbour(w, ref)
+        if other is not None:
+            raise Unavailable(f"{other} is already on this band ({radio_name(ref)} may not "
+                              "join it: ProtectSameBand)")
 
 
 def _frequency(name: str, value: float) -> float:

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from .config.model import Function, RadioRef
 from .errors import NotFound, Unavailable
 from .index import ConfigIndex, Kind
-from .rules import interlocked, unusable
+from .rules import interlocked, join_shared, unusable
 from .selection import place, select_by_frequency
 from .state import State
 from .work import Work, radio_name
@@ -290,30 +290,46 @@ def _swap(w: Work, a: RadioRef, b: RadioRef) -> None:
 
 
 def _share(w: Work, system: int, preferred: tuple[int, ...]) -> None:
+    """6.6.5.  Turning a system unshared re-places every radio on it, first come first
+    served: radios that were sharing one member must not keep it together."""
     ix, st = w.ix, w.st
     on = not st.shared.get(system, False)
     st.shared[system] = on
     w.log.append(f"System {system}: {'shared' if on else 'not shared'}")
-    affected = [r for r in ix.order
-                if any(a is not None and not ix.systems.usable(ix.canon[a], st.shared)
-                       and ix.systems.shared_system(ix.canon[a]) is not None
-                       and ix.systems.shared_system(ix.canon[a])[0] == system  # type: ignore[index]
-                       for a in (st.radios[r].tx, st.radios[r].rx))]
+
+    def in_system(a: int | None) -> bool:
+        found = None if a is None else ix.systems.shared_system(ix.canon[a])
+        return found is not None and found[0] == system
+
+    affected = [r for r in ix.order if any(in_system(a) for a in (st.radios[r].tx,
+                                                                    st.radios[r].rx))]
     held = {}
     for r in affected:
         rs = st.radios[r]
-        cur = rs.tx if rs.tx is not None else rs.rx
+        held[r] = (rs.tx, rs.rx)
+        w.set_pair(r, None if in_system(rs.tx) else rs.tx,
+                   None if in_system(rs.rx) else rs.rx, rs.note)
+
+    def put(r: RadioRef, tx: int | None, rx: int | None, a: int) -> bool:
+        """``r`` back with ``a`` in place of what it had in the system."""
+        return place(w, r, a if in_system(tx) else tx, a if in_system(rx) else rx,
+                     takeover=False)
+
+    for r, (tx, rx) in held.items():
+        cur = next(a for a in (tx, rx) if in_system(a))
         assert cur is not None
-        held[r] = cur
-        w.set_pair(r, None, None, rs.note)
-    for r, cur in held.items():
         if on:
             members = [a for a in ix.ids if ix.systems.shared_system(ix.canon[a]) == (system, True)]
             size = len(ix.comps[cur])
-            members.sort(key=lambda a: (abs(len(ix.comps[a]) - size), a))
-            if any(place(w, r, m, m, takeover=False) for m in members):
+            members.sort(key=lambda a: (a != cur, abs(len(ix.comps[a]) - size), a))
+            joined = join_shared(ix, st, r, cur)
+            if joined != cur:
+                members = [joined]
+            if any(put(r, tx, rx, m) for m in members):
                 continue
         else:
+            if ix.systems.usable(ix.canon[cur], st.shared) and put(r, tx, rx, cur):
+                continue
             if any(place(w, r, a, a, takeover=False) for a in preferred if a in ix.antennas):
                 continue
         select_by_frequency(w, r, None)

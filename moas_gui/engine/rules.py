@@ -108,10 +108,11 @@ def permitted(ix: ConfigIndex, st: State, a: RadioRef, b: RadioRef, x: int, y: i
 
 def shared_users(ix: ConfigIndex, st: State, system: int, ref: RadioRef
                  ) -> list[tuple[RadioRef, int]]:
-    """Other radios (outside ``ref``'s family) using a shared member of ``system``."""
+    """Other radios using a shared member of ``system``, ``ref``'s own sub receiver included
+    (it is "an additional radio", 1.1.12, on the same coax)."""
     out = []
     for other, rs in st.radios.items():
-        if related(ix, ref, other) or ix.radios[other].kind is Kind.ALT:
+        if other == ref or ix.radios[other].kind is Kind.ALT:
             continue
         for a in (rs.tx, rs.rx):
             if a is not None and shared_member(ix, st, a) == system:

@@ -3,10 +3,15 @@ implementation of appendix F; one test per rule, with the passage that decides i
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import pytest
 from engine_builders import antenna, config, engine, pair, radio
 
-from moas_gui.engine.config.model import Config, Function, System
+from moas_gui.engine import Engine
+from moas_gui.engine.config import load_config, parse_config
+from moas_gui.engine.config.model import Config, Function, RadioRef, Switch, System
 from moas_gui.engine.errors import Unavailable
 
 
@@ -126,3 +131,63 @@ def test_same_band_protection_refuses_a_press_connecting_the_second_radio() -> N
         e.select(2, 1, 1)
     assert pair(e, 2, 1) == (None, None)
     assert e.switch_states() == before
+
+
+def _apart() -> Config:
+    """Radio 2.1 has Always 1.1, but 1.1 is on switch 1 only and 2.1 on switch 2 only."""
+    def rel(n: int) -> dict[tuple[int, int], list[int]]:
+        return {(1, 1): [n], (2, 1): [100 + n]}
+    return config([antenna(0, (20,), rel(0)), antenna(1, (20,), rel(1))],
+                  [radio(1, 1, 1, switch=1), radio(2, 1, 1, switch=2, always=(RadioRef(1, 1),))],
+                  switches=[Switch(1, "emulator", indicate_tr=True),
+                            Switch(2, "emulator", indicate_tr=True)])
+
+
+def test_no_inhibit_is_claimed_between_radios_no_switch_sees_together() -> None:
+    """5.11 and 2.4: a switch inhibits a radio while another on it transmits; with no common
+    switch nothing applies the inhibit, so the view must not say it does."""
+    e = engine(_apart())
+    e.set_frequency(1, 1, 14025)
+    e.set_frequency(2, 1, 14100)
+    e.set_transmitting(1, 1, True)
+    assert e.radio_view(1, 1).transmitting
+    view = e.radio_view(2, 1)
+    assert not view.inhibited and "transmits" not in view.note
+    assert all(not any(s) for s in (st.inhibit_others for st in e.switch_states().values()))
+
+
+def test_check_warns_about_an_inhibit_no_switch_can_apply(tmp_path: Path) -> None:
+    text = json.dumps({
+        "Switches": [{"ID": 1, "Port": "emulator"}, {"ID": 2, "Port": "emulator"}],
+        "Antennas": [{"ID": 0, "Control": [{"Stations": [{"Relays": [0]}]}]}],
+        "Radios": [
+            {"Station": 1, "Radio": 1, "Switches": [{"Switch": 1, "Port": 1}]},
+            {"Station": 2, "Radio": 1, "Switches": [{"Switch": 2, "Port": 1}],
+             "Always": [{"Station": 1, "Radio": 1}]}]}, indent=1)
+    path = tmp_path / "apart.moas"
+    path.write_text(text)
+    result = load_config(path)
+    assert result.config is not None
+    warnings = [p for p in result.problems if "no switch has ports of both" in p.message]
+    assert len(warnings) == 1
+    lines = text.splitlines()
+    always = next(i for i, line in enumerate(lines) if '"Always"' in line) + 1
+    assert warnings[0].line in (always, always + 1, always + 2)
+
+
+def test_check_warns_when_interrupt_delays_on_one_switch_differ() -> None:
+    text = json.dumps({
+        "Switches": [{"ID": 1, "Port": "emulator"}],
+        "Antennas": [{"ID": 0, "Control": [{"Stations": [{"Relays": [0]}]}]}],
+        "Radios": [
+            {"Station": 1, "Radio": 1, "Switches": [{"Port": 1}], "Interrupt": True,
+             "InterruptModeDelay": 10},
+            {"Station": 2, "Radio": 1, "Switches": [{"Port": 2}], "Interrupt": True,
+             "InterruptModeDelay": 30}]}, indent=1)
+    result = parse_config(text)
+    found = [p for p in result.problems if "one interrupt delay" in p.message]
+    assert len(found) == 1
+    assert "30 ms is used for station 1 radio 1" in found[0].message
+    assert '"InterruptModeDelay": 10' in text.splitlines()[found[0].line - 1]
+    assert result.config is not None
+    assert Engine(result.config).switch_states()[1].interrupt_delay == 30

@@ -67,12 +67,20 @@ def same_band(ix: ConfigIndex, st: State, transmitter: RadioRef, receiver: Radio
     return in_segment(seg, t.tx_freq)
 
 
+def seen_together(ix: ConfigIndex, a: RadioRef, b: RadioRef) -> bool:
+    """Whether some switch has ports of both radios: only such a switch can inhibit one
+    while the other transmits (it reads one's T/R line and drives the other's inhibit)."""
+    return bool(ix.radio_switches.get(a, frozenset()) & ix.radio_switches.get(b, frozenset()))
+
+
 def inhibits(ix: ConfigIndex, st: State, transmitter: RadioRef, receiver: RadioRef) -> bool:
     """Whether ``receiver`` is inhibited while ``transmitter`` transmits (5.11)."""
     if transmitter == receiver:
         return False
     info = ix.radios.get(receiver)
     if info is None or info.kind is not Kind.MAIN:
+        return False
+    if not seen_together(ix, transmitter, receiver):
         return False
     cfg = info.radio
     if transmitter in cfg.always:
@@ -242,4 +250,4 @@ def _repath(ix: ConfigIndex, st: State, ref: RadioRef, mine: Sequence[int], othe
 
 
 __all__ = ["Plan", "inhibits", "interlocked", "join_shared", "permitted", "plan", "related",
-           "same_band", "shared_member", "shared_users", "suits", "unusable", "users"]
+           "same_band", "seen_together", "shared_member", "shared_users", "suits", "unusable", "users"]

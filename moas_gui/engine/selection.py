@@ -30,7 +30,7 @@ from collections.abc import Iterable
 from .config.model import RadioRef
 from .index import Kind, RadioInfo
 from .ranges import describe_khz, distance, in_segment
-from .rules import join_shared, plan, related, unusable
+from .rules import join_shared, plan, related, seen_together, unusable
 from .work import Work
 
 SAME_BAND = "already on this band"
@@ -108,7 +108,8 @@ def band_neighbour(w: Work, ref: RadioRef) -> RadioRef | None:
         if not in_segment(band, ors.khz):
             continue
         theirs = ix.radios[other].radio
-        if (other in mine.always or ref in theirs.always or other in mine.same_band
+        if seen_together(ix, ref, other) and (
+                other in mine.always or ref in theirs.always or other in mine.same_band
                 or ref in theirs.same_band
                 or st.busses.get(ref, frozenset()) & st.busses.get(other, frozenset())):
             continue

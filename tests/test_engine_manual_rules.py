@@ -191,3 +191,40 @@ def test_check_warns_when_interrupt_delays_on_one_switch_differ() -> None:
     assert '"InterruptModeDelay": 10' in text.splitlines()[found[0].line - 1]
     assert result.config is not None
     assert Engine(result.config).switch_states()[1].interrupt_delay == 30
+
+
+def test_a_press_does_not_take_an_antenna_another_radio_holds_out_of_range() -> None:
+    """1.1.1: "If an antenna is being used by another radio ... The operator will not be able
+    to select that antenna unless it is configured to be shared."  Appendix F's hand-over
+    speaks of frequency changes only."""
+    e = engine(config([antenna(0, (20,), {(1, 1): [0], (2, 1): [8]}),
+                       antenna(1, (20, 40), {(1, 1): [1], (2, 1): [9]})],
+                      [radio(1, 1, 1), radio(2, 1, 2)]))
+    e.set_frequency(1, 1, 14025)
+    e.set_frequency(2, 1, 14100)
+    assert pair(e, 2, 1) == (1, 1)
+    e.set_frequency(1, 1, 13990)
+    assert pair(e, 1, 1) == (0, 0)
+    with pytest.raises(Unavailable, match="in use by station 1 radio 1"):
+        e.select(2, 1, 0)
+    assert pair(e, 1, 1) == (0, 0)
+
+
+def test_a_radio_released_from_same_band_protection_takes_only_a_covering_antenna() -> None:
+    """Appendix F, last paragraph: "If no suitable antenna is available the antenna will not be
+    changed" -- the released radio does not grab the nearest antenna (step 6)."""
+    def rel(n: int) -> dict[tuple[int, int], list[int]]:
+        return {(1, 1): [n], (2, 1): [n + 8]}
+    e = engine(config([antenna(0, (20,), rel(0)), antenna(1, (40,), rel(1))],
+                      [radio(1, 1, 1), radio(2, 1, 2)], protect_same_band=True))
+    e.set_frequency(1, 1, 14025)
+    e.set_frequency(2, 1, 14100)
+    assert pair(e, 2, 1) == (None, None)
+    e.set_frequency(1, 1, 13000)
+    assert pair(e, 1, 1) == (0, 0)
+    assert pair(e, 2, 1) == (None, None)
+    view = e.radio_view(2, 1)
+    assert view.inhibited and "already on this band" not in view.note
+    e.set_frequency(1, 1, 7050)
+    assert pair(e, 1, 1) == (1, 1)
+    assert pair(e, 2, 1) == (0, 0)

@@ -271,6 +271,7 @@ class Engine:
         info = ix.radios[ref]
         old = st.radios[ref].khz
         st.radios[ref] = st.radios[ref].with_(khz=khz, tx_khz=tx)
+        w.takeover = True
         select_by_frequency(w, ref, old)
         if info.kind is not Kind.MAIN:
             return

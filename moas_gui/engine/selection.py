@@ -51,7 +51,7 @@ def _choices(w: Work, info: RadioInfo, antenna: int, role: str) -> list[int]:
 
 
 def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = "",
-          takeover: bool = True) -> bool:
+          takeover: bool | None = None) -> bool:
     """Give ``ref`` the antennas ``tx``/``rx`` (any free path of them); False if impossible.
 
     Paths that disturb nobody are preferred; only then is another radio moved to
@@ -59,6 +59,8 @@ def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = ""
     """
     ix = w.ix
     info = ix.radios[ref]
+    if takeover is None:
+        takeover = w.takeover
     if info.kind is not Kind.MAIN:
         tx = None
     if tx is not None and rx is not None and ix.canon[tx] == ix.canon[rx]:
@@ -241,11 +243,13 @@ def select_by_frequency(w: Work, ref: RadioRef, old_khz: float | None,
         other = band_neighbour(w, ref)
         if other is not None:
             return w.set_pair(ref, None, None, f"{other} is {SAME_BAND}")
-    if suitable_only and before.note.endswith(SAME_BAND):
-        suitable_only = False
     if not suitable_only and _keep_current(w, ref, old_khz) or _suitable_steps(w, ref):
         pass
     elif suitable_only:
+        if before.note.endswith(SAME_BAND):
+            w.set_pair(ref, before.tx, before.rx, "no free antenna covers "
+                       f"{describe_khz(before.khz)}")
+            return _changed(w, ref, before)
         return False
     elif not _nearest(w, ref):
         w.set_pair(ref, None, None, f"no antenna can be connected at {describe_khz(before.khz)}")
@@ -271,6 +275,7 @@ def unsuitable(w: Work, ref: RadioRef) -> bool:
 def recheck(w: Work) -> None:
     """Give radios without a suitable antenna another chance (appendix F, last paragraphs)."""
     ix = w.ix
+    w.takeover = False
     for ref in list(w.pending):
         w.pending.remove(ref)
         select_by_frequency(w, ref, None)

@@ -23,6 +23,10 @@ class Work:
         """Radios whose antennas changed in this operation."""
         self.pending: list[RadioRef] = []
         """Radios that lost an antenna to a takeover and must be selected again."""
+        self.takeover = False
+        """Whether selection may take an antenna from a radio it does not suit: only for the
+        radio whose frequency changed (appendix F: "if another radio changes frequency and
+        the antenna is the best choice for it"), never for presses or the restart rule."""
 
     def set_pair(self, ref: RadioRef, tx: int | None, rx: int | None, note: str = "") -> bool:
         """Give ``ref`` these antennas; True when anything changed."""

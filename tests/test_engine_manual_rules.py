@@ -228,3 +228,34 @@ def test_a_radio_released_from_same_band_protection_takes_only_a_covering_antenn
     e.set_frequency(1, 1, 7050)
     assert pair(e, 1, 1) == (1, 1)
     assert pair(e, 2, 1) == (0, 0)
+
+
+def test_radio_rx_antenna_is_shown_while_the_receive_antenna_is_on_the_radios_input() -> None:
+    """6.4: "The information is passed to the client which, if it is a logging program which
+    controls the radio, could activate or deactivate the radio's RX Antenna connector"."""
+    e = engine("ms-one-amp")
+    e.set_frequency(1, 1, 3550)
+    e.select(1, 1, 5)
+    assert not e.radio_view(1, 1).radio_rx_antenna
+    changes = e.select(1, 1, 6, target="rx")
+    view = e.radio_view(1, 1)
+    assert (view.tx, view.rx) == (5, 6)
+    assert view.radio_rx_antenna and view.to_dict()["radio_rx_antenna"] is True
+    assert RadioRef(1, 1) in changes.radios
+    e.select(1, 1, 5, target="rx")
+    assert not e.radio_view(1, 1).radio_rx_antenna
+
+
+def test_the_sub_receiver_of_the_example_gets_the_loop_on_its_own_port() -> None:
+    """1.1.12: "The MOAS will select antennas for the sub receiver"; its port gets only a
+    receive antenna."""
+    e = engine("ms-one-amp")
+    e.set_frequency(1, 1, 1830)
+    e.set_frequency(1, 3, 1830)
+    sub = e.radio_view(1, 3)
+    assert (sub.tx, sub.rx, sub.radio_rx_antenna) == (None, 6, True)
+    port = e.switch_states()[1].station(3)
+    assert port.tx == 63 and port.rx_relays == frozenset({14})
+    e.set_frequency(1, 3, 14100)
+    sub = e.radio_view(1, 3)
+    assert sub.rx == 6 and sub.radio_rx_antenna

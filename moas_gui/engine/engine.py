@@ -24,6 +24,7 @@ from .index import ConfigIndex, Kind
 from .layouts import layout_view
 from .manual import select_antenna, select_direction
 from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, slot_needs
+from .ranges import nearest_path
 from .relative import relative as relative_select
 from .relative import relative_list
 from .selection import band_neighbour, recheck, select_by_frequency
@@ -390,9 +391,11 @@ class Engine:
                     break
         alt = inputs.alts.get(ref, (None, frozenset()))[0] if main else None
         listed = relative_list(ix, ref, rs.khz)
+        path = nearest_path(info.paths.get(rs.rx, ()), rs.khz) if rs.rx is not None else None
         view = RadioView(ref.station, ref.radio, rs.khz, rs.tx_freq if main else None,
                          rs.tx, rs.rx, alt, rs.transmitting, inhibited, note,
-                         None if listed is None else listed[1].ids)
+                         None if listed is None else listed[1].ids,
+                         path is not None and path.radio_rx_antenna)
         old = self._views.get(ref)
         return old if old == view else view
 

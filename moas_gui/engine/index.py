@@ -147,7 +147,7 @@ def _paths_for(antenna: Antenna, station: int, radio: int, fallback_radio: int |
         out.append(Path(
             bound(cr.range.lower, -INF), bound(cr.range.upper, INF), relays,
             frozenset(entry.rx_relays) if entry.rx_relays is not None else relays,
-            frozenset(entry.persistent_relays),
+            frozenset(entry.persistent_relays), entry.radio_rx_antenna,
         ))
     out.sort(key=lambda p: (p.lower, p.upper))
     return tuple(out)

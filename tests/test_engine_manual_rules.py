@@ -259,3 +259,17 @@ def test_the_sub_receiver_of_the_example_gets_the_loop_on_its_own_port() -> None
     e.set_frequency(1, 3, 14100)
     sub = e.radio_view(1, 3)
     assert sub.rx == 6 and sub.radio_rx_antenna
+
+
+def test_same_band_protection_uses_the_band_of_the_radio_already_there() -> None:
+    """1.1.16: "if a radio switches to a frequency within the range of another radio that radio
+    will not be connected to an antenna" -- even when it has no antenna of its own there."""
+    e = engine(config([antenna(0, (40,), {(1, 1): [0]}),
+                       antenna(1, (20,), {(1, 1): [1], (2, 1): [9]})],
+                      [radio(1, 1, 1), radio(2, 1, 2)], protect_same_band=True))
+    e.set_frequency(1, 1, 7000)
+    assert pair(e, 1, 1) == (0, 0)
+    e.set_frequency(2, 1, 7150)
+    assert pair(e, 2, 1) == (None, None)
+    assert "already on this band" in e.radio_view(2, 1).note
+    assert pair(e, 1, 1) == (0, 0)

@@ -97,9 +97,9 @@ def band_neighbour(w: Work, ref: RadioRef) -> RadioRef | None:
     ix, st = w.ix, w.st
     info = ix.radios[ref]
     rs = st.radios[ref]
-    band = info.band(rs.khz)
-    if band is None:
+    if rs.khz is None:
         return None
+    band = info.band(rs.khz)
     mine = info.radio
     for other in ix.mains:
         if related(ix, ref, other):
@@ -107,7 +107,10 @@ def band_neighbour(w: Work, ref: RadioRef) -> RadioRef | None:
         ors = st.radios[other]
         if ors.tx is None and ors.rx is None:
             continue
-        if not in_segment(band, ors.khz):
+        # 1.1.16: "a frequency within the range of another radio" -- its band as that radio
+        # sees it, or this radio's band holding the other's frequency.
+        if not (in_segment(band, ors.khz)
+                or in_segment(ix.radios[other].band(ors.khz), rs.khz)):
             continue
         theirs = ix.radios[other].radio
         if seen_together(ix, ref, other) and (
@@ -242,6 +245,8 @@ def select_by_frequency(w: Work, ref: RadioRef, old_khz: float | None,
     if info.kind is Kind.MAIN and ix.config.protect_same_band:
         other = band_neighbour(w, ref)
         if other is not None:
+            if suitable_only:
+                return False
             return w.set_pair(ref, None, None, f"{other} is {SAME_BAND}")
     if not suitable_only and _keep_current(w, ref, old_khz) or _suitable_steps(w, ref):
         pass

@@ -391,7 +391,8 @@ class Engine:
                     break
         alt = inputs.alts.get(ref, (None, frozenset()))[0] if main else None
         listed = relative_list(ix, ref, rs.khz)
-        path = nearest_path(info.paths.get(rs.rx, ()), rs.khz) if rs.rx is not None else None
+        path = nearest_path(info.paths.get(rs.rx, ()), rs.khz) \
+            if rs.rx is not None and ix.radio_rx_inputs else None
         view = RadioView(ref.station, ref.radio, rs.khz, rs.tx_freq if main else None,
                          rs.tx, rs.rx, alt, rs.transmitting, inhibited, note,
                          None if listed is None else listed[1].ids,

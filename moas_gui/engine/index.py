@@ -292,6 +292,9 @@ class ConfigIndex:
             for w in self.switch_ids for ref in self.switch_radios[w]
         }
         self.all_switches = frozenset(self.switch_ids)
+        self.radio_rx_inputs = any(p.radio_rx_antenna for info in infos.values()
+                                   for paths in info.paths.values() for p in paths)
+        """Whether any antenna is wired to a radio's RX-antenna input (6.4)."""
         self.radio_switches: dict[RadioRef, frozenset[int]] = {
             ref: frozenset(w for w, _p in infos[ref].ports) for ref in self.order
         }

@@ -80,14 +80,12 @@ def inhibits(ix: ConfigIndex, st: State, transmitter: RadioRef, receiver: RadioR
     info = ix.radios.get(receiver)
     if info is None or info.kind is not Kind.MAIN:
         return False
-    if not seen_together(ix, transmitter, receiver):
-        return False
     cfg = info.radio
-    if transmitter in cfg.always:
-        return True
-    if st.busses.get(receiver, frozenset()) & st.busses.get(transmitter, frozenset()):
-        return True
-    return transmitter in cfg.same_band and same_band(ix, st, transmitter, receiver)
+    related = (transmitter in cfg.always
+               or bool(st.busses.get(receiver, frozenset()) & st.busses.get(transmitter,
+                                                                            frozenset()))
+               or transmitter in cfg.same_band and same_band(ix, st, transmitter, receiver))
+    return related and seen_together(ix, transmitter, receiver)
 
 
 def interlocked(ix: ConfigIndex, st: State, a: RadioRef, b: RadioRef) -> bool:

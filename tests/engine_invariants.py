@@ -14,6 +14,7 @@ from typing import Any
 
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.config.model import (
+    AlternateRule,
     Antenna,
     Config,
     ControlRange,
@@ -244,6 +245,53 @@ def violations(e: Engine, facts: Facts) -> list[str]:
             if not common and f"while {t} transmits" in views[ref].note:
                 problems.append(f"{ref} claims an inhibit by {t}, which no switch can apply")
 
+    # A radio never listens on an antenna conflicting with the one another radio transmits
+    # on (5.12, 5.13, 5.9): every switch seeing both moves it to its alternate (``@``), and
+    # the alternate does not conflict either.
+    for t, vt in views.items():
+        if not vt.transmitting or vt.tx is None or t in facts.receivers:
+            continue
+        tsw = facts.switches_of(t)
+        for ref, v in views.items():
+            if ref in facts.receivers or facts.family[ref] == facts.family[t] or v.rx is None:
+                continue
+            if not facts.conflict(v.rx, vt.tx) or (
+                    v.rx == vt.tx and facts.shared_members.get(v.rx) is not None
+                    and e.system_shared(facts.shared_members[v.rx])):
+                continue
+            if v.alt is not None and facts.conflict(v.alt, vt.tx):
+                problems.append(f"{ref}'s alternate {v.alt} conflicts with {vt.tx}, on which "
+                                f"{t} transmits")
+            for w, ports in facts.switches_of(ref).items():
+                for tp in tsw.get(w, ()):
+                    missing = [p for p in ports if p != tp
+                               and p not in states[w].use_alternate[tp - 1]]
+                    if missing:
+                        problems.append(f"{ref} listens on {v.rx} on switch {w} while {t} "
+                                        f"transmits on {vt.tx}")
+
+    # The Relay and Extra functions' relays are held while on (6.6.6, 6.6.8).
+    only = cfg.switches[0].id if len(cfg.switches) == 1 else None
+    for f in cfg.functions:
+        p = f.int_params
+        if f.name == "Relay" and p and e.function_on(f.id):
+            owner = RadioRef(p[1], p[2]) if len(p) >= 3 else None
+            w, local = p[0] // 100 + 1, p[0] % 100
+            if w in states and not (owner in views and views[owner].transmitting) \
+                    and local not in states[w].station0:
+                problems.append(f"Relay function {f.id} is on but relay {p[0]} is off")
+        if f.name == "Extra" and len(p) >= 3 and e.function_on(f.id) \
+                and e.function_status(p[0], p[1], f.id)[0]:
+            ref = RadioRef(p[0], p[1])
+            if ref in views and not views[ref].transmitting:
+                w, local = p[-1] // 100 + 1, p[-1] % 100
+                for sw, ports in facts.switches_of(ref).items():
+                    if sw == w or (only is not None and sw == only):
+                        for port in ports:
+                            if local not in states[sw].station(port).extra:
+                                problems.append(f"Extra function {f.id} is on but relay "
+                                                f"{p[-1]} is not among port {port}'s extras")
+
     # ProtectSameBand: two main radios are never connected on one band (1.1.16, F step 1).
     if cfg.protect_same_band:
         mains = [(ref, v) for ref, v in views.items() if ref not in facts.receivers
@@ -424,7 +472,7 @@ def generated_station(rng: random.Random) -> Config:
         antennas.append(Antenna(
             id=ident, short_name=f"A{ident}", control=control(bands, ident),
             conflicts=(ident,), tx_only=kind < 0.1, no_select=0.1 <= kind < 0.15,
-            shared_tx=False))
+            shared_tx=kind > 0.7))
         ident += 1
     fast_all = tuple(range(ident + 10))
     # a stack: Top (s), Bot (s+1), Both (s+2) with components
@@ -446,15 +494,32 @@ def generated_station(rng: random.Random) -> Config:
     antennas = [a if a.fast else Antenna(**{**_fields(a), "fast": fast_all}) for a in antennas]
     systems = [System(id=1, additive_antennas=(s, s + 1), exclusive_antennas=(s + 2,)),
                System(id=2, shared_antennas=bev, shared=True)]
-    functions = [Function(id=1, name="Share", int_params=(2,))]
+    a, b = refs[0], refs[1]
+    functions = [
+        Function(id=1, name="Share", int_params=(2,)),
+        Function(id=2, name="Partner", int_params=(a.station, a.radio, b.station, b.radio)),
+        Function(id=3, name="Extra", int_params=(a.station, a.radio, 50)),
+        Function(id=4, name="Extra", int_params=(a.station, a.radio, b.station, b.radio, 51),
+                 string_params=("Transfer",)),
+        Function(id=5, name="Relay", int_params=(52, a.station, a.radio, 0, 1),
+                 string_params=("S",)),
+        Function(id=6, name="Relay", int_params=(53,)),
+        Function(id=7, name="Inhibit", int_params=(b.station, b.radio, 1)),
+        Function(id=8, name="AltActive", int_params=(b.station, b.radio, a.station, a.radio)),
+        Function(id=9, name="RXTX"),
+        Function(id=10, name="AntennaSwap", int_params=(a.station, a.radio, b.station, b.radio)),
+    ]
     radios = []
+    interlock = rng.random() < 0.6
     for i, ref in enumerate(refs):
         others = [o for o in refs if o != ref]
-        always = tuple(o for o in others if rng.random() < 0.3)
+        always = tuple(o for o in others if rng.random() < 0.3
+                       or interlock and {ref, o} == {refs[0], refs[1]})
         switches = (SwitchPort(1, i + 1),) + ((SwitchPort(2, i + 1),) if two_switches else ())
         radios.append(Radio(station=ref.station, radio=ref.radio, switches=switches,
-                            always=always, out_of_band=True,
-                            sub_receiver=sub if i == 0 else None))
+                            always=always, out_of_band=True, inhibit_buss=(1,) if i == 2 else (),
+                            sub_receiver=sub if i == 0 else None,
+                            alternate=(AlternateRule(antenna=ident - 1),) if i == 1 else ()))
     switches = [Switch(1, "emulator", indicate_tr=True)] + (
         [Switch(2, "emulator", indicate_tr=True)] if two_switches else [])
     return Config(antennas=tuple(antennas), systems=tuple(systems), functions=tuple(functions),

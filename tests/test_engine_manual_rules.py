@@ -273,3 +273,46 @@ def test_same_band_protection_uses_the_band_of_the_radio_already_there() -> None
     assert pair(e, 2, 1) == (None, None)
     assert "already on this band" in e.radio_view(2, 1).note
     assert pair(e, 1, 1) == (0, 0)
+
+
+def _shared_tx_on_a_buss() -> Config:
+    """Two radios sharing a SharedTX tribander (0), interlocked only through inhibit buss 1,
+    which an Inhibit function (1) toggles for radio 2.1; receive antennas 1 and 2."""
+    def rel(n: int) -> dict[tuple[int, int], list[int]]:
+        return {(1, 1): [n], (2, 1): [n + 8]}
+    every = (0, 1, 2)
+    return config(
+        [antenna(0, (20,), rel(0), shared_tx=True, fast=every),
+         antenna(1, (20,), rel(1), rx_only=True, conflicts=(1, 0), fast=every),
+         antenna(2, (20,), rel(2), rx_only=True, fast=every)],
+        [radio(1, 1, 1, inhibit_buss=(1,)), radio(2, 1, 2, inhibit_buss=(1,))],
+        functions=[Function(id=1, name="Inhibit", int_params=(2, 1, 1))])
+
+
+def test_ending_the_interlock_of_radios_sharing_a_transmit_antenna_is_refused() -> None:
+    """5.12: "if the radios use inhibits so that only one can transmit at a time ... then
+    they can" select conflicting antennas -- only then."""
+    e = engine(_shared_tx_on_a_buss())
+    e.set_frequency(1, 1, 14025)
+    e.set_frequency(2, 1, 14100)
+    assert pair(e, 1, 1)[0] == 0 and pair(e, 2, 1)[0] == 0
+    assert e.function_on(1)
+    before = e.switch_states()
+    with pytest.raises(Unavailable, match="only while each inhibits the other"):
+        e.run_function(2, 1, 1)
+    assert e.function_on(1) and e.switch_states() == before
+
+
+def test_a_radio_transmitting_on_a_shared_antenna_moves_the_other_off_it() -> None:
+    """5.12/5.13: a radio listening on an antenna another transmits on is moved to its
+    alternate while that one transmits (here none: the switch connects nothing)."""
+    e = engine(_shared_tx_on_a_buss())
+    e.set_frequency(1, 1, 14025)
+    e.set_frequency(2, 1, 14100)
+    e.select(2, 1, 0)
+    assert pair(e, 2, 1) == (0, 0)
+    e.set_transmitting(1, 1, True)
+    states = e.switch_states()[1]
+    assert 2 in states.use_alternate[0]
+    assert e.radio_view(2, 1).alt is None
+    assert e.radio_view(2, 1).inhibited

@@ -27,6 +27,7 @@ from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, s
 from .ranges import nearest_path
 from .relative import relative as relative_select
 from .relative import relative_list
+from .rules import unpermitted
 from .selection import band_neighbour, recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
@@ -273,6 +274,7 @@ class Engine:
         old = st.radios[ref].khz
         st.radios[ref] = st.radios[ref].with_(khz=khz, tx_khz=tx)
         w.takeover = True
+        w.reported = ref
         select_by_frequency(w, ref, old)
         if info.kind is not Kind.MAIN:
             return
@@ -309,6 +311,8 @@ class Engine:
             if need_running:
                 _same_band_guard(w)
             recheck(w)
+            if self._ix.any_shared_tx:
+                _interlock_guard(w, need_running)
             refresh_relays(self._ix, st, w)
             return self._commit(w)
         except Exception:
@@ -416,6 +420,27 @@ def _same_band_guard(w: Work) -> None:
         if other is not None:
             raise Unavailable(f"{other} is already on this band ({radio_name(ref)} may not "
                               "join it: ProtectSameBand)")
+
+
+def _interlock_guard(w: Work, refuse: bool) -> None:
+    """5.12: conflicting transmit antennas are shared only by radios that inhibit each other.
+    An operator's request that ends an interlock while two radios share such antennas is
+    refused; a frequency report that does so (a ``SameBand`` interlock left behind) gives the
+    reporting radio other antennas."""
+    ix, st = w.ix, w.st
+    for _ in range(len(ix.order) + 1):
+        bad = unpermitted(ix, st)
+        if not bad:
+            return
+        a, b, x, y = bad[0]
+        if refuse:
+            raise Unavailable(f"{a} on {ix.describe(x)} and {b} on {ix.describe(y)} share "
+                              "conflicting antennas only while each inhibits the other")
+        victim = a if a == w.reported or ix.radios[a].main == w.reported else b
+        rs = st.radios[victim]
+        w.set_pair(victim, None, None, rs.note)
+        select_by_frequency(w, victim, None)
+    raise Unavailable("conflicting antennas could not be resolved")
 
 
 def _frequency(name: str, value: float) -> float:

@@ -292,6 +292,8 @@ class ConfigIndex:
             for w in self.switch_ids for ref in self.switch_radios[w]
         }
         self.all_switches = frozenset(self.switch_ids)
+        self.any_shared_tx = any(a.shared_tx for a in self.antennas.values())
+        """Whether conflicts may be permitted by an interlock (5.12), which can change."""
         self.radio_rx_inputs = any(p.radio_rx_antenna for info in infos.values()
                                    for paths in info.paths.values() for p in paths)
         """Whether any antenna is wired to a radio's RX-antenna input (6.4)."""

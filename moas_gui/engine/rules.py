@@ -137,6 +137,20 @@ def join_shared(ix: ConfigIndex, st: State, ref: RadioRef, antenna: int) -> int:
     return antenna
 
 
+def unpermitted(ix: ConfigIndex, st: State) -> list[tuple[RadioRef, RadioRef, int, int]]:
+    """Radios holding conflicting antennas the rules do not permit now (after an inhibit
+    relation changed under two radios sharing a ``SharedTX`` antenna)."""
+    held = [(ref, a) for ref in ix.order if ix.radios[ref].kind is not Kind.ALT
+            for a in {st.radios[ref].tx, st.radios[ref].rx} if a is not None]
+    out = []
+    for i, (ra, x) in enumerate(held):
+        for rb, y in held[i + 1:]:
+            if ra != rb and ix.conflict(x, y) and not related(ix, ra, rb) \
+                    and not permitted(ix, st, ra, rb, x, y):
+                out.append((ra, rb, x, y))
+    return out
+
+
 # -- usability --------------------------------------------------------------------------------
 
 def unusable(ix: ConfigIndex, st: State, info: RadioInfo, antenna: int, khz: float | None,
@@ -247,5 +261,20 @@ def _repath(ix: ConfigIndex, st: State, ref: RadioRef, mine: Sequence[int], othe
     return None
 
 
-__all__ = ["Plan", "inhibits", "interlocked", "join_shared", "permitted", "plan", "related",
-           "same_band", "seen_together", "shared_member", "shared_users", "suits", "unusable", "users"]
+__all__ = [
+    "Plan",
+    "inhibits",
+    "interlocked",
+    "join_shared",
+    "permitted",
+    "plan",
+    "related",
+    "same_band",
+    "seen_together",
+    "shared_member",
+    "shared_users",
+    "suits",
+    "unpermitted",
+    "unusable",
+    "users",
+]

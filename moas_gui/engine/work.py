@@ -23,6 +23,8 @@ class Work:
         """Radios whose antennas changed in this operation."""
         self.pending: list[RadioRef] = []
         """Radios that lost an antenna to a takeover and must be selected again."""
+        self.reported: RadioRef | None = None
+        """The radio whose frequency report this operation is."""
         self.takeover = False
         """Whether selection may take an antenna from a radio it does not suit: only for the
         radio whose frequency changed (appendix F: "if another radio changes frequency and

@@ -20,7 +20,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
 
-from engine_invariants import Facts, generated_station, operations, replay_matches, run_evening
+from engine_invariants import Facts, operations, replay_matches, run_evening
+from engine_stations import generated_station
 from test_engine_appendix_f_differential import compare
 
 from moas_gui.engine.config import load_config

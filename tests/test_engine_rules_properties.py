@@ -9,7 +9,8 @@ import random
 
 import pytest
 from engine_builders import example
-from engine_invariants import Facts, generated_station, operations, replay_matches, run_evening
+from engine_invariants import Facts, operations, replay_matches, run_evening
+from engine_stations import generated_station
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 

@@ -18,8 +18,9 @@ from types import MappingProxyType
 from .changes import NO_CHANGES, Changes
 from .config.model import Config, RadioRef
 from .derive import alternates, inhibit_reason
-from .errors import BadRequest, NotFound, NotRunning, Unavailable
+from .errors import BadRequest, NotFound, NotRunning
 from .functions import extra_relays, function, is_on, refresh_relays, run, status
+from .guards import interlock_guard, same_band_guard
 from .index import ConfigIndex, Kind
 from .layouts import layout_view
 from .manual import select_antenna, select_direction
@@ -27,8 +28,7 @@ from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, s
 from .ranges import nearest_path
 from .relative import relative as relative_select
 from .relative import relative_list
-from .rules import unpermitted
-from .selection import band_neighbour, recheck, select_by_frequency
+from .selection import recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
 from .switchstate import StationAntennas, SwitchState
@@ -309,10 +309,10 @@ class Engine:
         try:
             op(w)
             if need_running:
-                _same_band_guard(w)
+                same_band_guard(w)
             recheck(w)
             if self._ix.any_shared_tx:
-                _interlock_guard(w, need_running)
+                interlock_guard(w, need_running)
             refresh_relays(self._ix, st, w)
             return self._commit(w)
         except Exception:
@@ -403,44 +403,6 @@ class Engine:
                          path is not None and path.radio_rx_antenna)
         old = self._views.get(ref)
         return old if old == view else view
-
-
-def _same_band_guard(w: Work) -> None:
-    """1.1.16: with ``ProtectSameBand`` a radio on another radio's band "will not be connected
-    to an antenna", so a press (or function, relative step, direction) connecting one there is
-    refused like any other unavailable antenna."""
-    ix = w.ix
-    if not ix.config.protect_same_band:
-        return
-    for ref in sorted(w.touched):
-        rs = w.st.radios[ref]
-        if ix.radios[ref].kind is not Kind.MAIN or (rs.tx is None and rs.rx is None):
-            continue
-        other = band_neighbour(w, ref)
-        if other is not None:
-            raise Unavailable(f"{other} is already on this band ({radio_name(ref)} may not "
-                              "join it: ProtectSameBand)")
-
-
-def _interlock_guard(w: Work, refuse: bool) -> None:
-    """5.12: conflicting transmit antennas are shared only by radios that inhibit each other.
-    An operator's request that ends an interlock while two radios share such antennas is
-    refused; a frequency report that does so (a ``SameBand`` interlock left behind) gives the
-    reporting radio other antennas."""
-    ix, st = w.ix, w.st
-    for _ in range(len(ix.order) + 1):
-        bad = unpermitted(ix, st)
-        if not bad:
-            return
-        a, b, x, y = bad[0]
-        if refuse:
-            raise Unavailable(f"{a} on {ix.describe(x)} and {b} on {ix.describe(y)} share "
-                              "conflicting antennas only while each inhibits the other")
-        victim = a if a == w.reported or ix.radios[a].main == w.reported else b
-        rs = st.radios[victim]
-        w.set_pair(victim, None, None, rs.note)
-        select_by_frequency(w, victim, None)
-    raise Unavailable("conflicting antennas could not be resolved")
 
 
 def _frequency(name: str, value: float) -> float:

@@ -24,7 +24,7 @@ from enum import Enum
 
 from .config.model import Antenna, Config, Function, Radio, RadioRef, StationRelays, Switch
 from .ranges import INF, Path, Segment, bound, merge_segments, path_at
-from .systems import SystemIndex, build_system_index
+from .systems import Link, SystemIndex, build_system_index
 
 SWITCH_RELAYS = 64
 """Relays per switch: switch N owns (N-1)*100 .. (N-1)*100+63."""
@@ -102,6 +102,9 @@ class RadioInfo:
         else the nearest one (the radio tuned beyond its edge, appendix F step 2)."""
         if khz is None:
             return None
+        found = self.segment(antenna, khz)
+        if found is not None:
+            return found
         best: Segment | None = None
         best_d = float("inf")
         for seg in self.segments.get(antenna, ()):
@@ -175,6 +178,10 @@ class ConfigIndex:
         self.fast = _symmetric(config.antennas, "fast")
         self._build_path_groups(config)
         self.systems: SystemIndex = build_system_index(config.systems, self.canon, self.comps)
+        self.shared_members: frozenset[int] = frozenset(
+            a for a in self.canon if (m := self.systems.parent(self.canon[a])) is not None
+            and m.link is Link.SHARED)
+        """Antennas that are shared members of a system (5.10), whatever its mode now."""
         self.switches: dict[int, Switch] = {s.id: s for s in config.switches}
         self.switch_ids: tuple[int, ...] = tuple(sorted(self.switches))
         self.functions: dict[int, Function] = {f.id: f for f in config.functions}

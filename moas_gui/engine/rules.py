@@ -97,6 +97,8 @@ def interlocked(ix: ConfigIndex, st: State, a: RadioRef, b: RadioRef) -> bool:
 
 def shared_member(ix: ConfigIndex, st: State, antenna: int) -> int | None:
     """The system when ``antenna`` is a shared member of a system in shared mode."""
+    if antenna not in ix.shared_members:
+        return None
     m = ix.systems.parent(ix.canon[antenna])
     if m is None or m.link is not Link.SHARED or not st.shared.get(m.system, False):
         return None

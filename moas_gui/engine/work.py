@@ -37,7 +37,8 @@ class Work:
         if info.kind is not Kind.MAIN:
             tx = None
         if rs.tx == tx and rs.rx == rx and rs.note == note:
-            self.remember(ref)
+            if self.reported is not None:
+                self.remember(ref)
             return False
         moved = rs.tx != tx or rs.rx != rx
         self.st.radios[ref] = rs.with_(tx=tx, rx=rx, note=note)

@@ -26,6 +26,18 @@ def test_a_radio_joining_a_shared_system_out_of_band_gets_the_member_in_use() ->
     assert pair(e, 2, 1) == (None, 91)
 
 
+def test_a_radio_joining_a_shared_system_in_band_gets_the_member_in_use() -> None:
+    """5.10 in band: the 80 m 4-square is in use, so radio 2.1 at 4000 kHz can only listen
+    on the beverages (one coax), which radio 1.1 has on Bev S."""
+    e = engine("big-station")
+    e.set_frequency(1, 1, 3600)
+    e.select(1, 1, 91, target="rx")
+    assert pair(e, 1, 1) == (20, 91)
+    e.set_frequency(2, 1, 4000)
+    assert pair(e, 2, 1) == (None, 91)
+    assert e.radio_view(2, 1).inhibited
+
+
 def test_tuning_beyond_the_band_edge_and_back_keeps_the_antenna() -> None:
     """Appendix F step 2: "the case where an operator has tuned beyond the band edge and
     then tunes back into the band"."""

@@ -48,6 +48,8 @@ def test_fields_the_protocol_may_grow_are_read_when_present() -> None:
     assert rotator.travel_known
     radio = parse_radio({"station": 2, "radio": 1, "relative": [3, 4]})
     assert radio.relative == (3, 4)
+    assert radio.radio_rx_antenna is False
+    assert parse_radio({"station": 2, "radio": 1, "radio_rx_antenna": True}).radio_rx_antenna
 
 
 @pytest.mark.parametrize(("entry", "words"), [
@@ -57,6 +59,7 @@ def test_fields_the_protocol_may_grow_are_read_when_present() -> None:
     ({"station": 1, "radio": 1, "transmitting": 1}, "'transmitting' is the number 1, not true"),
     ({"station": True, "radio": 1}, "'station' is true, not a whole number"),
     ({"station": 1, "radio": 1, "relative": [1, "x"]}, "relative[1] is the string 'x'"),
+    ({"station": 1, "radio": 1, "radio_rx_antenna": 1}, "'radio_rx_antenna' is the number 1"),
     ([1, 2], "radio event is a list, not a JSON object"),
 ])
 def test_a_wrong_field_is_refused_naming_the_field(entry: object, words: str) -> None:

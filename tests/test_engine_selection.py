@@ -184,16 +184,35 @@ def test_antenna_is_taken_over_by_a_radio_it_suits_better() -> None:
 
 
 def test_radio_without_antenna_gets_one_when_another_radio_frees_it() -> None:
+    e = engine(config([antenna(0, (20,), {(1, 1): [0], (1, 2): [8]}),
+                       antenna(1, (40,), {(1, 1): [1], (1, 2): [9]})],
+                      [radio(1, 1, 1), radio(1, 2, 2)]))
+    e.set_frequency(1, 1, 14025)
+    e.set_frequency(1, 2, 14100)
+    assert pair(e, 1, 2) == (1, 1)
+    assert e.radio_view(1, 2).inhibited
+    changes = e.set_frequency(1, 1, 7000)
+    assert pair(e, 1, 1) == (1, 1)
+    assert pair(e, 1, 2) == (0, 0)
+    assert ref(1, 2) in changes.radios
+    assert not e.radio_view(1, 2).inhibited
+
+
+def test_an_antenna_kept_out_of_range_goes_to_the_next_radio_reporting_a_frequency() -> None:
+    """Appendix F: "if another radio changes frequency and the antenna is the best choice for
+    it the antenna will be selected by the other radio"; the restart rule alone does not take
+    an antenna in use (1.1.1)."""
     e = engine(config([antenna(0, (20,), {(1, 1): [0], (1, 2): [8]})],
                       [radio(1, 1, 1), radio(1, 2, 2)]))
     e.set_frequency(1, 1, 14025)
     e.set_frequency(1, 2, 14100)
-    assert pair(e, 1, 2) == (0, 0) or pair(e, 1, 2) == (None, None)
-    assert e.radio_view(1, 2).inhibited
-    changes = e.set_frequency(1, 1, 7000)
+    e.set_frequency(1, 1, 7000)
+    assert pair(e, 1, 1) == (0, 0)
+    assert pair(e, 1, 2) == (None, None)
+    e.set_frequency(1, 2, 14100)
     assert pair(e, 1, 2) == (0, 0)
-    assert ref(1, 2) in changes.radios
-    assert not e.radio_view(1, 2).inhibited
+    assert pair(e, 1, 1) == (None, None)
+    assert e.radio_view(1, 1).inhibited
 
 
 def test_split_transmit_frequency_outside_the_antenna_inhibits() -> None:

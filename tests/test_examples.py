@@ -686,7 +686,10 @@ def test_miscellaneous_items_are_set(name: str) -> None:
 @examples
 def test_radios_interlock_or_share_a_buss_so_only_one_transmits_at_a_time(name: str) -> None:
     cfg = load(name)
-    by_ref = {(r["Station"], r["Radio"]): r for r in cfg["Radios"]}
+    receivers = {(r["Station"], n) for r in cfg["Radios"]
+                 for n in (r.get("SubReceiver"), r.get("AltReceiver")) if n is not None}
+    by_ref = {(r["Station"], r["Radio"]): r for r in cfg["Radios"]
+              if (r["Station"], r["Radio"]) not in receivers}
     for me, r in by_ref.items():
         assert r["OutOfBand"] is True
         guards = {(x["Station"], x["Radio"]) for x in r.get("Always", []) + r.get("SameBand", [])}
@@ -853,7 +856,8 @@ def test_ms_one_amp_sends_yaesu_band_data_and_lights_each_radios_led() -> None:
     yaesu = {160: 1, 80: 2, 40: 3, 30: 4, 20: 5, 17: 6, 15: 7, 12: 8, 10: 9}
     lines = [44, 45, 46, 47]  # band data A, B, C, D
     leds = {}
-    for r in cfg["Radios"]:
+    transmitters = [r for r in cfg["Radios"] if r["Radio"] in (1, 2)]
+    for r in transmitters:
         groups = r["Relays"]
         assert {band_of(g) for g in groups} == set(BANDS)
         for g in groups:
@@ -865,7 +869,7 @@ def test_ms_one_amp_sends_yaesu_band_data_and_lights_each_radios_led() -> None:
     assert len(amp_key) == 1, "one amplifier keying relay for both radios"
     assert len(leds[1] - amp_key) == 1 and len(leds[2] - amp_key) == 1
     assert leds[1] - amp_key != leds[2] - amp_key
-    r1, r2 = cfg["Radios"]
+    r1, r2 = transmitters
     # the amplifier's 2x2 switches follow whichever radio transmits last
     assert all(g["Reset"] == r2["Relays"][0]["Set"] for g in r1["Relays"])
 
@@ -873,16 +877,30 @@ def test_ms_one_amp_sends_yaesu_band_data_and_lights_each_radios_led() -> None:
 def test_ms_one_amp_moves_the_listener_to_the_vertical_when_both_use_tribanders_on_20() -> None:
     cfg = load("ms-one-amp")
     ants = antennas(cfg)
-    for r in cfg["Radios"]:
+    for r in cfg["Radios"][:2]:
         (rule,) = r["Alternate"]
         assert band_of(rule) == 20
         assert ants[rule["Antenna"]]["ShortName"] == "Vertical"
         assert 20 in {band_of(c) for c in ants[rule["Antenna"]]["Control"]}
         assert set(rule["ThisAntennas"]) == set(rule["OtherAntennas"])
         assert len(r["AltActive"]) == 1
-    on_160 = [a for a in ants.values() if 160 in {band_of(c) for c in a["Control"]}]
+    on_160 = [a for a in ants.values() if 160 in {band_of(c) for c in a["Control"]}
+              and not a.get("RXOnly")]
     assert len(on_160) == 1, "only one station at a time on 160"
     assert cfg["ProtectSameBand"] is False
+
+
+def test_ms_one_amp_has_a_sub_receiver_on_a_receive_loop_at_the_radios_rx_input() -> None:
+    cfg = load("ms-one-amp")
+    r1 = cfg["Radios"][0]
+    assert r1["SubReceiver"] == 3
+    sub = next(r for r in cfg["Radios"] if r["Radio"] == 3)
+    assert sub["Switches"] == [{"Port": 3}] and "Relays" not in sub
+    (loop,) = [a for a in antennas(cfg).values() if a.get("RXOnly")]
+    assert {band_of(c) for c in loop["Control"]} == {160, 80}
+    for c in loop["Control"]:
+        assert {(e["Station"], e["Radio"]) for e in c["Stations"]} == {(1, 1), (1, 2), (1, 3)}
+        assert all(e["RadioRXAntenna"] is True for e in c["Stations"])
 
 
 # ------------------------------------------------------------------ the guide and the list

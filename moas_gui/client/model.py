@@ -183,6 +183,8 @@ class RadioView:
     inhibited: bool = False
     note: str = ""
     relative: tuple[int, ...] | None = None
+    radio_rx_antenna: bool = False
+    """The receive antenna is on the radio's own RX-antenna input (switch that input on)."""
 
     @property
     def key(self) -> RadioKey:
@@ -362,6 +364,7 @@ def parse_radio(obj: object, where: str = "radio") -> RadioView:
         inhibited=f.flag("inhibited"),
         note=f.text("note"),
         relative=relative,
+        radio_rx_antenna=f.flag("radio_rx_antenna"),
     )
 
 

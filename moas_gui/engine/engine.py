@@ -20,10 +20,12 @@ from .config.model import Config, RadioRef
 from .derive import alternates, inhibit_reason
 from .errors import BadRequest, NotFound, NotRunning
 from .functions import extra_relays, function, is_on, refresh_relays, run, status
+from .guards import interlock_guard, same_band_guard
 from .index import ConfigIndex, Kind
 from .layouts import layout_view
 from .manual import select_antenna, select_direction
 from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, slot_needs
+from .ranges import nearest_path
 from .relative import relative as relative_select
 from .relative import relative_list
 from .selection import recheck, select_by_frequency
@@ -112,6 +114,10 @@ class Engine:
         f = function(self._ix, function_id)
         verdict = status(self._ix, self._state, ref, f)
         return verdict.available, verdict.reason
+
+    def system_shared(self, system_id: int) -> bool:
+        """Whether a shared-capable system is in shared mode now (5.10, the Share function)."""
+        return self._state.shared.get(system_id, False)
 
     def function_on(self, function_id: int) -> bool:
         """Whether a toggling function (Share, Relay, Inhibit, Extra, Partner, AltActive) is on."""
@@ -267,6 +273,8 @@ class Engine:
         info = ix.radios[ref]
         old = st.radios[ref].khz
         st.radios[ref] = st.radios[ref].with_(khz=khz, tx_khz=tx)
+        w.takeover = True
+        w.reported = ref
         select_by_frequency(w, ref, old)
         if info.kind is not Kind.MAIN:
             return
@@ -300,7 +308,11 @@ class Engine:
         saved_maps = dict(self._maps)
         try:
             op(w)
+            if need_running:
+                same_band_guard(w)
             recheck(w)
+            if self._ix.any_shared_tx:
+                interlock_guard(w, need_running)
             refresh_relays(self._ix, st, w)
             return self._commit(w)
         except Exception:
@@ -383,9 +395,12 @@ class Engine:
                     break
         alt = inputs.alts.get(ref, (None, frozenset()))[0] if main else None
         listed = relative_list(ix, ref, rs.khz)
+        path = nearest_path(info.paths.get(rs.rx, ()), rs.khz) \
+            if rs.rx is not None and ix.radio_rx_inputs else None
         view = RadioView(ref.station, ref.radio, rs.khz, rs.tx_freq if main else None,
                          rs.tx, rs.rx, alt, rs.transmitting, inhibited, note,
-                         None if listed is None else listed[1].ids)
+                         None if listed is None else listed[1].ids,
+                         path is not None and path.radio_rx_antenna)
         old = self._views.get(ref)
         return old if old == view else view
 

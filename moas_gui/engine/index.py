@@ -24,7 +24,7 @@ from enum import Enum
 
 from .config.model import Antenna, Config, Function, Radio, RadioRef, StationRelays, Switch
 from .ranges import INF, Path, Segment, bound, merge_segments, path_at
-from .systems import SystemIndex, build_system_index
+from .systems import Link, SystemIndex, build_system_index
 
 SWITCH_RELAYS = 64
 """Relays per switch: switch N owns (N-1)*100 .. (N-1)*100+63."""
@@ -97,6 +97,22 @@ class RadioInfo:
                 return seg
         return None
 
+    def used_segment(self, antenna: int, khz: float | None) -> Segment | None:
+        """The segment of ``antenna`` a radio at ``khz`` was using: the one holding ``khz``,
+        else the nearest one (the radio tuned beyond its edge, appendix F step 2)."""
+        if khz is None:
+            return None
+        found = self.segment(antenna, khz)
+        if found is not None:
+            return found
+        best: Segment | None = None
+        best_d = float("inf")
+        for seg in self.segments.get(antenna, ()):
+            d = max(seg[0] - khz, khz - seg[1], 0.0)
+            if d < best_d:
+                best, best_d = seg, d
+        return best
+
 
 def switch_of_relay(relay: int) -> int:
     return relay // 100 + 1
@@ -134,7 +150,7 @@ def _paths_for(antenna: Antenna, station: int, radio: int, fallback_radio: int |
         out.append(Path(
             bound(cr.range.lower, -INF), bound(cr.range.upper, INF), relays,
             frozenset(entry.rx_relays) if entry.rx_relays is not None else relays,
-            frozenset(entry.persistent_relays),
+            frozenset(entry.persistent_relays), entry.radio_rx_antenna,
         ))
     out.sort(key=lambda p: (p.lower, p.upper))
     return tuple(out)
@@ -162,6 +178,10 @@ class ConfigIndex:
         self.fast = _symmetric(config.antennas, "fast")
         self._build_path_groups(config)
         self.systems: SystemIndex = build_system_index(config.systems, self.canon, self.comps)
+        self.shared_members: frozenset[int] = frozenset(
+            a for a in self.canon if (m := self.systems.parent(self.canon[a])) is not None
+            and m.link is Link.SHARED)
+        """Antennas that are shared members of a system (5.10), whatever its mode now."""
         self.switches: dict[int, Switch] = {s.id: s for s in config.switches}
         self.switch_ids: tuple[int, ...] = tuple(sorted(self.switches))
         self.functions: dict[int, Function] = {f.id: f for f in config.functions}
@@ -279,6 +299,11 @@ class ConfigIndex:
             for w in self.switch_ids for ref in self.switch_radios[w]
         }
         self.all_switches = frozenset(self.switch_ids)
+        self.any_shared_tx = any(a.shared_tx for a in self.antennas.values())
+        """Whether conflicts may be permitted by an interlock (5.12), which can change."""
+        self.radio_rx_inputs = any(p.radio_rx_antenna for info in infos.values()
+                                   for paths in info.paths.values() for p in paths)
+        """Whether any antenna is wired to a radio's RX-antenna input (6.4)."""
         self.radio_switches: dict[RadioRef, frozenset[int]] = {
             ref: frozenset(w for w, _p in infos[ref].ports) for ref in self.order
         }

@@ -41,7 +41,7 @@ def _why_not(w: Work, ref: RadioRef, tx: int | None, rx: int | None) -> str:
     assert first is not None
     for p in ix.group[first]:
         result, reason = plan(ix, st, ref, p, also=(rx,) if tx is not None and rx is not None
-                              and rx != tx else ())
+                              and rx != tx else (), takeover=False)
         if result is None and reason:
             return reason
     return f"{ix.describe(first)} cannot be used by {ref} now"

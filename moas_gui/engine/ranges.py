@@ -32,6 +32,8 @@ class Path:
     relays: frozenset[int]
     rx_relays: frozenset[int]
     persistent: frozenset[int]
+    radio_rx_antenna: bool = False
+    """The antenna reaches the radio through its separate RX-antenna input (6.4)."""
 
     @property
     def unbounded(self) -> bool:

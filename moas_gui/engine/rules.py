@@ -67,6 +67,12 @@ def same_band(ix: ConfigIndex, st: State, transmitter: RadioRef, receiver: Radio
     return in_segment(seg, t.tx_freq)
 
 
+def seen_together(ix: ConfigIndex, a: RadioRef, b: RadioRef) -> bool:
+    """Whether some switch has ports of both radios: only such a switch can inhibit one
+    while the other transmits (it reads one's T/R line and drives the other's inhibit)."""
+    return bool(ix.radio_switches.get(a, frozenset()) & ix.radio_switches.get(b, frozenset()))
+
+
 def inhibits(ix: ConfigIndex, st: State, transmitter: RadioRef, receiver: RadioRef) -> bool:
     """Whether ``receiver`` is inhibited while ``transmitter`` transmits (5.11)."""
     if transmitter == receiver:
@@ -75,11 +81,11 @@ def inhibits(ix: ConfigIndex, st: State, transmitter: RadioRef, receiver: RadioR
     if info is None or info.kind is not Kind.MAIN:
         return False
     cfg = info.radio
-    if transmitter in cfg.always:
-        return True
-    if st.busses.get(receiver, frozenset()) & st.busses.get(transmitter, frozenset()):
-        return True
-    return transmitter in cfg.same_band and same_band(ix, st, transmitter, receiver)
+    related = (transmitter in cfg.always
+               or bool(st.busses.get(receiver, frozenset()) & st.busses.get(transmitter,
+                                                                            frozenset()))
+               or transmitter in cfg.same_band and same_band(ix, st, transmitter, receiver))
+    return related and seen_together(ix, transmitter, receiver)
 
 
 def interlocked(ix: ConfigIndex, st: State, a: RadioRef, b: RadioRef) -> bool:
@@ -91,6 +97,8 @@ def interlocked(ix: ConfigIndex, st: State, a: RadioRef, b: RadioRef) -> bool:
 
 def shared_member(ix: ConfigIndex, st: State, antenna: int) -> int | None:
     """The system when ``antenna`` is a shared member of a system in shared mode."""
+    if antenna not in ix.shared_members:
+        return None
     m = ix.systems.parent(ix.canon[antenna])
     if m is None or m.link is not Link.SHARED or not st.shared.get(m.system, False):
         return None
@@ -108,10 +116,11 @@ def permitted(ix: ConfigIndex, st: State, a: RadioRef, b: RadioRef, x: int, y: i
 
 def shared_users(ix: ConfigIndex, st: State, system: int, ref: RadioRef
                  ) -> list[tuple[RadioRef, int]]:
-    """Other radios (outside ``ref``'s family) using a shared member of ``system``."""
+    """Other radios using a shared member of ``system``, ``ref``'s own sub receiver included
+    (it is "an additional radio", 1.1.12, on the same coax)."""
     out = []
     for other, rs in st.radios.items():
-        if related(ix, ref, other) or ix.radios[other].kind is Kind.ALT:
+        if other == ref or ix.radios[other].kind is Kind.ALT:
             continue
         for a in (rs.tx, rs.rx):
             if a is not None and shared_member(ix, st, a) == system:
@@ -128,6 +137,20 @@ def join_shared(ix: ConfigIndex, st: State, ref: RadioRef, antenna: int) -> int:
     for _other, member in shared_users(ix, st, system, ref):
         return member
     return antenna
+
+
+def unpermitted(ix: ConfigIndex, st: State) -> list[tuple[RadioRef, RadioRef, int, int]]:
+    """Radios holding conflicting antennas the rules do not permit now (after an inhibit
+    relation changed under two radios sharing a ``SharedTX`` antenna)."""
+    held = [(ref, a) for ref in ix.order if ix.radios[ref].kind is not Kind.ALT
+            for a in {st.radios[ref].tx, st.radios[ref].rx} if a is not None]
+    out = []
+    for i, (ra, x) in enumerate(held):
+        for rb, y in held[i + 1:]:
+            if ra != rb and ix.conflict(x, y) and not related(ix, ra, rb) \
+                    and not permitted(ix, st, ra, rb, x, y):
+                out.append((ra, rb, x, y))
+    return out
 
 
 # -- usability --------------------------------------------------------------------------------
@@ -240,5 +263,20 @@ def _repath(ix: ConfigIndex, st: State, ref: RadioRef, mine: Sequence[int], othe
     return None
 
 
-__all__ = ["Plan", "inhibits", "interlocked", "join_shared", "permitted", "plan", "related",
-           "same_band", "shared_member", "shared_users", "suits", "unusable", "users"]
+__all__ = [
+    "Plan",
+    "inhibits",
+    "interlocked",
+    "join_shared",
+    "permitted",
+    "plan",
+    "related",
+    "same_band",
+    "seen_together",
+    "shared_member",
+    "shared_users",
+    "suits",
+    "unpermitted",
+    "unusable",
+    "users",
+]

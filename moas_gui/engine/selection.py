@@ -30,7 +30,7 @@ from collections.abc import Iterable
 from .config.model import RadioRef
 from .index import Kind, RadioInfo
 from .ranges import describe_khz, distance, in_segment
-from .rules import join_shared, plan, related, unusable
+from .rules import join_shared, plan, related, seen_together, unusable
 from .work import Work
 
 SAME_BAND = "already on this band"
@@ -51,7 +51,7 @@ def _choices(w: Work, info: RadioInfo, antenna: int, role: str) -> list[int]:
 
 
 def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = "",
-          takeover: bool = True) -> bool:
+          takeover: bool | None = None) -> bool:
     """Give ``ref`` the antennas ``tx``/``rx`` (any free path of them); False if impossible.
 
     Paths that disturb nobody are preferred; only then is another radio moved to
@@ -59,6 +59,8 @@ def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = ""
     """
     ix = w.ix
     info = ix.radios[ref]
+    if takeover is None:
+        takeover = w.takeover
     if info.kind is not Kind.MAIN:
         tx = None
     if tx is not None and rx is not None and ix.canon[tx] == ix.canon[rx]:
@@ -95,9 +97,9 @@ def band_neighbour(w: Work, ref: RadioRef) -> RadioRef | None:
     ix, st = w.ix, w.st
     info = ix.radios[ref]
     rs = st.radios[ref]
-    band = info.band(rs.khz)
-    if band is None:
+    if rs.khz is None:
         return None
+    band = info.band(rs.khz)
     mine = info.radio
     for other in ix.mains:
         if related(ix, ref, other):
@@ -105,10 +107,14 @@ def band_neighbour(w: Work, ref: RadioRef) -> RadioRef | None:
         ors = st.radios[other]
         if ors.tx is None and ors.rx is None:
             continue
-        if not in_segment(band, ors.khz):
+        # 1.1.16: "a frequency within the range of another radio" -- its band as that radio
+        # sees it, or this radio's band holding the other's frequency.
+        if not (in_segment(band, ors.khz)
+                or in_segment(ix.radios[other].band(ors.khz), rs.khz)):
             continue
         theirs = ix.radios[other].radio
-        if (other in mine.always or ref in theirs.always or other in mine.same_band
+        if seen_together(ix, ref, other) and (
+                other in mine.always or ref in theirs.always or other in mine.same_band
                 or ref in theirs.same_band
                 or st.busses.get(ref, frozenset()) & st.busses.get(other, frozenset())):
             continue
@@ -123,7 +129,7 @@ def _keep_current(w: Work, ref: RadioRef, old_khz: float | None) -> bool:
     rs = w.st.radios[ref]
     khz = rs.khz
     cur = rs.tx if info.kind is Kind.MAIN else rs.rx
-    if cur is None or not in_segment(info.segment(cur, old_khz), khz):
+    if cur is None or not in_segment(info.used_segment(cur, old_khz), khz):
         return False
     if info.kind is not Kind.MAIN:
         w.set_pair(ref, None, cur)
@@ -208,6 +214,9 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
         ant = ix.antennas[a]
         if not ant.enabled or ant.tx_only or (ant.no_select and a != current):
             continue
+        a = join_shared(ix, st, ref, a)
+        if a not in info.paths:
+            continue
         d = distance(info.paths[a], khz)
         if d >= best_d:
             continue
@@ -236,12 +245,16 @@ def select_by_frequency(w: Work, ref: RadioRef, old_khz: float | None,
     if info.kind is Kind.MAIN and ix.config.protect_same_band:
         other = band_neighbour(w, ref)
         if other is not None:
+            if suitable_only:
+                return False
             return w.set_pair(ref, None, None, f"{other} is {SAME_BAND}")
-    if suitable_only and before.note.endswith(SAME_BAND):
-        suitable_only = False
     if not suitable_only and _keep_current(w, ref, old_khz) or _suitable_steps(w, ref):
         pass
     elif suitable_only:
+        if before.note.endswith(SAME_BAND):
+            w.set_pair(ref, before.tx, before.rx, "no free antenna covers "
+                       f"{describe_khz(before.khz)}")
+            return _changed(w, ref, before)
         return False
     elif not _nearest(w, ref):
         w.set_pair(ref, None, None, f"no antenna can be connected at {describe_khz(before.khz)}")
@@ -267,6 +280,7 @@ def unsuitable(w: Work, ref: RadioRef) -> bool:
 def recheck(w: Work) -> None:
     """Give radios without a suitable antenna another chance (appendix F, last paragraphs)."""
     ix = w.ix
+    w.takeover = False
     for ref in list(w.pending):
         w.pending.remove(ref)
         select_by_frequency(w, ref, None)

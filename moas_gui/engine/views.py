@@ -23,6 +23,9 @@ class RadioView:
     note: str = ""
     relative: tuple[int, ...] | None = None
     """The radio's relative antenna list at its frequency (antenna IDs), if it has one."""
+    radio_rx_antenna: bool = False
+    """The receive antenna is wired to the radio's own RX-antenna input (6.4
+    ``RadioRXAntenna``): a client controlling the radio switches that input on."""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -30,6 +33,7 @@ class RadioView:
             "tx_khz": self.tx_khz, "tx": self.tx, "rx": self.rx, "alt": self.alt,
             "transmitting": self.transmitting, "inhibited": self.inhibited, "note": self.note,
             "relative": None if self.relative is None else list(self.relative),
+            "radio_rx_antenna": self.radio_rx_antenna,
         }
 
 

@@ -23,6 +23,12 @@ class Work:
         """Radios whose antennas changed in this operation."""
         self.pending: list[RadioRef] = []
         """Radios that lost an antenna to a takeover and must be selected again."""
+        self.reported: RadioRef | None = None
+        """The radio whose frequency report this operation is."""
+        self.takeover = False
+        """Whether selection may take an antenna from a radio it does not suit: only for the
+        radio whose frequency changed (appendix F: "if another radio changes frequency and
+        the antenna is the best choice for it"), never for presses or the restart rule."""
 
     def set_pair(self, ref: RadioRef, tx: int | None, rx: int | None, note: str = "") -> bool:
         """Give ``ref`` these antennas; True when anything changed."""
@@ -31,6 +37,8 @@ class Work:
         if info.kind is not Kind.MAIN:
             tx = None
         if rs.tx == tx and rs.rx == rx and rs.note == note:
+            if self.reported is not None:
+                self.remember(ref)
             return False
         moved = rs.tx != tx or rs.rx != rx
         self.st.radios[ref] = rs.with_(tx=tx, rx=rx, note=note)

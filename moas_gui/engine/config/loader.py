@@ -15,6 +15,7 @@ from .problems import ConfigError, Problem, Severity
 from .reading import BAD, Reading
 from .schema import TOP
 from .validate import check
+from .wiring import check_wiring
 
 MAX_BYTES = 10 * 1024 * 1024
 """Files larger than this are refused: no station needs a configuration this big."""
@@ -94,6 +95,7 @@ def parse_config(text: str, filename: str = "<config>", path: Path | None = None
                 config = Config(path=path, **values)
                 reading.remember(config, root)
                 check(config, reading)
+                check_wiring(config, reading)
     problems = tuple(sorted(reading.problems, key=lambda p: (p.line == 0, p.line, p.column)))
     has_errors = any(p.severity is Severity.ERROR for p in problems)
     return LoadResult(None if has_errors else config, problems)

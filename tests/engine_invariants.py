@@ -1,0 +1,439 @@
+"""The manual's rules as checks on an engine's state, written from the configuration and the
+public views alone, and random operator evenings to drive them (stations: ``engine_stations.py``).
+
+Used by the property suite (``test_engine_rules_properties.py``) and by the benchmark-sized
+property job (``benchmarks/bench_engine_properties.py``).
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from moas_gui.engine import Engine, EngineError
+from moas_gui.engine.config.model import (
+    Antenna,
+    Config,
+    Radio,
+    RadioRef,
+    RotatorControl,
+)
+from moas_gui.engine.views import RadioView
+
+BANDS = ((1800.0, 2000.0), (3500.0, 4000.0), (7000.0, 7300.0), (14000.0, 14350.0),
+         (21000.0, 21450.0), (28000.0, 29700.0))
+FREQUENCIES = (1799.5, 1801.0, 1830.0, 1999.0, 2000.0, 2001.0, 3500.0, 3550.0, 3999.0,
+               4000.0, 5000.0, 7025.0, 7300.0, 13999.0, 14000.0, 14175.0, 14351.0, 21025.0,
+               21300.0, 28500.0, 29700.0, 50100.0)
+
+Op = tuple[Any, ...]
+
+
+# -- the configuration, read independently of the engine -------------------------------------
+
+@dataclass(frozen=True)
+class Facts:
+    """What the rules need from a configuration, computed without the engine's index."""
+
+    cfg: Config
+    ants: dict[int, Antenna]
+    group: dict[int, frozenset[int]]
+    """Antenna -> its alternate-path group (5.8)."""
+    parts: dict[int, frozenset[frozenset[int]]]
+    """Antenna -> its physical components, each named by its path group (InUse, 5.3)."""
+    shared_capable: dict[int, int]
+    """Antenna -> the shared-capable system it is a member of."""
+    shared_members: dict[int, int]
+    """Antenna -> the system in whose SharedAntennas it is listed."""
+    receivers: frozenset[RadioRef]
+    """Sub and alternate receivers (they only receive)."""
+    family: dict[RadioRef, RadioRef]
+    """Every radio -> its main radio."""
+
+    @staticmethod
+    def of(cfg: Config) -> Facts:
+        ants = {a.id: a for a in cfg.antennas}
+        group: dict[int, set[int]] = {a: {a} for a in ants}
+        for a in ants.values():
+            for b in a.alternate:
+                if b in ants:
+                    merged = group[a.id] | group[b]
+                    for m in merged:
+                        group[m] = merged
+        frozen = {a: frozenset(g) for a, g in group.items()}
+        parts = {a.id: frozenset(frozen[c] for c in (a.in_use or (a.id,)) if c in frozen)
+                 for a in ants.values()}
+        capable: dict[int, int] = {}
+        shared_members: dict[int, int] = {}
+        for s in cfg.systems:
+            if s.shared_antennas:
+                for a in (*s.shared_antennas, *s.exclusive_antennas, *s.additive_antennas):
+                    capable[a] = s.id
+                for a in s.shared_antennas:
+                    shared_members[a] = s.id
+        receivers: set[RadioRef] = set()
+        family: dict[RadioRef, RadioRef] = {}
+        for r in cfg.radios:
+            family.setdefault(r.ref, r.ref)
+            for n in (r.sub_receiver, r.alt_receiver):
+                if n is not None:
+                    receivers.add(RadioRef(r.station, n))
+                    family[RadioRef(r.station, n)] = r.ref
+        return Facts(cfg, ants, frozen, parts, capable, shared_members, frozenset(receivers),
+                     family)
+
+    def conflict(self, a: int, b: int) -> bool:
+        """Configured conflicts (either direction), or one physical antenna shared by the two
+        selections (a component or an alternate path) that may not be used twice."""
+        if b in self.ants[a].conflicts or a in self.ants[b].conflicts:
+            return True
+        for comp in self.parts[a] & self.parts[b]:
+            if any(c in self.ants[c].conflicts for c in comp):
+                return True
+        return False
+
+    def fast(self, a: int, b: int) -> bool:
+        return b in self.ants[a].fast or a in self.ants[b].fast
+
+    def covers(self, ref: RadioRef, antenna: int, khz: float | None) -> bool:
+        ant = self.ants[antenna]
+        for cr in ant.control:
+            usable = any(s.applies_to(ref.station, ref.radio) for s in cr.stations)
+            if usable and (khz is None and cr.range.lower is None and cr.range.upper is None
+                           or khz is not None and cr.range.contains(khz)):
+                return True
+        return False
+
+    def band(self, ref: RadioRef, khz: float) -> tuple[float, float] | None:
+        """The narrowest run of contiguous ranges (gaps up to 1 kHz), among all antennas the
+        radio can use, that holds ``khz`` (5.4: "it also checks contiguous frequency
+        ranges")."""
+        best: tuple[float, float] | None = None
+        for ant in self.ants.values():
+            ranges = sorted(
+                (cr.range.lower if cr.range.lower is not None else float("-inf"),
+                 cr.range.upper if cr.range.upper is not None else float("inf"))
+                for cr in ant.control
+                if any(s.applies_to(ref.station, ref.radio) for s in cr.stations))
+            runs: list[list[float]] = []
+            for lo, hi in ranges:
+                if runs and lo <= runs[-1][1] + 1:
+                    runs[-1][1] = max(runs[-1][1], hi)
+                else:
+                    runs.append([lo, hi])
+            for lo, hi in runs:
+                if lo <= khz <= hi and (best is None or hi - lo < best[1] - best[0]):
+                    best = (lo, hi)
+        return best
+
+    def switches_of(self, ref: RadioRef) -> dict[int, list[int]]:
+        r = self.cfg.radio(ref.station, ref.radio)
+        only = self.cfg.switches[0].id if len(self.cfg.switches) == 1 else None
+        out: dict[int, list[int]] = {}
+        for sp in r.switches if r else ():
+            w = sp.switch or only
+            if w is not None:
+                out.setdefault(w, []).append(sp.port)
+        return out
+
+
+# -- the checks ----------------------------------------------------------------------------
+
+def _held(v: RadioView) -> list[tuple[str, int]]:
+    out = []
+    if v.tx is not None:
+        out.append(("tx", v.tx))
+    if v.rx is not None and v.rx != v.tx:
+        out.append(("rx", v.rx))
+    return out
+
+
+def violations(e: Engine, facts: Facts) -> list[str]:
+    """Every rule broken by the engine's state now (empty when all hold)."""
+    cfg = facts.cfg
+    views = {RadioRef(v.station, v.radio): v for v in e.radios()}
+    states = e.switch_states()
+    problems: list[str] = []
+    alt_receivers = {RadioRef(r.station, r.alt_receiver) for r in cfg.radios
+                     if r.alt_receiver is not None}
+    holders = [(ref, v) for ref, v in views.items() if ref not in alt_receivers]
+
+    # No two radios hold the same or conflicting antennas (5.5, 5.8, 5.3), unless the manual
+    # permits it (a shared member in shared mode, shared TX of interlocked radios).
+    for i, (ra, va) in enumerate(holders):
+        for rb, vb in holders[i + 1:]:
+            if facts.family[ra] == facts.family[rb]:
+                continue
+            for _, a in _held(va):
+                for _, b in _held(vb):
+                    if facts.conflict(a, b) and not e.may_share(ra, a, rb, b):
+                        problems.append(f"{ra} on {a} and {rb} on {b} conflict")
+
+    # A shared system in shared mode has one member for all its users (5.10).
+    for s in cfg.systems:
+        if not s.shared_antennas or not e.system_shared(s.id):
+            continue
+        used = {(ref, a) for ref, v in holders for _, a in _held(v)
+                if facts.shared_members.get(a) == s.id}
+        members = {a for _, a in used}
+        if len(members) > 1:
+            problems.append(f"shared system {s.id} split between members {sorted(members)}: "
+                            f"{sorted(used)}")
+
+    for ref, v in views.items():
+        main = ref not in facts.receivers
+        # TXOnly never receives, RXOnly never transmits (1.1.11).
+        if v.rx is not None and facts.ants[v.rx].tx_only:
+            problems.append(f"{ref} receives on transmit-only {v.rx}")
+        if v.tx is not None and facts.ants[v.tx].rx_only:
+            problems.append(f"{ref} transmits on receive-only {v.tx}")
+        if not main and v.tx is not None:
+            problems.append(f"receiver {ref} has a transmit antenna {v.tx}")
+        # Different TX and RX antennas are fast with each other (1.1.3, 5.6).
+        if v.tx is not None and v.rx is not None and v.tx != v.rx and \
+                not facts.fast(v.tx, v.rx):
+            problems.append(f"{ref} transmits on {v.tx} and receives on {v.rx}, not fast")
+        # A radio without an antenna covering its transmit frequency is inhibited (F 6, 7).
+        if main and v.khz is not None and v.tx_khz is not None:
+            covered = v.tx is not None and facts.covers(ref, v.tx, v.tx_khz)
+            if not covered and not v.inhibited:
+                problems.append(f"{ref} has no antenna covering {v.tx_khz} but is not inhibited")
+            r = cfg.radio(ref.station, ref.radio)
+            if not covered and r is not None and not (r.inhibit_only_on_transmit
+                                                      and not v.transmitting):
+                for w, ports in facts.switches_of(ref).items():
+                    for p in ports:
+                        if p not in states[w].inhibited:
+                            problems.append(f"{ref} uncovered but switch {w} port {p} is not "
+                                            "inhibited")
+
+    # Always (and configured inhibit buss) inhibits apply while the other transmits (5.11),
+    # through every switch that sees both radios; with no such switch nothing is claimed.
+    busses_fixed = not any(f.name == "Inhibit" for f in cfg.functions)
+    for t, vt in views.items():
+        if not vt.transmitting or t in facts.receivers:
+            continue
+        tsw = facts.switches_of(t)
+        for r in cfg.radios:
+            ref = r.ref
+            if ref == t or ref in facts.receivers:
+                continue
+            always = t in r.always or (busses_fixed and bool(
+                set(r.inhibit_buss) & set(_radio(cfg, t).inhibit_buss)))
+            rsw = facts.switches_of(ref)
+            common = set(tsw) & set(rsw)
+            if always and common:
+                for w in common:
+                    for tp in tsw[w]:
+                        missing = [p for p in rsw[w] if p != tp
+                                   and p not in states[w].inhibit_others[tp - 1]]
+                        if missing:
+                            problems.append(f"{ref} not inhibited on switch {w} while {t} "
+                                            "transmits")
+                if not views[ref].inhibited:
+                    problems.append(f"{ref} view not inhibited while {t} transmits")
+            if not common and f"while {t} transmits" in views[ref].note:
+                problems.append(f"{ref} claims an inhibit by {t}, which no switch can apply")
+
+    # A radio never listens on an antenna conflicting with the one another radio transmits
+    # on (5.12, 5.13, 5.9): every switch seeing both moves it to its alternate (``@``), and
+    # the alternate does not conflict either.
+    for t, vt in views.items():
+        if not vt.transmitting or vt.tx is None or t in facts.receivers:
+            continue
+        tsw = facts.switches_of(t)
+        for ref, v in views.items():
+            if ref in facts.receivers or facts.family[ref] == facts.family[t] or v.rx is None:
+                continue
+            if not facts.conflict(v.rx, vt.tx) or (
+                    v.rx == vt.tx and facts.shared_members.get(v.rx) is not None
+                    and e.system_shared(facts.shared_members[v.rx])):
+                continue
+            if v.alt is not None and facts.conflict(v.alt, vt.tx):
+                problems.append(f"{ref}'s alternate {v.alt} conflicts with {vt.tx}, on which "
+                                f"{t} transmits")
+            for w, ports in facts.switches_of(ref).items():
+                for tp in tsw.get(w, ()):
+                    missing = [p for p in ports if p != tp
+                               and p not in states[w].use_alternate[tp - 1]]
+                    if missing:
+                        problems.append(f"{ref} listens on {v.rx} on switch {w} while {t} "
+                                        f"transmits on {vt.tx}")
+
+    # The Relay and Extra functions' relays are held while on (6.6.6, 6.6.8).
+    only = cfg.switches[0].id if len(cfg.switches) == 1 else None
+    for f in cfg.functions:
+        p = f.int_params
+        if f.name == "Relay" and p and e.function_on(f.id):
+            owner = RadioRef(p[1], p[2]) if len(p) >= 3 else None
+            w, local = p[0] // 100 + 1, p[0] % 100
+            if w in states and not (owner in views and views[owner].transmitting) \
+                    and local not in states[w].station0:
+                problems.append(f"Relay function {f.id} is on but relay {p[0]} is off")
+        if f.name == "Extra" and len(p) >= 3 and e.function_on(f.id) \
+                and e.function_status(p[0], p[1], f.id)[0]:
+            ref = RadioRef(p[0], p[1])
+            if ref in views and not views[ref].transmitting:
+                w, local = p[-1] // 100 + 1, p[-1] % 100
+                for sw, ports in facts.switches_of(ref).items():
+                    if sw == w or (only is not None and sw == only):
+                        for port in ports:
+                            if local not in states[sw].station(port).extra:
+                                problems.append(f"Extra function {f.id} is on but relay "
+                                                f"{p[-1]} is not among port {port}'s extras")
+
+    # ProtectSameBand: two main radios are never connected on one band (1.1.16, F step 1).
+    if cfg.protect_same_band:
+        mains = [(ref, v) for ref, v in views.items() if ref not in facts.receivers
+                 and v.khz is not None and (v.tx is not None or v.rx is not None)]
+        for i, (ra, va) in enumerate(mains):
+            for rb, vb in mains[i + 1:]:
+                if _may_share_band(cfg, facts, ra, rb):
+                    continue
+                assert va.khz is not None and vb.khz is not None
+                band = facts.band(ra, va.khz)
+                other = facts.band(rb, vb.khz)
+                if band is not None and band[0] <= vb.khz <= band[1] or \
+                        other is not None and other[0] <= va.khz <= other[1]:
+                    problems.append(f"{ra} at {va.khz} and {rb} at {vb.khz} on one band")
+
+    # After any change no radio is left uncovered while a free covering antenna exists
+    # (appendix F, last paragraph).
+    for ref, v in views.items():
+        if ref in alt_receivers or v.khz is None or v.note.endswith("already on this band"):
+            continue
+        main = ref not in facts.receivers
+        mine = [a for a in ((v.tx, v.rx) if main else (v.rx,))]
+        if all(a is not None and facts.covers(ref, a, v.khz) for a in mine):
+            continue
+        for a, ant in facts.ants.items():
+            if not ant.enabled or ant.no_select or ant.tx_only or ant.rx_only \
+                    or a in facts.shared_capable or not facts.covers(ref, a, v.khz):
+                continue
+            if main and v.transmitting:
+                continue
+            taken = any(facts.conflict(a, b) for other, vo in holders
+                        if facts.family[other] != facts.family[ref] for _, b in _held(vo))
+            if not taken:
+                problems.append(f"{ref} at {v.khz} has {v.tx}/{v.rx} while {a} is free")
+                break
+    return problems
+
+
+def _radio(cfg: Config, ref: RadioRef) -> Radio:
+    r = cfg.radio(ref.station, ref.radio)
+    assert r is not None
+    return r
+
+
+def _may_share_band(cfg: Config, facts: Facts, a: RadioRef, b: RadioRef) -> bool:
+    ra, rb = _radio(cfg, a), _radio(cfg, b)
+    related = (b in ra.always or a in rb.always or b in ra.same_band or a in rb.same_band
+               or bool(set(ra.inhibit_buss) & set(rb.inhibit_buss))
+               or any(f.name == "Inhibit" for f in cfg.functions))
+    return related and bool(set(facts.switches_of(a)) & set(facts.switches_of(b)))
+
+
+# -- random evenings -----------------------------------------------------------------------
+
+def operations(cfg: Config, rng: random.Random, count: int) -> Iterator[Op]:
+    """``count`` random operator events for ``cfg``."""
+    e = Engine(cfg)
+    radios = [(v.station, v.radio) for v in e.radios()]
+    mains = [(r.station, r.radio) for r in cfg.radios]
+    antennas = [a.id for a in cfg.antennas]
+    ports = sorted({(s.id, p) for s in cfg.switches for p in range(1, 7)})
+    radio_ports = sorted({(sp.switch or cfg.switches[0].id, sp.port)
+                          for r in cfg.radios for sp in r.switches})
+    functions = [f.id for f in cfg.functions]
+    electrical = [r.id for r in cfg.rotators if r.control is RotatorControl.ELECTRICAL]
+    for _ in range(count):
+        x = rng.random()
+        if x < 0.35:
+            yield ("freq", rng.choice(mains), rng.choice(FREQUENCIES),
+                   rng.choice((None, None, None, 3.0, -250.0)))
+        elif x < 0.40:
+            yield ("freq", rng.choice(radios), rng.choice(FREQUENCIES), None)
+        elif x < 0.62:
+            yield ("select", rng.choice(radios), rng.choice(antennas),
+                   rng.choice(("both", "both", "tx", "rx")), rng.random() < 0.2)
+        elif x < 0.80:
+            yield ("tr", rng.choice(radio_ports if rng.random() < 0.9 else ports),
+                   rng.random() < 0.5)
+        elif x < 0.87:
+            yield ("relative", rng.choice(radios), rng.choice((1, -1)))
+        elif x < 0.97 and functions:
+            yield ("function", rng.choice(radios), rng.choice(functions))
+        elif electrical and x < 0.99:
+            yield ("direction", rng.choice(electrical), rng.randrange(360))
+        else:
+            yield ("run", "stop" if rng.random() < 0.3 else "start")
+
+
+def apply(e: Engine, op: Op, now: float) -> Any:
+    kind = op[0]
+    if kind == "freq":
+        (s, r), khz, split = op[1], op[2], op[3]
+        return e.set_frequency(s, r, khz, None if split is None else khz + split, now=now)
+    if kind == "select":
+        (s, r), a, target, exclusive = op[1:]
+        return e.select(s, r, a, target, exclusive, now=now)
+    if kind == "tr":
+        (w, p), on = op[1], op[2]
+        return e.set_transmitting(w, p, on, now=now)
+    if kind == "relative":
+        (s, r), step = op[1], op[2]
+        return e.relative(s, r, step=step, now=now)
+    if kind == "function":
+        (s, r), fid = op[1], op[2]
+        return e.run_function(s, r, fid, now=now)
+    if kind == "direction":
+        return e.select_direction(op[1], op[2], now=now)
+    return e.stop() if op[1] == "stop" else e.start()
+
+
+def snapshot(e: Engine) -> tuple[object, ...]:
+    return (e.radios(), tuple(sorted(e.switch_states().items())), e.running)
+
+
+def run_evening(cfg: Config, ops: Sequence[Op], facts: Facts | None = None) -> int:
+    """Apply ``ops``, checking every rule after each; raise AssertionError naming the first
+    broken one with the events that led there.  Returns the number of events refused."""
+    facts = facts or Facts.of(cfg)
+    e = Engine(cfg)
+    now = 0.0
+    refused = 0
+    for i, op in enumerate(ops):
+        now += 0.7
+        before = snapshot(e)
+        try:
+            apply(e, op, now)
+        except EngineError as err:
+            refused += 1
+            assert err.message
+            assert snapshot(e) == before, f"refused {op} changed the state"
+            continue
+        problems = violations(e, facts)
+        assert not problems, f"after {list(ops[:i + 1])[-8:]}: {problems}"
+    return refused
+
+
+def replay_matches(cfg: Config, ops: Sequence[Op]) -> bool:
+    """The same events give the same result."""
+    results = []
+    for _ in range(2):
+        e = Engine(cfg)
+        now = 0.0
+        for op in ops:
+            now += 0.7
+            try:
+                apply(e, op, now)
+            except EngineError:
+                pass
+        results.append(snapshot(e))
+    return results[0] == results[1]
+
+
+__all__ = ["Facts", "apply", "operations", "replay_matches", "run_evening", "violations"]

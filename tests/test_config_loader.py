@@ -302,3 +302,21 @@ def test_more_relays_than_one_switch_command_carries_is_an_error() -> None:
            "carries at most 35" in messages
     data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = list(range(35))
     assert parse_config(json.dumps(data), "t.moas").ok
+
+
+def test_numbers_too_large_to_hold_are_refused_with_their_place() -> None:
+    text = '{\n  "TCPPort": ' + "9" * 5000 + ',\n  "UDPPort": -1e999,\n  "Templates": []\n}'
+    assert errors(text) == [
+        (2, 14, '"TCPPort" of the configuration is far too large; it must be from 1 to 65,535'),
+        (3, 14, '"UDPPort" of the configuration is far too small; it must be from 1 to 65,535')]
+
+
+def test_leading_zeros_before_a_huge_exponent_are_explained() -> None:
+    assert errors('{"TCPPort": 01e999}') == [
+        (1, 13, "numbers cannot have leading zeros: write 1e999"),
+        (1, 13, '"TCPPort" of the configuration is far too large; it must be from 1 to 65,535')]
+
+
+def test_a_file_that_ends_after_a_name_or_its_colon_is_explained() -> None:
+    assert errors('{"Antennas"') == [(1, 12, 'the file ends after the name "Antennas"')]
+    assert errors('{"TCPPort":') == [(1, 12, "the file ends where a value was expected")]

@@ -10,6 +10,7 @@ object came from, so later checks can point at the right line.
 from __future__ import annotations
 
 import difflib
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -147,6 +148,10 @@ def integer(low: int = INT32_MIN, high: int = INT32_MAX, what: str = "a whole nu
             else:
                 reading.error(node, f"{label} must be {what}, not {describe(node)}")
             return BAD
+        if isinstance(value, float) and math.isinf(value):
+            reading.error(node, f"{label} is far too {'large' if value > 0 else 'small'}; "
+                                f"it must be from {low:,} to {high:,}")
+            return BAD
         if isinstance(value, float) and not value.is_integer():
             reading.error(node, f"{label} must be {what}, not {value}")
             return BAD
@@ -178,7 +183,9 @@ def number(low: float = 0, high: float = INT32_MAX) -> Kind:
             reading.error(node, f"{label} must be a number, not {describe(node)}")
             return BAD
         if not low <= value <= high:
-            reading.error(node, f"{label} is {value}; it must be from {low:g} to {high:g}")
+            shown = f"far too {'large' if value > 0 else 'small'}" if math.isinf(value) \
+                else f"{value}"
+            reading.error(node, f"{label} is {shown}; it must be from {low:g} to {high:g}")
             return BAD
         return value
     return kind

@@ -20,6 +20,8 @@ from .problems import Problem, Severity
 
 INT32_MIN = -2_147_483_648
 INT32_MAX = 2_147_483_647
+SHOWN_ITEM_PROBLEMS = 5
+"""A list of plain values reports this many wrong items, then how many more there are."""
 
 
 class _Bad:
@@ -41,6 +43,7 @@ class Reading:
         self.problems: list[Problem] = []
         self._origin: dict[int, JObject] = {}
         self._keep: list[object] = []
+        self._items: dict[int, dict[object, JScalar]] = {}
 
     # -- messages --------------------------------------------------------------
     def error(self, node: Node | Member | None, message: str) -> None:
@@ -70,12 +73,24 @@ class Reading:
         if member is None:
             return node
         if value is not None and isinstance(member.value, JArray):
-            for item in member.value.items:
-                if isinstance(item, JScalar) and item.value == value and not isinstance(item.value, bool):
-                    return item
+            item = self._first_items(member.value).get(value)
+            if item is not None:
+                return item
         if value is not None and isinstance(member.value, JScalar):
             return member.value
         return member
+
+    def _first_items(self, array: JArray) -> dict[object, JScalar]:
+        """Each value of ``array`` to its first item (built once, so a lookup is quick)."""
+        index = self._items.get(id(array))
+        if index is None:
+            index = {}
+            for item in array.items:
+                if isinstance(item, JScalar) and item.value is not None \
+                        and not isinstance(item.value, bool):
+                    index.setdefault(item.value, item)
+            self._items[id(array)] = index
+        return index
 
     # -- groups ----------------------------------------------------------------
     def group(self, node: Node, spec: GroupSpec, label: str) -> Any:
@@ -235,10 +250,22 @@ def list_of(item: Kind, convert: Callable[[list[Any]], Any] = tuple) -> Kind:
                 reading.error(node, f"{label} must be a list [ ... ], not {describe(node)}")
             return BAD
         values = []
+        failed = 0
+        first_hidden: Node | None = None
         for index, child in enumerate(node.items):
+            mark = len(reading.problems)
             value = item(child, reading, f"item {index + 1} of {label}")
             if value is not BAD:  # the error is recorded; check the rest without it
                 values.append(value)
+            elif not isinstance(child, JObject):
+                # Plain values wrong by the thousand are one mistake: show a few, then count.
+                failed += 1
+                if failed > SHOWN_ITEM_PROBLEMS:
+                    del reading.problems[mark:]
+                    first_hidden = first_hidden or child
+        if first_hidden is not None:
+            reading.error(first_hidden, f"{failed - SHOWN_ITEM_PROBLEMS:,} more items of "
+                                        f"{label} are wrong too (the first of them is here)")
         return convert(values)
     return kind
 

@@ -11,11 +11,8 @@ from collections import defaultdict
 from collections.abc import Iterable
 
 from . import model as m
+from .counted import MAX_RELAYS_PER_COMMAND, listed, missing_problems, relay_problems
 from .reading import Reading
-
-MAX_RELAYS_PER_COMMAND = 35
-"""One MOAS II antenna command of at most 40 bytes carries at most 35 relays, and a
-second command for the same station replaces the first (``docs/switch.md``)."""
 
 SERIAL_MODELS = {
     "DCU1": 1, "RotorEZ": 2, "Yaesu": 4, "GS-232A": 4, "GS-232B": 4, "Alfaspid": 5,
@@ -49,10 +46,10 @@ class _Checker:
                 first[value] = item
 
     def antenna_refs(self, owner: object, key: str, ids: Iterable[int], what: str) -> None:
-        for antenna_id in ids:
-            if antenna_id not in self.antennas:
-                self.r.error(self.r.at(owner, key, antenna_id),
-                             f"{what} names antenna {antenna_id}, which is not in \"Antennas\"")
+        missing = [antenna_id for antenna_id in ids if antenna_id not in self.antennas]
+        one = f"{what} names antenna {missing[0]}, which is not in \"Antennas\"" if missing else ""
+        missing_problems(self.r, owner, key, missing, what,
+                         'antennas that are not in "Antennas"', one)
 
     def radio_ref(self, owner: object, key: str, station: int | None, radio: int | None,
                   what: str, value: object = None) -> bool:
@@ -71,26 +68,7 @@ class _Checker:
         return True
 
     def relays(self, owner: object, key: str, relays: Iterable[int], what: str) -> None:
-        relays = sorted(relays)
-        per_switch: dict[int, int] = defaultdict(int)
-        for relay in relays:
-            per_switch[relay // 100 + 1] += 1
-        for switch_id, count in sorted(per_switch.items()):
-            if count > MAX_RELAYS_PER_COMMAND:
-                self.r.error(self.r.at(owner, key), f"{what} sets {count} relays on switch "
-                             f"{switch_id} at once; a MOAS II command carries at most "
-                             f"{MAX_RELAYS_PER_COMMAND}")
-        for relay in relays:
-            switch_id, local = divmod(relay, 100)
-            switch_id += 1
-            if local > 63:
-                self.r.error(self.r.at(owner, key, relay),
-                             f"{what} names relay {relay}; switch {switch_id} has relays "
-                             f"{(switch_id - 1) * 100}-{(switch_id - 1) * 100 + 63} only")
-            elif switch_id not in self.switches:
-                self.r.error(self.r.at(owner, key, relay),
-                             f"{what} names relay {relay}, which belongs to switch {switch_id}, "
-                             "but there is no such switch in \"Switches\"")
+        relay_problems(self.r, self.switches, owner, key, relays, what)
 
     # -- the checks ----------------------------------------------------------
     def run(self) -> None:
@@ -146,33 +124,38 @@ class _Checker:
                              ("ExclusiveAntennas", s.exclusive_antennas),
                              ("SharedAntennas", s.shared_antennas)):
                 self.antenna_refs(s, key, ids, label)
+                twice: list[int] = []
+                elsewhere: list[tuple[int, m.System]] = []
                 for antenna_id in ids:
                     other = antenna_home.get(antenna_id)
                     if antenna_id in here:
-                        self.r.error(self.r.at(s, key, antenna_id),
-                                     f"antenna {antenna_id} is listed twice in {label}")
+                        twice.append(antenna_id)
                     elif other is not None:
-                        self.r.error(self.r.at(s, key, antenna_id), f"antenna {antenna_id} is in "
-                                     f"{label} and in system {other.id}; an antenna can be part "
-                                     "of only one system")
+                        elsewhere.append((antenna_id, other))
                     here.add(antenna_id)
                     antenna_home.setdefault(antenna_id, s)
+                self._twice(s, key, twice, label)
+                self._elsewhere(s, key, elsewhere, label, "antenna")
             for key, ids in (("AdditiveSystems", s.additive_systems),
                              ("ExclusiveSystems", s.exclusive_systems),
                              ("SharedSystems", s.shared_systems)):
+                missing = [system_id for system_id in ids if system_id not in self.systems]
+                one = (f"{label} names system {missing[0]}, which is not in \"Systems\""
+                       if missing else "")
+                missing_problems(self.r, s, key, missing, label,
+                                 'systems that are not in "Systems"', one)
+                taken: list[tuple[int, m.System]] = []
                 for system_id in ids:
                     if system_id not in self.systems:
-                        self.r.error(self.r.at(s, key, system_id), f"{label} names system "
-                                     f"{system_id}, which is not in \"Systems\"")
-                    elif system_id == s.id:
+                        continue
+                    if system_id == s.id:
                         self.r.error(self.r.at(s, key, system_id), f"{label} contains itself")
-                    else:
-                        other = system_home.get(system_id)
-                        if other is not None and other is not s:
-                            self.r.error(self.r.at(s, key, system_id), f"system {system_id} is "
-                                         f"in {label} and in system {other.id}; a system can be "
-                                         "part of only one system")
-                        system_home[system_id] = s
+                        continue
+                    other = system_home.get(system_id)
+                    if other is not None and other is not s:
+                        taken.append((system_id, other))
+                    system_home[system_id] = s
+                self._elsewhere(s, key, taken, label, "system")
         # A system that contains itself through others.
         children = {s.id: set(s.member_systems) for s in self.c.systems}
         reported: set[int] = set()
@@ -182,6 +165,28 @@ class _Checker:
                 reported.update(path)
                 chain = " -> ".join(f"system {i}" for i in path)
                 self.r.error(self.r.at(s), f"systems contain each other in a circle: {chain}")
+
+    def _twice(self, s: m.System, key: str, twice: list[int], label: str) -> None:
+        if len(twice) == 1:
+            self.r.error(self.r.at(s, key, twice[0]),
+                         f"antenna {twice[0]} is listed twice in {label}")
+        elif twice:
+            self.r.error(self.r.at(s, key, twice[0]), f"{len(twice):,} antennas are listed "
+                         f"twice in {label} ({listed(twice)})")
+
+    def _elsewhere(self, s: m.System, key: str, found: list[tuple[int, m.System]], label: str,
+                   kind: str) -> None:
+        if len(found) == 1:
+            (ident, other), = found
+            self.r.error(self.r.at(s, key, ident), f"{kind} {ident} is in {label} and in system "
+                         f"{other.id}; {'an' if kind == 'antenna' else 'a'} {kind} can be part "
+                         "of only one system")
+        elif found:
+            self.r.error(self.r.at(s, key, found[0][0]), f"{len(found):,} {kind}s of {label} "
+                         "are also in other systems ("
+                         + listed([f"{ident} in system {other.id}" for ident, other in found])
+                         + f"); {'an' if kind == 'antenna' else 'a'} {kind} can be part of "
+                         "only one system")
 
     @staticmethod
     def _cycle(start: int, children: dict[int, set[int]]) -> list[int] | None:

@@ -1,0 +1,79 @@
+"""Long lists in a configuration: one problem per kind, with a count, at the first culprit.
+
+How long the checker takes as lists grow is measured by ``benchmarks/bench_config_fuzz.py``
+(its "long lists" figures); these tests hold the messages.
+"""
+
+from __future__ import annotations
+
+import json
+
+from test_config_loader import errors, line_of, text_of
+
+from moas_gui.engine.config import parse_config
+
+
+def station_relays(relays: list[int]) -> str:
+    data = json.loads(text_of())
+    data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = relays
+    return json.dumps(data, indent=2)
+
+
+def test_thousands_of_relays_of_missing_switches_are_one_problem_with_a_count() -> None:
+    text = station_relays(list(range(100, 100 + 16_000)))
+    found = errors(text)
+    kinds = {m.split(";")[0].split(" (")[0] for _, _, m in found}
+    assert len(found) == len(kinds) == 3, found
+    messages = [m for _, _, m in found]
+    assert ("antenna 2's Control sets more than 35 relays at once on 160 switches "
+            "(switch 2: 100, switch 3: 100, switch 4: 100, switch 5: 100, switch 6: 100 "
+            "and 155 more); a MOAS II command carries at most 35") in messages
+    assert ("antenna 2's Control names 5,760 relays that no switch has (164, 165, 166, 167, 168 "
+            "and 5,755 more); switch N has relays (N-1)*100 to (N-1)*100+63 only") in messages
+    assert ("antenna 2's Control names 10,240 relays (100, 101, 102, 103, 104 and 10,235 "
+            "more) of switches that are not in \"Switches\" (2, 3, 4, 5, 6 and 155 more)"
+            ) in messages
+    first = line_of(text, "100,")
+    assert [line for line, _, m in found if "names" in m] == [first, line_of(text, "164,")]
+
+
+def test_one_wrong_relay_keeps_its_own_sentence() -> None:
+    found = errors(station_relays([1, 64, 7]))
+    assert [m for _, _, m in found] == [
+        "antenna 2's Control names relay 64; switch 1 has relays 0-63 only"]
+
+
+def test_thousands_of_missing_antennas_in_use_are_one_problem_with_a_count() -> None:
+    data = json.loads(text_of())
+    data["Antennas"][0]["InUse"] = [2] + list(range(1000, 9000))
+    text = json.dumps(data, indent=2)
+    assert errors(text) == [(line_of(text, "1000,"), 9,
+                             ('antenna 1 names 8,000 antennas that are not in "Antennas" '
+                             "(1000, 1001, 1002, 1003, 1004 and 7,995 more)"))]
+
+
+def test_thousands_of_wrong_items_in_a_list_are_a_few_problems_and_a_count() -> None:
+    data = json.loads(text_of())
+    data["Antennas"][0]["Conflicts"] = ["x"] * 10_000
+    text = json.dumps(data, indent=2)
+    found = errors(text)
+    assert len(found) == 6
+    first = line_of(text, '"x"')
+    assert [line for line, _, _ in found] == list(range(first, first + 6))
+    assert found[0][2].startswith('item 1 of "Conflicts" of this antenna must be')
+    assert found[5][2] == ('9,995 more items of "Conflicts" of this antenna are wrong too '
+                           "(the first of them is here)")
+
+
+def test_a_system_listing_thousands_of_missing_systems_is_one_problem() -> None:
+    data = json.loads(text_of())
+    data["Systems"] = [{"ID": 0, "ShortName": "S", "ExclusiveAntennas": [1, 2],
+                        "ExclusiveSystems": list(range(1, 5001))}]
+    messages = [m for _, _, m in errors(json.dumps(data, indent=2))]
+    assert messages == [('system 0 names 5,000 systems that are not in "Systems" '
+                        "(1, 2, 3, 4, 5 and 4,995 more)")]
+
+
+def test_a_short_file_keeps_every_problem_separate() -> None:
+    result = parse_config(station_relays([64, 105]), "t.moas")
+    assert len(result.errors) == 2

@@ -77,3 +77,38 @@ def test_a_system_listing_thousands_of_missing_systems_is_one_problem() -> None:
 def test_a_short_file_keeps_every_problem_separate() -> None:
     result = parse_config(station_relays([64, 105]), "t.moas")
     assert len(result.errors) == 2
+
+
+def test_a_long_circle_of_systems_is_one_problem_that_shows_its_start_and_length() -> None:
+    data = json.loads(text_of())
+    count = 3000
+    data["Systems"] = [{"ID": i, "ShortName": "S", "ExclusiveSystems": [(i + 1) % count]}
+                       for i in range(count)]
+    messages = [m for _, _, m in errors(json.dumps(data, indent=2))]
+    assert messages == [("systems contain each other in a circle: system 0 -> system 1 -> "
+                        "system 2 -> system 3 -> system 4 -> system 5 -> system 6 -> "
+                        "system 7 -> ... -> system 0 (3,000 systems)")]
+
+
+def test_circles_start_at_their_first_system_in_the_file_and_are_told_once() -> None:
+    from moas_gui.engine.config.circles import circles
+
+    children = {5: (3,), 3: (9, 5), 9: (3,), 1: (1,), 2: (4,), 4: (2,), 7: (8,), 8: ()}
+    assert circles([5, 3, 9, 1, 2, 4, 7, 8], children) == [[3, 9, 3], [2, 4, 2]]
+    assert circles([2, 4], {2: (4,), 4: (2,)}, limit=1) == [[2, 4, 2]]
+    chain_of = {i: (i + 1,) for i in range(50_000)}
+    assert circles(list(chain_of), chain_of) == []
+
+
+def test_an_antenna_without_the_electrical_rotator_of_its_system_is_told_once() -> None:
+    data = json.loads(text_of())
+    data["Rotators"] = [{"ID": 0, "ShortName": "Stack", "Control": "Electrical"}]
+    data["Antennas"] = [{"ID": i, "ShortName": f"A{i}", "Conflicts": [i], "Rotator": 0}
+                        for i in range(1, 4)] + [{"ID": 4, "ShortName": "A4", "Conflicts": [4]}]
+    data["Systems"] = [{"ID": 0, "ShortName": "S", "ExclusiveAntennas": [1, 2, 3, 4]}]
+    data["Functions"] = []
+    data["Layout"] = []
+    data["RelativeAntennas"] = []
+    assert [m for _, _, m in errors(json.dumps(data, indent=2))] == [
+        ('antenna 4 is in system 0 with antennas of electrical rotator 0, so it must also say '
+        '"Rotator": 0')]

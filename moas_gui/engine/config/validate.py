@@ -11,6 +11,7 @@ from collections import defaultdict
 from collections.abc import Iterable
 
 from . import model as m
+from .circles import chain, circles
 from .counted import MAX_RELAYS_PER_COMMAND, listed, missing_problems, relay_problems
 from .reading import Reading
 
@@ -156,15 +157,15 @@ class _Checker:
                         taken.append((system_id, other))
                     system_home[system_id] = s
                 self._elsewhere(s, key, taken, label, "system")
-        # A system that contains itself through others.
-        children = {s.id: set(s.member_systems) for s in self.c.systems}
-        reported: set[int] = set()
+        # Systems that contain themselves through others.
+        children: dict[int, tuple[int, ...]] = {}
+        first: dict[int, m.System] = {}
         for s in self.c.systems:
-            path = self._cycle(s.id, children)
-            if path and s.id not in reported and len(path) > 2:
-                reported.update(path)
-                chain = " -> ".join(f"system {i}" for i in path)
-                self.r.error(self.r.at(s), f"systems contain each other in a circle: {chain}")
+            children.setdefault(s.id, s.member_systems)
+            first.setdefault(s.id, s)
+        for circle in circles(list(first), children):
+            self.r.error(self.r.at(first[circle[0]]), "systems contain each other in a circle: "
+                         + chain(circle))
 
     def _twice(self, s: m.System, key: str, twice: list[int], label: str) -> None:
         if len(twice) == 1:
@@ -187,20 +188,6 @@ class _Checker:
                          + listed([f"{ident} in system {other.id}" for ident, other in found])
                          + f"); {'an' if kind == 'antenna' else 'a'} {kind} can be part of "
                          "only one system")
-
-    @staticmethod
-    def _cycle(start: int, children: dict[int, set[int]]) -> list[int] | None:
-        stack = [(start, [start])]
-        seen: set[int] = set()
-        while stack:
-            node, path = stack.pop()
-            for child in children.get(node, ()):
-                if child == start:
-                    return path + [start]
-                if child not in seen:
-                    seen.add(child)
-                    stack.append((child, path + [child]))
-        return None
 
     def check_functions(self) -> None:
         for f in self.c.functions:
@@ -326,12 +313,16 @@ class _Checker:
                     self.r.error(node, f"{label} is {rot.control.value} and needs \"Address\", "
                                  "the controller's host (and :port)")
             elif rot.control is m.RotatorControl.ELECTRICAL:
+                checked: set[int] = set()
                 for a in users.get(rot.id, []):
                     system = home.get(a.id)
                     if system is None:
                         self.r.error(self.r.at(a, "Rotator"), f"antenna {a.id} uses electrical "
                                      f"{label}, so it must be part of an antenna system")
                         continue
+                    if id(system) in checked:
+                        continue
+                    checked.add(id(system))
                     for other in system.member_antennas:
                         other_antenna = self.c.antenna(other)
                         if other_antenna is not None and other_antenna.rotator != rot.id:

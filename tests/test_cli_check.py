@@ -48,3 +48,14 @@ def test_check_without_a_file_is_a_usage_error() -> None:
     done = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--check"],
                           capture_output=True, text=True, check=False, timeout=60)
     assert done.returncode == 2 and "needs a configuration file" in done.stderr
+
+
+def test_a_client_allow_open_to_the_internet_is_a_warning_with_its_line(tmp_path: Path) -> None:
+    text = (EXAMPLES / "small-station.moas").read_text()
+    path = tmp_path / "open.moas"
+    path.write_text(text.replace("{\n", '{\n  "ClientAllow": ["127.0.0.1/0"],\n', 1))
+    done = run_check(path)
+    assert done.returncode == 0, done.stdout
+    assert done.stdout.splitlines()[0].startswith(
+        f'{path}:2:19: warning: "ClientAllow" has "127.0.0.1/0", which lets in every address '
+        "of the internet")

@@ -320,3 +320,30 @@ def test_leading_zeros_before_a_huge_exponent_are_explained() -> None:
 def test_a_file_that_ends_after_a_name_or_its_colon_is_explained() -> None:
     assert errors('{"Antennas"') == [(1, 12, 'the file ends after the name "Antennas"')]
     assert errors('{"TCPPort":') == [(1, 12, "the file ends where a value was expected")]
+
+
+def test_client_allow_entries_open_to_the_internet_are_warned_about_at_their_line() -> None:
+    text = text_of(ClientAllow=["127.0.0.1", "192.168.1.0/24", "127.0.0.1/0", "10.0.0.0/8",
+                                "203.0.113.7", "8.8.0.0/16", "fd00::/8", "::/0"])
+    result = parse_config(text, "t.moas")
+    assert result.ok
+    warned = [(p.line, p.message) for p in result.warnings]
+    assert warned == [
+        (line_of(text, '"127.0.0.1/0"'), ('"ClientAllow" has "127.0.0.1/0", which lets in every '
+         'address of the internet (0.0.0.0/0) (for one computer write "127.0.0.1"); anyone who '
+         "reaches the port can switch antennas: allow single addresses or a private network "
+         "such as 192.168.1.0/24")),
+        (line_of(text, '"8.8.0.0/16"'), ('"ClientAllow" has "8.8.0.0/16", which lets in 65,536 '
+         "addresses outside the private networks (8.8.0.0/16); anyone who reaches the port can "
+         "switch antennas: allow single addresses or a private network such as 192.168.1.0/24")),
+        (line_of(text, '"::/0"'), ('"ClientAllow" has "::/0", which lets in every address of the '
+         "internet (::/0); anyone who reaches the port can switch antennas: allow single "
+         "addresses or a private network such as 192.168.1.0/24"))]
+    assert all(p.column == 5 for p in result.warnings)
+
+
+def test_a_client_allow_entry_that_is_no_address_stays_an_error() -> None:
+    text = text_of(ClientAllow=["192.168.1.300"])
+    assert errors(text) == [(line_of(text, "192.168.1.300"), 5, ('"ClientAllow" has '
+                             '"192.168.1.300", which is not an address or network such as '
+                             "192.168.1.0/24"))]

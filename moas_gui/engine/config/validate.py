@@ -11,6 +11,7 @@ from collections import defaultdict
 from collections.abc import Iterable
 
 from . import model as m
+from .allow import allow_problems
 from .circles import chain, circles
 from .counted import MAX_RELAYS_PER_COMMAND, listed, missing_problems, relay_problems
 from .reading import Reading
@@ -393,12 +394,7 @@ class _Checker:
         if c.use_n1mm_logger and not c.n1mm_logger:
             self.r.warning(None, "UseN1MMLogger is true but \"N1MMLogger\" lists no computers; "
                            "every packet will be ignored")
-        for allowed in c.client_allow or ():
-            try:
-                ipaddress.ip_network(allowed, strict=False)
-            except ValueError:
-                self.r.error(self.r.at(c, "ClientAllow", allowed), f"\"ClientAllow\" has \"{allowed}\", which is not an address "
-                             "or network such as 192.168.1.0/24")
+        allow_problems(c, self.r)
 
 
 def check(config: m.Config, reading: Reading) -> None:

@@ -93,6 +93,8 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
         return None, None
     if instance is not None:
         return instance, None
+    if args.file and not _usable(args.file):
+        return None, 1
     target = str(Path(args.file).resolve()) if args.file else None
     if hand_over(INSTANCE_NAME, target):
         print(f"moas-server: {'handed ' + args.file + ' to' if args.file else 'showed'} "
@@ -101,6 +103,21 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
     print("moas-server: another moas-server is running but does not answer; "
           "use --new-instance to start one anyway", file=sys.stderr)
     return None, 1
+
+
+def _usable(path: str) -> bool:
+    """Whether ``path`` loads; if not, say why on standard error (before any hand-over)."""
+    from moas_gui.engine.config import load_config
+
+    result = load_config(path)
+    if result.config is not None:
+        return True
+    for problem in result.errors:
+        print(problem, file=sys.stderr)
+    count = len(result.errors)
+    print(f"moas-server: {path} has {count} error{'s' if count != 1 else ''}; not handed to "
+          "the server that is already running, which keeps its configuration", file=sys.stderr)
+    return False
 
 
 async def _serve_headless(args: argparse.Namespace, instance: object | None) -> int:

@@ -347,3 +347,12 @@ def test_a_client_allow_entry_that_is_no_address_stays_an_error() -> None:
     assert errors(text) == [(line_of(text, "192.168.1.300"), 5, ('"ClientAllow" has '
                              '"192.168.1.300", which is not an address or network such as '
                              "192.168.1.0/24"))]
+
+
+def test_warnings_about_the_whole_station_point_at_a_place_in_the_file() -> None:
+    result = parse_config('{\n  "Switches": [],\n  "UseN1MMLogger": true\n}', "t.moas")
+    assert [(p.line, p.column, p.message.split(":")[0]) for p in result.warnings] == [
+        (1, 1, 'there are no "Radios"'),
+        (2, 3, 'there are no "Switches"'),
+        (3, 3, 'UseN1MMLogger is true but "N1MMLogger" lists no computers; every packet will '
+               "be ignored")]

@@ -381,9 +381,9 @@ class _Checker:
     def check_misc(self) -> None:
         c = self.c
         if not c.switches:
-            self.r.warning(None, "there are no \"Switches\": the server will not control any relays")
+            self.r.warning(self.r.at(c, "Switches"), "there are no \"Switches\": the server will not control any relays")
         if not c.radios:
-            self.r.warning(None, "there are no \"Radios\": no antenna can be selected")
+            self.r.warning(self.r.at(c, "Radios"), "there are no \"Radios\": no antenna can be selected")
         for entry in c.n1mm_logger:
             self.radio_ref(entry, "Station", entry.station, None, "this N1MMLogger entry")
             try:
@@ -392,7 +392,7 @@ class _Checker:
                 self.r.error(self.r.at(entry, "Address"), f"\"{entry.address}\" is not an IP "
                              "address such as 192.168.1.20")
         if c.use_n1mm_logger and not c.n1mm_logger:
-            self.r.warning(None, "UseN1MMLogger is true but \"N1MMLogger\" lists no computers; "
+            self.r.warning(self.r.at(c, "UseN1MMLogger"), "UseN1MMLogger is true but \"N1MMLogger\" lists no computers; "
                            "every packet will be ignored")
         allow_problems(c, self.r)
 

@@ -354,5 +354,5 @@ def test_warnings_about_the_whole_station_point_at_a_place_in_the_file() -> None
     assert [(p.line, p.column, p.message.split(":")[0]) for p in result.warnings] == [
         (1, 1, 'there are no "Radios"'),
         (2, 3, 'there are no "Switches"'),
-        (3, 3, 'UseN1MMLogger is true but "N1MMLogger" lists no computers; every packet will '
-               "be ignored")]
+        (3, 3, ('UseN1MMLogger is true but "N1MMLogger" lists no computers; every packet will '
+               "be ignored"))]

@@ -14,7 +14,7 @@ import random
 import re
 import time
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -183,20 +183,18 @@ def read(data: bytes, name: str) -> Outcome:
 
 
 def mutations(files: dict[str, bytes], count: int, seed: int
-              ) -> list[tuple[str, str, bytes]]:
+              ) -> Iterator[tuple[str, str, bytes]]:
     """``count`` mutated files, ``(file name, mutation kind, bytes)``, the same for a seed."""
     rng = random.Random(seed)
     names = sorted(files)
     kinds = sorted(MUTATIONS)
-    made = []
     for index in range(count):
         name = names[index % len(names)]
         kind = kinds[(index // len(names)) % len(kinds)]
         data = MUTATIONS[kind](rng, files[name])
-        if rng.random() < 0.2:  # now and then a second mutation on top of the first
-            data = MUTATIONS[rng.choice(kinds)](rng, data) if data else data
-        made.append((name, kind, data))
-    return made
+        if data and rng.random() < 0.2:  # now and then a second mutation on top of the first
+            data = MUTATIONS[rng.choice(kinds)](rng, data)
+        yield name, kind, data
 
 
 __all__ = ["MUTATIONS", "Outcome", "corpus", "mutations", "read", "station"]

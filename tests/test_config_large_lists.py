@@ -112,3 +112,9 @@ def test_an_antenna_without_the_electrical_rotator_of_its_system_is_told_once() 
     assert [m for _, _, m in errors(json.dumps(data, indent=2))] == [
         ('antenna 4 is in system 0 with antennas of electrical rotator 0, so it must also say '
         '"Rotator": 0')]
+
+
+def test_a_system_naming_itself_many_times_is_told_once() -> None:
+    data = json.loads(text_of())
+    data["Systems"] = [{"ID": 0, "ExclusiveAntennas": [1, 2], "ExclusiveSystems": [0] * 500}]
+    assert [m for _, _, m in errors(json.dumps(data, indent=2))] == ["system 0 contains itself"]

@@ -147,11 +147,10 @@ class _Checker:
                 missing_problems(self.r, s, key, missing, label,
                                  'systems that are not in "Systems"', one)
                 taken: list[tuple[int, m.System]] = []
+                if s.id in ids:
+                    self.r.error(self.r.at(s, key, s.id), f"{label} contains itself")
                 for system_id in ids:
-                    if system_id not in self.systems:
-                        continue
-                    if system_id == s.id:
-                        self.r.error(self.r.at(s, key, system_id), f"{label} contains itself")
+                    if system_id not in self.systems or system_id == s.id:
                         continue
                     other = system_home.get(system_id)
                     if other is not None and other is not s:

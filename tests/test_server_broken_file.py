@@ -75,3 +75,23 @@ def test_a_broken_file_is_not_handed_to_the_running_server(tmp_path: Path) -> No
     assert first.returncode == 0
     assert "Traceback" not in stderr
     assert "handed over" not in stderr
+
+
+def test_the_server_warns_at_load_about_a_client_allow_open_to_the_internet(
+        tmp_path: Path) -> None:
+    path = tmp_path / "open.moas"
+    text = (EXAMPLES / "small-station.moas").read_text()
+    path.write_text(text.replace("{\n", '{\n  "ClientAllow": ["127.0.0.1/0"],\n', 1))
+    tcp = free_port(socket.SOCK_STREAM)
+    server = subprocess.Popen(
+        [sys.executable, "-m", "moas_gui.cli.server", "--headless", "--new-instance",
+         "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
+         "--no-rotator-program", str(path)],
+        env=environment(tmp_path), stderr=subprocess.PIPE, text=True)
+    try:
+        wait_for(lambda: ask_state(tcp)["config"] == "open.moas")
+    finally:
+        server.terminate()
+        _, stderr = server.communicate(timeout=15)
+    assert f'{path}:2:19: warning: "ClientAllow" has "127.0.0.1/0", which lets in every ' \
+           "address of the internet" in stderr

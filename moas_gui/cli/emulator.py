@@ -21,6 +21,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from .. import __version__
 from ..hw.moas2.emulator.box import EmulatedBox
 from ..hw.moas2.emulator.model import EmulatorModel
 from ..hw.moas2.emulator.serve import (
@@ -32,6 +33,7 @@ from ..hw.moas2.emulator.serve import (
     serve,
 )
 from ..hw.moas2.errors import PortError
+from .options import add_log_level, log_level_number
 
 log = logging.getLogger("moas_gui.hw.moas2.emulator")
 
@@ -50,8 +52,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="the stored unit identifier, 0-99 (what the configuration's Echo checks)")
     p.add_argument("--firmware", default="100", metavar="VER",
                    help="three-character firmware version reported by ':' (default 100)")
-    p.add_argument("--log-level", default="warning",
-                   choices=["debug", "info", "warning", "error"], help="stderr log level")
+    add_log_level(p, "warning", "what goes to standard error")
+    p.add_argument("--version", action="version", version=f"moas-emulator {__version__}")
     return p
 
 
@@ -115,7 +117,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("moas-emulator: --firmware must be three letters or digits", file=sys.stderr)
         return 2
     logging.basicConfig(
-        level=args.log_level.upper(), stream=sys.stderr, format="%(levelname)s %(name)s: %(message)s"
+        level=log_level_number(args.log_level), stream=sys.stderr, format="%(levelname)s %(name)s: %(message)s"
     )
     if args.headless:
         try:

@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 
 from moas_gui import __version__
+from moas_gui.cli.options import add_log_level, log_level_number
 
 log = logging.getLogger("moas_gui.server")
 INSTANCE_NAME = "moas-server"
@@ -30,8 +31,7 @@ def _parser() -> argparse.ArgumentParser:
                              "exit status 0 only when the file is usable")
     parser.add_argument("--headless", action="store_true",
                         help="run without a window, logging to standard error")
-    parser.add_argument("--log-level", choices=("error", "info", "debug"), default="info",
-                        help="what the headless server logs (default info)")
+    add_log_level(parser, "info", "what the headless server logs")
     parser.add_argument("--bind",
                         help="address the client server listens on (default all)")
     parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
@@ -134,8 +134,9 @@ def _usable(path: str) -> bool:
         return True
     for problem in result.errors:
         print(problem, file=sys.stderr)
-    print(f"moas-server: {path} cannot be opened; the running moas-server carries on "
-          "untouched", file=sys.stderr)
+    count = len(result.errors)
+    print(f"moas-server: {path} has {count} error{'s' if count != 1 else ''}; not handed to "
+          "the server that is already running, which carries on untouched", file=sys.stderr)
     return False
 
 
@@ -192,8 +193,7 @@ def run_headless(args: argparse.Namespace) -> int:
     handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)-7s %(message)s", "%H:%M:%S"))
     root = logging.getLogger("moas_gui")
     root.addHandler(handler)
-    root.setLevel({"error": logging.WARNING, "info": logging.INFO,
-                   "debug": logging.DEBUG}[args.log_level])
+    root.setLevel(log_level_number(args.log_level))
     instance, status = _become_instance(args)
     if status is not None:
         return status

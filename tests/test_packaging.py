@@ -33,7 +33,7 @@ def test_pyside_6_12_0_is_excluded_only_for_python_3_11() -> None:
         assert not pyside_allows("6.5.3", python)
 
 
-def test_the_examples_and_icons_are_installed_with_the_package(tmp_path: Path) -> None:
+def test_the_examples_manual_and_icons_are_installed_with_the_package(tmp_path: Path) -> None:
     source = tmp_path / "source"
     source.mkdir()
     for name in ("pyproject.toml", "setup.py", "README.md"):
@@ -54,6 +54,11 @@ def test_the_examples_and_icons_are_installed_with_the_package(tmp_path: Path) -
     assert (built / "moas_gui" / "resources" / "icons" / "application-x-moas.svg").is_file()
     assert (built / "moas_gui" / "engine" / "config" / "loader.py").is_file()
     assert not (built / "examples").exists(), "no top-level package named examples"
+    # Help > Manual opens the manual installed with the package
+    manual = built / "moas_gui" / "manual"
+    assert sorted(p.name for p in manual.glob("*.md")) == \
+        sorted(p.name for p in (ROOT / "docs").glob("*.md"))
+    assert (manual / "images" / "server-window.png").is_file()
 
 
 def test_the_readme_runs_an_example_from_the_source_folder() -> None:

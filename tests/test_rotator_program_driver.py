@@ -16,7 +16,7 @@ from moas_gui.hw.rotators.controllers.dcu1 import DCU1Codec
 from moas_gui.hw.rotators.controllers.faulty import FaultyController
 from moas_gui.hw.rotators.controllers.models import MODELS, find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost
-from moas_gui.rotator_program.driver import RotatorDriver
+from moas_gui.rotator_program.driver import ControllerDriver
 from moas_gui.rotator_program.serial_link import PortError, open_serial, split_port
 
 SPEED = 200.0
@@ -65,7 +65,7 @@ async def test_driver_reads_turns_and_stops_each_model(host: EmulatorHost, name:
     model = find_model(name)
     served = host.add(model.make_emulator(START, SPEED, host.clock()))
     reports = Reports()
-    driver = RotatorDriver(3, model, served.path, 100, reports)
+    driver = ControllerDriver(3, model, served.path, 100, reports)
     driver.start()
     try:
         await until(lambda: reports.last == START, what="the first heading")
@@ -90,7 +90,7 @@ async def test_dcu1_heading_is_reported_when_the_turn_should_be_over(host: Emula
     served = host.add(find_model("DCU1").make_emulator(START, 400.0, host.clock()))
     reports = Reports()
     codec = DCU1Codec(speed=400.0, settle=0.1)
-    driver = RotatorDriver(1, find_model("DCU1"), served.path, 100, reports, codec=codec)
+    driver = ControllerDriver(1, find_model("DCU1"), served.path, 100, reports, codec=codec)
     driver.start()
     try:
         await until(lambda: driver.connected)
@@ -111,7 +111,7 @@ async def test_a_vanished_port_is_logged_retried_and_used_again(
     link = str(tmp_path / "ttyROT")
     served = host.add(find_model("Yaesu").make_emulator(START), link=link)
     reports = Reports()
-    driver = RotatorDriver(2, find_model("Yaesu"), link, 100, reports, retry=0.1)
+    driver = ControllerDriver(2, find_model("Yaesu"), link, 100, reports, retry=0.1)
     driver.start()
     try:
         await until(lambda: reports.last == 100)
@@ -134,7 +134,7 @@ async def test_a_port_that_does_not_exist_is_retried_quietly(
         tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.DEBUG, logger="moas_gui.rotator_program")
     missing = str(tmp_path / "nothing")
-    driver = RotatorDriver(4, find_model("RotorEZ"), missing, 100, Reports(), retry=0.05)
+    driver = ControllerDriver(4, find_model("RotorEZ"), missing, 100, Reports(), retry=0.05)
     driver.start()
     try:
         await until(lambda: sum("still cannot open" in r.getMessage()
@@ -155,7 +155,7 @@ async def test_garbage_from_a_controller_is_logged_and_the_headings_still_come(
     faulty.noise = b"\xff\x00garbage"
     served = host.add(faulty)
     reports = Reports()
-    driver = RotatorDriver(5, find_model("Prosistel D"), served.path, 100, reports)
+    driver = ControllerDriver(5, find_model("Prosistel D"), served.path, 100, reports)
     driver.start()
     try:
         await until(lambda: reports.last == 100)
@@ -178,7 +178,7 @@ async def test_a_controller_that_stops_answering_is_reported_and_polled_on(
     reports = Reports()
     codec = find_model("RC2800P-X").codec()
     codec.info = dataclasses.replace(codec.info, reply_timeout=0.2)  # quicker than its 1 s
-    driver = RotatorDriver(6, find_model("RC2800P-X"), served.path, 100, reports, codec=codec)
+    driver = ControllerDriver(6, find_model("RC2800P-X"), served.path, 100, reports, codec=codec)
     driver.start()
     try:
         await until(lambda: reports.last == 100)
@@ -201,7 +201,7 @@ async def test_a_burst_of_turns_sends_only_the_last(host: EmulatorHost) -> None:
     faulty = FaultyController(find_model("Yaesu").make_emulator(START, SPEED))
     served = host.add(faulty)
     reports = Reports()
-    driver = RotatorDriver(7, find_model("Yaesu"), served.path, 1000, reports)
+    driver = ControllerDriver(7, find_model("Yaesu"), served.path, 1000, reports)
     driver.start()
     try:
         await until(lambda: reports.last == 100)
@@ -218,7 +218,7 @@ async def test_a_burst_of_turns_sends_only_the_last(host: EmulatorHost) -> None:
 async def test_a_heading_out_of_the_model_range_is_refused_before_sending(
         host: EmulatorHost) -> None:
     served = host.add(find_model("RotorEZ").make_emulator(START))
-    driver = RotatorDriver(8, find_model("RotorEZ"), served.path, 100, Reports())
+    driver = ControllerDriver(8, find_model("RotorEZ"), served.path, 100, Reports())
     driver.start()
     try:
         await until(lambda: driver.connected)
@@ -234,7 +234,7 @@ async def test_the_reader_thread_works_where_the_loop_cannot_watch_the_port(
     served = host.add(find_model("GS-232A").make_emulator(START, SPEED))
     reports = Reports()
     opener = functools.partial(open_serial, use_thread=True)
-    driver = RotatorDriver(9, find_model("GS-232A"), served.path + "@4800", 100, reports,
+    driver = ControllerDriver(9, find_model("GS-232A"), served.path + "@4800", 100, reports,
                            opener=opener)
     driver.start()
     try:

@@ -23,8 +23,8 @@ from moas_gui import __version__
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.hw.rotators.controllers.base import DEFAULT_SPEED, UnknownModel
 from moas_gui.hw.rotators.controllers.models import find_model, known_models
+from moas_gui.hw.rotators.moas_rotator_codec import PORT
 from moas_gui.rotator_program.program import RotatorProgram
-from moas_gui.rotator_program.protocol import PORT
 
 log = logging.getLogger("moas_gui.rotator_program")
 
@@ -96,12 +96,13 @@ async def _serve(args: argparse.Namespace) -> int:
         print(f"moas-rotator: cannot listen on {args.bind}:{args.port}: {error.strerror or error}"
               " (is another MOAS Rotator running?)", file=sys.stderr)
         return 2
-    print(f"listening on {host}:{port}", flush=True)
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for signum in (signal.SIGINT, signal.SIGTERM):
         with contextlib.suppress(NotImplementedError, RuntimeError):
             loop.add_signal_handler(signum, stop.set)
+    # Only now: whoever reads this line may stop the program at once.
+    print(f"listening on {host}:{port}", flush=True)
     try:
         await stop.wait()
     finally:

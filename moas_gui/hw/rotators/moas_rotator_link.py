@@ -20,6 +20,7 @@ from moas_gui.engine.config.model import Rotator
 from .base import Backoff, Publish, RotatorDriver, RotatorStatus, Timing
 from .headings import Travel, angular_distance, normalize
 from .moas_rotator_codec import (
+    PORT,
     BadLine,
     HeadingReport,
     ReportDecoder,
@@ -34,7 +35,7 @@ from .tracking import TurnTracker, linear_distance
 
 log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_link")
 
-MOAS_ROTATOR_PORT = 13020
+MOAS_ROTATOR_PORT = PORT
 
 
 class MoasRotatorLink:

@@ -167,7 +167,7 @@ async def test_bad_packets_are_counted_by_reason_and_the_next_good_one_still_wor
         b"<RadioInfo><RadioNr>1</RadioNr>",
         b"<contactinfo><call>W1AW</call></contactinfo>",
         b"<RadioInfo><Freq>1400000</Freq></RadioInfo>",
-        b"<RadioInfo><RadioNr>1</RadioNr><Freq>-3</Freq></RadioInfo>",
+        b"<RadioInfo><RadioNr>1</RadioNr><Freq>30000000000</Freq></RadioInfo>",
         b'<!DOCTYPE a [<!ENTITY x "y">]><RadioInfo><RadioNr>1</RadioNr><Freq>&x;</Freq></RadioInfo>',
         b"<RadioInfo>" + b" " * 20_000 + b"</RadioInfo>",
         radio_info_packet(1, 50100.0),

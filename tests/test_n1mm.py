@@ -119,6 +119,10 @@ async def test_a_burst_tells_each_radio_only_its_latest_frequency(station3: Runn
             await asyncio.sleep(0.005)
     assert sorted(station3.recorder.calls) == [(3, 1, 7030.0, 7030.0), (3, 2, 1830.0, 1830.0)]
     assert len(station3.recorder.updates) == 5, "every packet is still read and counted"
+    stats = station3.listener.stats()
+    assert stats.delivered == len(station3.recorder.calls) == 2, "delivered counts the calls"
+    assert stats.superseded == 3, "the three older frequencies of radio 1 were skipped"
+    assert stats.accepted == stats.delivered + stats.superseded
 
 
 @pytest.mark.asyncio

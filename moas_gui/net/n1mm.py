@@ -89,6 +89,9 @@ class N1MMStats:
     """RadioInfo packets from a known station with a frequency (changed or not)."""
     delivered: int = 0
     """Calls of ``on_frequency`` (accepted packets that changed a radio's frequencies)."""
+    superseded: int = 0
+    """Changes never passed on because a newer packet for the same radio was read
+    in the same burst (only the newest frequency is acted on)."""
     no_frequency: int = 0
     """RadioInfo packets from a known station saying the radio has no frequency (``Freq`` 0)."""
     unknown_sender: int = 0
@@ -179,7 +182,7 @@ class N1MMListener(asyncio.DatagramProtocol):
         self._sock: socket.socket | None = None
         self._batch: dict[tuple[int, int], tuple[int, int, float, float]] | None = None
         self._closed: asyncio.Future[None] | None = None
-        self._received = self._accepted = self._delivered = 0
+        self._received = self._accepted = self._delivered = self._superseded = 0
         self._no_frequency = self._unknown = self._callback_errors = 0
         self._refused = dict.fromkeys(REASONS, 0)
 
@@ -228,11 +231,12 @@ class N1MMListener(asyncio.DatagramProtocol):
             changed = self._last.get(radio_key) != pair
             if changed:
                 self._last[radio_key] = pair
-                self._delivered += 1
                 if self._batch is not None:  # a burst: only each radio's latest counts
-                    self._batch.pop(radio_key, None)
+                    if self._batch.pop(radio_key, None) is not None:
+                        self._superseded += 1
                     self._batch[radio_key] = (station, info.radio_nr, info.khz, info.tx_khz)
                 else:
+                    self._delivered += 1
                     self._call(self._on_frequency, station, info.radio_nr, info.khz,
                                info.tx_khz)
         update = RadioUpdate(station, info.radio_nr, address, info, changed)
@@ -259,6 +263,7 @@ class N1MMListener(asyncio.DatagramProtocol):
     def stats(self) -> N1MMStats:
         return N1MMStats(
             received=self._received, accepted=self._accepted, delivered=self._delivered,
+            superseded=self._superseded,
             no_frequency=self._no_frequency, unknown_sender=self._unknown,
             callback_errors=self._callback_errors,
             refused={r: n for r, n in self._refused.items() if n},
@@ -289,6 +294,7 @@ class N1MMListener(asyncio.DatagramProtocol):
         finally:
             batch, self._batch = self._batch, None
         for station, radio, khz, tx_khz in batch.values():
+            self._delivered += 1
             self._call(self._on_frequency, station, radio, khz, tx_khz)
 
     def error_received(self, exc: Exception) -> None:

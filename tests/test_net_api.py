@@ -19,15 +19,18 @@ PUBLIC = {
         "ClientBackend", "ErrorCode", "EventSink", "JSONObject", "LogLevel", "RequestError",
         "Target",
     ],
-    "moas_gui.net.server": ["DEFAULT_PORT", "LOG_LEVELS", "MAX_BAD_LINES", "ClientServer"],
+    "moas_gui.net.server": [
+        "DEFAULT_MAX_CLIENTS", "DEFAULT_MAX_PENDING_TOTAL", "DEFAULT_PORT", "LOG_LEVELS",
+        "MAX_BAD_LINES", "ClientServer",
+    ],
     "moas_gui.net.access": [
         "DEFAULT_ALLOW", "DEFAULT_ALLOW_TEXT", "IPAddress", "IPNetwork", "allowed_networks",
         "is_allowed", "parse_allow_list", "peer_address",
     ],
     "moas_gui.net.framing": ["MAX_LINE", "Line", "LineSplitter", "LongLine"],
     "moas_gui.net.commands": [
-        "COMMANDS", "Arg", "BadLine", "BadRequest", "Command", "Kind", "Request",
-        "check_request", "describe", "parse_line",
+        "COMMANDS", "MAX_DEPTH", "Arg", "BadLine", "BadRequest", "Command", "Kind", "Request",
+        "check_request", "describe", "parse_line", "too_deep",
     ],
     "moas_gui.net.messages": [
         "EVENTS", "PROTOCOL_VERSION", "SERVER_NAME", "EncodeError", "encode", "event",

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 from typing import Final
 
 from moas_gui.engine.config.model import Config, N1MMStation
+from moas_gui.net.log_limit import LogLimiter, held_text
 from moas_gui.net.n1mm_packet import (
     REASONS,
     N1MMPacketError,
@@ -105,30 +106,6 @@ class N1MMStats:
         return sum(n for reason, n in self.refused.items() if reason != "not_radio_info")
 
 
-class _LogLimiter:
-    """Lets one log line per key through every ``interval`` seconds, counting the rest."""
-
-    MAX_KEYS = 1024
-
-    def __init__(self, interval: float, clock: Callable[[], float]) -> None:
-        self._interval = interval
-        self._clock = clock
-        self._next: dict[object, float] = {}
-        self._held: dict[object, int] = {}
-
-    def allow(self, key: object) -> int | None:
-        """``None`` to stay quiet, else the number of lines held back since the last one."""
-        now = self._clock()
-        if now < self._next.get(key, float("-inf")):
-            self._held[key] = self._held.get(key, 0) + 1
-            return None
-        if len(self._next) >= self.MAX_KEYS:
-            self._next.clear()
-            self._held.clear()
-        self._next[key] = now + self._interval
-        return self._held.pop(key, 0)
-
-
 def _address_key(address: str) -> str:
     """The canonical text of an IP address (IPv4-mapped IPv6 becomes IPv4); other text as is."""
     try:
@@ -175,7 +152,7 @@ class N1MMListener(asyncio.DatagramProtocol):
         self._on_frequency = on_frequency
         self._on_update = on_update
         self._clock = clock
-        self._limiter = _LogLimiter(log_interval, clock)
+        self._limiter = LogLimiter(log_interval, clock)
         self._last: dict[tuple[int, int], tuple[float, float]] = {}
         self._heard: dict[tuple[int, int], float] = {}
         self._transport: asyncio.BaseTransport | None = None
@@ -209,7 +186,7 @@ class N1MMListener(asyncio.DatagramProtocol):
             held = self._limiter.allow(("unknown", key))
             if held is not None:
                 log.debug("N1MM packet from %s ignored: that address is not in N1MMLogger%s",
-                          address, _held_text(held))
+                          address, held_text(held))
             return None
         try:
             info = parse_radio_info(data)
@@ -218,7 +195,7 @@ class N1MMListener(asyncio.DatagramProtocol):
             held = self._limiter.allow((exc.reason, key))
             if held is not None:
                 log.debug("N1MM packet from %s (station %d) ignored: %s%s",
-                          address, station, exc, _held_text(held))
+                          address, station, exc, held_text(held))
             return None
         radio_key = (station, info.radio_nr)
         self._heard[radio_key] = self._clock()
@@ -367,10 +344,6 @@ class N1MMListener(asyncio.DatagramProtocol):
         self._transport.close()
         if self._closed is not None:
             await self._closed
-
-
-def _held_text(held: int) -> str:
-    return f" ({held} more like it since the last such line)" if held else ""
 
 
 __all__ = [

@@ -15,9 +15,18 @@ stops reading cannot hold anyone up).  Peers outside the allowed networks
 (:mod:`.access`) are closed at once.  Every call here runs on the loop's
 thread; none of them waits.
 
+Limits: at most ``max_clients`` connections at once (fewer when the process
+may open few files: half its open-file limit); a connection beyond that is
+told so in one error line and closed.  Each client's unread output is bounded
+(``max_pending``), and so is the sum of all of them (``max_pending_total``):
+when the sum is over, the clients with the most unread output are cut first.
+
 Log lines (logger ``moas_gui.net``): connects, hellos and disconnects at Info;
 refused peers and clients cut off for not reading at Warning; each bad line or
-refused request at Debug; a backend failure at Error with its traceback.
+refused request at Debug; a backend failure at Error with its traceback.  A
+fault that repeats (refused peers, connections over the limit, the system
+running out of file handles while accepting) writes one line per minute and
+cause, saying how many like it were left out.
 """
 
 from __future__ import annotations
@@ -29,17 +38,23 @@ from typing import Any
 
 from moas_gui.errors import HardwareError
 
-from .access import allowed_networks, is_allowed
-from .backend import ClientBackend, LogLevel, RequestError
+from .access import allowed_networks, is_allowed, peer_address
+from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
 from .connection import ClientInfo, Connection, LayoutKey, format_peer
 from .dispatch import MAX_BAD_LINES, answer
-from .messages import EncodeError, event
+from .fd_limit import open_file_limit
+from .log_limit import LogLimiter, held_text
+from .messages import EncodeError, event, reply_error
 
 log = logging.getLogger("moas_gui.net")
 
 DEFAULT_PORT = 12059
 LOG_LEVELS: tuple[LogLevel, ...] = ("error", "info", "debug")
 _READ_CHUNK = 65_536
+DEFAULT_MAX_CLIENTS = 200
+"""Connections served at once unless ``--max-clients`` says otherwise."""
+DEFAULT_MAX_PENDING_TOTAL = 32 << 20
+"""Bytes of unread output, summed over every client, before the slowest are cut."""
 
 
 class ClientServer:
@@ -48,8 +63,10 @@ class ClientServer:
     ``host`` ``None`` listens on every interface (access control decides who
     may stay); tests give ``"127.0.0.1"`` and port 0.  ``allow`` is the
     configuration's ``ClientAllow`` (``None``: loopback and private networks).
-    ``max_pending`` bounds each client's outgoing queue in bytes;
-    ``max_layouts`` bounds the layouts one connection follows.  With ``host``
+    ``max_pending`` bounds each client's outgoing queue in bytes and
+    ``max_pending_total`` the sum of them all; ``max_clients`` bounds the
+    connections served at once; ``max_layouts`` bounds the layouts one
+    connection follows.  With ``host``
     ``None`` and port 0 each address family would get a port of its own: give
     a port, or a host, then.
     """
@@ -65,14 +82,29 @@ class ClientServer:
         port: int = DEFAULT_PORT,
         allow: Iterable[str] | None = None,
         max_pending: int = 1 << 20,
+        max_pending_total: int = DEFAULT_MAX_PENDING_TOTAL,
+        max_clients: int = DEFAULT_MAX_CLIENTS,
         max_layouts: int = 16,
     ) -> None:
+        if max_clients < 1:
+            raise ValueError(f"max_clients must be at least 1, not {max_clients}")
         self.backend = backend
         self.host = host
         self.port = port
         self._allowed = allowed_networks(allow)
         self.max_pending = max_pending
+        self.max_pending_total = max_pending_total
+        self.max_clients = max_clients
+        self.client_limit = max_clients
+        """The connections served at once: ``max_clients``, or fewer when the
+        process may open few files (set by :meth:`start`)."""
         self.max_layouts = max_layouts
+        self._unchecked = 0
+        """Bytes queued since the sum of all clients' output was last checked."""
+        self._refusals = LogLimiter()
+        self._loop_faults = LogLimiter()
+        self._previous_handler: Any = None
+        self._handler: Any = None
         self._server: asyncio.Server | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._connections: dict[Connection, None] = {}
@@ -87,6 +119,8 @@ class ClientServer:
         Raises :class:`~moas_gui.errors.HardwareError` saying which port when it
         cannot listen (the port is in use, say)."""
         self._loop = asyncio.get_running_loop()
+        self.client_limit = self._fitting_limit()
+        self._guard_loop_faults(self._loop)
         try:
             self._server = await asyncio.start_server(self._serve, self.host, self.port)
         except OSError as e:
@@ -117,6 +151,47 @@ class ClientServer:
         if self._server is not None:
             await self._server.wait_closed()
             self._server = None
+        if self._loop is not None and self._handler is not None:
+            if self._loop.get_exception_handler() is self._handler:
+                self._loop.set_exception_handler(self._previous_handler)
+            self._handler = self._previous_handler = None
+
+    def _fitting_limit(self) -> int:
+        files = open_file_limit()
+        if files is None or self.max_clients <= files // 2:
+            return self.max_clients
+        limit = max(1, files // 2)
+        log.warning("At most %d clients at once (not %d): this process may open only %d files",
+                    limit, self.max_clients, files)
+        return limit
+
+    def _guard_loop_faults(self, loop: asyncio.AbstractEventLoop) -> None:
+        """Lets each fault the event loop reports (a failing ``accept`` when the
+        system is out of file handles, say) through once a minute, with a count."""
+        if self._handler is not None:
+            return
+        previous = loop.get_exception_handler()
+
+        def handler(loop: asyncio.AbstractEventLoop, context: dict[str, Any]) -> None:
+            message = str(context.get("message", ""))
+            exc = context.get("exception")
+            held = self._loop_faults.allow((message, type(exc).__name__))
+            if held is None:
+                return
+            if message.startswith("socket.accept() out of system resource"):
+                log.warning("Cannot accept clients for now: %s (the system is out of file "
+                            "handles or memory; trying again every second)%s",
+                            exc, held_text(held))
+                return
+            if held:
+                log.warning("%s%s", message, held_text(held))
+            if previous is not None:
+                previous(loop, context)
+            else:
+                loop.default_exception_handler(context)
+
+        self._previous_handler, self._handler = previous, handler
+        loop.set_exception_handler(handler)
 
     def set_allow(self, allow: Iterable[str] | None) -> None:
         """New ``ClientAllow`` (after a configuration is loaded); applies to new connections."""
@@ -125,6 +200,33 @@ class ClientServer:
     @property
     def client_count(self) -> int:
         return len(self._connections)
+
+    @property
+    def pending_total(self) -> int:
+        """Bytes of output waiting to be read, summed over every client."""
+        return sum(conn.pending for conn in self._connections)
+
+    def _queued(self, size: int) -> None:
+        """Called for every line queued; checks the sum now and then (often
+        enough that it never gets far over :attr:`max_pending_total`)."""
+        self._unchecked += size
+        if self._unchecked >= max(1, self.max_pending_total // 16):
+            self._unchecked = 0
+            self._enforce_budget()
+
+    def _enforce_budget(self) -> None:
+        sizes = [(conn.pending, conn) for conn in self._connections if not conn.closed]
+        total = sum(size for size, _conn in sizes)
+        if total <= self.max_pending_total:
+            return
+        sizes.sort(key=lambda pair: pair[0], reverse=True)
+        for size, conn in sizes:
+            if total <= self.max_pending_total:
+                break
+            conn.abort(f"the output waiting for all clients reached {total:,} bytes, over "
+                       f"the {self.max_pending_total:,}-byte limit, and it had the most "
+                       f"waiting ({size:,} bytes)")
+            total -= size
 
     def clients(self) -> tuple[ClientInfo, ...]:
         return tuple(conn.info() for conn in self._connections)
@@ -221,23 +323,47 @@ class ClientServer:
         try:
             host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
             if not is_allowed(host, self._allowed):
-                log.warning(
-                    "Refused a client from %s: the address is not in the allowed networks "
-                    "(ClientAllow in the configuration decides)", address,
-                )
+                held = self._refusals.allow(("not allowed", str(peer_address(host) or host)))
+                if held is not None:
+                    log.warning(
+                        "Refused a client from %s: the address is not in the allowed networks "
+                        "(ClientAllow in the configuration decides)%s", address,
+                        held_text(held, "more refused from that address"),
+                    )
                 writer.transport.abort()
                 writer.close()
+                return
+            if len(self._connections) >= self.client_limit:
+                self._refuse_over_limit(writer, address)
                 return
             await self._converse(reader, writer, address)
         finally:
             if task is not None:
                 self._tasks.discard(task)
 
+    def _refuse_over_limit(self, writer: asyncio.StreamWriter, address: str) -> None:
+        """Tells a connection over the limit why, in one line, and closes it."""
+        held = self._refusals.allow("over the limit")
+        if held is not None:
+            log.warning("Refused a client from %s: %d clients are connected, the most this "
+                        "server takes at once (moas-server --max-clients sets it)%s",
+                        address, self.client_limit,
+                        held_text(held, "more refused for the same reason"))
+        try:
+            writer.write(reply_error(
+                None, ErrorCode.UNAVAILABLE,
+                f"the server already serves {self.client_limit} clients, its limit; "
+                "try again when one has left"))
+        except (ConnectionError, OSError):
+            pass
+        writer.close()
+
     async def _converse(
         self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter, address: str
     ) -> None:
         conn = Connection(
-            writer, address, max_pending=self.max_pending, max_layouts=self.max_layouts
+            writer, address, max_pending=self.max_pending, max_layouts=self.max_layouts,
+            on_queued=self._queued,
         )
         self._connections[conn] = None
         log.info("Client connected from %s", address)
@@ -282,4 +408,11 @@ def _who(conn: Connection) -> str:
     return f'"{conn.name}" at {conn.address}' if conn.name else f"at {conn.address}"
 
 
-__all__ = ["DEFAULT_PORT", "LOG_LEVELS", "MAX_BAD_LINES", "ClientServer"]
+__all__ = [
+    "DEFAULT_MAX_CLIENTS",
+    "DEFAULT_MAX_PENDING_TOTAL",
+    "DEFAULT_PORT",
+    "LOG_LEVELS",
+    "MAX_BAD_LINES",
+    "ClientServer",
+]

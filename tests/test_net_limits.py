@@ -78,13 +78,13 @@ async def test_a_refused_address_writes_one_warning_a_minute_with_a_count(
         await dispose(rig)
 
 
-async def never_reading_client(port: int) -> socket.socket:
-    """A client with a tiny receive window that asks for the state over and over and
-    never reads a byte of the answers."""
+async def never_reading_client(port: int, hello: bytes = b"") -> socket.socket:
+    """A client with a tiny receive window that never reads a byte."""
     sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
     sock.setblocking(False)
     await asyncio.get_running_loop().sock_connect(sock, (HOST, port))
+    sock.send(hello)
     return sock
 
 
@@ -97,28 +97,78 @@ async def test_the_sum_of_unread_output_is_bounded_and_the_slowest_are_cut_first
     rig = await make_rig(max_pending=256 * 1024, max_pending_total=budget)
     socks: list[socket.socket] = []
     try:
-        reader = await rig.connect("reads everything")
-        socks = [await never_reading_client(rig.server.port) for _ in range(12)]
-        requests = b'{"cmd": "state"}\n' * 400
-        peak = 0
-        for _round in range(40):
-            for sock in socks:
-                if sock.fileno() >= 0:
-                    try:
-                        sock.send(requests)
-                    except (BlockingIOError, ConnectionError):
-                        pass
-            await asyncio.sleep(0.01)
+        healthy = await rig.connect("reads everything", log=True)
+        hello = b'{"id": 1, "cmd": "hello", "client": "stuck", "log": true}\n'
+        socks = [await never_reading_client(rig.server.port, hello) for _ in range(12)]
+        await until(lambda: sum(i.name == "stuck" for i in rig.server.clients()) == 12)
+        peak = published = 0
+        while rig.server.client_count > 1 and published < 5000:
+            rig.server.publish_log("info", f"{published} " + "x" * 4000)
+            published += 1
             peak = max(peak, rig.server.pending_total)
-        await until(lambda: rig.server.client_count == 1, timeout=20)
-        assert peak <= budget + budget // 16 + 64 * 1024, f"{peak:,} bytes waited at once"
+            if published % 8 == 0:
+                await asyncio.sleep(0)
+        assert rig.server.client_count == 1, "the stuck clients were never cut off"
+        assert peak <= budget + budget // 16 + 8 * 1024, f"{peak:,} bytes waited at once"
         cut = warnings(caplog, "the output waiting for all clients reached")
-        assert cut, "some clients were cut for the sum, not each for its own limit"
-        assert await reader.request("stop", rotator=1) == {}
+        assert cut, "clients were cut for the sum, before each reached its own limit"
+        for number in range(published):
+            assert (await healthy.next_event("log"))["message"].startswith(f"{number} ")
         assert rig.server.pending_total == 0
     finally:
         for sock in socks:
             sock.close()
+        await dispose(rig)
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(60)
+async def test_clients_flooding_requests_they_never_read_are_cut_and_others_served_meanwhile(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    rig = await make_rig(max_pending=256 * 1024)
+    socks: list[socket.socket] = []
+    try:
+        healthy = await rig.connect("reads everything")
+        socks = [await never_reading_client(rig.server.port) for _ in range(10)]
+        requests = b'{"cmd": "state"}\n' * 2000
+        for _round in range(20):
+            for sock in socks:
+                try:
+                    sock.send(requests)
+                except (BlockingIOError, ConnectionError):
+                    pass
+            async with asyncio.timeout(2):  # others are served all along
+                assert await healthy.request("stop", rotator=1) == {}
+        await until(lambda: rig.server.client_count == 1, timeout=20)
+        assert len(warnings(caplog, "it stopped reading")) == 10
+    finally:
+        for sock in socks:
+            sock.close()
+        await dispose(rig)
+
+
+@pytest.mark.asyncio
+@pytest.mark.skipif(sys.platform != "linux", reason="glibc's malloc_trim gives memory back")
+async def test_memory_is_given_back_once_a_crowd_of_clients_has_left(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    caplog.set_level(logging.DEBUG, logger="moas_gui.net")
+    rig = await make_rig()
+    try:
+        crowd = [await rig.connect(None) for _ in range(40)]
+        await until(lambda: rig.server.client_count == 40)
+        for client in crowd[:15]:
+            await client.close()
+        await until(lambda: rig.server.client_count == 25)
+        await asyncio.sleep(0.7)
+        gave = [r.getMessage() for r in caplog.records if "Gave freed memory" in r.getMessage()]
+        assert gave == [], "15 of 40 leaving is no crowd gone"
+        for client in crowd[15:]:
+            await client.close()
+        await until(lambda: any("Gave freed memory back" in r.getMessage()
+                                for r in caplog.records))
+    finally:
         await dispose(rig)
 
 

@@ -44,13 +44,20 @@ from .connection import ClientInfo, Connection, LayoutKey, format_peer
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import open_file_limit
 from .log_limit import LogLimiter, held_text
+from .memory import give_back_memory
 from .messages import EncodeError, event, reply_error
 
 log = logging.getLogger("moas_gui.net")
 
 DEFAULT_PORT = 12059
 LOG_LEVELS: tuple[LogLevel, ...] = ("error", "info", "debug")
-_READ_CHUNK = 65_536
+_READ_CHUNK = 16_384
+"""Bytes read from a client at once (and what its reader holds before it stops
+taking more from the socket): a few hundred requests."""
+_FEED = 1024
+"""Bytes of requests (a few dozen) answered before the loop serves everything else once."""
+_CROWD = 32
+"""Clients at once after which their leaving gives memory back to the system."""
 DEFAULT_MAX_CLIENTS = 200
 """Connections served at once unless ``--max-clients`` says otherwise."""
 DEFAULT_MAX_PENDING_TOTAL = 32 << 20
@@ -101,6 +108,9 @@ class ClientServer:
         self.max_layouts = max_layouts
         self._unchecked = 0
         """Bytes queued since the sum of all clients' output was last checked."""
+        self._crowd = 0
+        """The most clients connected at once since memory was last given back."""
+        self._trim: asyncio.Handle | None = None
         self._refusals = LogLimiter()
         self._loop_faults = LogLimiter()
         self._previous_handler: Any = None
@@ -122,7 +132,8 @@ class ClientServer:
         self.client_limit = self._fitting_limit()
         self._guard_loop_faults(self._loop)
         try:
-            self._server = await asyncio.start_server(self._serve, self.host, self.port)
+            self._server = await asyncio.start_server(
+                self._serve, self.host, self.port, limit=_READ_CHUNK)
         except OSError as e:
             raise HardwareError(
                 f"cannot accept clients on TCP port {self.port}: {e.strerror or e} "
@@ -142,6 +153,9 @@ class ClientServer:
         if self._layout_refresh is not None:
             self._layout_refresh.cancel()
             self._layout_refresh = None
+        if self._trim is not None:
+            self._trim.cancel()
+            self._trim = None
         tasks = tuple(self._tasks)
         if tasks:
             _done, pending = await asyncio.wait(tasks, timeout=self.close_grace + 1.0)
@@ -366,6 +380,7 @@ class ClientServer:
             on_queued=self._queued,
         )
         self._connections[conn] = None
+        self._crowd = max(self._crowd, len(self._connections))
         log.info("Client connected from %s", address)
         lost: str | None = None
         try:
@@ -373,11 +388,7 @@ class ClientServer:
                 data = await reader.read(_READ_CHUNK)
                 if not data:
                     break
-                for item in conn.splitter.feed(data):
-                    answer(self.backend, conn, item)
-                    if conn.closed:
-                        break
-                await asyncio.sleep(0)  # a client sending a flood must not starve the others
+                await self._answer(conn, data)
         except (ConnectionError, OSError) as e:
             lost = str(e) or type(e).__name__
         finally:
@@ -389,9 +400,34 @@ class ClientServer:
             else:
                 how = "disconnected"
             log.info("Client %s %s", _who(conn), how)
+            self._after_departure()
             if not conn.closed:
                 writer.close()
             await self._closed(writer)
+
+    async def _answer(self, conn: Connection, data: bytes) -> None:
+        """Answers the lines in ``data``, a few at a time: a client sending a flood
+        must not starve the others or the switches (nor hold many lines at once)."""
+        for start in range(0, len(data), _FEED):
+            for item in conn.splitter.feed(data[start : start + _FEED]):
+                answer(self.backend, conn, item)
+                if conn.closed:
+                    return
+            await asyncio.sleep(0)
+
+    def _after_departure(self) -> None:
+        """Once most of a crowd of clients has gone, gives their memory back (soon,
+        once for however many leave in the same moment)."""
+        if self._crowd >= _CROWD and len(self._connections) <= self._crowd // 2:
+            self._crowd = len(self._connections)
+            if self._trim is None and self._loop is not None:
+                self._trim = self._loop.call_later(0.5, self._give_back)
+
+    def _give_back(self) -> None:
+        self._trim = None
+        if give_back_memory():
+            log.debug("Gave freed memory back to the system (%d clients now)",
+                      len(self._connections))
 
     async def _closed(self, writer: asyncio.StreamWriter) -> None:
         """Waits for what is queued to be sent, but not for a peer that never reads."""

@@ -55,7 +55,9 @@ _READ_CHUNK = 16_384
 """Bytes read from a client at once (and what its reader holds before it stops
 taking more from the socket): a few hundred requests."""
 _FEED = 1024
-"""Bytes of requests (a few dozen) answered before the loop serves everything else once."""
+"""Bytes of requests split into lines at once."""
+_LINES_PER_TURN = 8
+"""Requests of one client answered before the loop serves everything else once."""
 _CROWD = 32
 """Clients at once after which their leaving gives memory back to the system."""
 DEFAULT_MAX_CLIENTS = 200
@@ -408,12 +410,16 @@ class ClientServer:
     async def _answer(self, conn: Connection, data: bytes) -> None:
         """Answers the lines in ``data``, a few at a time: a client sending a flood
         must not starve the others or the switches (nor hold many lines at once)."""
+        answered = 0
         for start in range(0, len(data), _FEED):
             for item in conn.splitter.feed(data[start : start + _FEED]):
                 answer(self.backend, conn, item)
                 if conn.closed:
                     return
-            await asyncio.sleep(0)
+                answered += 1
+                if answered % _LINES_PER_TURN == 0:
+                    await asyncio.sleep(0)
+        await asyncio.sleep(0)
 
     def _after_departure(self) -> None:
         """Once most of a crowd of clients has gone, gives their memory back (soon,

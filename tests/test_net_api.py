@@ -36,8 +36,9 @@ PUBLIC = {
         "EVENTS", "PROTOCOL_VERSION", "SERVER_NAME", "EncodeError", "encode", "event",
         "hello_result", "reply_error", "reply_ok",
     ],
-    "moas_gui.net.connection": ["ClientInfo", "Connection", "LayoutKey", "clean_name",
-                                "format_peer"],
+    "moas_gui.net.connection": [
+        "ClientInfo", "Connection", "LayoutKey", "clean_name", "cut_slowest", "format_peer",
+    ],
     "moas_gui.net.client": ["ConnectionClosed", "ProtocolClient"],
     "moas_gui.net.dispatch": ["HANDLERS", "MAX_BAD_LINES", "answer"],
     "moas_gui.net.fake_backend": ["FakeBackend"],

@@ -14,7 +14,7 @@ from __future__ import annotations
 import asyncio
 import logging
 from collections import OrderedDict
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -161,4 +161,20 @@ class Connection:
             self.writer.transport.abort()
 
 
-__all__ = ["ClientInfo", "Connection", "LayoutKey", "clean_name", "format_peer"]
+def cut_slowest(connections: Iterable[Connection], limit: int) -> None:
+    """When the output waiting for all ``connections`` is over ``limit`` bytes,
+    cuts those with the most waiting (the ones that do not read) until it is not."""
+    sizes = [(conn.pending, conn) for conn in connections if not conn.closed]
+    total = sum(size for size, _conn in sizes)
+    if total <= limit:
+        return
+    sizes.sort(key=lambda pair: pair[0], reverse=True)
+    for size, conn in sizes:
+        if total <= limit:
+            break
+        conn.abort(f"the output waiting for all clients reached {total:,} bytes, over "
+                   f"the {limit:,}-byte limit, and it had the most waiting ({size:,} bytes)")
+        total -= size
+
+
+__all__ = ["ClientInfo", "Connection", "LayoutKey", "clean_name", "cut_slowest", "format_peer"]

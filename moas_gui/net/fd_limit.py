@@ -55,4 +55,16 @@ def raise_open_file_limit(wanted: int = WANTED) -> int | None:
     return int(soft)
 
 
-__all__ = ["WANTED", "open_file_limit", "raise_open_file_limit"]
+def fitting_client_limit(max_clients: int) -> int:
+    """``max_clients``, or half the open-file limit when that is fewer (the
+    other half is for the switches, rotators, logs and the program itself)."""
+    files = open_file_limit()
+    if files is None or max_clients <= files // 2:
+        return max_clients
+    limit = max(1, files // 2)
+    log.warning("At most %d clients at once (not %d): this process may open only %d files",
+                limit, max_clients, files)
+    return limit
+
+
+__all__ = ["WANTED", "fitting_client_limit", "open_file_limit", "raise_open_file_limit"]

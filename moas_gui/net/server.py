@@ -33,17 +33,18 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 from moas_gui.errors import HardwareError
 
 from .access import allowed_networks, is_allowed, peer_address
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
-from .connection import ClientInfo, Connection, LayoutKey, format_peer
+from .connection import ClientInfo, Connection, LayoutKey, cut_slowest, format_peer
 from .dispatch import MAX_BAD_LINES, answer
-from .fd_limit import open_file_limit
+from .fd_limit import fitting_client_limit
 from .log_limit import LogLimiter, held_text
+from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
 from .messages import EncodeError, event, reply_error
 
@@ -115,8 +116,7 @@ class ClientServer:
         self._trim: asyncio.Handle | None = None
         self._refusals = LogLimiter()
         self._loop_faults = LogLimiter()
-        self._previous_handler: Any = None
-        self._handler: Any = None
+        self._restore_handler: Callable[[], None] | None = None
         self._server: asyncio.Server | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._connections: dict[Connection, None] = {}
@@ -131,8 +131,9 @@ class ClientServer:
         Raises :class:`~moas_gui.errors.HardwareError` saying which port when it
         cannot listen (the port is in use, say)."""
         self._loop = asyncio.get_running_loop()
-        self.client_limit = self._fitting_limit()
-        self._guard_loop_faults(self._loop)
+        self.client_limit = fitting_client_limit(self.max_clients)
+        if self._restore_handler is None:
+            self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
             self._server = await asyncio.start_server(
                 self._serve, self.host, self.port, limit=_READ_CHUNK)
@@ -167,47 +168,9 @@ class ClientServer:
         if self._server is not None:
             await self._server.wait_closed()
             self._server = None
-        if self._loop is not None and self._handler is not None:
-            if self._loop.get_exception_handler() is self._handler:
-                self._loop.set_exception_handler(self._previous_handler)
-            self._handler = self._previous_handler = None
-
-    def _fitting_limit(self) -> int:
-        files = open_file_limit()
-        if files is None or self.max_clients <= files // 2:
-            return self.max_clients
-        limit = max(1, files // 2)
-        log.warning("At most %d clients at once (not %d): this process may open only %d files",
-                    limit, self.max_clients, files)
-        return limit
-
-    def _guard_loop_faults(self, loop: asyncio.AbstractEventLoop) -> None:
-        """Lets each fault the event loop reports (a failing ``accept`` when the
-        system is out of file handles, say) through once a minute, with a count."""
-        if self._handler is not None:
-            return
-        previous = loop.get_exception_handler()
-
-        def handler(loop: asyncio.AbstractEventLoop, context: dict[str, Any]) -> None:
-            message = str(context.get("message", ""))
-            exc = context.get("exception")
-            held = self._loop_faults.allow((message, type(exc).__name__))
-            if held is None:
-                return
-            if message.startswith("socket.accept() out of system resource"):
-                log.warning("Cannot accept clients for now: %s (the system is out of file "
-                            "handles or memory; trying again every second)%s",
-                            exc, held_text(held))
-                return
-            if held:
-                log.warning("%s%s", message, held_text(held))
-            if previous is not None:
-                previous(loop, context)
-            else:
-                loop.default_exception_handler(context)
-
-        self._previous_handler, self._handler = previous, handler
-        loop.set_exception_handler(handler)
+        if self._restore_handler is not None:
+            self._restore_handler()
+            self._restore_handler = None
 
     def set_allow(self, allow: Iterable[str] | None) -> None:
         """New ``ClientAllow`` (after a configuration is loaded); applies to new connections."""
@@ -228,21 +191,7 @@ class ClientServer:
         self._unchecked += size
         if self._unchecked >= max(1, self.max_pending_total // 16):
             self._unchecked = 0
-            self._enforce_budget()
-
-    def _enforce_budget(self) -> None:
-        sizes = [(conn.pending, conn) for conn in self._connections if not conn.closed]
-        total = sum(size for size, _conn in sizes)
-        if total <= self.max_pending_total:
-            return
-        sizes.sort(key=lambda pair: pair[0], reverse=True)
-        for size, conn in sizes:
-            if total <= self.max_pending_total:
-                break
-            conn.abort(f"the output waiting for all clients reached {total:,} bytes, over "
-                       f"the {self.max_pending_total:,}-byte limit, and it had the most "
-                       f"waiting ({size:,} bytes)")
-            total -= size
+            cut_slowest(self._connections, self.max_pending_total)
 
     def clients(self) -> tuple[ClientInfo, ...]:
         return tuple(conn.info() for conn in self._connections)

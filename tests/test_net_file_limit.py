@@ -154,3 +154,15 @@ async def test_the_soft_limit_is_raised_at_start_and_max_clients_caps_connection
         for writer in writers:
             writer.close()
         await server.stop()
+
+
+@pytest.mark.parametrize("value", ["0", "-3", "many"])
+def test_max_clients_must_be_a_positive_whole_number(
+    value: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from moas_gui.cli.server import main
+
+    with pytest.raises(SystemExit) as ended:
+        main(["--headless", "x.moas", "--max-clients", value])
+    assert ended.value.code == 2
+    assert "--max-clients" in capsys.readouterr().err

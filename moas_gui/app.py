@@ -42,6 +42,8 @@ class ServerOptions:
     udp_port: int | None = None
     """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
     udp_bind: str = "0.0.0.0"
+    max_clients: int | None = None
+    """Client connections served at once; None for the client server's default."""
     start_rotator_program: bool | None = None
     """Overrides ``StartMOASRotator`` when not None."""
     rotator_program_port: int = 13020
@@ -345,8 +347,10 @@ class ServerApp:
         from moas_gui.net.server import ClientServer
 
         port = self.options.tcp_port if self.options.tcp_port is not None else run.config.tcp_port
+        limits = {} if self.options.max_clients is None else {
+            "max_clients": self.options.max_clients}
         run.clients = ClientServer(EngineBackend(self), host=self.options.bind, port=port,
-                                   allow=run.config.client_allow)
+                                   allow=run.config.client_allow, **limits)
         try:
             await run.clients.start()
         except HardwareError as exc:

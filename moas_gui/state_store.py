@@ -27,6 +27,7 @@ import json
 import logging
 import os
 import sys
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -222,6 +223,23 @@ def write_atomic(path: Path, data: bytes) -> None:
                 os.close(fd)
 
 
+STALE_TEMPORARY_S = 60.0
+
+
+def remove_stale_temporaries(path: Path) -> int:
+    """Remove temporary files of ``path`` that a killed writer left (older than a minute,
+    so a second server writing right now keeps its own); returns how many."""
+    removed = 0
+    now = time.time()
+    with contextlib.suppress(OSError):
+        for candidate in path.parent.glob(f".{path.name}.*.tmp"):
+            with contextlib.suppress(OSError):
+                if now - candidate.stat().st_mtime > STALE_TEMPORARY_S:
+                    candidate.unlink()
+                    removed += 1
+    return removed
+
+
 def load(path: Path, expected_fingerprint: str) -> SavedState | None:
     """The usable state at ``path``, or None (then one log line says why, unless there is
     simply no file yet)."""
@@ -251,6 +269,7 @@ class StateKeeper:
     def __init__(self, path: Path, collect: Callable[[], SavedState],
                  delay: float = SAVE_DELAY_S) -> None:
         self.path = path
+        remove_stale_temporaries(path)
         self._collect = collect
         self._delay = delay
         self._timer: asyncio.TimerHandle | None = None
@@ -330,6 +349,7 @@ __all__ = [
     "encode",
     "fingerprint",
     "load",
+    "remove_stale_temporaries",
     "state_dir",
     "state_path",
     "switch_from_data",

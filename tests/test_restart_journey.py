@@ -23,6 +23,7 @@ import pytest_asyncio
 
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.config import load_config
+from moas_gui.engine.snapshot import restore_selections
 from moas_gui.net.n1mm_packet import radio_info_packet
 from moas_gui.state_store import decode, fingerprint, state_path
 
@@ -269,3 +270,44 @@ async def test_kill_9_and_restart_change_nothing_on_the_air(station: Station) ->
         client.close()
     finally:
         await server.end(signal.SIGTERM)
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_kill_9_during_heavy_traffic_never_leaves_a_partial_state_file(
+        station: Station) -> None:
+    config = load_config(station.config).unwrap()
+    print_ = fingerprint(station.config.read_bytes())
+    saved_at = state_directory(station) / state_path(station.config).name
+    bands = (1830.0, 3510.0, 7020.0, 14025.0, 21030.0, 28040.0)
+    loaded = []
+    for round_ in range(6):
+        server = await station.server()
+        try:
+            client = await Client.connect(station.tcp, server)
+            await client.ask("hello", client="test")
+            with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sender:
+                loop = asyncio.get_running_loop()
+                end = loop.time() + 0.25 + 0.15 * round_
+                n = 0
+                while loop.time() < end:
+                    for _ in range(20):
+                        n += 1
+                        sender.sendto(radio_info_packet(1, bands[n % 6] + n % 7),
+                                      ("127.0.0.1", station.udp))
+                    client.writer.write(json.dumps(
+                        {"cmd": "frequency", "station": 1, "radio": 2,
+                         "khz": bands[(n + 3) % 6]}).encode() + b"\n")
+                    await asyncio.sleep(0.002)
+                # killed in the middle of it all
+                await server.end(signal.SIGKILL)
+            client.close()
+        finally:
+            await server.end(signal.SIGKILL)
+        saved = decode(saved_at.read_bytes(), print_)  # whole, or this raises
+        engine = Engine(config)
+        restore_selections(engine, saved.engine)
+        loaded.append(engine.radio_view(1, 1).khz)
+        leftovers = [p.name for p in saved_at.parent.iterdir() if p != saved_at]
+        assert len(leftovers) <= 1 and all(p.endswith(".tmp") for p in leftovers), leftovers
+    assert all(khz is not None for khz in loaded)

@@ -239,31 +239,15 @@ class ServerApp:
     def _restore(self, run: _Running) -> SavedState | None:
         """Start keeping the state of ``run``; put the saved one, if usable, into its engine."""
         from moas_gui import state_store
-        from moas_gui.engine.snapshot import SnapshotError, restore_selections
 
         if self._path is None:
             return None
-        try:
-            run.fingerprint = state_store.fingerprint(self._path.read_bytes())
-        except OSError as exc:
-            log.warning("%s cannot be read again to keep its state (%s); a restart will "
-                        "reload the switches", self._path, exc.strerror or exc)
-            return None
-        where = state_store.state_path(self._path)
-        run.keeper = StateKeeper(where, functools.partial(self._collect_state, run))
-        saved = state_store.load(where, run.fingerprint)
-        if saved is None:
-            return None
-        try:
-            restore_selections(run.engine, saved.engine)
-        except SnapshotError as exc:
-            log.warning("The saved state %s is ignored: %s; starting without it", where, exc)
-            return None
-        if not run.engine.running:
+        run.fingerprint, saved = state_store.restore(self._path, run.engine)
+        if run.fingerprint:
+            run.keeper = StateKeeper(state_store.state_path(self._path),
+                                     functools.partial(self._collect_state, run))
+        if saved is not None and not run.engine.running:
             run.stopped = True
-        chosen = sum(1 for view in run.engine.radios() if view.tx is not None)
-        log.info("Restored the saved state: %d radio%s with antennas%s", chosen,
-                 "" if chosen == 1 else "s", "; switches stopped" if run.stopped else "")
         return saved
 
     def _collect_state(self, run: _Running) -> SavedState:

@@ -258,6 +258,33 @@ def load(path: Path, expected_fingerprint: str) -> SavedState | None:
         return None
 
 
+def restore(config_path: Path, engine: Any) -> tuple[str, SavedState | None]:
+    """The fingerprint of ``config_path`` ("" when it cannot be read again) and its saved
+    state, already put into ``engine`` (a fresh engine of that configuration); None when
+    there is none or it does not fit (one log line says why)."""
+    from .engine.snapshot import SnapshotError, restore_selections
+
+    try:
+        printed = fingerprint(Path(config_path).read_bytes())
+    except OSError as exc:
+        log.warning("%s cannot be read again to keep its state (%s); a restart will "
+                    "reload the switches", config_path, exc.strerror or exc)
+        return "", None
+    where = state_path(config_path)
+    saved = load(where, printed)
+    if saved is None:
+        return printed, None
+    try:
+        restore_selections(engine, saved.engine)
+    except SnapshotError as exc:
+        log.warning("The saved state %s is ignored: %s; starting without it", where, exc)
+        return printed, None
+    chosen = sum(1 for view in engine.radios() if view.tx is not None)
+    log.info("Restored the saved state: %d radio%s with antennas%s", chosen,
+             "" if chosen == 1 else "s", "" if engine.running else "; switches stopped")
+    return printed, saved
+
+
 class StateKeeper:
     """Writes the state of one running configuration whenever it changes, coalesced.
 
@@ -350,6 +377,7 @@ __all__ = [
     "fingerprint",
     "load",
     "remove_stale_temporaries",
+    "restore",
     "state_dir",
     "state_path",
     "switch_from_data",

@@ -318,3 +318,29 @@ async def test_the_logger_port_is_bound_before_clients_are_accepted(
     udp = next(i for i, m in enumerate(messages) if m.startswith("Listening for N1MM Logger"))
     tcp = next(i for i, m in enumerate(messages) if m.startswith("Accepting clients"))
     assert udp < tcp, messages
+
+
+def test_slots_given_out_as_needed_come_back_the_same() -> None:
+    """More antennas than a switch has slots: the slots given out (and those just given
+    up) are part of the state, so the restored switch state is the very same."""
+    from engine_builders import antenna, config, radio
+
+    from moas_gui.engine.config.model import Switch
+
+    antennas = [antenna(i, (20,), {(1, 1): [i % 60], (1, 2): [i % 60]}, fast=(i,))
+                for i in range(80)]
+    cfg = config(antennas, [radio(1, 1, 1), radio(1, 2, 2)], switches=[Switch(1, "emulator")])
+    engine = Engine(cfg)
+    engine.set_frequency(1, 1, 14025, now=0)
+    engine.set_frequency(1, 2, 14100, now=0)
+    for i in range(2, 75):
+        engine.select(1, 1, i, now=float(i))
+    data = json.loads(json.dumps(export_selections(engine)))
+    assert data["maps"]["1"]["slots"], "slots are given out as needed here"
+    again = Engine(cfg, now=3.0)
+    restore_selections(again, data)
+    assert again.switch_states() == engine.switch_states()
+    assert all(again.slot_of(1, i, 1, 1) == engine.slot_of(1, i, 1, 1) for i in range(80))
+    engine.select(1, 2, 74 - 1, now=100.0)
+    again.select(1, 2, 74 - 1, now=100.0)
+    assert again.switch_states() == engine.switch_states()

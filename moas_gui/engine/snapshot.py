@@ -65,7 +65,7 @@ def export_selections(engine: Engine) -> dict[str, Any]:
             continue  # fixed by the configuration
         maps[str(switch)] = {
             "slots": [[slot, *_key(key)] for slot, key in sorted(m.slot_key.items())],
-            "released": [[slot, sorted(rel.busy), rel.unknown]
+            "released": [[slot, sorted(rel.busy), rel.unknown, max(0.0, st.now - rel.time)]
                          for slot, rel in sorted(m.released.items())],
         }
     return {
@@ -240,11 +240,13 @@ def _maps(r: _Reader, engine: Engine, data: Mapping[str, Any], now: float) -> di
             key_slot[key], slot_key[slot] = slot, key
         released = {}
         for item in r.list_(entry.get("released"), where):
-            slot, busy, unknown = r.list_(item, where, 3)
+            slot, busy, unknown, age = r.list_(item, where, 4)
             if slot not in slot_key or not isinstance(unknown, bool):
                 raise r.fail(where, f"released slot {slot!r:.20} holds nothing")
-            # given up just now: it settles as if the restart were the release
-            released[slot] = Release(now, r.ints(busy, where), unknown)
+            # as long ago as when the state was saved: the time the server was down
+            # does not count towards settling
+            released[slot] = Release(now - max(0.0, r.float_(age, where)), r.ints(busy, where),
+                                     unknown)
         conflicts, fast, systems = _tables(classes, slot_key)
         in_use = frozenset(k for s, k in slot_key.items() if s not in released)
         maps[switch] = SlotMap(switch, False, key_slot, slot_key, in_use, released, conflicts,

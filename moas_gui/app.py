@@ -194,11 +194,11 @@ class ServerApp:
         self._run = run = _Running(config=config, engine=Engine(config, now=loop.time()))
         saved = self._restore(run)
         await self._start_switches(run, saved.switches if saved is not None else {})
-        # the logger's port is bound before clients are accepted, so nothing a client
-        # sees as "ready" can miss a packet
+        # every listener (the logger's port, the rotators' rotctld ports) is bound
+        # before clients are accepted, so nothing a client sees as "ready" can miss a packet
         await self._start_n1mm(run)
-        await self._start_clients(run)
         await self._start_rotators(run)
+        await self._start_clients(run)
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
 

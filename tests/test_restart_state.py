@@ -9,6 +9,7 @@ import json
 import logging
 import os
 import shutil
+import socket
 from collections.abc import AsyncIterator, Callable
 from dataclasses import replace
 from pathlib import Path
@@ -311,13 +312,17 @@ async def test_the_logger_port_is_bound_before_clients_are_accepted(
     data = json.loads(station.read_text())
     data["UseN1MMLogger"] = True
     data["N1MMLogger"] = [{"Address": "127.0.0.1", "Station": 1}]
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        data["Rotators"][0]["RotctldPort"] = probe.getsockname()[1]
     station.write_text(json.dumps(data))
     caplog.set_level(logging.INFO)
     await app.open(station)
     messages = [r.getMessage() for r in caplog.records]
     udp = next(i for i, m in enumerate(messages) if m.startswith("Listening for N1MM Logger"))
+    rotctld = next(i for i, m in enumerate(messages) if "rotctld" in m and "listening" in m)
     tcp = next(i for i, m in enumerate(messages) if m.startswith("Accepting clients"))
-    assert udp < tcp, messages
+    assert udp < tcp and rotctld < tcp, messages
 
 
 def test_slots_given_out_as_needed_come_back_the_same() -> None:

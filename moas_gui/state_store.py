@@ -9,9 +9,10 @@ configuration file's bytes, the engine's selections
 sent to the box.  It is written whole to a temporary file in the same
 directory, flushed to the disk, and renamed over the old one, so whatever a
 crash leaves behind is either the old file or the new one, never half of one.
-Writes are coalesced (:class:`StateKeeper`): the first change starts a short
-timer and everything that changes meanwhile goes out in the same write, on a
-worker thread, off the event loop.
+Writes are coalesced (:class:`StateKeeper`): a change after a quiet spell is
+written at once, and everything that changes within ``SAVE_DELAY_S`` of a write
+goes out together in the next; the writing itself is done on a worker thread,
+off the event loop.
 
 A file that cannot be read, is cut short, belongs to another version of the
 configuration, or does not fit it is ignored with one log line: the server
@@ -304,17 +305,25 @@ class StateKeeper:
         self._again = False
         self._failed = False
         self._last: bytes | None = None
+        self._started = -float("inf")
         self.writes = 0
 
     def changed(self) -> None:
-        """Something in the state may have changed: write it soon."""
+        """Something in the state may have changed: write it soon.
+
+        A change after a quiet spell is written at the loop's next turn (so the file
+        lags the box as little as possible); changes that follow within ``delay`` of
+        the last write are gathered and written together when it has passed."""
         if self._writing is not None:
             self._again = True
         elif self._timer is None:
-            self._timer = asyncio.get_running_loop().call_later(self._delay, self._start)
+            loop = asyncio.get_running_loop()
+            wait = max(0.0, self._started + self._delay - loop.time())
+            self._timer = loop.call_later(wait, self._start)
 
     def _start(self) -> None:
         self._timer = None
+        self._started = asyncio.get_running_loop().time()
         try:
             data = encode(self._collect())
         except Exception:

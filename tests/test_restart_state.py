@@ -174,16 +174,22 @@ async def test_changes_are_coalesced_into_few_writes(tmp_path: Path) -> None:
         calls.append(1)
         return SavedState("x", {"n": len(calls)})
 
-    keeper = StateKeeper(tmp_path / "s.json", collect, delay=0.05)
-    for _ in range(10_000):
+    keeper = StateKeeper(tmp_path / "s.json", collect, delay=0.3)
+    loop = asyncio.get_running_loop()
+    start = loop.time()
+    keeper.changed()                      # after a quiet spell: written at once
+    await until(lambda: keeper.writes == 1)
+    assert loop.time() - start < 0.25
+    for i in range(10_000):               # a burst: gathered into one more write
         keeper.changed()
-    await asyncio.sleep(0.2)
-    await keeper.flush()
-    assert keeper.writes == 1 and len(calls) == 1
+        if i % 1000 == 0:
+            await asyncio.sleep(0)
+    await asyncio.sleep(0.5)
+    assert keeper.writes == 2 and len(calls) == 2
     keeper.changed()
     await keeper.flush()
-    assert keeper.writes == 2
-    assert decode((tmp_path / "s.json").read_bytes(), "x").engine == {"n": 2}
+    assert keeper.writes == 3
+    assert decode((tmp_path / "s.json").read_bytes(), "x").engine == {"n": 3}
 
 
 def test_a_write_cut_short_leaves_the_old_file_whole(tmp_path: Path,

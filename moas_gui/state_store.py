@@ -281,7 +281,7 @@ def restore(config_path: Path, engine: Any) -> tuple[str, SavedState | None]:
         log.warning("The saved state %s is ignored: %s; starting without it", where, exc)
         return printed, None
     chosen = sum(1 for view in engine.radios() if view.tx is not None)
-    log.info("Restored the saved state: %d radio%s with antennas%s", chosen,
+    log.info("Restored the saved state (%s): %d radio%s with antennas%s", where, chosen,
              "" if chosen == 1 else "s", "" if engine.running else "; switches stopped")
     return printed, saved
 

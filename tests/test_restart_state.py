@@ -355,3 +355,21 @@ def test_slots_given_out_as_needed_come_back_the_same() -> None:
     engine.select(1, 2, 74 - 1, now=100.0)
     again.select(1, 2, 74 - 1, now=100.0)
     assert again.switch_states() == engine.switch_states()
+
+
+@pytest.mark.asyncio
+async def test_stopped_switches_stay_stopped_after_a_restart(station: Path, app: ServerApp) -> None:
+    first = ServerApp(options())
+    await first.open(station)
+    first._logger_frequency(1, 1, 14025.0, None)
+    await until(lambda: first._run.links[1].ready)  # type: ignore[union-attr]
+    first.stop_switches()
+    assert first.switches_stopped
+    await first.close()
+    await app.open(station)
+    assert app.switches_stopped and not app.engine.running
+    assert app.engine.radio_view(1, 1).tx is not None
+    await until(lambda: not app.emulators()[1].view().active and app._run.links[1].ready)  # type: ignore[union-attr]
+    assert app.emulators()[1].view().relays == frozenset()
+    app.start_switches()
+    await until(lambda: app.emulators()[1].view().relays != frozenset())

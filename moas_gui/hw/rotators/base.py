@@ -28,6 +28,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.retry import Backoff
 
 from .headings import Travel, whole_heading
 
@@ -123,21 +124,10 @@ class Timing:
     """A turn is over, short of its target, when the heading has not changed for
     ``max(stall_polls * poll, stall_min)``."""
 
-
-class Backoff:
-    """Waits before reconnecting: ``low``, then twice as long each time, up to ``high``."""
-
-    def __init__(self, low: float, high: float) -> None:
-        self.low, self.high = low, high
-        self._next = low
-
-    def next(self) -> float:
-        wait = self._next
-        self._next = min(self._next * 2, self.high)
-        return wait
-
-    def reset(self) -> None:
-        self._next = self.low
+    @property
+    def reconnect(self) -> Backoff:
+        """The pauses between attempts to reach a peer that went away."""
+        return Backoff(first=self.reconnect_min, factor=2.0, most=self.reconnect_max)
 
 
 def describe(rotator: Rotator) -> str:
@@ -223,7 +213,6 @@ class UnusableRotator(RotatorDriver):
 
 __all__ = [
     "ERROR_CODES",
-    "Backoff",
     "Publish",
     "RotatorDriver",
     "RotatorError",

@@ -17,7 +17,7 @@ import logging
 from moas_gui.aio import cancel_and_wait
 from moas_gui.engine.config.model import Rotator
 
-from .base import Backoff, Publish, RotatorDriver, RotatorStatus, Timing
+from .base import Publish, RotatorDriver, RotatorStatus, Timing
 from .headings import Travel, angular_distance, normalize
 from .moas_rotator_codec import (
     PORT,
@@ -31,6 +31,7 @@ from .moas_rotator_codec import (
     encode_stop,
     encode_version,
 )
+from .tcp_peer import keep_connected
 from .tracking import TurnTracker, linear_distance
 
 log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_link")
@@ -74,24 +75,8 @@ class MoasRotatorLink:
         await asyncio.wait_for(writer.drain(), self.timing.reply_timeout)
 
     async def _run(self) -> None:
-        backoff = Backoff(self.timing.reconnect_min, self.timing.reconnect_max)
-        failures = 0
-        while True:
-            try:
-                reader, writer = await asyncio.wait_for(
-                    asyncio.open_connection(self.host, self.port), self.timing.connect_timeout
-                )
-            except (OSError, TimeoutError) as exc:
-                level = logging.WARNING if failures == 0 else logging.DEBUG
-                log.log(level, "%s: cannot connect (%s); will keep trying", self.where, exc or
-                        "timed out")
-                failures += 1
-                await asyncio.sleep(backoff.next())
-                continue
-            failures = 0
-            backoff.reset()
-            await self._session(reader, writer)
-            await asyncio.sleep(backoff.next())
+        await keep_connected(self.host, self.port, self._session, self.timing,
+                             where=self.where, log=log)
 
     async def _session(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         log.info("%s: connected", self.where)

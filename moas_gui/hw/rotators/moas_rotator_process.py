@@ -21,6 +21,8 @@ import re
 import sys
 from collections.abc import Sequence
 
+from moas_gui.retry import Backoff
+
 log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_process")
 
 
@@ -63,7 +65,8 @@ class LocalMoasRotator:
         self.stop_timeout = stop_timeout
         self.restart_min = restart_min
         self.restart_max = restart_max
-        self._restart_wait = restart_min
+        self._restarts = Backoff(first=restart_min, factor=2.0, most=restart_max)
+        self._restart_delays = self._restarts.delays()
         self._started_at = 0.0
         self._listening = asyncio.Event()
         self.process: asyncio.subprocess.Process | None = None
@@ -129,9 +132,8 @@ class LocalMoasRotator:
         code = await process.wait()
         if self.process is process:
             if asyncio.get_running_loop().time() - self._started_at >= STEADY:
-                self._restart_wait = self.restart_min
-            wait = self._restart_wait
-            self._restart_wait = min(wait * 2, self.restart_max)
+                self._restart_delays = self._restarts.delays()
+            wait = next(self._restart_delays)
             log.error("the MOAS Rotator program (pid %d) exited with code %d; starting it "
                       "again in %g s", process.pid, code, wait)
             self._restart = asyncio.create_task(self._start_again(process, wait),

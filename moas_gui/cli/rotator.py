@@ -101,7 +101,7 @@ async def _serve(args: argparse.Namespace) -> int:
     for signum in (signal.SIGINT, signal.SIGTERM):
         with contextlib.suppress(NotImplementedError, RuntimeError):
             loop.add_signal_handler(signum, stop.set)
-    # Only now: whoever reads this line may stop the program at once.
+    # said only once a SIGTERM would end it cleanly: whoever starts it may stop it at once
     print(f"listening on {host}:{port}", flush=True)
     try:
         await stop.wait()

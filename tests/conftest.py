@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import os
+import shutil
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from helpers import short_runtime_dir
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
@@ -19,3 +22,14 @@ def _own_state_directory(tmp_path_factory: pytest.TempPathFactory,
     """Each test's servers save and restore their state in a directory of the test's own,
     never the user's (and never one another's)."""
     monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path_factory.mktemp("state")))
+
+
+@pytest.fixture
+def runtime_dir() -> Iterator[Path]:
+    """A private XDG_RUNTIME_DIR with a short path (the server's sockets live there, and a
+    socket path must stay under about 100 bytes, which a parallel run's tmp_path may not)."""
+    path = short_runtime_dir()
+    try:
+        yield path
+    finally:
+        shutil.rmtree(path, ignore_errors=True)

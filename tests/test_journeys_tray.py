@@ -15,7 +15,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from test_journeys_server import Server, normal, wait_for
+from helpers import wait_for
+from test_journeys_server import Server, normal
 
 pytestmark = pytest.mark.skipif(
     shutil.which("Xvfb") is None or shutil.which("trayer") is None,

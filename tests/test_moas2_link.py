@@ -7,11 +7,12 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
 import pytest_asyncio
+from helpers import until
 
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
@@ -38,15 +39,6 @@ def wanted(*stations: StationAntennas, **more: object) -> SwitchState:
 
 STATE_A = wanted(band(1, {1, 2}), band(2, {8}))
 STATE_B = wanted(band(3, {5}), band(2, {8}))
-
-
-async def until(condition: Callable[[], bool], timeout: float = 8.0) -> None:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while not condition():
-        if loop.time() > end:
-            raise AssertionError("timed out waiting")
-        await asyncio.sleep(0.01)
 
 
 class Served:

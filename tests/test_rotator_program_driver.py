@@ -6,10 +6,11 @@ import asyncio
 import dataclasses
 import functools
 import logging
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from helpers import until
 
 from moas_gui.hw.rotators.controllers.base import OutOfRange
 from moas_gui.hw.rotators.controllers.dcu1 import DCU1Codec
@@ -41,15 +42,6 @@ class Reports:
     @property
     def last(self) -> int | None:
         return self.items[-1][1] if self.items else None
-
-
-async def until(condition: Callable[[], bool], timeout: float = 5.0, what: str = "") -> None:
-    loop = asyncio.get_running_loop()
-    deadline = loop.time() + timeout
-    while not condition():
-        if loop.time() > deadline:
-            raise AssertionError(f"gave up waiting for {what or condition}")
-        await asyncio.sleep(0.01)
 
 
 def emulator_state(host: EmulatorHost, port: object) -> tuple[float, bool]:

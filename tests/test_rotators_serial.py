@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import asyncio
 import logging
-import socket
 import sys
 from collections.abc import AsyncIterator
 
 import pytest
 import pytest_asyncio
+from helpers import free_port
 from test_rotators_manager import Recorder
 
 from moas_gui.engine.config.model import Rotator, RotatorControl
@@ -269,11 +269,6 @@ async def test_no_program_at_the_address_keeps_the_rotator_offline_and_retrying(
 
 
 # ---- StartMOASRotator -------------------------------------------------------------------
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
 
 
 @pytest.mark.asyncio

@@ -18,7 +18,8 @@ from typing import Any
 
 import pytest
 import pytest_asyncio
-from test_server_protocol import EXAMPLES, FAST, Message, Peer, free_port, until
+from helpers import free_port, until
+from test_server_protocol import EXAMPLES, FAST, Message, Peer
 
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.hw.rotators.controllers.models import find_model

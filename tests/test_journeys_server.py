@@ -27,6 +27,8 @@ from typing import Any
 import pytest
 from helpers import free_port, short_runtime_dir, wait_for
 
+pytestmark = pytest.mark.realtime
+
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 

@@ -18,9 +18,12 @@ import pytest
 from helpers import wait_for
 from test_journeys_server import Server, normal
 
-pytestmark = pytest.mark.skipif(
-    shutil.which("Xvfb") is None or shutil.which("trayer") is None,
-    reason="needs Xvfb and trayer (apt-get install xvfb trayer)")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(
+        shutil.which("Xvfb") is None or shutil.which("trayer") is None,
+        reason="needs Xvfb and trayer (apt-get install xvfb trayer)"),
+]
 
 
 @pytest.fixture

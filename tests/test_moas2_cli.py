@@ -23,7 +23,10 @@ from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 SCRIPT = Path(sys.executable).with_name("moas-emulator")
 COMMAND = [str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "moas_gui.cli.emulator"]
 
-pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
+]
 
 
 def start(*args: str) -> tuple[subprocess.Popen[str], str]:

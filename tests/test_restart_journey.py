@@ -27,7 +27,10 @@ from moas_gui.engine.snapshot import restore_selections
 from moas_gui.net.n1mm_packet import radio_info_packet
 from moas_gui.state_store import decode, fingerprint, state_path
 
-pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
+]
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

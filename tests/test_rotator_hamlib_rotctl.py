@@ -23,6 +23,8 @@ import pytest
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
 
+pytestmark = pytest.mark.realtime
+
 ROTCTL = shutil.which("rotctl")
 
 START = 123.0

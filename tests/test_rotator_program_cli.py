@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.realtime
+
 COMMAND = [sys.executable, "-m", "moas_gui.cli.rotator"]
 
 

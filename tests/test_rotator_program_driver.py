@@ -20,6 +20,8 @@ from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost
 from moas_gui.rotator_program.driver import ControllerDriver
 from moas_gui.rotator_program.serial_link import PortError, open_serial, split_port
 
+pytestmark = pytest.mark.realtime
+
 SPEED = 200.0
 START = 100.0
 

@@ -19,6 +19,8 @@ from moas_gui.hw.rotators import RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.hamlib import HamlibRotator
 from moas_gui.hw.rotators.hamlib_codec import Limits, ReplyAssembler, error_text, limits_of
 
+pytestmark = pytest.mark.realtime
+
 FAST = Timing(reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.4, connect_timeout=0.5,
               stall_min=2.0)
 ROTCTLD = shutil.which("rotctld")

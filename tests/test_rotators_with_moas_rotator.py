@@ -16,6 +16,8 @@ from test_rotators_manager import Recorder
 from moas_gui.engine.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorManager, Timing
 
+pytestmark = pytest.mark.realtime
+
 
 @pytest_asyncio.fixture
 async def yaesu_pty() -> AsyncIterator[str]:

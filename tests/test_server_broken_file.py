@@ -14,6 +14,8 @@ import pytest
 from helpers import free_port, wait_for
 from test_server_instance import ask_state
 
+pytestmark = pytest.mark.realtime
+
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 BROKEN = {

@@ -464,6 +464,7 @@ async def test_a_followed_layout_changes_when_another_radio_takes_an_antenna(
 # ---- rotators ----------------------------------------------------------------------------
 
 
+@pytest.mark.realtime  # the whole server, timed on the real clock
 @pytest.mark.asyncio
 async def test_a_test_rotator_turns_at_ten_degrees_a_second_and_stops(
         app: ServerApp, peers: list[Peer]) -> None:

@@ -27,6 +27,7 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from moas_gui.clock import LOOP_CLOCK, Clock
 from moas_gui.engine.config.model import Rotator, RotatorControl
 from moas_gui.retry import Backoff
 
@@ -105,7 +106,8 @@ class RotatorView:
 
 @dataclass(frozen=True, slots=True)
 class Timing:
-    """Every delay the rotator code uses, in seconds; tests pass shorter ones."""
+    """Every delay the rotator code uses, in seconds, and the clock it reads and waits
+    on; tests pass shorter delays, or a :class:`~moas_gui.clock.FakeClock`."""
 
     reconnect_min: float = 0.5
     """First wait before reconnecting to a peer that went away; doubles each time."""
@@ -123,6 +125,7 @@ class Timing:
     stall_min: float = 5.0
     """A turn is over, short of its target, when the heading has not changed for
     ``max(stall_polls * poll, stall_min)``."""
+    clock: Clock = LOOP_CLOCK
 
     @property
     def reconnect(self) -> Backoff:

@@ -132,7 +132,7 @@ class GeniusLink:
                 assert isinstance(status, Status)
                 for driver in self.drivers:
                     driver.on_status(status.rotors[driver.rotor - 1])
-                await asyncio.sleep(self.poll)
+                await self.timing.clock.sleep(self.poll)
         except TimeoutError:
             log.warning("%s did not answer within %.1f s; reconnecting",
                         self.where, self.timing.reply_timeout)

@@ -173,7 +173,7 @@ class HamlibRotator(RotatorDriver):
                 if self.tracker.tick(self._now()) == "stalled":
                     log.info("%s stopped short of its target", self.title)
                 self._publish_now()
-                await asyncio.sleep(self.poll)
+                await self.timing.clock.sleep(self.poll)
         except TimeoutError:
             log.warning("%s: %s did not answer within %.1f s; reconnecting",
                         self.name, self.where, self.timing.reply_timeout)
@@ -214,7 +214,7 @@ class HamlibRotator(RotatorDriver):
         self.tracker.observe(position, self._now())
 
     def _now(self) -> float:
-        return asyncio.get_running_loop().time()
+        return self.timing.clock.now()
 
     def _publish_now(self) -> None:
         position, target = self.tracker.position, self.tracker.target

@@ -217,7 +217,7 @@ class SerialRotator(RotatorDriver):
         return position if self.travel.bounded else normalize(position)
 
     def _now(self) -> float:
-        return asyncio.get_running_loop().time()
+        return self.timing.clock.now()
 
     def _publish_now(self) -> None:
         position, target = self.tracker.position, self.tracker.target
@@ -230,7 +230,7 @@ class SerialRotator(RotatorDriver):
 
     async def _watch(self) -> None:
         while True:
-            await asyncio.sleep(self._watch_every)
+            await self.timing.clock.sleep(self._watch_every)
             if self._online and self.tracker.tick(self._now()) == "stalled":
                 log.info("%s stopped short of its target", self.title)
             self._publish_now()

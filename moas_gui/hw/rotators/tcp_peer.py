@@ -48,7 +48,7 @@ async def keep_connected(
         await session(reader, writer)
         return True
 
-    await keep_trying(attempt, timing.reconnect)
+    await keep_trying(attempt, timing.reconnect, pause=timing.clock.sleep)
 
 
 __all__ = ["Session", "keep_connected"]

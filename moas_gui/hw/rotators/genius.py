@@ -259,6 +259,9 @@ class GeniusRotator(RotatorDriver):
                                 target=None if target is None else float(target),
                                 moving=moving, online=True))
 
+    def travel_position(self) -> float | None:
+        return self.position
+
     def link_down(self) -> None:
         self._set(RotatorStatus(heading=self._status.heading, online=False))
 

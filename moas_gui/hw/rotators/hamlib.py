@@ -92,6 +92,9 @@ class HamlibRotator(RotatorDriver):
         if not self._answering:
             raise self._unavailable(f"cannot turn: {self.where} is not connected")
 
+    def travel_position(self) -> float | None:
+        return self.tracker.position
+
     def forget_turn(self) -> None:
         self.tracker.end()
         self._publish_now()

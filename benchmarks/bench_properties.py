@@ -22,6 +22,7 @@ import io
 import os
 import random
 import re
+import shlex
 import subprocess
 import sys
 import time
@@ -124,9 +125,10 @@ def main() -> int:
         total.update(passed)
         if code != 0:
             failed.append((seed, output))
+            failing = re.findall(r"^FAILED (.+?)(?: - |$)", output, re.MULTILINE) or ids
             print(f"\nFAIL with seed {seed}; reproduce with:")
             print(f"  HYPOTHESIS_PROFILE=wide .venv/bin/python -m pytest -q "
-                  f"--hypothesis-seed={seed} {' '.join(ids)}")
+                  f"--hypothesis-seed={seed} {shlex.join(failing)}")
             for text in failures(output) or [output[-3000:]]:
                 print()
                 print(text.rstrip())

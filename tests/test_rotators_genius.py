@@ -260,3 +260,23 @@ async def test_a_silent_unit_that_does_not_move_leaves_the_turn_unconfirmed_and_
     finally:
         await manager.close()
         await server.close()
+
+
+@pytest.mark.asyncio
+async def test_real_rotctl_turns_a_unit_that_never_answers_a_turn() -> None:
+    from test_rotators_rotctld_listener import free_port, rotctl
+
+    server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False)
+    await server.start()
+    port = free_port()
+    recorder = Recorder()
+    manager = await running([genius_rotator(server, rotctld_port=port)], recorder)
+    try:
+        await recorder.wait_for(lambda v: v.online)
+        code, out = await rotctl(port, "P", "60", "0")
+        assert code == 0, out
+        await recorder.wait_for(lambda v: v.heading == 60 and not v.moving)
+        assert all(v.online for v in recorder.views[1:])
+    finally:
+        await manager.close()
+        await server.close()

@@ -88,18 +88,28 @@ def failures(output: str) -> list[str]:
     pytest's output, without pytest's ``E`` margin."""
     found: list[str] = []
     block: list[str] | None = None
+    indent = 0
     for raw in output.splitlines():
-        line = re.sub(r"^E {0,7}", "", raw)
-        if re.match(r"(Failing test case|Falsifying (explicit )?example): ", line):
-            block = [line]
+        line = raw[1:] if raw.startswith("E ") else raw
+        text = line.lstrip()
+        if re.match(r"(Failing test case|Falsifying (explicit )?example): ", text):
+            block, indent = [text], len(line) - len(text)
         elif block is not None:
-            block.append(line)
-            if line == ")":
+            block.append(line[indent:])
+            if text == ")":
                 found.append("\n".join(block))
                 block = None
-        elif "@reproduce_failure(" in line and found:
-            found[-1] += "\n" + line
+        elif "@reproduce_failure(" in text and found:
+            found[-1] += "\n" + text
     return found
+
+
+def failure_report(output: str) -> str:
+    """pytest's FAILURES section, for a failure with no falsifying example
+    (an error in the test itself, a health check)."""
+    start = output.find("= FAILURES =")
+    end = output.find("= Hypothesis Statistics =")
+    return output[max(start, 0):end if end > start else None][-4000:]
 
 
 def main() -> int:
@@ -129,7 +139,7 @@ def main() -> int:
             print(f"\nFAIL with seed {seed}; reproduce with:")
             print(f"  HYPOTHESIS_PROFILE=wide .venv/bin/python -m pytest -q "
                   f"--hypothesis-seed={seed} {shlex.join(failing)}")
-            for text in failures(output) or [output[-3000:]]:
+            for text in failures(output) or [failure_report(output)]:
                 print()
                 print(text.rstrip())
         seed += 1

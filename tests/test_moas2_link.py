@@ -8,6 +8,7 @@ from __future__ import annotations
 import asyncio
 import logging
 from collections.abc import AsyncIterator
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -21,8 +22,10 @@ from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.transport import SerialTransport
 
-FAST = LinkTiming(ping_interval=0.05, answer_timeout=1.0, retry_first=0.05, retry_max=0.2)
+FAST = LinkTiming(ping_interval=0.05, answer_timeout=2.0, retry_first=0.05, retry_max=0.2)
 """Quick pings and retries; a patient answer timeout, for a busy test machine."""
+PINGED = replace(FAST, answer_timeout=1.0)
+"""For watching pings keep a link alive past its answer timeout."""
 IDLE = StationAntennas()
 
 
@@ -81,7 +84,8 @@ async def served(tmp_path: Path) -> AsyncIterator[Served]:
 
 def make_link_to(served: Served, echo: int | None = None, **kw: object) -> tuple[SwitchLink, list]:
     statuses: list[LinkStatus] = []
-    link = SwitchLink(1, str(served.link), echo, on_status=statuses.append, timing=FAST,
+    kw.setdefault("timing", FAST)
+    link = SwitchLink(1, str(served.link), echo, on_status=statuses.append,
                       **kw)  # type: ignore[arg-type]
     return link, statuses
 
@@ -124,11 +128,11 @@ async def test_apply_writes_before_returning() -> None:
 
 @pytest.mark.asyncio
 async def test_pings_keep_the_link_ok(served: Served) -> None:
-    link, statuses = make_link_to(served)
+    link, statuses = make_link_to(served, timing=PINGED)
     link.connect()
     try:
         await until(lambda: link.status is LinkStatus.OK)
-        await asyncio.sleep(FAST.answer_timeout * 1.5)
+        await asyncio.sleep(PINGED.answer_timeout * 1.5)
         assert statuses == [LinkStatus.OK]
         assert served.received.count(b"';") >= 4
     finally:
@@ -243,7 +247,7 @@ async def test_port_closed_and_reopened_mid_stream_ends_in_the_latest_relays(
 async def test_garbage_from_the_box_is_skipped_and_logged_at_debug(
     served: Served, caplog: pytest.LogCaptureFixture
 ) -> None:
-    link, statuses = make_link_to(served)
+    link, statuses = make_link_to(served, timing=PINGED)
     caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2.link")
     link.connect()
     try:
@@ -251,7 +255,7 @@ async def test_garbage_from_the_box_is_skipped_and_logged_at_debug(
         served.endpoint.write(b"\xff\x00garbage;=+-!9Z;<1")
         link.apply(STATE_A)
         await until(lambda: served.relays == {1, 2, 8})
-        await asyncio.sleep(FAST.answer_timeout)
+        await asyncio.sleep(PINGED.answer_timeout)
         assert statuses == [LinkStatus.OK]
         skipped = [r for r in caplog.records if "skipped" in r.message]
         assert skipped and all(r.levelno == logging.DEBUG for r in skipped)
@@ -333,17 +337,19 @@ async def test_an_error_from_the_box_names_the_command_that_caused_it(
 
 @pytest.mark.asyncio
 async def test_stop_turns_every_relay_off_and_start_restores_the_latest(served: Served) -> None:
-    link, statuses = make_link_to(served)
+    link, statuses = make_link_to(served, timing=PINGED)
     link.apply(STATE_A)
     link.connect()
     try:
         await until(lambda: served.relays == {1, 2, 8})
+        # the relays are on before the link has checked the box: wait for that too
+        await until(lambda: link.status is LinkStatus.OK)
         link.stop()
         assert link.status is LinkStatus.STOPPED
         await until(lambda: served.relays == frozenset())
         await until(lambda: not served.box.view().active)
         link.apply(STATE_B)
-        await asyncio.sleep(FAST.answer_timeout)
+        await asyncio.sleep(PINGED.answer_timeout)
         assert served.relays == frozenset()
         assert link.status is LinkStatus.STOPPED, "an inactive box is what a stopped link wants"
         link.start()

@@ -23,6 +23,8 @@ from moas_gui.rotator_program.serial_link import PortError, open_serial, split_p
 pytestmark = pytest.mark.realtime
 
 SPEED = 200.0
+TURN_SPEED = 100.0
+"""For the turn that a stop must cut short: 1.7 s, time enough on a busy machine."""
 START = 100.0
 
 
@@ -57,7 +59,7 @@ DRIVEN = [m.name for m in MODELS if m.info.has_readback]
 @pytest.mark.parametrize("name", DRIVEN)
 async def test_driver_reads_turns_and_stops_each_model(host: EmulatorHost, name: str) -> None:
     model = find_model(name)
-    served = host.add(model.make_emulator(START, SPEED, host.clock()))
+    served = host.add(model.make_emulator(START, TURN_SPEED, host.clock()))
     reports = Reports()
     driver = ControllerDriver(3, model, served.path, 100, reports)
     driver.start()
@@ -74,7 +76,10 @@ async def test_driver_reads_turns_and_stops_each_model(host: EmulatorHost, name:
         await until(lambda: not emulator_state(host, served)[1], what="the stop")
         stopped = emulator_state(host, served)[0]
         assert abs(stopped - 300) > 1
-        await until(lambda: reports.last == round(stopped), what="the heading where it stopped")
+        # The controller reads out its own resolution (RC2800: tenths, rounded as it
+        # prints them), so the whole degree reported is within one of the true stop.
+        await until(lambda: reports.last is not None and abs(reports.last - stopped) < 1,
+                    what=f"the heading where it stopped ({stopped:.2f})")
     finally:
         await driver.close()
 

@@ -1,7 +1,8 @@
 """The clock that timed work reads and waits on, and a fake one for tests.
 
 Every part that waits (a Test rotator's turn, a stall timer, a restart's
-back-off, a ping) asks a :class:`Clock` rather than asyncio directly, so
+back-off, an emulated switch's timers) asks a :class:`Clock` rather than
+asyncio directly, so
 that a test can hand it a :class:`FakeClock` and move time on at once
 instead of waiting for it.  :data:`LOOP_CLOCK`, the running event loop's own
 clock, is everyone's default.
@@ -12,7 +13,14 @@ from __future__ import annotations
 import asyncio
 import heapq
 import itertools
+from collections.abc import Callable
 from typing import Protocol
+
+
+class Timer(Protocol):
+    """A call to come, which can be called off."""
+
+    def cancel(self) -> None: ...
 
 
 class Clock(Protocol):
@@ -24,6 +32,9 @@ class Clock(Protocol):
     async def sleep(self, seconds: float) -> None:
         """Returns once ``seconds`` have passed on this clock."""
 
+    def call_later(self, seconds: float, callback: Callable[[], None]) -> Timer:
+        """Calls ``callback`` once ``seconds`` have passed on this clock."""
+
 
 class LoopClock:
     """The running event loop's clock (monotonic), and ``asyncio.sleep``."""
@@ -34,6 +45,9 @@ class LoopClock:
     async def sleep(self, seconds: float) -> None:
         await asyncio.sleep(seconds)
 
+    def call_later(self, seconds: float, callback: Callable[[], None]) -> Timer:
+        return asyncio.get_running_loop().call_later(seconds, callback)
+
 
 LOOP_CLOCK: Clock = LoopClock()
 
@@ -41,10 +55,11 @@ LOOP_CLOCK: Clock = LoopClock()
 class FakeClock:
     """Time that moves only when a test says so, and then at once.
 
-    :meth:`sleep` waits until :meth:`advance` has moved the time past its end;
-    sleepers wake in the order of their ends (then of their calls), and each
-    one gets to run before time moves on to the next: the same steps as in
-    real time, in no time.
+    :meth:`sleep` waits until :meth:`advance` has moved the time past its end,
+    and a :meth:`call_later` callback is called then; sleepers and callbacks
+    come in the order of their ends (then of their calls), and each one gets
+    to run before time moves on to the next: the same steps as in real time,
+    in no time.
     """
 
     SETTLE = 20
@@ -52,7 +67,7 @@ class FakeClock:
 
     def __init__(self, start: float = 0.0) -> None:
         self._now = start
-        self._sleepers: list[tuple[float, int, asyncio.Future[None]]] = []
+        self._sleepers: list[tuple[float, int, asyncio.Future[None] | _FakeTimer]] = []
         self._order = itertools.count()
 
     def now(self) -> float:
@@ -61,7 +76,8 @@ class FakeClock:
     @property
     def sleepers(self) -> int:
         """How many tasks are waiting on this clock."""
-        return sum(1 for _, _, future in self._sleepers if not future.done())
+        return sum(1 for _, _, waiter in self._sleepers
+                   if isinstance(waiter, asyncio.Future) and not waiter.done())
 
     async def sleep(self, seconds: float) -> None:
         if seconds <= 0:
@@ -71,15 +87,24 @@ class FakeClock:
         heapq.heappush(self._sleepers, (self._now + seconds, next(self._order), future))
         await future
 
+    def call_later(self, seconds: float, callback: Callable[[], None]) -> Timer:
+        timer = _FakeTimer(callback)
+        heapq.heappush(self._sleepers, (self._now + max(seconds, 0.0), next(self._order), timer))
+        return timer
+
     async def advance(self, seconds: float) -> None:
         """Moves time on by ``seconds``, waking every sleeper due on the way."""
         end = self._now + seconds
         await self._settle()
         while self._sleepers and self._sleepers[0][0] <= end:
-            due, _, future = heapq.heappop(self._sleepers)
+            due, _, waiter = heapq.heappop(self._sleepers)
             self._now = max(self._now, due)
-            if not future.done():
-                future.set_result(None)
+            if isinstance(waiter, _FakeTimer):
+                if not waiter.cancelled:
+                    waiter.callback()
+                    await self._settle()
+            elif not waiter.done():
+                waiter.set_result(None)
                 await self._settle()
         self._now = max(self._now, end)
         await self._settle()
@@ -89,4 +114,15 @@ class FakeClock:
             await asyncio.sleep(0)
 
 
-__all__ = ["LOOP_CLOCK", "Clock", "FakeClock", "LoopClock"]
+class _FakeTimer:
+    __slots__ = ("callback", "cancelled")
+
+    def __init__(self, callback: Callable[[], None]) -> None:
+        self.callback = callback
+        self.cancelled = False
+
+    def cancel(self) -> None:
+        self.cancelled = True
+
+
+__all__ = ["LOOP_CLOCK", "Clock", "FakeClock", "LoopClock", "Timer"]

@@ -232,6 +232,7 @@ async def test_port_closed_and_reopened_mid_stream_ends_in_the_latest_relays(
     link.connect()
     try:
         await until(lambda: served.relays == {1, 2, 8})
+        await until(lambda: link.status is LinkStatus.OK)  # checked, after the relays
         served.stop()  # the pseudo-terminal vanishes, as a USB cable pulled
         await until(lambda: link.status is LinkStatus.UNRESPONSIVE)
         assert link.apply(STATE_B) == 0  # remembered, not written
@@ -247,7 +248,7 @@ async def test_port_closed_and_reopened_mid_stream_ends_in_the_latest_relays(
 async def test_garbage_from_the_box_is_skipped_and_logged_at_debug(
     served: Served, caplog: pytest.LogCaptureFixture
 ) -> None:
-    link, statuses = make_link_to(served, timing=PINGED)
+    link, statuses = make_link_to(served)
     caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2.link")
     link.connect()
     try:
@@ -255,7 +256,7 @@ async def test_garbage_from_the_box_is_skipped_and_logged_at_debug(
         served.endpoint.write(b"\xff\x00garbage;=+-!9Z;<1")
         link.apply(STATE_A)
         await until(lambda: served.relays == {1, 2, 8})
-        await asyncio.sleep(PINGED.answer_timeout)
+        await asyncio.sleep(FAST.answer_timeout)
         assert statuses == [LinkStatus.OK]
         skipped = [r for r in caplog.records if "skipped" in r.message]
         assert skipped and all(r.levelno == logging.DEBUG for r in skipped)
@@ -272,6 +273,7 @@ async def test_a_box_that_stops_answering_is_unresponsive_and_reloaded_when_back
     link.connect()
     try:
         await until(lambda: served.relays == {1, 2, 8})
+        await until(lambda: link.status is LinkStatus.OK)  # checked, after the relays
         served.box.attach(None)  # it hears but says nothing
         await until(lambda: link.status is LinkStatus.UNRESPONSIVE)
         link.apply(STATE_B)
@@ -297,6 +299,7 @@ async def test_a_box_reset_behind_the_links_back_is_loaded_again(
         served.box.receive(b"*0;")  # power dipped: the box is back in power-on state
         assert served.relays == frozenset()
         await until(lambda: served.relays == {1, 2, 8})
+        await until(lambda: link.status is LinkStatus.OK)  # checked, after the relays
         assert statuses == [LinkStatus.OK]
         assert any("reset or lost power" in r.message for r in caplog.records)
     finally:
@@ -452,7 +455,8 @@ async def test_the_emulator_port_name_gives_an_in_process_box_to_show() -> None:
     try:
         await until(lambda: link.emulator is not None and link.emulator.view().relays == {1, 2, 8})
         assert link.emulator.view().unit_id == 12
-        assert link.status is LinkStatus.OK
+        # the relays are on before the link has checked the box: OK follows
+        await until(lambda: link.status is LinkStatus.OK, what="the link OK")
     finally:
         await link.close()
 

@@ -22,6 +22,8 @@ from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.transport import SerialTransport
 
+pytestmark = pytest.mark.realtime
+
 FAST = LinkTiming(ping_interval=0.05, answer_timeout=2.0, retry_first=0.05, retry_max=0.2)
 """Quick pings and retries; a patient answer timeout, for a busy test machine."""
 PINGED = replace(FAST, answer_timeout=1.0)

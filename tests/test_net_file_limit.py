@@ -19,7 +19,10 @@ import pytest_asyncio
 from helpers import free_port
 from test_server_headless import EXAMPLES, Cable
 
-pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="reads /proc/PID/limits")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform != "linux", reason="reads /proc/PID/limits"),
+]
 
 
 class Server:

@@ -16,6 +16,8 @@ from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
 from moas_gui.rotator_program.program import RotatorProgram
 
+pytestmark = pytest.mark.realtime
+
 SPEED = 200.0
 
 

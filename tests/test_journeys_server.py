@@ -128,8 +128,14 @@ class Server:
             self._hook.close()
             self._reader.close()
         if self.process is not None and self.process.poll() is None:
-            self.process.kill()
-            self.process.communicate(timeout=10)
+            # SIGTERM first: a server killed outright leaves the MOAS Rotator program it
+            # started running (on port 13020, in the way of every later test)
+            self.process.terminate()
+            try:
+                self.process.communicate(timeout=10)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.communicate(timeout=10)
         shutil.rmtree(self.runtime, ignore_errors=True)
 
 

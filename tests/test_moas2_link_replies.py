@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
 from dataclasses import replace
 from pathlib import Path
 
@@ -20,8 +20,8 @@ from test_moas2_link import FAST, STATE_A, STATE_B, Served, make_link_to
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, remove_link
-from moas_gui.hw.moas2.link import LinkStatus
-from moas_gui.hw.moas2.messages import UnitIdReply
+from moas_gui.hw.moas2.link import LinkStatus, SwitchLink
+from moas_gui.hw.moas2.messages import Pong, UnitIdReply
 from moas_gui.hw.moas2.replies import encode_reply
 
 pytestmark = pytest.mark.realtime
@@ -199,3 +199,54 @@ async def test_without_echo_a_box_with_another_unit_id_than_the_first_is_not_dri
         await link.close()
         ours.stop()
 
+
+
+class Pipe:
+    """A port whose two ends a test holds: it keeps every session's callbacks, so a
+    test can deliver bytes the way a reader thread does that read them before the
+    port was closed."""
+
+    description = "a test pipe"
+
+    def __init__(self) -> None:
+        self.sessions: list[tuple[Callable[[bytes], None], Callable[[str], None]]] = []
+        self.written = bytearray()
+        self.is_open = False
+
+    def open(self, on_data: Callable[[bytes], None], on_lost: Callable[[str], None]) -> None:
+        self.sessions.append((on_data, on_lost))
+        self.is_open = True
+
+    def write(self, data: bytes) -> None:
+        self.written += data
+
+    def close(self) -> None:
+        self.is_open = False
+
+
+@pytest.mark.asyncio
+async def test_bytes_of_an_ended_session_are_dropped() -> None:
+    pipe = Pipe()
+    link = SwitchLink(1, "pipe", 1, timing=QUICK, transport=pipe)
+    link.apply(STATE_A)
+    link.connect()
+    try:
+        await until(lambda: len(pipe.sessions) == 2, what="a second session")
+        await until(lambda: pipe.is_open and pipe.written.count(b":;") == 2)
+        # the first session's answer, read before its port was closed, handed over now
+        old_on_data, old_on_lost = pipe.sessions[0]
+        old_on_data(encode_reply(UnitIdReply("100", 1)) + encode_reply(Pong(False)))
+        await until(lambda: len(pipe.sessions) == 3 or b"*0;" in pipe.written,
+                    what="a third session")
+        assert b"*0;" not in pipe.written, "driven on the word of an ended session"
+        old_on_lost("the first session's port went away")  # nothing to the third session
+        # this session's own answers do confirm the box
+        on_data, _ = pipe.sessions[-1]
+        await until(lambda: pipe.written.count(b":;") == 3)
+        on_data(encode_reply(UnitIdReply("100", 1)))
+        await until(lambda: pipe.written.endswith(b"';"))
+        on_data(encode_reply(Pong(False)))
+        await until(lambda: b"*0;" in pipe.written)
+        await until(lambda: link.ready)
+    finally:
+        await link.close()

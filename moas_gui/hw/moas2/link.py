@@ -309,6 +309,8 @@ class SwitchLink:
             self._problem(logging.WARNING, f"{self.where} stopped answering while loading")
             return False
         await self._ask(StatusRequest(StatusKind.BOX), BoxStatus)
+        if not self._confirmed:  # another unit's id was heard meanwhile
+            return False
         if self._last_problem:
             log.info("%s answers again", self.where)
         self._last_problem = ""

@@ -298,7 +298,8 @@ class ServerApp:
             return
         run.switch_status[switch_id] = status
         if status == "unresponsive":
-            log.error("Switch %d is not responding", switch_id)
+            # the link said where and why, once per outage, at Warning
+            log.info("Switch %d is not responding", switch_id)
             if before == "ok":
                 for listener in self._alert_listeners:
                     listener("MOAS switch lost", f"Switch {switch_id} stopped responding.")

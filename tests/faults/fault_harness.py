@@ -123,11 +123,12 @@ class Client:
     async def _read(self) -> None:
         while line := await self.reader.readline():
             message = json.loads(line)
+            if "event" in message:  # events carry an "id" of their own (a switch's...)
+                self.told.append(message)
+                continue
             future = self._replies.pop(message.get("id", -1), None)
             if future is not None and not future.done():
                 future.set_result(message)
-            elif "event" in message:
-                self.told.append(message)
 
     async def ask(self, cmd: str, **arguments: object) -> dict[str, Any]:
         ident = self.next_id

@@ -29,6 +29,7 @@ from typing import Any
 
 from moas_gui.engine.config import Config, LoadResult, load_config
 from moas_gui.engine.config.model import RotatorControl
+from moas_gui.files import write_text_atomic
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
@@ -357,7 +358,7 @@ class ServerApp:
                 parts.append(part.read_text(encoding="utf-8"))
             finally:
                 part.unlink(missing_ok=True)
-        target.write_text("\n".join(parts), encoding="utf-8")
+        write_text_atomic(target, "\n".join(parts))  # never half a file, whatever happens
         return target
 
     # -- engine changes ------------------------------------------------------------------

@@ -282,7 +282,14 @@ def main(argv: list[str] | None = None) -> int:
     if args.install_desktop or args.uninstall_desktop:
         from moas_gui import desktop
 
-        done = desktop.install_desktop() if args.install_desktop else desktop.uninstall_desktop()
+        try:
+            done = (desktop.install_desktop() if args.install_desktop
+                    else desktop.uninstall_desktop())
+        except OSError as exc:  # a full disk, a read-only home: every file is old or new
+            what = "install" if args.install_desktop else "uninstall"
+            print(f"moas-server: could not {what} the desktop integration: {exc}",
+                  file=sys.stderr)
+            return 1
         for line in done:
             print(line)
         return 0

@@ -46,6 +46,7 @@ from typing import Any, TypeVar
 
 from ...aio import cancel_and_wait
 from ...engine.switchstate import STATIONS, SwitchState
+from ...files import write_text_atomic
 from .commands import encode, split
 from .decoder import SwitchDecoder
 from .diagnostics import Batch, blame, switch_data
@@ -249,7 +250,7 @@ class SwitchLink:
             f"status: {self._status.value}",
         ]
         state = self._sent if self._sent is not None else self._effective(self._desired)
-        path.write_text(switch_data(header, answers, state, self.errors), encoding="utf-8")
+        write_text_atomic(path, switch_data(header, answers, state, self.errors))
         return path
 
     # ------------------------------------------------------------------ supervision

@@ -31,6 +31,7 @@ from fault_harness import (
 )
 
 from moas_gui.hw.moas2.emulator.serve import make_link, serve
+from moas_gui.hw.moas2.transport import SerialTransport
 from moas_gui.net.n1mm_packet import radio_info_packet
 
 pytestmark = [
@@ -147,16 +148,23 @@ def truncated() -> Callable[[bytes], bytes]:
     return spoil
 
 
-def reordered() -> Callable[[bytes], bytes]:
-    """Replies swapped in pairs: each second one goes out before the one held back."""
-    held = [b""]
+def reordered(switch: ScriptedSwitch) -> Callable[[bytes], bytes]:
+    """Replies swapped in pairs: a reply is held back until the next one has gone out
+    (or 50 ms have passed: a reply delayed, never lost)."""
+    held: list[bytes] = []
+
+    def late() -> None:
+        if held and switch.endpoint is not None:
+            switch.endpoint.spoil = None
+            switch.endpoint.write(held.pop())
+            switch.endpoint.spoil = spoil
 
     def spoil(data: bytes) -> bytes:
-        if not held[0]:
-            held[0] = data
+        if not held:
+            held.append(data)
+            asyncio.get_running_loop().call_later(0.05, late)
             return b""
-        out, held[0] = data + held[0], b""
-        return out
+        return data + held.pop()
 
     return spoil
 
@@ -166,16 +174,17 @@ async def test_spoiled_replies_cost_nothing_on_the_air(tmp_path: Path, spoil: st
     station, switch, server = await scripted_station(tmp_path)
     try:
         client = await Client.connect(station.tcp, server)
-        await until(lambda: switch.active, what="the box loaded")
+        while (await client.state())["switches"] != [{"id": 1, "status": "ok"}]:
+            await asyncio.sleep(0.02)
         mark, told = len(server.lines), len(client.told)
         assert switch.endpoint is not None
         switch.endpoint.spoil = {"garbage": garbage, "truncated": truncated(),
-                                 "reordered": reordered()}[spoil]
+                                 "reordered": reordered(switch)}[spoil]
         for khz in (14025.0, 7020.0, 3510.0, 21030.0):
             station.logger(radio_info_packet(1, khz))
             await holds_what_the_engine_says(station, client, lambda: switch.relays)
         await asyncio.sleep(1.5)  # a ping or two through the spoiled line
-        assert client.switch_news(1, told) == [], "the switch never stopped being ok"
+        assert client.switch_news(1, told) == [], server.text(mark)
         assert (await client.state())["switches"] == [{"id": 1, "status": "ok"}]
         assert server.problems(mark) == [], server.text(mark)
         await client.close()
@@ -209,3 +218,21 @@ async def test_a_switch_that_stops_answering_and_comes_back(tmp_path: Path) -> N
     finally:
         await server.end()
         switch.unplug()
+
+
+async def test_a_wake_up_with_nothing_to_read_is_not_a_lost_port(tmp_path: Path) -> None:
+    """Seen on a live pseudo-terminal under load: the loop says the port is readable and
+    a read gives nothing, as a hung-up port does; the link took it for a pulled cable."""
+    switch = ScriptedSwitch(tmp_path / "moas1").plug()
+    transport = SerialTransport(str(switch.link))
+    lost: list[str] = []
+    transport.open(lambda data: None, lost.append)
+    try:
+        transport._readable()  # woken with nothing there
+        assert lost == []
+        switch.unplug()  # the other end hangs up
+        transport._readable()
+        transport._readable()
+        assert lost == ["the port was closed at the other end"]
+    finally:
+        transport.close()

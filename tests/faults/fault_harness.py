@@ -264,6 +264,8 @@ class Station:
 
     config: Path
     env: dict[str, str]
+    running: Process | None = None
+    """The server started last."""
     tcp: int = field(default_factory=free_port)
     udp: int = field(default_factory=lambda: free_port(socket.SOCK_DGRAM))
 
@@ -280,10 +282,11 @@ class Station:
         return cls(config, env)
 
     async def server(self, *extra: str) -> Process:
-        return await Process.start(
+        self.running = await Process.start(
             "-m", "moas_gui.cli.server", "--headless", str(self.config), "--bind", "127.0.0.1",
             "--tcp-port", str(self.tcp), "--udp-port", str(self.udp), "--udp-bind", "127.0.0.1",
             "--new-instance", "--log-level", "info", *extra, env=self.env)
+        return self.running
 
     async def emulator(self, link: Path, *extra: str) -> Process:
         emulator = await Process.start("-m", "moas_gui.cli.emulator", "--headless", "--link",
@@ -331,7 +334,9 @@ async def holds_what_the_engine_says(station: Station, client: Client,
         if wanted is not None and last[0] == last[1]:
             return
         if loop.time() > end:
-            raise AssertionError(f"switch {switch} holds {last[1]}, the engine says {last[0]}")
+            log = station.running.text()[-4000:] if station.running else ""
+            raise AssertionError(
+                f"switch {switch} holds {last[1]}, the engine says {last[0]}; the server:\n{log}")
         await asyncio.sleep(0.05)
 
 

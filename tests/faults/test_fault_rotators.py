@@ -110,6 +110,7 @@ async def test_rotator_peers_die_and_come_back(tmp_path: Path) -> None:
         await peers[1].end(signal.SIGKILL)
         await until(lambda: client.rotator_news(HAMLIB, told)[-1:] == [False],
                     what="the Hamlib rotator offline")
+        await asyncio.sleep(0.8)  # away long enough for a reconnection to fail
         peers[1] = await start_rotctld()
         await until(lambda: client.rotator_news(HAMLIB, told)[-2:] == [False, True],
                     timeout=20, what="the Hamlib rotator online again")
@@ -121,6 +122,7 @@ async def test_rotator_peers_die_and_come_back(tmp_path: Path) -> None:
         await peers[2].end(signal.SIGKILL)
         await until(lambda: client.rotator_news(GENIUS, told)[-1:] == [False],
                     what="the Rotator Genius offline")
+        await asyncio.sleep(0.8)
         peers[2] = await start_genius()
         await until(lambda: client.rotator_news(GENIUS, told)[-2:] == [False, True],
                     timeout=20, what="the Rotator Genius online again")

@@ -174,6 +174,7 @@ class HamlibRotator(RotatorDriver):
             failures = 0
             backoff.reset()
             await self._session(reader, writer)
+            failures = 1  # the loss was logged: this outage's failed attempts go to debug
             await asyncio.sleep(backoff.next())
 
     async def _session(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:

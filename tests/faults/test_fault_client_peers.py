@@ -27,6 +27,7 @@ from fault_harness import (
 from moas_gui.net.n1mm_packet import radio_info_packet
 
 pytestmark = [
+    pytest.mark.realtime,
     pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
     pytest.mark.asyncio,
     pytest.mark.timeout(90),

@@ -18,7 +18,10 @@ import pytest
 
 from moas_gui.desktop import DESKTOP_FILE, MIME_TYPE
 
-pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="XDG desktop files, rlimits")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform != "linux", reason="XDG desktop files, rlimits"),
+]
 
 LIMIT = 1000
 """Bytes a child may write to one file: less than each file below."""

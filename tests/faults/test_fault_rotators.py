@@ -21,6 +21,7 @@ import pytest
 from fault_harness import EXAMPLES, Client, Process, Station, free_port, until
 
 pytestmark = [
+    pytest.mark.realtime,
     pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
     pytest.mark.skipif(shutil.which("rotctld") is None, reason="Hamlib's rotctld is needed"),
     pytest.mark.asyncio,

@@ -35,6 +35,7 @@ from moas_gui.hw.moas2.transport import SerialTransport
 from moas_gui.net.n1mm_packet import radio_info_packet
 
 pytestmark = [
+    pytest.mark.realtime,
     pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
     pytest.mark.asyncio,
     pytest.mark.timeout(90),

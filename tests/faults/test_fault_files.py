@@ -9,7 +9,6 @@ child process only): the old file stays whole, the program says what failed.
 from __future__ import annotations
 
 import os
-import resource
 import subprocess
 import sys
 from pathlib import Path
@@ -27,13 +26,18 @@ LIMIT = 1000
 """Bytes a child may write to one file: less than each file below."""
 
 
+LIMITED = (
+    "import os, resource, sys; n = int(sys.argv[1]); "
+    "resource.setrlimit(resource.RLIMIT_FSIZE, (n, n)); "
+    "os.execv(sys.executable, [sys.executable, *sys.argv[2:]])"
+)
+"""Sets the limit, then becomes the program (no ``preexec_fn`` in a threaded runner)."""
+
+
 def run_limited(args: list[str], env: dict[str, str],
                 limit: int = LIMIT) -> subprocess.CompletedProcess[str]:
-    def set_limit() -> None:
-        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
-
-    return subprocess.run([sys.executable, *args], env=env, capture_output=True, text=True,
-                          timeout=60, preexec_fn=set_limit, check=False)
+    return subprocess.run([sys.executable, "-c", LIMITED, str(limit), *args], env=env,
+                          capture_output=True, text=True, timeout=60, check=False)
 
 
 def environment(tmp_path: Path) -> dict[str, str]:

@@ -36,6 +36,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="address the client server listens on (default all)")
     parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
     parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
+    parser.add_argument("--web-port", type=int,
+                        help="serve the browser client on this port (instead of WebPort)")
     parser.add_argument("--udp-bind",
                         help="address the N1MM Logger listener binds (default all)")
     parser.add_argument("--no-rotator-program", action="store_true",
@@ -73,6 +75,7 @@ def _options(args: argparse.Namespace) -> object:
 
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
+                         web_port=args.web_port,
                          start_rotator_program=False if args.no_rotator_program else None)
 
 

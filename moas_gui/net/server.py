@@ -122,6 +122,19 @@ class ClientServer:
         """New ``ClientAllow`` (after a configuration is loaded); applies to new connections."""
         self._allowed = allowed_networks(allow)
 
+    def allows(self, host: str) -> bool:
+        """Whether a peer at ``host`` is inside ``ClientAllow`` (other transports ask too)."""
+        return is_allowed(host, self._allowed)
+
+    def attach(self, conn: Connection) -> None:
+        """Serves ``conn`` carried by another transport (the browser client's
+        WebSocket, :mod:`.web`): it is answered by :func:`~.dispatch.answer`
+        and gets events as TCP clients do, until :meth:`detach`."""
+        self._connections[conn] = None
+
+    def detach(self, conn: Connection) -> None:
+        self._connections.pop(conn, None)
+
     @property
     def client_count(self) -> int:
         return len(self._connections)

@@ -99,9 +99,9 @@ class WebServer:
         app = web.Application(middlewares=[self._guard], client_max_size=MAX_MESSAGE)
         app.router.add_get("/ws", self._websocket)
         app.router.add_get("/{name:.*}", self._static)
-        runner = web.AppRunner(app, access_log=None, handle_signals=False)
+        runner = web.AppRunner(app, access_log=None, handle_signals=False, shutdown_timeout=0.5)
         await runner.setup()
-        site = web.TCPSite(runner, self.host, self.port, shutdown_timeout=0.5)
+        site = web.TCPSite(runner, self.host, self.port)
         try:
             await site.start()
         except OSError as e:

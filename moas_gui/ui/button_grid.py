@@ -61,7 +61,14 @@ class LayoutButton(QAbstractButton):
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
         self.setMinimumSize(96, 52)
         self.setCursor(Qt.CursorShape.PointingHandCursor)
+        self.knob_cursor = False
+        """The knob's cursor is on this button (a ring is drawn)."""
         self.show_view(view)
+
+    def set_cursor(self, on: bool) -> None:
+        if on != self.knob_cursor:
+            self.knob_cursor = on
+            self.update()
 
     def show_view(self, view: ButtonView) -> None:
         self.view = view
@@ -109,7 +116,11 @@ class LayoutButton(QAbstractButton):
             painter.setBrush(QBrush(Colours.UNAVAILABLE_HATCH, Qt.BrushStyle.BDiagPattern))
             painter.setPen(Qt.PenStyle.NoPen)
             painter.drawRoundedRect(rect.adjusted(2, 2, -2, -2), 7, 7)
-        if self.hasFocus():
+        if self.knob_cursor:
+            painter.setPen(QPen(QColor("#80d8ff"), 3))
+            painter.setBrush(Qt.BrushStyle.NoBrush)
+            painter.drawRoundedRect(rect.adjusted(4, 4, -4, -4), 6, 6)
+        elif self.hasFocus():
             painter.setPen(QPen(QColor("#80d8ff"), 1, Qt.PenStyle.DotLine))
             painter.setBrush(Qt.BrushStyle.NoBrush)
             painter.drawRoundedRect(rect.adjusted(5, 5, -5, -5), 5, 5)

@@ -156,8 +156,7 @@ async def main(args: argparse.Namespace) -> None:
                 await asyncio.to_thread(driver.switch_to.new_window, "tab")
             await asyncio.to_thread(driver.get, url)
         await page_until(driver, "return document.body.dataset.link === 'connected'", 30)
-        connected = sum("Browser client connected" in line for line in station.log) - \
-            sum("Browser client " in line and "disconnected" in line for line in station.log)
+        connected = station.pages()
         await asyncio.sleep(2)
         before, started = cpu_seconds(pid), time.monotonic()
         await asyncio.sleep(args.idle)

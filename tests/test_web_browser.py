@@ -252,3 +252,7 @@ async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
         small = await js(browser, "return Math.min(...[...document.querySelectorAll("
                          "'.grid button')].filter(b => b.offsetParent).map(b => b.offsetHeight))")
         assert small >= 44, f"{width}x{height}: a button is {small} px high, too small to tap"
+    # a page left for another (and kept for the Back button) does not stay connected
+    assert station.pages() == 1
+    await run(browser.get, "about:blank")
+    await until(lambda: station.pages() == 0, 5, "the page left disconnecting")

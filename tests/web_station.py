@@ -114,6 +114,13 @@ class Station:
         if self._collector is not None:
             await self._collector
 
+    def pages(self) -> int:
+        """Browser clients connected now, as the server's log tells."""
+        connected = sum("Browser client connected from" in line for line in self.log)
+        gone = sum("Browser client " in line and "connected from" not in line
+                   for line in self.log)
+        return connected - gone
+
     def relays(self) -> frozenset[int]:
         return frozenset(self.box.view().relays)
 

@@ -54,7 +54,7 @@
       }
     };
     socket.onclose = () => {
-      if (ws !== socket) return;
+      if (ws !== socket || parked) return;
       ws = null;
       connected = false;
       for (const p of pending.values()) { clearTimeout(p.timer); p.reject(new Error("not connected")); }
@@ -403,6 +403,20 @@
   window.addEventListener("resize", () => {
     clearTimeout(resizeTimer);
     resizeTimer = setTimeout(() => { for (const p of panels) askLayout(p); }, 200);
+  });
+
+  // A page the browser keeps for its Back button must not stay connected (and
+  // counted) while hidden; it connects again when shown.
+  let parked = false;
+  window.addEventListener("pagehide", () => {
+    parked = true;
+    const socket = ws;
+    ws = null;
+    connected = false;
+    if (socket) socket.close(1000, "page hidden");
+  });
+  window.addEventListener("pageshow", (e) => {
+    if (e.persisted && parked) { parked = false; showLink(false, "connecting\u2026"); connect(); }
   });
 
   showLink(false, "connecting\u2026");

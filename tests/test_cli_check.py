@@ -30,10 +30,11 @@ def test_a_broken_file_lists_every_problem_with_its_place_and_exits_1(tmp_path: 
     done = run_check(path)
     assert done.returncode == 1
     lines = done.stdout.splitlines()
-    assert lines[0] == f"{path}:2:46: error: missing comma after the value that ends on line 2?"
-    assert lines[1] == f"{path}:3:14: error: write true in lowercase, not True"
+    assert lines[0] == f'{path}:1:1: warning: there are no "Radios": no antenna can be selected'
+    assert lines[1] == f"{path}:2:46: error: missing comma after the value that ends on line 2?"
+    assert lines[2] == f"{path}:3:14: error: write true in lowercase, not True"
     assert "3 errors; the configuration cannot be used." in lines[-1]
-    assert "must be a whole number, not true" in lines[2]
+    assert "must be a whole number, not true" in lines[3]
     assert "Traceback" not in done.stderr
 
 
@@ -48,3 +49,14 @@ def test_check_without_a_file_is_a_usage_error() -> None:
     done = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--check"],
                           capture_output=True, text=True, check=False, timeout=60)
     assert done.returncode == 2 and "needs a configuration file" in done.stderr
+
+
+def test_a_client_allow_open_to_the_internet_is_a_warning_with_its_line(tmp_path: Path) -> None:
+    text = (EXAMPLES / "small-station.moas").read_text()
+    path = tmp_path / "open.moas"
+    path.write_text(text.replace("{\n", '{\n  "ClientAllow": ["127.0.0.1/0"],\n', 1))
+    done = run_check(path)
+    assert done.returncode == 0, done.stdout
+    assert done.stdout.splitlines()[0].startswith(
+        f'{path}:2:19: warning: "ClientAllow" has "127.0.0.1/0", which lets in every address '
+        "of the internet")

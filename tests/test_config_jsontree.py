@@ -130,3 +130,31 @@ def test_any_text_gives_problems_or_a_tree_never_an_exception(text: str) -> None
     assert root is not None or problems
     for p in problems:
         assert p.line >= 1 and p.column >= 1 and p.message
+
+
+def test_a_file_cut_short_after_a_name_or_a_colon_is_explained() -> None:
+    assert messages('{"Antennas"') == [(1, 12, 'the file ends after the name "Antennas"')]
+    assert messages('{"TCPPort":') == [(1, 12, "the file ends where a value was expected")]
+    assert messages('{"TCPPort": ') == [(1, 13, "the file ends where a value was expected")]
+
+
+def test_a_file_cut_anywhere_gives_problems_never_an_exception() -> None:
+    text = '{"Antennas": [{"ID": 1, "Name": "20 m \\u0041", "On": true, "X": -1.5e3}],\n "N": null}'
+    for end in range(len(text)):
+        root, problems = parse(text[:end])
+        assert root is None and problems, text[:end]
+        assert all(p.line >= 1 and p.column >= 1 for p in problems)
+
+
+def test_an_integer_of_thousands_of_digits_is_read_without_a_crash() -> None:
+    root, problems = parse('{"TCPPort": ' + "9" * 5000 + ', "B": -' + "1" * 5000 + "}")
+    assert problems == []
+    assert plain(root) == {"TCPPort": float("inf"), "B": float("-inf")}  # type: ignore[arg-type]
+
+
+def test_leading_zeros_are_explained_for_any_number() -> None:
+    found = messages('{"A": 01e999, "B": -007.5, "C": 00, "D": 0012}')
+    assert [m for _, _, m in found] == ["numbers cannot have leading zeros: write 1e999",
+                                        "numbers cannot have leading zeros: write -7.5",
+                                        "numbers cannot have leading zeros: write 0",
+                                        "numbers cannot have leading zeros: write 12"]

@@ -307,3 +307,57 @@ def test_more_relays_than_one_switch_command_carries_is_an_error() -> None:
            "carries at most 35" in messages
     data["Antennas"][1]["Control"][0]["Stations"][0]["Relays"] = list(range(35))
     assert parse_config(json.dumps(data), "t.moas").ok
+
+
+def test_numbers_too_large_to_hold_are_refused_with_their_place() -> None:
+    text = '{\n  "TCPPort": ' + "9" * 5000 + ',\n  "UDPPort": -1e999,\n  "Templates": []\n}'
+    assert errors(text) == [
+        (2, 14, '"TCPPort" of the configuration is far too large; it must be from 1 to 65,535'),
+        (3, 14, '"UDPPort" of the configuration is far too small; it must be from 1 to 65,535')]
+
+
+def test_leading_zeros_before_a_huge_exponent_are_explained() -> None:
+    assert errors('{"TCPPort": 01e999}') == [
+        (1, 13, "numbers cannot have leading zeros: write 1e999"),
+        (1, 13, '"TCPPort" of the configuration is far too large; it must be from 1 to 65,535')]
+
+
+def test_a_file_that_ends_after_a_name_or_its_colon_is_explained() -> None:
+    assert errors('{"Antennas"') == [(1, 12, 'the file ends after the name "Antennas"')]
+    assert errors('{"TCPPort":') == [(1, 12, "the file ends where a value was expected")]
+
+
+def test_client_allow_entries_open_to_the_internet_are_warned_about_at_their_line() -> None:
+    text = text_of(ClientAllow=["127.0.0.1", "192.168.1.0/24", "127.0.0.1/0", "10.0.0.0/8",
+                                "203.0.113.7", "8.8.0.0/16", "fd00::/8", "::/0"])
+    result = parse_config(text, "t.moas")
+    assert result.ok
+    warned = [(p.line, p.message) for p in result.warnings]
+    assert warned == [
+        (line_of(text, '"127.0.0.1/0"'), ('"ClientAllow" has "127.0.0.1/0", which lets in every '
+         'address of the internet (0.0.0.0/0) (for one computer write "127.0.0.1"); anyone who '
+         "reaches the port can switch antennas: allow single addresses or a private network "
+         "such as 192.168.1.0/24")),
+        (line_of(text, '"8.8.0.0/16"'), ('"ClientAllow" has "8.8.0.0/16", which lets in 65,536 '
+         "addresses outside the private networks (8.8.0.0/16); anyone who reaches the port can "
+         "switch antennas: allow single addresses or a private network such as 192.168.1.0/24")),
+        (line_of(text, '"::/0"'), ('"ClientAllow" has "::/0", which lets in every address of the '
+         "internet (::/0); anyone who reaches the port can switch antennas: allow single "
+         "addresses or a private network such as 192.168.1.0/24"))]
+    assert all(p.column == 5 for p in result.warnings)
+
+
+def test_a_client_allow_entry_that_is_no_address_stays_an_error() -> None:
+    text = text_of(ClientAllow=["192.168.1.300"])
+    assert errors(text) == [(line_of(text, "192.168.1.300"), 5, ('"ClientAllow" has '
+                             '"192.168.1.300", which is not an address or network such as '
+                             "192.168.1.0/24"))]
+
+
+def test_warnings_about_the_whole_station_point_at_a_place_in_the_file() -> None:
+    result = parse_config('{\n  "Switches": [],\n  "UseN1MMLogger": true\n}', "t.moas")
+    assert [(p.line, p.column, p.message.split(":")[0]) for p in result.warnings] == [
+        (1, 1, 'there are no "Radios"'),
+        (2, 3, 'there are no "Switches"'),
+        (3, 3, ('UseN1MMLogger is true but "N1MMLogger" lists no computers; every packet will '
+               "be ignored"))]

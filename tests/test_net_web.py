@@ -42,9 +42,9 @@ class Web:
         return await self.session.ws_connect(self.base + "/ws", headers=extra | headers)
 
 
-async def make_web(allow: list[str] | None = None) -> Web:
+async def make_web(allow: list[str] | None = None, **limits: Any) -> Web:
     backend = FakeBackend()
-    clients = ClientServer(backend, host=HOST, port=0, allow=allow)
+    clients = ClientServer(backend, host=HOST, port=0, allow=allow, **limits)
     backend.attach(clients)
     await clients.start()
     web = WebServer(clients, host=HOST, port=0)
@@ -249,6 +249,32 @@ async def test_a_websocket_from_another_sites_page_is_refused(
     await ws.send_str('{"id": 1, "cmd": "state"}')
     assert (await receive(ws))["ok"]
     await ws.close()
+
+
+@pytest.mark.asyncio
+async def test_pages_count_towards_the_servers_client_limit() -> None:
+    made = await make_web(max_clients=1)
+    try:
+        first = await made.socket()
+        await first.send_str('{"id": 1, "cmd": "hello", "client": "tablet 1"}')
+        await until_event(first, "state")
+        second = await made.socket()
+        refusal = await receive(second)
+        assert refusal["error"]["code"] == "unavailable"
+        assert "limit" in refusal["error"]["message"]
+        closing = await second.receive(5.0)
+        assert closing.type in (aiohttp.WSMsgType.CLOSE, aiohttp.WSMsgType.CLOSED)
+        assert made.clients.client_count == 1
+        await first.close()
+        await _until(lambda: made.clients.client_count == 0)
+        third = await made.socket()
+        await third.send_str('{"id": 1, "cmd": "state"}')
+        assert (await receive(third))["ok"]
+        await third.close()
+    finally:
+        await made.session.close()
+        await made.web.close()
+        await made.clients.close()
 
 
 @pytest.mark.asyncio

@@ -20,6 +20,7 @@ import sys
 import threading
 
 from moas_gui import __version__
+from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.hw.rotators.controllers.base import DEFAULT_SPEED, UnknownModel
 from moas_gui.hw.rotators.controllers.models import find_model, known_models
 from moas_gui.rotator_program.program import RotatorProgram
@@ -48,8 +49,7 @@ def _arguments(argv: list[str] | None) -> argparse.Namespace:
                         help=f"with --emulate: turning speed (default {DEFAULT_SPEED:g})")
     parser.add_argument("--azimuth", type=float, default=0.0, metavar="DEG",
                         help="with --emulate: heading at power-on (default 0)")
-    parser.add_argument("--log-level", default="INFO",
-                        choices=["DEBUG", "INFO", "WARNING", "ERROR"])
+    add_log_level(parser, "info", "what goes to standard error")
     parser.add_argument("--version", action="version", version=f"moas-rotator {__version__}")
     return parser.parse_args(argv)
 
@@ -96,12 +96,13 @@ async def _serve(args: argparse.Namespace) -> int:
         print(f"moas-rotator: cannot listen on {args.bind}:{args.port}: {error.strerror or error}"
               " (is another MOAS Rotator running?)", file=sys.stderr)
         return 2
-    print(f"listening on {host}:{port}", flush=True)
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for signum in (signal.SIGINT, signal.SIGTERM):
         with contextlib.suppress(NotImplementedError, RuntimeError):
             loop.add_signal_handler(signum, stop.set)
+    # said only once a SIGTERM would end it cleanly: whoever starts it may stop it at once
+    print(f"listening on {host}:{port}", flush=True)
     try:
         await stop.wait()
     finally:
@@ -112,7 +113,7 @@ async def _serve(args: argparse.Namespace) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     args = _arguments(argv)
-    logging.basicConfig(level=args.log_level, stream=sys.stderr,
+    logging.basicConfig(level=log_level_number(args.log_level), stream=sys.stderr,
                         format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     if args.emulate:
         return _emulate(args)

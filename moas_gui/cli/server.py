@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 
 from moas_gui import __version__
+from moas_gui.cli.options import add_log_level, log_level_number
 
 log = logging.getLogger("moas_gui.server")
 INSTANCE_NAME = "moas-server"
@@ -30,14 +31,15 @@ def _parser() -> argparse.ArgumentParser:
                              "exit status 0 only when the file is usable")
     parser.add_argument("--headless", action="store_true",
                         help="run without a window, logging to standard error")
-    parser.add_argument("--log-level", choices=("error", "info", "debug"), default="info",
-                        help="what the headless server logs (default info)")
+    add_log_level(parser, "info", "what the headless server logs")
     parser.add_argument("--bind",
                         help="address the client server listens on (default all)")
     parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
     parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
     parser.add_argument("--web-port", type=int,
                         help="serve the browser client on this port (instead of WebPort)")
+    parser.add_argument("--max-clients", type=_positive, default=None, metavar="N",
+                        help="client connections served at once (default 200)")
     parser.add_argument("--udp-bind",
                         help="address the N1MM Logger listener binds (default all)")
     parser.add_argument("--no-rotator-program", action="store_true",
@@ -50,6 +52,16 @@ def _parser() -> argparse.ArgumentParser:
                         help="remove what --install-desktop registered, and exit")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     return parser
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} is not a number of clients (1 or more)")
+    return value
 
 
 def check(path: str) -> int:
@@ -76,6 +88,7 @@ def _options(args: argparse.Namespace) -> object:
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
                          web_port=args.web_port,
+                         max_clients=args.max_clients,
                          start_rotator_program=False if args.no_rotator_program else None)
 
 
@@ -137,8 +150,9 @@ def _usable(path: str) -> bool:
         return True
     for problem in result.errors:
         print(problem, file=sys.stderr)
-    print(f"moas-server: {path} cannot be opened; the running moas-server carries on "
-          "untouched", file=sys.stderr)
+    count = len(result.errors)
+    print(f"moas-server: {path} has {count} error{'s' if count != 1 else ''}; not handed to "
+          "the server that is already running, which carries on untouched", file=sys.stderr)
     return False
 
 
@@ -195,8 +209,7 @@ def run_headless(args: argparse.Namespace) -> int:
     handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)-7s %(message)s", "%H:%M:%S"))
     root = logging.getLogger("moas_gui")
     root.addHandler(handler)
-    root.setLevel({"error": logging.WARNING, "info": logging.INFO,
-                   "debug": logging.DEBUG}[args.log_level])
+    root.setLevel(log_level_number(args.log_level))
     instance, status = _become_instance(args)
     if status is not None:
         return status
@@ -281,6 +294,9 @@ def main(argv: list[str] | None = None) -> int:
             print("moas-server: --check needs a configuration file", file=sys.stderr)
             return 2
         return check(args.file)
+    from moas_gui.net.fd_limit import raise_open_file_limit
+
+    raise_open_file_limit()  # each client holds a file handle
     if args.headless:
         if not args.file:
             print("moas-server: --headless needs a configuration file", file=sys.stderr)

@@ -23,9 +23,10 @@ from collections import deque
 
 from aiohttp import WSMsgType, web
 
-from .connection import Connection
+from .backend import ErrorCode
 from .dispatch import answer
 from .framing import MAX_LINE
+from .messages import reply_error
 from .server import ClientServer
 
 log = logging.getLogger("moas_gui.net")
@@ -113,10 +114,16 @@ class WebSocketOutlet:
 async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: str) -> None:
     """Serves one prepared WebSocket until it closes."""
     outlet = WebSocketOutlet(ws)
-    conn = Connection(
-        outlet, address, max_pending=clients.max_pending, max_layouts=clients.max_layouts
-    )
-    clients.attach(conn)
+    conn = clients.attach(outlet, address)
+    if conn is None:
+        log.warning("Refused a browser client from %s: %d clients are connected, the most "
+                    "this server takes at once (moas-server --max-clients sets it)",
+                    address, clients.client_limit)
+        outlet.write(reply_error(None, ErrorCode.UNAVAILABLE,
+                                 f"the server already serves {clients.client_limit} clients, "
+                                 "its limit; try again when one has left"))
+        await outlet.finished()
+        return
     log.info("Browser client connected from %s", address)
     lost: str | None = None
     try:

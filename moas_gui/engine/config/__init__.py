@@ -4,7 +4,7 @@
 or every problem, with line and column, and never a half-loaded file.
 """
 
-from .loader import MAX_BYTES, LoadResult, load_config, parse_config
+from .loader import MAX_BYTES, LoadResult, load_config, parse_config, read_config
 from .model import (
     ALL_FREQUENCIES,
     FUNCTION_NAMES,
@@ -42,5 +42,5 @@ __all__ = [
     "FrequencyRange", "Function", "Layout", "LoadResult", "MatrixEntry", "N1MMStation",
     "Problem", "Radio", "RadioRef", "RelativeAntennas", "RelativeRange", "Rotator",
     "RotatorControl", "Severity", "StationRelays", "Switch", "SwitchPort", "System",
-    "Template", "TemplateInfo", "TransmitRelays", "load_config", "parse_config",
+    "Template", "TemplateInfo", "TransmitRelays", "load_config", "parse_config", "read_config",
 ]

@@ -87,6 +87,16 @@ _WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_\-]*")
 _STRING_BODY = re.compile(r'[^"\\\n]*')
 _ESCAPES = {'"': '"', "\\": "\\", "/": "/", "b": "\b", "f": "\f", "n": "\n", "r": "\r", "t": "\t"}
 _CLOSERS = {"{": "}", "[": "]"}
+_LONGEST_INTEGER = 100
+"""Integers with more digits are read as infinity (the checks then call them too large)."""
+
+
+def _without_leading_zeros(unsigned: str) -> str:
+    """``unsigned`` (digits, maybe a fraction and exponent) with its leading zeros removed."""
+    whole = re.match(r"\d+", unsigned)
+    assert whole is not None
+    digits = whole.group().lstrip("0") or "0"
+    return digits + unsigned[whole.end():]
 
 
 class _Reader:
@@ -149,7 +159,7 @@ class _Reader:
             return self.group(start, line, column)
         if char == "[":
             return self.array(start, line, column)
-        if char in "\"'":
+        if char and char in "\"'":
             return JScalar(line, column, self.string())
         if char and (char.isdigit() or char in "+-."):
             return JScalar(line, column, self.number())
@@ -216,14 +226,20 @@ class _Reader:
             raise self.stop(start, f"expected a number but found {self.shown(start)}")
         literal = match.group()
         self.pos = match.end()
-        digits = literal.lstrip("+-")
+        sign = "-" if literal.startswith("-") else ""
+        unsigned = literal.lstrip("+-")
         if literal.startswith("+"):
             self.error(start, f"numbers cannot start with '+': write {literal[1:]}")
-        if len(digits) > 1 and digits[0] == "0" and digits[1].isdigit():
-            self.error(start, f"numbers cannot have leading zeros: write {int(float(digits))}")
-        if re.fullmatch(r"[+-]?\d+", literal):
-            return int(literal)
-        return float(literal)
+        if len(unsigned) > 1 and unsigned[0] == "0" and unsigned[1].isdigit():
+            self.error(start, "numbers cannot have leading zeros: write "
+                              f"{sign}{_without_leading_zeros(unsigned)}")
+        if not unsigned.isdigit():
+            return float(literal)
+        if len(unsigned) > _LONGEST_INTEGER:
+            # Valid JSON, but no configuration value is near this size; Python refuses to
+            # convert such text (and it would take long), so it stands for "too large".
+            return float(f"{sign}inf")
+        return int(literal)
 
     def opened(self, line: int) -> str:
         return f"opened on line {line}"
@@ -265,6 +281,8 @@ class _Reader:
             self.skip()
             if self.peek() == ":":
                 self.pos += 1
+            elif not self.peek():
+                raise self.stop(self.pos, f'the file ends after the name "{key}"')
             else:
                 self.error(self.pos, f"missing ':' after the name \"{key}\"")
             value = self.value()
@@ -279,7 +297,7 @@ class _Reader:
 
     def key(self) -> str:
         char = self.peek()
-        if char in "\"'":
+        if char and char in "\"'":
             return self.string()
         word = _WORD.match(self.text, self.pos)
         if word:

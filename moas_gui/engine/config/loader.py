@@ -69,6 +69,11 @@ def load_config(path: str | Path) -> LoadResult:
         return _whole_file(name, "the file cannot be read: permission denied")
     except OSError as exc:
         return _whole_file(name, f"the file cannot be read: {exc.strerror or exc}")
+    return read_config(data, name, path)
+
+
+def read_config(data: bytes, filename: str = "<config>", path: Path | None = None) -> LoadResult:
+    """Read and check a configuration file's bytes (``filename`` is used in messages)."""
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -76,8 +81,9 @@ def load_config(path: str | Path) -> LoadResult:
         column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
         return LoadResult(None, (Problem(line, column, Severity.ERROR,
                                          "the file is not UTF-8 text (byte "
-                                         f"0x{data[exc.start]:02X}); save it as UTF-8", name),))
-    return parse_config(text, name, path)
+                                         f"0x{data[exc.start]:02X}); save it as UTF-8",
+                                         filename),))
+    return parse_config(text, filename, path)
 
 
 def parse_config(text: str, filename: str = "<config>", path: Path | None = None) -> LoadResult:
@@ -101,4 +107,4 @@ def parse_config(text: str, filename: str = "<config>", path: Path | None = None
     return LoadResult(None if has_errors else config, problems)
 
 
-__all__ = ["MAX_BYTES", "LoadResult", "load_config", "parse_config"]
+__all__ = ["MAX_BYTES", "LoadResult", "load_config", "parse_config", "read_config"]

@@ -10,6 +10,7 @@ object came from, so later checks can point at the right line.
 from __future__ import annotations
 
 import difflib
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -19,6 +20,8 @@ from .problems import Problem, Severity
 
 INT32_MIN = -2_147_483_648
 INT32_MAX = 2_147_483_647
+SHOWN_ITEM_PROBLEMS = 5
+"""A list of plain values reports this many wrong items, then how many more there are."""
 
 
 class _Bad:
@@ -40,6 +43,7 @@ class Reading:
         self.problems: list[Problem] = []
         self._origin: dict[int, JObject] = {}
         self._keep: list[object] = []
+        self._items: dict[int, dict[object, JScalar]] = {}
 
     # -- messages --------------------------------------------------------------
     def error(self, node: Node | Member | None, message: str) -> None:
@@ -69,12 +73,24 @@ class Reading:
         if member is None:
             return node
         if value is not None and isinstance(member.value, JArray):
-            for item in member.value.items:
-                if isinstance(item, JScalar) and item.value == value and not isinstance(item.value, bool):
-                    return item
+            item = self._first_items(member.value).get(value)
+            if item is not None:
+                return item
         if value is not None and isinstance(member.value, JScalar):
             return member.value
         return member
+
+    def _first_items(self, array: JArray) -> dict[object, JScalar]:
+        """Each value of ``array`` to its first item (built once, so a lookup is quick)."""
+        index = self._items.get(id(array))
+        if index is None:
+            index = {}
+            for item in array.items:
+                if isinstance(item, JScalar) and item.value is not None \
+                        and not isinstance(item.value, bool):
+                    index.setdefault(item.value, item)
+            self._items[id(array)] = index
+        return index
 
     # -- groups ----------------------------------------------------------------
     def group(self, node: Node, spec: GroupSpec, label: str) -> Any:
@@ -147,6 +163,10 @@ def integer(low: int = INT32_MIN, high: int = INT32_MAX, what: str = "a whole nu
             else:
                 reading.error(node, f"{label} must be {what}, not {describe(node)}")
             return BAD
+        if isinstance(value, float) and math.isinf(value):
+            reading.error(node, f"{label} is far too {'large' if value > 0 else 'small'}; "
+                                f"it must be from {low:,} to {high:,}")
+            return BAD
         if isinstance(value, float) and not value.is_integer():
             reading.error(node, f"{label} must be {what}, not {value}")
             return BAD
@@ -178,7 +198,9 @@ def number(low: float = 0, high: float = INT32_MAX) -> Kind:
             reading.error(node, f"{label} must be a number, not {describe(node)}")
             return BAD
         if not low <= value <= high:
-            reading.error(node, f"{label} is {value}; it must be from {low:g} to {high:g}")
+            shown = f"far too {'large' if value > 0 else 'small'}" if math.isinf(value) \
+                else f"{value}"
+            reading.error(node, f"{label} is {shown}; it must be from {low:g} to {high:g}")
             return BAD
         return value
     return kind
@@ -228,10 +250,22 @@ def list_of(item: Kind, convert: Callable[[list[Any]], Any] = tuple) -> Kind:
                 reading.error(node, f"{label} must be a list [ ... ], not {describe(node)}")
             return BAD
         values = []
+        failed = 0
+        first_hidden: Node | None = None
         for index, child in enumerate(node.items):
+            mark = len(reading.problems)
             value = item(child, reading, f"item {index + 1} of {label}")
             if value is not BAD:  # the error is recorded; check the rest without it
                 values.append(value)
+            elif not isinstance(child, JObject):
+                # Plain values wrong by the thousand are one mistake: show a few, then count.
+                failed += 1
+                if failed > SHOWN_ITEM_PROBLEMS:
+                    del reading.problems[mark:]
+                    first_hidden = first_hidden or child
+        if first_hidden is not None:
+            reading.error(first_hidden, f"{failed - SHOWN_ITEM_PROBLEMS:,} more items of "
+                                        f"{label} are wrong too (the first of them is here)")
         return convert(values)
     return kind
 

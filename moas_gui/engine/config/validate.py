@@ -11,11 +11,10 @@ from collections import defaultdict
 from collections.abc import Iterable
 
 from . import model as m
+from .allow import allow_problems
+from .circles import chain, circles
+from .counted import MAX_RELAYS_PER_COMMAND, listed, missing_problems, relay_problems
 from .reading import Reading
-
-MAX_RELAYS_PER_COMMAND = 35
-"""One MOAS II antenna command of at most 40 bytes carries at most 35 relays, and a
-second command for the same station replaces the first (``docs/switch.md``)."""
 
 SERIAL_MODELS = {
     "DCU1": 1, "RotorEZ": 2, "Yaesu": 4, "GS-232A": 4, "GS-232B": 4, "Alfaspid": 5,
@@ -49,10 +48,10 @@ class _Checker:
                 first[value] = item
 
     def antenna_refs(self, owner: object, key: str, ids: Iterable[int], what: str) -> None:
-        for antenna_id in ids:
-            if antenna_id not in self.antennas:
-                self.r.error(self.r.at(owner, key, antenna_id),
-                             f"{what} names antenna {antenna_id}, which is not in \"Antennas\"")
+        missing = [antenna_id for antenna_id in ids if antenna_id not in self.antennas]
+        one = f"{what} names antenna {missing[0]}, which is not in \"Antennas\"" if missing else ""
+        missing_problems(self.r, owner, key, missing, what,
+                         'antennas that are not in "Antennas"', one)
 
     def radio_ref(self, owner: object, key: str, station: int | None, radio: int | None,
                   what: str, value: object = None) -> bool:
@@ -71,29 +70,7 @@ class _Checker:
         return True
 
     def relays(self, owner: object, key: str, relays: Iterable[int], what: str) -> None:
-        relays = sorted(relays)
-        per_switch: dict[int, int] = defaultdict(int)
-        for relay in relays:
-            per_switch[relay // 100 + 1] += 1
-        for switch_id, count in sorted(per_switch.items()):
-            if count > MAX_RELAYS_PER_COMMAND:
-                self.r.error(self.r.at(owner, key), f"{what} sets {count} relays on switch "
-                             f"{switch_id} at once; a MOAS II command carries at most "
-                             f"{MAX_RELAYS_PER_COMMAND}")
-        for relay in relays:
-            switch_id, local = divmod(relay, 100)
-            switch_id += 1
-            if switch_id not in self.switches:
-                configured = ", ".join(f"{(s - 1) * 100}-{(s - 1) * 100 + 63} on switch {s}"
-                                       for s in sorted(self.switches))
-                self.r.error(self.r.at(owner, key, relay),
-                             f"{what} names relay {relay}, which belongs to switch {switch_id}, "
-                             "but there is no such switch in \"Switches\""
-                             + (f" (relays: {configured})" if configured else ""))
-            elif local > 63:
-                self.r.error(self.r.at(owner, key, relay),
-                             f"{what} names relay {relay}; switch {switch_id} has relays "
-                             f"{(switch_id - 1) * 100}-{(switch_id - 1) * 100 + 63} only")
+        relay_problems(self.r, self.switches, owner, key, relays, what)
 
     # -- the checks ----------------------------------------------------------
     def run(self) -> None:
@@ -149,56 +126,68 @@ class _Checker:
                              ("ExclusiveAntennas", s.exclusive_antennas),
                              ("SharedAntennas", s.shared_antennas)):
                 self.antenna_refs(s, key, ids, label)
+                twice: list[int] = []
+                elsewhere: list[tuple[int, m.System]] = []
                 for antenna_id in ids:
                     other = antenna_home.get(antenna_id)
                     if antenna_id in here:
-                        self.r.error(self.r.at(s, key, antenna_id),
-                                     f"antenna {antenna_id} is listed twice in {label}")
+                        twice.append(antenna_id)
                     elif other is not None:
-                        self.r.error(self.r.at(s, key, antenna_id), f"antenna {antenna_id} is in "
-                                     f"{label} and in system {other.id}; an antenna can be part "
-                                     "of only one system")
+                        elsewhere.append((antenna_id, other))
                     here.add(antenna_id)
                     antenna_home.setdefault(antenna_id, s)
+                self._twice(s, key, twice, label)
+                self._elsewhere(s, key, elsewhere, label, "antenna")
             for key, ids in (("AdditiveSystems", s.additive_systems),
                              ("ExclusiveSystems", s.exclusive_systems),
                              ("SharedSystems", s.shared_systems)):
+                missing = [system_id for system_id in ids if system_id not in self.systems]
+                one = (f"{label} names system {missing[0]}, which is not in \"Systems\""
+                       if missing else "")
+                missing_problems(self.r, s, key, missing, label,
+                                 'systems that are not in "Systems"', one)
+                taken: list[tuple[int, m.System]] = []
+                if s.id in ids:
+                    self.r.error(self.r.at(s, key, s.id), f"{label} contains itself")
                 for system_id in ids:
-                    if system_id not in self.systems:
-                        self.r.error(self.r.at(s, key, system_id), f"{label} names system "
-                                     f"{system_id}, which is not in \"Systems\"")
-                    elif system_id == s.id:
-                        self.r.error(self.r.at(s, key, system_id), f"{label} contains itself")
-                    else:
-                        other = system_home.get(system_id)
-                        if other is not None and other is not s:
-                            self.r.error(self.r.at(s, key, system_id), f"system {system_id} is "
-                                         f"in {label} and in system {other.id}; a system can be "
-                                         "part of only one system")
-                        system_home[system_id] = s
-        # A system that contains itself through others.
-        children = {s.id: set(s.member_systems) for s in self.c.systems}
-        reported: set[int] = set()
+                    if system_id not in self.systems or system_id == s.id:
+                        continue
+                    other = system_home.get(system_id)
+                    if other is not None and other is not s:
+                        taken.append((system_id, other))
+                    system_home[system_id] = s
+                self._elsewhere(s, key, taken, label, "system")
+        # Systems that contain themselves through others.
+        children: dict[int, tuple[int, ...]] = {}
+        first: dict[int, m.System] = {}
         for s in self.c.systems:
-            path = self._cycle(s.id, children)
-            if path and s.id not in reported and len(path) > 2:
-                reported.update(path)
-                chain = " -> ".join(f"system {i}" for i in path)
-                self.r.error(self.r.at(s), f"systems contain each other in a circle: {chain}")
+            children.setdefault(s.id, s.member_systems)
+            first.setdefault(s.id, s)
+        for circle in circles(list(first), children):
+            self.r.error(self.r.at(first[circle[0]]), "systems contain each other in a circle: "
+                         + chain(circle))
 
-    @staticmethod
-    def _cycle(start: int, children: dict[int, set[int]]) -> list[int] | None:
-        stack = [(start, [start])]
-        seen: set[int] = set()
-        while stack:
-            node, path = stack.pop()
-            for child in children.get(node, ()):
-                if child == start:
-                    return path + [start]
-                if child not in seen:
-                    seen.add(child)
-                    stack.append((child, path + [child]))
-        return None
+    def _twice(self, s: m.System, key: str, twice: list[int], label: str) -> None:
+        if len(twice) == 1:
+            self.r.error(self.r.at(s, key, twice[0]),
+                         f"antenna {twice[0]} is listed twice in {label}")
+        elif twice:
+            self.r.error(self.r.at(s, key, twice[0]), f"{len(twice):,} antennas are listed "
+                         f"twice in {label} ({listed(twice)})")
+
+    def _elsewhere(self, s: m.System, key: str, found: list[tuple[int, m.System]], label: str,
+                   kind: str) -> None:
+        if len(found) == 1:
+            (ident, other), = found
+            self.r.error(self.r.at(s, key, ident), f"{kind} {ident} is in {label} and in system "
+                         f"{other.id}; {'an' if kind == 'antenna' else 'a'} {kind} can be part "
+                         "of only one system")
+        elif found:
+            self.r.error(self.r.at(s, key, found[0][0]), f"{len(found):,} {kind}s of {label} "
+                         "are also in other systems ("
+                         + listed([f"{ident} in system {other.id}" for ident, other in found])
+                         + f"); {'an' if kind == 'antenna' else 'a'} {kind} can be part of "
+                         "only one system")
 
     def check_functions(self) -> None:
         for f in self.c.functions:
@@ -324,12 +313,16 @@ class _Checker:
                     self.r.error(node, f"{label} is {rot.control.value} and needs \"Address\", "
                                  "the controller's host (and :port)")
             elif rot.control is m.RotatorControl.ELECTRICAL:
+                checked: set[int] = set()
                 for a in users.get(rot.id, []):
                     system = home.get(a.id)
                     if system is None:
                         self.r.error(self.r.at(a, "Rotator"), f"antenna {a.id} uses electrical "
                                      f"{label}, so it must be part of an antenna system")
                         continue
+                    if id(system) in checked:
+                        continue
+                    checked.add(id(system))
                     for other in system.member_antennas:
                         other_antenna = self.c.antenna(other)
                         if other_antenna is not None and other_antenna.rotator != rot.id:
@@ -387,9 +380,9 @@ class _Checker:
     def check_misc(self) -> None:
         c = self.c
         if not c.switches:
-            self.r.warning(None, "there are no \"Switches\": the server will not control any relays")
+            self.r.warning(self.r.at(c, "Switches"), "there are no \"Switches\": the server will not control any relays")
         if not c.radios:
-            self.r.warning(None, "there are no \"Radios\": no antenna can be selected")
+            self.r.warning(self.r.at(c, "Radios"), "there are no \"Radios\": no antenna can be selected")
         for entry in c.n1mm_logger:
             self.radio_ref(entry, "Station", entry.station, None, "this N1MMLogger entry")
             try:
@@ -398,14 +391,9 @@ class _Checker:
                 self.r.error(self.r.at(entry, "Address"), f"\"{entry.address}\" is not an IP "
                              "address such as 192.168.1.20")
         if c.use_n1mm_logger and not c.n1mm_logger:
-            self.r.warning(None, "UseN1MMLogger is true but \"N1MMLogger\" lists no computers; "
+            self.r.warning(self.r.at(c, "UseN1MMLogger"), "UseN1MMLogger is true but \"N1MMLogger\" lists no computers; "
                            "every packet will be ignored")
-        for allowed in c.client_allow or ():
-            try:
-                ipaddress.ip_network(allowed, strict=False)
-            except ValueError:
-                self.r.error(self.r.at(c, "ClientAllow", allowed), f"\"ClientAllow\" has \"{allowed}\", which is not an address "
-                             "or network such as 192.168.1.0/24")
+        allow_problems(c, self.r)
 
 
 def check(config: m.Config, reading: Reading) -> None:

@@ -220,11 +220,11 @@ async def test_the_compass_turns_a_test_rotator_and_a_stopped_server_shows_not_c
     await station.start_server()
     await page_until(browser, f"{link.replace('return ', 'const t = ')}; "
                      "return t.includes('Connected') && !t.includes('Not')", 15, "reconnected")
-    # a new server knows no frequency yet: the page shows what it now says
-    await page_until(browser, "return document.querySelector('.radio[data-radio=\"1\"] .display')"
-                     ".textContent.includes('no frequency') && "
-                     "document.querySelectorAll('.grid button[data-type=\"Function\"]').length > 0",
-                     what="the new server's state")
+    # the page draws the new server's state: the display line and the buttons again
+    await page_until(browser, "return !document.body.classList.contains('offline') && "
+                     "document.querySelectorAll('.radio[data-radio=\"1\"] .grid button').length"
+                     " > 0 && document.querySelector('.radio[data-radio=\"1\"] .freq')"
+                     ".textContent !== 'no radio'", what="the new server's state")
 
 
 @pytest.mark.asyncio

@@ -10,7 +10,7 @@ from test_client_window import button, open_window
 
 from moas_gui.client.knob import knob_antennas, knob_step
 from moas_gui.client.model import ButtonState, ButtonType, ButtonView, LayoutView
-from moas_gui.ui.qt import QApplication, QPoint, QPointF, Qt, QWheelEvent
+from moas_gui.ui.qt import QApplication, QKeySequence, QPoint, QPointF, Qt, QWheelEvent
 
 
 def _view(row: int, column: int, ident: int, state: str = "available",
@@ -70,31 +70,48 @@ def test_the_wheel_moves_a_cursor_and_a_press_selects(qapp: QApplication, qtbot:
     run_on_qt(qapp, scenario())
 
 
+def _key(window: Any, *keys: Any) -> None:
+    """What Qt does when the key is pressed with the window active: the shortcut bound
+    to exactly that key sequence fires."""
+    wanted = QKeySequence(*keys)
+    found = [s for s in window.knob.shortcuts if s.key() == wanted]
+    assert len(found) == 1, f"{wanted.toString()} is bound {len(found)} times"
+    found[0].activated.emit()
+
+
 def test_keys_and_a_usb_knobs_volume_keys_step_and_press(qapp: QApplication,
                                                          qtbot: Any) -> None:
     async def scenario() -> None:
         async with LiveServer() as live, open_window(live) as window:
-            window.activateWindow()
-            tribander = button(window, "Tribander")
-            tribander.setFocus()
-            await until(lambda: QApplication.focusWidget() is tribander, what="focus")
-            qtbot.keyClick(tribander, Qt.Key.Key_Left)
-            assert window.knob.cursor == button(window, "20 Stack").view.id
-            qtbot.keyClick(QApplication.focusWidget(), Qt.Key.Key_VolumeUp)
-            assert window.knob.cursor == tribander.view.id
-            qtbot.keyClick(QApplication.focusWidget(), Qt.Key.Key_Return)
-            await until(lambda: live.calls("select") == [(1, 1, 1, "both", False)],
+            tribander = button(window, "Tribander").view.id
+            stack = button(window, "20 Stack").view.id
+            _key(window, Qt.Key.Key_Right)  # from the antenna in use, 20 Stack
+            assert window.knob.cursor == tribander
+            _key(window, Qt.Key.Key_Left)
+            assert window.knob.cursor == stack
+            _key(window, Qt.Key.Key_VolumeUp)  # what a USB volume knob sends
+            assert window.knob.cursor == tribander
+            assert live.calls("select") == []
+            _key(window, Qt.Key.Key_Return)
+            await until(lambda: live.calls("select") == [(1, 1, tribander, "both", False)],
                         what="Return selecting the cursor's antenna")
+            _key(window, Qt.Key.Key_VolumeDown)
+            _key(window, Qt.Modifier.SHIFT | Qt.Key.Key_Return)
+            await until(lambda: (1, 1, stack, "both", True) in live.calls("select"),
+                        what="Shift+Return selecting it alone")
             # the relative list: Page Down moves its cursor, Ctrl+Return selects
             before = window.relative_box.currentIndex()
-            qtbot.keyClick(QApplication.focusWidget(), Qt.Key.Key_PageDown)
-            assert window.relative_box.currentIndex() == (before + 1) % \
-                window.relative_box.count()
-            qtbot.keyClick(QApplication.focusWidget(), Qt.Key.Key_Return,
-                           Qt.KeyboardModifier.ControlModifier)
+            _key(window, Qt.Key.Key_PageDown)
             index = window.relative_box.currentIndex()
+            assert index == (before + 1) % window.relative_box.count()
+            _key(window, Qt.Modifier.CTRL | Qt.Key.Key_Return)
             await until(lambda: (1, 1, None, index) in live.calls("relative"),
                         what="Ctrl+Return selecting from the relative list")
+            _key(window, Qt.Key.Key_VolumeMute)  # a knob's press: the relative list was last
+            await until(lambda: live.calls("relative").count((1, 1, None, index)) == 2,
+                        what="a knob press on the relative list")
+            _key(window, Qt.Modifier.ALT | Qt.Key.Key_1)
+            assert window.radio == 1
             assert window.knob.choose_radio(1) and not window.knob.choose_radio(7)
 
     run_on_qt(qapp, scenario())

@@ -7,8 +7,9 @@ answering the server meanwhile."""
 from __future__ import annotations
 
 import asyncio
+import gc
 import sys
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator, Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -75,6 +76,28 @@ async def hold(driver: Any, css: str, seconds: float = 0.9) -> None:
     await run(do)
 
 
+@pytest.fixture(autouse=True)
+def collect_on_this_thread() -> Iterator[None]:
+    """Selenium runs in worker threads, and a garbage collection starting there would
+    destroy Qt objects left by earlier tests off Qt's thread (a crash later on): those
+    objects are deleted here first, and no collection runs during the test."""
+    qt = sys.modules.get("PySide6.QtWidgets")
+    app = qt.QApplication.instance() if qt is not None else None
+    for _ in range(3):
+        gc.collect()
+        if app is not None:
+            from PySide6.QtCore import QEvent
+
+            app.sendPostedEvents(None, QEvent.Type.DeferredDelete.value)
+            app.processEvents()
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.enable()
+        gc.collect()
+
+
 @pytest_asyncio.fixture
 async def station(tmp_path: Path) -> AsyncIterator[Station]:
     made = Station(tmp_path)
@@ -83,6 +106,7 @@ async def station(tmp_path: Path) -> AsyncIterator[Station]:
         yield made
     finally:
         await made.close()
+        print("the server's log:\n" + "".join(made.log))  # shown when a test fails
 
 
 @pytest_asyncio.fixture

@@ -54,6 +54,20 @@ async def until(condition: Callable[[], Any], timeout: float = 10.0, what: str =
         await asyncio.sleep(0.02)
 
 
+def _out_of_reach(endpoint: PtyEndpoint) -> None:
+    """Moves the pseudo-terminal's descriptors to high numbers.  Run after the Qt window
+    tests in one process, something of theirs now and then closes a descriptor number
+    it no longer owns; when that number is this pseudo-terminal's, the server sees the
+    switch's cable pulled.  High numbers are not reused that way."""
+    import fcntl
+
+    for name in ("_master", "_slave"):
+        fd = getattr(endpoint, name)
+        high = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, 800)
+        os.close(fd)
+        setattr(endpoint, name, high)
+
+
 class Station:
     """The emulated switch, the configuration and the server process."""
 
@@ -62,6 +76,7 @@ class Station:
         self.link = tmp / "moas1"
         self.box = EmulatedBox()
         self.endpoint = PtyEndpoint()
+        _out_of_reach(self.endpoint)
         serve(self.box, self.endpoint, asyncio.get_running_loop())
         make_link(self.endpoint.path, self.link)
         data = json.loads((ROOT / "examples" / example).read_text())

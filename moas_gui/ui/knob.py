@@ -24,26 +24,24 @@ from typing import Any
 from moas_gui.client.knob import knob_antennas, knob_step
 from moas_gui.client.model import ButtonType
 
-from .qt import QEvent, QKeySequence, QObject, QShortcut, Qt, QWheelEvent, QWidget
+from .qt import QKeySequence, QShortcut, Qt, QWidget
 
-__all__ = ["WHEEL_NOTCH", "KnobControl"]
-
-WHEEL_NOTCH = 120
-"""Qt's angle delta of one click of a mouse wheel (1/8 degree units)."""
+__all__ = ["KnobControl"]
 
 
-class KnobControl(QObject):
-    """Adds the knob to a client window (see the module notes)."""
+class KnobControl:
+    """Adds the knob to a client window (see the module notes).  A plain object, not
+    a QObject: it is told of the wheel by the grid's signals and of keys by shortcuts,
+    so nothing of it runs while Qt takes the window apart."""
 
     def __init__(self, window: Any) -> None:
-        super().__init__(window)
         self.window = window
         self.cursor: int | None = None
         """The antenna ID under the layout cursor."""
-        self._wheel = 0
         self._last = "layout"
         grid: QWidget = window.grid
-        grid.installEventFilter(self)
+        window.grid.wheel_turned.connect(self._wheel_turned)
+        window.grid.middle_pressed.connect(self.press)
         in_grid = Qt.ShortcutContext.WidgetWithChildrenShortcut
         in_window = Qt.ShortcutContext.WindowShortcut
         keys: list[tuple[Any, Any, Any]] = [
@@ -145,20 +143,6 @@ class KnobControl(QObject):
         self.cursor = None
         return True
 
-    # -- the wheel and the middle button ---------------------------------------------------------
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:
-        kind = event.type()
-        if kind == QEvent.Type.Wheel and isinstance(event, QWheelEvent):
-            delta = event.angleDelta()
-            self._wheel += delta.y() or delta.x()
-            notches = int(self._wheel / WHEEL_NOTCH)
-            if notches:
-                self._wheel -= notches * WHEEL_NOTCH
-                self.step(-notches)  # the wheel turned towards the user: the next antenna
-            event.accept()
-            return True
-        if kind == QEvent.Type.MouseButtonPress and \
-                getattr(event, "button", lambda: None)() == Qt.MouseButton.MiddleButton:
-            self.press()
-            return True
-        return super().eventFilter(watched, event)
+    # -- the wheel ---------------------------------------------------------------------------------
+    def _wheel_turned(self, notches: int) -> None:
+        self.step(-notches)  # the wheel turned towards the user: the next antenna

@@ -7,11 +7,11 @@ import asyncio
 import contextlib
 import logging
 import shutil
-import socket
 from collections.abc import AsyncIterator, Callable
 
 import pytest
 import pytest_asyncio
+from helpers import free_port
 from test_rotators_manager import Recorder
 
 from moas_gui.engine.config.model import Rotator, RotatorControl
@@ -19,15 +19,11 @@ from moas_gui.hw.rotators import RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.hamlib import HamlibRotator
 from moas_gui.hw.rotators.hamlib_codec import Limits, ReplyAssembler, error_text, limits_of
 
+pytestmark = pytest.mark.realtime
+
 FAST = Timing(reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.4, connect_timeout=0.5,
               stall_min=2.0)
 ROTCTLD = shutil.which("rotctld")
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
 
 
 async def wait_listening(port: int, timeout: float = 5.0) -> None:
@@ -101,6 +97,25 @@ async def test_reads_and_turns_the_real_rotctld(rotctld: Rotctld) -> None:
         assert manager.view(4).target == 4 and manager.view(4).moving
         done = await recorder.wait_for(lambda v: v.heading == 4 and not v.moving)
         assert done.target is None
+    finally:
+        await manager.close()
+
+
+@pytest.mark.asyncio
+async def test_a_rotator_without_a_stop_turns_the_real_dummy_the_short_way(
+    rotctld: Rotctld,
+) -> None:
+    recorder = Recorder()
+    manager = await running(hamlib_rotator(rotctld.port), recorder)  # 360 degrees, no stop
+    try:
+        await recorder.wait_for(lambda v: v.online and v.heading == 0)
+        await manager.rotate(4, 300)  # 60 degrees counterclockwise, not 300 clockwise
+        assert manager.view(4).target == 300
+        seen = len(recorder.views)
+        await recorder.wait_for(
+            lambda v: v.heading is not None and 300 < v.heading < 359, since=seen)
+        assert all(v.heading is not None and (v.heading == 0 or v.heading > 300)
+                   for v in recorder.views[seen:])
     finally:
         await manager.close()
 

@@ -89,7 +89,7 @@ class RotatorManager:
         local = [port for host, port in self._moas_links if is_local(host)]
         if start_moas_rotator and local:
             command = moas_rotator_command or default_command(local[0])
-            self.local_program = LocalMoasRotator(command, local[0])
+            self.local_program = LocalMoasRotator(command, local[0], clock=self.timing.clock)
         self.listeners: list[RotctldServer] = []
         self._tasks: set[asyncio.Task[None]] = set()
 
@@ -214,6 +214,10 @@ class RotatorManager:
         :class:`RotatorError`."""
         driver, wanted = self._request(rotator_id, heading)
         await driver.rotate(wanted)
+
+    def travel_position(self, rotator_id: int) -> float | None:
+        """Where on its travel the rotator is, when its driver knows."""
+        return self.drivers[self._rotator(rotator_id).id].travel_position()
 
     async def stop(self, rotator_id: object) -> None:
         await self.drivers[self._rotator(rotator_id).id].stop()

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from test_client_support import LiveServer, run_on_qt, until
+from helpers import until
+from test_client_support import LiveServer, run_on_qt
 from test_client_window import button, open_window
 
 from moas_gui.client.knob import knob_antennas, knob_step

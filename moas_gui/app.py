@@ -48,6 +48,8 @@ class ServerOptions:
     udp_port: int | None = None
     """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
     udp_bind: str = "0.0.0.0"
+    web_port: int | None = None
+    """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
     max_clients: int | None = None
     """Client connections served at once; None for the client server's default."""
     start_rotator_program: bool | None = None
@@ -66,6 +68,7 @@ class _Running:
     links: dict[int, Any] = field(default_factory=dict)
     switch_status: dict[int, str] = field(default_factory=dict)
     clients: Any = None
+    web: Any = None
     n1mm: Any = None
     rotators: Any = None
     log_handler: logging.Handler | None = None
@@ -225,7 +228,7 @@ class ServerApp:
             run.keeper.close()
         if run.log_handler is not None:
             logging.getLogger("moas_gui").removeHandler(run.log_handler)
-        for part in (run.n1mm, run.clients, run.rotators):
+        for part in (run.n1mm, run.web, run.clients, run.rotators):
             if part is not None:
                 try:
                     await part.close()
@@ -411,6 +414,11 @@ class ServerApp:
         run.log_handler = ClientLogHandler(run.clients)
         logging.getLogger("moas_gui").addHandler(run.log_handler)
         run.clients.publish_state()
+        web_port = self.options.web_port
+        web_port = run.config.web_port if web_port is None else web_port
+        if web_port is not None:  # the browser client: docs/web-client.md
+            from moas_gui.net.web import start_web
+            run.web = await start_web(run.clients, self.options.bind, web_port)
 
     async def _start_n1mm(self, run: _Running) -> None:
         if not run.config.use_n1mm_logger:

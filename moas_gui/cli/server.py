@@ -36,6 +36,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="address the client server listens on (default all)")
     parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
     parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
+    parser.add_argument("--web-port", type=int,
+                        help="serve the browser client on this port (instead of WebPort)")
     parser.add_argument("--max-clients", type=_positive, default=None, metavar="N",
                         help="client connections served at once (default 200)")
     parser.add_argument("--udp-bind",
@@ -85,6 +87,7 @@ def _options(args: argparse.Namespace) -> object:
 
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
+                         web_port=args.web_port,
                          max_clients=args.max_clients,
                          start_rotator_program=False if args.no_rotator_program else None)
 

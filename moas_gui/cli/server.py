@@ -133,7 +133,7 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
 def launch_request(args: argparse.Namespace) -> dict[str, object]:
     """What this command line asks of a server, for the running one to vet."""
     launch: dict[str, object] = {"headless": bool(args.headless)}
-    for key in ("bind", "tcp_port", "udp_port", "udp_bind"):
+    for key in ("bind", "tcp_port", "udp_port", "udp_bind", "web_port"):
         value = getattr(args, key)
         if value is not None:
             launch[key] = value
@@ -170,7 +170,7 @@ def vet_launch(app: object, launch: dict[str, object], *, headless: bool) -> str
     running = {"bind": options.bind, "udp_bind": options.udp_bind,
                "tcp_port": options.tcp_port if options.tcp_port is not None
                else (address[1] if address else None),
-               "udp_port": options.udp_port}
+               "udp_port": options.udp_port, "web_port": options.web_port}
     for key, value in running.items():
         if key in launch and launch[key] != value:
             flag = "--" + key.replace("_", "-")

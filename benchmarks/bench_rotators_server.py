@@ -23,7 +23,7 @@ import statistics
 import time
 from collections.abc import Awaitable, Callable
 
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import FakeMoasRotator, GeniusModel, GeniusServer, RotatorManager
 from moas_gui.hw.rotators.base import RotatorView
 

@@ -23,8 +23,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from moas_gui.engine.config import Config, LoadResult, load_config
-from moas_gui.engine.config.model import RotatorControl
+from moas_gui.config import Config, LoadResult, load_config
+from moas_gui.config.model import RotatorControl
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.status import ServerStatus, overall_state
 

@@ -3,7 +3,7 @@
 ::
 
     MoasError
-     +-- ConfigError     (moas_gui.engine.config)   the user's configuration file
+     +-- ConfigError     (moas_gui.config)   the user's configuration file
      +-- EngineError     (moas_gui.engine)          a request the rules refuse
      +-- ProtocolError                              a peer sent nonsense
      +-- HardwareError                              a port vanished or cannot be opened

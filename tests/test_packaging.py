@@ -52,7 +52,7 @@ def test_the_examples_manual_and_icons_are_installed_with_the_package(tmp_path: 
     assert (installed / "big-station.moas").read_bytes() == \
         (ROOT / "examples" / "big-station.moas").read_bytes()
     assert (built / "moas_gui" / "resources" / "icons" / "application-x-moas.svg").is_file()
-    assert (built / "moas_gui" / "engine" / "config" / "loader.py").is_file()
+    assert (built / "moas_gui" / "config" / "loader.py").is_file()
     assert not (built / "examples").exists(), "no top-level package named examples"
     # Help > Manual opens the manual installed with the package
     manual = built / "moas_gui" / "manual"

@@ -10,7 +10,7 @@ import pytest
 import pytest_asyncio
 from test_rotators_manager import Recorder
 
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import GeniusModel, GeniusServer, RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.genius_codec import Command
 

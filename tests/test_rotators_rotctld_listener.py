@@ -14,7 +14,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from test_rotators_manager import Recorder
 
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorManager, Timing
 from moas_gui.hw.rotators.headings import Travel
 from moas_gui.net.rotctld_codec import Request, RequestParser, answer, azimuth_for, scale_for

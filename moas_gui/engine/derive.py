@@ -28,7 +28,8 @@ disagreeing triggers all get "none").
 
 from __future__ import annotations
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .index import ConfigIndex, Kind
 from .ranges import describe_khz
 from .rules import permitted, related, unusable

@@ -15,8 +15,9 @@ import math
 from collections.abc import Callable
 from types import MappingProxyType
 
+from moas_gui.config.model import Config, RadioRef
+
 from .changes import NO_CHANGES, Changes
-from .config.model import Config, RadioRef
 from .derive import alternates, inhibit_reason
 from .errors import BadRequest, NotFound, NotRunning
 from .functions import extra_relays, function, is_on, refresh_relays, run, status

@@ -22,7 +22,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import Enum
 
-from .config.model import Antenna, Config, Function, Radio, RadioRef, StationRelays, Switch
+from moas_gui.config.model import Antenna, Config, Function, Radio, RadioRef, StationRelays, Switch
+
 from .ranges import INF, Path, Segment, bound, merge_segments, path_at
 from .systems import Link, SystemIndex, build_system_index
 

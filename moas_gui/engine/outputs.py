@@ -19,7 +19,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .functions import relay_contributions
 from .index import ConfigIndex, Kind, switch_of_relay
 from .ranges import Path, nearest_path, path_at

@@ -21,7 +21,8 @@ from __future__ import annotations
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .index import ConfigIndex, Kind, RadioInfo
 from .ranges import describe_khz, in_segment
 from .state import RadioState, State

@@ -27,7 +27,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .index import Kind, RadioInfo
 from .ranges import describe_khz, distance, in_segment
 from .rules import join_shared, plan, related, seen_together, unusable

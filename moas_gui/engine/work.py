@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .index import ConfigIndex, Kind
 from .rules import Plan
 from .state import State

@@ -27,7 +27,7 @@ import logging
 import math
 from collections.abc import Callable, Coroutine, Iterable, Sequence
 
-from moas_gui.engine.config.model import Antenna, Config, Rotator, RotatorControl
+from moas_gui.config.model import Antenna, Config, Rotator, RotatorControl
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
 
 from .addresses import is_local, split_address

@@ -27,9 +27,6 @@ from moas_gui.config.model import Antenna, Config, Function, Radio, RadioRef, St
 from .ranges import INF, Path, Segment, bound, merge_segments, path_at
 from .systems import Link, SystemIndex, build_system_index
 
-SWITCH_RELAYS = 64
-"""Relays per switch: switch N owns (N-1)*100 .. (N-1)*100+63."""
-
 
 class Kind(str, Enum):
     MAIN = "main"
@@ -113,10 +110,6 @@ class RadioInfo:
             if d < best_d:
                 best, best_d = seg, d
         return best
-
-
-def switch_of_relay(relay: int) -> int:
-    return relay // 100 + 1
 
 
 def _most_specific(entries: tuple[StationRelays, ...], station: int, radio: int,
@@ -347,4 +340,4 @@ class ConfigIndex:
         return self.radios.get(ref)
 
 
-__all__ = ["SWITCH_RELAYS", "ConfigIndex", "Kind", "RadioInfo", "switch_of_relay"]
+__all__ = ["ConfigIndex", "Kind", "RadioInfo"]

@@ -20,9 +20,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from moas_gui.config.model import RadioRef
+from moas_gui.config.relays import local_relay, local_relays, relay_exists, switch_of_relay
 
 from .functions import relay_contributions
-from .index import ConfigIndex, Kind, switch_of_relay
+from .index import ConfigIndex, Kind
 from .ranges import Path, nearest_path, path_at
 from .rules import permitted, related
 from .slots import SlotClasses, SlotKey, SlotMap
@@ -98,11 +99,6 @@ def radio_relays(ix: ConfigIndex, st: State, ref: RadioRef,
                         extras.get(ref, frozenset()))
 
 
-def _local(relays: frozenset[int], switch: int) -> frozenset[int]:
-    base = (switch - 1) * 100
-    return frozenset(r - base for r in relays if base <= r <= base + 63)
-
-
 @dataclass(slots=True)
 class Built:
     states: dict[int, SwitchState]
@@ -131,7 +127,7 @@ def _local_cached(relays: frozenset[int], switch: int) -> frozenset[int]:
     if found is None:
         if len(_LOCAL) > 65536:
             _LOCAL.clear()
-        found = _LOCAL[key] = _local(relays, switch)
+        found = _LOCAL[key] = local_relays(relays, switch)
     return found
 
 
@@ -167,9 +163,9 @@ def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, S
 
     def add0(relays: frozenset[int], owner: RadioRef | None) -> None:
         for r in relays:
-            w = switch_of_relay(r)
-            if w in contributions and r - (w - 1) * 100 <= 63:
-                contributions[w].setdefault(r - (w - 1) * 100, owner)
+            switch_id = switch_of_relay(r)
+            if switch_id in contributions and relay_exists(r):
+                contributions[switch_id].setdefault(local_relay(r), owner)
 
     add0(st.latched, None)
     for relay, owner in relay_contributions(ix, st):

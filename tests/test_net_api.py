@@ -25,7 +25,7 @@ PUBLIC = {
         "is_allowed", "parse_allow_list", "peer_address",
     ],
     "moas_gui.net.framing": ["MAX_LINE", "Line", "LineSplitter", "LongLine"],
-    "moas_gui.net.commands": [
+    "moas_gui.net.requests": [
         "COMMANDS", "Arg", "BadLine", "BadRequest", "Command", "Kind", "Request",
         "check_request", "describe", "parse_line",
     ],
@@ -51,8 +51,8 @@ def test_public_names_are_exactly_these(module: str) -> None:
 
 
 def test_every_command_has_a_handler() -> None:
-    from moas_gui.net.commands import COMMANDS
     from moas_gui.net.dispatch import HANDLERS
+    from moas_gui.net.requests import COMMANDS
 
     assert set(HANDLERS) == set(COMMANDS)
 

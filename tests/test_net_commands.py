@@ -1,4 +1,4 @@
-"""Reading request lines (moas_gui.net.commands): every command, every kind of mistake."""
+"""Reading request lines (moas_gui.net.requests): every command, every kind of mistake."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from typing import Any
 import pytest
 
 from moas_gui.net.backend import ErrorCode
-from moas_gui.net.commands import COMMANDS, BadLine, BadRequest, Request, describe, parse_line
+from moas_gui.net.requests import COMMANDS, BadLine, BadRequest, Request, describe, parse_line
 
 
 def parse(obj: Any) -> Request | BadRequest | BadLine | None:

@@ -14,10 +14,10 @@ from collections.abc import Callable
 from typing import Any
 
 from .backend import ClientBackend, ErrorCode, RequestError
-from .commands import BadLine, BadRequest, Request, parse_line
 from .connection import Connection, LayoutKey, clean_name
 from .framing import MAX_LINE, Line, LongLine
 from .messages import event, hello_result
+from .requests import BadLine, BadRequest, Request, parse_line
 
 log = logging.getLogger("moas_gui.net")
 

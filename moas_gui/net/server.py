@@ -8,7 +8,7 @@
     await server.close()
 
 Each connection is read line by line (:mod:`.framing`), and each line is
-answered exactly once, in order (:mod:`.dispatch`, :mod:`.commands`); the
+answered exactly once, in order (:mod:`.dispatch`, :mod:`.requests`); the
 backend (:mod:`.backend`) does the work.  Events are written to every greeted client
 the moment they are published (:mod:`.connection` explains why a client that
 stops reading cannot hold anyone up).  Peers outside the allowed networks

@@ -23,20 +23,20 @@ from .errors import (
 )
 from .link import EMULATOR_PORT, LinkStatus, LinkTiming, SwitchLink
 from .replies import encode_reply, parse_reply
-from .sync import Plan, count_bytes, difference, initialise
+from .sync import CommandPlan, count_bytes, difference, initialise
 
 __all__ = [
     "EMULATOR_PORT",
     "MAX_COMMAND",
     "MAX_PAIRS",
     "MAX_RELAYS",
+    "CommandPlan",
     "CommandRejected",
     "CommandTooLong",
     "EncodeError",
     "LinkStatus",
     "LinkTiming",
     "Moas2Error",
-    "Plan",
     "PortError",
     "RelayListTooLong",
     "SwitchDecoder",

@@ -68,7 +68,7 @@ from .messages import (
     UnitIdReply,
 )
 from .replies import encode_reply
-from .sync import DEFAULT_EVENTS, Plan, difference, initialise, stopped
+from .sync import DEFAULT_EVENTS, CommandPlan, difference, initialise, stopped
 from .transport import EmulatorTransport, SerialTransport, Transport
 
 log = logging.getLogger("moas_gui.hw.moas2.link")
@@ -340,7 +340,7 @@ class SwitchLink:
 
     # ------------------------------------------------------------------ writing
 
-    def _send(self, plan: Plan) -> int:
+    def _send(self, plan: CommandPlan) -> int:
         for problem in plan.problems:
             log.error("switch %d: %s", self.switch_id, problem)
         parts = [encode(part) for command in plan.commands for part in split(command)]

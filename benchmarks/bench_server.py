@@ -287,7 +287,8 @@ def _verdict(ok: bool) -> str:
 
 
 def child_env(settings: Path, window: bool) -> dict[str, str]:
-    env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_CONFIG_HOME=str(settings))
+    env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_CONFIG_HOME=str(settings),
+               XDG_STATE_HOME=str(settings / "state"))
     if window:
         env["QT_QPA_PLATFORM"] = "offscreen"
     return env

@@ -9,7 +9,11 @@ It runs the same under the window (a qasync loop) and headless (plain asyncio):
 
 Opening a configuration with errors changes nothing: the errors are logged and
 returned, and whatever ran before keeps running.  Closing the server leaves
-the relays as they are.
+the relays as they are.  The last good state (the engine's selections and what
+each switch was told) is saved whenever it changes and restored when the same
+configuration is opened again, so a restart changes nothing on the air
+(:mod:`moas_gui.state_store`).  Every listener is bound before the server
+starts accepting clients.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ from typing import Any
 from moas_gui.config import Config, LoadResult, load_config
 from moas_gui.config.model import RotatorControl
 from moas_gui.hw.moas2.link import LinkStatus
+from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
 
 log = logging.getLogger("moas_gui.app")
@@ -42,6 +47,8 @@ class ServerOptions:
     udp_port: int | None = None
     """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
     udp_bind: str = "0.0.0.0"
+    max_clients: int | None = None
+    """Client connections served at once; None for the client server's default."""
     start_rotator_program: bool | None = None
     """Overrides ``StartMOASRotator`` when not None."""
     rotator_program_port: int = 13020
@@ -63,6 +70,8 @@ class _Running:
     log_handler: logging.Handler | None = None
     stopped: bool = False
     ticker: asyncio.Task[None] | None = None
+    keeper: StateKeeper | None = None
+    fingerprint: str = ""
 
 
 class ServerApp:
@@ -185,10 +194,13 @@ class ServerApp:
 
         loop = asyncio.get_running_loop()
         self._run = run = _Running(config=config, engine=Engine(config, now=loop.time()))
-        await self._start_switches(run)
-        await self._start_clients(run)
+        saved = self._restore(run)
+        await self._start_switches(run, saved.switches if saved is not None else {})
+        # every listener (the logger's port, the rotators' rotctld ports) is bound
+        # before clients are accepted, so nothing a client sees as "ready" can miss a packet
         await self._start_n1mm(run)
         await self._start_rotators(run)
+        await self._start_clients(run)
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
 
@@ -204,6 +216,12 @@ class ServerApp:
             return
         if run.ticker is not None:
             run.ticker.cancel()
+        if run.keeper is not None:
+            try:
+                await run.keeper.flush()
+            except Exception:
+                log.exception("while saving the state")
+            run.keeper.close()
         if run.log_handler is not None:
             logging.getLogger("moas_gui").removeHandler(run.log_handler)
         for part in (run.n1mm, run.clients, run.rotators):
@@ -219,8 +237,34 @@ class ServerApp:
                 log.exception("while closing switch link")
         self._update_status()
 
+    # -- the saved state ---------------------------------------------------------------
+    def _restore(self, run: _Running) -> SavedState | None:
+        """Start keeping the state of ``run``; put the saved one, if usable, into its engine."""
+        from moas_gui import state_store
+
+        if self._path is None:
+            return None
+        run.fingerprint, saved = state_store.restore(self._path, run.engine)
+        if run.fingerprint:
+            run.keeper = StateKeeper(state_store.state_path(self._path),
+                                     functools.partial(self._collect_state, run))
+        if saved is not None and not run.engine.running:
+            run.stopped = True
+        return saved
+
+    def _collect_state(self, run: _Running) -> SavedState:
+        from moas_gui.engine.snapshot import export_selections
+
+        held = {i: link.sent for i, link in run.links.items() if link.sent is not None}
+        return SavedState(run.fingerprint, export_selections(run.engine), held)
+
+    def _state_changed(self) -> None:
+        run = self._run
+        if run is not None and run.keeper is not None:
+            run.keeper.changed()
+
     # -- switches ----------------------------------------------------------------------
-    async def _start_switches(self, run: _Running) -> None:
+    async def _start_switches(self, run: _Running, held: dict[int, Any]) -> None:
         from moas_gui.hw.moas2.link import SwitchLink
 
         states = run.engine.switch_states()
@@ -232,14 +276,18 @@ class ServerApp:
                 on_status=functools.partial(self._link_status, switch.id),
                 on_tr=functools.partial(self._switch_tr, switch.id),
                 indicate_tr=switch.indicate_tr,
+                held=held.get(switch.id),
                 **extra,
             )
             run.links[switch.id] = link
+            if run.stopped:
+                link.stop()
             link.apply(states[switch.id])
             link.connect()
 
     def _link_status(self, switch_id: int, status: LinkStatus) -> None:
         self._switch_status(switch_id, status.value)
+        self._state_changed()
 
     def _switch_status(self, switch_id: int, status: str) -> None:
         run = self._run
@@ -317,6 +365,8 @@ class ServerApp:
         run = self._run
         if run is None:
             return
+        if run.keeper is not None:
+            run.keeper.changed()
         for switch_id, state in changes.switches.items():
             link = run.links.get(switch_id)
             if link is not None:
@@ -345,8 +395,10 @@ class ServerApp:
         from moas_gui.net.server import ClientServer
 
         port = self.options.tcp_port if self.options.tcp_port is not None else run.config.tcp_port
+        limits = {} if self.options.max_clients is None else {
+            "max_clients": self.options.max_clients}
         run.clients = ClientServer(EngineBackend(self), host=self.options.bind, port=port,
-                                   allow=run.config.client_allow)
+                                   allow=run.config.client_allow, **limits)
         try:
             await run.clients.start()
         except HardwareError as exc:

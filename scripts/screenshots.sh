@@ -99,7 +99,7 @@ wait_for 10 xdotool search --onlyvisible --class trayer
 udp=$("$python" "$helper" free-port udp 12060)
 tcp=$("$python" "$helper" free-port tcp 12059)
 mkdir -p "$work/config"
-XDG_CONFIG_HOME="$work/config" QT_QPA_PLATFORM=xcb \
+XDG_CONFIG_HOME="$work/config" XDG_STATE_HOME="$work/state" QT_QPA_PLATFORM=xcb \
     "$python" "$helper" serve examples/big-station.moas --bind 127.0.0.1 \
     --tcp-port "$tcp" --udp-port "$udp" --no-rotator-program --new-instance \
     >"$work/server.log" 2>&1 &

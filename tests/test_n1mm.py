@@ -119,6 +119,10 @@ async def test_a_burst_tells_each_radio_only_its_latest_frequency(station3: Runn
             await asyncio.sleep(0.005)
     assert sorted(station3.recorder.calls) == [(3, 1, 7030.0, 7030.0), (3, 2, 1830.0, 1830.0)]
     assert len(station3.recorder.updates) == 5, "every packet is still read and counted"
+    stats = station3.listener.stats()
+    assert stats.delivered == len(station3.recorder.calls) == 2, "delivered counts the calls"
+    assert stats.superseded == 3, "the three older frequencies of radio 1 were skipped"
+    assert stats.accepted == stats.delivered + stats.superseded
 
 
 @pytest.mark.asyncio
@@ -167,7 +171,7 @@ async def test_bad_packets_are_counted_by_reason_and_the_next_good_one_still_wor
         b"<RadioInfo><RadioNr>1</RadioNr>",
         b"<contactinfo><call>W1AW</call></contactinfo>",
         b"<RadioInfo><Freq>1400000</Freq></RadioInfo>",
-        b"<RadioInfo><RadioNr>1</RadioNr><Freq>-3</Freq></RadioInfo>",
+        b"<RadioInfo><RadioNr>1</RadioNr><Freq>30000000000</Freq></RadioInfo>",
         b'<!DOCTYPE a [<!ENTITY x "y">]><RadioInfo><RadioNr>1</RadioNr><Freq>&x;</Freq></RadioInfo>',
         b"<RadioInfo>" + b" " * 20_000 + b"</RadioInfo>",
         radio_info_packet(1, 50100.0),

@@ -19,22 +19,26 @@ PUBLIC = {
         "ClientBackend", "ErrorCode", "EventSink", "JSONObject", "LogLevel", "RequestError",
         "Target",
     ],
-    "moas_gui.net.server": ["DEFAULT_PORT", "LOG_LEVELS", "MAX_BAD_LINES", "ClientServer"],
+    "moas_gui.net.server": [
+        "DEFAULT_MAX_CLIENTS", "DEFAULT_MAX_PENDING_TOTAL", "DEFAULT_PORT", "LOG_LEVELS",
+        "MAX_BAD_LINES", "ClientServer",
+    ],
     "moas_gui.net.access": [
         "DEFAULT_ALLOW", "DEFAULT_ALLOW_TEXT", "IPAddress", "IPNetwork", "allowed_networks",
         "is_allowed", "parse_allow_list", "peer_address",
     ],
     "moas_gui.net.framing": ["MAX_LINE", "Line", "LineSplitter", "LongLine"],
     "moas_gui.net.requests": [
-        "COMMANDS", "Arg", "BadLine", "BadRequest", "Command", "Kind", "Request",
-        "check_request", "describe", "parse_line",
+        "COMMANDS", "MAX_DEPTH", "Arg", "BadLine", "BadRequest", "Command", "Kind", "Request",
+        "check_request", "describe", "parse_line", "too_deep",
     ],
     "moas_gui.net.messages": [
         "EVENTS", "PROTOCOL_VERSION", "SERVER_NAME", "EncodeError", "encode", "event",
         "hello_result", "reply_error", "reply_ok",
     ],
-    "moas_gui.net.connection": ["ClientInfo", "Connection", "LayoutKey", "clean_name",
-                                "format_peer"],
+    "moas_gui.net.connection": [
+        "ClientInfo", "Connection", "LayoutKey", "clean_name", "cut_slowest", "format_peer",
+    ],
     "moas_gui.net.client": ["ConnectionClosed", "ProtocolClient"],
     "moas_gui.net.dispatch": ["HANDLERS", "MAX_BAD_LINES", "answer"],
     "moas_gui.net.fake_backend": ["FakeBackend"],

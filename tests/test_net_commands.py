@@ -8,7 +8,16 @@ from typing import Any
 import pytest
 
 from moas_gui.net.backend import ErrorCode
-from moas_gui.net.requests import COMMANDS, BadLine, BadRequest, Request, describe, parse_line
+from moas_gui.net.requests import (
+    COMMANDS,
+    MAX_DEPTH,
+    BadLine,
+    BadRequest,
+    Request,
+    describe,
+    parse_line,
+    too_deep,
+)
 
 
 def parse(obj: Any) -> Request | BadRequest | BadLine | None:
@@ -184,10 +193,25 @@ def test_a_command_that_is_not_a_string_is_a_bad_request() -> None:
         (b'{"cmd": "st\xc3"}', "not UTF-8 text (byte 12 is 0xc3)"),
         (b"[" * 50_000 + b"]" * 50_000, "nested too deeply"),
         (b'{"a":' * 20_000 + b"1" + b"}" * 20_000, "nested too deeply"),
+        (b'{"id": 1e999, "cmd": "state"}', "1e999 is too large for a number"),
+        (b'{"id": -1E400, "cmd": "state"}', "-1E400 is too large for a number"),
+        (b'{"id": ' + b"[" * 980 + b"]" * 980 + b', "cmd": "state"}', "nested too deeply"),
+        (b"[" * (MAX_DEPTH + 1) + b"]" * (MAX_DEPTH + 1), f"over {MAX_DEPTH} levels"),
     ],
 )
 def test_a_line_that_is_not_a_json_object_is_a_bad_line(line: bytes, words: str) -> None:
     assert words in bad_line(line).message
+
+
+def test_nesting_up_to_the_limit_is_read_and_brackets_in_strings_do_not_count() -> None:
+    deepest = b'{"id": ' + b"[" * (MAX_DEPTH - 1) + b"]" * (MAX_DEPTH - 1) + b', "cmd": "state"}'
+    parsed = parse_line(deepest)
+    assert isinstance(parsed, Request) and parsed.cmd == "state"
+    text = json.dumps({"id": "[{" * 5000 + '\\"[', "cmd": "state"})
+    assert not too_deep(text)
+    parsed = parse_line(text.encode())
+    assert isinstance(parsed, Request) and parsed.id.startswith("[{[{")
+    assert too_deep("[" * (MAX_DEPTH + 1)) and not too_deep("[]" * 10_000)
 
 
 @pytest.mark.parametrize("line", [b"", b"   ", b"\t", b"\r"])

@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 
 from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.framing import MAX_LINE
-from moas_gui.net.requests import COMMANDS, MAX_ID, Kind
+from moas_gui.net.requests import COMMANDS, MAX_DEPTH, MAX_ID, Kind
 from moas_gui.net.server import ClientServer
 
 HOST = "127.0.0.1"
@@ -208,6 +208,9 @@ def test_huge_lines_get_one_error_and_the_connection_goes_on(
 @example(100_000, b"[")
 @example(30_000, b"[")
 @example(10_000, b'{"a":')
+@example(980, b'{"id":[')
+@example(MAX_DEPTH, b"[")
+@example(MAX_DEPTH + 1, b"[")
 def test_deep_json_gets_one_error_and_the_connection_goes_on(
     fuzzed: tuple[ThreadedServer, LineSocket], depth: int, opening: bytes
 ) -> None:
@@ -220,11 +223,11 @@ def test_deep_json_gets_one_error_and_the_connection_goes_on(
     check_replies(replies)
     assert len(replies) == 2 and replies[1]["id"] == "after"
     assert replies[0]["ok"] is False and replies[0]["error"]["code"] == "bad_request"
-    if depth > 2000:  # shallower ones are JSON, and objects among them keep their id
+    if depth > MAX_DEPTH:  # shallower ones are JSON, and objects among them keep their id
         assert replies[0]["id"] is None
     if len(line) > MAX_LINE:
         assert "longer than" in replies[0]["error"]["message"]
-    elif depth > 2000:
+    elif depth > MAX_DEPTH:
         assert "nested too deeply" in replies[0]["error"]["message"]
     undisturbed(server, bystander)
 

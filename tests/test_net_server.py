@@ -429,6 +429,24 @@ async def test_megabytes_without_a_newline_are_refused_without_being_kept(rig: R
     assert await client.request("stop", rotator=1) == {}
 
 
+@pytest.mark.asyncio
+@pytest.mark.parametrize(
+    "line",
+    [b'{"id": 1e999, "cmd": "state"}',
+     b'{"id": ' + b"[" * 980 + b"]" * 980 + b', "cmd": "state"}'],
+    ids=["huge number", "deep id"],
+)
+async def test_an_id_that_cannot_be_written_back_is_a_bad_request_not_a_failure(
+    rig: Rig, caplog: pytest.LogCaptureFixture, line: bytes
+) -> None:
+    client = await rig.connect("odd ids")
+    client.send_raw(line + b"\n")
+    reply = (await bad_line_replies(client, 1))[0]
+    assert reply["id"] is None and reply["error"]["code"] == "bad_request"
+    assert await client.request("stop", rotator=1) == {}
+    assert not [r for r in caplog.records if r.levelno >= logging.ERROR]
+
+
 # ---- the backend failing -------------------------------------------------------------------
 
 

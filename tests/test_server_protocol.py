@@ -695,7 +695,7 @@ def log_handlers() -> int:
 
 
 @pytest.mark.asyncio
-async def test_restart_disconnects_clients_and_the_built_in_client_reconnects_to_fresh_state(
+async def test_restart_disconnects_clients_and_the_built_in_client_reconnects_to_the_new_run(
         tmp_path: Path, peers: list[Peer]) -> None:
     port = free_port()
     app = ServerApp(ServerOptions(bind="127.0.0.1", tcp_port=port, udp_port=0,
@@ -717,8 +717,9 @@ async def test_restart_disconnects_clients_and_the_built_in_client_reconnects_to
         assert log_handlers() == 1, "the old configuration's log handler is gone"
         await until(lambda: raw.eof, what="the script's connection closed")
         await until(lambda: connection.connects == 2, what="the built-in client reconnecting")
+        # a snapshot of the new run, which restored the saved state (docs/server.md)
         await until(lambda: connection.snapshot is not None and connection.snapshot.radio(
-            1, 1).khz is None, what="the fresh state")  # type: ignore[union-attr]
+            1, 1).khz == 21025.0, what="the restored state")  # type: ignore[union-attr]
         await connection.request("frequency", {"station": 1, "radio": 1, "khz": 14025})
         assert (await connection.select(1, 1, 3)).tx == 3
         await relays_become(app, wanted_relays(load_config(EXAMPLES / "small-station.moas")

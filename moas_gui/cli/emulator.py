@@ -5,6 +5,10 @@
     moas-emulator --link ~/moas1        also make ~/moas1 a link to the port
     moas-emulator --port COM7           serve a serial port instead (Windows)
 
+With ``--log-level info`` every change of the closed relays is logged
+(``relays 1 2 3 (active)``, ``relays none (inactive)``): a script can watch
+what the box did across a server's restart.
+
 The first line printed is the port's path (flushed at once), so a script
 can read it; a configuration can name the ``--link`` path instead, which
 stays the same from one run to the next.
@@ -22,7 +26,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .. import __version__
-from ..hw.moas2.emulator.box import EmulatedBox
+from ..hw.moas2.emulator.box import EmulatedBox, Traffic
 from ..hw.moas2.emulator.model import EmulatorModel
 from ..hw.moas2.emulator.serve import (
     Endpoint,
@@ -67,13 +71,17 @@ def _open_endpoint(port: str | None) -> Endpoint:
 
 async def _run(args: argparse.Namespace, windowed: bool) -> int:
     loop = asyncio.get_running_loop()
-    box = EmulatedBox(EmulatorModel(unit_id=args.unit_id, version=args.firmware))
+    watched = args.log_level in ("info", "debug")
+    box = (_WatchedBox if watched else EmulatedBox)(
+        EmulatorModel(unit_id=args.unit_id, version=args.firmware))
     try:
         endpoint = _open_endpoint(args.port)
     except PortError as exc:
         print(f"moas-emulator: {exc}", file=sys.stderr)
         return 2
     serve(box, endpoint, loop)
+    if watched:
+        _log_relays(box)
     try:
         if args.link:
             make_link(endpoint.path, args.link)
@@ -106,6 +114,38 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
         if args.link:
             remove_link(args.link, endpoint.path)
     return 0
+
+
+class _WatchedBox(EmulatedBox):
+    """A box that takes the computer's bytes one command at a time, so that the relay log
+    shows every state the relays pass through (a reset and a reload written together
+    open every relay for a moment on a real box, and show here as two lines)."""
+
+    def receive(self, data: bytes) -> None:
+        start = 0
+        for end, byte in enumerate(data, 1):
+            if byte == 0x3B:  # ';' ends a command
+                super().receive(data[start:end])
+                start = end
+        if start < len(data):
+            super().receive(data[start:])
+
+
+def _log_relays(box: EmulatedBox) -> None:
+    """Log the closed relays (and whether the box is active) whenever they change."""
+    shown: list[tuple[frozenset[int], bool]] = []
+
+    def changed(kind: Traffic, data: bytes) -> None:
+        if kind is not Traffic.CHANGED:
+            return
+        view = box.view()
+        now = (view.relays, view.active)
+        if not shown or shown[-1] != now:
+            shown[:] = [now]
+            log.info("relays %s (%s)", " ".join(str(r) for r in sorted(view.relays)) or "none",
+                     "active" if view.active else "inactive")
+
+    box.add_listener(changed)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -36,6 +36,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="address the client server listens on (default all)")
     parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
     parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
+    parser.add_argument("--max-clients", type=_positive, default=None, metavar="N",
+                        help="client connections served at once (default 200)")
     parser.add_argument("--udp-bind",
                         help="address the N1MM Logger listener binds (default all)")
     parser.add_argument("--no-rotator-program", action="store_true",
@@ -48,6 +50,16 @@ def _parser() -> argparse.ArgumentParser:
                         help="remove what --install-desktop registered, and exit")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     return parser
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} is not a number of clients (1 or more)")
+    return value
 
 
 def check(path: str) -> int:
@@ -73,6 +85,7 @@ def _options(args: argparse.Namespace) -> object:
 
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
+                         max_clients=args.max_clients,
                          start_rotator_program=False if args.no_rotator_program else None)
 
 
@@ -278,6 +291,9 @@ def main(argv: list[str] | None = None) -> int:
             print("moas-server: --check needs a configuration file", file=sys.stderr)
             return 2
         return check(args.file)
+    from moas_gui.net.fd_limit import raise_open_file_limit
+
+    raise_open_file_limit()  # each client holds a file handle
     if args.headless:
         if not args.file:
             print("moas-server: --headless needs a configuration file", file=sys.stderr)

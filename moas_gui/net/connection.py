@@ -14,6 +14,7 @@ from __future__ import annotations
 import asyncio
 import logging
 from collections import OrderedDict
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -65,8 +66,11 @@ class Connection:
         *,
         max_pending: int,
         max_layouts: int,
+        on_queued: Callable[[int], None] | None = None,
     ) -> None:
         self.writer = writer
+        self._on_queued = on_queued
+        """Told the size of every line queued (the server bounds the sum over all clients)."""
         self.address = address
         self.max_pending = max_pending
         self.max_layouts = max_layouts
@@ -102,6 +106,11 @@ class Connection:
         while len(self.layouts) > self.max_layouts:
             self.layouts.popitem(last=False)
 
+    @property
+    def pending(self) -> int:
+        """Bytes queued and not yet taken by the client (0 once cut off)."""
+        return int(self.writer.transport.get_write_buffer_size())
+
     def send(self, line: bytes) -> bool:
         """Queues ``line``; cuts the connection when its queue overflows.
         Returns whether the line was queued."""
@@ -115,7 +124,9 @@ class Connection:
         if pending > self.max_pending:
             self.abort(f"it stopped reading ({pending:,} bytes waiting to be sent)")
             return False
-        return True
+        if self._on_queued is not None:
+            self._on_queued(len(line))
+        return not self.closed
 
     def reply(self, request_id: Any, cmd: str, result: Any) -> None:
         """Queues the reply to a request; a result that is not JSON becomes an
@@ -150,4 +161,20 @@ class Connection:
             self.writer.transport.abort()
 
 
-__all__ = ["ClientInfo", "Connection", "LayoutKey", "clean_name", "format_peer"]
+def cut_slowest(connections: Iterable[Connection], limit: int) -> None:
+    """When the output waiting for all ``connections`` is over ``limit`` bytes,
+    cuts those with the most waiting (the ones that do not read) until it is not."""
+    sizes = [(conn.pending, conn) for conn in connections if not conn.closed]
+    total = sum(size for size, _conn in sizes)
+    if total <= limit:
+        return
+    sizes.sort(key=lambda pair: pair[0], reverse=True)
+    for size, conn in sizes:
+        if total <= limit:
+            break
+        conn.abort(f"the output waiting for all clients reached {total:,} bytes, over "
+                   f"the {limit:,}-byte limit, and it had the most waiting ({size:,} bytes)")
+        total -= size
+
+
+__all__ = ["ClientInfo", "Connection", "LayoutKey", "clean_name", "cut_slowest", "format_peer"]

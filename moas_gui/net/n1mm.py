@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 from typing import Final
 
 from moas_gui.config.model import Config, N1MMStation
+from moas_gui.net.log_limit import LogLimiter, held_text
 from moas_gui.net.n1mm_packet import (
     REASONS,
     N1MMPacketError,
@@ -89,6 +90,9 @@ class N1MMStats:
     """RadioInfo packets from a known station with a frequency (changed or not)."""
     delivered: int = 0
     """Calls of ``on_frequency`` (accepted packets that changed a radio's frequencies)."""
+    superseded: int = 0
+    """Changes never passed on because a newer packet for the same radio was read
+    in the same burst (only the newest frequency is acted on)."""
     no_frequency: int = 0
     """RadioInfo packets from a known station saying the radio has no frequency (``Freq`` 0)."""
     unknown_sender: int = 0
@@ -100,30 +104,6 @@ class N1MMStats:
     def malformed(self) -> int:
         """Refused packets except the other N1MM packet types, which are simply not ours."""
         return sum(n for reason, n in self.refused.items() if reason != "not_radio_info")
-
-
-class _LogLimiter:
-    """Lets one log line per key through every ``interval`` seconds, counting the rest."""
-
-    MAX_KEYS = 1024
-
-    def __init__(self, interval: float, clock: Callable[[], float]) -> None:
-        self._interval = interval
-        self._clock = clock
-        self._next: dict[object, float] = {}
-        self._held: dict[object, int] = {}
-
-    def allow(self, key: object) -> int | None:
-        """``None`` to stay quiet, else the number of lines held back since the last one."""
-        now = self._clock()
-        if now < self._next.get(key, float("-inf")):
-            self._held[key] = self._held.get(key, 0) + 1
-            return None
-        if len(self._next) >= self.MAX_KEYS:
-            self._next.clear()
-            self._held.clear()
-        self._next[key] = now + self._interval
-        return self._held.pop(key, 0)
 
 
 def _address_key(address: str) -> str:
@@ -172,14 +152,14 @@ class N1MMListener(asyncio.DatagramProtocol):
         self._on_frequency = on_frequency
         self._on_update = on_update
         self._clock = clock
-        self._limiter = _LogLimiter(log_interval, clock)
+        self._limiter = LogLimiter(log_interval, clock)
         self._last: dict[tuple[int, int], tuple[float, float]] = {}
         self._heard: dict[tuple[int, int], float] = {}
         self._transport: asyncio.BaseTransport | None = None
         self._sock: socket.socket | None = None
         self._batch: dict[tuple[int, int], tuple[int, int, float, float]] | None = None
         self._closed: asyncio.Future[None] | None = None
-        self._received = self._accepted = self._delivered = 0
+        self._received = self._accepted = self._delivered = self._superseded = 0
         self._no_frequency = self._unknown = self._callback_errors = 0
         self._refused = dict.fromkeys(REASONS, 0)
 
@@ -206,7 +186,7 @@ class N1MMListener(asyncio.DatagramProtocol):
             held = self._limiter.allow(("unknown", key))
             if held is not None:
                 log.debug("N1MM packet from %s ignored: that address is not in N1MMLogger%s",
-                          address, _held_text(held))
+                          address, held_text(held))
             return None
         try:
             info = parse_radio_info(data)
@@ -215,7 +195,7 @@ class N1MMListener(asyncio.DatagramProtocol):
             held = self._limiter.allow((exc.reason, key))
             if held is not None:
                 log.debug("N1MM packet from %s (station %d) ignored: %s%s",
-                          address, station, exc, _held_text(held))
+                          address, station, exc, held_text(held))
             return None
         radio_key = (station, info.radio_nr)
         self._heard[radio_key] = self._clock()
@@ -228,11 +208,12 @@ class N1MMListener(asyncio.DatagramProtocol):
             changed = self._last.get(radio_key) != pair
             if changed:
                 self._last[radio_key] = pair
-                self._delivered += 1
                 if self._batch is not None:  # a burst: only each radio's latest counts
-                    self._batch.pop(radio_key, None)
+                    if self._batch.pop(radio_key, None) is not None:
+                        self._superseded += 1
                     self._batch[radio_key] = (station, info.radio_nr, info.khz, info.tx_khz)
                 else:
+                    self._delivered += 1
                     self._call(self._on_frequency, station, info.radio_nr, info.khz,
                                info.tx_khz)
         update = RadioUpdate(station, info.radio_nr, address, info, changed)
@@ -259,6 +240,7 @@ class N1MMListener(asyncio.DatagramProtocol):
     def stats(self) -> N1MMStats:
         return N1MMStats(
             received=self._received, accepted=self._accepted, delivered=self._delivered,
+            superseded=self._superseded,
             no_frequency=self._no_frequency, unknown_sender=self._unknown,
             callback_errors=self._callback_errors,
             refused={r: n for r, n in self._refused.items() if n},
@@ -289,6 +271,7 @@ class N1MMListener(asyncio.DatagramProtocol):
         finally:
             batch, self._batch = self._batch, None
         for station, radio, khz, tx_khz in batch.values():
+            self._delivered += 1
             self._call(self._on_frequency, station, radio, khz, tx_khz)
 
     def error_received(self, exc: Exception) -> None:
@@ -361,10 +344,6 @@ class N1MMListener(asyncio.DatagramProtocol):
         self._transport.close()
         if self._closed is not None:
             await self._closed
-
-
-def _held_text(held: int) -> str:
-    return f" ({held} more like it since the last such line)" if held else ""
 
 
 __all__ = [

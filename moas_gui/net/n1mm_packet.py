@@ -17,7 +17,8 @@ Facts the parser relies on (``shared/specs/logger-network.md`` section 1):
 - element names are case-sensitive; unknown elements are ignored, missing
   optional ones tolerated; only ``RadioNr`` and ``Freq`` are required;
 - ``Freq`` and ``TXFreq`` are integers in units of 10 Hz (``1420000`` is
-  14,200.00 kHz); :class:`RadioInfo` holds kHz;
+  14,200.00 kHz), written in ASCII digits and nothing else; 300 GHz and above
+  is refused as absurd; :class:`RadioInfo` holds kHz;
 - booleans are ``True``/``False``; an empty element means "unknown" (``None``);
 - text may hold Windows-1252 bytes although the declaration says UTF-8, so the
   bytes are decoded as UTF-8 with replacement characters.
@@ -29,6 +30,7 @@ read (no entity expansion of any kind), and packets over
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from typing import Final
@@ -39,7 +41,12 @@ MAX_PACKET_BYTES: Final = 16 * 1024
 """A real RadioInfo packet is about 900 bytes; anything over 16 KiB is refused unread."""
 
 MAX_KHZ: Final = 300_000_000.0
-"""300 GHz: above every amateur band.  A larger frequency is refused as absurd."""
+"""300 GHz: above every amateur band.  This frequency and larger ones are refused as absurd."""
+
+_DIGITS: Final = re.compile(r"[0-9]{1,20}")
+_SIGNED: Final = re.compile(r"-?[0-9]{1,20}")
+"""How N1MM writes a number: ASCII digits alone (no sign, no ``_``, no other
+script's digits, all of which Python's ``int`` would read)."""
 
 MAX_RADIO_NR: Final = 99
 """N1MM sends 1 or 2; the parser accepts 1-99 and leaves the mapping to the listener."""
@@ -119,17 +126,18 @@ def _fields(root: ET.Element) -> dict[str, str]:
     return fields
 
 
-def _int(fields: dict[str, str], name: str) -> int | None:
-    """The integer in element ``name``; ``None`` when absent or empty."""
+def _int(fields: dict[str, str], name: str, *, signed: bool = False) -> int | None:
+    """The integer in element ``name``; ``None`` when absent or empty.  Only
+    ``signed`` ones may start with ``-`` (N1MM writes ``<Antenna>-1</Antenna>``)."""
     text = fields.get(name, "")
     if not text:
         return None
     if len(text) > 20:
         raise N1MMPacketError("bad_value", f"<{name}> is too long to be a number: {text[:20]!r}...")
-    try:
-        return int(text)
-    except ValueError:
-        raise N1MMPacketError("bad_value", f"<{name}> is not a whole number: {text!r}") from None
+    if (_SIGNED if signed else _DIGITS).fullmatch(text) is None:
+        raise N1MMPacketError(
+            "bad_value", f"<{name}> is not a whole number written in digits 0-9: {text!r}")
+    return int(text)
 
 
 def _khz(fields: dict[str, str], name: str) -> float | None:
@@ -138,7 +146,7 @@ def _khz(fields: dict[str, str], name: str) -> float | None:
     if units is None or units == 0:
         return None
     khz = units / 100.0
-    if khz < 0 or khz > MAX_KHZ:
+    if khz >= MAX_KHZ:
         raise N1MMPacketError(
             "bad_value", f"<{name}>{fields[name]}</{name}> is {khz:,.2f} kHz, not a radio frequency")
     return khz
@@ -193,7 +201,7 @@ def parse_radio_info(data: bytes) -> RadioInfo:
 def _optional_int(fields: dict[str, str], name: str) -> int | None:
     """An informative integer: a bad one is read as unknown rather than refusing the packet."""
     try:
-        return _int(fields, name)
+        return _int(fields, name, signed=True)
     except N1MMPacketError:
         return None
 

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from enum import Enum
@@ -35,6 +36,9 @@ MAX_ID = 2_147_483_647
 MAX_GRID = 1000
 MAX_KHZ = 1_000_000_000.0
 MAX_CLIENT_NAME = 200
+MAX_DEPTH = 64
+"""The deepest nesting of lists and objects a request line may hold; deeper
+lines are refused before they are parsed (a request needs two levels)."""
 
 
 class Kind(Enum):
@@ -304,6 +308,33 @@ def _no_constants(name: str) -> Any:
     raise ValueError(f"{name} is not a JSON value")
 
 
+def _finite(text: str) -> float:
+    number = float(text)
+    if not math.isfinite(number):
+        raise ValueError(f"{text[:24]} is too large for a number")
+    return number
+
+
+_STRING = re.compile(r'"[^"\\]*(?:\\.[^"\\]*)*"', re.DOTALL)
+_BRACKET = re.compile(r"[\[\]{}]")
+
+
+def too_deep(text: str, limit: int = MAX_DEPTH) -> bool:
+    """Whether ``text`` nests lists and objects more than ``limit`` deep
+    (brackets inside strings do not count).  Linear in the length of ``text``."""
+    if text.count("[") + text.count("{") <= limit:
+        return False
+    depth = 0
+    for match in _BRACKET.finditer(_STRING.sub("", text)):
+        if match.group() in "[{":
+            depth += 1
+            if depth > limit:
+                return True
+        else:
+            depth -= 1
+    return False
+
+
 def parse_line(line: bytes) -> Request | BadRequest | BadLine | None:
     """One line (without its ending) to what it asks; see the module's docstring."""
     try:
@@ -312,11 +343,13 @@ def parse_line(line: bytes) -> Request | BadRequest | BadLine | None:
         return BadLine(f"the line is not UTF-8 text (byte {e.start + 1} is 0x{line[e.start]:02x})")
     if not text.strip():
         return None
+    if too_deep(text):
+        return BadLine(f"the line is nested too deeply for this server (over {MAX_DEPTH} levels)")
     try:
-        obj = json.loads(text, parse_constant=_no_constants)
+        obj = json.loads(text, parse_constant=_no_constants, parse_float=_finite)
     except json.JSONDecodeError as e:
         return BadLine(f"the line is not JSON: {e.msg} at column {e.colno}")
-    except RecursionError:
+    except RecursionError:  # pragma: no cover - too_deep refuses these first
         return BadLine("the line is nested too deeply for this server")
     except ValueError as e:  # NaN/Infinity, or an integer with thousands of digits
         return BadLine(f"the line is not JSON this server accepts: {e}")
@@ -330,6 +363,7 @@ def parse_line(line: bytes) -> Request | BadRequest | BadLine | None:
 
 __all__ = [
     "COMMANDS",
+    "MAX_DEPTH",
     "Arg",
     "BadLine",
     "BadRequest",
@@ -339,4 +373,5 @@ __all__ = [
     "check_request",
     "describe",
     "parse_line",
+    "too_deep",
 ]

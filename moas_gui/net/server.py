@@ -15,31 +15,56 @@ stops reading cannot hold anyone up).  Peers outside the allowed networks
 (:mod:`.access`) are closed at once.  Every call here runs on the loop's
 thread; none of them waits.
 
+Limits: at most ``max_clients`` connections at once (fewer when the process
+may open few files: half its open-file limit); a connection beyond that is
+told so in one error line and closed.  Each client's unread output is bounded
+(``max_pending``), and so is the sum of all of them (``max_pending_total``):
+when the sum is over, the clients with the most unread output are cut first.
+
 Log lines (logger ``moas_gui.net``): connects, hellos and disconnects at Info;
 refused peers and clients cut off for not reading at Warning; each bad line or
-refused request at Debug; a backend failure at Error with its traceback.
+refused request at Debug; a backend failure at Error with its traceback.  A
+fault that repeats (refused peers, connections over the limit, the system
+running out of file handles while accepting) writes one line per minute and
+cause, saying how many like it were left out.
 """
 
 from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 from moas_gui.errors import HardwareError
 
-from .access import allowed_networks, is_allowed
-from .backend import ClientBackend, LogLevel, RequestError
-from .connection import ClientInfo, Connection, LayoutKey, format_peer
+from .access import allowed_networks, is_allowed, peer_address
+from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
+from .connection import ClientInfo, Connection, LayoutKey, cut_slowest, format_peer
 from .dispatch import MAX_BAD_LINES, answer
-from .messages import EncodeError, event
+from .fd_limit import fitting_client_limit
+from .log_limit import LogLimiter, held_text
+from .loop_faults import guard_loop_faults
+from .memory import give_back_memory
+from .messages import EncodeError, event, reply_error
 
 log = logging.getLogger("moas_gui.net")
 
 DEFAULT_PORT = 12059
 LOG_LEVELS: tuple[LogLevel, ...] = ("error", "info", "debug")
-_READ_CHUNK = 65_536
+_READ_CHUNK = 16_384
+"""Bytes read from a client at once (and what its reader holds before it stops
+taking more from the socket): a few hundred requests."""
+_FEED = 1024
+"""Bytes of requests split into lines at once."""
+_LINES_PER_TURN = 8
+"""Requests of one client answered before the loop serves everything else once."""
+_CROWD = 32
+"""Clients at once after which their leaving gives memory back to the system."""
+DEFAULT_MAX_CLIENTS = 200
+"""Connections served at once unless ``--max-clients`` says otherwise."""
+DEFAULT_MAX_PENDING_TOTAL = 32 << 20
+"""Bytes of unread output, summed over every client, before the slowest are cut."""
 
 
 class ClientServer:
@@ -48,8 +73,10 @@ class ClientServer:
     ``host`` ``None`` listens on every interface (access control decides who
     may stay); tests give ``"127.0.0.1"`` and port 0.  ``allow`` is the
     configuration's ``ClientAllow`` (``None``: loopback and private networks).
-    ``max_pending`` bounds each client's outgoing queue in bytes;
-    ``max_layouts`` bounds the layouts one connection follows.  With ``host``
+    ``max_pending`` bounds each client's outgoing queue in bytes and
+    ``max_pending_total`` the sum of them all; ``max_clients`` bounds the
+    connections served at once; ``max_layouts`` bounds the layouts one
+    connection follows.  With ``host``
     ``None`` and port 0 each address family would get a port of its own: give
     a port, or a host, then.
     """
@@ -65,14 +92,31 @@ class ClientServer:
         port: int = DEFAULT_PORT,
         allow: Iterable[str] | None = None,
         max_pending: int = 1 << 20,
+        max_pending_total: int = DEFAULT_MAX_PENDING_TOTAL,
+        max_clients: int = DEFAULT_MAX_CLIENTS,
         max_layouts: int = 16,
     ) -> None:
+        if max_clients < 1:
+            raise ValueError(f"max_clients must be at least 1, not {max_clients}")
         self.backend = backend
         self.host = host
         self.port = port
         self._allowed = allowed_networks(allow)
         self.max_pending = max_pending
+        self.max_pending_total = max_pending_total
+        self.max_clients = max_clients
+        self.client_limit = max_clients
+        """The connections served at once: ``max_clients``, or fewer when the
+        process may open few files (set by :meth:`start`)."""
         self.max_layouts = max_layouts
+        self._unchecked = 0
+        """Bytes queued since the sum of all clients' output was last checked."""
+        self._crowd = 0
+        """The most clients connected at once since memory was last given back."""
+        self._trim: asyncio.Handle | None = None
+        self._refusals = LogLimiter()
+        self._loop_faults = LogLimiter()
+        self._restore_handler: Callable[[], None] | None = None
         self._server: asyncio.Server | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._connections: dict[Connection, None] = {}
@@ -87,8 +131,12 @@ class ClientServer:
         Raises :class:`~moas_gui.errors.HardwareError` saying which port when it
         cannot listen (the port is in use, say)."""
         self._loop = asyncio.get_running_loop()
+        self.client_limit = fitting_client_limit(self.max_clients)
+        if self._restore_handler is None:
+            self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
-            self._server = await asyncio.start_server(self._serve, self.host, self.port)
+            self._server = await asyncio.start_server(
+                self._serve, self.host, self.port, limit=_READ_CHUNK)
         except OSError as e:
             raise HardwareError(
                 f"cannot accept clients on TCP port {self.port}: {e.strerror or e} "
@@ -108,6 +156,9 @@ class ClientServer:
         if self._layout_refresh is not None:
             self._layout_refresh.cancel()
             self._layout_refresh = None
+        if self._trim is not None:
+            self._trim.cancel()
+            self._trim = None
         tasks = tuple(self._tasks)
         if tasks:
             _done, pending = await asyncio.wait(tasks, timeout=self.close_grace + 1.0)
@@ -117,6 +168,9 @@ class ClientServer:
         if self._server is not None:
             await self._server.wait_closed()
             self._server = None
+        if self._restore_handler is not None:
+            self._restore_handler()
+            self._restore_handler = None
 
     def set_allow(self, allow: Iterable[str] | None) -> None:
         """New ``ClientAllow`` (after a configuration is loaded); applies to new connections."""
@@ -125,6 +179,19 @@ class ClientServer:
     @property
     def client_count(self) -> int:
         return len(self._connections)
+
+    @property
+    def pending_total(self) -> int:
+        """Bytes of output waiting to be read, summed over every client."""
+        return sum(conn.pending for conn in self._connections)
+
+    def _queued(self, size: int) -> None:
+        """Called for every line queued; checks the sum now and then (often
+        enough that it never gets far over :attr:`max_pending_total`)."""
+        self._unchecked += size
+        if self._unchecked >= max(1, self.max_pending_total // 16):
+            self._unchecked = 0
+            cut_slowest(self._connections, self.max_pending_total)
 
     def clients(self) -> tuple[ClientInfo, ...]:
         return tuple(conn.info() for conn in self._connections)
@@ -221,25 +288,50 @@ class ClientServer:
         try:
             host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
             if not is_allowed(host, self._allowed):
-                log.warning(
-                    "Refused a client from %s: the address is not in the allowed networks "
-                    "(ClientAllow in the configuration decides)", address,
-                )
+                held = self._refusals.allow(("not allowed", str(peer_address(host) or host)))
+                if held is not None:
+                    log.warning(
+                        "Refused a client from %s: the address is not in the allowed networks "
+                        "(ClientAllow in the configuration decides)%s", address,
+                        held_text(held, "more refused from that address"),
+                    )
                 writer.transport.abort()
                 writer.close()
+                return
+            if len(self._connections) >= self.client_limit:
+                self._refuse_over_limit(writer, address)
                 return
             await self._converse(reader, writer, address)
         finally:
             if task is not None:
                 self._tasks.discard(task)
 
+    def _refuse_over_limit(self, writer: asyncio.StreamWriter, address: str) -> None:
+        """Tells a connection over the limit why, in one line, and closes it."""
+        held = self._refusals.allow("over the limit")
+        if held is not None:
+            log.warning("Refused a client from %s: %d clients are connected, the most this "
+                        "server takes at once (moas-server --max-clients sets it)%s",
+                        address, self.client_limit,
+                        held_text(held, "more refused for the same reason"))
+        try:
+            writer.write(reply_error(
+                None, ErrorCode.UNAVAILABLE,
+                f"the server already serves {self.client_limit} clients, its limit; "
+                "try again when one has left"))
+        except (ConnectionError, OSError):
+            pass
+        writer.close()
+
     async def _converse(
         self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter, address: str
     ) -> None:
         conn = Connection(
-            writer, address, max_pending=self.max_pending, max_layouts=self.max_layouts
+            writer, address, max_pending=self.max_pending, max_layouts=self.max_layouts,
+            on_queued=self._queued,
         )
         self._connections[conn] = None
+        self._crowd = max(self._crowd, len(self._connections))
         log.info("Client connected from %s", address)
         lost: str | None = None
         try:
@@ -247,11 +339,7 @@ class ClientServer:
                 data = await reader.read(_READ_CHUNK)
                 if not data:
                     break
-                for item in conn.splitter.feed(data):
-                    answer(self.backend, conn, item)
-                    if conn.closed:
-                        break
-                await asyncio.sleep(0)  # a client sending a flood must not starve the others
+                await self._answer(conn, data)
         except (ConnectionError, OSError) as e:
             lost = str(e) or type(e).__name__
         finally:
@@ -263,9 +351,38 @@ class ClientServer:
             else:
                 how = "disconnected"
             log.info("Client %s %s", _who(conn), how)
+            self._after_departure()
             if not conn.closed:
                 writer.close()
             await self._closed(writer)
+
+    async def _answer(self, conn: Connection, data: bytes) -> None:
+        """Answers the lines in ``data``, a few at a time: a client sending a flood
+        must not starve the others or the switches (nor hold many lines at once)."""
+        answered = 0
+        for start in range(0, len(data), _FEED):
+            for item in conn.splitter.feed(data[start : start + _FEED]):
+                answer(self.backend, conn, item)
+                if conn.closed:
+                    return
+                answered += 1
+                if answered % _LINES_PER_TURN == 0:
+                    await asyncio.sleep(0)
+        await asyncio.sleep(0)
+
+    def _after_departure(self) -> None:
+        """Once most of a crowd of clients has gone, gives their memory back (soon,
+        once for however many leave in the same moment)."""
+        if self._crowd >= _CROWD and len(self._connections) <= self._crowd // 2:
+            self._crowd = len(self._connections)
+            if self._trim is None and self._loop is not None:
+                self._trim = self._loop.call_later(0.5, self._give_back)
+
+    def _give_back(self) -> None:
+        self._trim = None
+        if give_back_memory():
+            log.debug("Gave freed memory back to the system (%d clients now)",
+                      len(self._connections))
 
     async def _closed(self, writer: asyncio.StreamWriter) -> None:
         """Waits for what is queued to be sent, but not for a peer that never reads."""
@@ -282,4 +399,11 @@ def _who(conn: Connection) -> str:
     return f'"{conn.name}" at {conn.address}' if conn.name else f"at {conn.address}"
 
 
-__all__ = ["DEFAULT_PORT", "LOG_LEVELS", "MAX_BAD_LINES", "ClientServer"]
+__all__ = [
+    "DEFAULT_MAX_CLIENTS",
+    "DEFAULT_MAX_PENDING_TOTAL",
+    "DEFAULT_PORT",
+    "LOG_LEVELS",
+    "MAX_BAD_LINES",
+    "ClientServer",
+]

@@ -8,6 +8,10 @@ Its life, in plain words:
   configuration gives ``Echo``, refuses a box with another id.  Then it
   resets and loads the box from the latest state (:func:`.sync.initialise`),
   checks the box answers, and asks the box status to learn who transmits.
+  Given ``held`` (what a previous server told the box, from the saved
+  state), the first connection asks the box's status first and, when the box
+  still holds it (:func:`.sync.differs`), sends only the difference to the
+  wanted state: no reset, so a restarted server changes nothing on the air.
 * ``apply(state)`` writes the difference from the last state sent, at once
   (no timer in between), as the fewest bytes (:func:`.sync.difference`).
   Before the box is ready it only remembers the state.
@@ -68,7 +72,7 @@ from .messages import (
     UnitIdReply,
 )
 from .replies import encode_reply
-from .sync import DEFAULT_EVENTS, CommandPlan, difference, initialise, stopped
+from .sync import DEFAULT_EVENTS, CommandPlan, difference, differs, initialise, stopped
 from .transport import EmulatorTransport, SerialTransport, Transport
 
 log = logging.getLogger("moas_gui.hw.moas2.link")
@@ -111,6 +115,7 @@ class SwitchLink:
         indicate_tr: bool = True,
         timing: LinkTiming = LinkTiming(),
         transport: Transport | None = None,
+        held: SwitchState | None = None,
     ) -> None:
         self.switch_id = switch_id
         self.port = port
@@ -133,6 +138,9 @@ class SwitchLink:
         self._decoder = SwitchDecoder()
         self._desired = SwitchState()
         self._sent: SwitchState | None = None
+        self._held = held
+        """What the box was last told before this server started (a saved state): the
+        first connection checks whether the box still holds it instead of resetting."""
         self._stopped = False
         self._status = LinkStatus.CONNECTING
         self._open = False
@@ -159,6 +167,11 @@ class SwitchLink:
     def ready(self) -> bool:
         """The box is initialised and every ``apply`` goes straight out."""
         return self._open and self._sent is not None
+
+    @property
+    def sent(self) -> SwitchState | None:
+        """What the box holds as far as the link knows (None while it is not ready)."""
+        return self._sent if self.ready else None
 
     @property
     def where(self) -> str:
@@ -276,7 +289,13 @@ class SwitchLink:
                 f"{self.echo}: not driving it (is it on the wrong port?)",
             )
             return False
-        self._load()
+        held, self._held = self._held, None
+        if held is not None and await self._still_holds(held):
+            # nothing on the air changes: only the difference to the wanted state goes out
+            self._sent = held
+            self.apply(self._desired)
+        else:
+            self._load()
         if await self._ask(Ping(), Pong) is None:
             self._problem(logging.WARNING, f"{self.where} stopped answering while loading")
             return False
@@ -298,6 +317,24 @@ class SwitchLink:
                 )
                 return True
             self._ping()
+
+    async def _still_holds(self, held: SwitchState) -> bool:
+        """Whether the box still holds ``held`` (what this link's saved state says it was
+        told), judged by everything it can report: active, every station's antennas, the
+        inhibit polarity, and closed relays that ``held`` can explain.  The tables and
+        timings cannot be read back; they are the saved ones when the rest is."""
+        if not held.active or self._stopped:
+            return False  # a reset of a stopped box changes nothing on the air
+        pong = await self._ask(Ping(), Pong)
+        box = await self._ask(StatusRequest(StatusKind.BOX), BoxStatus)
+        polarity = await self._ask(StatusRequest(StatusKind.POLARITY), PolarityStatus)
+        relays = await self._ask(RelayStatusRequest(), RelayStatus)
+        why = differs(held, pong, box, polarity, relays)
+        if why:
+            log.info("%s does not hold the saved state (%s): loading it", self.where, why)
+            return False
+        log.info("%s still holds the saved state: carrying on without a reset", self.where)
+        return True
 
     def _load(self) -> None:
         target = self._effective(self._desired)

@@ -1,0 +1,395 @@
+"""The last good state of a running configuration, on disk, so that a restart
+(a crash, ``kill -9``, a power cut of the PC) changes nothing on the air.
+
+One file per configuration file, in the user's state directory
+(``$XDG_STATE_HOME/moas-gui/``, ``~/.local/state/moas-gui/`` by default;
+``%LOCALAPPDATA%\\moas-gui\\state`` on Windows).  It holds a fingerprint of the
+configuration file's bytes, the engine's selections
+(:mod:`moas_gui.engine.snapshot`) and, per switch, the :class:`SwitchState` last
+sent to the box.  It is written whole to a temporary file in the same
+directory, flushed to the disk, and renamed over the old one, so whatever a
+crash leaves behind is either the old file or the new one, never half of one.
+Writes are coalesced (:class:`StateKeeper`): a change after a quiet spell is
+written at once, and everything that changes within ``SAVE_DELAY_S`` of a write
+goes out together in the next; the writing itself is done on a worker thread,
+off the event loop.
+
+A file that cannot be read, is cut short, belongs to another version of the
+configuration, or does not fit it is ignored with one log line: the server
+then starts as if there were no file.  See ``docs/server.md``.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import hashlib
+import json
+import logging
+import os
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .engine.switchstate import STATIONS, StationAntennas, SwitchState
+
+log = logging.getLogger("moas_gui.state")
+
+FORMAT = 1
+SAVE_DELAY_S = 0.2
+"""How long a change waits for others before they are written together."""
+
+
+class StateError(ValueError):
+    """A state file that cannot be used (the message says why)."""
+
+
+def state_dir() -> Path:
+    """The per-user directory for state files (not made here)."""
+    if sys.platform == "win32":
+        base = os.environ.get("LOCALAPPDATA") or str(Path.home() / "AppData" / "Local")
+        return Path(base) / "moas-gui" / "state"
+    base = os.environ.get("XDG_STATE_HOME", "")
+    if not base or not os.path.isabs(base):
+        base = str(Path.home() / ".local" / "state")
+    return Path(base) / "moas-gui"
+
+
+def state_path(config_path: Path) -> Path:
+    """Where the state of ``config_path`` is kept: one file per configuration file."""
+    where = str(Path(config_path).resolve())
+    digest = hashlib.sha256(where.encode("utf-8", "surrogateescape")).hexdigest()[:16]
+    stem = "".join(c if c.isalnum() or c in "-_." else "_" for c in Path(config_path).stem)
+    return state_dir() / f"{stem[:40]}-{digest}.state.json"
+
+
+def fingerprint(config_bytes: bytes) -> str:
+    return hashlib.sha256(config_bytes).hexdigest()
+
+
+# -- SwitchState as plain data ----------------------------------------------------------------
+
+def _sorted(values: frozenset[int]) -> list[int]:
+    return sorted(values)
+
+
+def switch_to_data(state: SwitchState) -> dict[str, Any]:
+    return {
+        "stations": [[s.tx, _sorted(s.tx_relays), s.rx, _sorted(s.rx_relays), s.alt,
+                      _sorted(s.alt_relays), _sorted(s.extra)] for s in state.stations],
+        "station0": _sorted(state.station0),
+        "conflicts": sorted(list(p) for p in state.conflicts),
+        "fast": sorted(list(p) for p in state.fast),
+        "systems": [list(p) for p in state.systems],
+        "inhibited": _sorted(state.inhibited),
+        "inhibit_others": [_sorted(s) for s in state.inhibit_others],
+        "use_alternate": [_sorted(s) for s in state.use_alternate],
+        "interrupt": _sorted(state.interrupt),
+        "enable_low": _sorted(state.enable_low),
+        "receive_delay": list(state.receive_delay),
+        "inhibit_time": state.inhibit_time,
+        "interrupt_delay": state.interrupt_delay,
+        "active": state.active,
+    }
+
+
+def _int(value: object, where: str, low: int = 0, high: int = 9999) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise StateError(f"{where}: expected a whole number {low}-{high}, found {value!r:.40}")
+    return value
+
+
+def _list(value: object, where: str, length: int | None = None) -> list[Any]:
+    if not isinstance(value, list) or (length is not None and len(value) != length):
+        raise StateError(f"{where}: expected a list{'' if length is None else f' of {length}'}")
+    return value
+
+
+def _set(value: object, where: str, low: int = 0, high: int = 63) -> frozenset[int]:
+    return frozenset(_int(v, where, low, high) for v in _list(value, where))
+
+
+def _pairs(value: object, where: str) -> frozenset[tuple[int, int]]:
+    pairs = set()
+    for item in _list(value, where):
+        a, b = _list(item, where, 2)
+        pairs.add((_int(a, where, 0, 63), _int(b, where, 0, 63)))
+    return frozenset(pairs)
+
+
+def switch_from_data(data: object, where: str) -> SwitchState:
+    if not isinstance(data, dict):
+        raise StateError(f"{where}: expected an object")
+    stations = []
+    for n, item in zip(STATIONS, _list(data.get("stations"), f"{where} stations", 6), strict=True):
+        w = f"{where} station {n}"
+        tx, txr, rx, rxr, alt, altr, extra = _list(item, w, 7)
+        stations.append(StationAntennas(_int(tx, w, 0, 63), _set(txr, w), _int(rx, w, 0, 63),
+                                        _set(rxr, w), _int(alt, w, 0, 63), _set(altr, w),
+                                        _set(extra, w)))
+    systems = tuple(sorted((a, s) for a, s in _pairs(data.get("systems"), f"{where} systems")))
+    active = data.get("active")
+    if not isinstance(active, bool):
+        raise StateError(f"{where}: active is not true or false")
+    per_station = [_set(s, f"{where} interlocks", 1, 6)
+                   for key in ("inhibit_others", "use_alternate")
+                   for s in _list(data.get(key), f"{where} {key}", 6)]
+    return SwitchState(
+        stations=tuple(stations),
+        station0=_set(data.get("station0"), f"{where} station0"),
+        conflicts=_pairs(data.get("conflicts"), f"{where} conflicts"),
+        fast=_pairs(data.get("fast"), f"{where} fast"),
+        systems=systems,
+        inhibited=_set(data.get("inhibited"), f"{where} inhibited", 1, 6),
+        inhibit_others=tuple(per_station[:6]),
+        use_alternate=tuple(per_station[6:]),
+        interrupt=_set(data.get("interrupt"), f"{where} interrupt", 1, 6),
+        enable_low=_set(data.get("enable_low"), f"{where} enable_low", 1, 6),
+        receive_delay=tuple(_int(v, f"{where} receive_delay") for v in
+                            _list(data.get("receive_delay"), f"{where} receive_delay", 6)),
+        inhibit_time=_int(data.get("inhibit_time"), f"{where} inhibit_time"),
+        interrupt_delay=_int(data.get("interrupt_delay"), f"{where} interrupt_delay"),
+        active=active,
+    )
+
+
+# -- the file ---------------------------------------------------------------------------------
+
+@dataclass(frozen=True, slots=True)
+class SavedState:
+    """What one state file holds."""
+
+    fingerprint: str
+    engine: dict[str, Any] = field(default_factory=dict)
+    switches: dict[int, SwitchState] = field(default_factory=dict)
+    """Per switch id: what the box was last told to hold."""
+
+
+def encode(saved: SavedState) -> bytes:
+    data = {
+        "format": FORMAT,
+        "config": saved.fingerprint,
+        "engine": saved.engine,
+        "switches": {str(i): switch_to_data(s) for i, s in sorted(saved.switches.items())},
+    }
+    return json.dumps(data, separators=(",", ":")).encode()
+
+
+def decode(raw: bytes, expected_fingerprint: str) -> SavedState:
+    """The state in ``raw``; raises :class:`StateError` saying why it cannot be used."""
+    try:
+        data = json.loads(raw.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise StateError(f"it is not readable ({type(exc).__name__}: {str(exc)[:80]})") from None
+    if not isinstance(data, dict) or data.get("format") != FORMAT:
+        raise StateError("it is not a state file of this version")
+    if data.get("config") != expected_fingerprint:
+        raise StateError("it was written for another version of the configuration file")
+    engine = data.get("engine")
+    switches = data.get("switches")
+    if not isinstance(engine, dict) or not isinstance(switches, dict):
+        raise StateError("it lacks the engine or the switches")
+    held = {}
+    for name, value in switches.items():
+        if not name.isdigit():
+            raise StateError(f"switch {name!r:.20} is not a number")
+        held[int(name)] = switch_from_data(value, f"switch {name}")
+    return SavedState(expected_fingerprint, engine, held)
+
+
+def write_atomic(path: Path, data: bytes) -> None:
+    """Replace ``path`` by ``data``: a temporary file, flushed to disk, renamed over it."""
+    path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
+    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        with open(temporary, "wb") as out:
+            out.write(data)
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            temporary.unlink()
+        raise
+    if sys.platform != "win32":
+        # the rename itself reaches the disk only with the directory
+        with contextlib.suppress(OSError):
+            fd = os.open(path.parent, os.O_RDONLY)
+            try:
+                os.fsync(fd)
+            finally:
+                os.close(fd)
+
+
+STALE_TEMPORARY_S = 60.0
+
+
+def remove_stale_temporaries(path: Path) -> int:
+    """Remove temporary files of ``path`` that a killed writer left (older than a minute,
+    so a second server writing right now keeps its own); returns how many."""
+    removed = 0
+    now = time.time()
+    with contextlib.suppress(OSError):
+        for candidate in path.parent.glob(f".{path.name}.*.tmp"):
+            with contextlib.suppress(OSError):
+                if now - candidate.stat().st_mtime > STALE_TEMPORARY_S:
+                    candidate.unlink()
+                    removed += 1
+    return removed
+
+
+def load(path: Path, expected_fingerprint: str) -> SavedState | None:
+    """The usable state at ``path``, or None (then one log line says why, unless there is
+    simply no file yet)."""
+    try:
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        log.warning("The saved state %s cannot be read (%s); starting without it",
+                    path, exc.strerror or exc)
+        return None
+    try:
+        return decode(raw, expected_fingerprint)
+    except StateError as exc:
+        log.warning("The saved state %s is ignored: %s; starting without it", path, exc)
+        return None
+
+
+def restore(config_path: Path, engine: Any) -> tuple[str, SavedState | None]:
+    """The fingerprint of ``config_path`` ("" when it cannot be read again) and its saved
+    state, already put into ``engine`` (a fresh engine of that configuration); None when
+    there is none or it does not fit (one log line says why)."""
+    from .engine.snapshot import SnapshotError, restore_selections
+
+    try:
+        printed = fingerprint(Path(config_path).read_bytes())
+    except OSError as exc:
+        log.warning("%s cannot be read again to keep its state (%s); a restart will "
+                    "reload the switches", config_path, exc.strerror or exc)
+        return "", None
+    where = state_path(config_path)
+    saved = load(where, printed)
+    if saved is None:
+        return printed, None
+    try:
+        restore_selections(engine, saved.engine)
+    except SnapshotError as exc:
+        log.warning("The saved state %s is ignored: %s; starting without it", where, exc)
+        return printed, None
+    chosen = sum(1 for view in engine.radios() if view.tx is not None)
+    log.info("Restored the saved state (%s): %d radio%s with antennas%s", where, chosen,
+             "" if chosen == 1 else "s", "" if engine.running else "; switches stopped")
+    return printed, saved
+
+
+class StateKeeper:
+    """Writes the state of one running configuration whenever it changes, coalesced.
+
+    ``collect`` returns the state to write now; it runs on the event loop, the
+    write itself on a worker thread.  At most one write is in flight; a change
+    during a write gets its own write after it.
+    """
+
+    def __init__(self, path: Path, collect: Callable[[], SavedState],
+                 delay: float = SAVE_DELAY_S) -> None:
+        self.path = path
+        remove_stale_temporaries(path)
+        self._collect = collect
+        self._delay = delay
+        self._timer: asyncio.TimerHandle | None = None
+        self._writing: asyncio.Task[None] | None = None
+        self._again = False
+        self._failed = False
+        self._last: bytes | None = None
+        self._started = -float("inf")
+        self.writes = 0
+
+    def changed(self) -> None:
+        """Something in the state may have changed: write it soon.
+
+        A change after a quiet spell is written at the loop's next turn (so the file
+        lags the box as little as possible); changes that follow within ``delay`` of
+        the last write are gathered and written together when it has passed."""
+        if self._writing is not None:
+            self._again = True
+        elif self._timer is None:
+            loop = asyncio.get_running_loop()
+            wait = max(0.0, self._started + self._delay - loop.time())
+            self._timer = loop.call_later(wait, self._start)
+
+    def _start(self) -> None:
+        self._timer = None
+        self._started = asyncio.get_running_loop().time()
+        try:
+            data = encode(self._collect())
+        except Exception:
+            log.exception("The state could not be collected for saving")
+            return
+        if data == self._last:
+            return
+        self._writing = asyncio.get_running_loop().create_task(self._write(data))
+
+    async def _write(self, data: bytes) -> None:
+        try:
+            await asyncio.get_running_loop().run_in_executor(None, write_atomic, self.path, data)
+        except OSError as exc:
+            if not self._failed:
+                log.error("The state cannot be saved to %s (%s); a restart will reload the "
+                          "switches", self.path, exc.strerror or exc)
+            self._failed = True
+        else:
+            self._last = data
+            self.writes += 1
+            if self._failed:
+                log.info("The state is saved to %s again", self.path)
+            self._failed = False
+        finally:
+            self._writing = None
+            if self._again:
+                self._again = False
+                self.changed()
+
+    async def flush(self) -> None:
+        """Write what is pending now (closing, or a test)."""
+        while True:
+            if self._writing is not None:
+                await asyncio.shield(self._writing)
+                continue
+            if self._timer is None and not self._again:
+                return
+            if self._timer is not None:
+                self._timer.cancel()
+                self._timer = None
+            self._again = False
+            self._start()
+            if self._writing is None:
+                return
+
+    def close(self) -> None:
+        """Stop writing (a pending write is dropped; call :meth:`flush` first to keep it)."""
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
+
+
+__all__ = [
+    "SAVE_DELAY_S",
+    "SavedState",
+    "StateError",
+    "StateKeeper",
+    "decode",
+    "encode",
+    "fingerprint",
+    "load",
+    "remove_stale_temporaries",
+    "restore",
+    "state_dir",
+    "state_path",
+    "switch_from_data",
+    "switch_to_data",
+    "write_atomic",
+]

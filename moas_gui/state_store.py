@@ -34,6 +34,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from moas_gui.errors import MoasError
+
 from .engine.switchstate import STATIONS, StationAntennas, SwitchState
 
 log = logging.getLogger("moas_gui.state")
@@ -43,7 +45,7 @@ SAVE_DELAY_S = 0.2
 """How long a change waits for others before they are written together."""
 
 
-class StateError(ValueError):
+class StateError(MoasError, ValueError):
     """A state file that cannot be used (the message says why)."""
 
 

@@ -26,7 +26,7 @@ from collections.abc import Mapping
 from enum import StrEnum
 from typing import Any, Literal, Protocol
 
-from moas_gui.errors import MoasError
+from moas_gui.errors import RequestRefused
 
 JSONObject = dict[str, Any]
 """A JSON object as :func:`json.loads` returns it."""
@@ -52,8 +52,10 @@ class ErrorCode(StrEnum):
     """The server failed; the log says why."""
 
 
-class RequestError(MoasError):
+class RequestError(RequestRefused):
     """A request the backend refuses: ``code`` for programs, ``message`` for people."""
+
+    code: ErrorCode
 
     def __init__(self, code: ErrorCode | str, message: str) -> None:
         try:

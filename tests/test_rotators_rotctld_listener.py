@@ -18,6 +18,7 @@ from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorManager, Timing
 from moas_gui.hw.rotators.headings import Travel
 from moas_gui.net.rotctld_codec import Request, RequestParser, answer, azimuth_for, scale_for
+from moas_gui.net.rotctld_server import start_rotctld_servers
 
 FAST = Timing(test_tick=0.05, reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.5,
               connect_timeout=0.5)
@@ -109,6 +110,11 @@ def test_the_offered_scale_starts_at_the_stop_and_always_covers_a_compass() -> N
 
 # ---- the listener on a socket ------------------------------------------------------------
 
+def manager_rotators(manager: RotatorManager) -> list[Rotator]:
+    """The rotators ``manager`` serves, as the server hands them to the listeners."""
+    return [manager.rotator(rotator_id) for rotator_id in manager.drivers]
+
+
 def listened_rotator(port: int, **fields: object) -> Rotator:
     base: dict[str, object] = {"id": 6, "short_name": "Stack", "control": RotatorControl.TEST,
                                "ccw_limit": 180, "rotation": 360, "has_stop": True,
@@ -128,7 +134,10 @@ async def served() -> AsyncIterator[tuple[RotatorManager, int, Recorder]]:
         on_change=recorder, timing=FAST,
     )
     await manager.start()
+    listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
     yield manager, port, recorder
+    for listener in listeners:
+        await listener.close()
     await manager.close()
 
 
@@ -205,8 +214,9 @@ async def test_a_port_in_use_is_logged_and_the_rest_carries_on(
         port = taken.getsockname()[1]
         manager = RotatorManager([listened_rotator(port)], timing=FAST)
         await manager.start()
+        listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
         try:
-            assert manager.listeners == []
+            assert listeners == []
             assert f"on 127.0.0.1:{port}: cannot listen" in caplog.text
             await manager.rotate(6, 181)
         finally:

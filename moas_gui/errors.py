@@ -12,6 +12,8 @@
      +-- ProtocolError                                a peer sent nonsense, or a codec
      |                                                cannot write a value
      +-- HardwareError                                a port vanished or cannot be opened
+     +-- Moas2Error        (moas_gui.hw.moas2)        the switch package's own errors
+     +-- ClientError       (moas_gui.client)          what the client library raises
      +-- StateError        (moas_gui.state_store)     a saved state that cannot be used
      +-- SnapshotError     (moas_gui.engine.snapshot) a snapshot that does not fit the engine
 """

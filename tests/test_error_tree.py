@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 
+from moas_gui.client.connection import ClientError
 from moas_gui.config import ConfigError
 from moas_gui.engine import BadRequest, EngineError, NotFound, NotRunning, Unavailable
 from moas_gui.engine.snapshot import SnapshotError
@@ -33,6 +34,7 @@ BRANCHES = {
     Unavailable: EngineError,
     NotRunning: EngineError,
     Moas2Error: MoasError,
+    ClientError: MoasError,
     CommandRejected: ProtocolError,
     EncodeError: Moas2Error,
     PortError: HardwareError,

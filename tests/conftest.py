@@ -1,4 +1,12 @@
-"""Shared test set-up: Qt runs offscreen; example files are easy to find."""
+"""Shared test set-up: Qt runs offscreen; example files are easy to find;
+property tests are deterministic.
+
+Hypothesis runs derandomized with no example database, so every run of the
+suite tries the same examples: a submission cannot fail on an example nobody
+wrote.  The wide random search is ``benchmarks/bench_properties.py``, which
+selects the ``wide`` profile through ``HYPOTHESIS_PROFILE``; whatever it finds
+becomes an explicit ``@example`` here.
+"""
 
 from __future__ import annotations
 
@@ -6,11 +14,16 @@ import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
+
+settings.register_profile("deterministic", derandomize=True, database=None, print_blob=True)
+settings.register_profile("wide", derandomize=False, database=None, print_blob=True)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "deterministic"))
 
 
 @pytest.fixture(autouse=True)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
@@ -158,8 +158,36 @@ class Watcher:
                 self.check()
 
 
+_STATION_1_INTERRUPTS_ON_ANTENNA_0 = (
+    Setup(
+        conflicts=[(0, 0), (1, 1), (2, 2), (3, 3), (4, 4), (5, 5)],
+        fast=[],
+        interrupt=frozenset({1}),
+        inhibit_ms=5,
+        interrupt_ms=1,
+        receive_ms={},
+        alternates={},
+        systems={},
+    ),
+    [("antenna", 1, "B", 0, frozenset())] * 9
+    + [
+        ("antenna", 1, "B", 0, frozenset([0])),
+        ("antenna", 2, "B", 0, frozenset()),
+        ("key", 1, True),
+        ("antenna", 1, "B", 0, frozenset()),
+        ("antenna", 1, "B", 1, frozenset()),
+        ("wait", 5),
+    ],
+)
+"""Station 1 (interrupt mode) transmits on antenna 0 and asks for antenna 1
+while station 2 waits for antenna 0: station 2 must not get antenna 0 in the
+step that starts station 1's interrupt, since station 1's relays stay on
+antenna 0 through the interrupt delay."""
+
+
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(setups, operations)
+@example(*_STATION_1_INTERRUPTS_ON_ANTENNA_0)
 def test_safety_rules_hold_through_any_history(setup: Setup, ops: list) -> None:  # type: ignore[type-arg]
     watcher = Watcher(setup)
     for op in ops:
@@ -186,3 +214,15 @@ def test_with_everyone_receiving_no_request_waits_except_for_a_conflict(
         for kind, request in station.pending.items():
             assert kind in (Kind.TX, Kind.RX), f"station {n} {kind} waits with nobody on the air"
             assert request.conflict_reported, f"station {n} {kind} waits but not for a conflict"
+
+
+def test_an_antenna_left_by_an_interrupt_goes_to_the_waiting_station_when_the_relays_move() -> None:
+    setup, ops = _STATION_1_INTERRUPTS_ON_ANTENNA_0
+    watcher = Watcher(setup)
+    for op in ops:
+        watcher.run(op)
+    one, two = watcher.model.stations[1], watcher.model.stations[2]
+    assert one.current[Kind.TX].antenna == 0 and two.current[Kind.TX].antenna == 63
+    watcher.run(("wait", 1))  # the interrupt delay runs out: station 1's relays move
+    assert one.current[Kind.TX].antenna == 1
+    assert two.current[Kind.TX].antenna == 0 and two.current[Kind.RX].antenna == 0

@@ -212,3 +212,75 @@ async def test_a_controller_that_stops_answering_is_dropped_and_reconnected(
         await recorder.wait_for(lambda v: v.online and v.heading == 5)
     finally:
         await manager.close()
+
+
+@pytest.mark.asyncio
+async def test_a_unit_that_never_answers_a_turn_is_believed_when_the_heading_moves(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False)
+    await server.start()
+    server.model.set_azimuth(1, 20, server.now())
+    recorder = Recorder()
+    manager = await running([genius_rotator(server)], recorder)
+    try:
+        await recorder.wait_for(lambda v: v.online and v.heading == 20)
+        await manager.rotate(1, 60)
+        assert Command("A", 1, 60, b"|A1060") in server.commands
+        assert manager.view(1).target == 60 and manager.view(1).moving
+        await recorder.wait_for(lambda v: v.heading == 60 and not v.moving)
+        assert all(v.online for v in recorder.views[1:])
+        assert "reconnecting" not in caplog.text
+        # Already there: nothing moves, and the turn is still taken as done.
+        await manager.rotate(1, 60)
+        assert "reconnecting" not in caplog.text
+    finally:
+        await manager.close()
+        await server.close()
+
+
+@pytest.mark.asyncio
+async def test_a_silent_unit_that_does_not_move_leaves_the_turn_unconfirmed_and_stays_connected(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False)
+    server.model.rotors[0].limit_ccw, server.model.rotors[0].limit_cw = 0, 300
+    await server.start()
+    recorder = Recorder()
+    manager = await running([genius_rotator(server)], recorder)
+    try:
+        await recorder.wait_for(lambda v: v.online)
+        with pytest.raises(RotatorError, match="did not confirm the turn to 330") as caught:
+            await manager.rotate(1, 330)
+        assert caught.value.code == "unavailable"
+        assert manager.view(1).online and not manager.view(1).moving
+        assert "reconnecting" not in caplog.text
+        await manager.rotate(1, 90)  # the link still works
+        await recorder.wait_for(lambda v: v.heading == 90 and not v.moving)
+    finally:
+        await manager.close()
+        await server.close()
+
+
+@pytest.mark.asyncio
+async def test_real_rotctl_turns_a_unit_that_never_answers_a_turn() -> None:
+    from test_rotators_rotctld_listener import close_all, free_port, manager_rotators, rotctl
+
+    from moas_gui.net.rotctld_server import start_rotctld_servers
+
+    server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False)
+    await server.start()
+    port = free_port()
+    recorder = Recorder()
+    manager = await running([genius_rotator(server, rotctld_port=port)], recorder)
+    listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
+    try:
+        await recorder.wait_for(lambda v: v.online)
+        code, out = await rotctl(port, "P", "60", "0")
+        assert code == 0, out
+        await recorder.wait_for(lambda v: v.heading == 60 and not v.moving)
+        assert all(v.online for v in recorder.views[1:])
+    finally:
+        await close_all(listeners)
+        await manager.close()
+        await server.close()

@@ -106,6 +106,25 @@ async def test_reads_and_turns_the_real_rotctld(rotctld: Rotctld) -> None:
 
 
 @pytest.mark.asyncio
+async def test_a_rotator_without_a_stop_turns_the_real_dummy_the_short_way(
+    rotctld: Rotctld,
+) -> None:
+    recorder = Recorder()
+    manager = await running(hamlib_rotator(rotctld.port), recorder)  # 360 degrees, no stop
+    try:
+        await recorder.wait_for(lambda v: v.online and v.heading == 0)
+        await manager.rotate(4, 300)  # 60 degrees counterclockwise, not 300 clockwise
+        assert manager.view(4).target == 300
+        seen = len(recorder.views)
+        await recorder.wait_for(
+            lambda v: v.heading is not None and 300 < v.heading < 359, since=seen)
+        assert all(v.heading is not None and (v.heading == 0 or v.heading > 300)
+                   for v in recorder.views[seen:])
+    finally:
+        await manager.close()
+
+
+@pytest.mark.asyncio
 async def test_stop_halts_the_real_rotctld(rotctld: Rotctld) -> None:
     recorder = Recorder()
     manager = await running(hamlib_rotator(rotctld.port), recorder)

@@ -219,6 +219,28 @@ def test_north_stop_overlap_is_written_past_360() -> None:
     assert position_of(travel, 400, -180) == 400
 
 
+def test_a_rotator_without_a_stop_is_sent_the_short_way_on_the_daemons_scale() -> None:
+    free = Travel(ccw_limit=0, rotation=360, has_stop=False)
+    # The daemon reads 70; 300 is 130 degrees counterclockwise: write it as -60.
+    assert azimuth_of(free, 300, -180, 450, near=70) == -60
+    assert azimuth_of(free, 10, -180, 450, near=-5) == 10  # 355 to 10: clockwise through north
+    assert azimuth_of(free, 10, -180, 450, near=400) == 370  # on the daemon's overlap
+    # The short way is off the scale: the long way is all there is.
+    assert azimuth_of(free, 300, 0, 360, near=70) == 300
+    assert azimuth_of(free, 300, -180, 450) == 300  # nothing read yet
+
+
+@given(st.floats(min_value=-180, max_value=450), st.floats(min_value=0, max_value=359.9))
+def test_a_rotator_without_a_stop_never_turns_more_than_half_a_turn_on_a_wide_scale(
+    near: float, heading: float
+) -> None:
+    free = Travel(ccw_limit=0, rotation=360, has_stop=False)
+    azimuth = azimuth_of(free, heading, -180, 450, near=near)
+    assert close(normalize(azimuth), heading)
+    if -180 + 180 <= near <= 450 - 180:
+        assert abs(azimuth - near) <= 180 + 1e-6
+
+
 @given(travels, st.floats(min_value=0, max_value=720))
 def test_positions_survive_the_trip_through_an_unwrapped_scale(
     travel: Travel, position: float

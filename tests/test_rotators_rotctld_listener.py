@@ -17,8 +17,15 @@ from test_rotators_manager import Recorder
 from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorManager, Timing
 from moas_gui.hw.rotators.headings import Travel
-from moas_gui.net.rotctld_codec import Request, RequestParser, answer, azimuth_for, scale_for
-from moas_gui.net.rotctld_server import start_rotctld_servers
+from moas_gui.net.rotctld_codec import (
+    Request,
+    RequestParser,
+    answer,
+    azimuth_for,
+    move_target,
+    scale_for,
+)
+from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
 
 FAST = Timing(test_tick=0.05, reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.5,
               connect_timeout=0.5)
@@ -115,6 +122,11 @@ def manager_rotators(manager: RotatorManager) -> list[Rotator]:
     return [manager.rotator(rotator_id) for rotator_id in manager.drivers]
 
 
+async def close_all(listeners: list[RotctldServer]) -> None:
+    for listener in listeners:
+        await listener.close()
+
+
 def listened_rotator(port: int, **fields: object) -> Rotator:
     base: dict[str, object] = {"id": 6, "short_name": "Stack", "control": RotatorControl.TEST,
                                "ccw_limit": 180, "rotation": 360, "has_stop": True,
@@ -136,8 +148,7 @@ async def served() -> AsyncIterator[tuple[RotatorManager, int, Recorder]]:
     await manager.start()
     listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
     yield manager, port, recorder
-    for listener in listeners:
-        await listener.close()
+    await close_all(listeners)
     await manager.close()
 
 
@@ -186,7 +197,7 @@ async def test_bad_input_gets_rotctlds_answers_and_a_log_line(
     caplog.set_level(logging.INFO, "moas_gui.hw.rotators")
     manager, port, _ = served
     assert await exchange(port, b"P abc 10\n", 1) == ["RPRT -1\n"]
-    assert await exchange(port, b"Z\nK\n", 1) == ["RPRT -4\n"]  # Z: no answer at all
+    assert await exchange(port, b"Z\nV SPEED 2\n", 1) == ["RPRT -4\n"]  # Z: no answer at all
     assert "sent 'Z', which is not a rotctld command" in caplog.text
     assert "rotctld listener for rotator 6 (Stack)" in caplog.text
     assert "set_pos with 'abc 10': not two numbers" in caplog.text
@@ -200,8 +211,72 @@ async def test_an_offline_rotator_answers_get_pos_and_turns_with_errors(
     manager, _, _ = served
     port = manager.rotator(7).rotctld_port
     assert port is not None
-    assert await exchange(port, b"p\n", 1) == ["RPRT -5\n"]
-    assert await exchange(port, b"+P 10 0\n", 2) == ["set_pos: 10 0\n", "RPRT -9\n"]
+    # -6, I/O error: the server cannot reach the rotator (not -5, nothing timed out)
+    assert await exchange(port, b"p\n", 1) == ["RPRT -6\n"]
+    assert await exchange(port, b"+P 10 0\n", 2) == ["set_pos: 10 0\n", "RPRT -6\n"]
+    assert await exchange(port, b"M 16 50\n", 1) == ["RPRT -6\n"]
+
+
+@pytest.mark.asyncio
+async def test_park_turns_to_the_park_heading_or_says_it_cannot(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    caplog.set_level(logging.INFO, "moas_gui.hw.rotators")
+    parking, plain = free_port(), free_port()
+    recorder = Recorder()
+    manager = RotatorManager(
+        [listened_rotator(parking, park_heading=200),
+         listened_rotator(plain, id=8, short_name="Plain")],
+        on_change=recorder, timing=FAST)
+    await manager.start()
+    listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
+    try:
+        assert await exchange(parking, b"+K\n", 2) == ["park:\n", "RPRT 0\n"]
+        assert manager.view(6).target == 200
+        await recorder.wait_for(lambda v: v.id == 6 and v.heading == 200 and not v.moving)
+        # Without a ParkHeading: -11, feature not available, and dump_caps says so.
+        assert await exchange(plain, b"K\n", 1) == ["RPRT -11\n"]
+        assert "has no ParkHeading" in caplog.text
+        caps = await caps_of(plain)
+        assert "Can Park:\t\tN\n" in caps and "Can Move:\t\tY\n" in caps
+        assert "Can Park:\t\tY\n" in await caps_of(parking)
+    finally:
+        await close_all(listeners)
+        await manager.close()
+
+
+async def caps_of(port: int) -> str:
+    reader, writer = await asyncio.open_connection("127.0.0.1", port)
+    try:
+        writer.write(b"1\n")
+        lines = []
+        async with asyncio.timeout(2.0):
+            while not lines or not lines[-1].startswith("RPRT"):
+                lines.append((await reader.readline()).decode())
+        assert lines[-1] == "RPRT 0\n"
+        assert all(len(line) < 64 for line in lines)
+        return "".join(lines)
+    finally:
+        writer.close()
+        await writer.wait_closed()
+
+
+@pytest.mark.asyncio
+async def test_move_turns_that_way_never_through_the_stop_and_reset_stops(
+    served: tuple[RotatorManager, int, Recorder],
+) -> None:
+    manager, port, recorder = served  # stop at south, at the stop (heading 180) now
+    assert await exchange(port, b"M 8 50\n", 1) == ["RPRT 0\n"]  # CCW: at the stop already
+    assert not manager.view(6).moving
+    assert await exchange(port, b"M 16 50\n", 1) == ["RPRT 0\n"]  # clockwise: west first
+    assert manager.view(6).target == 359
+    await recorder.wait_for(lambda v: v.id == 6 and v.heading is not None and v.heading > 181)
+    assert await exchange(port, b"+\\reset 1\n", 2) == ["reset: 1\n", "RPRT 0\n"]
+    assert not manager.view(6).moving
+    assert await exchange(port, b"M CCW 5\n", 1) == ["RPRT 0\n"]  # names as rotctld takes them
+    assert manager.view(6).target == 180
+    assert await exchange(port, b"M 2 50\n", 1) == ["RPRT -11\n"]  # up: no elevation
+    assert await exchange(port, b"M sideways 50\n", 1) == ["RPRT -1\n"]
 
 
 @pytest.mark.asyncio
@@ -273,4 +348,72 @@ async def test_real_rotctl_sees_the_errors_of_an_offline_rotator(
     port = manager.rotator(7).rotctld_port
     assert port is not None
     code, out = await rotctl(port, "p")
-    assert code != 0 and "timed out" in out.lower()
+    assert code != 0 and "io error" in out.lower() and "timed out" not in out.lower(), out
+
+
+@pytest.mark.asyncio
+async def test_real_rotctl_parks_moves_and_resets(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    port = free_port()
+    recorder = Recorder()
+    manager = RotatorManager([listened_rotator(port, park_heading=190)], on_change=recorder,
+                             timing=FAST)
+    await manager.start()
+    listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
+    try:
+        code, out = await rotctl(port, "1")
+        assert "Can Park:\t\tY" in out  # the client's own capabilities: it forwards K, M, R
+        code, out = await rotctl(port, "K")
+        assert code == 0, out
+        assert manager.view(6).target == 190
+        code, out = await rotctl(port, "M", "16", "20", "R", "1")
+        assert code == 0, out
+        assert manager.view(6).target is None and not manager.view(6).moving
+    finally:
+        await close_all(listeners)
+        await manager.close()
+
+
+# ---- park heading and move targets -------------------------------------------------------
+
+def test_park_heading_is_read_from_the_configuration_and_checked() -> None:
+    from test_config_loader import text_of
+
+    from moas_gui.config import parse_config
+
+    rotator = {"ID": 0, "ShortName": "Tower", "Control": "Test", "RotctldPort": 4535}
+    loaded = parse_config(text_of(Rotators=[{**rotator, "ParkHeading": 270}]), "t.moas")
+    assert loaded.config is not None
+    assert loaded.config.rotators[0].park_heading == 270
+    refused = parse_config(text_of(Rotators=[{**rotator, "ParkHeading": 360}]), "t.moas")
+    assert refused.config is None
+    assert any("ParkHeading" in p.message for p in refused.errors)
+
+
+def test_a_move_turns_up_to_179_degrees_never_past_the_end() -> None:
+    south_stop = Travel(ccw_limit=180, rotation=360, has_stop=True)
+    assert move_target(south_stop, 180, 0.0, clockwise=True) == 359
+    assert move_target(south_stop, 170, 350.0, clockwise=True) == 180  # to the stop
+    assert move_target(south_stop, 190, 10.0, clockwise=False) == 180
+    free = Travel()
+    assert move_target(free, 10, None, clockwise=False) == 191
+    overlap = Travel(ccw_limit=0, rotation=450, has_stop=True)
+    assert move_target(overlap, 30, 390.0, clockwise=False) == 211
+    assert move_target(overlap, 30, 30.0, clockwise=True) == 209
+    # Position unknown in the overlap: aim at the end of travel, reached turning that way
+    # from either reading (30 or 390).
+    assert move_target(overlap, 30, None, clockwise=True) == 90
+    assert move_target(overlap, 200, None, clockwise=True) == 19  # 200 has one position
+
+
+@given(st.floats(0, 450), st.booleans())
+def test_a_move_never_goes_the_other_way(position: float, clockwise: bool) -> None:
+    overlap = Travel(ccw_limit=20, rotation=450, has_stop=True)
+    heading = overlap.heading_at(position)
+    for known in (position, None):
+        target = move_target(overlap, heading, known, clockwise)
+        end = overlap.nearest_position(target, near=position)
+        moved = end - position
+        assert moved >= -1e-6 if clockwise else moved <= 1e-6
+        assert abs(moved) <= 180 + 1e-6 or known is None

@@ -96,12 +96,13 @@ async def _serve(args: argparse.Namespace) -> int:
         print(f"moas-rotator: cannot listen on {args.bind}:{args.port}: {error.strerror or error}"
               " (is another MOAS Rotator running?)", file=sys.stderr)
         return 2
-    print(f"listening on {host}:{port}", flush=True)
     stop = asyncio.Event()
     loop = asyncio.get_running_loop()
     for signum in (signal.SIGINT, signal.SIGTERM):
         with contextlib.suppress(NotImplementedError, RuntimeError):
             loop.add_signal_handler(signum, stop.set)
+    # said only once a SIGTERM would end it cleanly: whoever starts it may stop it at once
+    print(f"listening on {host}:{port}", flush=True)
     try:
         await stop.wait()
     finally:

@@ -232,6 +232,8 @@ class Rotator:
     """RotatorGenius: which of the controller's two rotators (1 or 2)."""
     rotctld_port: int | None = None
     """When set, a rotctld-compatible listener for this rotator on that TCP port."""
+    park_heading: int | None = None
+    """Where the rotctld listener's park (``K``) turns it; None: it cannot park."""
 
     @property
     def label(self) -> str:

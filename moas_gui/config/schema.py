@@ -189,6 +189,7 @@ ROTATOR = GroupSpec({
     "Poll": Field("poll", integer(50, 600_000)),
     "Port": Field("port", integer(1, 2)),
     "RotctldPort": Field("rotctld_port", integer(1, 65535)),
+    "ParkHeading": Field("park_heading", integer(0, 359)),
 }, _rotator)
 
 RADIO_REF = _spec(m.RadioRef, {

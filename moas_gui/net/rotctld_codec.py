@@ -42,7 +42,23 @@ LONG_NAMES: dict[str, int] = {name: count for name, count in COMMANDS.values()}
 LONG_NAMES.update({"dump_state": 0, "pause": 1, "send_cmd": -1})
 """Argument count per long name; -1 means the rest of the line."""
 
-ENIMPL, EINVAL, ETIMEOUT, ERJCTED = 4, 1, 5, 9
+EINVAL, ENIMPL, ETIMEOUT, EIO, ERJCTED, ENAVAIL = 1, 4, 5, 6, 9, 11
+"""Hamlib's error numbers (``RPRT -n``): invalid parameter, not implemented,
+communication timed out, I/O error, rejected by the device, feature not
+available."""
+
+CLOCKWISE, COUNTERCLOCKWISE = 16, 8
+"""``move`` directions (rotator.h ``ROT_MOVE_CW``/``ROT_MOVE_CCW``)."""
+DIRECTIONS = {
+    "LEFT": COUNTERCLOCKWISE, "CCW": COUNTERCLOCKWISE, "RIGHT": CLOCKWISE, "CW": CLOCKWISE,
+    "UP": 2, "DOWN": 4, "UP_LEFT": 32, "UP_CCW": 32, "UP_RIGHT": 64, "UP_CW": 64,
+    "DOWN_LEFT": 128, "DOWN_CCW": 128, "DOWN_RIGHT": 256, "DOWN_CW": 256,
+}
+"""Direction names rotctld takes, and their numbers; every direction but
+plain CW and CCW moves the elevation."""
+MOVE_STEP = 179.0
+"""How far one ``move`` turns at most: under half a turn, so the heading rules
+cannot take the other way round."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -194,6 +210,65 @@ def parse_number(text: str) -> float | None:
     return value if math.isfinite(value) else None
 
 
+def parse_direction(text: str) -> int | None:
+    """A ``move`` direction: a number or one of rotctld's names; None if neither."""
+    if text.upper() in DIRECTIONS:
+        return DIRECTIONS[text.upper()]
+    value = int(text) if text.isascii() and text.isdigit() else None
+    return value if value in DIRECTIONS.values() else None
+
+
+def move_target(travel: Travel, heading: float, position: float | None,
+                clockwise: bool) -> float:
+    """The compass heading one ``move`` turns to: up to :data:`MOVE_STEP`
+    that way, never past the end of travel.
+
+    ``position`` (on the travel) decides where the rotator is when a heading
+    has two positions (the overlap); when it is not known the heading alone
+    decides, and in the overlap the move aims at the end of travel's heading,
+    which every reading of the heading reaches turning the asked way.
+    """
+    sign = 1.0 if clockwise else -1.0
+    if not travel.bounded:
+        return normalize(heading + sign * MOVE_STEP)
+    if position is None:
+        positions = travel.positions_of(heading)
+        if len(positions) != 1:
+            return travel.heading_at(travel.rotation if clockwise else 0.0)
+        position = positions[0]
+    return travel.heading_at(travel.clamp(position + sign * MOVE_STEP))
+
+
+def dump_caps(request: Request, info: str, scale: Scale, can_park: bool) -> bytes:
+    """``dump_caps``: what this listener does, in rotctld's layout (every line
+    well under 64 bytes); ends with ``RPRT 0`` in both forms, as rotctld's."""
+    yes = {True: "Y", False: "N"}
+    lines = [
+        f"Caps dump for model:\t{MODEL}",
+        f"Model name:\t\t{info[:40]}",
+        "Mfg name:\t\tmoas-gui",
+        "Backend status:\t\tStable",
+        "Rot type:\t\tAz-El",
+        "Port type:\t\tNetwork link",
+        f"Min Azimuth:\t\t{scale.min_az:.2f}",
+        f"Max Azimuth:\t\t{scale.max_az:.2f}",
+        "Min Elevation:\t\t0.00",
+        "Max Elevation:\t\t90.00",
+        "Can set Position:\tY",
+        "Can get Position:\tY",
+        "Can Stop:\t\tY",
+        f"Can Park:\t\t{yes[can_park]}",
+        "Can Reset:\t\tY",
+        "Can Move:\t\tY",
+        "Can get Info:\t\tY",
+        "Can get Status:\t\tN",
+    ]
+    if request.separator is not None:
+        lines.insert(0, "dump_caps:")
+    sep = request.separator or "\n"
+    return (sep.join(lines) + sep + "RPRT 0\n").encode("latin-1")
+
+
 def dump_state(request: Request, scale: Scale) -> bytes:
     """``\\dump_state``, protocol 1 (the layout Hamlib 4.5.1 and later read)."""
     numbers = [
@@ -215,6 +290,8 @@ def dump_state(request: Request, scale: Scale) -> bytes:
 
 
 __all__ = [
-    "COMMANDS", "EINVAL", "ENIMPL", "ERJCTED", "ETIMEOUT", "LONG_NAMES", "Request",
-    "RequestParser", "Scale", "answer", "azimuth_for", "dump_state", "parse_number", "scale_for",
+    "CLOCKWISE", "COMMANDS", "COUNTERCLOCKWISE", "DIRECTIONS", "EINVAL", "EIO", "ENAVAIL",
+    "ENIMPL", "ERJCTED", "ETIMEOUT", "LONG_NAMES", "MOVE_STEP", "Request", "RequestParser",
+    "Scale", "answer", "azimuth_for", "dump_caps", "dump_state", "move_target",
+    "parse_direction", "parse_number", "scale_for",
 ]

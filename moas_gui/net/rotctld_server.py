@@ -3,11 +3,19 @@
 Any program that can drive Hamlib's ``rotctld`` (``rotctl -m 2 -r
 HOST:PORT``, loggers, satellite trackers) can read and turn that rotator.
 Served: ``p``/``\\get_pos``, ``P``/``\\set_pos``, ``S``/``\\stop``,
-``_``/``\\get_info``, ``\\dump_state``, ``q``, in default and extended
+``K``/``\\park`` (to the rotator's ``ParkHeading``), ``M``/``\\move``
+(clockwise or counterclockwise, up to 179 degrees, never past the end of
+travel), ``R``/``\\reset`` (stops the rotator), ``_``/``\\get_info``,
+``1``/``\\dump_caps``, ``\\dump_state``, ``q``, in default and extended
 (``+``) form.  Other rotctld commands answer ``RPRT -4`` (not implemented);
 text that is no rotctld command gets no answer, exactly as from rotctld, and
-a log line.  An offline rotator, or one whose heading is not known yet,
-answers ``p`` with ``RPRT -5``; a refused turn answers ``RPRT -9``.
+a log line.
+
+Errors say what happened, in Hamlib's numbers: the server cannot reach the
+rotator (offline, heading not known yet): ``-6`` (I/O error); the rotator's
+controller did not answer in time: ``-5``; the controller refused: ``-9``;
+bad arguments: ``-1``; no ``ParkHeading``, or a move in elevation: ``-11``
+(feature not available).
 
 Listeners bind 127.0.0.1 unless told otherwise: only programs on the server's
 computer can use them.  A station whose logging computers should turn
@@ -28,7 +36,11 @@ from moas_gui.hw.rotators.base import RotatorError, RotatorView, describe
 from moas_gui.hw.rotators.headings import Travel, normalize
 
 from .rotctld_codec import (
+    CLOCKWISE,
+    COUNTERCLOCKWISE,
     EINVAL,
+    EIO,
+    ENAVAIL,
     ENIMPL,
     ERJCTED,
     ETIMEOUT,
@@ -37,14 +49,18 @@ from .rotctld_codec import (
     Scale,
     answer,
     azimuth_for,
+    dump_caps,
     dump_state,
+    move_target,
+    parse_direction,
     parse_number,
     scale_for,
 )
 
 log = logging.getLogger("moas_gui.hw.rotators.rotctld_listener")
 
-SERVED = frozenset({"get_pos", "set_pos", "stop", "get_info", "dump_state", "quit"})
+SERVED = frozenset({"get_pos", "set_pos", "stop", "park", "move", "reset", "get_info",
+                    "dump_caps", "dump_state", "quit"})
 
 
 class RotatorService(Protocol):
@@ -56,6 +72,8 @@ class RotatorService(Protocol):
 
     async def stop(self, rotator_id: object) -> None: ...
 
+    def travel_position(self, rotator_id: int) -> float | None: ...
+
 
 class RotctldServer:
     def __init__(self, service: RotatorService, rotator: Rotator, host: str, port: int) -> None:
@@ -65,6 +83,7 @@ class RotctldServer:
             travel = Travel(rotator.ccw_limit, rotator.rotation, rotator.has_stop)
         except ValueError:
             travel = Travel()
+        self.travel = travel
         self.scale: Scale = scale_for(travel)
         self._server: asyncio.Server | None = None
         self._sessions: set[asyncio.Task[None]] = set()
@@ -137,17 +156,54 @@ class RotctldServer:
             return answer(request, code=ENIMPL)
         if request.name == "dump_state":
             return dump_state(request, self.scale)
+        if request.name == "dump_caps":
+            return dump_caps(request, self._info, self.scale,
+                             can_park=self.rotator.park_heading is not None)
         if request.name == "get_info":
-            return answer(request, (("Info", f"MOAS {self.rotator.label}"[:48]),))
+            return answer(request, (("Info", self._info),))
         if request.name == "get_pos":
             view = self.service.view(self.rotator.id)
             if not view.online or view.heading is None:
-                return answer(request, code=ETIMEOUT)
+                return answer(request, code=EIO)
             azimuth = azimuth_for(self.scale, view.heading)
             return answer(request, (("Azimuth", f"{azimuth:.2f}"), ("Elevation", "0.00")))
         if request.name == "set_pos":
             return await self._set_pos(request, peer)
-        return await self._call(request, self.service.stop(self.rotator.id))
+        if request.name == "park":
+            return await self._park(request)
+        if request.name == "move":
+            return await self._move(request, peer)
+        return await self._call(request, self.service.stop(self.rotator.id))  # stop, reset
+
+    @property
+    def _info(self) -> str:
+        return f"MOAS {self.rotator.label}"[:48]
+
+    async def _park(self, request: Request) -> bytes:
+        heading = self.rotator.park_heading
+        if heading is None:
+            log.info("%s: park asked for, but %s has no ParkHeading", self.where,
+                     describe(self.rotator))
+            return answer(request, code=ENAVAIL)
+        return await self._call(request, self.service.rotate(self.rotator.id, float(heading)))
+
+    async def _move(self, request: Request, peer: object) -> bytes:
+        direction = parse_direction(request.args[0])
+        if direction is None or parse_number(request.args[1]) is None:
+            log.warning("%s: %s sent move with %r: not a direction and a speed", self.where,
+                        peer, " ".join(request.args))
+            return answer(request, code=EINVAL)
+        if direction not in (CLOCKWISE, COUNTERCLOCKWISE):
+            log.info("%s: %s asked to move in elevation; this rotator turns in azimuth only",
+                     self.where, peer)
+            return answer(request, code=ENAVAIL)
+        view = self.service.view(self.rotator.id)
+        if not view.online or view.heading is None:
+            return answer(request, code=EIO)
+        target = move_target(self.travel, view.heading,
+                             self.service.travel_position(self.rotator.id),
+                             clockwise=direction == CLOCKWISE)
+        return await self._call(request, self.service.rotate(self.rotator.id, target))
 
     async def _set_pos(self, request: Request, peer: object) -> bytes:
         azimuth = parse_number(request.args[0])
@@ -163,8 +219,18 @@ class RotctldServer:
             await action
         except RotatorError as exc:
             log.info("%s: %s refused: %s", self.where, request.name, exc.message)
-            return answer(request, code=EINVAL if exc.code == "bad_request" else ERJCTED)
+            return answer(request, code=self._code_for(exc))
         return answer(request)
+
+    def _code_for(self, error: RotatorError) -> int:
+        """Hamlib's number for what went wrong (see the module notes)."""
+        if error.code == "bad_request":
+            return EINVAL
+        if isinstance(error.__cause__, TimeoutError):
+            return ETIMEOUT
+        if not self.service.view(self.rotator.id).online:
+            return EIO
+        return ERJCTED
 
 
 async def start_rotctld_servers(

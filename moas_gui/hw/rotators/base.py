@@ -187,6 +187,11 @@ class RotatorDriver(ABC):
     def forget_turn(self) -> None:
         """Drop any turn waiting to be resumed (a stop was asked for)."""
 
+    def travel_position(self) -> float | None:
+        """Where on its travel the rotator is (degrees clockwise from the CCW
+        stop, see :mod:`.headings`), or None when not known."""
+        return None
+
     async def start(self) -> None:
         """Begin work (connect, poll); returns at once, never raises for a peer's fault."""
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+from collections.abc import Callable
 
 from moas_gui.aio import cancel_and_wait
 from moas_gui.config.model import Rotator
@@ -95,14 +96,72 @@ class GeniusLink:
                 writer.close()
                 raise
 
-    async def _answer(self, reader: asyncio.StreamReader, answer: str) -> Status | Reply:
+    async def turn(self, command: bytes, confirms: Callable[[Status], bool]) -> Reply | None:
+        """Send a turn (``|A``) and wait for whichever comes first: the
+        controller's ``|AK``/``|AF``, or a status in which ``confirms`` sees
+        the turn under way.  Returns the reply, or None when a status
+        confirmed it.
+
+        The status is asked for with ``|h`` while waiting, and every status
+        read is handed to the drivers.  Raises ``TimeoutError`` when neither
+        comes within ``Timing.reply_timeout`` (the connection is then reset
+        only if the controller answered nothing at all), ``ConnectionError``
+        when not connected.
+        """
+        async with self._lock:
+            reader, writer = self._reader, self._writer
+            if reader is None or writer is None or writer.is_closing():
+                raise ConnectionError(f"{self.where} is not connected")
+            heard = False
+            try:
+                writer.write(command)
+                async with asyncio.timeout(self.timing.reply_timeout):
+                    await writer.drain()
+                    while True:
+                        with contextlib.suppress(TimeoutError):
+                            async with asyncio.timeout(self._turn_check):
+                                return await self._wait_for_reply(reader)
+                        writer.write(encode_read())
+                        await writer.drain()
+                        event = await self._answer(reader, "hA")
+                        heard = True
+                        if isinstance(event, Reply):
+                            return event
+                        self._hand_out(event)
+                        if confirms(event):
+                            return None
+            except TimeoutError:
+                if not heard:
+                    writer.close()
+                raise
+            except OSError:
+                writer.close()
+                raise
+
+    @property
+    def _turn_check(self) -> float:
+        """How long a turn waits for ``|AK`` before looking at the status."""
+        return min(self.poll, self.timing.reply_timeout / 4)
+
+    async def _wait_for_reply(self, reader: asyncio.StreamReader) -> Reply:
+        event = await self._answer(reader, "A")
+        assert isinstance(event, Reply)
+        return event
+
+    def _hand_out(self, status: Status) -> None:
+        for driver in self.drivers:
+            driver.on_status(status.rotors[driver.rotor - 1])
+
+    async def _answer(self, reader: asyncio.StreamReader, answers: str) -> Status | Reply:
+        """Read until an answer to one of ``answers`` (``"h"`` for a status,
+        command letters for replies) comes."""
         while True:
             data = await reader.read(512)
             if not data:
                 raise ConnectionResetError(f"{self.where} closed the connection")
             found: Status | Reply | None = None
             for event in self._decoder.feed(data):
-                if found is None and _answers(event, answer):
+                if found is None and _answers(event, answers):
                     assert isinstance(event, Status | Reply)
                     found = event
                 else:
@@ -145,8 +204,7 @@ class GeniusLink:
             while True:
                 status = await self.request(encode_read(), "h")
                 assert isinstance(status, Status)
-                for driver in self.drivers:
-                    driver.on_status(status.rotors[driver.rotor - 1])
+                self._hand_out(status)
                 await asyncio.sleep(self.poll)
         except TimeoutError:
             log.warning("%s did not answer within %.1f s; reconnecting",
@@ -162,10 +220,10 @@ class GeniusLink:
                 await writer.wait_closed()
 
 
-def _answers(event: Event, answer: str) -> bool:
+def _answers(event: Event, answers: str) -> bool:
     if isinstance(event, Status):
-        return answer == "h"
-    return isinstance(event, Reply) and event.command == answer
+        return "h" in answers
+    return isinstance(event, Reply) and event.command in answers
 
 
 class GeniusRotator(RotatorDriver):
@@ -201,6 +259,9 @@ class GeniusRotator(RotatorDriver):
                                 target=None if target is None else float(target),
                                 moving=moving, online=True))
 
+    def travel_position(self) -> float | None:
+        return self.position
+
     def link_down(self) -> None:
         self._set(RotatorStatus(heading=self._status.heading, online=False))
 
@@ -217,9 +278,26 @@ class GeniusRotator(RotatorDriver):
         if not self.travel.reaches(heading):
             log.info("%s cannot point at %.0f degrees; turning to the end of its travel (%d)",
                      self.title, heading, azimuth)
-        reply = await self._ask(encode_move(self.rotor, azimuth), "A")
-        if not reply.ok:
+        before = self._status.heading
+        try:
+            reply = await self.link.turn(
+                encode_move(self.rotor, azimuth),
+                lambda status: _under_way(status.rotors[self.rotor - 1], azimuth, before),
+            )
+        except TimeoutError as exc:
+            if not self.link.connected:
+                raise self._unavailable(
+                    f"got no answer from {self.link.where}: no answer in time") from exc
+            raise self._unavailable(
+                f"{self.link.where} did not confirm the turn to {azimuth} degrees: no |AK "
+                f"and the heading did not move within {self.link.timing.reply_timeout:.1f} s"
+            ) from exc
+        except OSError as exc:
+            raise self._unavailable(f"got no answer from {self.link.where}: {exc}") from exc
+        if reply is not None and not reply.ok:
             raise self._unavailable(f"was refused the turn to {azimuth} degrees by {self.link.where}")
+        if reply is None and not self._status.moving:
+            return  # already there: the status said so
         self._set(RotatorStatus(heading=self._status.heading, target=float(azimuth),
                                 moving=True, online=True))
 
@@ -238,6 +316,17 @@ class GeniusRotator(RotatorDriver):
             raise self._unavailable(f"got no answer from {self.link.where}: {why}") from exc
         assert isinstance(reply, Reply)
         return reply
+
+
+def _under_way(block: RotorBlock, azimuth: int, before: float | None) -> bool:
+    """Whether a status shows the turn to ``azimuth`` taken up: the rotor
+    moving towards it, or its heading changed since the turn was sent, or
+    already there."""
+    if block.azimuth is None:
+        return False
+    if block.moving != 0:
+        return block.target is None or block.target == azimuth
+    return block.azimuth == azimuth or (before is not None and block.azimuth != before)
 
 
 __all__ = ["GENIUS_PORT", "GeniusLink", "GeniusRotator"]

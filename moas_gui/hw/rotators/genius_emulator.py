@@ -9,7 +9,9 @@ without a sensor.  ``|S`` stops both rotors, as rev. 4 says.
 
 Test hooks on :class:`GeniusServer`: ``model`` (set ``sensor`` false for
 999, move a rotor by hand with ``set_azimuth``), ``prefix`` (bytes put before
-the next reply: garbage), ``mute`` (stop answering), ``drop()``.
+the next reply: garbage), ``mute`` (stop answering), ``acknowledge_turns``
+(false: carry out ``|A`` but send no ``|AK``/``|AF``, as some units and
+firmware versions may), ``drop()``.
 """
 
 from __future__ import annotations
@@ -138,11 +140,12 @@ class GeniusServer:
     """Serves a :class:`GeniusModel` on TCP (loopback by default)."""
 
     def __init__(self, model: GeniusModel | None = None, host: str = "127.0.0.1",
-                 port: int = 0) -> None:
+                 port: int = 0, *, acknowledge_turns: bool = True) -> None:
         self.model = model or GeniusModel()
         self.host, self.port = host, port
         self.prefix = b""
         self.mute = False
+        self.acknowledge_turns = acknowledge_turns
         self.commands: list[Command | Garbage] = []
         self._server: asyncio.Server | None = None
         self._writers: set[asyncio.StreamWriter] = set()
@@ -182,7 +185,10 @@ class GeniusServer:
                         continue
                     if self.mute:
                         continue
-                    reply = self.prefix + self.model.handle(command, self.now())
+                    reply = self.model.handle(command, self.now())
+                    if command.kind == "A" and not self.acknowledge_turns:
+                        continue
+                    reply = self.prefix + reply
                     self.prefix = b""
                     writer.write(reply)
         except (ConnectionError, OSError):

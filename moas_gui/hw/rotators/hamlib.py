@@ -52,6 +52,8 @@ class HamlibRotator(RotatorDriver):
         self.poll = max(rotator.poll / 1000, 0.05)
         self.limits = Limits()
         self.elevation = 0.0
+        self.azimuth_read: float | None = None
+        """The daemon's azimuth (on its own scale) last read."""
         self.tracker = TurnTracker(
             tolerance=timing.arrival_tolerance,
             stall_after=max(timing.stall_polls * self.poll, timing.stall_min),
@@ -90,6 +92,9 @@ class HamlibRotator(RotatorDriver):
         if not self._answering:
             raise self._unavailable(f"cannot turn: {self.where} is not connected")
 
+    def travel_position(self) -> float | None:
+        return self.tracker.position
+
     def forget_turn(self) -> None:
         self.tracker.end()
         self._publish_now()
@@ -100,7 +105,8 @@ class HamlibRotator(RotatorDriver):
         if not self.travel.reaches(heading):
             log.info("%s cannot point at %.0f degrees; turning to the end of its travel (%.0f)",
                      self.title, heading, self.travel.heading_at(end))
-        azimuth = azimuth_of(self.travel, end, self.limits.min_az, self.limits.max_az)
+        azimuth = azimuth_of(self.travel, end, self.limits.min_az, self.limits.max_az,
+                             near=self.azimuth_read)
         reply = await self._ask(encode_set_pos(azimuth, self.elevation), "turn")
         if reply.code != 0:
             raise self._unavailable(
@@ -225,6 +231,7 @@ class HamlibRotator(RotatorDriver):
                         self.name, self.where, reply.records)
             return
         self.elevation = reply.number("Elevation") or 0.0
+        self.azimuth_read = azimuth
         position = position_of(self.travel, azimuth, self.limits.min_az,
                                near=self.tracker.position)
         self.tracker.observe(position, self._now())

@@ -198,13 +198,24 @@ def window_base(travel: Travel, low: float) -> float:
     return base if base >= low - EPSILON else base + FULL_TURN
 
 
-def azimuth_of(travel: Travel, position: float, low: float, high: float) -> float:
-    """``position`` written on the unwrapped scale ``low..high`` (clamped into it)."""
+def azimuth_of(travel: Travel, position: float, low: float, high: float,
+               near: float | None = None) -> float:
+    """``position`` written on the unwrapped scale ``low..high`` (clamped into it).
+
+    For an unbounded rotator ``near`` is the azimuth last read on that scale:
+    the daemon moves along its scale, so the value that turns the shorter way
+    is the one within half a turn of ``near`` (when the scale has it).
+    """
     if travel.bounded:
         azimuth = window_base(travel, low) + position
+    elif near is not None:
+        azimuth = near + _signed_delta(normalize(near), travel.heading_at(position))
     else:
         azimuth = normalize(travel.heading_at(position))
-    for candidate in (azimuth, azimuth - FULL_TURN, azimuth + FULL_TURN):
+    others = [azimuth - FULL_TURN, azimuth + FULL_TURN]
+    if near is not None:
+        others.sort(key=lambda other: abs(other - near))
+    for candidate in (azimuth, *others):
         if low - EPSILON <= candidate <= high + EPSILON:
             return candidate
     return min(max(azimuth, low), high)

@@ -205,6 +205,10 @@ class RotatorManager:
         driver, wanted = self._request(rotator_id, heading)
         await driver.rotate(wanted)
 
+    def travel_position(self, rotator_id: int) -> float | None:
+        """Where on its travel the rotator is, when its driver knows."""
+        return self.drivers[self._rotator(rotator_id).id].travel_position()
+
     async def stop(self, rotator_id: object) -> None:
         await self.drivers[self._rotator(rotator_id).id].stop()
 

@@ -166,6 +166,9 @@ class SerialRotator(RotatorDriver):
 
     # ---- called by the link ----------------------------------------------------------
 
+    def travel_position(self) -> float | None:
+        return self.tracker.position
+
     def link_up(self) -> bytes:
         """The program is (again) there: what to send for this rotator."""
         self._online = True

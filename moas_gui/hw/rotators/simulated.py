@@ -36,6 +36,9 @@ class SimulatedRotator(RotatorDriver):
         self._freeze()
         await self._cancel_task()
 
+    def travel_position(self) -> float | None:
+        return self.current_position()
+
     def current_position(self) -> float:
         if self._turn is None:
             return self.position

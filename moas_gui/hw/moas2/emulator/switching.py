@@ -265,11 +265,7 @@ class Switching(BoxState):
                 n: {Kind.TX: st.current[Kind.TX].antenna, Kind.RX: st.current[Kind.RX].antenna}
                 for n, st in self.stations.items()
             },
-            {
-                n: [st.incoming[Kind.TX].antenna]
-                for n, st in self.stations.items()
-                if Kind.TX in st.incoming
-            },
+            {n: self._reserved(st) for n, st in self.stations.items()},
             self.conflicts,
             self._allowed,
         )
@@ -290,6 +286,20 @@ class Switching(BoxState):
         for number, changes in grouped.items():
             self._carry_out(self.stations[number], changes)
         return moved or bool(grouped)
+
+    @staticmethod
+    def _reserved(st: Station) -> list[int]:
+        """Antennas ``st`` holds beyond its current ones, whatever it is
+        granted now: an interrupt's incoming transmit antenna, and, while an
+        interrupt-mode station is on the air, the transmit antenna it is on
+        (its relays stay there through the interrupt delay, so another
+        station may not take that antenna in the same step)."""
+        held = []
+        if Kind.TX in st.incoming:
+            held.append(st.incoming[Kind.TX].antenna)
+        if st.tx_side and st.mode is StationMode.INTERRUPT:
+            held.append(st.current[Kind.TX].antenna)
+        return held
 
     def _carry_out(self, st: Station, changes: dict[Kind, Slot]) -> None:
         trigger = self._classify(st, changes)

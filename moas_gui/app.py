@@ -29,13 +29,12 @@ import functools
 import logging
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from moas_gui import state_store
 from moas_gui.config import Config, LoadResult, load_config
 from moas_gui.config.model import RotatorControl
-from moas_gui.engine import Changes, Engine, NotRunning, SwitchState
+from moas_gui.engine import Changes, Engine, NotRunning
 from moas_gui.engine.operations import (
     Operation,
     SelectDirection,
@@ -47,61 +46,24 @@ from moas_gui.engine.operations import (
 )
 from moas_gui.engine.snapshot import export_selections
 from moas_gui.engine_backend import EngineBackend
-from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
-from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
-from moas_gui.net.log_events import ClientLogHandler
-from moas_gui.net.n1mm import N1MMListener
-from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
-from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
+from moas_gui.running import (
+    ROTCTLD_HOST,
+    Running,
+    ServerOptions,
+    close_parts,
+    start_clients,
+    start_n1mm,
+    start_rotators,
+    start_switches,
+)
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
 
 log = logging.getLogger("moas_gui.app")
-
-ROTCTLD_HOST = "127.0.0.1"
-"""Where the rotctld-compatible listeners of rotators with a ``RotctldPort`` listen."""
-
-
-@dataclass(frozen=True, slots=True)
-class ServerOptions:
-    """How this run differs from the configuration file (command line, tests)."""
-
-    bind: str = "0.0.0.0"
-    """Address the client server listens on."""
-    tcp_port: int | None = None
-    """Overrides the configuration's ``TCPPort`` (0 picks a free port)."""
-    udp_port: int | None = None
-    """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
-    udp_bind: str = "0.0.0.0"
-    max_clients: int | None = None
-    """Client connections served at once; None for the client server's default."""
-    start_rotator_program: bool | None = None
-    """Overrides ``StartMOASRotator`` when not None."""
-    rotator_program_port: int = 13020
-    switch_timing: LinkTiming | None = None
-    """Timing of the switch links (ping interval, timeouts); None for the real defaults."""
-
-
-@dataclass
-class _Running:
-    """Everything that exists while one configuration runs."""
-
-    config: Config
-    engine: Engine
-    links: dict[int, SwitchLink] = field(default_factory=dict)
-    switch_status: dict[int, str] = field(default_factory=dict)
-    clients: ClientServer | None = None
-    n1mm: N1MMListener | None = None
-    rotators: RotatorManager | None = None
-    rotctld: list[RotctldServer] = field(default_factory=list)
-    log_handler: logging.Handler | None = None
-    stopped: bool = False
-    ticker: asyncio.Task[None] | None = None
-    keeper: StateKeeper | None = None
-    fingerprint: str = ""
 
 
 class ServerApp:
@@ -109,7 +71,7 @@ class ServerApp:
 
     def __init__(self, options: ServerOptions | None = None) -> None:
         self.options = options or ServerOptions()
-        self._run: _Running | None = None
+        self._run: Running | None = None
         self._path: Path | None = None
         self._status_listeners: list[Callable[[ServerStatus], None]] = []
         self._alert_listeners: list[Callable[[str, str], None]] = []
@@ -217,18 +179,19 @@ class ServerApp:
 
     async def _start(self, config: Config) -> None:
         loop = asyncio.get_running_loop()
-        self._run = run = _Running(config=config, engine=Engine(config, now=loop.time()))
+        self._run = run = Running(config=config, engine=Engine(config, now=loop.time()))
         saved = self._restore(run)
-        await self._start_switches(run, saved.switches if saved is not None else {})
+        start_switches(run, self.options, saved.switches if saved is not None else {},
+                       self._link_status, self._switch_tr)
         # every listener (the logger's port, the rotators' rotctld ports) is bound
         # before clients are accepted, so nothing a client sees as "ready" can miss a packet
-        await self._start_n1mm(run)
-        await self._start_rotators(run)
-        await self._start_clients(run)
+        await start_n1mm(run, self.options, self._logger_frequency)
+        await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
+        await start_clients(run, self.options, EngineBackend(self))
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
 
-    async def _tick(self, run: _Running) -> None:
+    async def _tick(self, run: Running) -> None:
         """Refresh the status (the number of clients) twice a second while ``run`` runs."""
         while self._run is run:
             await asyncio.sleep(0.5)
@@ -246,25 +209,11 @@ class ServerApp:
             except Exception:
                 log.exception("while saving the state")
             run.keeper.close()
-        if run.log_handler is not None:
-            logging.getLogger("moas_gui").removeHandler(run.log_handler)
-        parts: list[N1MMListener | ClientServer | RotctldServer | RotatorManager | None] = [
-            run.n1mm, run.clients, *run.rotctld, run.rotators]
-        for part in parts:
-            if part is not None:
-                try:
-                    await part.close()
-                except Exception:
-                    log.exception("while closing %s", type(part).__name__)
-        for link in run.links.values():
-            try:
-                await link.close()
-            except Exception:
-                log.exception("while closing switch link")
+        await close_parts(run)
         self._update_status()
 
     # -- the saved state ---------------------------------------------------------------
-    def _restore(self, run: _Running) -> SavedState | None:
+    def _restore(self, run: Running) -> SavedState | None:
         """Start keeping the state of ``run``; put the saved one, if usable, into its engine."""
         if self._path is None:
             return None
@@ -276,7 +225,7 @@ class ServerApp:
             run.stopped = True
         return saved
 
-    def _collect_state(self, run: _Running) -> SavedState:
+    def _collect_state(self, run: Running) -> SavedState:
         held = {i: link.sent for i, link in run.links.items() if link.sent is not None}
         return SavedState(run.fingerprint, export_selections(run.engine), held)
 
@@ -286,24 +235,6 @@ class ServerApp:
             run.keeper.changed()
 
     # -- switches ----------------------------------------------------------------------
-    async def _start_switches(self, run: _Running, held: dict[int, SwitchState]) -> None:
-        states = run.engine.switch_states()
-        for switch in run.config.switches:
-            run.switch_status[switch.id] = "connecting"
-            link = SwitchLink(
-                switch.id, switch.port, switch.echo,
-                on_status=functools.partial(self._link_status, switch.id),
-                on_tr=functools.partial(self._switch_tr, switch.id),
-                indicate_tr=switch.indicate_tr,
-                held=held.get(switch.id),
-                timing=self.options.switch_timing or LinkTiming(),
-            )
-            run.links[switch.id] = link
-            if run.stopped:
-                link.stop()
-            link.apply(states[switch.id])
-            link.connect()
-
     def _link_status(self, switch_id: int, status: LinkStatus) -> None:
         self._switch_status(switch_id, status.value)
         self._state_changed()
@@ -416,37 +347,7 @@ class ServerApp:
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
 
-    # -- clients, logger, rotators --------------------------------------------------------
-    async def _start_clients(self, run: _Running) -> None:
-        port = self.options.tcp_port if self.options.tcp_port is not None else run.config.tcp_port
-        most = self.options.max_clients
-        clients = ClientServer(EngineBackend(self), host=self.options.bind, port=port,
-                               allow=run.config.client_allow,
-                               max_clients=DEFAULT_MAX_CLIENTS if most is None else most)
-        try:
-            await clients.start()
-        except HardwareError as exc:
-            log.error("Clients cannot connect: %s", exc)
-            return
-        run.clients = clients
-        # clients that said "log": true in hello get the product's log as events
-        run.log_handler = ClientLogHandler(clients)
-        logging.getLogger("moas_gui").addHandler(run.log_handler)
-        clients.publish_state()
-
-    async def _start_n1mm(self, run: _Running) -> None:
-        if not run.config.use_n1mm_logger:
-            return
-        port = self.options.udp_port if self.options.udp_port is not None else run.config.udp_port
-        n1mm = N1MMListener.from_config(run.config, self._logger_frequency)
-        try:
-            await n1mm.start(port, self.options.udp_bind)
-        except OSError as exc:
-            log.error("N1MM Logger packets cannot be received: UDP port %d cannot be opened (%s)",
-                      port, exc.strerror or exc)
-            return
-        run.n1mm = n1mm
-
+    # -- the inputs from the logger, the switches' T/R lines and the rotators ----------------
     def _logger_frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
         if self._run is None:
             return
@@ -455,22 +356,6 @@ class ServerApp:
         except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
             log.debug("N1MM Logger frequency for station %d radio %d ignored: %s",
                       station, radio, exc)
-
-    async def _start_rotators(self, run: _Running) -> None:
-        if not run.config.rotators:
-            return
-        start = self.options.start_rotator_program
-        run.rotators = RotatorManager.from_config(
-            run.config,
-            on_change=self._rotator_changed,
-            select_direction=self._select_direction,
-            start_moas_rotator=run.config.start_moas_rotator if start is None else start,
-            moas_rotator_port=self.options.rotator_program_port,
-        )
-        await run.rotators.start()
-        # rotators with a RotctldPort answer rotctld's protocol there (Hamlib's rotctl -m 2)
-        run.rotctld = await start_rotctld_servers(run.rotators, run.config.rotators,
-                                                  ROTCTLD_HOST)
 
     @property
     def rotator_manager(self) -> RotatorManager | None:
@@ -505,4 +390,4 @@ class ServerApp:
                 listener(status)
 
 
-__all__ = ["ServerApp", "ServerOptions"]
+__all__ = ["ROTCTLD_HOST", "ServerApp", "ServerOptions"]

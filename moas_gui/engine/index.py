@@ -319,9 +319,9 @@ class ConfigIndex:
         ports: list[tuple[int, int]] = []
         if kind is not Kind.ALT:
             for sp in radio.switches:
-                w = sp.switch or single
-                if w is not None and w in self.switches and 1 <= sp.port <= 6:
-                    ports.append((w, sp.port))
+                switch_id = sp.switch or single
+                if switch_id is not None and switch_id in self.switches and 1 <= sp.port <= 6:
+                    ports.append((switch_id, sp.port))
         fallback = main.radio if kind is Kind.ALT and main is not None else None
         paths: dict[int, tuple[RangeRelays, ...]] = {}
         segments: dict[int, tuple[Segment, ...]] = {}

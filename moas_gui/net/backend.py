@@ -4,8 +4,10 @@ The server (:mod:`moas_gui.net.server`) never imports the engine.  It asks a
 :class:`ClientBackend` for everything a request needs, and the application
 tells it about changes through the :class:`EventSink` calls the server offers::
 
-      clients --JSON lines-->  ClientServer  --ClientBackend calls-->  the app's adapter --> engine
+      clients --JSON lines-->  ClientServer  --ClientBackend calls-->  EngineBackend --> ServerApp.act
       clients <--JSON lines--  ClientServer  <--EventSink calls-----   the app (after each change)
+
+(``EngineBackend`` is :mod:`moas_gui.engine_backend`, the real server's backend.)
 
 A backend answers with plain JSON-ready values (``dict``, ``list``, ``str``,
 numbers, ``bool``, ``None``) in the shapes of the client protocol

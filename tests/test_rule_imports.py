@@ -7,6 +7,8 @@ Every ``import`` and ``from ... import`` of every module is read with :mod:`ast`
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from collections import defaultdict
 from pathlib import Path
 
@@ -147,3 +149,18 @@ def test_the_rules_see_late_imports_too(tmp_path: Path) -> None:
     module.write_text("def f():\n    from moas_gui.net import server\n    import asyncio\n")
     assert {"moas_gui.net", "moas_gui.net.server", "asyncio"} <= _imports("moas_gui.hw.late",
                                                                            module)
+
+
+@pytest.mark.parametrize("module", ["moas_gui.hw.moas2.messages", "moas_gui.hw.moas2.decoder",
+                                    "moas_gui.hw.moas2.sync", "moas_gui.engine",
+                                    "moas_gui.config"])
+def test_a_sans_io_codec_or_the_engine_loads_no_loop_and_no_serial_port(module: str) -> None:
+    """Importing the codec (or the engine) loads neither asyncio nor pyserial: the switch
+    package's ``__init__`` imports its link only when ``SwitchLink`` is asked for."""
+    probe = (f"import sys, {module}\n"
+             "print(sorted(m for m in ('asyncio', 'serial', 'PySide6', 'socket') "
+             "if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]", f"{module} loads {done.stdout.strip()}"

@@ -29,11 +29,11 @@ PUBLIC = {
     ],
     "moas_gui.net.framing": ["MAX_LINE", "Line", "LineSplitter", "LongLine"],
     "moas_gui.net.requests": [
-        "COMMANDS", "MAX_DEPTH", "Arg", "BadLine", "BadRequest", "Command", "Kind", "Request",
+        "COMMANDS", "MAX_DEPTH", "Arg", "BadLine", "Command", "InvalidRequest", "Kind", "Request",
         "check_request", "describe", "parse_line", "too_deep",
     ],
     "moas_gui.net.messages": [
-        "EVENTS", "PROTOCOL_VERSION", "SERVER_NAME", "EncodeError", "encode", "event",
+        "EVENTS", "PROTOCOL_VERSION", "SERVER_NAME", "MessageEncodeError", "encode", "event",
         "hello_result", "reply_error", "reply_ok",
     ],
     "moas_gui.net.connection": [

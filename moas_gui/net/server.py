@@ -46,7 +46,7 @@ from .fd_limit import fitting_client_limit
 from .log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
-from .messages import EncodeError, event, reply_error
+from .messages import MessageEncodeError, event, reply_error
 
 log = logging.getLogger("moas_gui.net")
 
@@ -227,7 +227,7 @@ class ClientServer:
             return
         try:
             line = event("log", {"level": level, "message": str(message)})
-        except EncodeError:
+        except MessageEncodeError:
             log.exception("Could not write a log event for clients")
             return
         for conn in tuple(self._connections):
@@ -245,7 +245,7 @@ class ClientServer:
             return
         try:
             line = event(name, entry)
-        except EncodeError:
+        except MessageEncodeError:
             log.exception("Could not write a %s event for clients", name)
             return
         self._broadcast(line)

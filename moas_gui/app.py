@@ -46,6 +46,7 @@ from moas_gui.engine.operations import (
 )
 from moas_gui.engine.snapshot import export_selections
 from moas_gui.engine_backend import EngineBackend
+from moas_gui.files import write_text_atomic
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
@@ -248,7 +249,8 @@ class ServerApp:
             return
         run.switch_status[switch_id] = status
         if status == "unresponsive":
-            log.error("Switch %d is not responding", switch_id)
+            # the link said where and why, once per outage, at Warning
+            log.info("Switch %d is not responding", switch_id)
             if before == "ok":
                 for listener in self._alert_listeners:
                     listener("MOAS switch lost", f"Switch {switch_id} stopped responding.")
@@ -303,7 +305,7 @@ class ServerApp:
                 parts.append(part.read_text(encoding="utf-8"))
             finally:
                 part.unlink(missing_ok=True)
-        target.write_text("\n".join(parts), encoding="utf-8")
+        write_text_atomic(target, "\n".join(parts))  # never half a file, whatever happens
         return target
 
     # -- the one door into the engine ------------------------------------------------------

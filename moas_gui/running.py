@@ -3,7 +3,8 @@
 :class:`~moas_gui.app.ServerApp` decides *when* (open, restart, close) and owns
 the one door into the engine; this module builds the parts it names: the
 switch links, the N1MM Logger listener, the rotators and their
-rotctld-compatible listeners, and the client server.  Each part that cannot
+rotctld-compatible listeners, the client server and the browser client's web
+server.  Each part that cannot
 start (a port in use) is logged and left out; the others run.
 """
 
@@ -26,6 +27,7 @@ from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.net.n1mm import N1MMListener
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
+from moas_gui.net.web import WebServer, start_web
 from moas_gui.state_store import StateKeeper
 
 log = logging.getLogger("moas_gui.app")
@@ -45,6 +47,8 @@ class ServerOptions:
     udp_port: int | None = None
     """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
     udp_bind: str = "0.0.0.0"
+    web_port: int | None = None
+    """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
     max_clients: int | None = None
     """Client connections served at once; None for the client server's default."""
     start_rotator_program: bool | None = None
@@ -63,6 +67,7 @@ class Running:
     links: dict[int, SwitchLink] = field(default_factory=dict)
     switch_status: dict[int, str] = field(default_factory=dict)
     clients: ClientServer | None = None
+    web: WebServer | None = None
     n1mm: N1MMListener | None = None
     rotators: RotatorManager | None = None
     rotctld: list[RotctldServer] = field(default_factory=list)
@@ -131,7 +136,8 @@ async def start_rotators(run: Running, options: ServerOptions,
 
 
 async def start_clients(run: Running, options: ServerOptions, backend: ClientBackend) -> None:
-    """The client server; clients that asked for the log get it as events."""
+    """The client server (clients that asked for the log get it as events), then the
+    browser client's web server on top of it when a web port is set."""
     port = options.tcp_port if options.tcp_port is not None else run.config.tcp_port
     most = options.max_clients
     clients = ClientServer(backend, host=options.bind, port=port,
@@ -147,14 +153,18 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
     run.log_handler = ClientLogHandler(clients)
     logging.getLogger("moas_gui").addHandler(run.log_handler)
     clients.publish_state()
+    web_port = options.web_port
+    web_port = run.config.web_port if web_port is None else web_port
+    if web_port is not None:  # the browser client: docs/web-client.md
+        run.web = await start_web(clients, options.bind, web_port)
 
 
 async def close_parts(run: Running) -> None:
     """Close every listener, the rotators and the links; the relays stay as they are."""
     if run.log_handler is not None:
         logging.getLogger("moas_gui").removeHandler(run.log_handler)
-    parts: list[N1MMListener | ClientServer | RotctldServer | RotatorManager | None] = [
-        run.n1mm, run.clients, *run.rotctld, run.rotators]
+    parts: list[N1MMListener | WebServer | ClientServer | RotctldServer | RotatorManager
+                | None] = [run.n1mm, run.web, run.clients, *run.rotctld, run.rotators]
     for part in parts:
         if part is not None:
             try:

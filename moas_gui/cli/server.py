@@ -36,6 +36,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="address the client server listens on (default all)")
     parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
     parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
+    parser.add_argument("--web-port", type=int,
+                        help="serve the browser client on this port (instead of WebPort)")
     parser.add_argument("--max-clients", type=_positive, default=None, metavar="N",
                         help="client connections served at once (default 200)")
     parser.add_argument("--udp-bind",
@@ -85,6 +87,7 @@ def _options(args: argparse.Namespace) -> object:
 
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
+                         web_port=args.web_port,
                          max_clients=args.max_clients,
                          start_rotator_program=False if args.no_rotator_program else None)
 
@@ -130,7 +133,7 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
 def launch_request(args: argparse.Namespace) -> dict[str, object]:
     """What this command line asks of a server, for the running one to vet."""
     launch: dict[str, object] = {"headless": bool(args.headless)}
-    for key in ("bind", "tcp_port", "udp_port", "udp_bind"):
+    for key in ("bind", "tcp_port", "udp_port", "udp_bind", "web_port"):
         value = getattr(args, key)
         if value is not None:
             launch[key] = value
@@ -167,7 +170,7 @@ def vet_launch(app: object, launch: dict[str, object], *, headless: bool) -> str
     running = {"bind": options.bind, "udp_bind": options.udp_bind,
                "tcp_port": options.tcp_port if options.tcp_port is not None
                else (address[1] if address else None),
-               "udp_port": options.udp_port}
+               "udp_port": options.udp_port, "web_port": options.web_port}
     for key, value in running.items():
         if key in launch and launch[key] != value:
             flag = "--" + key.replace("_", "-")
@@ -282,7 +285,14 @@ def main(argv: list[str] | None = None) -> int:
     if args.install_desktop or args.uninstall_desktop:
         from moas_gui import desktop
 
-        done = desktop.install_desktop() if args.install_desktop else desktop.uninstall_desktop()
+        try:
+            done = (desktop.install_desktop() if args.install_desktop
+                    else desktop.uninstall_desktop())
+        except OSError as exc:  # a full disk, a read-only home: every file is old or new
+            what = "install" if args.install_desktop else "uninstall"
+            print(f"moas-server: could not {what} the desktop integration: {exc}",
+                  file=sys.stderr)
+            return 1
         for line in done:
             print(line)
         return 0

@@ -29,7 +29,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from config_fuzzing import corpus, mutations, read
 
-from moas_gui.engine.config import parse_config
+from moas_gui.config import parse_config
 
 LIMIT_S = 1.0
 

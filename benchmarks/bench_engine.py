@@ -17,9 +17,8 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from moas_gui.engine import Engine, EngineError
-from moas_gui.engine.config import load_config
-from moas_gui.engine.config.model import (
+from moas_gui.config import load_config
+from moas_gui.config.model import (
     Antenna,
     Config,
     ControlRange,
@@ -30,6 +29,7 @@ from moas_gui.engine.config.model import (
     Switch,
     SwitchPort,
 )
+from moas_gui.engine import Engine, EngineError
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ["2x6", "small-station", "ms-one-amp", "tribander-stack", "triplexer",

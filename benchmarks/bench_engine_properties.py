@@ -24,7 +24,7 @@ from engine_invariants import Facts, operations, replay_matches, run_evening
 from engine_stations import generated_station
 from test_engine_appendix_f_differential import compare
 
-from moas_gui.engine.config import load_config
+from moas_gui.config import load_config
 
 EXAMPLES = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
             "triplexer", "ms-one-amp"]

@@ -137,8 +137,8 @@ def bench_bytes_on_the_wire() -> None:
     print(f"bytes for all six stations changing band at once:        "
           f"{count_bytes(states[0], states[1])}")
     try:
+        from moas_gui.config import load_config
         from moas_gui.engine import Engine
-        from moas_gui.engine.config import load_config
     except ImportError as exc:
         print(f"big-station band change: engine not available ({exc})")
         return

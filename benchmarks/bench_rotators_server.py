@@ -23,9 +23,10 @@ import statistics
 import time
 from collections.abc import Awaitable, Callable
 
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import FakeMoasRotator, GeniusModel, GeniusServer, RotatorManager
 from moas_gui.hw.rotators.base import RotatorView
+from moas_gui.net.rotctld_server import start_rotctld_servers
 
 
 class Waiter:
@@ -117,6 +118,7 @@ async def bench_hamlib(rounds: int, poll_ms: int) -> None:
     source = RotatorManager([Rotator(id=3, control=RotatorControl.ELECTRICAL,
                                      rotctld_port=port)])
     await source.start()
+    listeners = await start_rotctld_servers(source, [source.rotator(3)], "127.0.0.1")
     source.note_direction(3, 0)
     waiter = Waiter()
     client = RotatorManager([Rotator(id=4, control=RotatorControl.HAMLIB,
@@ -128,6 +130,8 @@ async def bench_hamlib(rounds: int, poll_ms: int) -> None:
                               poll_ms / 1000)
     report("Hamlib (+p poll of rotctld)", poll_ms, latencies)
     await client.close()
+    for listener in listeners:
+        await listener.close()
     await source.close()
 
 

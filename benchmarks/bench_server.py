@@ -451,8 +451,8 @@ def expected_commands(flood: Flood, packets: list[tuple[Ref, float]]) -> list[di
     The same engine and switch planner the server runs, fed the same
     frequencies in the same order (the warm-up first).
     """
+    from moas_gui.config import load_config
     from moas_gui.engine import Engine
-    from moas_gui.engine.config import load_config
     from moas_gui.hw.moas2.sync import difference
 
     config = load_config(flood.config).unwrap()
@@ -537,7 +537,7 @@ class FloodResult:
 
 
 async def bench_flood(name: str, rate: int, seconds: float, work: Path) -> FloodResult:
-    from moas_gui.engine.config import load_config
+    from moas_gui.config import load_config
     from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
     from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
 
@@ -691,8 +691,8 @@ def flood_rows(result: FloodResult) -> list[Row]:
 
 def bytes_rows() -> list[Row]:
     """Bytes the link writes for band changes on the big station (its planner's count)."""
+    from moas_gui.config import load_config
     from moas_gui.engine import Engine
-    from moas_gui.engine.config import load_config
     from moas_gui.hw.moas2.sync import count_bytes
 
     engine = Engine(load_config(BIG).unwrap())
@@ -723,8 +723,8 @@ def _band(khz: float) -> str:
 
 def cost_rows(name: str, changes: int = 3000) -> list[Row]:
     """The parts of the server's work for a band change, each timed alone in this process."""
+    from moas_gui.config import load_config
     from moas_gui.engine import Engine
-    from moas_gui.engine.config import load_config
     from moas_gui.hw.moas2.sync import difference
     from moas_gui.net.n1mm_packet import parse_radio_info, radio_info_packet
 

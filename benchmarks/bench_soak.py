@@ -49,8 +49,8 @@ from typing import Any, TypeVar
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from moas_gui.engine.config import load_config
-from moas_gui.engine.config.model import Config
+from moas_gui.config import load_config
+from moas_gui.config.model import Config
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
 from moas_gui.net.n1mm_packet import radio_info_packet

@@ -22,8 +22,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from moas_gui.config import load_config
 from moas_gui.engine import Engine, EngineError
-from moas_gui.engine.config import load_config
 from moas_gui.engine.snapshot import export_selections, restore_selections
 from moas_gui.state_store import SavedState, StateKeeper, decode, encode, write_atomic
 

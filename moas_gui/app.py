@@ -4,8 +4,14 @@ This is the one place that wires the pieces together (``docs/architecture.md``).
 It runs the same under the window (a qasync loop) and headless (plain asyncio):
 
     inputs                          ServerApp                      outputs
-    N1MM packets, client requests   -> engine call -> Changes ->   switch links (SwitchState)
-    switch T/R events, rotators                                    client events, the log
+    N1MM packets, client requests   -> act(operation) -> Changes -> switch links (SwitchState)
+    switch T/R events, rotators,                                     client events, the log
+    the menus (Stop/Start Switches)
+
+Every input of the engine is a frozen operation (:mod:`moas_gui.engine.operations`)
+handed to :meth:`ServerApp.act`, the one door: it stamps the time, asks the
+engine and sends the decision out.  The app starts every listener: the client
+server, the N1MM Logger listener and the rotctld-compatible listeners.
 
 Opening a configuration with errors changes nothing: the errors are logged and
 returned, and whatever ran before keeps running.  Closing the server leaves
@@ -23,59 +29,42 @@ import functools
 import logging
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
-from moas_gui.engine.config import Config, LoadResult, load_config
-from moas_gui.engine.config.model import RotatorControl
+from moas_gui import state_store
+from moas_gui.config import Config, LoadResult, load_config
+from moas_gui.config.model import RotatorControl
+from moas_gui.engine import Changes, Engine, NotRunning
+from moas_gui.engine.operations import (
+    Operation,
+    SelectDirection,
+    SetFrequency,
+    SetTransmitting,
+    StartSwitches,
+    StopSwitches,
+    perform,
+)
+from moas_gui.engine.snapshot import export_selections
+from moas_gui.engine_backend import EngineBackend
 from moas_gui.files import write_text_atomic
+from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
+from moas_gui.hw.rotators.base import RotatorView
+from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.running import (
+    ROTCTLD_HOST,
+    Running,
+    ServerOptions,
+    close_parts,
+    start_clients,
+    start_n1mm,
+    start_rotators,
+    start_switches,
+)
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
 
 log = logging.getLogger("moas_gui.app")
-
-
-@dataclass(frozen=True, slots=True)
-class ServerOptions:
-    """How this run differs from the configuration file (command line, tests)."""
-
-    bind: str = "0.0.0.0"
-    """Address the client server listens on."""
-    tcp_port: int | None = None
-    """Overrides the configuration's ``TCPPort`` (0 picks a free port)."""
-    udp_port: int | None = None
-    """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
-    udp_bind: str = "0.0.0.0"
-    web_port: int | None = None
-    """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
-    max_clients: int | None = None
-    """Client connections served at once; None for the client server's default."""
-    start_rotator_program: bool | None = None
-    """Overrides ``StartMOASRotator`` when not None."""
-    rotator_program_port: int = 13020
-    switch_timing: Any = None
-    """Timing of the switch links (ping interval, timeouts); None for the real defaults."""
-
-
-@dataclass
-class _Running:
-    """Everything that exists while one configuration runs."""
-
-    config: Config
-    engine: Any
-    links: dict[int, Any] = field(default_factory=dict)
-    switch_status: dict[int, str] = field(default_factory=dict)
-    clients: Any = None
-    web: Any = None
-    n1mm: Any = None
-    rotators: Any = None
-    log_handler: logging.Handler | None = None
-    stopped: bool = False
-    ticker: asyncio.Task[None] | None = None
-    keeper: StateKeeper | None = None
-    fingerprint: str = ""
 
 
 class ServerApp:
@@ -83,7 +72,7 @@ class ServerApp:
 
     def __init__(self, options: ServerOptions | None = None) -> None:
         self.options = options or ServerOptions()
-        self._run: _Running | None = None
+        self._run: Running | None = None
         self._path: Path | None = None
         self._status_listeners: list[Callable[[ServerStatus], None]] = []
         self._alert_listeners: list[Callable[[str, str], None]] = []
@@ -101,7 +90,7 @@ class ServerApp:
         return self._path
 
     @property
-    def engine(self) -> Any:
+    def engine(self) -> Engine | None:
         return self._run.engine if self._run else None
 
     @property
@@ -129,16 +118,12 @@ class ServerApp:
         host = self.options.udp_bind
         return ("127.0.0.1" if host in ("0.0.0.0", "", "::") else host), int(self._run.n1mm.port)
 
-    def emulators(self) -> dict[int, Any]:
+    def emulators(self) -> dict[int, EmulatedBox]:
         """The in-process emulators of switches whose port is ``"emulator"``."""
         if self._run is None:
             return {}
-        found = {}
-        for switch_id, link in self._run.links.items():
-            emulator = getattr(link, "emulator", None)
-            if emulator is not None:
-                found[switch_id] = emulator
-        return found
+        return {switch_id: link.emulator for switch_id, link in self._run.links.items()
+                if link.emulator is not None}
 
     def add_status_listener(self, listener: Callable[[ServerStatus], None]) -> None:
         self._status_listeners.append(listener)
@@ -194,21 +179,20 @@ class ServerApp:
             self._update_status()
 
     async def _start(self, config: Config) -> None:
-        from moas_gui.engine import Engine
-
         loop = asyncio.get_running_loop()
-        self._run = run = _Running(config=config, engine=Engine(config, now=loop.time()))
+        self._run = run = Running(config=config, engine=Engine(config, now=loop.time()))
         saved = self._restore(run)
-        await self._start_switches(run, saved.switches if saved is not None else {})
+        start_switches(run, self.options, saved.switches if saved is not None else {},
+                       self._link_status, self._switch_tr)
         # every listener (the logger's port, the rotators' rotctld ports) is bound
         # before clients are accepted, so nothing a client sees as "ready" can miss a packet
-        await self._start_n1mm(run)
-        await self._start_rotators(run)
-        await self._start_clients(run)
+        await start_n1mm(run, self.options, self._logger_frequency)
+        await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
+        await start_clients(run, self.options, EngineBackend(self))
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
 
-    async def _tick(self, run: _Running) -> None:
+    async def _tick(self, run: Running) -> None:
         """Refresh the status (the number of clients) twice a second while ``run`` runs."""
         while self._run is run:
             await asyncio.sleep(0.5)
@@ -226,26 +210,12 @@ class ServerApp:
             except Exception:
                 log.exception("while saving the state")
             run.keeper.close()
-        if run.log_handler is not None:
-            logging.getLogger("moas_gui").removeHandler(run.log_handler)
-        for part in (run.n1mm, run.web, run.clients, run.rotators):
-            if part is not None:
-                try:
-                    await part.close()
-                except Exception:
-                    log.exception("while closing %s", type(part).__name__)
-        for link in run.links.values():
-            try:
-                await link.close()
-            except Exception:
-                log.exception("while closing switch link")
+        await close_parts(run)
         self._update_status()
 
     # -- the saved state ---------------------------------------------------------------
-    def _restore(self, run: _Running) -> SavedState | None:
+    def _restore(self, run: Running) -> SavedState | None:
         """Start keeping the state of ``run``; put the saved one, if usable, into its engine."""
-        from moas_gui import state_store
-
         if self._path is None:
             return None
         run.fingerprint, saved = state_store.restore(self._path, run.engine)
@@ -256,9 +226,7 @@ class ServerApp:
             run.stopped = True
         return saved
 
-    def _collect_state(self, run: _Running) -> SavedState:
-        from moas_gui.engine.snapshot import export_selections
-
+    def _collect_state(self, run: Running) -> SavedState:
         held = {i: link.sent for i, link in run.links.items() if link.sent is not None}
         return SavedState(run.fingerprint, export_selections(run.engine), held)
 
@@ -268,27 +236,6 @@ class ServerApp:
             run.keeper.changed()
 
     # -- switches ----------------------------------------------------------------------
-    async def _start_switches(self, run: _Running, held: dict[int, Any]) -> None:
-        from moas_gui.hw.moas2.link import SwitchLink
-
-        states = run.engine.switch_states()
-        for switch in run.config.switches:
-            run.switch_status[switch.id] = "connecting"
-            extra = {"timing": self.options.switch_timing} if self.options.switch_timing else {}
-            link = SwitchLink(
-                switch.id, switch.port, switch.echo,
-                on_status=functools.partial(self._link_status, switch.id),
-                on_tr=functools.partial(self._switch_tr, switch.id),
-                indicate_tr=switch.indicate_tr,
-                held=held.get(switch.id),
-                **extra,
-            )
-            run.links[switch.id] = link
-            if run.stopped:
-                link.stop()
-            link.apply(states[switch.id])
-            link.connect()
-
     def _link_status(self, switch_id: int, status: LinkStatus) -> None:
         self._switch_status(switch_id, status.value)
         self._state_changed()
@@ -312,11 +259,8 @@ class ServerApp:
         self._update_status()
 
     def _switch_tr(self, switch_id: int, port: int, transmitting: bool) -> None:
-        run = self._run
-        if run is None:
-            return
-        now = asyncio.get_running_loop().time()
-        self.apply_changes(run.engine.set_transmitting(switch_id, port, transmitting, now=now))
+        if self._run is not None:  # not a late event of a link being closed
+            self.act(SetTransmitting(switch_id, port, transmitting))
 
     def reset_switches(self) -> None:
         """File > Reset Switches: reset every switch and set the antennas in use again."""
@@ -332,7 +276,7 @@ class ServerApp:
         if run is None or run.stopped:
             return
         run.stopped = True  # the engine logs "Switches stopped: all relays off"
-        self.apply_changes(run.engine.stop())
+        self.act(StopSwitches())
         for link in run.links.values():
             link.stop()
         self._update_status()
@@ -342,7 +286,7 @@ class ServerApp:
         if run is None or not run.stopped:
             return
         run.stopped = False  # the engine logs "Switches started"
-        self.apply_changes(run.engine.start())
+        self.act(StartSwitches())
         for link in run.links.values():
             link.start()
         self._update_status()
@@ -364,8 +308,21 @@ class ServerApp:
         write_text_atomic(target, "\n".join(parts))  # never half a file, whatever happens
         return target
 
-    # -- engine changes ------------------------------------------------------------------
-    def apply_changes(self, changes: Any) -> None:
+    # -- the one door into the engine ------------------------------------------------------
+    def act(self, op: Operation) -> None:
+        """Apply ``op`` now and send the decision out (:meth:`apply_changes`).
+
+        Raises :class:`~moas_gui.engine.EngineError` when the rules refuse (nothing
+        changes then), :class:`~moas_gui.engine.NotRunning` when no configuration
+        runs; each caller turns that into its own answer (a client's error reply,
+        a log line, a rotator's refusal).
+        """
+        run = self._run
+        if run is None:
+            raise NotRunning("No configuration is open")
+        self.apply_changes(perform(run.engine, op, now=asyncio.get_running_loop().time()))
+
+    def apply_changes(self, changes: Changes) -> None:
         """Send an engine decision out: switch states to links, news to clients, lines to the log."""
         run = self._run
         if run is None:
@@ -392,91 +349,28 @@ class ServerApp:
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
 
-    # -- clients, logger, rotators --------------------------------------------------------
-    async def _start_clients(self, run: _Running) -> None:
-        from moas_gui.backend import EngineBackend
-        from moas_gui.errors import HardwareError
-        from moas_gui.net.log_events import ClientLogHandler
-        from moas_gui.net.server import ClientServer
-
-        port = self.options.tcp_port if self.options.tcp_port is not None else run.config.tcp_port
-        limits = {} if self.options.max_clients is None else {
-            "max_clients": self.options.max_clients}
-        run.clients = ClientServer(EngineBackend(self), host=self.options.bind, port=port,
-                                   allow=run.config.client_allow, **limits)
-        try:
-            await run.clients.start()
-        except HardwareError as exc:
-            log.error("Clients cannot connect: %s", exc)
-            run.clients = None
-            return
-        # clients that said "log": true in hello get the product's log as events
-        run.log_handler = ClientLogHandler(run.clients)
-        logging.getLogger("moas_gui").addHandler(run.log_handler)
-        run.clients.publish_state()
-        web_port = self.options.web_port
-        web_port = run.config.web_port if web_port is None else web_port
-        if web_port is not None:  # the browser client: docs/web-client.md
-            from moas_gui.net.web import start_web
-            run.web = await start_web(run.clients, self.options.bind, web_port)
-
-    async def _start_n1mm(self, run: _Running) -> None:
-        if not run.config.use_n1mm_logger:
-            return
-        from moas_gui.net.n1mm import N1MMListener
-
-        port = self.options.udp_port if self.options.udp_port is not None else run.config.udp_port
-        run.n1mm = N1MMListener.from_config(run.config, self._logger_frequency)
-        try:
-            await run.n1mm.start(port, self.options.udp_bind)
-        except OSError as exc:
-            log.error("N1MM Logger packets cannot be received: UDP port %d cannot be opened (%s)",
-                      port, exc.strerror or exc)
-            run.n1mm = None
-
+    # -- the inputs from the logger, the switches' T/R lines and the rotators ----------------
     def _logger_frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
-        run = self._run
-        if run is None:
+        if self._run is None:
             return
         try:
-            changes = run.engine.set_frequency(station, radio, khz, tx_khz,
-                                               now=asyncio.get_running_loop().time())
+            self.act(SetFrequency(station, radio, khz, tx_khz))
         except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
             log.debug("N1MM Logger frequency for station %d radio %d ignored: %s",
                       station, radio, exc)
-            return
-        self.apply_changes(changes)
-
-    async def _start_rotators(self, run: _Running) -> None:
-        if not run.config.rotators:
-            return
-        from moas_gui.hw.rotators.manager import RotatorManager
-
-        start = self.options.start_rotator_program
-        run.rotators = RotatorManager.from_config(
-            run.config,
-            on_change=self._rotator_changed,
-            select_direction=self._select_direction,
-            start_moas_rotator=run.config.start_moas_rotator if start is None else start,
-            moas_rotator_port=self.options.rotator_program_port,
-        )
-        await run.rotators.start()
 
     @property
-    def rotator_manager(self) -> Any:
+    def rotator_manager(self) -> RotatorManager | None:
         return self._run.rotators if self._run else None
 
-    def _rotator_changed(self, view: Any) -> None:
+    def _rotator_changed(self, view: RotatorView) -> None:
         run = self._run
         if run is not None and run.clients is not None:
             run.clients.publish_rotator(view.to_json())
 
     def _select_direction(self, rotator_id: int, heading: int) -> None:
-        run = self._run
-        if run is None:
-            return
-        self.apply_changes(run.engine.select_direction(rotator_id, heading,
-                                                       now=asyncio.get_running_loop().time()))
+        if self._run is not None:
+            self.act(SelectDirection(rotator_id, heading))
 
     # -- status ----------------------------------------------------------------------------
     def _update_status(self) -> None:
@@ -498,4 +392,4 @@ class ServerApp:
                 listener(status)
 
 
-__all__ = ["ServerApp", "ServerOptions"]
+__all__ = ["ROTCTLD_HOST", "ServerApp", "ServerOptions"]

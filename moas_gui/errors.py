@@ -3,10 +3,19 @@
 ::
 
     MoasError
-     +-- ConfigError     (moas_gui.engine.config)   the user's configuration file
-     +-- EngineError     (moas_gui.engine)          a request the rules refuse
-     +-- ProtocolError                              a peer sent nonsense
-     +-- HardwareError                              a port vanished or cannot be opened
+     +-- ConfigError       (moas_gui.config)          the user's configuration file
+     +-- RequestRefused                               a request that cannot be served:
+     |    |                                           ``code`` (client protocol), ``message``
+     |    +-- EngineError   (moas_gui.engine)         a request the rules refuse
+     |    +-- RotatorError  (moas_gui.hw.rotators)    a rotate or stop that cannot be served
+     |    +-- RequestError  (moas_gui.net.backend)    what the client server answers
+     +-- ProtocolError                                a peer sent nonsense, or a codec
+     |                                                cannot write a value
+     +-- HardwareError                                a port vanished or cannot be opened
+     +-- Moas2Error        (moas_gui.hw.moas2)        the switch package's own errors
+     +-- ClientError       (moas_gui.client)          what the client library raises
+     +-- StateError        (moas_gui.state_store)     a saved state that cannot be used
+     +-- SnapshotError     (moas_gui.engine.snapshot) a snapshot that does not fit the engine
 """
 
 from __future__ import annotations
@@ -14,6 +23,14 @@ from __future__ import annotations
 
 class MoasError(Exception):
     """Base of every error moas-gui raises on purpose."""
+
+
+class RequestRefused(MoasError):
+    """A request refused: ``code`` is the client protocol's error code, ``message`` the
+    sentence for the operator."""
+
+    code: str = "internal"
+    message: str = ""
 
 
 class ProtocolError(MoasError):
@@ -24,4 +41,4 @@ class HardwareError(MoasError):
     """A serial port or network peer vanished or cannot be opened."""
 
 
-__all__ = ["HardwareError", "MoasError", "ProtocolError"]
+__all__ = ["HardwareError", "MoasError", "ProtocolError", "RequestRefused"]

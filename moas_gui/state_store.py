@@ -34,6 +34,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from moas_gui.errors import MoasError
+
 from . import files
 from .engine.switchstate import STATIONS, StationAntennas, SwitchState
 
@@ -44,7 +46,7 @@ SAVE_DELAY_S = 0.2
 """How long a change waits for others before they are written together."""
 
 
-class StateError(ValueError):
+class StateError(MoasError, ValueError):
     """A state file that cannot be used (the message says why)."""
 
 

@@ -12,7 +12,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from moas_gui.engine.config import RotatorControl, load_config
+from moas_gui.config import RotatorControl, load_config
 from moas_gui.hw.rotators.addresses import is_local
 
 

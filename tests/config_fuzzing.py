@@ -18,7 +18,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from moas_gui.engine.config import read_config
+from moas_gui.config import read_config
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

@@ -5,9 +5,8 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
-from moas_gui.engine import Engine
-from moas_gui.engine.config import load_config
-from moas_gui.engine.config.model import (
+from moas_gui.config import load_config
+from moas_gui.config.model import (
     Antenna,
     Config,
     ControlRange,
@@ -21,6 +20,7 @@ from moas_gui.engine.config.model import (
     SwitchPort,
     System,
 )
+from moas_gui.engine import Engine
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

@@ -12,14 +12,14 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from moas_gui.engine import Engine, EngineError
-from moas_gui.engine.config.model import (
+from moas_gui.config.model import (
     Antenna,
     Config,
     Radio,
     RadioRef,
     RotatorControl,
 )
+from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.views import RadioView
 
 BANDS = ((1800.0, 2000.0), (3500.0, 4000.0), (7000.0, 7300.0), (14000.0, 14350.0),

@@ -9,7 +9,7 @@ from typing import Any
 
 from engine_invariants import BANDS
 
-from moas_gui.engine.config.model import (
+from moas_gui.config.model import (
     AlternateRule,
     Antenna,
     Config,

@@ -16,7 +16,7 @@ import pytest
 from config_fuzzing import MUTATIONS, corpus, mutations, read
 
 from moas_gui.cli import server
-from moas_gui.engine.config import read_config
+from moas_gui.config import read_config
 
 FILES = corpus(generated=3)
 LIMIT_S = 1.0

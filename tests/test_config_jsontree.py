@@ -7,7 +7,7 @@ import json
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from moas_gui.engine.config.jsontree import JArray, JObject, JScalar, Node, parse
+from moas_gui.config.jsontree import JArray, JObject, JScalar, Node, parse
 
 
 def messages(text: str) -> list[tuple[int, int, str]]:

@@ -10,7 +10,7 @@ import json
 
 from test_config_loader import errors, line_of, text_of
 
-from moas_gui.engine.config import parse_config
+from moas_gui.config import parse_config
 
 
 def station_relays(relays: list[int]) -> str:
@@ -97,7 +97,7 @@ def test_a_long_circle_of_systems_is_one_problem_that_shows_its_start_and_length
 
 
 def test_circles_start_at_their_first_system_in_the_file_and_are_told_once() -> None:
-    from moas_gui.engine.config.circles import circles
+    from moas_gui.config.circles import circles
 
     children = {5: (3,), 3: (9, 5), 9: (3,), 1: (1,), 2: (4,), 4: (2,), 7: (8,), 8: ()}
     assert circles([5, 3, 9, 1, 2, 4, 7, 8], children) == [[3, 9, 3], [2, 4, 2]]

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from moas_gui.engine.config import (
+from moas_gui.config import (
     ButtonType,
     ConfigError,
     RotatorControl,

@@ -30,7 +30,7 @@ def test_public_names_are_frozen() -> None:
 
 
 def test_a_radio_entry_lists_its_relative_antennas_at_its_frequency() -> None:
-    from moas_gui.engine.config import load_config
+    from moas_gui.config import load_config
 
     path = Path(__file__).resolve().parent.parent / "examples" / "big-station.moas"
     config = load_config(path).unwrap()

@@ -11,8 +11,7 @@ from appendix_f_reference import AppendixF, RefAntenna
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from moas_gui.engine import Engine
-from moas_gui.engine.config.model import (
+from moas_gui.config.model import (
     Antenna,
     Config,
     ControlRange,
@@ -22,6 +21,7 @@ from moas_gui.engine.config.model import (
     Switch,
     SwitchPort,
 )
+from moas_gui.engine import Engine
 
 BANDS = ((1800.0, 2000.0), (3500.0, 4000.0), (7000.0, 7300.0), (14000.0, 14350.0),
          (21000.0, 21450.0), (28000.0, 29700.0))

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from engine_builders import config, engine, radio, so2r
 
-from moas_gui.engine.config.model import FUNCTION_NAMES, Function
+from moas_gui.config.model import FUNCTION_NAMES, Function
 from moas_gui.engine.errors import Unavailable
 from moas_gui.engine.function_kinds import KINDS
 

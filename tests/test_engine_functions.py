@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 from engine_builders import antenna, config, engine, pair, radio, so2r
 
+from moas_gui.config.model import Function, RadioRef
 from moas_gui.engine import Engine, NotFound, Unavailable
-from moas_gui.engine.config.model import Function, RadioRef
 
 
 def _with_functions(*functions: Function, **radio_kw: object) -> Engine:

@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 from engine_builders import antenna, config, engine, pair, radio
 
+from moas_gui.config import load_config, parse_config
+from moas_gui.config.model import Config, Function, RadioRef, Switch, System
 from moas_gui.engine import Engine
-from moas_gui.engine.config import load_config, parse_config
-from moas_gui.engine.config.model import Config, Function, RadioRef, Switch, System
 from moas_gui.engine.errors import Unavailable
 
 

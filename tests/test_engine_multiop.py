@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 from engine_builders import antenna, config, engine, pair, radio, ref, so2r
 
+from moas_gui.config.model import AlternateRule, FrequencyRange, RadioRef
 from moas_gui.engine import NO_ANTENNA, Engine, Unavailable
-from moas_gui.engine.config.model import AlternateRule, FrequencyRange, RadioRef
 
 
 def _shared_tx(interlocked: bool = True, partners: bool = False) -> Engine:

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from engine_builders import antenna, config, engine, pair, radio, so2r
 
+from moas_gui.config.model import RadioRef, Switch, SwitchPort
 from moas_gui.engine import NO_ANTENNA, Engine
-from moas_gui.engine.config.model import RadioRef, Switch, SwitchPort
 
 
 def _slot(e: Engine, switch: int, antenna_id: int, station: int, number: int) -> int:

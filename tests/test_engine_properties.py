@@ -11,8 +11,8 @@ from engine_builders import antenna, config, example, radio, table_problems
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from moas_gui.config.model import Config, RadioRef, RotatorControl
 from moas_gui.engine import Engine, EngineError
-from moas_gui.engine.config.model import Config, RadioRef, RotatorControl
 
 EXAMPLE_NAMES = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
                  "triplexer", "ms-one-amp"]

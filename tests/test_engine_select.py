@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 from engine_builders import antenna, config, engine, pair, radio, ref, so2r
 
+from moas_gui.config.model import System
 from moas_gui.engine import BadRequest, NotFound, NotRunning, Unavailable
-from moas_gui.engine.config.model import System
 
 
 @pytest.fixture

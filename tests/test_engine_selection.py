@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from engine_builders import antenna, config, engine, pair, radio, ref, so2r
 
+from moas_gui.config.model import RadioRef
 from moas_gui.engine import Engine
-from moas_gui.engine.config.model import RadioRef
 
 
 def test_first_report_selects_lowest_id_antenna_covering_the_frequency() -> None:

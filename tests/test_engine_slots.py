@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 from engine_builders import antenna, config, engine, pair, radio, table_problems
 
+from moas_gui.config.model import Switch
 from moas_gui.engine import Engine, Unavailable
-from moas_gui.engine.config.model import Switch
 from moas_gui.engine.slots import UNKNOWN_TR_SETTLE_S
 
 

@@ -18,8 +18,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_engine_properties import FREQUENCIES
 
+from moas_gui.config.model import Config, RadioRef
 from moas_gui.engine import Engine, EngineError, SwitchState
-from moas_gui.engine.config.model import Config, RadioRef
 from moas_gui.hw.moas2.emulator import EmulatorModel
 from moas_gui.hw.moas2.sync import difference, initialise
 

@@ -274,7 +274,7 @@ def test_the_schema_check_notices_a_misspelt_name_and_a_quoted_number() -> None:
 
 @examples
 def test_project_checker_loads_example_without_errors_or_warnings(name: str) -> None:
-    from moas_gui.engine.config import load_config
+    from moas_gui.config import load_config
 
     result = load_config(EXAMPLES / f"{name}.moas")
     assert [str(p) for p in result.problems] == []

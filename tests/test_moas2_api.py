@@ -11,7 +11,7 @@ from moas_gui.hw.moas2.link import SwitchLink
 def test_package_names_are_frozen() -> None:
     assert sorted(moas2.__all__) == sorted([
         "EMULATOR_PORT", "MAX_COMMAND", "MAX_PAIRS", "MAX_RELAYS", "CommandRejected",
-        "CommandTooLong", "EncodeError", "LinkStatus", "LinkTiming", "Moas2Error", "Plan",
+        "CommandTooLong", "EncodeError", "LinkStatus", "LinkTiming", "Moas2Error", "CommandPlan",
         "PortError", "RelayListTooLong", "SwitchDecoder", "SwitchLink", "count_bytes",
         "difference", "encode", "encode_all", "encode_reply", "initialise", "parse_command",
         "parse_reply", "split",

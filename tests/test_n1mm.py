@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import pytest
 import pytest_asyncio
 
-from moas_gui.engine.config.model import Config, N1MMStation
+from moas_gui.config.model import Config, N1MMStation
 from moas_gui.net import n1mm
 from moas_gui.net.n1mm import N1MMListener, RadioUpdate, radio_info_packet
 

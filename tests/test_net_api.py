@@ -28,12 +28,12 @@ PUBLIC = {
         "is_allowed", "parse_allow_list", "peer_address",
     ],
     "moas_gui.net.framing": ["MAX_LINE", "Line", "LineSplitter", "LongLine"],
-    "moas_gui.net.commands": [
-        "COMMANDS", "MAX_DEPTH", "Arg", "BadLine", "BadRequest", "Command", "Kind", "Request",
+    "moas_gui.net.requests": [
+        "COMMANDS", "MAX_DEPTH", "Arg", "BadLine", "Command", "InvalidRequest", "Kind", "Request",
         "check_request", "describe", "parse_line", "too_deep",
     ],
     "moas_gui.net.messages": [
-        "EVENTS", "PROTOCOL_VERSION", "SERVER_NAME", "EncodeError", "encode", "event",
+        "EVENTS", "PROTOCOL_VERSION", "SERVER_NAME", "MessageEncodeError", "encode", "event",
         "hello_result", "reply_error", "reply_ok",
     ],
     "moas_gui.net.connection": [
@@ -59,8 +59,8 @@ def test_public_names_are_exactly_these(module: str) -> None:
 
 
 def test_every_command_has_a_handler() -> None:
-    from moas_gui.net.commands import COMMANDS
     from moas_gui.net.dispatch import HANDLERS
+    from moas_gui.net.requests import COMMANDS
 
     assert set(HANDLERS) == set(COMMANDS)
 

@@ -1,4 +1,4 @@
-"""Reading request lines (moas_gui.net.commands): every command, every kind of mistake."""
+"""Reading request lines (moas_gui.net.requests): every command, every kind of mistake."""
 
 from __future__ import annotations
 
@@ -8,11 +8,11 @@ from typing import Any
 import pytest
 
 from moas_gui.net.backend import ErrorCode
-from moas_gui.net.commands import (
+from moas_gui.net.requests import (
     COMMANDS,
     MAX_DEPTH,
     BadLine,
-    BadRequest,
+    InvalidRequest,
     Request,
     describe,
     parse_line,
@@ -20,7 +20,7 @@ from moas_gui.net.commands import (
 )
 
 
-def parse(obj: Any) -> Request | BadRequest | BadLine | None:
+def parse(obj: Any) -> Request | InvalidRequest | BadLine | None:
     return parse_line(json.dumps(obj).encode())
 
 
@@ -30,9 +30,9 @@ def request(obj: Any) -> Request:
     return parsed
 
 
-def refused(obj: Any) -> BadRequest:
+def refused(obj: Any) -> InvalidRequest:
     parsed = parse(obj)
-    assert isinstance(parsed, BadRequest), parsed
+    assert isinstance(parsed, InvalidRequest), parsed
     return parsed
 
 

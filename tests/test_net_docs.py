@@ -13,9 +13,9 @@ import pytest
 
 from moas_gui import __version__
 from moas_gui.net.backend import ErrorCode
-from moas_gui.net.commands import COMMANDS
 from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.messages import EVENTS
+from moas_gui.net.requests import COMMANDS
 from moas_gui.net.server import ClientServer
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "client-protocol.md"

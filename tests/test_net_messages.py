@@ -9,7 +9,7 @@ import pytest
 from moas_gui import __version__
 from moas_gui.net.backend import ErrorCode
 from moas_gui.net.messages import (
-    EncodeError,
+    MessageEncodeError,
     encode,
     event,
     hello_result,
@@ -39,7 +39,7 @@ def test_an_event_puts_its_name_first_and_ignores_an_event_key_in_the_body() -> 
 
 
 def test_only_the_contracts_events_can_be_written() -> None:
-    with pytest.raises(EncodeError, match="'weather' is not an event"):
+    with pytest.raises(MessageEncodeError, match="'weather' is not an event"):
         event("weather", {})
 
 
@@ -57,7 +57,7 @@ def test_a_lone_surrogate_from_a_client_is_escaped_so_the_line_stays_utf8() -> N
 
 @pytest.mark.parametrize("bad", [{1, 2}, float("nan"), object()])
 def test_a_value_that_is_not_json_raises_a_clear_error(bad: object) -> None:
-    with pytest.raises(EncodeError, match="cannot write dict as JSON"):
+    with pytest.raises(MessageEncodeError, match="cannot write dict as JSON"):
         encode({"value": bad})
 
 

@@ -14,7 +14,7 @@ import aiohttp
 import pytest
 import pytest_asyncio
 
-from moas_gui.engine.config import load_config
+from moas_gui.config import load_config
 from moas_gui.net.client import ProtocolClient
 from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.framing import MAX_LINE

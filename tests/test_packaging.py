@@ -54,7 +54,7 @@ def test_the_examples_manual_and_icons_are_installed_with_the_package(tmp_path: 
     assert (built / "moas_gui" / "resources" / "icons" / "application-x-moas.svg").is_file()
     for name in ("index.html", "app.js", "compass.js", "style.css"):  # the browser client
         assert (built / "moas_gui" / "resources" / "web" / name).is_file(), name
-    assert (built / "moas_gui" / "engine" / "config" / "loader.py").is_file()
+    assert (built / "moas_gui" / "config" / "loader.py").is_file()
     assert not (built / "examples").exists(), "no top-level package named examples"
     # Help > Manual opens the manual installed with the package
     manual = built / "moas_gui" / "manual"

@@ -19,8 +19,8 @@ import pytest_asyncio
 from helpers import until
 
 from moas_gui.app import ServerApp, ServerOptions
+from moas_gui.config import load_config
 from moas_gui.engine import Engine, SwitchState
-from moas_gui.engine.config import load_config
 from moas_gui.engine.snapshot import SnapshotError, export_selections, restore_selections
 from moas_gui.engine.switchstate import StationAntennas
 from moas_gui.hw.moas2.link import LinkTiming
@@ -328,7 +328,7 @@ def test_slots_given_out_as_needed_come_back_the_same() -> None:
     up) are part of the state, so the restored switch state is the very same."""
     from engine_builders import antenna, config, radio
 
-    from moas_gui.engine.config.model import Switch
+    from moas_gui.config.model import Switch
 
     antennas = [antenna(i, (20,), {(1, 1): [i % 60], (1, 2): [i % 60]}, fast=(i,))
                 for i in range(80)]

@@ -10,7 +10,7 @@ import pytest
 import pytest_asyncio
 from test_rotators_manager import Recorder
 
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import GeniusModel, GeniusServer, RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.genius_codec import Command
 
@@ -264,13 +264,16 @@ async def test_a_silent_unit_that_does_not_move_leaves_the_turn_unconfirmed_and_
 
 @pytest.mark.asyncio
 async def test_real_rotctl_turns_a_unit_that_never_answers_a_turn() -> None:
-    from test_rotators_rotctld_listener import free_port, rotctl
+    from test_rotators_rotctld_listener import close_all, free_port, manager_rotators, rotctl
+
+    from moas_gui.net.rotctld_server import start_rotctld_servers
 
     server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False)
     await server.start()
     port = free_port()
     recorder = Recorder()
     manager = await running([genius_rotator(server, rotctld_port=port)], recorder)
+    listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
     try:
         await recorder.wait_for(lambda v: v.online)
         code, out = await rotctl(port, "P", "60", "0")
@@ -278,5 +281,6 @@ async def test_real_rotctl_turns_a_unit_that_never_answers_a_turn() -> None:
         await recorder.wait_for(lambda v: v.heading == 60 and not v.moving)
         assert all(v.online for v in recorder.views[1:])
     finally:
+        await close_all(listeners)
         await manager.close()
         await server.close()

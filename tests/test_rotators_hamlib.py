@@ -14,7 +14,7 @@ import pytest_asyncio
 from helpers import free_port
 from test_rotators_manager import Recorder
 
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.hamlib import HamlibRotator
 from moas_gui.hw.rotators.hamlib_codec import Limits, ReplyAssembler, error_text, limits_of

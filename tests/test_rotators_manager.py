@@ -12,7 +12,7 @@ import pytest_asyncio
 from helpers import FakeClock
 
 import moas_gui.hw.rotators as rotators_package
-from moas_gui.engine.config.model import Antenna, Config, Rotator, RotatorControl
+from moas_gui.config.model import Antenna, Config, Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorError, RotatorManager, RotatorView, Timing
 
 FAST = Timing(test_tick=0.05, reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.5,

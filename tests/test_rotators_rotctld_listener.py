@@ -15,7 +15,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from test_rotators_manager import Recorder
 
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorManager, Timing
 from moas_gui.hw.rotators.headings import Travel
 from moas_gui.net.rotctld_codec import (
@@ -26,6 +26,7 @@ from moas_gui.net.rotctld_codec import (
     move_target,
     scale_for,
 )
+from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
 
 FAST = Timing(test_tick=0.05, reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.5,
               connect_timeout=0.5)
@@ -111,6 +112,16 @@ def test_the_offered_scale_starts_at_the_stop_and_always_covers_a_compass() -> N
 
 # ---- the listener on a socket ------------------------------------------------------------
 
+def manager_rotators(manager: RotatorManager) -> list[Rotator]:
+    """The rotators ``manager`` serves, as the server hands them to the listeners."""
+    return [manager.rotator(rotator_id) for rotator_id in manager.drivers]
+
+
+async def close_all(listeners: list[RotctldServer]) -> None:
+    for listener in listeners:
+        await listener.close()
+
+
 def listened_rotator(port: int, **fields: object) -> Rotator:
     base: dict[str, object] = {"id": 6, "short_name": "Stack", "control": RotatorControl.TEST,
                                "ccw_limit": 180, "rotation": 360, "has_stop": True,
@@ -130,7 +141,9 @@ async def served() -> AsyncIterator[tuple[RotatorManager, int, Recorder]]:
         on_change=recorder, timing=FAST,
     )
     await manager.start()
+    listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
     yield manager, port, recorder
+    await close_all(listeners)
     await manager.close()
 
 
@@ -211,6 +224,7 @@ async def test_park_turns_to_the_park_heading_or_says_it_cannot(
          listened_rotator(plain, id=8, short_name="Plain")],
         on_change=recorder, timing=FAST)
     await manager.start()
+    listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
     try:
         assert await exchange(parking, b"+K\n", 2) == ["park:\n", "RPRT 0\n"]
         assert manager.view(6).target == 200
@@ -222,6 +236,7 @@ async def test_park_turns_to_the_park_heading_or_says_it_cannot(
         assert "Can Park:\t\tN\n" in caps and "Can Move:\t\tY\n" in caps
         assert "Can Park:\t\tY\n" in await caps_of(parking)
     finally:
+        await close_all(listeners)
         await manager.close()
 
 
@@ -269,8 +284,9 @@ async def test_a_port_in_use_is_logged_and_the_rest_carries_on(
         port = taken.getsockname()[1]
         manager = RotatorManager([listened_rotator(port)], timing=FAST)
         await manager.start()
+        listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
         try:
-            assert manager.listeners == []
+            assert listeners == []
             assert f"on 127.0.0.1:{port}: cannot listen" in caplog.text
             await manager.rotate(6, 181)
         finally:
@@ -339,6 +355,7 @@ async def test_real_rotctl_parks_moves_and_resets(
     manager = RotatorManager([listened_rotator(port, park_heading=190)], on_change=recorder,
                              timing=FAST)
     await manager.start()
+    listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
     try:
         code, out = await rotctl(port, "1")
         assert "Can Park:\t\tY" in out  # the client's own capabilities: it forwards K, M, R
@@ -349,6 +366,7 @@ async def test_real_rotctl_parks_moves_and_resets(
         assert code == 0, out
         assert manager.view(6).target is None and not manager.view(6).moving
     finally:
+        await close_all(listeners)
         await manager.close()
 
 
@@ -357,7 +375,7 @@ async def test_real_rotctl_parks_moves_and_resets(
 def test_park_heading_is_read_from_the_configuration_and_checked() -> None:
     from test_config_loader import text_of
 
-    from moas_gui.engine.config import parse_config
+    from moas_gui.config import parse_config
 
     rotator = {"ID": 0, "ShortName": "Tower", "Control": "Test", "RotctldPort": 4535}
     loaded = parse_config(text_of(Rotators=[{**rotator, "ParkHeading": 270}]), "t.moas")

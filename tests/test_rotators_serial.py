@@ -12,7 +12,7 @@ import pytest_asyncio
 from helpers import free_port
 from test_rotators_manager import Recorder
 
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import FakeMoasRotator, RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.moas_rotator_codec import Configure, Rotate, Stop, VersionRequest
 from moas_gui.hw.rotators.moas_rotator_process import default_command

@@ -13,7 +13,7 @@ import pytest_asyncio
 from helpers import free_port
 from test_rotators_manager import Recorder
 
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorManager, Timing
 
 pytestmark = pytest.mark.realtime

@@ -17,7 +17,7 @@ import pytest
 import pytest_asyncio
 from helpers import free_port, until
 
-from moas_gui.engine.config import load_config
+from moas_gui.config import load_config
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
 from moas_gui.net.n1mm_packet import radio_info_packet

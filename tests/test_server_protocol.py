@@ -19,7 +19,7 @@ from helpers import free_port, until
 from moas_gui import __version__
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.client.connection import Backoff, ClientConnection
-from moas_gui.engine.config import Config, load_config
+from moas_gui.config import Config, load_config
 from moas_gui.hw.moas2.link import LinkTiming
 from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.status import ServerState

@@ -252,10 +252,10 @@ def test_a_start_that_fails_half_way_shows_no_configuration(
         assert app is not None and app.client_address is not None
         port = app.client_address[1]
 
-        async def broken(run: Any) -> None:
+        async def broken(*_: Any) -> None:
             raise RuntimeError("the N1MM listener broke")
 
-        monkeypatch.setattr(app, "_start_n1mm", broken)
+        monkeypatch.setattr("moas_gui.app.start_n1mm", broken)
         harness.answers.append(True)
         window.open_file(str(EXAMPLES / "2x6.moas"))
         await window.idle()

@@ -66,8 +66,8 @@ def _positive(text: str) -> int:
 
 def check(path: str) -> int:
     """Print the problems of ``path`` (or its summary); 0 when it is usable."""
-    from moas_gui.engine.config import load_config
-    from moas_gui.engine.config.summary import summarize
+    from moas_gui.config import load_config
+    from moas_gui.config.summary import summarize
 
     result = load_config(path)
     for problem in result.problems:
@@ -143,7 +143,7 @@ def launch_request(args: argparse.Namespace) -> dict[str, object]:
 def _usable(path: str) -> bool:
     """Whether ``path`` loads; when not, every problem goes to stderr (the running
     server is not disturbed)."""
-    from moas_gui.engine.config import load_config
+    from moas_gui.config import load_config
 
     result = load_config(path)
     if result.config is not None:

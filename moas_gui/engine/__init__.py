@@ -6,8 +6,9 @@ changed, the complete wanted :class:`SwitchState` of each switch that changed,
 and sentences for the operator.  See ``docs/engine.md`` for every rule.
 """
 
+from moas_gui.config.model import RadioRef
+
 from .changes import NO_CHANGES, Changes
-from .config.model import RadioRef
 from .engine import Engine
 from .errors import BadRequest, EngineError, NotFound, NotRunning, Unavailable
 from .switchstate import NO_ANTENNA, StationAntennas, SwitchState

@@ -11,7 +11,8 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .switchstate import SwitchState
 
 _EMPTY: Mapping[int, SwitchState] = MappingProxyType({})

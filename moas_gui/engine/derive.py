@@ -28,7 +28,8 @@ disagreeing triggers all get "none").
 
 from __future__ import annotations
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .index import ConfigIndex, Kind
 from .ranges import describe_khz
 from .rules import permitted, related, unusable
@@ -121,15 +122,15 @@ def alternates(ix: ConfigIndex, st: State
                 others.extend((t, manual) for t in sorted(allowed) if t in ix.radios
                               and not related(ix, ref, t))
         if safety:
-            wants = {w for _, w in safety}
+            wants = {want for _, want in safety}
             alt = wants.pop() if len(wants) == 1 else None
         elif others:
             alt = others[0][1]
         else:
             out[ref] = (manual, frozenset())
             continue
-        triggers = {t for t, w in safety}
-        triggers |= {t for t, w in others if w == alt and t not in triggers}
+        triggers = {t for t, _want in safety}
+        triggers |= {t for t, want in others if want == alt and t not in triggers}
         out[ref] = (alt, frozenset(triggers))
     return out
 

@@ -15,8 +15,9 @@ import math
 from collections.abc import Callable
 from types import MappingProxyType
 
+from moas_gui.config.model import Config, RadioRef
+
 from .changes import NO_CHANGES, Changes
-from .config.model import Config, RadioRef
 from .derive import alternates, inhibit_reason
 from .errors import BadRequest, NotFound, NotRunning
 from .functions import extra_relays, function, is_on, refresh_relays, run, status
@@ -25,7 +26,7 @@ from .index import ConfigIndex, Kind
 from .layouts import layout_view
 from .manual import select_antenna, select_direction
 from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, slot_needs
-from .ranges import nearest_path
+from .ranges import nearest_range_relays
 from .relative import relative as relative_select
 from .relative import relative_list
 from .selection import recheck, select_by_frequency
@@ -59,7 +60,8 @@ class Engine:
                     st.partners[ref] = other
                     st.partners[other] = ref
         self._state = st
-        self._maps: dict[int, SlotMap] = {w: initial_map(self._classes, w) for w in ix.switch_ids}
+        self._maps: dict[int, SlotMap] = {switch_id: initial_map(self._classes, switch_id)
+                                              for switch_id in ix.switch_ids}
         self._switch_states: dict[int, SwitchState] = {}
         self._owners: dict[int, dict[int, RadioRef | None]] = {}
         self._views: dict[RadioRef, RadioView] = {}
@@ -395,7 +397,7 @@ class Engine:
                     break
         alt = inputs.alts.get(ref, (None, frozenset()))[0] if main else None
         listed = relative_list(ix, ref, rs.khz)
-        path = nearest_path(info.paths.get(rs.rx, ()), rs.khz) \
+        path = nearest_range_relays(info.paths.get(rs.rx, ()), rs.khz) \
             if rs.rx is not None and ix.radio_rx_inputs else None
         view = RadioView(ref.station, ref.radio, rs.khz, rs.tx_freq if main else None,
                          rs.tx, rs.rx, alt, rs.transmitting, inhibited, note,

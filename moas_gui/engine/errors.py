@@ -14,8 +14,10 @@ operation raises, the engine's state is exactly what it was before the call.
 
 from __future__ import annotations
 
+from moas_gui.errors import RequestRefused
 
-class EngineError(Exception):
+
+class EngineError(RequestRefused):
     """A request the engine refused; ``code`` is the client protocol's error code."""
 
     code = "internal"

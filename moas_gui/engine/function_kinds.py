@@ -14,7 +14,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 
-from .config.model import FUNCTION_NAMES, Function, RadioRef
+from moas_gui.config.model import FUNCTION_NAMES, Function, RadioRef
+
 from .errors import Unavailable
 from .index import ConfigIndex, Kind
 from .rules import interlocked, unusable

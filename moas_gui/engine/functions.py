@@ -20,7 +20,8 @@ the listed radios in and out of the set that switches the radio to its alternate
 
 from __future__ import annotations
 
-from .config.model import Function, RadioRef
+from moas_gui.config.model import Function, RadioRef
+
 from .errors import NotFound, Unavailable
 from .function_kinds import KINDS, OK, Status, relay_condition, swap_status
 from .index import ConfigIndex

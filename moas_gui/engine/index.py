@@ -22,12 +22,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import Enum
 
-from .config.model import Antenna, Config, Function, Radio, RadioRef, StationRelays, Switch
-from .ranges import INF, Path, Segment, bound, merge_segments, path_at
-from .systems import Link, SystemIndex, build_system_index
+from moas_gui.config.model import Antenna, Config, Function, Radio, RadioRef, StationRelays, Switch
 
-SWITCH_RELAYS = 64
-"""Relays per switch: switch N owns (N-1)*100 .. (N-1)*100+63."""
+from .ranges import INF, RangeRelays, Segment, bound, merge_segments, range_relays_at
+from .systems import Link, SystemIndex, build_system_index
 
 
 class Kind(str, Enum):
@@ -37,7 +35,7 @@ class Kind(str, Enum):
 
 
 @dataclass(frozen=True, slots=True)
-class RadioInfo:
+class IndexedRadio:
     ref: RadioRef
     kind: Kind
     radio: Radio
@@ -47,7 +45,7 @@ class RadioInfo:
     alt: RadioRef | None
     ports: tuple[tuple[int, int], ...]
     """(switch id, port 1-6) pairs of this radio's own T/R and inhibit lines."""
-    paths: Mapping[int, tuple[Path, ...]]
+    paths: Mapping[int, tuple[RangeRelays, ...]]
     segments: Mapping[int, tuple[Segment, ...]]
     bands: tuple[Segment, ...]
     """Every segment of every usable antenna, narrowest first."""
@@ -67,7 +65,7 @@ class RadioInfo:
             key = (i, i < len(self.points) and self.points[i] == khz)
         found = self._covering.get(key)
         if found is None:
-            found = tuple(a for a in self.antennas if path_at(self.paths[a], khz) is not None)
+            found = tuple(a for a in self.antennas if range_relays_at(self.paths[a], khz) is not None)
             self._covering[key] = found
         return found
 
@@ -75,11 +73,11 @@ class RadioInfo:
     def receive_only(self) -> bool:
         return self.kind is not Kind.MAIN
 
-    def path(self, antenna: int, khz: float | None) -> Path | None:
-        return path_at(self.paths.get(antenna, ()), khz)
+    def path(self, antenna: int, khz: float | None) -> RangeRelays | None:
+        return range_relays_at(self.paths.get(antenna, ()), khz)
 
     def covers(self, antenna: int, khz: float | None) -> bool:
-        return path_at(self.paths.get(antenna, ()), khz) is not None
+        return range_relays_at(self.paths.get(antenna, ()), khz) is not None
 
     def band(self, khz: float | None) -> Segment | None:
         if khz is None:
@@ -114,10 +112,6 @@ class RadioInfo:
         return best
 
 
-def switch_of_relay(relay: int) -> int:
-    return relay // 100 + 1
-
-
 def _most_specific(entries: tuple[StationRelays, ...], station: int, radio: int,
                    exact_radio: bool = False) -> StationRelays | None:
     best: StationRelays | None = None
@@ -134,8 +128,8 @@ def _most_specific(entries: tuple[StationRelays, ...], station: int, radio: int,
 
 
 def _paths_for(antenna: Antenna, station: int, radio: int, fallback_radio: int | None
-               ) -> tuple[Path, ...]:
-    out: list[Path] = []
+               ) -> tuple[RangeRelays, ...]:
+    out: list[RangeRelays] = []
     for cr in antenna.control:
         entry = None
         if fallback_radio is not None:
@@ -147,7 +141,7 @@ def _paths_for(antenna: Antenna, station: int, radio: int, fallback_radio: int |
         if entry is None:
             continue
         relays = frozenset(entry.relays)
-        out.append(Path(
+        out.append(RangeRelays(
             bound(cr.range.lower, -INF), bound(cr.range.upper, INF), relays,
             frozenset(entry.rx_relays) if entry.rx_relays is not None else relays,
             frozenset(entry.persistent_relays), entry.radio_rx_antenna,
@@ -263,7 +257,7 @@ class ConfigIndex:
                 subs[RadioRef(r.station, r.sub_receiver)] = r.ref
             if r.alt_receiver is not None and r.alt_receiver != r.radio:
                 alts[RadioRef(r.station, r.alt_receiver)] = r.ref
-        infos: dict[RadioRef, RadioInfo] = {}
+        infos: dict[RadioRef, IndexedRadio] = {}
         mains = [r for r in config.radios if r.ref not in subs and r.ref not in alts]
         for r in mains:
             sub = (RadioRef(r.station, r.sub_receiver)
@@ -279,7 +273,7 @@ class ConfigIndex:
             if main in infos and ref not in infos:
                 radio = configured.get(ref, Radio(ref.station, ref.radio))
                 infos[ref] = self._radio_info(radio, Kind.ALT, main, None, None, single)
-        self.radios: dict[RadioRef, RadioInfo] = infos
+        self.radios: dict[RadioRef, IndexedRadio] = infos
         self.mains: tuple[RadioRef, ...] = tuple(sorted(r for r in infos
                                                         if infos[r].kind is Kind.MAIN))
         self.order: tuple[RadioRef, ...] = (
@@ -291,12 +285,12 @@ class ConfigIndex:
             for sp in infos[ref].ports:
                 self.port_radio.setdefault(sp, ref)
         self.switch_radios: dict[int, tuple[RadioRef, ...]] = {
-            w: tuple(ref for ref in self.order if any(p[0] == w for p in infos[ref].ports))
-            for w in self.switch_ids
+            switch_id: tuple(ref for ref in self.order if any(p[0] == switch_id for p in infos[ref].ports))
+            for switch_id in self.switch_ids
         }
         self.switch_ports: dict[tuple[RadioRef, int], tuple[int, ...]] = {
-            (ref, w): tuple(p for sw, p in infos[ref].ports if sw == w)
-            for w in self.switch_ids for ref in self.switch_radios[w]
+            (ref, switch_id): tuple(p for sw, p in infos[ref].ports if sw == switch_id)
+            for switch_id in self.switch_ids for ref in self.switch_radios[switch_id]
         }
         self.all_switches = frozenset(self.switch_ids)
         self.any_shared_tx = any(a.shared_tx for a in self.antennas.values())
@@ -305,31 +299,31 @@ class ConfigIndex:
                                    for paths in info.paths.values() for p in paths)
         """Whether any antenna is wired to a radio's RX-antenna input (6.4)."""
         self.radio_switches: dict[RadioRef, frozenset[int]] = {
-            ref: frozenset(w for w, _p in infos[ref].ports) for ref in self.order
+            ref: frozenset(switch_id for switch_id, _p in infos[ref].ports) for ref in self.order
         }
         self.interrupt: dict[int, tuple[frozenset[int], int]] = {}
-        for w in self.switch_ids:
+        for switch_id in self.switch_ids:
             ports: set[int] = set()
-            delay = self.switches[w].interrupt_mode_delay
-            for ref in self.switch_radios[w]:
+            delay = self.switches[switch_id].interrupt_mode_delay
+            for ref in self.switch_radios[switch_id]:
                 info = infos[ref]
                 if info.kind is Kind.MAIN and info.radio.interrupt:
-                    ports.update(self.switch_ports[(ref, w)])
+                    ports.update(self.switch_ports[(ref, switch_id)])
                     if info.radio.interrupt_mode_delay is not None:
                         delay = max(delay, info.radio.interrupt_mode_delay)
-            self.interrupt[w] = (frozenset(ports), delay)
+            self.interrupt[switch_id] = (frozenset(ports), delay)
 
     def _radio_info(self, radio: Radio, kind: Kind, main: RadioRef | None,
                     sub: RadioRef | None, alt: RadioRef | None, single: int | None
-                    ) -> RadioInfo:
+                    ) -> IndexedRadio:
         ports: list[tuple[int, int]] = []
         if kind is not Kind.ALT:
             for sp in radio.switches:
-                w = sp.switch or single
-                if w is not None and w in self.switches and 1 <= sp.port <= 6:
-                    ports.append((w, sp.port))
+                switch_id = sp.switch or single
+                if switch_id is not None and switch_id in self.switches and 1 <= sp.port <= 6:
+                    ports.append((switch_id, sp.port))
         fallback = main.radio if kind is Kind.ALT and main is not None else None
-        paths: dict[int, tuple[Path, ...]] = {}
+        paths: dict[int, tuple[RangeRelays, ...]] = {}
         segments: dict[int, tuple[Segment, ...]] = {}
         for a in self.ids:
             p = _paths_for(self.antennas[a], radio.station, radio.radio, fallback)
@@ -339,11 +333,11 @@ class ConfigIndex:
         bands = sorted({s for segs in segments.values() for s in segs},
                        key=lambda s: (s[1] - s[0], s[0]))
         points = sorted({v for ps in paths.values() for p in ps for v in (p.lower, p.upper)})
-        return RadioInfo(radio.ref, kind, radio, main, sub, alt, tuple(ports), paths, segments,
+        return IndexedRadio(radio.ref, kind, radio, main, sub, alt, tuple(ports), paths, segments,
                          tuple(bands), tuple(sorted(paths)), tuple(points))
 
-    def radio_info(self, ref: RadioRef) -> RadioInfo | None:
+    def radio_info(self, ref: RadioRef) -> IndexedRadio | None:
         return self.radios.get(ref)
 
 
-__all__ = ["SWITCH_RELAYS", "ConfigIndex", "Kind", "RadioInfo", "switch_of_relay"]
+__all__ = ["ConfigIndex", "IndexedRadio", "Kind"]

@@ -16,7 +16,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from .config.model import ButtonType, Layout, RadioRef
+from moas_gui.config.model import ButtonType, Layout, RadioRef
+
 from .index import ConfigIndex
 from .views import AVAILABLE, SELECTED, UNAVAILABLE, ButtonView, LayoutView
 

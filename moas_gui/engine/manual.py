@@ -14,7 +14,8 @@ for every user.
 
 from __future__ import annotations
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .errors import BadRequest, NotFound, Unavailable
 from .index import Kind
 from .rules import plan, shared_member, shared_users, unusable

@@ -19,10 +19,12 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+from moas_gui.config.relays import local_relay, local_relays, relay_exists, switch_of_relay
+
 from .functions import relay_contributions
-from .index import ConfigIndex, Kind, switch_of_relay
-from .ranges import Path, nearest_path, path_at
+from .index import ConfigIndex, Kind
+from .ranges import RangeRelays, nearest_range_relays, range_relays_at
 from .rules import permitted, related
 from .slots import SlotClasses, SlotKey, SlotMap
 from .state import State
@@ -42,8 +44,8 @@ class PortAntennas:
     extra: frozenset[int]
 
 
-def _path(paths: tuple[Path, ...], khz: float | None) -> Path | None:
-    return path_at(paths, khz) or nearest_path(paths, khz)
+def _path(paths: tuple[RangeRelays, ...], khz: float | None) -> RangeRelays | None:
+    return range_relays_at(paths, khz) or nearest_range_relays(paths, khz)
 
 
 def _group(ix: ConfigIndex, antenna: int) -> object:
@@ -59,7 +61,7 @@ def radio_relays(ix: ConfigIndex, st: State, ref: RadioRef,
     tx_path = rx_path = None
     if rs.tx is not None:
         paths = info.paths.get(rs.tx, ())
-        tx_path = path_at(paths, rs.tx_freq) or _path(paths, rs.khz)
+        tx_path = range_relays_at(paths, rs.tx_freq) or _path(paths, rs.khz)
     if rs.rx is not None:
         rx_path = _path(info.paths.get(rs.rx, ()), rs.khz)
     tx_relays = tx_path.relays if tx_path else frozenset()
@@ -97,11 +99,6 @@ def radio_relays(ix: ConfigIndex, st: State, ref: RadioRef,
                         extras.get(ref, frozenset()))
 
 
-def _local(relays: frozenset[int], switch: int) -> frozenset[int]:
-    base = (switch - 1) * 100
-    return frozenset(r - base for r in relays if base <= r <= base + 63)
-
-
 @dataclass(slots=True)
 class Built:
     states: dict[int, SwitchState]
@@ -111,13 +108,13 @@ class Built:
 
 def slot_needs(ix: ConfigIndex, classes: SlotClasses, ports: Mapping[RadioRef, PortAntennas]
                ) -> dict[int, set[SlotKey]]:
-    needed: dict[int, set[SlotKey]] = {w: set() for w in ix.switch_ids}
+    needed: dict[int, set[SlotKey]] = {switch_id: set() for switch_id in ix.switch_ids}
     for ref, pa in ports.items():
         info = ix.radios[ref]
-        for w, _port in info.ports:
+        for switch_id, _port in info.ports:
             for a in (pa.tx, pa.rx, pa.alt):
                 if a is not None:
-                    needed[w].add(classes.key(a, ref))
+                    needed[switch_id].add(classes.key(a, ref))
     return needed
 
 
@@ -130,7 +127,7 @@ def _local_cached(relays: frozenset[int], switch: int) -> frozenset[int]:
     if found is None:
         if len(_LOCAL) > 65536:
             _LOCAL.clear()
-        found = _LOCAL[key] = _local(relays, switch)
+        found = _LOCAL[key] = local_relays(relays, switch)
     return found
 
 
@@ -162,13 +159,13 @@ def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, S
     transmitting = inputs.transmitting
     inhibited = {ref for ref, why in inputs.reasons.items() if why
                  and (ref in transmitting or not ix.radios[ref].radio.inhibit_only_on_transmit)}
-    contributions: dict[int, dict[int, RadioRef | None]] = {w: {} for w in ix.switch_ids}
+    contributions: dict[int, dict[int, RadioRef | None]] = {switch_id: {} for switch_id in ix.switch_ids}
 
     def add0(relays: frozenset[int], owner: RadioRef | None) -> None:
         for r in relays:
-            w = switch_of_relay(r)
-            if w in contributions and r - (w - 1) * 100 <= 63:
-                contributions[w].setdefault(r - (w - 1) * 100, owner)
+            switch_id = switch_of_relay(r)
+            if switch_id in contributions and relay_exists(r):
+                contributions[switch_id].setdefault(local_relay(r), owner)
 
     add0(st.latched, None)
     for relay, owner in relay_contributions(ix, st):
@@ -183,34 +180,34 @@ def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, S
     if len(cache) > 4096:
         cache.clear()
     states: dict[int, SwitchState] = {}
-    for w in ix.switch_ids:
-        sw = ix.switches[w]
-        m = maps[w]
-        prev = previous.get(w)
+    for switch_id in ix.switch_ids:
+        sw = ix.switches[switch_id]
+        m = maps[switch_id]
+        prev = previous.get(switch_id)
         stations = [_IDLE] * 6
         inh: set[int] = set()
         port_of: dict[RadioRef, list[int]] = {}
-        for ref in ix.switch_radios[w]:
+        for ref in ix.switch_radios[switch_id]:
             found = ports.get(ref)
             if found is None:
                 continue
             pa = found
-            for port in ix.switch_ports[(ref, w)]:
+            for port in ix.switch_ports[(ref, switch_id)]:
                 port_of.setdefault(ref, []).append(port)
                 if ref in transmitting and prev is not None:
                     extra = prev.station(port).extra
                 else:
-                    extra = _local_cached(pa.extra, w)
-                key = (w, ref, pa, extra, id(m.key_slot))
+                    extra = _local_cached(pa.extra, switch_id)
+                key = (switch_id, ref, pa, extra, id(m.key_slot))
                 station = cache.get(key)
                 if station is None:
                     station = cache[key] = StationAntennas(
                         m.slot(classes.key(pa.tx, ref)) if pa.tx is not None else NO_ANTENNA,
-                        _local_cached(pa.tx_relays, w) if pa.tx is not None else frozenset(),
+                        _local_cached(pa.tx_relays, switch_id) if pa.tx is not None else frozenset(),
                         m.slot(classes.key(pa.rx, ref)) if pa.rx is not None else NO_ANTENNA,
-                        _local_cached(pa.rx_relays, w) if pa.rx is not None else frozenset(),
+                        _local_cached(pa.rx_relays, switch_id) if pa.rx is not None else frozenset(),
                         m.slot(classes.key(pa.alt, ref)) if pa.alt is not None else NO_ANTENNA,
-                        _local_cached(pa.alt_relays, w) if pa.alt is not None else frozenset(),
+                        _local_cached(pa.alt_relays, switch_id) if pa.alt is not None else frozenset(),
                         extra,
                     )
                 stations[port - 1] = station
@@ -228,10 +225,10 @@ def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, S
                     use_alt[tp - 1].update(p for p in r_ports if p != tp)
         waived = (_waivers(ix, st, classes, m, ports, port_of) if classes.any_owned
                   else frozenset())
-        owners = _station0(contributions[w], previous_owner.get(w, {}),
+        owners = _station0(contributions[switch_id], previous_owner.get(switch_id, {}),
                            prev.station0 if prev else frozenset(), transmitting)
-        interrupt, delay = ix.interrupt[w]
-        states[w] = SwitchState(
+        interrupt, delay = ix.interrupt[switch_id]
+        states[switch_id] = SwitchState(
             stations=tuple(stations),
             station0=frozenset(owners),
             conflicts=m.conflicts - waived if waived else m.conflicts,
@@ -246,9 +243,9 @@ def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, S
             interrupt_delay=delay,
             active=st.running,
         )
-        if prev is not None and prev == states[w]:
-            states[w] = prev
-        contributions[w] = owners
+        if prev is not None and prev == states[switch_id]:
+            states[switch_id] = prev
+        contributions[switch_id] = owners
     return Built(states, contributions)
 
 

@@ -24,7 +24,7 @@ ALL_SPECTRUM: Segment = (-INF, INF)
 
 
 @dataclass(frozen=True, slots=True)
-class Path:
+class RangeRelays:
     """The relays that connect one radio to one antenna within one range (global numbers)."""
 
     lower: float
@@ -50,8 +50,8 @@ class Path:
         return 0.0
 
 
-def path_at(paths: Sequence[Path], khz: float | None) -> Path | None:
-    """The path whose range holds ``khz``; with no frequency, an unbounded path."""
+def range_relays_at(paths: Sequence[RangeRelays], khz: float | None) -> RangeRelays | None:
+    """The range relays whose range holds ``khz``; with no frequency, an unbounded one."""
     if khz is None:
         for p in paths:
             if p.unbounded:
@@ -63,9 +63,9 @@ def path_at(paths: Sequence[Path], khz: float | None) -> Path | None:
     return None
 
 
-def nearest_path(paths: Sequence[Path], khz: float | None) -> Path | None:
-    """The path holding ``khz``, else the one whose range is closest to it."""
-    found = path_at(paths, khz)
+def nearest_range_relays(paths: Sequence[RangeRelays], khz: float | None) -> RangeRelays | None:
+    """The range relays holding ``khz``, else those whose range is closest to it."""
+    found = range_relays_at(paths, khz)
     if found is not None or not paths:
         return found
     if khz is None:
@@ -73,7 +73,7 @@ def nearest_path(paths: Sequence[Path], khz: float | None) -> Path | None:
     return min(paths, key=lambda p: p.distance(khz))
 
 
-def distance(paths: Sequence[Path], khz: float) -> float:
+def distance(paths: Sequence[RangeRelays], khz: float) -> float:
     return min((p.distance(khz) for p in paths), default=INF)
 
 
@@ -111,6 +111,6 @@ def describe_khz(khz: float | None) -> str:
     return f"{khz:g} kHz"
 
 
-__all__ = ["ALL_SPECTRUM", "CONTIGUOUS_GAP_KHZ", "INF", "Path", "Segment", "bound",
-           "describe_khz", "distance", "in_segment", "merge_segments", "nearest_path",
-           "path_at", "segment_at"]
+__all__ = ["ALL_SPECTRUM", "CONTIGUOUS_GAP_KHZ", "INF", "RangeRelays", "Segment", "bound",
+           "describe_khz", "distance", "in_segment", "merge_segments", "nearest_range_relays",
+           "range_relays_at", "segment_at"]

@@ -13,7 +13,8 @@ beginning.  A transmit antenna not in the list leaves the position alone.
 
 from __future__ import annotations
 
-from .config.model import RadioRef, RelativeRange
+from moas_gui.config.model import RadioRef, RelativeRange
+
 from .errors import BadRequest, NotFound, Unavailable
 from .index import ConfigIndex
 from .ranges import describe_khz

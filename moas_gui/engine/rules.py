@@ -21,8 +21,9 @@ from __future__ import annotations
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
-from .config.model import RadioRef
-from .index import ConfigIndex, Kind, RadioInfo
+from moas_gui.config.model import RadioRef
+
+from .index import ConfigIndex, IndexedRadio, Kind
 from .ranges import describe_khz, in_segment
 from .state import RadioState, State
 from .systems import Link
@@ -155,7 +156,7 @@ def unpermitted(ix: ConfigIndex, st: State) -> list[tuple[RadioRef, RadioRef, in
 
 # -- usability --------------------------------------------------------------------------------
 
-def unusable(ix: ConfigIndex, st: State, info: RadioInfo, antenna: int, khz: float | None,
+def unusable(ix: ConfigIndex, st: State, info: IndexedRadio, antenna: int, khz: float | None,
              role: str, nearest: bool = False) -> str | None:
     """Why ``info``'s radio cannot use ``antenna`` for ``role`` at ``khz`` (None when it can).
 
@@ -181,14 +182,14 @@ def unusable(ix: ConfigIndex, st: State, info: RadioInfo, antenna: int, khz: flo
     return None
 
 
-def suits(ix: ConfigIndex, rs: RadioState, info: RadioInfo, antenna: int | None) -> bool:
+def suits(ix: ConfigIndex, rs: RadioState, info: IndexedRadio, antenna: int | None) -> bool:
     return antenna is not None and info.covers(antenna, rs.khz)
 
 
 # -- planning a use ---------------------------------------------------------------------------
 
 @dataclass(slots=True)
-class Plan:
+class UsePlan:
     """How ``antenna`` can be given to a radio: other radios moved or taken from."""
 
     antenna: int
@@ -202,13 +203,13 @@ def _blocks(ix: ConfigIndex, st: State, ref: RadioRef, x: int, other: RadioRef, 
 
 def plan(ix: ConfigIndex, st: State, ref: RadioRef, antenna: int, *,
          also: Sequence[int] = (), takeover: bool = True,
-         repath: bool = True) -> tuple[Plan | None, str]:
+         repath: bool = True) -> tuple[UsePlan | None, str]:
     """Whether ``ref`` can hold ``antenna`` (plus ``also``, its other role) without conflict.
 
     Returns the plan, or None and a sentence naming the radio in the way.  With
     ``repath`` False no other radio is moved to another path.
     """
-    result = Plan(antenna)
+    result = UsePlan(antenna)
     mine = (antenna, *also)
     held = list(users(ix, st, ref))
     blocked: dict[RadioRef, list[tuple[str, int]]] = {}
@@ -236,7 +237,7 @@ def plan(ix: ConfigIndex, st: State, ref: RadioRef, antenna: int, *,
 
 
 def _repath(ix: ConfigIndex, st: State, ref: RadioRef, mine: Sequence[int], other: RadioRef,
-            role: str, y: int, held: list[tuple[RadioRef, str, int]], result: Plan) -> int | None:
+            role: str, y: int, held: list[tuple[RadioRef, str, int]], result: UsePlan) -> int | None:
     ors = st.radios[other]
     oinfo = ix.radios[other]
     both = ors.tx == ors.rx
@@ -264,7 +265,7 @@ def _repath(ix: ConfigIndex, st: State, ref: RadioRef, mine: Sequence[int], othe
 
 
 __all__ = [
-    "Plan",
+    "UsePlan",
     "inhibits",
     "interlocked",
     "join_shared",

@@ -27,8 +27,9 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from .config.model import RadioRef
-from .index import Kind, RadioInfo
+from moas_gui.config.model import RadioRef
+
+from .index import IndexedRadio, Kind
 from .ranges import describe_khz, distance, in_segment
 from .rules import join_shared, plan, related, seen_together, unusable
 from .work import Work
@@ -36,7 +37,7 @@ from .work import Work
 SAME_BAND = "already on this band"
 
 
-def _choices(w: Work, info: RadioInfo, antenna: int, role: str) -> list[int]:
+def _choices(w: Work, info: IndexedRadio, antenna: int, role: str) -> list[int]:
     """The paths of ``antenna`` this radio can use for ``role`` now, preferred first."""
     out = []
     st = w.st
@@ -148,7 +149,7 @@ def _keep_current(w: Work, ref: RadioRef, old_khz: float | None) -> bool:
     return True
 
 
-def _rx_only(w: Work, info: RadioInfo, khz: float | None) -> Iterable[int]:
+def _rx_only(w: Work, info: IndexedRadio, khz: float | None) -> Iterable[int]:
     for a in info.covering(khz):
         ant = w.ix.antennas[a]
         if ant.rx_only and not ant.no_select and ant.enabled:

@@ -3,7 +3,8 @@ and putting every radio on it back on a member it may have in the new mode."""
 
 from __future__ import annotations
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .rules import join_shared
 from .selection import place, select_by_frequency
 from .work import Work

@@ -32,7 +32,8 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .errors import Unavailable
 from .index import ConfigIndex, Kind
 from .switchstate import NO_ANTENNA

@@ -20,8 +20,10 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+from moas_gui.config.model import RadioRef
+from moas_gui.errors import MoasError
+
 from .changes import Changes
-from .config.model import RadioRef
 from .engine import Engine
 from .slots import Release, SlotKey, SlotMap, _tables
 from .state import RadioState, State
@@ -31,7 +33,7 @@ FORMAT = 1
 """Bumped whenever the layout below changes; another number is not restored."""
 
 
-class SnapshotError(ValueError):
+class SnapshotError(MoasError, ValueError):
     """A snapshot that does not fit this engine's configuration (the message says where)."""
 
 

@@ -11,7 +11,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .ranges import Segment
 
 

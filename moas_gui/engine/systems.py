@@ -23,7 +23,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from enum import Enum
 
-from .config.model import System
+from moas_gui.config.model import System
 
 
 class Link(str, Enum):

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from .config.model import RadioRef
+from moas_gui.config.model import RadioRef
+
 from .index import ConfigIndex, Kind
-from .rules import Plan
+from .rules import UsePlan
 from .state import State
 
 
@@ -74,7 +75,7 @@ class Work:
             text += f" ({rs.note})"
         return text
 
-    def apply_plan(self, p: Plan) -> None:
+    def apply_plan(self, p: UsePlan) -> None:
         """Move blocking radios to other paths, and take antennas from radios they do not suit."""
         for (other, role), antenna in p.moves.items():
             rs = self.st.radios[other]

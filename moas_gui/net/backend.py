@@ -4,8 +4,10 @@ The server (:mod:`moas_gui.net.server`) never imports the engine.  It asks a
 :class:`ClientBackend` for everything a request needs, and the application
 tells it about changes through the :class:`EventSink` calls the server offers::
 
-      clients --JSON lines-->  ClientServer  --ClientBackend calls-->  the app's adapter --> engine
+      clients --JSON lines-->  ClientServer  --ClientBackend calls-->  EngineBackend --> ServerApp.act
       clients <--JSON lines--  ClientServer  <--EventSink calls-----   the app (after each change)
+
+(``EngineBackend`` is :mod:`moas_gui.engine_backend`, the real server's backend.)
 
 A backend answers with plain JSON-ready values (``dict``, ``list``, ``str``,
 numbers, ``bool``, ``None``) in the shapes of the client protocol
@@ -26,7 +28,7 @@ from collections.abc import Mapping
 from enum import StrEnum
 from typing import Any, Literal, Protocol
 
-from moas_gui.errors import MoasError
+from moas_gui.errors import RequestRefused
 
 JSONObject = dict[str, Any]
 """A JSON object as :func:`json.loads` returns it."""
@@ -52,8 +54,10 @@ class ErrorCode(StrEnum):
     """The server failed; the log says why."""
 
 
-class RequestError(MoasError):
+class RequestError(RequestRefused):
     """A request the backend refuses: ``code`` for programs, ``message`` for people."""
+
+    code: ErrorCode
 
     def __init__(self, code: ErrorCode | str, message: str) -> None:
         try:

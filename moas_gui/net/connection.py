@@ -19,7 +19,7 @@ from typing import Any, Protocol
 
 from .backend import ErrorCode
 from .framing import LineSplitter
-from .messages import EncodeError, reply_error, reply_ok
+from .messages import MessageEncodeError, reply_error, reply_ok
 
 log = logging.getLogger("moas_gui.net")
 
@@ -149,7 +149,7 @@ class Connection:
         ``internal`` error reply and an Error log line."""
         try:
             line = reply_ok(request_id, result)
-        except EncodeError as e:
+        except MessageEncodeError as e:
             log.error("The reply to %s from %s is not JSON: %s", cmd, self, e)
             self.reply_error(request_id, ErrorCode.INTERNAL, f"the server's reply to {cmd} "
                              "could not be written; the server's log says why")
@@ -159,7 +159,7 @@ class Connection:
     def reply_error(self, request_id: Any, code: ErrorCode, message: str) -> None:
         try:
             line = reply_error(request_id, code, message)
-        except EncodeError:  # the id itself cannot be written back
+        except MessageEncodeError:  # the id itself cannot be written back
             line = reply_error(None, code, message)
         self.send(line)
 

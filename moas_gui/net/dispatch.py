@@ -14,10 +14,10 @@ from collections.abc import Callable
 from typing import Any
 
 from .backend import ClientBackend, ErrorCode, RequestError
-from .commands import BadLine, BadRequest, Request, parse_line
 from .connection import Connection, LayoutKey, clean_name
 from .framing import MAX_LINE, Line, LongLine
 from .messages import event, hello_result
+from .requests import BadLine, InvalidRequest, Request, parse_line
 
 log = logging.getLogger("moas_gui.net")
 
@@ -28,7 +28,7 @@ MAX_BAD_LINES = 3
 def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> None:
     """Answers one line."""
     if isinstance(item, LongLine):
-        parsed: Request | BadRequest | BadLine | None = BadLine(
+        parsed: Request | InvalidRequest | BadLine | None = BadLine(
             f"the line is longer than {MAX_LINE:,} bytes"
         )
     else:
@@ -43,7 +43,7 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> N
             conn.close(f"{MAX_BAD_LINES} bad lines in a row")
         return
     conn.bad_lines = 0
-    if isinstance(parsed, BadRequest):
+    if isinstance(parsed, InvalidRequest):
         log.debug("Refused a request from %s: %s", conn, parsed.message)
         conn.reply_error(parsed.id, parsed.code, parsed.message)
         return

@@ -4,7 +4,7 @@ Every function returns one complete line (UTF-8 JSON and ``\\n``).  Text is
 written as UTF-8 where it can be; a string holding a lone surrogate (which a
 client can send as ``"\\ud800"``) is escaped instead, so the line is always
 valid UTF-8.  A value that is not JSON (a set, NaN, an object nested beyond
-what :mod:`json` writes) raises :class:`EncodeError`, which says what could
+what :mod:`json` writes) raises :class:`MessageEncodeError`, which says what could
 not be written.
 """
 
@@ -24,7 +24,7 @@ SERVER_NAME = "moas-gui"
 EVENTS = ("state", "radio", "rotator", "switch", "layout", "log")
 
 
-class EncodeError(ProtocolError):
+class MessageEncodeError(ProtocolError):
     """Something the server was about to send is not JSON."""
 
 
@@ -33,7 +33,7 @@ def encode(message: Mapping[str, Any]) -> bytes:
     try:
         text = json.dumps(message, ensure_ascii=False, allow_nan=False)
     except (TypeError, ValueError, RecursionError) as e:
-        raise EncodeError(f"cannot write {type(message).__name__} as JSON: {e}") from None
+        raise MessageEncodeError(f"cannot write {type(message).__name__} as JSON: {e}") from None
     try:
         return text.encode("utf-8") + b"\n"
     except UnicodeEncodeError:
@@ -57,7 +57,7 @@ def reply_error(request_id: Any, code: ErrorCode, message: str) -> bytes:
 def event(name: str, body: Mapping[str, Any]) -> bytes:
     """An event line: ``{"event": name, ...body}`` (an ``event`` key in ``body`` is ignored)."""
     if name not in EVENTS:
-        raise EncodeError(f"{name!r} is not an event of the client protocol")
+        raise MessageEncodeError(f"{name!r} is not an event of the client protocol")
     message: dict[str, Any] = {"event": name}
     for key, value in body.items():
         if key != "event":
@@ -69,7 +69,7 @@ __all__ = [
     "EVENTS",
     "PROTOCOL_VERSION",
     "SERVER_NAME",
-    "EncodeError",
+    "MessageEncodeError",
     "encode",
     "event",
     "hello_result",

@@ -40,7 +40,7 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Final
 
-from moas_gui.engine.config.model import Config, N1MMStation
+from moas_gui.config.model import Config, N1MMStation
 from moas_gui.net.log_limit import LogLimiter, held_text
 from moas_gui.net.n1mm_packet import (
     REASONS,

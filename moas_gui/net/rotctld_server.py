@@ -31,7 +31,7 @@ import logging
 from collections.abc import Awaitable, Iterable
 from typing import Protocol
 
-from moas_gui.engine.config.model import Rotator
+from moas_gui.config.model import Rotator
 from moas_gui.hw.rotators.base import RotatorError, RotatorView, describe
 from moas_gui.hw.rotators.headings import Travel, normalize
 

@@ -8,7 +8,7 @@
     await server.close()
 
 Each connection is read line by line (:mod:`.framing`), and each line is
-answered exactly once, in order (:mod:`.dispatch`, :mod:`.commands`); the
+answered exactly once, in order (:mod:`.dispatch`, :mod:`.requests`); the
 backend (:mod:`.backend`) does the work.  Events are written to every greeted client
 the moment they are published (:mod:`.connection` explains why a client that
 stops reading cannot hold anyone up).  Peers outside the allowed networks
@@ -53,7 +53,7 @@ from .fd_limit import fitting_client_limit
 from .log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
-from .messages import EncodeError, event, reply_error
+from .messages import MessageEncodeError, event, reply_error
 
 log = logging.getLogger("moas_gui.net")
 
@@ -256,7 +256,7 @@ class ClientServer:
             return
         try:
             line = event("log", {"level": level, "message": str(message)})
-        except EncodeError:
+        except MessageEncodeError:
             log.exception("Could not write a log event for clients")
             return
         for conn in tuple(self._connections):
@@ -274,7 +274,7 @@ class ClientServer:
             return
         try:
             line = event(name, entry)
-        except EncodeError:
+        except MessageEncodeError:
             log.exception("Could not write a %s event for clients", name)
             return
         self._broadcast(line)

@@ -24,6 +24,7 @@ from typing import Protocol, TypeVar
 
 import serial  # type: ignore[import-untyped]
 
+from moas_gui.errors import HardwareError
 from moas_gui.hw.rotators.controllers.base import SerialSettings
 
 log = logging.getLogger(__name__)
@@ -34,7 +35,7 @@ WRITE_TIMEOUT = 0.5
 """Seconds a write may take before the port counts as failed."""
 
 
-class PortError(Exception):
+class PortError(HardwareError):
     """A serial port could not be opened, read or written."""
 
 

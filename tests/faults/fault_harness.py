@@ -26,8 +26,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from moas_gui.config import load_config
 from moas_gui.engine import Engine
-from moas_gui.engine.config import load_config
 from moas_gui.engine.snapshot import restore_selections
 from moas_gui.hw.moas2.commands import encode, split
 from moas_gui.hw.moas2.emulator.box import EmulatedBox

@@ -11,6 +11,8 @@ firmware, and the switch link that drives one box for the server.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from .commands import MAX_COMMAND, MAX_PAIRS, MAX_RELAYS, encode, encode_all, parse_command, split
 from .decoder import SwitchDecoder
 from .errors import (
@@ -21,22 +23,36 @@ from .errors import (
     PortError,
     RelayListTooLong,
 )
-from .link import EMULATOR_PORT, LinkStatus, LinkTiming, SwitchLink
 from .replies import encode_reply, parse_reply
-from .sync import Plan, count_bytes, difference, initialise
+from .sync import CommandPlan, count_bytes, difference, initialise
+
+if TYPE_CHECKING:
+    from .link import EMULATOR_PORT, LinkStatus, LinkTiming, SwitchLink
+
+_FROM_LINK = frozenset({"EMULATOR_PORT", "LinkStatus", "LinkTiming", "SwitchLink"})
+"""Names of :mod:`.link`, imported when first asked for: the codec alone loads
+neither asyncio nor pyserial."""
+
+
+def __getattr__(name: str) -> object:
+    if name in _FROM_LINK:
+        from . import link
+
+        return getattr(link, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = [
     "EMULATOR_PORT",
     "MAX_COMMAND",
     "MAX_PAIRS",
     "MAX_RELAYS",
+    "CommandPlan",
     "CommandRejected",
     "CommandTooLong",
     "EncodeError",
     "LinkStatus",
     "LinkTiming",
     "Moas2Error",
-    "Plan",
     "PortError",
     "RelayListTooLong",
     "SwitchDecoder",

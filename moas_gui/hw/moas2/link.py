@@ -80,7 +80,7 @@ from .messages import (
 )
 from .questions import Answer, Questions
 from .replies import encode_reply
-from .sync import DEFAULT_EVENTS, Plan, difference, differs, initialise, stopped
+from .sync import DEFAULT_EVENTS, CommandPlan, difference, differs, initialise, stopped
 from .transport import EmulatorTransport, SerialTransport, Transport
 
 log = logging.getLogger("moas_gui.hw.moas2.link")
@@ -443,7 +443,7 @@ class SwitchLink:
 
     # ------------------------------------------------------------------ writing
 
-    def _send(self, plan: Plan) -> int:
+    def _send(self, plan: CommandPlan) -> int:
         if not self._confirmed:  # never reached: every caller waits for ``ready``
             log.error("%s: not sending to a box whose unit id is not confirmed", self.where)
             return 0

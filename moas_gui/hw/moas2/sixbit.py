@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+from moas_gui.errors import ProtocolError
+
 ALPHABET = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz{}"
 """Character ``n`` of this string is the sixbit code for ``n``."""
 
@@ -22,7 +24,7 @@ RELAY_CHARS = 11
 """Characters in a relay-status bitmap (66 bits for 64 relays)."""
 
 
-class SixbitError(ValueError):
+class SixbitError(ProtocolError, ValueError):
     """A character or number that sixbit cannot represent."""
 
 

@@ -73,7 +73,7 @@ _EVERY_PAIR = frozenset((a, b) for a in range(64) for b in range(a, 64))
 
 
 @dataclass(frozen=True, slots=True)
-class Plan:
+class CommandPlan:
     """Commands to send, and what could not be sent as asked."""
 
     commands: tuple[Command, ...] = ()
@@ -89,8 +89,8 @@ class _Planner:
         self.commands: list[Command] = []
         self.problems: list[str] = []
 
-    def plan(self) -> Plan:
-        return Plan(tuple(self.commands), tuple(self.problems))
+    def plan(self) -> CommandPlan:
+        return CommandPlan(tuple(self.commands), tuple(self.problems))
 
     # ---------------------------------------------------------------- values
 
@@ -284,7 +284,7 @@ class _Planner:
         return 63
 
 
-def initialise(state: SwitchState, *, events: tuple[StateOp, ...] = DEFAULT_EVENTS) -> Plan:
+def initialise(state: SwitchState, *, events: tuple[StateOp, ...] = DEFAULT_EVENTS) -> CommandPlan:
     """Everything a box needs after it is found: reset, tables, settings,
     event enables, antennas, and activation when ``state.active``."""
     p = _Planner()
@@ -302,10 +302,10 @@ def initialise(state: SwitchState, *, events: tuple[StateOp, ...] = DEFAULT_EVEN
 
 def difference(
     old: SwitchState, new: SwitchState, *, events: tuple[StateOp, ...] = DEFAULT_EVENTS
-) -> Plan:
+) -> CommandPlan:
     """The fewest commands that take a box holding ``old`` to ``new``."""
     if old == new:
-        return Plan()
+        return CommandPlan()
     if old.active and not new.active:
         return initialise(new, events=events)
     p = _Planner()
@@ -372,7 +372,7 @@ __all__ = [
     "ALL_PAIRS",
     "DEFAULT_EVENTS",
     "POWER_ON",
-    "Plan",
+    "CommandPlan",
     "count_bytes",
     "difference",
     "differs",

@@ -28,7 +28,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from moas_gui.clock import LOOP_CLOCK, Clock
-from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.config.model import Rotator, RotatorControl
+from moas_gui.errors import RequestRefused
 from moas_gui.retry import Backoff
 
 from .headings import Travel, whole_heading
@@ -38,7 +39,7 @@ log = logging.getLogger("moas_gui.hw.rotators")
 ERROR_CODES = ("not_found", "unavailable", "bad_request")
 
 
-class RotatorError(Exception):
+class RotatorError(RequestRefused):
     """A rotate or stop request that cannot be served; ``code`` is a client-protocol code."""
 
     def __init__(self, code: str, message: str) -> None:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 
-from moas_gui.engine.config.model import Rotator
+from moas_gui.config.model import Rotator
 
 from .base import Publish, RotatorDriver, RotatorError, RotatorStatus
 from .headings import Travel, closest_direction, normalize, whole_heading

@@ -17,7 +17,10 @@ protocol's ``rotator`` event.  Serial rotators at the same address share one
 connection to their MOAS Rotator program, as do the two rotators of one
 Rotator Genius.  A rotator whose configuration cannot work (bad Address,
 unknown Model, Rotation out of range) is shown offline and answers every
-request with ``unavailable`` and the reason; the others carry on.
+request with ``unavailable`` and the reason; the others carry on.  The
+rotctld-compatible listeners of rotators with a ``RotctldPort``
+(:mod:`moas_gui.net.rotctld_server`) are started by the server, which hands
+them this manager.
 """
 
 from __future__ import annotations
@@ -27,8 +30,7 @@ import logging
 import math
 from collections.abc import Callable, Coroutine, Iterable, Sequence
 
-from moas_gui.engine.config.model import Antenna, Config, Rotator, RotatorControl
-from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
+from moas_gui.config.model import Antenna, Config, Rotator, RotatorControl
 
 from .addresses import is_local, split_address
 from .base import (
@@ -66,14 +68,10 @@ class RotatorManager:
         start_moas_rotator: bool = True,
         moas_rotator_port: int = MOAS_ROTATOR_PORT,
         moas_rotator_command: Sequence[str] | None = None,
-        rotctld_host: str | None = "127.0.0.1",
         timing: Timing | None = None,
     ) -> None:
-        """``rotctld_host``: where the rotctld-compatible listeners of rotators with
-        a ``RotctldPort`` bind (``None``: no listeners)."""
         self.timing = timing or Timing()
         self.on_change = on_change
-        self.rotctld_host = rotctld_host
         self._rotators = {r.id: r for r in rotators}
         self._views: dict[int, RotatorView] = {
             r.id: RotatorView.of(r, RotatorStatus()) for r in rotators
@@ -90,7 +88,6 @@ class RotatorManager:
         if start_moas_rotator and local:
             command = moas_rotator_command or default_command(local[0])
             self.local_program = LocalMoasRotator(command, local[0], clock=self.timing.clock)
-        self.listeners: list[RotctldServer] = []
         self._tasks: set[asyncio.Task[None]] = set()
 
     @classmethod
@@ -169,19 +166,12 @@ class RotatorManager:
             await driver.start()
         for link in self._links():
             await link.start()
-        if self.rotctld_host is not None:
-            self.listeners = await start_rotctld_servers(
-                self, self._rotators.values(), self.rotctld_host
-            )
 
     async def close(self) -> None:
         for task in list(self._tasks):
             task.cancel()
         if self._tasks:
             await asyncio.wait(self._tasks)
-        for listener in self.listeners:
-            await listener.close()
-        self.listeners = []
         for link in self._links():
             await link.close()
         for driver in self.drivers.values():

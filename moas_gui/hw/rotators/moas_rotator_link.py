@@ -15,7 +15,7 @@ import contextlib
 import logging
 
 from moas_gui.aio import cancel_and_wait
-from moas_gui.engine.config.model import Rotator
+from moas_gui.config.model import Rotator
 
 from .base import Publish, RotatorDriver, RotatorStatus, Timing
 from .headings import Travel, angular_distance, normalize

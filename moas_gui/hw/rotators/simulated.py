@@ -11,7 +11,7 @@ import asyncio
 import logging
 
 from moas_gui.aio import cancel_and_wait
-from moas_gui.engine.config.model import Rotator
+from moas_gui.config.model import Rotator
 
 from .base import Publish, RotatorDriver, RotatorStatus, Timing
 from .headings import Travel, Turn, plan_turn

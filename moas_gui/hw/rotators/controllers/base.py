@@ -29,8 +29,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Generic, Protocol, TypeVar
 
+from moas_gui.errors import ProtocolError
 
-class ControllerError(Exception):
+
+class ControllerError(ProtocolError):
     """Something a controller codec refuses to do."""
 
 

@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
 
+from . import relays as relay_numbers
+
 
 class RotatorControl(str, Enum):
     """How a rotator is driven (6.9, plus Rotator Genius and Hamlib)."""
@@ -316,10 +318,10 @@ class Switch:
 
     @property
     def first_relay(self) -> int:
-        return (self.id - 1) * 100
+        return relay_numbers.first_relay(self.id)
 
     def owns_relay(self, relay: int) -> bool:
-        return self.first_relay <= relay <= self.first_relay + 63
+        return relay_numbers.owns_relay(self.id, relay)
 
 
 @dataclass(frozen=True, slots=True)

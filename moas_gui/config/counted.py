@@ -11,6 +11,7 @@ from collections import Counter
 from collections.abc import Iterable, Sequence
 
 from .reading import Reading
+from .relays import RELAY_RULE, relay_exists, relay_span, switch_of_relay
 
 MAX_RELAYS_PER_COMMAND = 35
 """One MOAS II antenna command of at most 40 bytes carries at most 35 relays, and a
@@ -32,7 +33,7 @@ def listed(values: Sequence[object], shown: int = SHOWN) -> str:
 
 
 def _configured(switches: set[int]) -> str:
-    ranges = ", ".join(f"{(s - 1) * 100}-{(s - 1) * 100 + 63} on switch {s}" for s in sorted(switches))
+    ranges = ", ".join(f"{relay_span(s)} on switch {s}" for s in sorted(switches))
     return f" (relays: {ranges})" if ranges else ""
 
 
@@ -40,7 +41,7 @@ def relay_problems(reading: Reading, switches: set[int], owner: object, key: str
                    relays: Iterable[int], what: str) -> None:
     """Relays of ``owner``'s ``key``: at most one command's worth per switch, all existing."""
     ordered = sorted(relays)
-    per_switch = Counter(relay // 100 + 1 for relay in ordered)
+    per_switch = Counter(switch_of_relay(relay) for relay in ordered)
     crowded = [(s, n) for s, n in sorted(per_switch.items()) if n > MAX_RELAYS_PER_COMMAND]
     if len(crowded) == 1:
         (switch_id, count), = crowded
@@ -53,23 +54,24 @@ def relay_problems(reading: Reading, switches: set[int], owner: object, key: str
                       f"({listed([f'switch {s}: {n}' for s, n in crowded])}); a MOAS II "
                       f"command carries at most {MAX_RELAYS_PER_COMMAND}")
     # a relay of a switch that is not configured is named as such first, whatever its number
-    absent = [relay for relay in ordered if relay % 100 > 63 and relay // 100 + 1 in switches]
+    absent = [relay for relay in ordered
+              if not relay_exists(relay) and switch_of_relay(relay) in switches]
     if len(absent) == 1:
         relay = absent[0]
-        switch_id = relay // 100 + 1
+        switch_id = switch_of_relay(relay)
         reading.error(reading.at(owner, key, relay),
                       f"{what} names relay {relay}; switch {switch_id} has relays "
-                      f"{(switch_id - 1) * 100}-{(switch_id - 1) * 100 + 63} only")
+                      f"{relay_span(switch_id)} only")
     elif absent:
         reading.error(reading.at(owner, key, absent[0]),
                       f"{what} names {len(absent):,} relays that no switch has "
-                      f"({listed(absent)}); switch N has relays (N-1)*100 to (N-1)*100+63 only")
-    foreign = [relay for relay in ordered if relay // 100 + 1 not in switches]
-    unknown = sorted({relay // 100 + 1 for relay in foreign})
+                      f"({listed(absent)}); {RELAY_RULE}")
+    foreign = [relay for relay in ordered if switch_of_relay(relay) not in switches]
+    unknown = sorted({switch_of_relay(relay) for relay in foreign})
     if len(foreign) == 1:
         relay = foreign[0]
         reading.error(reading.at(owner, key, relay),
-                      f"{what} names relay {relay}, which belongs to switch {relay // 100 + 1}, "
+                      f"{what} names relay {relay}, which belongs to switch {switch_of_relay(relay)}, "
                       "but there is no such switch in \"Switches\"" + _configured(switches))
     elif len(unknown) == 1:
         reading.error(reading.at(owner, key, foreign[0]),

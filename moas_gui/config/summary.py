@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from .model import Config, RotatorControl
+from .relays import relay_span
 
 BANDS = (
     ("160 m", 1800, 2000), ("80 m", 3500, 4000), ("60 m", 5330, 5410), ("40 m", 7000, 7300),
@@ -32,7 +33,7 @@ def summarize(config: Config) -> str:
     lines.append("Switches:")
     for s in config.switches:
         echo = f", unit id {s.echo}" if s.echo is not None else ""
-        lines.append(f"  {s.id}: port {s.port}, relays {s.first_relay}-{s.first_relay + 63}{echo}")
+        lines.append(f"  {s.id}: port {s.port}, relays {relay_span(s.id)}{echo}")
     lines.append("Radios:")
     single = config.switches[0].id if len(config.switches) == 1 else 0
     for r in config.radios:

@@ -18,7 +18,8 @@ from .reading import Reading
 
 def _switches(config: m.Config, radio: m.Radio) -> frozenset[int]:
     only = config.switches[0].id if len(config.switches) == 1 else None
-    return frozenset(w for sp in radio.switches if (w := sp.switch or only) is not None)
+    return frozenset(switch_id for sp in radio.switches
+                     if (switch_id := sp.switch or only) is not None)
 
 
 def check_wiring(config: m.Config, reading: Reading) -> None:

@@ -4,7 +4,7 @@
 arguments; :func:`parse_line` turns one line into exactly one of
 
 * :class:`Request` -- a well-formed request, its arguments checked and typed;
-* :class:`BadRequest` -- a JSON object that asks for something malformed
+* :class:`InvalidRequest` -- a JSON object that asks for something malformed
   (missing or wrongly typed argument: ``bad_request``; no such command:
   ``unknown_cmd``); it is answered with its own ``id`` and the connection is
   in good standing;
@@ -181,7 +181,7 @@ class Request:
 
 
 @dataclass(frozen=True, slots=True)
-class BadRequest:
+class InvalidRequest:
     """A JSON object that cannot be served as asked."""
 
     id: Any
@@ -261,20 +261,20 @@ def _needs(command: Command) -> str:
     return names[0] if names else "nothing"
 
 
-def check_request(request_id: Any, cmd: Any, obj: Mapping[str, Any]) -> Request | BadRequest:
+def check_request(request_id: Any, cmd: Any, obj: Mapping[str, Any]) -> Request | InvalidRequest:
     """Checks the command name and the arguments of a decoded request object."""
     if cmd is None:
-        return BadRequest(
+        return InvalidRequest(
             request_id, ErrorCode.BAD_REQUEST,
             '"cmd" is missing: every request names its command, as in {"cmd": "state"}',
         )
     if not isinstance(cmd, str):
-        return BadRequest(
+        return InvalidRequest(
             request_id, ErrorCode.BAD_REQUEST, f'"cmd" must be a string, not {describe(cmd)}'
         )
     command = COMMANDS.get(cmd)
     if command is None:
-        return BadRequest(
+        return InvalidRequest(
             request_id, ErrorCode.UNKNOWN_CMD,
             f"there is no command {json.dumps(cmd if len(cmd) <= 40 else cmd[:40] + '...')}; "
             "the commands are " + ", ".join(COMMANDS),
@@ -284,7 +284,7 @@ def check_request(request_id: Any, cmd: Any, obj: Mapping[str, Any]) -> Request 
         value = obj.get(arg.name)
         if value is None:
             if arg.required:
-                return BadRequest(
+                return InvalidRequest(
                     request_id, ErrorCode.BAD_REQUEST,
                     f'"{arg.name}" is missing: {cmd} needs {_needs(command)}',
                 )
@@ -292,7 +292,7 @@ def check_request(request_id: Any, cmd: Any, obj: Mapping[str, Any]) -> Request 
             continue
         ok, typed = _convert(arg.kind, value)
         if not ok:
-            return BadRequest(
+            return InvalidRequest(
                 request_id, ErrorCode.BAD_REQUEST,
                 f'"{arg.name}" must be {arg.kind.value}, not {describe(value)}',
             )
@@ -300,7 +300,7 @@ def check_request(request_id: Any, cmd: Any, obj: Mapping[str, Any]) -> Request 
     if command.check is not None:
         complaint = command.check(args)
         if complaint is not None:
-            return BadRequest(request_id, ErrorCode.BAD_REQUEST, complaint)
+            return InvalidRequest(request_id, ErrorCode.BAD_REQUEST, complaint)
     return Request(request_id, cmd, args)
 
 
@@ -335,7 +335,7 @@ def too_deep(text: str, limit: int = MAX_DEPTH) -> bool:
     return False
 
 
-def parse_line(line: bytes) -> Request | BadRequest | BadLine | None:
+def parse_line(line: bytes) -> Request | InvalidRequest | BadLine | None:
     """One line (without its ending) to what it asks; see the module's docstring."""
     try:
         text = line.decode("utf-8")
@@ -366,8 +366,8 @@ __all__ = [
     "MAX_DEPTH",
     "Arg",
     "BadLine",
-    "BadRequest",
     "Command",
+    "InvalidRequest",
     "Kind",
     "Request",
     "check_request",

@@ -1,0 +1,130 @@
+"""The client protocol's backend for the real server: requests become operations.
+
+:class:`~moas_gui.net.server.ClientServer` asks a backend for everything
+(:mod:`moas_gui.net.backend`); this one answers from a :class:`ServerCore`
+(the running :class:`~moas_gui.app.ServerApp` is one): every request that
+changes something becomes one operation handed to ``act`` (the engine's one
+door), rotator requests go to the rotator manager, and the rest are read from
+the engine's views.  Engine and rotator refusals keep their code and sentence.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Protocol, TypeVar
+
+from moas_gui.engine import Engine
+from moas_gui.engine.operations import Operation, Relative, RunFunction, Select, SetFrequency
+from moas_gui.errors import RequestRefused
+from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.net.backend import ErrorCode, JSONObject, RequestError, Target
+from moas_gui.status import ServerStatus
+
+T = TypeVar("T")
+
+
+class ServerCore(Protocol):
+    """What the client backend needs from the server, and nothing more."""
+
+    @property
+    def engine(self) -> Engine | None:
+        """The running engine (read for views only), None when no configuration runs."""
+        ...
+
+    @property
+    def rotator_manager(self) -> RotatorManager | None:
+        """The running rotators, None when the configuration has none."""
+        ...
+
+    @property
+    def status(self) -> ServerStatus:
+        """The file that runs and each switch's status."""
+        ...
+
+    def act(self, op: Operation) -> None:
+        """Apply one engine input now; raises :class:`EngineError` when refused."""
+        ...
+
+
+def _refused(action: Callable[[], T]) -> T:
+    """``action()``, with an engine's or rotator's refusal as the client protocol's error."""
+    try:
+        return action()
+    except RequestError:
+        raise
+    except RequestRefused as exc:  # EngineError, RotatorError
+        raise RequestError(exc.code, exc.message) from None
+
+
+class EngineBackend:
+    """Serves client requests from a :class:`ServerCore`."""
+
+    def __init__(self, core: ServerCore) -> None:
+        self.core = core
+
+    def _engine(self) -> Engine:
+        engine = self.core.engine
+        if engine is None:
+            raise RequestError(ErrorCode.NOT_RUNNING, "No configuration is open")
+        return engine
+
+    def _act(self, op: Operation) -> None:
+        self._engine()
+        _refused(lambda: self.core.act(op))
+
+    def _antennas(self, station: int, radio: int) -> JSONObject:
+        view = self._engine().radio_view(station, radio)
+        return {"tx": view.tx, "rx": view.rx}
+
+    def snapshot(self) -> JSONObject:
+        core = self.core
+        engine = core.engine
+        if engine is None:
+            return {"config": None, "radios": [], "antennas": [], "rotators": [], "switches": []}
+        manager = core.rotator_manager
+        rotators = manager.views() if manager is not None else []
+        return {
+            "config": core.status.file,
+            "radios": [v.to_dict() for v in engine.radios()],
+            "antennas": [v.to_dict() for v in engine.antenna_views()],
+            "rotators": [v.to_json() for v in rotators],
+            "switches": [{"id": i, "status": s} for i, s in core.status.switches],
+        }
+
+    def frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
+        self._act(SetFrequency(station, radio, khz, tx_khz))
+
+    def select(self, station: int, radio: int, antenna: int, target: Target,
+               exclusive: bool) -> JSONObject:
+        self._act(Select(station, radio, antenna, target, exclusive))
+        return self._antennas(station, radio)
+
+    def function(self, station: int, radio: int, function: int) -> None:
+        self._act(RunFunction(station, radio, function))
+
+    def relative(self, station: int, radio: int, step: int | None,
+                 index: int | None) -> JSONObject:
+        self._act(Relative(station, radio, step, index))
+        return self._antennas(station, radio)
+
+    def layout(self, station: int, radio: int, rows: int, columns: int) -> JSONObject:
+        engine = self._engine()
+        return _refused(lambda: engine.layout(station, radio, rows, columns)).to_dict()
+
+    def _rotators(self) -> RotatorManager:
+        self._engine()
+        manager = self.core.rotator_manager
+        if manager is None:
+            raise RequestError(ErrorCode.NOT_FOUND, "This station has no rotators")
+        return manager
+
+    def rotate(self, rotator: int, heading: float) -> None:
+        manager = self._rotators()
+        _refused(lambda: manager.start_rotate(rotator, heading))
+
+    def stop(self, rotator: int) -> None:
+        manager = self._rotators()
+        _refused(lambda: manager.start_stop(rotator))
+
+
+__all__ = ["EngineBackend", "ServerCore"]

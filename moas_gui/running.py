@@ -1,0 +1,182 @@
+"""What runs while one configuration is open, and how each part starts and stops.
+
+:class:`~moas_gui.app.ServerApp` decides *when* (open, restart, close) and owns
+the one door into the engine; this module builds the parts it names: the
+switch links, the N1MM Logger listener, the rotators and their
+rotctld-compatible listeners, the client server and the browser client's web
+server.  Each part that cannot
+start (a port in use) is logged and left out; the others run.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import functools
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from moas_gui.config import Config
+from moas_gui.engine import Engine, SwitchState
+from moas_gui.errors import HardwareError
+from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.rotators.base import RotatorView
+from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.net.backend import ClientBackend
+from moas_gui.net.log_events import ClientLogHandler
+from moas_gui.net.n1mm import N1MMListener
+from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
+from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
+from moas_gui.net.web import WebServer, start_web
+from moas_gui.state_store import StateKeeper
+
+log = logging.getLogger("moas_gui.app")
+
+ROTCTLD_HOST = "127.0.0.1"
+"""Where the rotctld-compatible listeners of rotators with a ``RotctldPort`` listen."""
+
+
+@dataclass(frozen=True, slots=True)
+class ServerOptions:
+    """How this run differs from the configuration file (command line, tests)."""
+
+    bind: str = "0.0.0.0"
+    """Address the client server listens on."""
+    tcp_port: int | None = None
+    """Overrides the configuration's ``TCPPort`` (0 picks a free port)."""
+    udp_port: int | None = None
+    """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
+    udp_bind: str = "0.0.0.0"
+    web_port: int | None = None
+    """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
+    max_clients: int | None = None
+    """Client connections served at once; None for the client server's default."""
+    start_rotator_program: bool | None = None
+    """Overrides ``StartMOASRotator`` when not None."""
+    rotator_program_port: int = 13020
+    switch_timing: LinkTiming | None = None
+    """Timing of the switch links (ping interval, timeouts); None for the real defaults."""
+
+
+@dataclass
+class Running:
+    """Everything that exists while one configuration runs."""
+
+    config: Config
+    engine: Engine
+    links: dict[int, SwitchLink] = field(default_factory=dict)
+    switch_status: dict[int, str] = field(default_factory=dict)
+    clients: ClientServer | None = None
+    web: WebServer | None = None
+    n1mm: N1MMListener | None = None
+    rotators: RotatorManager | None = None
+    rotctld: list[RotctldServer] = field(default_factory=list)
+    log_handler: logging.Handler | None = None
+    stopped: bool = False
+    ticker: asyncio.Task[None] | None = None
+    keeper: StateKeeper | None = None
+    fingerprint: str = ""
+
+
+def start_switches(run: Running, options: ServerOptions, held: dict[int, SwitchState],
+                   on_status: Callable[[int, LinkStatus], None],
+                   on_tr: Callable[[int, int, bool], None]) -> None:
+    """A link per configured switch, told what the engine wants and connecting."""
+    states = run.engine.switch_states()
+    for switch in run.config.switches:
+        run.switch_status[switch.id] = "connecting"
+        link = SwitchLink(
+            switch.id, switch.port, switch.echo,
+            on_status=functools.partial(on_status, switch.id),
+            on_tr=functools.partial(on_tr, switch.id),
+            indicate_tr=switch.indicate_tr,
+            held=held.get(switch.id),
+            timing=options.switch_timing or LinkTiming(),
+        )
+        run.links[switch.id] = link
+        if run.stopped:
+            link.stop()
+        link.apply(states[switch.id])
+        link.connect()
+
+
+async def start_n1mm(run: Running, options: ServerOptions,
+                     on_frequency: Callable[[int, int, float, float | None], None]) -> None:
+    """The N1MM Logger listener, when the configuration uses it."""
+    if not run.config.use_n1mm_logger:
+        return
+    port = options.udp_port if options.udp_port is not None else run.config.udp_port
+    n1mm = N1MMListener.from_config(run.config, on_frequency)
+    try:
+        await n1mm.start(port, options.udp_bind)
+    except OSError as exc:
+        log.error("N1MM Logger packets cannot be received: UDP port %d cannot be opened (%s)",
+                  port, exc.strerror or exc)
+        return
+    run.n1mm = n1mm
+
+
+async def start_rotators(run: Running, options: ServerOptions,
+                         on_change: Callable[[RotatorView], None],
+                         select_direction: Callable[[int, int], None]) -> None:
+    """The rotators, then the rotctld-compatible listeners of those with a ``RotctldPort``."""
+    if not run.config.rotators:
+        return
+    start = options.start_rotator_program
+    run.rotators = RotatorManager.from_config(
+        run.config,
+        on_change=on_change,
+        select_direction=select_direction,
+        start_moas_rotator=run.config.start_moas_rotator if start is None else start,
+        moas_rotator_port=options.rotator_program_port,
+    )
+    await run.rotators.start()
+    # rotators with a RotctldPort answer rotctld's protocol there (Hamlib's rotctl -m 2)
+    run.rotctld = await start_rotctld_servers(run.rotators, run.config.rotators, ROTCTLD_HOST)
+
+
+async def start_clients(run: Running, options: ServerOptions, backend: ClientBackend) -> None:
+    """The client server (clients that asked for the log get it as events), then the
+    browser client's web server on top of it when a web port is set."""
+    port = options.tcp_port if options.tcp_port is not None else run.config.tcp_port
+    most = options.max_clients
+    clients = ClientServer(backend, host=options.bind, port=port,
+                           allow=run.config.client_allow,
+                           max_clients=DEFAULT_MAX_CLIENTS if most is None else most)
+    try:
+        await clients.start()
+    except HardwareError as exc:
+        log.error("Clients cannot connect: %s", exc)
+        return
+    run.clients = clients
+    # clients that said "log": true in hello get the product's log as events
+    run.log_handler = ClientLogHandler(clients)
+    logging.getLogger("moas_gui").addHandler(run.log_handler)
+    clients.publish_state()
+    web_port = options.web_port
+    web_port = run.config.web_port if web_port is None else web_port
+    if web_port is not None:  # the browser client: docs/web-client.md
+        run.web = await start_web(clients, options.bind, web_port)
+
+
+async def close_parts(run: Running) -> None:
+    """Close every listener, the rotators and the links; the relays stay as they are."""
+    if run.log_handler is not None:
+        logging.getLogger("moas_gui").removeHandler(run.log_handler)
+    parts: list[N1MMListener | WebServer | ClientServer | RotctldServer | RotatorManager
+                | None] = [run.n1mm, run.web, run.clients, *run.rotctld, run.rotators]
+    for part in parts:
+        if part is not None:
+            try:
+                await part.close()
+            except Exception:
+                log.exception("while closing %s", type(part).__name__)
+    for link in run.links.values():
+        try:
+            await link.close()
+        except Exception:
+            log.exception("while closing switch link")
+
+
+__all__ = ["ROTCTLD_HOST", "Running", "ServerOptions", "close_parts", "start_clients",
+           "start_n1mm", "start_rotators", "start_switches"]

@@ -1,0 +1,68 @@
+"""Every error raised on purpose hangs from MoasError's branches, as docs/architecture.md draws."""
+
+from __future__ import annotations
+
+import pytest
+
+from moas_gui.client.connection import ClientError
+from moas_gui.config import ConfigError
+from moas_gui.engine import BadRequest, EngineError, NotFound, NotRunning, Unavailable
+from moas_gui.engine.snapshot import SnapshotError
+from moas_gui.errors import HardwareError, MoasError, ProtocolError, RequestRefused
+from moas_gui.hw.moas2.errors import CommandRejected, EncodeError, Moas2Error, PortError
+from moas_gui.hw.moas2.sixbit import SixbitError
+from moas_gui.hw.rotators.base import RotatorError
+from moas_gui.hw.rotators.controllers.base import ControllerError, OutOfRange, UnknownModel
+from moas_gui.net.backend import ErrorCode, RequestError
+from moas_gui.net.messages import MessageEncodeError
+from moas_gui.net.n1mm_packet import N1MMPacketError
+from moas_gui.rotator_program.serial_link import PortError as RotatorPortError
+from moas_gui.state_store import StateError
+
+BRANCHES = {
+    ConfigError: MoasError,
+    RequestRefused: MoasError,
+    ProtocolError: MoasError,
+    HardwareError: MoasError,
+    StateError: MoasError,
+    SnapshotError: MoasError,
+    EngineError: RequestRefused,
+    RotatorError: RequestRefused,
+    RequestError: RequestRefused,
+    BadRequest: EngineError,
+    NotFound: EngineError,
+    Unavailable: EngineError,
+    NotRunning: EngineError,
+    Moas2Error: MoasError,
+    ClientError: MoasError,
+    CommandRejected: ProtocolError,
+    EncodeError: Moas2Error,
+    PortError: HardwareError,
+    RotatorPortError: HardwareError,
+    SixbitError: ProtocolError,
+    ControllerError: ProtocolError,
+    OutOfRange: ControllerError,
+    UnknownModel: ControllerError,
+    MessageEncodeError: ProtocolError,
+    N1MMPacketError: ProtocolError,
+}
+
+
+@pytest.mark.parametrize("error", list(BRANCHES), ids=lambda e: f"{e.__module__}.{e.__name__}")
+def test_each_error_sits_on_its_branch(error: type[Exception]) -> None:
+    assert issubclass(error, BRANCHES[error])
+    assert issubclass(error, MoasError)
+
+
+def test_every_refusal_carries_a_client_protocol_code_and_a_sentence() -> None:
+    refusals: list[RequestRefused] = [
+        Unavailable("Antenna 3 is in use by station 2"),
+        RotatorError("not_found", "There is no rotator 9"),
+        RequestError(ErrorCode.NOT_RUNNING, "No configuration is open"),
+    ]
+    assert [(r.code, r.message) for r in refusals] == [
+        ("unavailable", "Antenna 3 is in use by station 2"),
+        ("not_found", "There is no rotator 9"),
+        ("not_running", "No configuration is open"),
+    ]
+    assert {ErrorCode(r.code) for r in refusals} <= set(ErrorCode)

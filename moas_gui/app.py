@@ -413,7 +413,7 @@ class ServerApp:
     async def _start_n1mm(self, run: _Running) -> None:
         if not run.config.use_n1mm_logger:
             return
-        from moas_gui.net.n1mm import N1MMListener
+        from moas_gui.sources.n1mm import N1MMListener
 
         port = self.options.udp_port if self.options.udp_port is not None else run.config.udp_port
         run.n1mm = N1MMListener.from_config(run.config, self._logger_frequency)

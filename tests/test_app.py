@@ -16,7 +16,7 @@ import pytest_asyncio
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.engine.config import load_config
 from moas_gui.hw.moas2.link import LinkTiming
-from moas_gui.net.n1mm_packet import radio_info_packet
+from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.status import ServerState
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"

@@ -24,7 +24,7 @@ import pytest_asyncio
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.config import load_config
 from moas_gui.engine.snapshot import restore_selections
-from moas_gui.net.n1mm_packet import radio_info_packet
+from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.state_store import decode, fingerprint, state_path
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")

@@ -324,8 +324,11 @@ class Switch:
 
 @dataclass(frozen=True, slots=True)
 class N1MMStation:
-    address: str
-    station: int
+    address: str = ""
+    station: int = 0
+    station_name: str = ""
+    """N1MM's StationName (the sending computer's name): maps the station when the address
+    changes (DHCP).  Either this or ``address`` may be empty."""
 
 
 @dataclass(frozen=True, slots=True)

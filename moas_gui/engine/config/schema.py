@@ -261,7 +261,9 @@ SWITCH = _spec(m.Switch, {
 })
 
 N1MM = _spec(m.N1MMStation, {
-    "Address": Field("address", text, required=True, meaning="the logging computer's IP address"),
+    "Address": Field("address", text, meaning="the logging computer's IP address"),
+    "StationName": Field("station_name", text,
+                         meaning="the logging computer's name, as N1MM sends it in StationName"),
     "Station": Field("station", ID, required=True, meaning="the station number for it"),
 })
 

@@ -385,6 +385,12 @@ class _Checker:
             self.r.warning(self.r.at(c, "Radios"), "there are no \"Radios\": no antenna can be selected")
         for entry in c.n1mm_logger:
             self.radio_ref(entry, "Station", entry.station, None, "this N1MMLogger entry")
+            if not entry.address and not entry.station_name:
+                self.r.error(self.r.at(entry, "Address"), "this N1MMLogger entry needs an "
+                             "\"Address\" or a \"StationName\" (or both)")
+                continue
+            if not entry.address:
+                continue
             try:
                 ipaddress.ip_address(entry.address)
             except ValueError:

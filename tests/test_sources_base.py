@@ -37,8 +37,8 @@ def test_two_sources_for_one_radio_the_newest_wins_and_it_is_logged_once(
     assert [e.rx_khz for e in got if isinstance(e, FrequencyReport)] == [
         14000.0, 7000.0, 14010.0, 7010.0, 3500.0], "every event passes, in order: the newest wins"
     lines = [r.getMessage() for r in caplog.records if "two sources" in r.getMessage()]
-    assert lines == ["Station 1 radio 1 is reported by two sources, N1MM A and rigctld :4532: "
-                     "the newest wins"]
+    assert lines == [("Station 1 radio 1 is reported by two sources, N1MM A and rigctld :4532: "
+                     "the newest wins")]
     assert hub.overlaps == 3 and hub.delivered == 5
 
 

@@ -257,10 +257,10 @@ class N1MMListener(DatagramSource):
         self._unknown += 1
         held = self._limiter.allow(("unknown", key, name))
         if held is not None:
-            what = (f"neither that address nor StationName {name!r} is" if name
-                    else "that address is")
-            log.debug("%s packet from %s ignored: %s not in N1MMLogger%s",
-                      self.label, address, what, held_text(held))
+            what = (f"neither that address nor StationName {name!r} is in N1MMLogger" if name
+                    else "that address is not in N1MMLogger")
+            log.debug("%s packet from %s ignored: %s%s", self.label, address, what,
+                      held_text(held))
 
     def _origin(self, info: RadioInfo, address: str) -> str:
         who = info.app or self.label

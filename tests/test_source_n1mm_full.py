@@ -44,18 +44,18 @@ NOT1MM_RADIO_INFO = (
 )
 
 SO2R_RADIO2_SPLIT = (
-    '<?xml version="1.0" encoding="utf-8"?>\r\n<RadioInfo>\r\n\t<app>N1MM</app>\r\n'
-    "\t<StationName>SO2R-PC</StationName>\r\n\t<RadioNr>2</RadioNr>\r\n"
-    "\t<Freq>2102500</Freq>\r\n\t<TXFreq>2102800</TXFreq>\r\n\t<Mode>CW</Mode>\r\n"
-    "\t<OpCall>K1ABC</OpCall>\r\n\t<IsRunning>True</IsRunning>\r\n"
-    "\t<FocusEntry>264342</FocusEntry>\r\n\t<EntryWindowHwnd>264342</EntryWindowHwnd>\r\n"
-    "\t<Antenna>3</Antenna>\r\n\t<Rotors>TH6</Rotors>\r\n\t<FocusRadioNr>1</FocusRadioNr>\r\n"
-    "\t<IsStereo>True</IsStereo>\r\n\t<IsSplit>True</IsSplit>\r\n"
-    "\t<ActiveRadioNr>2</ActiveRadioNr>\r\n\t<IsTransmitting>True</IsTransmitting>\r\n"
-    "\t<FunctionKeyCaption>F1 CQ</FunctionKeyCaption>\r\n\t<RadioName>IC-7610</RadioName>\r\n"
-    "\t<AuxAntSelected>-1</AuxAntSelected>\r\n\t<AuxAntSelectedName></AuxAntSelectedName>\r\n"
-    "\t<IsConnected>True</IsConnected>\r\n</RadioInfo>\r\n"
-).encode()
+    b'<?xml version="1.0" encoding="utf-8"?>\r\n<RadioInfo>\r\n\t<app>N1MM</app>\r\n'
+    b"\t<StationName>SO2R-PC</StationName>\r\n\t<RadioNr>2</RadioNr>\r\n"
+    b"\t<Freq>2102500</Freq>\r\n\t<TXFreq>2102800</TXFreq>\r\n\t<Mode>CW</Mode>\r\n"
+    b"\t<OpCall>K1ABC</OpCall>\r\n\t<IsRunning>True</IsRunning>\r\n"
+    b"\t<FocusEntry>264342</FocusEntry>\r\n\t<EntryWindowHwnd>264342</EntryWindowHwnd>\r\n"
+    b"\t<Antenna>3</Antenna>\r\n\t<Rotors>TH6</Rotors>\r\n\t<FocusRadioNr>1</FocusRadioNr>\r\n"
+    b"\t<IsStereo>True</IsStereo>\r\n\t<IsSplit>True</IsSplit>\r\n"
+    b"\t<ActiveRadioNr>2</ActiveRadioNr>\r\n\t<IsTransmitting>True</IsTransmitting>\r\n"
+    b"\t<FunctionKeyCaption>F1 CQ</FunctionKeyCaption>\r\n\t<RadioName>IC-7610</RadioName>\r\n"
+    b"\t<AuxAntSelected>-1</AuxAntSelected>\r\n\t<AuxAntSelectedName></AuxAntSelectedName>\r\n"
+    b"\t<IsConnected>True</IsConnected>\r\n</RadioInfo>\r\n"
+)
 
 
 class Sender:
@@ -161,8 +161,8 @@ async def test_with_names_only_an_unknown_name_is_ignored_with_one_debug_line(
         await listener.close()
     assert events == [] and listener.stats().unknown_sender == 4
     lines = [r.getMessage() for r in caplog.records if "N1MMLogger" in r.getMessage()]
-    assert lines == ["N1MM packet from 127.0.0.1 ignored: neither that address nor "
-                     "StationName 'Mult-PC' is in N1MMLogger"]
+    assert lines == [("N1MM packet from 127.0.0.1 ignored: neither that address nor "
+                     "StationName 'Mult-PC' is in N1MMLogger")]
 
 
 @pytest.mark.asyncio
@@ -241,8 +241,8 @@ async def test_a_logger_that_goes_away_and_returns_is_heard_again() -> None:
     b"\x00\x01garbage",
     SO2R_RADIO2_SPLIT[:200],
     b"<RadioInfo>" + b"<x>1</x>" * 3000 + b"</RadioInfo>",
-    b'<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;">]>'
-    b"<RadioInfo><RadioNr>1</RadioNr><Freq>&b;</Freq></RadioInfo>",
+    (b'<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;">]>'
+    b"<RadioInfo><RadioNr>1</RadioNr><Freq>&b;</Freq></RadioInfo>"),
     radio_info_packet(1, 14000.0).replace(b"<Freq>1400000<", b"<Freq>99999999999999<"),
     radio_info_packet(1, 14000.0).replace(b"<Freq>1400000<", b"<Freq>\xd9\xa1\xd9\xa4<"),
 ])

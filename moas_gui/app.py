@@ -47,6 +47,15 @@ class ServerOptions:
     udp_port: int | None = None
     """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
     udp_bind: str = "0.0.0.0"
+    """Address the logger listeners (N1MM, DXLog.net, Win-Test, N1MM rotor) bind."""
+    dxlog_port: int | None = None
+    """Overrides ``DXLogPort``."""
+    wintest_port: int | None = None
+    """Overrides ``WinTestPort``."""
+    n1mm_rotor_port: int | None = None
+    """Overrides ``N1MMRotorPort``."""
+    n1mm_rotor_headings: tuple[str, ...] | None = None
+    """Overrides ``N1MMRotorHeadings`` (``host:port`` texts)."""
     max_clients: int | None = None
     """Client connections served at once; None for the client server's default."""
     start_rotator_program: bool | None = None
@@ -66,6 +75,8 @@ class _Running:
     switch_status: dict[int, str] = field(default_factory=dict)
     clients: Any = None
     n1mm: Any = None
+    sources: Any = None
+    focus: dict[tuple[str, int, int], Any] = field(default_factory=dict)
     rotators: Any = None
     log_handler: logging.Handler | None = None
     stopped: bool = False
@@ -198,8 +209,8 @@ class ServerApp:
         await self._start_switches(run, saved.switches if saved is not None else {})
         # every listener (the logger's port, the rotators' rotctld ports) is bound
         # before clients are accepted, so nothing a client sees as "ready" can miss a packet
-        await self._start_n1mm(run)
         await self._start_rotators(run)
+        await self._start_sources(run)
         await self._start_clients(run)
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
@@ -224,7 +235,7 @@ class ServerApp:
             run.keeper.close()
         if run.log_handler is not None:
             logging.getLogger("moas_gui").removeHandler(run.log_handler)
-        for part in (run.n1mm, run.clients, run.rotators):
+        for part in (run.sources, run.clients, run.rotators):
             if part is not None:
                 try:
                     await part.close()
@@ -410,19 +421,48 @@ class ServerApp:
         logging.getLogger("moas_gui").addHandler(run.log_handler)
         run.clients.publish_state()
 
-    async def _start_n1mm(self, run: _Running) -> None:
-        if not run.config.use_n1mm_logger:
-            return
-        from moas_gui.sources.n1mm import N1MMListener
+    # -- frequency sources (loggers) and N1MM's rotor window: see docs/sources.md ------
+    async def _start_sources(self, run: _Running) -> None:
+        from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 
-        port = self.options.udp_port if self.options.udp_port is not None else run.config.udp_port
-        run.n1mm = N1MMListener.from_config(run.config, self._logger_frequency)
-        try:
-            await run.n1mm.start(port, self.options.udp_bind)
-        except OSError as exc:
-            log.error("N1MM Logger packets cannot be received: UDP port %d cannot be opened (%s)",
-                      port, exc.strerror or exc)
-            run.n1mm = None
+        o = self.options
+        settings = SourceSettings(
+            udp_port=o.udp_port, udp_bind=o.udp_bind, dxlog_port=o.dxlog_port,
+            wintest_port=o.wintest_port, n1mm_rotor_port=o.n1mm_rotor_port,
+            n1mm_rotor_headings=o.n1mm_rotor_headings)
+        hooks = None
+        if run.rotators is not None:
+            manager = run.rotators
+            hooks = RotatorHooks(
+                names=lambda: {r.id: (r.short_name, r.long_name) for r in run.config.rotators},
+                turn=manager.start_rotate, stop=manager.start_stop,
+                headings=lambda: [(r.id, manager.view(r.id).heading)
+                                  for r in run.config.rotators])
+        run.sources = ServerSources(run.config, self._source_event, settings=settings,
+                                    rotators=hooks)
+        await run.sources.start()
+        run.n1mm = run.sources.n1mm
+
+    def _source_event(self, event: Any) -> None:
+        """The one way a source's event reaches the engine."""
+        from moas_gui.sources.base import FrequencyReport
+
+        if isinstance(event, FrequencyReport):
+            self._logger_frequency(event.station, event.radio, event.rx_khz, event.tx_khz)
+        else:
+            self._source_focus(event)
+
+    def _source_focus(self, event: Any) -> None:
+        """Transmit focus (ActiveRadio), receive focus (FocusRadio) and run state (Running)
+        of a station, from its logger: kept for the status until the engine takes them."""
+        run = self._run
+        if run is not None:
+            run.focus[(type(event).__name__, event.station, getattr(event, "radio", 0))] = event
+            log.debug("Logger says: %s", event)
+
+    def source_focus(self) -> dict[tuple[str, int, int], Any]:
+        """The latest focus and run-state events by (kind, station, radio)."""
+        return dict(self._run.focus) if self._run else {}
 
     def _logger_frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
         run = self._run
@@ -432,7 +472,7 @@ class ServerApp:
             changes = run.engine.set_frequency(station, radio, khz, tx_khz,
                                                now=asyncio.get_running_loop().time())
         except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
-            log.debug("N1MM Logger frequency for station %d radio %d ignored: %s",
+            log.debug("Logger frequency for station %d radio %d ignored: %s",
                       station, radio, exc)
             return
         self.apply_changes(changes)
@@ -458,6 +498,8 @@ class ServerApp:
 
     def _rotator_changed(self, view: Any) -> None:
         run = self._run
+        if run is not None and run.sources is not None:
+            run.sources.rotator_heading(view.id, view.heading)
         if run is not None and run.clients is not None:
             run.clients.publish_rotator(view.to_json())
 

@@ -47,6 +47,10 @@ class DatagramSource(asyncio.DatagramProtocol):
     def end_burst(self) -> None:
         """Called after the burst (also when handling raised)."""
 
+    async def start(self, port: int | None = None, host: str | None = None) -> int:
+        """Bind (defaults: the port and host the listener was made with); return the port."""
+        raise NotImplementedError
+
     async def prepare(self, loop: asyncio.AbstractEventLoop) -> None:
         """Called by :meth:`bind` before the socket is opened (name lookups...)."""
 

@@ -332,6 +332,15 @@ class N1MMStation:
 
 
 @dataclass(frozen=True, slots=True)
+class WinTestStation:
+    """A Win-Test computer, by the station name it broadcasts, and the radio it runs."""
+
+    station_name: str = ""
+    station: int = 0
+    radio: int = 1
+
+
+@dataclass(frozen=True, slots=True)
 class Config:
     """A whole, valid configuration file."""
 
@@ -349,6 +358,17 @@ class Config:
     udp_port: int = 12060
     use_n1mm_logger: bool = False
     n1mm_logger: tuple[N1MMStation, ...] = ()
+    use_dxlog: bool = False
+    """Also listen for DXLog.net's RadioInfo on ``dxlog_port`` (mapped by ``n1mm_logger``)."""
+    dxlog_port: int = 12060
+    use_wintest: bool = False
+    wintest_port: int = 9871
+    wintest: tuple[WinTestStation, ...] = ()
+    use_n1mm_rotor: bool = False
+    """Serve N1MM's rotor window: commands on ``n1mm_rotor_port``, headings to
+    ``n1mm_rotor_headings`` (``host:port`` texts)."""
+    n1mm_rotor_port: int = 12040
+    n1mm_rotor_headings: tuple[str, ...] = ()
     protect_same_band: bool = False
     start_moas_rotator: bool = True
     client_allow: tuple[str, ...] | None = None
@@ -415,4 +435,5 @@ __all__ = [
     "Template",
     "TemplateInfo",
     "TransmitRelays",
+    "WinTestStation",
 ]

@@ -267,6 +267,13 @@ N1MM = _spec(m.N1MMStation, {
     "Station": Field("station", ID, required=True, meaning="the station number for it"),
 })
 
+WINTEST = _spec(m.WinTestStation, {
+    "StationName": Field("station_name", text, required=True,
+                         meaning="the station name Win-Test broadcasts for that computer"),
+    "Station": Field("station", ID, required=True, meaning="the station number for it"),
+    "Radio": Field("radio", ID, meaning="the radio number for it (default 1)"),
+})
+
 TOP = GroupSpec({
     "Templates": Field("templates", list_of(group_of(TEMPLATE, "template"))),
     "Antennas": Field("antennas", list_of(group_of(ANTENNA, "antenna"))),
@@ -281,6 +288,14 @@ TOP = GroupSpec({
     "UDPPort": Field("udp_port", integer(1, 65535)),
     "UseN1MMLogger": Field("use_n1mm_logger", boolean),
     "N1MMLogger": Field("n1mm_logger", list_of(group_of(N1MM, "N1MMLogger entry"))),
+    "UseDXLog": Field("use_dxlog", boolean),
+    "DXLogPort": Field("dxlog_port", integer(1, 65535)),
+    "UseWinTest": Field("use_wintest", boolean),
+    "WinTestPort": Field("wintest_port", integer(1, 65535)),
+    "WinTest": Field("wintest", list_of(group_of(WINTEST, "WinTest entry"))),
+    "UseN1MMRotor": Field("use_n1mm_rotor", boolean),
+    "N1MMRotorPort": Field("n1mm_rotor_port", integer(1, 65535)),
+    "N1MMRotorHeadings": Field("n1mm_rotor_headings", STRINGS),
     "ProtectSameBand": Field("protect_same_band", boolean),
     "StartMOASRotator": Field("start_moas_rotator", boolean),
     "ClientAllow": Field("client_allow", STRINGS),

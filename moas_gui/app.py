@@ -76,7 +76,7 @@ class _Running:
     clients: Any = None
     n1mm: Any = None
     sources: Any = None
-    focus: dict[tuple[str, int, int], Any] = field(default_factory=dict)
+    focus: dict[tuple[object, ...], Any] = field(default_factory=dict)
     rotators: Any = None
     log_handler: logging.Handler | None = None
     stopped: bool = False
@@ -455,13 +455,16 @@ class ServerApp:
     def _source_focus(self, event: Any) -> None:
         """Transmit focus (ActiveRadio), receive focus (FocusRadio) and run state (Running)
         of a station, from its logger: kept for the status until the engine takes them."""
+        from moas_gui.sources.base import event_key
+
         run = self._run
         if run is not None:
-            run.focus[(type(event).__name__, event.station, getattr(event, "radio", 0))] = event
+            run.focus[event_key(event)] = event
             log.debug("Logger says: %s", event)
 
-    def source_focus(self) -> dict[tuple[str, int, int], Any]:
-        """The latest focus and run-state events by (kind, station, radio)."""
+    def source_focus(self) -> dict[tuple[object, ...], Any]:
+        """The latest focus and run-state events: ``("ActiveRadio", station)``,
+        ``("FocusRadio", station)``, ``("running", station, radio)``."""
         return dict(self._run.focus) if self._run else {}
 
     def _logger_frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
@@ -491,6 +494,11 @@ class ServerApp:
             moas_rotator_port=self.options.rotator_program_port,
         )
         await run.rotators.start()
+
+    @property
+    def sources(self) -> Any:
+        """The running :class:`~moas_gui.sources.server.ServerSources`, None when stopped."""
+        return self._run.sources if self._run else None
 
     @property
     def rotator_manager(self) -> Any:

@@ -24,6 +24,7 @@ class DXLogListener(N1MMListener):
 
     kind = "dxlog"
     label = "DXLog.net"
+    title = "DXLog.net"
 
 
 __all__ = ["DEFAULT_PORT", "DXLogListener"]

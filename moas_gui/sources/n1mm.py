@@ -168,6 +168,8 @@ class N1MMListener(DatagramSource):
 
     kind = "n1mm"
     label = "N1MM"
+    title = "N1MM Logger"
+    """How the "Listening for ..." line names the program."""
 
     def __init__(
         self,
@@ -366,7 +368,7 @@ class N1MMListener(DatagramSource):
         host = self._host if host is None else host
         bound = await self.bind(self._port if port is None else port, host)
         mapped = len(set(self._stations.values()) | set(self._names.values()))
-        log.info("Listening for %s on UDP %s:%d (%s)", self.label, host, bound,
+        log.info("Listening for %s on UDP %s:%d (%s)", self.title, host, bound,
                  f"every sender is station {self._every_sender}" if self._every_sender
                  else f"{mapped} station{'' if mapped == 1 else 's'}")
         return bound

@@ -105,3 +105,56 @@ async def test_n1mm_rotor_window_turns_the_rotator_and_sees_its_heading(
             seen.append(await loop.sock_recv(n1mm_pc, 512))
             heading = app.rotator_manager.view(1).heading
     assert all(line.startswith(b"Tribander @ ") for line in seen)
+
+
+@pytest.mark.asyncio
+async def test_bad_input_on_every_port_changes_no_switch(app: ServerApp) -> None:
+    before = app.emulators()[1].view().relays
+    bad = [b"", b"\xff" * 100, b"X" * 60000,
+           b'<!DOCTYPE r [<!ENTITY a "aaaa">]><RadioInfo><Freq>&a;</Freq></RadioInfo>',
+           radio_info_packet(1, 14025.0, station_name="OP-PC").replace(
+               b"<Freq>1402500<", b"<Freq>999999999999<"),
+           status_frame("RUN", 3_000_000_000.0), b'STATUS: "RUN"',
+           b"<N1MMRotor><rotor>Tribander</rotor><goazi>1e99</goazi></N1MMRotor>"]
+    sources = app.sources
+    listeners = [sources.dxlog, sources.wintest, sources.rotor]
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as udp:
+        for listener in listeners:
+            for packet in bad:
+                udp.sendto(packet, ("127.0.0.1", listener.port))
+    await until(lambda: sources.dxlog.stats().received == len(bad)
+                and sources.wintest.received == len(bad) and sources.rotor.received == len(bad))
+    await asyncio.sleep(0.1)  # anything the engine would do, it would have done by now
+    assert app.emulators()[1].view().relays == before
+    assert app.engine.radio_view(1, 1).khz is None and app.engine.radio_view(1, 2).khz is None
+    assert app.rotator_manager.view(1).target is None
+    assert sources.dxlog.stats().malformed == len(bad) - 1  # <N1MMRotor> is just not RadioInfo
+    assert sources.wintest.bad.total == len(bad)
+    assert sources.rotor.bad.total + sources.rotor.ignored == len(bad)
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as udp:
+        udp.sendto(status_frame("RUN", 7025.0), ("127.0.0.1", sources.wintest.port))
+    await until(lambda: app.engine.radio_view(1, 2).khz == 7025.0)
+
+
+@pytest.mark.asyncio
+async def test_a_port_in_use_leaves_that_source_out_and_the_others_running(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture,
+) -> None:
+    holder = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    holder.bind(("127.0.0.1", 0))
+    data = json.loads((EXAMPLES / "small-station.moas").read_text(encoding="utf-8"))
+    data.update({"UseN1MMLogger": False, "UseWinTest": True,
+                 "WinTest": [{"StationName": "RUN", "Station": 1}], "UseDXLog": True})
+    path = tmp_path / "station.moas"
+    path.write_text(json.dumps(data), encoding="utf-8")
+    server = ServerApp(ServerOptions(
+        bind="127.0.0.1", tcp_port=0, udp_bind="127.0.0.1", wintest_port=0,
+        dxlog_port=holder.getsockname()[1], start_rotator_program=False, switch_timing=FAST))
+    try:
+        assert (await server.open(path)).ok
+        assert server.sources.dxlog is None and server.sources.wintest.port
+        assert any("DXLog.net packets cannot be received" in r.getMessage()
+                   for r in caplog.records)
+    finally:
+        holder.close()
+        await server.close()

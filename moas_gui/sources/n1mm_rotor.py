@@ -124,9 +124,12 @@ class N1MMRotorServer(DatagramSource):
         try:
             if isinstance(command, RotorStop):
                 self.stops += 1
+                log.info("N1MM rotor window (%s): stop %s", address, command.rotor)
                 self._stop(rotator_id)
             else:
                 self.turns += 1
+                log.info("N1MM rotor window (%s): turn %s to %.1f", address, command.rotor,
+                         command.azimuth)
                 self._turn(rotator_id, command.azimuth)
         except Exception as exc:  # noqa: BLE001 - a refused turn is the manager's to explain
             held = self._limiter.allow(("refused", rotator_id))

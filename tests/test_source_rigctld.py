@@ -147,7 +147,7 @@ async def polling(rigctld: tuple[int, list[subprocess.Popen[bytes]]]
 
 @pytest.mark.asyncio
 async def test_rigctl_changing_the_frequency_reaches_the_sink(polling: tuple) -> None:
-    source, events, port, _ = polling
+    _, events, port, _ = polling
     first = await events.until(lambda e: True)
     assert (first.station, first.radio, first.origin) == (2, 1, f"rigctld 127.0.0.1:{port}")
     await _rigctl(port, "F", "14025000")
@@ -161,7 +161,7 @@ async def test_rigctl_changing_the_frequency_reaches_the_sink(polling: tuple) ->
 
 @pytest.mark.asyncio
 async def test_an_unchanged_radio_is_reported_once(polling: tuple) -> None:
-    source, events, port, _ = polling
+    source, events, _, _ = polling
     await events.until(lambda e: True)
     polls = source.polls
     while source.polls < polls + 5:  # the dummy rig's PTT becomes readable after its first poll

@@ -171,7 +171,10 @@ class PolledRig:
         except ValueError as exc:
             self.bad.drop("absurd", f"{self.host}:{self.port}", str(exc))
             return
-        state = RigState(rx, tx, state.transmitting)
+        transmitting = state.transmitting
+        if transmitting is None and self._last is not None:
+            transmitting = self._last.transmitting  # one unreadable PTT changes nothing
+        state = RigState(rx, tx, transmitting)
         if state == self._last:
             return
         self._last = state

@@ -30,6 +30,7 @@ and the I/O part starts a fresh one.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Final
 
@@ -77,7 +78,7 @@ def _hz(text: str, what: str) -> int:
         except ValueError:
             raise RigctldReplyError("bad_number", f"{what} {text.strip()[:40]!r} is not a "
                                     "number") from None
-        if number != number or not 0 <= number <= MAX_HZ:  # NaN or absurd
+        if math.isnan(number) or not 0 <= number <= MAX_HZ:  # NaN or absurd
             raise RigctldReplyError("absurd", f"{what} of {text.strip()[:40]} Hz is absurd") \
                 from None
         value = int(number)

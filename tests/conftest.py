@@ -11,12 +11,22 @@ becomes an explicit ``@example`` here.
 from __future__ import annotations
 
 import os
+import shutil
+import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from helpers import short_runtime_dir
 from hypothesis import settings
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+
+# The suite runs on several workers and starts many Python processes (servers,
+# emulators, the rotator program): let them all keep compiled bytecode, and the
+# rewritten test modules, instead of compiling everything again in each one.
+sys.dont_write_bytecode = False
+os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
@@ -32,3 +42,14 @@ def _own_state_directory(tmp_path_factory: pytest.TempPathFactory,
     """Each test's servers save and restore their state in a directory of the test's own,
     never the user's (and never one another's)."""
     monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path_factory.mktemp("state")))
+
+
+@pytest.fixture
+def runtime_dir() -> Iterator[Path]:
+    """A private XDG_RUNTIME_DIR with a short path (the server's sockets live there, and a
+    socket path must stay under about 100 bytes, which a parallel run's tmp_path may not)."""
+    path = short_runtime_dir()
+    try:
+        yield path
+    finally:
+        shutil.rmtree(path, ignore_errors=True)

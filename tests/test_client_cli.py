@@ -11,6 +11,8 @@ from test_client_support import LiveServer
 
 from moas_gui.cli.client import EXIT_NEVER_CONNECTED, main
 
+pytestmark = pytest.mark.realtime
+
 
 async def run_client(*args: str) -> tuple[int, str]:
     env = dict(os.environ, QT_QPA_PLATFORM="offscreen")

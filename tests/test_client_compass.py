@@ -6,9 +6,10 @@ from __future__ import annotations
 from typing import Any
 
 import pytest
+from helpers import until
 from hypothesis import given
 from hypothesis import strategies as st
-from test_client_support import LOOPBACK, LiveServer, run_on_qt, until
+from test_client_support import LOOPBACK, LiveServer, run_on_qt
 
 from moas_gui.client import Backoff, ClientConnection
 from moas_gui.client.model import (

@@ -8,7 +8,8 @@ import contextlib
 from collections.abc import AsyncIterator, Awaitable, Callable
 
 import pytest
-from test_client_support import LOOPBACK, LiveServer, until
+from helpers import until
+from test_client_support import LOOPBACK, LiveServer
 
 from moas_gui.client import (
     Backoff,

@@ -15,8 +15,7 @@ as its own failure rather than as a puzzle in every other test.
 from __future__ import annotations
 
 import asyncio
-import time
-from collections.abc import Callable, Coroutine
+from collections.abc import Coroutine
 from typing import Any, Self, TypeVar
 
 import qasync  # type: ignore[import-untyped]
@@ -51,16 +50,6 @@ def run_on_qt(qapp: Any, coro: Coroutine[Any, Any, T], timeout: float = 30.0) ->
         asyncio.set_event_loop(None)
         loop.close()
         qapp.setQuitOnLastWindowClosed(quit_on_close)
-
-
-async def until(condition: Callable[[], object], timeout: float = 5.0,
-                what: str = "the condition") -> None:
-    """Waits until ``condition()`` is true, polling every few milliseconds."""
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline:
-            raise AssertionError(f"{what} did not happen within {timeout:g} s")
-        await asyncio.sleep(0.005)
 
 
 class LiveServer:

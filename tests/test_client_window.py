@@ -10,7 +10,8 @@ import contextlib
 from collections.abc import AsyncIterator
 from typing import Any
 
-from test_client_support import LOOPBACK, LiveServer, run_on_qt, until
+from helpers import until
+from test_client_support import LOOPBACK, LiveServer, run_on_qt
 
 from moas_gui.client import Backoff, ButtonState, ButtonType, ClientConnection, LinkState
 from moas_gui.ui.button_grid import LayoutButton

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import socket
 import subprocess
@@ -24,37 +25,19 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import free_port, short_runtime_dir, wait_for
+
+pytestmark = pytest.mark.realtime
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
-def wait_for(condition: Callable[[], Any], timeout: float = 10.0, what: str = "") -> Any:
-    end = time.monotonic() + timeout
-    last: Any = None
-    while time.monotonic() < end:
-        try:
-            last = condition()
-        except OSError as exc:
-            last = exc
-        else:
-            if last:
-                return last
-        time.sleep(0.05)
-    raise AssertionError(f"{what or 'the condition'} not met in {timeout} s (last: {last!r})")
 
 
 class Server:
     """One real ``moas-server`` with a window and the control hook."""
 
     def __init__(self, tmp_path: Path, *, new_instance: bool = True) -> None:
-        self.runtime = tmp_path / "runtime"
-        self.runtime.mkdir(mode=0o700, exist_ok=True)
+        self.tmp_path = tmp_path
+        self.runtime = short_runtime_dir()
         self.control = self.runtime / "control.sock"
         self.tcp = free_port()
         self.env = dict(os.environ, QT_QPA_PLATFORM="offscreen", PYTHONUNBUFFERED="1",
@@ -137,7 +120,7 @@ class Server:
         if self.process.poll() is None:
             self.process.kill()
         out, _ = self.process.communicate(timeout=10)
-        (self.runtime.parent / "server-output.txt").write_text(out)
+        (self.tmp_path / "server-output.txt").write_text(out)
         return out
 
     def stop(self) -> None:
@@ -145,8 +128,15 @@ class Server:
             self._hook.close()
             self._reader.close()
         if self.process is not None and self.process.poll() is None:
-            self.process.kill()
-            self.process.communicate(timeout=10)
+            # SIGTERM first: a server killed outright leaves the MOAS Rotator program it
+            # started running (on port 13020, in the way of every later test)
+            self.process.terminate()
+            try:
+                self.process.communicate(timeout=10)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.communicate(timeout=10)
+        shutil.rmtree(self.runtime, ignore_errors=True)
 
 
 @pytest.fixture

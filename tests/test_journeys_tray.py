@@ -15,11 +15,15 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from test_journeys_server import Server, normal, wait_for
+from helpers import wait_for
+from test_journeys_server import Server, normal
 
-pytestmark = pytest.mark.skipif(
-    shutil.which("Xvfb") is None or shutil.which("trayer") is None,
-    reason="needs Xvfb and trayer (apt-get install xvfb trayer)")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(
+        shutil.which("Xvfb") is None or shutil.which("trayer") is None,
+        reason="needs Xvfb and trayer (apt-get install xvfb trayer)"),
+]
 
 
 @pytest.fixture

@@ -11,11 +11,11 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 import serial  # type: ignore[import-untyped]
+from helpers import until
 
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
@@ -23,7 +23,10 @@ from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 SCRIPT = Path(sys.executable).with_name("moas-emulator")
 COMMAND = [str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "moas_gui.cli.emulator"]
 
-pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
+]
 
 
 def start(*args: str) -> tuple[subprocess.Popen[str], str]:
@@ -98,13 +101,6 @@ def test_a_link_path_that_is_a_real_file_is_not_replaced(tmp_path: Path) -> None
     assert precious.read_text() == "keep me"
 
 
-async def _until(condition: Callable[[], bool], timeout: float = 5.0) -> None:
-    end = asyncio.get_running_loop().time() + timeout
-    while not condition():
-        assert asyncio.get_running_loop().time() < end, "timed out waiting"
-        await asyncio.sleep(0.02)
-
-
 @pytest.mark.asyncio
 async def test_link_survives_the_emulator_process_being_replaced(tmp_path: Path) -> None:
     link_path = tmp_path / "moas1"
@@ -119,17 +115,17 @@ async def test_link_survives_the_emulator_process_being_replaced(tmp_path: Path)
     link.apply(state)
     link.connect()
     try:
-        await _until(lambda: link.status is LinkStatus.OK)
+        await until(lambda: link.status is LinkStatus.OK)
         assert await link.ask_relays() == {1, 2}
         assert await asyncio.to_thread(stop, proc) == 0
-        await _until(lambda: link.status is LinkStatus.UNRESPONSIVE)
+        await until(lambda: link.status is LinkStatus.UNRESPONSIVE)
         moved = SwitchState(stations=(
             StationAntennas(tx=2, tx_relays=frozenset({5}), rx=2, rx_relays=frozenset({5})),
             *(StationAntennas(),) * 5,
         ))
         link.apply(moved)
         proc, _ = await asyncio.to_thread(start, "--link", str(link_path))
-        await _until(lambda: link.status is LinkStatus.OK)
+        await until(lambda: link.status is LinkStatus.OK)
         assert await link.ask_relays() == {5}
         assert statuses == [LinkStatus.OK, LinkStatus.UNRESPONSIVE, LinkStatus.OK]
     finally:

@@ -4,6 +4,11 @@ relays, the three kinds of inhibit, polarity, antenna systems."""
 
 from __future__ import annotations
 
+import pytest
+from helpers import FakeClock
+
+from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
+from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.station import Phase
 from moas_gui.hw.moas2.emulator.stepped import SteppedBox
 
@@ -289,3 +294,27 @@ def test_timers_keep_running_across_advances_in_any_step_size() -> None:
         fine.wait(t)
     coarse.wait(99)
     assert fine.relays == coarse.relays == {2}
+
+
+# --------------------------------------------------------------------------- the real-time box
+
+
+@pytest.mark.asyncio
+async def test_the_running_box_times_out_on_the_clock_it_is_given() -> None:
+    """The asyncio box runs its timers by themselves: on a fake clock, the inhibit time
+    of the first test here ends exactly 30 ms after the change, without waiting."""
+    clock = FakeClock(1000.0)
+    box = EmulatedBox(EmulatorModel(), clock=clock)
+    changes: list[Traffic] = []
+    box.add_listener(lambda kind, _data: changes.append(kind))
+    box.receive(b"*1;[30;!1B112;")
+    await clock.advance(1.0)  # every timer of the first load runs out
+    box.receive(b"!1B234;")
+    assert box.model.inhibited(1) and set(box.model.relays()) == {3, 4}
+    await clock.advance(0.029)
+    assert box.model.inhibited(1)
+    changes.clear()
+    await clock.advance(0.001)
+    assert not box.model.inhibited(1) and box.view().station(1).phase is Phase.RECEIVE
+    assert Traffic.CHANGED in changes, "the timer ran by itself and told its listeners"
+    box.close()

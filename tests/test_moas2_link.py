@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 import pytest_asyncio
+from helpers import until
 
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
@@ -20,8 +22,12 @@ from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.transport import SerialTransport
 
-FAST = LinkTiming(ping_interval=0.05, answer_timeout=1.0, retry_first=0.05, retry_max=0.2)
+pytestmark = pytest.mark.realtime
+
+FAST = LinkTiming(ping_interval=0.05, answer_timeout=2.0, retry_first=0.05, retry_max=0.2)
 """Quick pings and retries; a patient answer timeout, for a busy test machine."""
+PINGED = replace(FAST, answer_timeout=1.0)
+"""For watching pings keep a link alive past its answer timeout."""
 IDLE = StationAntennas()
 
 
@@ -38,15 +44,6 @@ def wanted(*stations: StationAntennas, **more: object) -> SwitchState:
 
 STATE_A = wanted(band(1, {1, 2}), band(2, {8}))
 STATE_B = wanted(band(3, {5}), band(2, {8}))
-
-
-async def until(condition: Callable[[], bool], timeout: float = 8.0) -> None:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while not condition():
-        if loop.time() > end:
-            raise AssertionError("timed out waiting")
-        await asyncio.sleep(0.01)
 
 
 class Served:
@@ -89,7 +86,8 @@ async def served(tmp_path: Path) -> AsyncIterator[Served]:
 
 def make_link_to(served: Served, echo: int | None = None, **kw: object) -> tuple[SwitchLink, list]:
     statuses: list[LinkStatus] = []
-    link = SwitchLink(1, str(served.link), echo, on_status=statuses.append, timing=FAST,
+    kw.setdefault("timing", FAST)
+    link = SwitchLink(1, str(served.link), echo, on_status=statuses.append,
                       **kw)  # type: ignore[arg-type]
     return link, statuses
 
@@ -132,11 +130,11 @@ async def test_apply_writes_before_returning() -> None:
 
 @pytest.mark.asyncio
 async def test_pings_keep_the_link_ok(served: Served) -> None:
-    link, statuses = make_link_to(served)
+    link, statuses = make_link_to(served, timing=PINGED)
     link.connect()
     try:
         await until(lambda: link.status is LinkStatus.OK)
-        await asyncio.sleep(FAST.answer_timeout * 1.5)
+        await asyncio.sleep(PINGED.answer_timeout * 1.5)
         assert statuses == [LinkStatus.OK]
         assert served.received.count(b"';") >= 4
     finally:
@@ -236,6 +234,7 @@ async def test_port_closed_and_reopened_mid_stream_ends_in_the_latest_relays(
     link.connect()
     try:
         await until(lambda: served.relays == {1, 2, 8})
+        await until(lambda: link.status is LinkStatus.OK)  # checked, after the relays
         served.stop()  # the pseudo-terminal vanishes, as a USB cable pulled
         await until(lambda: link.status is LinkStatus.UNRESPONSIVE)
         assert link.apply(STATE_B) == 0  # remembered, not written
@@ -276,6 +275,7 @@ async def test_a_box_that_stops_answering_is_unresponsive_and_reloaded_when_back
     link.connect()
     try:
         await until(lambda: served.relays == {1, 2, 8})
+        await until(lambda: link.status is LinkStatus.OK)  # checked, after the relays
         served.box.attach(None)  # it hears but says nothing
         await until(lambda: link.status is LinkStatus.UNRESPONSIVE)
         link.apply(STATE_B)
@@ -301,6 +301,7 @@ async def test_a_box_reset_behind_the_links_back_is_loaded_again(
         served.box.receive(b"*0;")  # power dipped: the box is back in power-on state
         assert served.relays == frozenset()
         await until(lambda: served.relays == {1, 2, 8})
+        await until(lambda: link.status is LinkStatus.OK)  # checked, after the relays
         assert statuses == [LinkStatus.OK]
         assert any("reset or lost power" in r.message for r in caplog.records)
     finally:
@@ -341,17 +342,19 @@ async def test_an_error_from_the_box_names_the_command_that_caused_it(
 
 @pytest.mark.asyncio
 async def test_stop_turns_every_relay_off_and_start_restores_the_latest(served: Served) -> None:
-    link, statuses = make_link_to(served)
+    link, statuses = make_link_to(served, timing=PINGED)
     link.apply(STATE_A)
     link.connect()
     try:
         await until(lambda: served.relays == {1, 2, 8})
+        # the relays are on before the link has checked the box: wait for that too
+        await until(lambda: link.status is LinkStatus.OK)
         link.stop()
         assert link.status is LinkStatus.STOPPED
         await until(lambda: served.relays == frozenset())
         await until(lambda: not served.box.view().active)
         link.apply(STATE_B)
-        await asyncio.sleep(FAST.answer_timeout)
+        await asyncio.sleep(PINGED.answer_timeout)
         assert served.relays == frozenset()
         assert link.status is LinkStatus.STOPPED, "an inactive box is what a stopped link wants"
         link.start()
@@ -454,7 +457,8 @@ async def test_the_emulator_port_name_gives_an_in_process_box_to_show() -> None:
     try:
         await until(lambda: link.emulator is not None and link.emulator.view().relays == {1, 2, 8})
         assert link.emulator.view().unit_id == 12
-        assert link.status is LinkStatus.OK
+        # the relays are on before the link has checked the box: OK follows
+        await until(lambda: link.status is LinkStatus.OK, what="the link OK")
     finally:
         await link.close()
 

@@ -16,9 +16,13 @@ from pathlib import Path
 
 import pytest
 import pytest_asyncio
-from test_server_headless import EXAMPLES, Cable, free_port
+from helpers import free_port
+from test_server_headless import EXAMPLES, Cable
 
-pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="reads /proc/PID/limits")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform != "linux", reason="reads /proc/PID/limits"),
+]
 
 
 class Server:

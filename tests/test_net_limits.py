@@ -12,7 +12,8 @@ import socket
 import sys
 
 import pytest
-from test_net_server import HOST, dispose, make_rig, until
+from helpers import until
+from test_net_server import HOST, dispose, make_rig
 
 from moas_gui.net.client import ProtocolClient
 from moas_gui.net.log_limit import LogLimiter

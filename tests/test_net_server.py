@@ -6,12 +6,13 @@ import asyncio
 import json
 import logging
 import socket
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator
 from dataclasses import dataclass, field
 from typing import Any
 
 import pytest
 import pytest_asyncio
+from helpers import until
 
 from moas_gui import __version__
 from moas_gui.errors import HardwareError
@@ -36,12 +37,6 @@ class Rig:
             await client.request("hello", client=name, **hello)
             await client.next_event("state")
         return client
-
-
-async def until(condition: Callable[[], bool], timeout: float = 5.0) -> None:
-    async with asyncio.timeout(timeout):
-        while not condition():
-            await asyncio.sleep(0.005)
 
 
 async def make_rig(backend: FakeBackend | None = None, **options: Any) -> Rig:

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import pytest
 import pytest_asyncio
+from helpers import free_port, until
 
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.config import load_config
@@ -27,24 +28,12 @@ from moas_gui.engine.snapshot import restore_selections
 from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.state_store import decode, fingerprint, state_path
 
-pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
+]
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-
-
-def free_port(kind: int) -> int:
-    with socket.socket(socket.AF_INET, kind) as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
-async def until(condition: object, timeout: float = 10.0, what: str = "condition") -> None:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while not condition():  # type: ignore[operator]
-        if loop.time() > end:
-            raise AssertionError(f"{what} not met in time")
-        await asyncio.sleep(0.02)
 
 
 @dataclass

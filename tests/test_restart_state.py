@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 import pytest_asyncio
+from helpers import until
 
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.engine import Engine, SwitchState
@@ -40,15 +41,6 @@ from moas_gui.state_store import (
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 FAST = LinkTiming(ping_interval=0.2, answer_timeout=1.0, retry_first=0.1, retry_max=0.5)
-
-
-async def until(condition: Callable[[], bool], timeout: float = 5.0) -> None:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while not condition():
-        if loop.time() > end:
-            raise AssertionError("condition not met in time")
-        await asyncio.sleep(0.02)
 
 
 def options() -> ServerOptions:

@@ -13,6 +13,8 @@ import serial  # type: ignore[import-untyped]
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost
 
+pytestmark = pytest.mark.realtime
+
 
 @pytest.fixture
 def host() -> Iterator[EmulatorHost]:

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.realtime
+
 COMMAND = [sys.executable, "-m", "moas_gui.cli.rotator"]
 
 
@@ -44,7 +46,7 @@ def stop(process: subprocess.Popen[str]) -> tuple[int, str]:
     return process.returncode, err
 
 
-def read_lines(sock: socket.socket, wanted: str, timeout: float = 5.0) -> list[str]:
+def read_lines(sock: socket.socket, wanted: str, timeout: float = 15.0) -> list[str]:
     sock.settimeout(0.1)
     data = b""
     deadline = time.monotonic() + timeout

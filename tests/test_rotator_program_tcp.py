@@ -9,11 +9,14 @@ from pathlib import Path
 
 import pytest
 import pytest_asyncio
+from helpers import until
 
 from moas_gui.hw.rotators.controllers.faulty import FaultyController
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
 from moas_gui.rotator_program.program import RotatorProgram
+
+pytestmark = pytest.mark.realtime
 
 SPEED = 200.0
 
@@ -92,14 +95,6 @@ def served(host: EmulatorHost, model: str, azimuth: float, link: str | None = No
 
 def where(host: EmulatorHost, port: ServedPort) -> tuple[float, bool]:
     return host.call(port, lambda e, now: (e.azimuth, e.busy))
-
-
-async def until(condition: Callable[[], bool], timeout: float = 5.0) -> None:
-    loop = asyncio.get_running_loop()
-    deadline = loop.time() + timeout
-    while not condition():
-        assert loop.time() < deadline, "gave up waiting"
-        await asyncio.sleep(0.02)
 
 
 @pytest.mark.asyncio

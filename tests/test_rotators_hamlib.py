@@ -7,11 +7,11 @@ import asyncio
 import contextlib
 import logging
 import shutil
-import socket
 from collections.abc import AsyncIterator, Callable
 
 import pytest
 import pytest_asyncio
+from helpers import free_port
 from test_rotators_manager import Recorder
 
 from moas_gui.engine.config.model import Rotator, RotatorControl
@@ -19,15 +19,11 @@ from moas_gui.hw.rotators import RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.hamlib import HamlibRotator
 from moas_gui.hw.rotators.hamlib_codec import Limits, ReplyAssembler, error_text, limits_of
 
+pytestmark = pytest.mark.realtime
+
 FAST = Timing(reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.4, connect_timeout=0.5,
               stall_min=2.0)
 ROTCTLD = shutil.which("rotctld")
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
 
 
 async def wait_listening(port: int, timeout: float = 5.0) -> None:

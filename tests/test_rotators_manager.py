@@ -5,9 +5,11 @@ from __future__ import annotations
 import asyncio
 import logging
 from collections.abc import AsyncIterator, Callable
+from dataclasses import replace
 
 import pytest
 import pytest_asyncio
+from helpers import FakeClock
 
 import moas_gui.hw.rotators as rotators_package
 from moas_gui.engine.config.model import Antenna, Config, Rotator, RotatorControl
@@ -18,10 +20,13 @@ FAST = Timing(test_tick=0.05, reconnect_min=0.05, reconnect_max=0.2, reply_timeo
 
 
 class Recorder:
-    """Collects every view the manager publishes."""
+    """Collects every view the manager publishes.  Given a fake clock, waiting for a view
+    moves that clock on, a tick at a time; otherwise it waits in real time."""
 
-    def __init__(self) -> None:
+    def __init__(self, clock: FakeClock | None = None) -> None:
         self.views: list[RotatorView] = []
+        self.clock = clock or FakeClock()
+        self._fake = clock is not None
         self._changed = asyncio.Event()
 
     def __call__(self, view: RotatorView) -> None:
@@ -33,14 +38,24 @@ class Recorder:
 
     async def wait_for(self, test: Callable[[RotatorView], bool], timeout: float = 5.0,
                        since: int = 0) -> RotatorView:
-        """The first view (from number ``since`` on) that passes ``test``."""
-        async with asyncio.timeout(timeout):
-            while True:
-                for view in self.views[since:]:
-                    if test(view):
-                        return view
-                self._changed.clear()
-                await self._changed.wait()
+        """The first view (from number ``since`` on) that passes ``test`` within
+        ``timeout`` seconds."""
+        if not self._fake:
+            async with asyncio.timeout(timeout):
+                while True:
+                    for view in self.views[since:]:
+                        if test(view):
+                            return view
+                    self._changed.clear()
+                    await self._changed.wait()
+        deadline = self.clock.now() + timeout
+        while True:
+            for view in self.views[since:]:
+                if test(view):
+                    return view
+            if self.clock.now() >= deadline:
+                raise TimeoutError(f"no such view within {timeout} s")
+            await self.clock.advance(FAST.test_tick)
 
 
 def make_rotator(**fields: object) -> Rotator:
@@ -52,7 +67,7 @@ def make_rotator(**fields: object) -> Rotator:
 
 @pytest_asyncio.fixture
 async def recorder() -> Recorder:
-    return Recorder()
+    return Recorder(FakeClock())
 
 
 @pytest_asyncio.fixture
@@ -77,7 +92,7 @@ async def manager(recorder: Recorder) -> AsyncIterator[RotatorManager]:
             make_rotator(id=3, short_name="Hidden", invisible=True, rotation=360),
         ],
         on_change=recorder, antennas=[*four_square, system], select_direction=select,
-        timing=FAST,
+        timing=replace(FAST, clock=recorder.clock),
     )
     manager.select_calls = calls  # type: ignore[attr-defined]
     await manager.start()
@@ -112,12 +127,12 @@ async def test_a_rotator_without_a_name_is_called_by_its_number() -> None:
 async def test_test_rotator_turns_at_ten_degrees_a_second_and_reports_on_the_way(
     manager: RotatorManager, recorder: Recorder
 ) -> None:
-    loop = asyncio.get_running_loop()
-    began = loop.time()
+    clock = recorder.clock
+    began = clock.now()
     await manager.rotate(2, 6)
     assert manager.view(2).target == 6 and manager.view(2).moving
     done = await recorder.wait_for(lambda v: v.id == 2 and v.heading == 6 and not v.moving)
-    took = loop.time() - began
+    took = clock.now() - began
     assert 0.55 <= took <= 1.2
     assert done.target is None
     on_the_way = [v.heading for v in recorder.of(2) if v.moving]
@@ -134,7 +149,7 @@ async def test_test_rotator_stops_where_it_is(
     stopped = manager.view(2)
     assert not stopped.moving and stopped.target is None
     assert stopped.heading is not None and 3 <= stopped.heading <= 6
-    await asyncio.sleep(0.2)
+    await recorder.clock.advance(0.2)
     assert manager.view(2).heading == stopped.heading
 
 
@@ -322,11 +337,13 @@ async def test_a_failing_change_callback_is_logged_and_does_not_stop_the_rotator
     def broken(view: RotatorView) -> None:
         raise RuntimeError("client went away")
 
-    manager = RotatorManager([make_rotator()], on_change=broken, timing=FAST)
+    clock = FakeClock()
+    manager = RotatorManager([make_rotator()], on_change=broken,
+                             timing=replace(FAST, clock=clock))
     await manager.start()
     try:
         await manager.rotate(2, 1)
-        await asyncio.sleep(0.3)
+        await clock.advance(0.3)
         assert manager.view(2).heading == 1
         assert "change callback failed for rotator 2 (10 side)" in caplog.text
     finally:

@@ -10,6 +10,7 @@ from collections.abc import AsyncIterator
 
 import pytest
 import pytest_asyncio
+from helpers import free_port
 from hypothesis import given
 from hypothesis import strategies as st
 from test_rotators_manager import Recorder
@@ -29,12 +30,6 @@ from moas_gui.net.rotctld_codec import (
 FAST = Timing(test_tick=0.05, reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.5,
               connect_timeout=0.5)
 ROTCTL = shutil.which("rotctl")
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
 
 
 # ---- the codec ---------------------------------------------------------------------------

@@ -4,17 +4,17 @@ from __future__ import annotations
 
 import asyncio
 import logging
-import socket
 import sys
 from collections.abc import AsyncIterator
 
 import pytest
 import pytest_asyncio
+from helpers import free_port
 from test_rotators_manager import Recorder
 
 from moas_gui.engine.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import FakeMoasRotator, RotatorError, RotatorManager, Timing
-from moas_gui.hw.rotators.moas_rotator_codec import Configure, Rotate, Stop, VersionQuery
+from moas_gui.hw.rotators.moas_rotator_codec import Configure, Rotate, Stop, VersionRequest
 from moas_gui.hw.rotators.moas_rotator_process import default_command
 
 FAST = Timing(reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.5, connect_timeout=0.5,
@@ -55,7 +55,7 @@ async def test_connect_sends_version_then_configure_with_the_model_before_the_po
     manager = await running([serial(1, ccw_limit=180, has_stop=True)], fake, recorder)
     try:
         await recorder.wait_for(lambda v: v.online and v.heading is not None)
-        assert fake.commands[:2] == [VersionQuery(), Configure(1, "4", "COM1", 100)]
+        assert fake.commands[:2] == [VersionRequest(), Configure(1, "4", "COM1", 100)]
         # Yaesu counts from the CCW stop at south: 200 from there is 20 degrees
         assert manager.view(1).heading == 20
     finally:
@@ -154,7 +154,7 @@ async def test_program_going_away_mid_turn_shows_offline_then_reconfigures_and_f
         await fake.start()
         await fake.wait_for(lambda: len(fake.configured) == 2)
         after = fake.commands[commands_before:]
-        assert after[0] == VersionQuery()
+        assert after[0] == VersionRequest()
         assert Configure(1, "4", "COM1", 100) in after and Configure(2, "4", "COM2", 100) in after
         assert Rotate(1, 30.0) in after
         await recorder.wait_for(lambda v: v.id == 1 and v.online and v.heading == 30
@@ -269,11 +269,6 @@ async def test_no_program_at_the_address_keeps_the_rotator_offline_and_retrying(
 
 
 # ---- StartMOASRotator -------------------------------------------------------------------
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
 
 
 @pytest.mark.asyncio

@@ -5,22 +5,18 @@ controller on a pseudo-terminal.  A check that both ends read appendix B alike."
 from __future__ import annotations
 
 import asyncio
-import socket
 import sys
 from collections.abc import AsyncIterator
 
 import pytest
 import pytest_asyncio
+from helpers import free_port
 from test_rotators_manager import Recorder
 
 from moas_gui.engine.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorManager, Timing
 
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
+pytestmark = pytest.mark.realtime
 
 
 @pytest_asyncio.fixture

@@ -11,7 +11,10 @@ import sys
 from pathlib import Path
 
 import pytest
-from test_server_instance import ask_state, free_port, wait_for
+from helpers import free_port, wait_for
+from test_server_instance import ask_state
+
+pytestmark = pytest.mark.realtime
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
@@ -25,30 +28,30 @@ BROKEN = {
 }
 
 
-def environment(tmp_path: Path) -> dict[str, str]:
-    runtime = tmp_path / "runtime"
-    runtime.mkdir(mode=0o700, exist_ok=True)
+def environment(tmp_path: Path, runtime: Path) -> dict[str, str]:
     return dict(os.environ, XDG_RUNTIME_DIR=str(runtime), XDG_CONFIG_HOME=str(tmp_path / "cfg"),
                 PYTHONUNBUFFERED="1")
 
 
 @pytest.mark.parametrize("name", sorted(BROKEN))
-def test_headless_on_a_broken_file_says_where_and_exits_1(tmp_path: Path, name: str) -> None:
+def test_headless_on_a_broken_file_says_where_and_exits_1(tmp_path: Path, runtime_dir: Path, name: str) -> None:
     text, expected = BROKEN[name]
     path = tmp_path / f"{name}.moas"
     path.write_text(text)
     done = subprocess.run(
         [sys.executable, "-m", "moas_gui.cli.server", "--headless", "--new-instance",
          "--no-rotator-program", str(path)],
-        env=environment(tmp_path), capture_output=True, text=True, check=False, timeout=30)
+        env=environment(tmp_path, runtime_dir), capture_output=True, text=True, check=False,
+        timeout=30)
     assert done.returncode == 1
     assert f"{path}:{expected}" in done.stderr
     assert "was not opened" in done.stderr
     assert "Traceback" not in done.stderr + done.stdout
 
 
-def test_a_broken_file_is_not_handed_to_the_running_server(tmp_path: Path) -> None:
-    env = environment(tmp_path)
+def test_a_broken_file_is_not_handed_to_the_running_server(tmp_path: Path,
+                                                          runtime_dir: Path) -> None:
+    env = environment(tmp_path, runtime_dir)
     tcp = free_port(socket.SOCK_STREAM)
     common = ["--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
               "--no-rotator-program"]
@@ -78,7 +81,7 @@ def test_a_broken_file_is_not_handed_to_the_running_server(tmp_path: Path) -> No
 
 
 def test_the_server_warns_at_load_about_a_client_allow_open_to_the_internet(
-        tmp_path: Path) -> None:
+        tmp_path: Path, runtime_dir: Path) -> None:
     path = tmp_path / "open.moas"
     text = (EXAMPLES / "small-station.moas").read_text()
     path.write_text(text.replace("{\n", '{\n  "ClientAllow": ["127.0.0.1/0"],\n', 1))
@@ -87,7 +90,7 @@ def test_the_server_warns_at_load_about_a_client_allow_open_to_the_internet(
         [sys.executable, "-m", "moas_gui.cli.server", "--headless", "--new-instance",
          "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
          "--no-rotator-program", str(path)],
-        env=environment(tmp_path), stderr=subprocess.PIPE, text=True)
+        env=environment(tmp_path, runtime_dir), stderr=subprocess.PIPE, text=True)
     try:
         wait_for(lambda: ask_state(tcp)["config"] == "open.moas")
     finally:

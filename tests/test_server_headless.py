@@ -15,21 +15,19 @@ from pathlib import Path
 
 import pytest
 import pytest_asyncio
+from helpers import free_port, until
 
 from moas_gui.engine.config import load_config
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
 from moas_gui.sources.n1mm_packet import radio_info_packet
 
-pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
+]
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-
-
-def free_port(kind: int) -> int:
-    with socket.socket(socket.AF_INET, kind) as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 class Cable:
@@ -75,15 +73,6 @@ class Client:
         end = loop.time() + timeout
         while self.switch_status.get(1) != status:
             await self.event("switch", timeout=max(0.1, end - loop.time()))
-
-
-async def until(condition: object, timeout: float = 10.0) -> None:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while not condition():  # type: ignore[operator]
-        if loop.time() > end:
-            raise AssertionError("condition not met in time")
-        await asyncio.sleep(0.05)
 
 
 @pytest_asyncio.fixture

@@ -8,16 +8,14 @@ import os
 import socket
 import subprocess
 import sys
-import time
 from pathlib import Path
 
+import pytest
+from helpers import free_port, wait_for
+
+pytestmark = pytest.mark.realtime
+
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-
-
-def free_port(kind: int) -> int:
-    with socket.socket(socket.AF_INET, kind) as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 def ask_state(port: int) -> dict:
@@ -30,23 +28,8 @@ def ask_state(port: int) -> dict:
                 return message["result"]  # type: ignore[no-any-return]
 
 
-def wait_for(condition: object, timeout: float = 15.0) -> None:
-    end = time.monotonic() + timeout
-    while True:
-        try:
-            if condition():  # type: ignore[operator]
-                return
-        except OSError:
-            pass
-        if time.monotonic() > end:
-            raise AssertionError("condition not met in time")
-        time.sleep(0.1)
-
-
-def start_headless(tmp_path: Path, name: str = "small-station") -> tuple[
+def start_headless(tmp_path: Path, runtime: Path, name: str = "small-station") -> tuple[
         subprocess.Popen[str], dict[str, str], list[str], int]:
-    runtime = tmp_path / "runtime"
-    runtime.mkdir(mode=0o700)
     env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime), XDG_CONFIG_HOME=str(tmp_path),
                PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen")
     tcp = free_port(socket.SOCK_STREAM)
@@ -71,8 +54,9 @@ def stop(first: subprocess.Popen[str]) -> str:
     return stderr
 
 
-def test_a_headless_server_is_never_taken_over_by_a_double_click(tmp_path: Path) -> None:
-    first, env, common, tcp = start_headless(tmp_path)
+def test_a_headless_server_is_never_taken_over_by_a_double_click(tmp_path: Path,
+                                                                 runtime_dir: Path) -> None:
+    first, env, common, tcp = start_headless(tmp_path, runtime_dir)
     try:
         for args in ([str(EXAMPLES / "big-station.moas")],                 # a double-click
                      [str(EXAMPLES / "2x6.moas"), "--headless", *common]):  # another service
@@ -86,8 +70,9 @@ def test_a_headless_server_is_never_taken_over_by_a_double_click(tmp_path: Path)
     assert "Refused a hand-over" in stderr and "Another moas-server handed over" not in stderr
 
 
-def test_a_broken_or_missing_file_is_refused_by_the_new_process_alone(tmp_path: Path) -> None:
-    first, env, _common, tcp = start_headless(tmp_path)
+def test_a_broken_or_missing_file_is_refused_by_the_new_process_alone(
+        tmp_path: Path, runtime_dir: Path) -> None:
+    first, env, _common, tcp = start_headless(tmp_path, runtime_dir)
     broken = tmp_path / "broken.moas"
     broken.write_text('{"Switches": [}')
     try:
@@ -102,9 +87,8 @@ def test_a_broken_or_missing_file_is_refused_by_the_new_process_alone(tmp_path: 
     assert "hand-over" not in stderr, "the running server never heard of the bad files"
 
 
-def test_new_instance_does_not_hand_over(tmp_path: Path) -> None:
-    runtime = tmp_path / "runtime"
-    runtime.mkdir(mode=0o700)
+def test_new_instance_does_not_hand_over(tmp_path: Path, runtime_dir: Path) -> None:
+    runtime = runtime_dir
     env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime))
     broken = tmp_path / "broken.moas"
     broken.write_text("{")

@@ -8,13 +8,13 @@ from __future__ import annotations
 import asyncio
 import json
 import logging
-import socket
 from collections.abc import AsyncIterator, Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 import pytest_asyncio
+from helpers import free_port, until
 
 from moas_gui import __version__
 from moas_gui.app import ServerApp, ServerOptions
@@ -28,21 +28,6 @@ EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 FAST = LinkTiming(ping_interval=0.2, answer_timeout=1.0, retry_first=0.1, retry_max=0.5)
 
 Message = dict[str, Any]
-
-
-def free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
-
-
-async def until(condition: Callable[[], bool], timeout: float = 5.0, what: str = "") -> None:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while not condition():
-        if loop.time() > end:
-            raise AssertionError(f"not in time: {what or 'condition'}")
-        await asyncio.sleep(0.02)
 
 
 class Peer:
@@ -479,6 +464,7 @@ async def test_a_followed_layout_changes_when_another_radio_takes_an_antenna(
 # ---- rotators ----------------------------------------------------------------------------
 
 
+@pytest.mark.realtime  # the whole server, timed on the real clock
 @pytest.mark.asyncio
 async def test_a_test_rotator_turns_at_ten_degrees_a_second_and_stops(
         app: ServerApp, peers: list[Peer]) -> None:

@@ -18,14 +18,18 @@ from typing import Any
 
 import pytest
 import pytest_asyncio
-from test_server_protocol import EXAMPLES, FAST, Message, Peer, free_port, until
+from helpers import FakeClock, free_port, until
+from test_server_protocol import EXAMPLES, FAST, Message, Peer
 
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
 from moas_gui.hw.rotators.moas_rotator_process import LocalMoasRotator
 
-pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX")
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
+]
 
 START = 30.0
 """Where the emulated controller points at power-on."""
@@ -188,3 +192,47 @@ async def test_a_program_that_keeps_dying_is_restarted_ever_less_often_until_sto
     after_stop = len(waits())
     await asyncio.sleep(0.4)
     assert len(waits()) == after_stop and local.process is None, "stop ends the restarts"
+
+
+@pytest.mark.asyncio
+async def test_restarts_wait_on_the_clock_and_a_steady_run_starts_the_back_off_again(
+        tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    """On a fake clock: no restart before its wait has passed on that clock; the waits
+    double (1, 2, 4 s); a program that then ran for a minute (STEADY) before dying is
+    restarted after the shortest wait again."""
+    caplog.set_level(logging.INFO, logger="moas_gui.hw.rotators.moas_rotator_process")
+    hold = tmp_path / "hold"
+    script = ("import pathlib, sys, time\n"
+              f"hold = pathlib.Path({str(hold)!r})\n"
+              "if hold.exists():\n"
+              "    print('running', flush=True)\n"
+              "while hold.exists():\n"
+              "    time.sleep(0.02)\n"
+              "sys.exit(3)\n")
+    clock = FakeClock()
+    local = LocalMoasRotator([sys.executable, "-c", script], free_port(),
+                             restart_min=1.0, restart_max=8.0, clock=clock)
+
+    def waits() -> list[float]:
+        found = (re.search(r"exited with code 3; starting it again in ([0-9.]+) s", r.message)
+                 for r in caplog.records)
+        return [float(m.group(1)) for m in found if m]
+
+    await local.start()
+    try:
+        await until(lambda: waits() == [1.0], what="the first death")
+        await asyncio.sleep(0.3)
+        assert waits() == [1.0], "no restart while the fake clock stands still"
+        await clock.advance(1.0)
+        await until(lambda: waits() == [1.0, 2.0], what="the second death")
+        await clock.advance(2.0)
+        await until(lambda: waits() == [1.0, 2.0, 4.0], what="the third death")
+        hold.touch()
+        await clock.advance(4.0)
+        await until(lambda: "MOAS Rotator: running" in caplog.text, what="a steady run")
+        await clock.advance(61.0)
+        hold.unlink()
+        await until(lambda: len(waits()) == 4, what="the steady program's death")
+        assert waits() == [1.0, 2.0, 4.0, 1.0]
+    finally:
+        await local.stop()

@@ -9,7 +9,8 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from test_client_support import run_on_qt, until
+from helpers import until
+from test_client_support import run_on_qt
 
 from moas_gui import __version__
 from moas_gui.app import ServerApp, ServerOptions

@@ -11,8 +11,9 @@ from typing import Any
 
 import pytest
 import shiboken6
+from helpers import until
 from PySide6.QtGui import QStatusTipEvent
-from test_client_support import run_on_qt, until
+from test_client_support import run_on_qt
 from test_server_window import EXAMPLES, Harness
 
 from moas_gui.ui.qt import QApplication, QMessageBox

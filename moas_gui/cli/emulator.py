@@ -89,14 +89,14 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
         print(f"moas-emulator: cannot make the link {args.link}: {exc}", file=sys.stderr)
         endpoint.close()
         return 2
-    print(endpoint.path, flush=True)
-    if args.link:
-        print(f"linked at {args.link}", flush=True)
-
     stop = asyncio.Event()
     for signum in (signal.SIGINT, signal.SIGTERM):
         with contextlib.suppress(NotImplementedError, RuntimeError, ValueError):
             loop.add_signal_handler(signum, stop.set)
+    # Only now: whoever reads these lines may stop the emulator at once.
+    print(endpoint.path, flush=True)
+    if args.link:
+        print(f"linked at {args.link}", flush=True)
     window = None
     if windowed:
         from ..ui.emulator_window import EmulatorWindow

@@ -23,8 +23,8 @@ from moas_gui import __version__
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.hw.rotators.controllers.base import DEFAULT_SPEED, UnknownModel
 from moas_gui.hw.rotators.controllers.models import find_model, known_models
+from moas_gui.hw.rotators.moas_rotator_codec import PORT
 from moas_gui.rotator_program.program import RotatorProgram
-from moas_gui.rotator_program.protocol import PORT
 
 log = logging.getLogger("moas_gui.rotator_program")
 

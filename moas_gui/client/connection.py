@@ -25,12 +25,13 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
 
 from moas_gui import __version__
 from moas_gui.errors import MoasError, ProtocolError
+from moas_gui.retry import Backoff, keep_trying
 
 from .codec import ClientCodec, Event, Garbled, Reply
 from .events import (
@@ -99,21 +100,6 @@ class ConnectionLost(ClientError):
 
 class RequestTimeout(ClientError):
     """No reply came in time."""
-
-
-@dataclass(frozen=True, slots=True)
-class Backoff:
-    """Pauses between connection attempts: ``first``, then times ``factor``, at most ``most``."""
-
-    first: float = 0.25
-    factor: float = 2.0
-    most: float = 5.0
-
-    def delays(self) -> Iterator[float]:
-        delay = self.first
-        while True:
-            yield delay
-            delay = min(delay * self.factor, self.most)
 
 
 @dataclass(frozen=True, slots=True)
@@ -201,22 +187,19 @@ class ClientConnection:
 
     async def run(self) -> None:
         """Connects, and reconnects after each loss, until :meth:`close`."""
-        delays = self.backoff.delays()
         try:
-            while not self._closing:
-                greeted = await self._attempt()
-                if self._closing:
-                    break
-                if greeted:
-                    delays = self.backoff.delays()
-                delay = next(delays)
-                self._set_link(LinkState.RECONNECTING,
-                               f"{self._last_problem}; trying again in {delay:g} s")
-                self._wake.clear()
-                with contextlib.suppress(TimeoutError):
-                    await asyncio.wait_for(self._wake.wait(), delay)
+            await keep_trying(self._attempt, self.backoff, pause=self._pause,
+                              stopped=lambda: self._closing)
         finally:
             self._set_link(LinkState.CLOSED, "closed")
+
+    async def _pause(self, delay: float) -> None:
+        """Waits ``delay`` before the next attempt (cut short by :meth:`close`)."""
+        self._set_link(LinkState.RECONNECTING,
+                       f"{self._last_problem}; trying again in {delay:g} s")
+        self._wake.clear()
+        with contextlib.suppress(TimeoutError):
+            await asyncio.wait_for(self._wake.wait(), delay)
 
     async def wait_connected(self, timeout: float | None = None) -> None:
         """Returns once the server has answered ``hello`` (raises TimeoutError)."""

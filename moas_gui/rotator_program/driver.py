@@ -60,7 +60,7 @@ MISSES_BEFORE_REPORT = 3
 GARBAGE_LOG_EVERY = 5.0
 
 
-class RotatorDriver:
+class ControllerDriver:
     """Drives rotator ``rotator`` of ``model`` on ``port``; see the module docstring."""
 
     def __init__(self, rotator: int, model: Model, port: str, poll_ms: int,
@@ -333,4 +333,4 @@ class RotatorDriver:
             link.close()
 
 
-__all__ = ["ALIVE_CHECK", "MIN_POLL", "RETRY", "RotatorDriver"]
+__all__ = ["ALIVE_CHECK", "MIN_POLL", "RETRY", "ControllerDriver"]

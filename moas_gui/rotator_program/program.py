@@ -29,20 +29,20 @@ from collections.abc import Callable
 from moas_gui import __version__
 from moas_gui.hw.rotators.controllers.base import ControllerError
 from moas_gui.hw.rotators.controllers.models import find_model
-
-from .driver import RETRY, RotatorDriver
-from .protocol import (
+from moas_gui.hw.rotators.moas_rotator_codec import (
     PORT,
-    BadCommand,
+    BadLine,
     Command,
-    CommandReader,
+    CommandDecoder,
     Configure,
     Rotate,
     Stop,
     VersionRequest,
-    heading_message,
-    version_message,
+    encode_heading,
+    encode_version_reply,
 )
+
+from .driver import RETRY, ControllerDriver
 from .serial_link import Opener, PortError, open_serial, split_port
 
 log = logging.getLogger(__name__)
@@ -56,7 +56,7 @@ class RotatorProgram:
 
     def __init__(self, *, opener: Opener = open_serial, retry: float = RETRY,
                  clock: Callable[[], float] = time.monotonic, version: str = __version__) -> None:
-        self.rotators: dict[int, RotatorDriver] = {}
+        self.rotators: dict[int, ControllerDriver] = {}
         self._opener = opener
         self._retry = retry
         self._clock = clock
@@ -118,7 +118,7 @@ class RotatorProgram:
             log.info("server connected from %s", peer)
         self._peer = peer
         self._announced = set()
-        commands = CommandReader()
+        commands = CommandDecoder()
         try:
             while True:
                 try:
@@ -151,17 +151,17 @@ class RotatorProgram:
 
     def _report(self, rotator: int, degrees: int) -> None:
         if rotator in self._announced:
-            self._send(heading_message(rotator, degrees))
+            self._send(encode_heading(rotator, degrees))
 
     # -- commands --------------------------------------------------------------------------
 
-    async def _obey(self, command: Command | BadCommand) -> None:
-        if isinstance(command, BadCommand):
+    async def _obey(self, command: Command | BadLine) -> None:
+        if isinstance(command, BadLine):
             where = f"rotator {command.rotator}: " if command.rotator is not None else ""
             log.warning("%sbad command from the server %r: %s", where, command.line,
                         command.reason)
         elif isinstance(command, VersionRequest):
-            self._send(version_message(self._version))
+            self._send(encode_version_reply(self._version))
         elif isinstance(command, Configure):
             await self._configure(command)
         elif isinstance(command, Rotate):
@@ -183,7 +183,7 @@ class RotatorProgram:
         if current is not None and current.same_setup(model, command.port, command.poll_ms):
             log.info("%s: configured again, unchanged", current.label)
             if current.heading is not None:
-                self._send(heading_message(rotator, current.heading))
+                self._send(encode_heading(rotator, current.heading))
             return
         if current is not None:
             log.info("%s: replaced by a new configuration", current.label)
@@ -195,7 +195,7 @@ class RotatorProgram:
                 log.warning("%s: gives its port up to rotator %d", other.label, rotator)
                 del self.rotators[other.rotator]
                 await other.close()
-        driver = RotatorDriver(rotator, model, command.port, command.poll_ms, self._report,
+        driver = ControllerDriver(rotator, model, command.port, command.poll_ms, self._report,
                                opener=self._opener, retry=self._retry, clock=self._clock)
         self.rotators[rotator] = driver
         log.info("%s: configured, %s", driver.label, _polling(driver))
@@ -231,7 +231,7 @@ def _peer(writer: asyncio.StreamWriter) -> str:
     return str(peer)
 
 
-def _polling(driver: RotatorDriver) -> str:
+def _polling(driver: ControllerDriver) -> str:
     info = driver.codec.info
     if not info.has_readback:
         return "no position readback (headings are estimated after each turn)"

@@ -44,6 +44,7 @@ from typing import Any, TypeVar
 
 from ...aio import cancel_and_wait
 from ...engine.switchstate import STATIONS, SwitchState
+from ...retry import Backoff, keep_trying
 from .commands import encode, split
 from .decoder import SwitchDecoder
 from .diagnostics import Batch, blame, switch_data
@@ -253,15 +254,15 @@ class SwitchLink:
     # ------------------------------------------------------------------ supervision
 
     async def _supervise(self) -> None:
-        delay = self.timing.retry_first
-        while True:
-            reached = await self._session()
-            self._close_port("session ended")
-            self._set_status(LinkStatus.UNRESPONSIVE)
-            if reached:
-                delay = self.timing.retry_first
-            await asyncio.sleep(delay)
-            delay = min(delay * 2, self.timing.retry_max)
+        retry = Backoff(first=self.timing.retry_first, factor=2.0, most=self.timing.retry_max)
+        await keep_trying(self._attempt, retry)
+
+    async def _attempt(self) -> bool:
+        """One session and its end; True if the box became ready (the retries start over)."""
+        reached = await self._session()
+        self._close_port("session ended")
+        self._set_status(LinkStatus.UNRESPONSIVE)
+        return reached
 
     async def _session(self) -> bool:
         """One connection; True if the box became ready."""

@@ -27,7 +27,9 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from moas_gui.clock import LOOP_CLOCK, Clock
 from moas_gui.engine.config.model import Rotator, RotatorControl
+from moas_gui.retry import Backoff
 
 from .headings import Travel, whole_heading
 
@@ -104,7 +106,8 @@ class RotatorView:
 
 @dataclass(frozen=True, slots=True)
 class Timing:
-    """Every delay the rotator code uses, in seconds; tests pass shorter ones."""
+    """Every delay the rotator code uses, in seconds, and the clock it reads and waits
+    on; tests pass shorter delays, or a :class:`~moas_gui.clock.FakeClock`."""
 
     reconnect_min: float = 0.5
     """First wait before reconnecting to a peer that went away; doubles each time."""
@@ -122,22 +125,12 @@ class Timing:
     stall_min: float = 5.0
     """A turn is over, short of its target, when the heading has not changed for
     ``max(stall_polls * poll, stall_min)``."""
+    clock: Clock = LOOP_CLOCK
 
-
-class Backoff:
-    """Waits before reconnecting: ``low``, then twice as long each time, up to ``high``."""
-
-    def __init__(self, low: float, high: float) -> None:
-        self.low, self.high = low, high
-        self._next = low
-
-    def next(self) -> float:
-        wait = self._next
-        self._next = min(self._next * 2, self.high)
-        return wait
-
-    def reset(self) -> None:
-        self._next = self.low
+    @property
+    def reconnect(self) -> Backoff:
+        """The pauses between attempts to reach a peer that went away."""
+        return Backoff(first=self.reconnect_min, factor=2.0, most=self.reconnect_max)
 
 
 def describe(rotator: Rotator) -> str:
@@ -228,7 +221,6 @@ class UnusableRotator(RotatorDriver):
 
 __all__ = [
     "ERROR_CODES",
-    "Backoff",
     "Publish",
     "RotatorDriver",
     "RotatorError",

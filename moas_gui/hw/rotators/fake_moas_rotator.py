@@ -30,14 +30,13 @@ from dataclasses import dataclass
 from .moas_rotator_codec import (
     BadLine,
     Command,
+    CommandDecoder,
     Configure,
-    LineSplitter,
     Rotate,
     Stop,
-    VersionQuery,
+    VersionRequest,
     encode_heading,
     encode_version_reply,
-    parse_command,
 )
 
 log = logging.getLogger("moas_gui.hw.rotators.fake_moas_rotator")
@@ -65,7 +64,7 @@ class FakeMoasRotator:
         self.controllers: dict[str, SimulatedController] = {}
         self.configured: dict[int, str] = {}
         """rotator number -> CommPort, as the last CONFIGUREs said."""
-        self.commands: list[Command] = []
+        self.commands: list[Command | BadLine] = []
         self._server: asyncio.Server | None = None
         self._writers: set[asyncio.StreamWriter] = set()
         self._motion: asyncio.Task[None] | None = None
@@ -134,11 +133,10 @@ class FakeMoasRotator:
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         self._writers.add(writer)
-        lines = LineSplitter()
+        decoder = CommandDecoder()
         try:
             while data := await reader.read(4096):
-                for line in lines.feed(data):
-                    command = line if isinstance(line, BadLine) else parse_command(line)
+                for command in decoder.feed(data):
                     self.commands.append(command)
                     self._handle(command, writer)
                     self._changed.set()
@@ -150,8 +148,8 @@ class FakeMoasRotator:
             with contextlib.suppress(OSError):
                 await writer.wait_closed()
 
-    def _handle(self, command: Command, writer: asyncio.StreamWriter) -> None:
-        if isinstance(command, VersionQuery):
+    def _handle(self, command: Command | BadLine, writer: asyncio.StreamWriter) -> None:
+        if isinstance(command, VersionRequest):
             writer.write(encode_version_reply(self.version))
         elif isinstance(command, Configure):
             self.configured[command.rotator] = command.port
@@ -205,11 +203,11 @@ class FakeMoasRotator:
 async def _main(host: str, port: int) -> None:
     fake = FakeMoasRotator(host, port)
     await fake.start()
-    print(f"fake MOAS Rotator listening on {host}:{fake.port}", flush=True)
     done = asyncio.Event()
     loop = asyncio.get_running_loop()
     for sig in (signal.SIGINT, signal.SIGTERM):
         loop.add_signal_handler(sig, done.set)
+    print(f"fake MOAS Rotator listening on {host}:{fake.port}", flush=True)
     await done.wait()
     await fake.close()
 

@@ -24,7 +24,7 @@ from collections.abc import Callable
 from moas_gui.aio import cancel_and_wait
 from moas_gui.engine.config.model import Rotator
 
-from .base import Backoff, Publish, RotatorDriver, RotatorStatus, Timing
+from .base import Publish, RotatorDriver, RotatorStatus, Timing
 from .genius_codec import (
     Event,
     Garbage,
@@ -37,6 +37,7 @@ from .genius_codec import (
     encode_stop,
 )
 from .headings import Travel, whole_heading
+from .tcp_peer import keep_connected
 
 log = logging.getLogger("moas_gui.hw.rotators.genius")
 
@@ -178,24 +179,8 @@ class GeniusLink:
             log.debug("%s: unexpected %s", self.where, event)
 
     async def _run(self) -> None:
-        backoff = Backoff(self.timing.reconnect_min, self.timing.reconnect_max)
-        failures = 0
-        while True:
-            try:
-                reader, writer = await asyncio.wait_for(
-                    asyncio.open_connection(self.host, self.port), self.timing.connect_timeout
-                )
-            except (OSError, TimeoutError) as exc:
-                level = logging.WARNING if failures == 0 else logging.DEBUG
-                log.log(level, "%s: cannot connect (%s); will keep trying",
-                        self.where, exc or "timed out")
-                failures += 1
-                await asyncio.sleep(backoff.next())
-                continue
-            failures = 0
-            backoff.reset()
-            await self._session(reader, writer)
-            await asyncio.sleep(backoff.next())
+        await keep_connected(self.host, self.port, self._session, self.timing,
+                             where=self.where, log=log)
 
     async def _session(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         log.info("%s: connected", self.where)
@@ -205,7 +190,7 @@ class GeniusLink:
                 status = await self.request(encode_read(), "h")
                 assert isinstance(status, Status)
                 self._hand_out(status)
-                await asyncio.sleep(self.poll)
+                await self.timing.clock.sleep(self.poll)
         except TimeoutError:
             log.warning("%s did not answer within %.1f s; reconnecting",
                         self.where, self.timing.reply_timeout)

@@ -24,7 +24,7 @@ import logging
 from moas_gui.aio import cancel_and_wait
 from moas_gui.engine.config.model import Rotator
 
-from .base import Backoff, Publish, RotatorDriver, RotatorStatus, Timing
+from .base import Publish, RotatorDriver, RotatorStatus, Timing
 from .hamlib_codec import (
     ExtendedReply,
     Limits,
@@ -37,6 +37,7 @@ from .hamlib_codec import (
     limits_of,
 )
 from .headings import Travel, angular_distance, azimuth_of, position_of
+from .tcp_peer import keep_connected
 from .tracking import TurnTracker, linear_distance
 
 log = logging.getLogger("moas_gui.hw.rotators.hamlib")
@@ -156,25 +157,8 @@ class HamlibRotator(RotatorDriver):
     # ---- polling ---------------------------------------------------------------------
 
     async def _run(self) -> None:
-        backoff = Backoff(self.timing.reconnect_min, self.timing.reconnect_max)
-        failures = 0
-        while True:
-            try:
-                reader, writer = await asyncio.wait_for(
-                    asyncio.open_connection(self.host, self.port, limit=MAX_LINE),
-                    self.timing.connect_timeout,
-                )
-            except (OSError, TimeoutError) as exc:
-                level = logging.WARNING if failures == 0 else logging.DEBUG
-                log.log(level, "%s: %s: cannot connect (%s); will keep trying",
-                        self.name, self.where, exc or "timed out")
-                failures += 1
-                await asyncio.sleep(backoff.next())
-                continue
-            failures = 0
-            backoff.reset()
-            await self._session(reader, writer)
-            await asyncio.sleep(backoff.next())
+        await keep_connected(self.host, self.port, self._session, self.timing,
+                             where=f"{self.name}: {self.where}", log=log, limit=MAX_LINE)
 
     async def _session(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         log.info("%s: connected to %s", self.name, self.where)
@@ -195,7 +179,7 @@ class HamlibRotator(RotatorDriver):
                 if self.tracker.tick(self._now()) == "stalled":
                     log.info("%s stopped short of its target", self.title)
                 self._publish_now()
-                await asyncio.sleep(self.poll)
+                await self.timing.clock.sleep(self.poll)
         except TimeoutError:
             log.warning("%s: %s did not answer within %.1f s; reconnecting",
                         self.name, self.where, self.timing.reply_timeout)
@@ -237,7 +221,7 @@ class HamlibRotator(RotatorDriver):
         self.tracker.observe(position, self._now())
 
     def _now(self) -> float:
-        return asyncio.get_running_loop().time()
+        return self.timing.clock.now()
 
     def _publish_now(self) -> None:
         position, target = self.tracker.position, self.tracker.target

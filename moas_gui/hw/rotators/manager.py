@@ -89,7 +89,7 @@ class RotatorManager:
         local = [port for host, port in self._moas_links if is_local(host)]
         if start_moas_rotator and local:
             command = moas_rotator_command or default_command(local[0])
-            self.local_program = LocalMoasRotator(command, local[0])
+            self.local_program = LocalMoasRotator(command, local[0], clock=self.timing.clock)
         self.listeners: list[RotctldServer] = []
         self._tasks: set[asyncio.Task[None]] = set()
 

@@ -1,27 +1,35 @@
 """The MOAS Rotator protocol (appendix B, TCP 13020), sans-IO, both ends.
 
-Text lines of 8-bit ASCII, fields separated by one space, ended by CR (LF and
+The one codec of this protocol: the server's link (``moas_rotator_link``), the
+MOAS Rotator program (``moas_gui.rotator_program``) and the test stand-in
+(``fake_moas_rotator``) all read and write through it.
+
+Text lines of 8-bit ASCII, fields separated by spaces, ended by CR (LF and
 CR LF are accepted on input).  Server to program::
 
-    VERSION
-    CONFIGURE <rotator> <model> <port> <poll>     (ERRATA: model before port)
+    VERSION                                    -> "VERSION <major>.<minor>"
+    CONFIGURE <rotator> <model> <port> <poll>  (the manual's worked example; ERRATA)
+    CONFIGURE <rotator> <port> <model> <poll>  (the manual's format line; read too)
     ROTATE <rotator> <degrees>
     STOP <rotator>
 
 Program to server::
 
     VERSION <major>.<minor>
-    <rotator> <degrees>                            (a heading report)
+    <rotator> <degrees>                        (a heading report)
+
+The two CONFIGURE orders are told apart by the port being the field that is
+not a number; a model may also be given by name ("Yaesu", "Prosistel D"),
+and then the field that names a known model is the model.  Every line that
+cannot be understood becomes a :class:`BadLine` saying why, with the rotator
+number when one could be read; no parser here raises.
 
 Model numbers (appendix B and ERRATA): DCU1=1, RotorEZ=2, Yaesu=4,
-Alfaspid=5, RC2800P-A=8, RC2800P-X=9, Prosistel D=10.
-
-What ``<degrees>`` means depends on the controller.  Appendix B says "for
-most rotators" it counts clockwise from the counterclockwise stop; the
-controllers that know north themselves (DCU-1, Rotor-EZ: they take and give
-compass bearings 0-359 and guard their own stop, like the Rotor-EZ with a
-south stop in the manual's example 6.9.1) are the exception.  ``SCALES``
-records which is which; see ``docs/rotators.md``.
+Alfaspid=5, RC2800P-A=8, RC2800P-X=9, Prosistel D=10.  What ``<degrees>``
+means depends on the controller: for most it counts clockwise from the
+counterclockwise stop; the controllers that know north themselves (DCU-1,
+Rotor-EZ) take and give compass bearings 0-359.  ``SCALES`` records which is
+which; see ``docs/rotators.md``.
 """
 
 from __future__ import annotations
@@ -31,9 +39,16 @@ from dataclasses import dataclass
 from enum import Enum
 
 from .ascii import is_digits
+from .controllers.models import is_model_name
 
-MAX_LINE = 256
-"""A line longer than this (bytes, without terminator) is thrown away."""
+PORT = 13020
+"""The TCP port of the MOAS Rotator program (fixed by the original)."""
+
+MAX_REPORT_LINE = 256
+"""A report longer than this (bytes, without terminator) is thrown away by the server."""
+
+MAX_COMMAND_LINE = 512
+"""A command longer than this is refused by the program without waiting for its end."""
 
 
 class Scale(Enum):
@@ -90,16 +105,78 @@ def check_field(what: str, value: str) -> str:
     return value
 
 
+# ---- the messages --------------------------------------------------------------------
+
+@dataclass(frozen=True, slots=True)
+class VersionRequest:
+    """``VERSION``."""
+
+
+@dataclass(frozen=True, slots=True)
+class Configure:
+    """``CONFIGURE``: drive a rotator of ``model`` on ``port``, asking every ``poll_ms``."""
+
+    rotator: int
+    model: str
+    """As sent: a MOAS number ("2") or a name ("RotorEZ")."""
+    port: str
+    poll_ms: int
+
+
+@dataclass(frozen=True, slots=True)
+class Rotate:
+    """``ROTATE``: turn ``rotator`` to ``degrees``."""
+
+    rotator: int
+    degrees: float
+
+
+@dataclass(frozen=True, slots=True)
+class Stop:
+    """``STOP``: stop ``rotator``."""
+
+    rotator: int
+
+
+@dataclass(frozen=True, slots=True)
+class VersionReport:
+    """``VERSION <major>.<minor>`` from the program."""
+
+    version: str
+
+
+@dataclass(frozen=True, slots=True)
+class HeadingReport:
+    """``<rotator> <degrees>`` from the program."""
+
+    rotator: int
+    degrees: float
+
+
+@dataclass(frozen=True, slots=True)
+class BadLine:
+    """A line, either way, that means nothing; ``reason`` says why, ``rotator`` when
+    one is named."""
+
+    line: str
+    reason: str
+    rotator: int | None = None
+
+
+Command = VersionRequest | Configure | Rotate | Stop
+Report = VersionReport | HeadingReport
+
+
 # ---- server side: commands out, reports in -------------------------------------------
 
 def encode_version() -> bytes:
     return b"VERSION\r"
 
 
-def encode_configure(rotator: int, model: str, port: str, poll: int) -> bytes:
+def encode_configure(rotator: int, model: str, port: str, poll_ms: int) -> bytes:
     check_field("model", model)
     check_field("CommPort", port)
-    return f"CONFIGURE {rotator} {model} {port} {int(poll)}\r".encode("latin-1")
+    return f"CONFIGURE {rotator} {model} {port} {int(poll_ms)}\r".encode("latin-1")
 
 
 def encode_rotate(rotator: int, degrees: float) -> bytes:
@@ -110,33 +187,11 @@ def encode_stop(rotator: int) -> bytes:
     return f"STOP {rotator}\r".encode("ascii")
 
 
-@dataclass(frozen=True, slots=True)
-class VersionReport:
-    version: str
-
-
-@dataclass(frozen=True, slots=True)
-class HeadingReport:
-    rotator: int
-    degrees: float
-
-
-@dataclass(frozen=True, slots=True)
-class BadLine:
-    """A line that means nothing; ``reason`` says why, ``rotator`` when one is named."""
-
-    line: str
-    reason: str
-    rotator: int | None = None
-
-
-Report = VersionReport | HeadingReport | BadLine
-
-
 class LineSplitter:
-    """Bytes in, complete lines out (CR, LF or CR LF; empty lines dropped)."""
+    """Bytes in, complete lines out (CR, LF or CR LF; empty lines dropped); a line
+    longer than ``max_line`` becomes one :class:`BadLine` and is skipped to its end."""
 
-    def __init__(self, max_line: int = MAX_LINE) -> None:
+    def __init__(self, max_line: int = MAX_REPORT_LINE) -> None:
         self.max_line = max_line
         self._buffer = bytearray()
         self._discarding = False
@@ -162,14 +217,14 @@ class LineSplitter:
         return out
 
 
-def parse_report(line: str) -> Report:
+def parse_report(line: str) -> Report | BadLine:
     """One line from the program."""
     fields = line.split()
     if len(fields) == 2 and fields[0] == "VERSION":
         return VersionReport(fields[1])
     if len(fields) == 2 and _is_int(fields[0]):
         rotator = int(fields[0])
-        degrees = _number(fields[1])
+        degrees = _finite(fields[1])
         if degrees is None:
             return BadLine(line, f"heading {fields[1]!r} is not a number", rotator)
         return HeadingReport(rotator, degrees)
@@ -179,86 +234,173 @@ def parse_report(line: str) -> Report:
 
 
 class ReportDecoder:
-    """Bytes from the program in, :data:`Report` events out."""
+    """Bytes from the program in, reports (or :class:`BadLine`) out."""
 
     def __init__(self) -> None:
         self._lines = LineSplitter()
 
-    def feed(self, data: bytes) -> list[Report]:
+    def feed(self, data: bytes) -> list[Report | BadLine]:
         return [
             item if isinstance(item, BadLine) else parse_report(item)
             for item in self._lines.feed(data)
         ]
 
 
-# ---- program side (used by the fake program) ------------------------------------------
-
-@dataclass(frozen=True, slots=True)
-class VersionQuery:
-    pass
-
-
-@dataclass(frozen=True, slots=True)
-class Configure:
-    rotator: int
-    model: str
-    port: str
-    poll: int
-
-
-@dataclass(frozen=True, slots=True)
-class Rotate:
-    rotator: int
-    degrees: float
-
-
-@dataclass(frozen=True, slots=True)
-class Stop:
-    rotator: int
-
-
-Command = VersionQuery | Configure | Rotate | Stop | BadLine
-
-
-def parse_command(line: str) -> Command:
-    """One line from the server.  CONFIGURE takes either field order: the port
-    is the field that is not a number."""
-    fields = line.split()
-    if not fields:
-        return BadLine(line, "empty command")
-    word, args = fields[0].upper(), fields[1:]
-    if word == "VERSION" and not args:
-        return VersionQuery()
-    if not args or not _is_int(args[0]):
-        return BadLine(line, f"{word} needs a rotator number first")
-    rotator = int(args[0])
-    if word == "CONFIGURE" and len(args) == 4 and _is_int(args[3]):
-        first, second = args[1], args[2]
-        model, port = (first, second) if _is_int(first) or not _is_int(second) else (second, first)
-        return Configure(rotator, model, port, int(args[3]))
-    if word == "ROTATE" and len(args) == 2:
-        degrees = _number(args[1])
-        if degrees is not None:
-            return Rotate(rotator, degrees)
-    if word == "STOP" and len(args) == 1:
-        return Stop(rotator)
-    return BadLine(line, f"not a well-formed {word} command", rotator)
-
+# ---- program side: commands in, reports out ------------------------------------------
 
 def encode_version_reply(version: str) -> bytes:
-    return f"VERSION {version}\r".encode("ascii")
+    """``VERSION <major>.<minor>`` from a version like "0.1.0"."""
+    parts = (version.split(".") + ["0"])[:2]
+    major, minor = (int(p) if is_digits(p) else 0 for p in parts)
+    return f"VERSION {major}.{minor}\r".encode("ascii")
 
 
 def encode_heading(rotator: int, degrees: float) -> bytes:
+    """``<rotator> <degrees>``, in whole degrees."""
     return f"{rotator} {round(degrees)}\r".encode("ascii")
 
 
+def parse_command(line: str) -> Command | BadLine:
+    """One line from the server, without its terminator."""
+    fields = line.split()
+    if not fields:
+        return BadLine(line, "empty command")
+    word = fields[0].upper()
+    if word == "VERSION":
+        if len(fields) != 1:
+            return BadLine(line, "VERSION takes no fields")
+        return VersionRequest()
+    if word == "CONFIGURE":
+        return _configure(line, fields)
+    if word in ("ROTATE", "STOP"):
+        wanted = 3 if word == "ROTATE" else 2
+        rotator = _rotator(fields[1]) if len(fields) > 1 else None
+        usage = "ROTATE needs <rotator> <degrees>" if word == "ROTATE" else "STOP needs <rotator>"
+        if len(fields) != wanted:
+            return BadLine(line, usage, rotator)
+        if rotator is None:
+            return BadLine(line, f"rotator number {fields[1]!r} is not a whole number >= 0")
+        if word == "STOP":
+            return Stop(rotator)
+        degrees = _finite(fields[2])
+        if degrees is None:
+            return BadLine(line, f"heading {fields[2]!r} is not a number of degrees", rotator)
+        return Rotate(rotator, degrees)
+    return BadLine(line, f"unknown command {fields[0]!r} (known: VERSION, CONFIGURE, "
+                         "ROTATE, STOP)")
+
+
+def _configure(line: str, fields: list[str]) -> Configure | BadLine:
+    usage = "CONFIGURE needs <rotator> <model> <port> <poll>"
+    if len(fields) < 5:
+        return BadLine(line, usage, _rotator(fields[1]) if len(fields) > 1 else None)
+    rotator = _rotator(fields[1])
+    if rotator is None:
+        return BadLine(line, f"rotator number {fields[1]!r} is not a whole number >= 0")
+    poll = fields[-1]
+    if not is_digits(poll):
+        return BadLine(line, f"poll time {poll!r} is not a whole number of milliseconds",
+                       rotator)
+    split = _model_and_port(fields[2:-1])
+    if isinstance(split, str):
+        return BadLine(line, split, rotator)
+    model, port = split
+    return Configure(rotator, model, port, int(poll))
+
+
+def _model_and_port(middle: list[str]) -> tuple[str, str] | str:
+    """``(model, port)`` from the fields between rotator and poll, or why not."""
+    if len(middle) == 2:
+        first, second = middle
+        if _numeric(first) != _numeric(second):
+            return (first, second) if _numeric(first) else (second, first)
+        if _numeric(first):
+            return f"no port: both {first!r} and {second!r} are numbers"
+        first_is, second_is = is_model_name(first), is_model_name(second)
+        if first_is and not second_is:
+            return first, second
+        if second_is and not first_is:
+            return second, first
+        if first_is:
+            return f"cannot tell the port from the model: {first!r} and {second!r} are both models"
+        first_port, second_port = _looks_like_port(first), _looks_like_port(second)
+        if first_port != second_port:  # an unknown model beside a port: the model is refused
+            return (second, first) if first_port else (first, second)
+        return f"unknown rotator model: neither {first!r} nor {second!r} names a model"
+    # A name with a space ("Prosistel D"), or a port name with one: longest model name first.
+    for cut in range(len(middle) - 1, 0, -1):
+        head = " ".join(middle[:cut])
+        if is_model_name(head):
+            return head, " ".join(middle[cut:])
+    for cut in range(1, len(middle)):
+        tail = " ".join(middle[cut:])
+        if is_model_name(tail):
+            return tail, " ".join(middle[:cut])
+    if _numeric(middle[0]):
+        return middle[0], " ".join(middle[1:])
+    if _numeric(middle[-1]):
+        return middle[-1], " ".join(middle[:-1])
+    return "unknown rotator model: no field names a model"
+
+
+def _looks_like_port(text: str) -> bool:
+    """COM3, /dev/ttyUSB0, socket://host:port, a Windows device path and the like."""
+    return text.upper().startswith("COM") or "/" in text or "\\" in text
+
+
+class CommandDecoder:
+    """Bytes from the server in, commands (or :class:`BadLine`) out."""
+
+    __slots__ = ("_buffer", "_skipping")
+
+    def __init__(self) -> None:
+        self._buffer = b""
+        self._skipping = False
+
+    def feed(self, data: bytes) -> list[Command | BadLine]:
+        out: list[Command | BadLine] = []
+        buffer = self._buffer + data
+        start = 0
+        for i, byte in enumerate(buffer):
+            if byte not in (0x0D, 0x0A):
+                continue
+            chunk = buffer[start:i]
+            start = i + 1
+            if self._skipping:
+                self._skipping = False
+                continue
+            text = chunk.decode("latin-1").strip()
+            if text:
+                out.append(parse_command(text))
+        rest = buffer[start:]
+        if len(rest) > MAX_COMMAND_LINE:
+            if not self._skipping:
+                shown = rest[:40].decode("latin-1")
+                out.append(BadLine(shown + "...", f"line longer than {MAX_COMMAND_LINE} "
+                                                  "bytes without CR; ignored"))
+            self._skipping = True
+            rest = b""
+        self._buffer = rest
+        return out
+
+
+# ---- numbers -------------------------------------------------------------------------
+
 def _is_int(text: str) -> bool:
-    body = text[1:] if text[:1] == "-" else text
-    return is_digits(body)
+    """A report's whole number: ASCII digits, perhaps after a minus."""
+    return is_digits(text[1:] if text[:1] == "-" else text)
 
 
-def _number(text: str) -> float | None:
+def _numeric(text: str) -> bool:
+    """A command field that is a number rather than a name or a port."""
+    return is_digits(text.lstrip("+-"))
+
+
+def _rotator(text: str) -> int | None:
+    return int(text) if is_digits(text) else None
+
+
+def _finite(text: str) -> float | None:
     try:
         value = float(text)
     except ValueError:
@@ -268,11 +410,14 @@ def _number(text: str) -> float | None:
 
 __all__ = [
     "COMPASS_MODELS",
-    "MAX_LINE",
+    "MAX_COMMAND_LINE",
+    "MAX_REPORT_LINE",
     "MODEL_NUMBERS",
+    "PORT",
     "SCALES",
     "BadLine",
     "Command",
+    "CommandDecoder",
     "Configure",
     "HeadingReport",
     "LineSplitter",
@@ -281,8 +426,9 @@ __all__ = [
     "Rotate",
     "Scale",
     "Stop",
-    "VersionQuery",
     "VersionReport",
+    "VersionRequest",
+    "check_field",
     "encode_configure",
     "encode_heading",
     "encode_rotate",

@@ -17,9 +17,10 @@ import logging
 from moas_gui.aio import cancel_and_wait
 from moas_gui.engine.config.model import Rotator
 
-from .base import Backoff, Publish, RotatorDriver, RotatorStatus, Timing
+from .base import Publish, RotatorDriver, RotatorStatus, Timing
 from .headings import Travel, angular_distance, normalize
 from .moas_rotator_codec import (
+    PORT,
     BadLine,
     HeadingReport,
     ReportDecoder,
@@ -30,11 +31,12 @@ from .moas_rotator_codec import (
     encode_stop,
     encode_version,
 )
+from .tcp_peer import keep_connected
 from .tracking import TurnTracker, linear_distance
 
 log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_link")
 
-MOAS_ROTATOR_PORT = 13020
+MOAS_ROTATOR_PORT = PORT
 
 
 class MoasRotatorLink:
@@ -73,24 +75,8 @@ class MoasRotatorLink:
         await asyncio.wait_for(writer.drain(), self.timing.reply_timeout)
 
     async def _run(self) -> None:
-        backoff = Backoff(self.timing.reconnect_min, self.timing.reconnect_max)
-        failures = 0
-        while True:
-            try:
-                reader, writer = await asyncio.wait_for(
-                    asyncio.open_connection(self.host, self.port), self.timing.connect_timeout
-                )
-            except (OSError, TimeoutError) as exc:
-                level = logging.WARNING if failures == 0 else logging.DEBUG
-                log.log(level, "%s: cannot connect (%s); will keep trying", self.where, exc or
-                        "timed out")
-                failures += 1
-                await asyncio.sleep(backoff.next())
-                continue
-            failures = 0
-            backoff.reset()
-            await self._session(reader, writer)
-            await asyncio.sleep(backoff.next())
+        await keep_connected(self.host, self.port, self._session, self.timing,
+                             where=self.where, log=log)
 
     async def _session(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         log.info("%s: connected", self.where)
@@ -234,7 +220,7 @@ class SerialRotator(RotatorDriver):
         return position if self.travel.bounded else normalize(position)
 
     def _now(self) -> float:
-        return asyncio.get_running_loop().time()
+        return self.timing.clock.now()
 
     def _publish_now(self) -> None:
         position, target = self.tracker.position, self.tracker.target
@@ -247,7 +233,7 @@ class SerialRotator(RotatorDriver):
 
     async def _watch(self) -> None:
         while True:
-            await asyncio.sleep(self._watch_every)
+            await self.timing.clock.sleep(self._watch_every)
             if self._online and self.tracker.tick(self._now()) == "stalled":
                 log.info("%s stopped short of its target", self.title)
             self._publish_now()

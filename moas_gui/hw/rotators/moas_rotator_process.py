@@ -21,6 +21,9 @@ import re
 import sys
 from collections.abc import Sequence
 
+from moas_gui.clock import LOOP_CLOCK, Clock
+from moas_gui.retry import Backoff
+
 log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_process")
 
 
@@ -56,14 +59,17 @@ def relayed_line(text: str) -> tuple[int, str]:
 class LocalMoasRotator:
     def __init__(self, command: Sequence[str], port: int, *, start_timeout: float = 5.0,
                  stop_timeout: float = 3.0, restart_min: float = 1.0,
-                 restart_max: float = 30.0) -> None:
+                 restart_max: float = 30.0, clock: Clock = LOOP_CLOCK) -> None:
         self.command = list(command)
         self.port = port
         self.start_timeout = start_timeout
         self.stop_timeout = stop_timeout
         self.restart_min = restart_min
         self.restart_max = restart_max
-        self._restart_wait = restart_min
+        self.clock = clock
+        """Times the program's life and waits out its restarts."""
+        self._restarts = Backoff(first=restart_min, factor=2.0, most=restart_max)
+        self._restart_delays = self._restarts.delays()
         self._started_at = 0.0
         self._listening = asyncio.Event()
         self.process: asyncio.subprocess.Process | None = None
@@ -87,7 +93,7 @@ class LocalMoasRotator:
             return
         log.info("started the MOAS Rotator program (pid %d): %s",
                  self.process.pid, " ".join(self.command))
-        self._started_at = asyncio.get_running_loop().time()
+        self._started_at = self.clock.now()
         self._listening = asyncio.Event()
         self._output = asyncio.create_task(self._relay(self.process), name="MOAS Rotator output")
         # let it open its port before the first connection attempt (it says
@@ -128,17 +134,16 @@ class LocalMoasRotator:
         self._listening.set()
         code = await process.wait()
         if self.process is process:
-            if asyncio.get_running_loop().time() - self._started_at >= STEADY:
-                self._restart_wait = self.restart_min
-            wait = self._restart_wait
-            self._restart_wait = min(wait * 2, self.restart_max)
+            if self.clock.now() - self._started_at >= STEADY:
+                self._restart_delays = self._restarts.delays()
+            wait = next(self._restart_delays)
             log.error("the MOAS Rotator program (pid %d) exited with code %d; starting it "
                       "again in %g s", process.pid, code, wait)
             self._restart = asyncio.create_task(self._start_again(process, wait),
                                                 name="MOAS Rotator restart")
 
     async def _start_again(self, dead: asyncio.subprocess.Process, wait: float) -> None:
-        await asyncio.sleep(wait)
+        await self.clock.sleep(wait)
         if self.process is dead:  # not stopped meanwhile
             self.process = None
             await self.start()

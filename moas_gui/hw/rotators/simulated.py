@@ -1,6 +1,6 @@
 """The Test rotator (6.9): a simulated rotator that turns at ten degrees a second.
 
-Motion is computed from the event loop's clock, so a heading is exact whenever
+Motion is computed from the clock (``Timing.clock``), so a heading is exact whenever
 it is read; while turning, the heading is published every ``Timing.test_tick``
 seconds.  It starts at its counterclockwise stop and is always online.
 """
@@ -42,7 +42,7 @@ class SimulatedRotator(RotatorDriver):
     def current_position(self) -> float:
         if self._turn is None:
             return self.position
-        elapsed = asyncio.get_running_loop().time() - self._turn_began
+        elapsed = self.timing.clock.now() - self._turn_began
         return self._turn.position_after(elapsed * self.timing.test_speed)
 
     async def rotate(self, heading: float) -> None:
@@ -59,7 +59,7 @@ class SimulatedRotator(RotatorDriver):
             self._publish_now()
             return
         self._turn = turn
-        self._turn_began = asyncio.get_running_loop().time()
+        self._turn_began = self.timing.clock.now()
         self._publish_now()
         if self._task is None or self._task.done():
             self._task = asyncio.create_task(self._run(), name=f"{self.name} turning")
@@ -84,11 +84,11 @@ class SimulatedRotator(RotatorDriver):
 
     async def _run(self) -> None:
         while self._turn is not None:
-            await asyncio.sleep(self.timing.test_tick)
+            await self.timing.clock.sleep(self.timing.test_tick)
             turn = self._turn
             if turn is None:
                 break
-            elapsed = asyncio.get_running_loop().time() - self._turn_began
+            elapsed = self.timing.clock.now() - self._turn_began
             if elapsed * self.timing.test_speed >= turn.degrees:
                 self.position = turn.end if self.travel.bounded else turn.end % 360.0
                 self._turn = None

@@ -15,6 +15,8 @@ import logging
 from collections.abc import Callable
 from enum import Enum
 
+from moas_gui.clock import Clock, Timer
+
 from .model import EmulatorModel
 from .view import BoxView
 
@@ -44,12 +46,15 @@ class EmulatedBox:
         model: EmulatorModel | None = None,
         *,
         loop: asyncio.AbstractEventLoop | None = None,
+        clock: Clock | None = None,
     ) -> None:
         self.model = model if model is not None else EmulatorModel()
         self._loop = loop
+        self.clock = clock
+        """What the timers run on; None: the event loop's own clock."""
         self._sink: Sink | None = None
         self._listeners: list[Listener] = []
-        self._timer: asyncio.TimerHandle | None = None
+        self._timer: Timer | None = None
         self._due = 0.0
 
     # ------------------------------------------------------------------ wiring
@@ -84,7 +89,7 @@ class EmulatedBox:
     # ------------------------------------------------------------------ inputs
 
     def now(self) -> float:
-        return self.loop.time()
+        return self.loop.time() if self.clock is None else self.clock.now()
 
     def receive(self, data: bytes) -> None:
         """Bytes from the computer."""
@@ -118,7 +123,10 @@ class EmulatedBox:
         deadline = self.model.next_deadline()
         if deadline is not None:
             self._due = deadline
-            self._timer = self.loop.call_at(deadline, self._on_timer)
+            if self.clock is None:
+                self._timer = self.loop.call_at(deadline, self._on_timer)
+            else:
+                self._timer = self.clock.call_later(deadline - self.clock.now(), self._on_timer)
 
     def _on_timer(self) -> None:
         # asyncio may call a little early (within its clock resolution).

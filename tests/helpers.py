@@ -1,0 +1,62 @@
+"""Helpers shared by the tests: waiting for a condition, a free port, a fake clock.
+
+Waiting polls a condition until it holds or a time limit passes; the limits
+are generous (a loaded machine is slow), a test that passes never waits for
+them.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import socket
+import tempfile
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from moas_gui.clock import FakeClock
+
+__all__ = ["FakeClock", "free_port", "short_runtime_dir", "until", "wait_for"]
+
+
+async def until(condition: Callable[[], object], timeout: float = 10.0,
+                what: str = "the condition", every: float = 0.01) -> None:
+    """Waits, in the event loop, until ``condition()`` is true."""
+    loop = asyncio.get_running_loop()
+    deadline = loop.time() + timeout
+    while not condition():
+        if loop.time() > deadline:
+            raise AssertionError(f"gave up waiting for {what} ({timeout:g} s)")
+        await asyncio.sleep(every)
+
+
+def wait_for(condition: Callable[[], Any], timeout: float = 15.0, what: str = "",
+             every: float = 0.05) -> Any:
+    """Waits, blocking, until ``condition()`` is true (an OSError counts as not yet);
+    returns the condition's last value."""
+    end = time.monotonic() + timeout
+    last: Any = None
+    while time.monotonic() < end:
+        try:
+            last = condition()
+        except OSError as exc:
+            last = exc
+        else:
+            if last:
+                return last
+        time.sleep(every)
+    raise AssertionError(f"{what or 'the condition'} not met in {timeout} s (last: {last!r})")
+
+
+def free_port(kind: int = socket.SOCK_STREAM) -> int:
+    """A port on 127.0.0.1 free a moment ago (TCP, or UDP with ``socket.SOCK_DGRAM``)."""
+    with socket.socket(socket.AF_INET, kind) as probe:
+        probe.bind(("127.0.0.1", 0))
+        return int(probe.getsockname()[1])
+
+
+def short_runtime_dir() -> Path:
+    """A new private directory with a short path, for XDG_RUNTIME_DIR: the caller
+    removes it (the ``runtime_dir`` fixture does)."""
+    return Path(tempfile.mkdtemp(prefix="moas-run-"))

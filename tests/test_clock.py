@@ -1,0 +1,56 @@
+"""The fake clock the tests move by hand: sleepers wake in order, at once."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+
+import pytest
+
+from moas_gui.clock import LOOP_CLOCK, FakeClock
+
+
+@pytest.mark.asyncio
+async def test_sleepers_wake_in_the_order_of_their_ends_and_see_that_time() -> None:
+    clock = FakeClock(100.0)
+    woke: list[tuple[str, float]] = []
+
+    async def sleeper(name: str, seconds: float) -> None:
+        await clock.sleep(seconds)
+        woke.append((name, clock.now()))
+
+    tasks = [asyncio.create_task(sleeper(n, s)) for n, s in [("c", 3), ("a", 1), ("b", 2)]]
+    await asyncio.sleep(0)
+    assert clock.sleepers == 3
+    began = time.monotonic()
+    await clock.advance(2.5)
+    assert woke == [("a", 101.0), ("b", 102.0)] and clock.now() == 102.5
+    await clock.advance(10)
+    assert woke[-1] == ("c", 103.0) and clock.now() == 112.5
+    assert time.monotonic() - began < 1.0
+    await asyncio.gather(*tasks)
+
+
+@pytest.mark.asyncio
+async def test_a_loop_that_sleeps_runs_every_step_within_an_advance() -> None:
+    clock = FakeClock()
+    ticks: list[float] = []
+
+    async def ticking() -> None:
+        while True:
+            await clock.sleep(0.2)
+            ticks.append(round(clock.now(), 6))
+
+    task = asyncio.create_task(ticking())
+    await clock.advance(1.0)
+    assert ticks == [0.2, 0.4, 0.6, 0.8, 1.0]
+    task.cancel()
+
+
+@pytest.mark.asyncio
+async def test_the_loop_clock_is_the_event_loops() -> None:
+    loop = asyncio.get_running_loop()
+    assert abs(LOOP_CLOCK.now() - loop.time()) < 0.5
+    began = loop.time()
+    await LOOP_CLOCK.sleep(0.01)
+    assert loop.time() - began >= 0.009

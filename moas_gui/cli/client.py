@@ -99,13 +99,17 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
     import qasync  # type: ignore[import-untyped]
 
     from moas_gui.client.connection import ClientConnection
+    from moas_gui.ui.client_sources import ClientSources
     from moas_gui.ui.client_window import ClientWindow
-    from moas_gui.ui.qt import QApplication
+    from moas_gui.ui.qt import QApplication, QSettings
 
     existing = QApplication.instance()
     qt_app = existing if isinstance(existing, QApplication) else QApplication([sys.argv[0]])
     # The window's own closed signal ends the program; Qt's quit would stop the loop early.
     qt_app.setQuitOnLastWindowClosed(False)
+    if existing is None:
+        qt_app.setOrganizationName("moas-gui")
+        qt_app.setApplicationName("moas-client")
     loop = qasync.QEventLoop(qt_app)
     asyncio.set_event_loop(loop)
 
@@ -116,12 +120,16 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
         window = ClientWindow(connection, station=args.station, radio=args.radio,
                               rows=args.rows, columns=args.columns)
         window.closed.connect(done.set)
+        sources = ClientSources(window, QSettings())
+        for text in args.source:
+            sources.choose(text)
         window.start()
         window.show()
         if args.quit_after is not None:
             loop.call_later(args.quit_after, done.set)
         await done.wait()
         window.close()
+        await sources.aclose()
         await window.aclose()
         window.deleteLater()
         if args.quit_after is not None and connection.connects == 0:

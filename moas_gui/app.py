@@ -30,6 +30,7 @@ from typing import Any
 from moas_gui.engine.config import Config, LoadResult, load_config
 from moas_gui.engine.config.model import RotatorControl
 from moas_gui.engine.focus import FocusKind, FocusTable, active_first
+from moas_gui.files import write_text_atomic
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
@@ -57,6 +58,8 @@ class ServerOptions:
     """Overrides ``N1MMRotorPort``."""
     n1mm_rotor_headings: tuple[str, ...] | None = None
     """Overrides ``N1MMRotorHeadings`` (``host:port`` texts)."""
+    web_port: int | None = None
+    """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
     max_clients: int | None = None
     """Client connections served at once; None for the client server's default."""
     start_rotator_program: bool | None = None
@@ -75,6 +78,7 @@ class _Running:
     links: dict[int, Any] = field(default_factory=dict)
     switch_status: dict[int, str] = field(default_factory=dict)
     clients: Any = None
+    web: Any = None
     n1mm: Any = None
     sources: Any = None
     focus: dict[tuple[object, ...], Any] = field(default_factory=dict)
@@ -240,7 +244,7 @@ class ServerApp:
             run.keeper.close()
         if run.log_handler is not None:
             logging.getLogger("moas_gui").removeHandler(run.log_handler)
-        for part in (run.sources, run.clients, run.rotators):
+        for part in (run.sources, run.web, run.clients, run.rotators):
             if part is not None:
                 try:
                     await part.close()
@@ -314,7 +318,8 @@ class ServerApp:
             return
         run.switch_status[switch_id] = status
         if status == "unresponsive":
-            log.error("Switch %d is not responding", switch_id)
+            # the link said where and why, once per outage, at Warning
+            log.info("Switch %d is not responding", switch_id)
             if before == "ok":
                 for listener in self._alert_listeners:
                     listener("MOAS switch lost", f"Switch {switch_id} stopped responding.")
@@ -372,7 +377,7 @@ class ServerApp:
                 parts.append(part.read_text(encoding="utf-8"))
             finally:
                 part.unlink(missing_ok=True)
-        target.write_text("\n".join(parts), encoding="utf-8")
+        write_text_atomic(target, "\n".join(parts))  # never half a file, whatever happens
         return target
 
     # -- engine changes ------------------------------------------------------------------
@@ -425,6 +430,11 @@ class ServerApp:
         run.log_handler = ClientLogHandler(run.clients)
         logging.getLogger("moas_gui").addHandler(run.log_handler)
         run.clients.publish_state()
+        web_port = self.options.web_port
+        web_port = run.config.web_port if web_port is None else web_port
+        if web_port is not None:  # the browser client: docs/web-client.md
+            from moas_gui.net.web import start_web
+            run.web = await start_web(run.clients, self.options.bind, web_port)
 
     # -- frequency sources (loggers) and N1MM's rotor window: see docs/sources.md ------
     async def _start_sources(self, run: _Running) -> None:

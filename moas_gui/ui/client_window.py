@@ -46,6 +46,7 @@ from .client_panels import FrequencyBox, RelativeStrip, frequency_text
 from .client_style import CLIENT_STYLESHEET, Colours, dark_palette
 from .compass import CompassPanel, compass_targets
 from .elided_label import ElidedLabel
+from .knob import KnobControl
 from .qt import (
     QButtonGroup,
     QCloseEvent,
@@ -256,6 +257,8 @@ class ClientWindow(QMainWindow):
         self.relative_strip.index_requested.connect(lambda index: self._relative(index=index))
         self.frequency_box.frequency_requested.connect(self._send_frequency)
         self._set_usable(False)
+        self.knob = KnobControl(self)
+        """Mouse wheel, keys and USB knobs step through the antennas (docs/web-client.md)."""
 
     def _darken_inputs(self) -> None:
         """Combo and spin boxes are drawn by the style (so they keep their arrows):

@@ -11,6 +11,7 @@ docs/sources.md.
 from __future__ import annotations
 
 import asyncio
+import time
 from typing import Final
 
 from moas_gui.sources.base import EventSink
@@ -81,6 +82,7 @@ class FlrigSource(PolledRig):
             except FlrigReplyError as exc:
                 raise BadReply(exc.reason, f"{method}: {exc}") from None
             if values:
+                self.answered_at = time.perf_counter()
                 return values[-1]
 
     async def poll(self, reader: asyncio.StreamReader,

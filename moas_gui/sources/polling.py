@@ -98,7 +98,8 @@ class PolledRig:
         self.reports = 0
         self.connects = 0
         self.answered_at = 0.0
-        """``time.perf_counter()`` when the last answer was complete (for the benchmark)."""
+        """``time.perf_counter()`` when the bytes completing the last answer were read
+        (set by :meth:`poll`; for the benchmark)."""
 
     # -- what a subclass gives ----------------------------------------------------------
     async def connected(self, reader: asyncio.StreamReader,
@@ -142,7 +143,6 @@ class PolledRig:
                 while True:
                     started = loop.time()
                     state = await asyncio.wait_for(self.poll(reader, writer), self.timeout)
-                    self.answered_at = time.perf_counter()
                     self.polls += 1
                     if self.polls == 1 or not self.link.connected:
                         self.link.up()

@@ -12,6 +12,7 @@ See docs/sources.md.
 from __future__ import annotations
 
 import asyncio
+import time
 from typing import Final
 
 from moas_gui.sources.base import EventSink
@@ -62,6 +63,7 @@ class RigctldSource(PolledRig):
             except RigctldReplyError as exc:
                 raise BadReply(exc.reason, str(exc)) from None
             if readings:
+                self.answered_at = time.perf_counter()
                 return _state(readings[-1])
 
 

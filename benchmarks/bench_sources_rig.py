@@ -58,11 +58,15 @@ def proc_cpu(pid: int) -> float:
         return float("nan")
 
 
+def start_daemons(ports: list[int]) -> list[subprocess.Popen[bytes]]:
+    return [subprocess.Popen(["rigctld", "-m", "1", "-T", "127.0.0.1", "-t", str(p)],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            for p in ports]
+
+
 async def cpu(radios: int, seconds: float) -> bool:
     ports = [free_port() for _ in range(radios)]
-    daemons = [subprocess.Popen(["rigctld", "-m", "1", "-T", "127.0.0.1", "-t", str(p)],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-               for p in ports]
+    daemons = start_daemons(ports)
     try:
         for p in ports:
             for _ in range(500):

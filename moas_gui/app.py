@@ -29,6 +29,8 @@ from typing import Any
 
 from moas_gui.engine.config import Config, LoadResult, load_config
 from moas_gui.engine.config.model import RotatorControl
+from moas_gui.engine.focus import FocusKind, FocusTable, active_first
+from moas_gui.files import write_text_atomic
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
@@ -56,6 +58,8 @@ class ServerOptions:
     """Overrides ``N1MMRotorPort``."""
     n1mm_rotor_headings: tuple[str, ...] | None = None
     """Overrides ``N1MMRotorHeadings`` (``host:port`` texts)."""
+    web_port: int | None = None
+    """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
     max_clients: int | None = None
     """Client connections served at once; None for the client server's default."""
     start_rotator_program: bool | None = None
@@ -74,9 +78,14 @@ class _Running:
     links: dict[int, Any] = field(default_factory=dict)
     switch_status: dict[int, str] = field(default_factory=dict)
     clients: Any = None
+    web: Any = None
     n1mm: Any = None
     sources: Any = None
     focus: dict[tuple[object, ...], Any] = field(default_factory=dict)
+    focus_table: FocusTable = field(default_factory=FocusTable)
+    """Each station's transmit and receive focus (moas_gui/engine/focus.py)."""
+    pending: list[Any] = field(default_factory=list)
+    """Frequency reports of this turn of the event loop, decided active radio first."""
     rotators: Any = None
     log_handler: logging.Handler | None = None
     stopped: bool = False
@@ -235,7 +244,7 @@ class ServerApp:
             run.keeper.close()
         if run.log_handler is not None:
             logging.getLogger("moas_gui").removeHandler(run.log_handler)
-        for part in (run.sources, run.clients, run.rotators):
+        for part in (run.sources, run.web, run.clients, run.rotators):
             if part is not None:
                 try:
                     await part.close()
@@ -309,7 +318,8 @@ class ServerApp:
             return
         run.switch_status[switch_id] = status
         if status == "unresponsive":
-            log.error("Switch %d is not responding", switch_id)
+            # the link said where and why, once per outage, at Warning
+            log.info("Switch %d is not responding", switch_id)
             if before == "ok":
                 for listener in self._alert_listeners:
                     listener("MOAS switch lost", f"Switch {switch_id} stopped responding.")
@@ -367,7 +377,7 @@ class ServerApp:
                 parts.append(part.read_text(encoding="utf-8"))
             finally:
                 part.unlink(missing_ok=True)
-        target.write_text("\n".join(parts), encoding="utf-8")
+        write_text_atomic(target, "\n".join(parts))  # never half a file, whatever happens
         return target
 
     # -- engine changes ------------------------------------------------------------------
@@ -394,7 +404,7 @@ class ServerApp:
                         run.rotators.note_direction(rotator.id, heading)
         if run.clients is not None:
             for ref in changes.radios:
-                run.clients.publish_radio(run.engine.radio_view(ref.station, ref.radio).to_dict())
+                run.clients.publish_radio(self.radio_entry(ref.station, ref.radio))
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
 
@@ -420,6 +430,11 @@ class ServerApp:
         run.log_handler = ClientLogHandler(run.clients)
         logging.getLogger("moas_gui").addHandler(run.log_handler)
         run.clients.publish_state()
+        web_port = self.options.web_port
+        web_port = run.config.web_port if web_port is None else web_port
+        if web_port is not None:  # the browser client: docs/web-client.md
+            from moas_gui.net.web import start_web
+            run.web = await start_web(run.clients, self.options.bind, web_port)
 
     # -- frequency sources (loggers) and N1MM's rotor window: see docs/sources.md ------
     async def _start_sources(self, run: _Running) -> None:
@@ -445,12 +460,71 @@ class ServerApp:
 
     def _source_event(self, event: Any) -> None:
         """The one way a source's event reaches the engine."""
-        from moas_gui.sources.base import FrequencyReport
+        from moas_gui.sources.base import ActiveRadio, FocusRadio, FrequencyReport
+        from moas_gui.sources.otrsp import AuxAntenna
 
+        run = self._run
+        if run is None:
+            return
         if isinstance(event, FrequencyReport):
-            self._logger_frequency(event.station, event.radio, event.rx_khz, event.tx_khz)
-        else:
-            self._source_focus(event)
+            # reports of one turn of the loop (an SO2R logger's two radios) are decided
+            # together, the active radio's first (docs/engine.md, "Transmit focus")
+            if not run.pending:
+                asyncio.get_running_loop().call_soon(self._decide_reports, run)
+            run.pending.append(event)
+            return
+        if isinstance(event, ActiveRadio | FocusRadio):
+            kind: FocusKind = "active" if isinstance(event, ActiveRadio) else "focus"
+            try:
+                self.set_focus(event.station, event.radio, kind, origin=event.origin)
+            except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
+                log.debug("Logger %s for station %d radio %d ignored: %s", kind,
+                          event.station, event.radio, exc)
+        elif isinstance(event, AuxAntenna):
+            try:
+                changes = run.engine.select(event.station, event.radio, event.antenna, "both",
+                                            True, now=asyncio.get_running_loop().time())
+            except Exception as exc:  # noqa: BLE001
+                log.info("%s asked for antenna %d on station %d radio %d: %s", event.origin,
+                         event.antenna, event.station, event.radio, exc)
+            else:
+                self.apply_changes(changes)
+        self._source_focus(event)
+
+    def _decide_reports(self, run: _Running) -> None:
+        reports, run.pending = run.pending, []
+        if run is not self._run:
+            return
+        for r in active_first(reports, lambda r: (r.station, r.radio), run.focus_table):
+            self._logger_frequency(r.station, r.radio, r.rx_khz, r.tx_khz)
+
+    def set_focus(self, station: int, radio: int, kind: FocusKind, *,
+                  origin: str = "a client") -> None:
+        """The station's transmit focus (``"active"``) or receive focus (``"focus"``) is
+        on ``radio``; the radio entries of the station say so to clients.  Raises the
+        engine's not-found error for a radio that does not exist."""
+        run = self._run
+        if run is None:
+            raise RuntimeError("No configuration is open")
+        run.engine.radio_view(station, radio)
+        before = run.focus_table.set(station, kind, radio)
+        if before == radio:
+            return
+        if kind == "active":
+            log.info("Station %d: transmit focus on radio %d (%s)", station, radio, origin)
+        if run.clients is not None:
+            for number in (before, radio):
+                if number is not None:
+                    run.clients.publish_radio(self.radio_entry(station, number))
+
+    def radio_entry(self, station: int, radio: int) -> dict[str, Any]:
+        """A radio's entry for clients: the engine's view plus ``active`` and ``focus``."""
+        run = self._run
+        if run is None:
+            raise RuntimeError("No configuration is open")
+        entry: dict[str, Any] = run.engine.radio_view(station, radio).to_dict()
+        entry.update(run.focus_table.fields(station, radio))
+        return entry
 
     def _source_focus(self, event: Any) -> None:
         """Transmit focus (ActiveRadio), receive focus (FocusRadio) and run state (Running)

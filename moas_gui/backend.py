@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 from moas_gui.engine import EngineError
 from moas_gui.hw.rotators.base import RotatorError
-from moas_gui.net.backend import ErrorCode, JSONObject, RequestError, Target
+from moas_gui.net.backend import ErrorCode, FocusKind, JSONObject, RequestError, Target
 
 if TYPE_CHECKING:
     from moas_gui.app import ServerApp
@@ -55,7 +55,7 @@ class EngineBackend:
         rotators = app.rotator_manager.views() if app.rotator_manager is not None else []
         return {
             "config": app.status.file,
-            "radios": [v.to_dict() for v in engine.radios()],
+            "radios": [app.radio_entry(v.station, v.radio) for v in engine.radios()],
             "antennas": [v.to_dict() for v in engine.antenna_views()],
             "rotators": [v.to_json() for v in rotators],
             "switches": [{"id": i, "status": s} for i, s in app.status.switches],
@@ -65,6 +65,10 @@ class EngineBackend:
         engine = self._engine()
         self.app.apply_changes(self._call(
             lambda: engine.set_frequency(station, radio, khz, tx_khz, now=self._now())))
+
+    def set_focus(self, station: int, radio: int, kind: FocusKind) -> None:
+        self._engine()
+        self._call(lambda: self.app.set_focus(station, radio, kind))
 
     def select(self, station: int, radio: int, antenna: int, target: Target,
                exclusive: bool) -> JSONObject:

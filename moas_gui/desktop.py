@@ -40,6 +40,8 @@ from dataclasses import dataclass
 from pathlib import Path, PureWindowsPath
 from typing import Final
 
+from .files import write_atomic, write_text_atomic
+
 MIME_TYPE: Final = "application/x-moas"
 DESKTOP_FILE: Final = "moas-server.desktop"
 MIME_PACKAGE: Final = "moas-gui.xml"
@@ -172,7 +174,7 @@ def install_linux(command: Sequence[str], data: Path, run: Runner = run_tool,
     done: list[str] = []
     for path, content in linux_files(command, data).items():
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(content)
+        write_atomic(path, content)
     done.append(f"wrote the menu entry {data / 'applications' / DESKTOP_FILE} "
                 f"(starts {' '.join(command)})")
     done.append(f"wrote the file type {MIME_TYPE} for *.moas in "
@@ -233,7 +235,7 @@ def _forget_default(mimeapps: Path) -> bool:
         kept.append(line)
     if kept == lines:
         return False
-    mimeapps.write_text("".join(kept), encoding="utf-8")
+    write_text_atomic(mimeapps, "".join(kept))  # the user's other choices never lost
     return True
 
 

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from . import files
 from .engine.switchstate import STATIONS, StationAntennas, SwitchState
 
 log = logging.getLogger("moas_gui.state")
@@ -201,27 +202,10 @@ def decode(raw: bytes, expected_fingerprint: str) -> SavedState:
 
 
 def write_atomic(path: Path, data: bytes) -> None:
-    """Replace ``path`` by ``data``: a temporary file, flushed to disk, renamed over it."""
+    """Replace ``path`` by ``data``: a temporary file, flushed to disk, renamed over it
+    (:func:`moas_gui.files.write_atomic`), in a private directory made if need be."""
     path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with open(temporary, "wb") as out:
-            out.write(data)
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(temporary, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            temporary.unlink()
-        raise
-    if sys.platform != "win32":
-        # the rename itself reaches the disk only with the directory
-        with contextlib.suppress(OSError):
-            fd = os.open(path.parent, os.O_RDONLY)
-            try:
-                os.fsync(fd)
-            finally:
-                os.close(fd)
+    files.write_atomic(path, data)
 
 
 STALE_TEMPORARY_S = 60.0

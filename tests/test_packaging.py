@@ -52,6 +52,8 @@ def test_the_examples_manual_and_icons_are_installed_with_the_package(tmp_path: 
     assert (installed / "big-station.moas").read_bytes() == \
         (ROOT / "examples" / "big-station.moas").read_bytes()
     assert (built / "moas_gui" / "resources" / "icons" / "application-x-moas.svg").is_file()
+    for name in ("index.html", "app.js", "compass.js", "style.css"):  # the browser client
+        assert (built / "moas_gui" / "resources" / "web" / name).is_file(), name
     assert (built / "moas_gui" / "engine" / "config" / "loader.py").is_file()
     assert not (built / "examples").exists(), "no top-level package named examples"
     # Help > Manual opens the manual installed with the package

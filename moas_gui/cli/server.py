@@ -36,6 +36,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="address the client server listens on (default all)")
     parser.add_argument("--tcp-port", type=int, help="client port instead of the file's TCPPort")
     parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
+    parser.add_argument("--web-port", type=int,
+                        help="serve the browser client on this port (instead of WebPort)")
     parser.add_argument("--max-clients", type=_positive, default=None, metavar="N",
                         help="client connections served at once (default 200)")
     parser.add_argument("--udp-bind",
@@ -98,6 +100,7 @@ def _options(args: argparse.Namespace) -> object:
                          n1mm_rotor_port=args.n1mm_rotor_port,
                          n1mm_rotor_headings=(None if args.n1mm_rotor_headings is None
                                               else tuple(args.n1mm_rotor_headings)),
+                         web_port=args.web_port,
                          max_clients=args.max_clients,
                          start_rotator_program=False if args.no_rotator_program else None)
 
@@ -297,7 +300,14 @@ def main(argv: list[str] | None = None) -> int:
     if args.install_desktop or args.uninstall_desktop:
         from moas_gui import desktop
 
-        done = desktop.install_desktop() if args.install_desktop else desktop.uninstall_desktop()
+        try:
+            done = (desktop.install_desktop() if args.install_desktop
+                    else desktop.uninstall_desktop())
+        except OSError as exc:  # a full disk, a read-only home: every file is old or new
+            what = "install" if args.install_desktop else "uninstall"
+            print(f"moas-server: could not {what} the desktop integration: {exc}",
+                  file=sys.stderr)
+            return 1
         for line in done:
             print(line)
         return 0

@@ -11,12 +11,11 @@ others or the code that published the event.
 
 from __future__ import annotations
 
-import asyncio
 import logging
 from collections import OrderedDict
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 from .backend import ErrorCode
 from .framing import LineSplitter
@@ -40,6 +39,23 @@ class ClientInfo:
     layouts: int
 
 
+class LineTransport(Protocol):
+    """What a connection writes to: an asyncio transport, or a WebSocket's outlet."""
+
+    def write(self, data: bytes) -> None: ...
+    def is_closing(self) -> bool: ...
+    def get_write_buffer_size(self) -> int: ...
+    def abort(self) -> None: ...
+
+
+class LineWriter(Protocol):
+    """An :class:`asyncio.StreamWriter`, or anything else carrying lines the same way."""
+
+    @property
+    def transport(self) -> LineTransport: ...
+    def close(self) -> None: ...
+
+
 def format_peer(peer: Any) -> str:
     """``host:port`` (``[host]:port`` for IPv6) from a socket's peer name."""
     if isinstance(peer, tuple) and len(peer) >= 2:
@@ -61,7 +77,7 @@ class Connection:
 
     def __init__(
         self,
-        writer: asyncio.StreamWriter,
+        writer: LineWriter,
         address: str,
         *,
         max_pending: int,
@@ -177,4 +193,7 @@ def cut_slowest(connections: Iterable[Connection], limit: int) -> None:
         total -= size
 
 
-__all__ = ["ClientInfo", "Connection", "LayoutKey", "clean_name", "cut_slowest", "format_peer"]
+__all__ = [
+    "ClientInfo", "Connection", "LayoutKey", "LineTransport", "LineWriter", "clean_name",
+    "cut_slowest", "format_peer",
+]

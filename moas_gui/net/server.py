@@ -40,7 +40,14 @@ from moas_gui.errors import HardwareError
 
 from .access import allowed_networks, is_allowed, peer_address
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
-from .connection import ClientInfo, Connection, LayoutKey, cut_slowest, format_peer
+from .connection import (
+    ClientInfo,
+    Connection,
+    LayoutKey,
+    LineWriter,
+    cut_slowest,
+    format_peer,
+)
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
 from .log_limit import LogLimiter, held_text
@@ -175,6 +182,28 @@ class ClientServer:
     def set_allow(self, allow: Iterable[str] | None) -> None:
         """New ``ClientAllow`` (after a configuration is loaded); applies to new connections."""
         self._allowed = allowed_networks(allow)
+
+    def allows(self, host: str) -> bool:
+        """Whether a peer at ``host`` is inside ``ClientAllow`` (other transports ask too)."""
+        return is_allowed(host, self._allowed)
+
+    def attach(self, writer: LineWriter, address: str) -> Connection | None:
+        """A connection carried by another transport (the browser client's
+        WebSocket, :mod:`.web`), with the same limits as a TCP one: its lines
+        are answered by :func:`~.dispatch.answer` and it gets events as TCP
+        clients do, until :meth:`detach`.  ``None`` when the server already
+        serves as many clients as it takes (the caller says so and closes)."""
+        if len(self._connections) >= self.client_limit:
+            return None
+        conn = Connection(writer, address, max_pending=self.max_pending,
+                          max_layouts=self.max_layouts, on_queued=self._queued)
+        self._connections[conn] = None
+        self._crowd = max(self._crowd, len(self._connections))
+        return conn
+
+    def detach(self, conn: Connection) -> None:
+        if self._connections.pop(conn, False) is None:
+            self._after_departure()
 
     @property
     def client_count(self) -> int:

@@ -31,6 +31,7 @@ from .qt import (
     QSize,
     QSizePolicy,
     Qt,
+    QWheelEvent,
     QWidget,
     Signal,
 )
@@ -38,6 +39,8 @@ from .qt import (
 __all__ = ["ButtonGrid", "LayoutButton", "grid_size"]
 
 CHECK = "\u2714"
+WHEEL_NOTCH = 120
+"""Qt's angle delta of one click of a mouse wheel (1/8 degree units)."""
 
 
 def grid_size(layout: LayoutView | None, rows: int, columns: int) -> tuple[int, int]:
@@ -61,7 +64,14 @@ class LayoutButton(QAbstractButton):
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
         self.setMinimumSize(96, 52)
         self.setCursor(Qt.CursorShape.PointingHandCursor)
+        self.knob_cursor = False
+        """The knob's cursor is on this button (a ring is drawn)."""
         self.show_view(view)
+
+    def set_cursor(self, on: bool) -> None:
+        if on != self.knob_cursor:
+            self.knob_cursor = on
+            self.update()
 
     def show_view(self, view: ButtonView) -> None:
         self.view = view
@@ -109,7 +119,11 @@ class LayoutButton(QAbstractButton):
             painter.setBrush(QBrush(Colours.UNAVAILABLE_HATCH, Qt.BrushStyle.BDiagPattern))
             painter.setPen(Qt.PenStyle.NoPen)
             painter.drawRoundedRect(rect.adjusted(2, 2, -2, -2), 7, 7)
-        if self.hasFocus():
+        if self.knob_cursor:
+            painter.setPen(QPen(QColor("#80d8ff"), 3))
+            painter.setBrush(Qt.BrushStyle.NoBrush)
+            painter.drawRoundedRect(rect.adjusted(4, 4, -4, -4), 6, 6)
+        elif self.hasFocus():
             painter.setPen(QPen(QColor("#80d8ff"), 1, Qt.PenStyle.DotLine))
             painter.setBrush(Qt.BrushStyle.NoBrush)
             painter.drawRoundedRect(rect.adjusted(5, 5, -5, -5), 5, 5)
@@ -137,6 +151,11 @@ class ButtonGrid(QWidget):
     """A :class:`ButtonView` was clicked."""
     double_pressed = Signal(object)
     """A :class:`ButtonView` was double-clicked (exclusive selection)."""
+    wheel_turned = Signal(int)
+    """Whole notches of a mouse wheel over the grid: positive turned away from the
+    user, negative towards (the knob, :mod:`.knob`)."""
+    middle_pressed = Signal()
+    """The middle mouse button (a wheel's press) went down over the grid."""
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -147,6 +166,23 @@ class ButtonGrid(QWidget):
         self.layout_view: LayoutView | None = None
         self.rows = 0
         self.columns = 0
+        self._wheel = 0
+
+    def wheelEvent(self, event: QWheelEvent) -> None:
+        delta = event.angleDelta()
+        self._wheel += delta.y() or delta.x()
+        notches = int(self._wheel / WHEEL_NOTCH)
+        if notches:
+            self._wheel -= notches * WHEEL_NOTCH
+            self.wheel_turned.emit(notches)
+        event.accept()
+
+    def mousePressEvent(self, event: QMouseEvent) -> None:
+        if event.button() == Qt.MouseButton.MiddleButton:
+            event.accept()
+            self.middle_pressed.emit()
+            return
+        super().mousePressEvent(event)
 
     @property
     def buttons(self) -> tuple[LayoutButton, ...]:

@@ -70,6 +70,10 @@ QLabel#badgeTx { background: #e53935; color: white; font-weight: bold; font-size
                  padding: 3px 10px; border-radius: 4px; }
 QLabel#badgeInhibit { background: #ff6d00; color: black; font-weight: bold; font-size: 12pt;
                       padding: 3px 10px; border-radius: 4px; }
+QLabel#badgeActive { background: #fdd835; color: black; font-weight: bold; font-size: 11pt;
+                     padding: 3px 8px; border-radius: 4px; border: 2px solid black; }
+QLabel#badgeFocus { background: transparent; color: #80deea; font-weight: bold; font-size: 11pt;
+                    padding: 2px 8px; border-radius: 4px; border: 2px dashed #80deea; }
 QLabel#heading { font-size: 16pt; font-weight: bold; }
 QLabel { color: #eef3f6; font-size: 11pt; }
 QCheckBox { color: #eef3f6; font-size: 11pt; }

@@ -46,6 +46,7 @@ from .client_panels import FrequencyBox, RelativeStrip, frequency_text
 from .client_style import CLIENT_STYLESHEET, Colours, dark_palette
 from .compass import CompassPanel, compass_targets
 from .elided_label import ElidedLabel
+from .knob import KnobControl
 from .qt import (
     QButtonGroup,
     QCloseEvent,
@@ -198,9 +199,17 @@ class ClientWindow(QMainWindow):
         self.badge_tx.setObjectName("badgeTx")
         self.badge_inhibit = QLabel("INHIBITED", root)
         self.badge_inhibit.setObjectName("badgeInhibit")
-        self.badge_tx.hide()
-        self.badge_inhibit.hide()
+        self.badge_active = QLabel("TX FOCUS", root)
+        self.badge_active.setObjectName("badgeActive")
+        self.badge_active.setToolTip("The logger says this radio transmits next (SO2R)")
+        self.badge_focus = QLabel("RX FOCUS", root)
+        self.badge_focus.setObjectName("badgeFocus")
+        self.badge_focus.setToolTip("The logger says the operator is on this radio")
+        for badge in (self.badge_tx, self.badge_inhibit, self.badge_active, self.badge_focus):
+            badge.hide()
         display_row.addWidget(self.display, 1)
+        display_row.addWidget(self.badge_active)
+        display_row.addWidget(self.badge_focus)
         display_row.addWidget(self.badge_tx)
         display_row.addWidget(self.badge_inhibit)
         outer.addLayout(display_row)
@@ -248,6 +257,8 @@ class ClientWindow(QMainWindow):
         self.relative_strip.index_requested.connect(lambda index: self._relative(index=index))
         self.frequency_box.frequency_requested.connect(self._send_frequency)
         self._set_usable(False)
+        self.knob = KnobControl(self)
+        """Mouse wheel, keys and USB knobs step through the antennas (docs/web-client.md)."""
 
     def _darken_inputs(self) -> None:
         """Combo and spin boxes are drawn by the style (so they keep their arrows):
@@ -426,6 +437,8 @@ class ClientWindow(QMainWindow):
                                  if self.switches_stopped else "no radio")
             self.badge_tx.hide()
             self.badge_inhibit.hide()
+            self.badge_active.hide()
+            self.badge_focus.hide()
             self.note_label.hide()
             return
         parts = [frequency_text(radio)]
@@ -439,6 +452,8 @@ class ClientWindow(QMainWindow):
         self.display.setText("     ".join(parts))
         self.badge_tx.setVisible(radio.transmitting)
         self.badge_inhibit.setVisible(radio.inhibited)
+        self.badge_active.setVisible(radio.active)
+        self.badge_focus.setVisible(radio.focus)
         self.note_label.setText(radio.note)
         self.note_label.setVisible(bool(radio.note))
         self.relative_strip.show_list(radio, snapshot)

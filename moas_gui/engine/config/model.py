@@ -356,6 +356,8 @@ class Config:
     switches: tuple[Switch, ...] = ()
     tcp_port: int = 12059
     udp_port: int = 12060
+    web_port: int | None = None
+    """The browser client's port; ``None``: no browser client."""
     use_n1mm_logger: bool = False
     n1mm_logger: tuple[N1MMStation, ...] = ()
     use_dxlog: bool = False

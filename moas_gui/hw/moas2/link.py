@@ -17,8 +17,10 @@ Its life, in plain words:
   Before the box is ready it only remembers the state.
 * It pings once a second.  Three seconds without a well-formed message, or
   the port going away, make it ``unresponsive``; it then closes the port and
-  tries again after 0.5 s, 1 s, 2 s ... up to 8 s, and on success loads the
-  box again from the latest state.  A box that answers a ping "inactive"
+  tries again after 0.5 s, 1 s, 2 s ... up to 8 s, and on success checks, as
+  after a restart, whether the box still holds what it was last told: then
+  only the difference to the latest state goes out, else the box is loaded
+  again.  A box that answers a ping "inactive"
   while it should be active was reset or lost power: it is loaded again.
 * Each ping closes a batch of the commands written before it; a ``?`` error
   is blamed on the batch not yet answered, narrowed by the error letter,
@@ -44,6 +46,7 @@ from typing import Any, TypeVar
 
 from ...aio import cancel_and_wait
 from ...engine.switchstate import STATIONS, SwitchState
+from ...files import write_text_atomic
 from ...retry import Backoff, keep_trying
 from .commands import encode, split
 from .decoder import SwitchDecoder
@@ -248,7 +251,7 @@ class SwitchLink:
             f"status: {self._status.value}",
         ]
         state = self._sent if self._sent is not None else self._effective(self._desired)
-        path.write_text(switch_data(header, answers, state, self.errors), encoding="utf-8")
+        write_text_atomic(path, switch_data(header, answers, state, self.errors))
         return path
 
     # ------------------------------------------------------------------ supervision
@@ -312,9 +315,10 @@ class SwitchLink:
             if self._lost.is_set():
                 return True
             if loop.time() - self._last_heard > self.timing.answer_timeout:
-                log.warning(
-                    "%s stopped answering (nothing for %.1f s)", self.where,
-                    self.timing.answer_timeout,
+                self._problem(
+                    logging.WARNING,
+                    f"{self.where} stopped answering (nothing for "
+                    f"{self.timing.answer_timeout:.1f} s); will retry",
                 )
                 return True
             self._ping()
@@ -345,9 +349,17 @@ class SwitchLink:
     def _effective(self, state: SwitchState) -> SwitchState:
         return stopped(state) if self._stopped else state
 
+    def _forget_sent(self) -> None:
+        """The port is gone: what the box was told becomes what the next connection
+        checks it still holds (a cable pulled and plugged back must not reset a box,
+        least of all under a transmitting station)."""
+        if self._sent is not None:
+            self._held = self._sent
+        self._sent = None
+
     def _close_port(self, why: str) -> None:
         self._open = False
-        self._sent = None
+        self._forget_sent()
         self._transport.close()
         for _, future in self._waiters:
             if not future.done():
@@ -355,9 +367,9 @@ class SwitchLink:
         self._waiters.clear()
 
     def _on_port_lost(self, reason: str) -> None:
-        log.warning("%s: the port went away: %s", self.where, reason)
+        self._problem(logging.WARNING, f"{self.where}: the port went away: {reason}")
         self._open = False
-        self._sent = None
+        self._forget_sent()
         if self._lost is not None:
             self._lost.set()
         for _, future in self._waiters:
@@ -372,8 +384,11 @@ class SwitchLink:
                 self._call(self._on_status, status)
 
     def _problem(self, level: int, text: str) -> None:
-        """Log a retry problem once, not every retry."""
-        log.log(level if text != self._last_problem else logging.DEBUG, "%s", text)
+        """Log a problem once per outage: its first warning (and an error not said yet);
+        what the retries meet after it goes to the debug log, "answers again" ends it."""
+        quiet = text == self._last_problem or (
+            level <= logging.WARNING and bool(self._last_problem))
+        log.log(logging.DEBUG if quiet else level, "%s", text)
         self._last_problem = text
 
     # ------------------------------------------------------------------ writing

@@ -16,6 +16,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import os
+import select
 import sys
 import threading
 from collections.abc import Callable
@@ -30,6 +31,20 @@ DataCallback = Callable[[bytes], None]
 LostCallback = Callable[[str], None]
 
 _SERIAL_ERRORS: tuple[type[BaseException], ...] = (serial.SerialException, OSError, ValueError)
+
+
+_MAX_EMPTY_READS = 100
+"""Empty reads in a row taken as a lost port even without a hang-up (no busy loop)."""
+
+
+def _hung_up(fd: int) -> bool:
+    """Whether the port behind ``fd`` hung up (or is in error), as poll tells it."""
+    if not hasattr(select, "poll"):
+        return True
+    poller = select.poll()
+    poller.register(fd, select.POLLIN)
+    gone = select.POLLHUP | select.POLLERR | select.POLLNVAL
+    return any(flags & gone for _, flags in poller.poll(0))
 
 
 class Transport(Protocol):
@@ -59,6 +74,7 @@ class SerialTransport:
         self._on_data: DataCallback | None = None
         self._on_lost: LostCallback | None = None
         self._reading_fd: int | None = None
+        self._empty_reads = 0
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
 
@@ -88,6 +104,7 @@ class SerialTransport:
             self._thread.start()
         else:
             self._reading_fd = port.fileno()
+            self._empty_reads = 0
             loop.add_reader(port.fileno(), self._readable)
 
     def _readable(self) -> None:
@@ -102,8 +119,14 @@ class SerialTransport:
             self._lost(f"reading failed: {exc.strerror or exc}")
             return
         if not data:
-            self._lost("the port was closed at the other end")
-        elif self._on_data is not None:
+            # A serial port read with VMIN 0 gives nothing both when it hung up and when
+            # the loop woke it with nothing to read: only the first is a lost port.
+            self._empty_reads += 1
+            if _hung_up(fd) or self._empty_reads > _MAX_EMPTY_READS:
+                self._lost("the port was closed at the other end")
+            return
+        self._empty_reads = 0
+        if self._on_data is not None:
             self._on_data(data)
 
     def _pump(self) -> None:

@@ -159,7 +159,7 @@ class GeniusLink:
         while True:
             data = await reader.read(512)
             if not data:
-                raise ConnectionResetError(f"{self.where} closed the connection")
+                raise ConnectionResetError("it closed the connection")
             found: Status | Reply | None = None
             for event in self._decoder.feed(data):
                 if found is None and _answers(event, answers):

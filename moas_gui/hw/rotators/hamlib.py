@@ -146,7 +146,7 @@ class HamlibRotator(RotatorDriver):
                     while True:
                         line = await reader.readline()
                         if not line:
-                            raise ConnectionResetError(f"{self.where} closed the connection")
+                            raise ConnectionResetError("it closed the connection")
                         reply = assembler.add(line.decode("latin-1"))
                         if reply is not None:
                             return reply

@@ -4,8 +4,9 @@ Every rotator peer on TCP (a Rotator Genius, a rotctld, a MOAS Rotator
 program) is served the same way: connect, run a session until the connection
 ends, pause (``Timing.reconnect``: 0.5 s, 1 s, 2 s ... up to
 ``reconnect_max``; from the first again after a connection that was made),
-connect again.  A peer that cannot be reached is logged once as a warning,
-then at debug level until it answers.
+connect again.  Each outage is one warning: the session's line for a
+connection lost, or "cannot connect" for a peer never reached; the attempts
+after it are logged at debug level until it answers.
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ async def keep_connected(
             return False
         failures = 0
         await session(reader, writer)
+        failures = 1  # the session logged the loss: this outage's failed attempts go to debug
         return True
 
     await keep_trying(attempt, timing.reconnect, pause=timing.clock.sleep)

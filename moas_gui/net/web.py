@@ -1,0 +1,184 @@
+"""The browser client's web server: the page, and the client protocol over a WebSocket.
+
+::
+
+    web = WebServer(clients, host="0.0.0.0", port=config.web_port)
+    await web.start()        # http://HOST:PORT/ is the page, ws://HOST:PORT/ws the protocol
+    ...
+    await web.close()
+
+It serves three kinds of request, and nothing else:
+
+* ``/`` and the page's own files (``moas_gui/resources/web``), read into memory
+  at start: a name not in that fixed set is ``404``, so no path leads outside
+  it and no directory is ever listed;
+* ``/ws``, a WebSocket speaking the client protocol to the same
+  :class:`~.server.ClientServer` as TCP clients (:mod:`.web_socket`);
+* nothing else (``404``; methods other than GET and HEAD: ``405``).
+
+Every request is checked first against the client server's ``ClientAllow``
+(refused with ``403`` and a Warning log line), then its Host header, and a
+WebSocket's Origin (:mod:`.web_guard`).  ``docs/web-client.md`` has the page's side.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Awaitable, Callable
+from dataclasses import dataclass
+from importlib import resources
+
+from aiohttp import web
+
+from moas_gui.errors import HardwareError
+
+from .connection import format_peer
+from .server import ClientServer
+from .web_guard import host_allowed, local_names, origin_complaint
+from .web_socket import MAX_MESSAGE, converse
+
+log = logging.getLogger("moas_gui.net")
+
+_TYPES = {
+    ".html": "text/html; charset=utf-8",
+    ".css": "text/css; charset=utf-8",
+    ".js": "text/javascript; charset=utf-8",
+    ".svg": "image/svg+xml",
+    ".png": "image/png",
+    ".json": "application/json",
+}
+_HEADERS = {
+    "Content-Security-Policy": (
+        "default-src 'self'; connect-src 'self'; img-src 'self' data:; "
+        "style-src 'self'; script-src 'self'; frame-ancestors 'none'; base-uri 'none'; "
+        "form-action 'none'"
+    ),
+    "X-Content-Type-Options": "nosniff",
+    "X-Frame-Options": "DENY",
+    "Referrer-Policy": "no-referrer",
+    "Cache-Control": "no-cache",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class StaticFile:
+    body: bytes
+    content_type: str
+
+
+def page_files() -> dict[str, StaticFile]:
+    """The page's files by URL path, from the package's ``resources/web``."""
+    root = resources.files("moas_gui") / "resources" / "web"
+    files: dict[str, StaticFile] = {}
+    for entry in root.iterdir():
+        suffix = "." + entry.name.rsplit(".", 1)[-1] if "." in entry.name else ""
+        if entry.is_file() and suffix in _TYPES:
+            files["/" + entry.name] = StaticFile(entry.read_bytes(), _TYPES[suffix])
+    if "/index.html" in files:
+        files["/"] = files["/index.html"]
+    return files
+
+
+Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
+
+
+class WebServer:
+    """Serves the browser client for one :class:`~.server.ClientServer`."""
+
+    def __init__(self, clients: ClientServer, *, host: str | None = None, port: int) -> None:
+        self.clients = clients
+        self.host = host
+        self.port = port
+        self._files = page_files()
+        self._names = local_names()
+        self._runner: web.AppRunner | None = None
+
+    async def start(self) -> int:
+        """Starts listening; returns the port.  Raises
+        :class:`~moas_gui.errors.HardwareError` saying which port when it cannot."""
+        app = web.Application(middlewares=[self._guard], client_max_size=MAX_MESSAGE)
+        app.router.add_get("/ws", self._websocket)
+        app.router.add_get("/{name:.*}", self._static)
+        runner = web.AppRunner(app, access_log=None, handle_signals=False, shutdown_timeout=0.5)
+        await runner.setup()
+        site = web.TCPSite(runner, self.host, self.port)
+        try:
+            await site.start()
+        except OSError as e:
+            await runner.cleanup()
+            raise HardwareError(
+                f"cannot serve the browser client on TCP port {self.port}: "
+                f"{e.strerror or e} (WebPort in the configuration, or --web-port, sets it)"
+            ) from e
+        self._runner = runner
+        server = site._server  # the one place aiohttp keeps the bound port
+        sockets = getattr(server, "sockets", None) or ()
+        if sockets:
+            self.port = int(sockets[0].getsockname()[1])
+        where = self.host if self.host not in (None, "") else "every interface"
+        log.info("Serving the browser client on http://%s:%d/ (%s)",
+                 _loopback(self.host), self.port, where)
+        return self.port
+
+    async def close(self) -> None:
+        """Stops listening and closes every page's WebSocket."""
+        if self._runner is not None:
+            runner, self._runner = self._runner, None
+            await runner.cleanup()
+
+    @web.middleware
+    async def _guard(self, request: web.Request, handler: Handler) -> web.StreamResponse:
+        peer = request.transport.get_extra_info("peername") if request.transport else None
+        host = str(peer[0]) if isinstance(peer, tuple) else str(request.remote or "")
+        if not self.clients.allows(host):
+            log.warning("Refused a browser from %s: the address is not in the allowed networks "
+                        "(ClientAllow in the configuration decides)", format_peer(peer))
+            raise web.HTTPForbidden(text="This address may not use the MOAS server "
+                                         "(ClientAllow in its configuration decides).\n")
+        if not host_allowed(request.host, self._names):
+            log.warning("Refused a browser request from %s for host %r: not a name of this "
+                        "computer", format_peer(peer), request.host[:80])
+            raise web.HTTPMisdirectedRequest(text="Use this computer's address or name.\n")
+        if request.method not in ("GET", "HEAD"):
+            raise web.HTTPMethodNotAllowed(request.method, ["GET", "HEAD"])
+        return await handler(request)
+
+    async def _static(self, request: web.Request) -> web.StreamResponse:
+        found = self._files.get(request.path)
+        if found is None:
+            raise web.HTTPNotFound(text="Not found.\n")
+        return web.Response(body=found.body, content_type=found.content_type.split(";")[0],
+                            charset="utf-8" if "charset" in found.content_type else None,
+                            headers=_HEADERS)
+
+    async def _websocket(self, request: web.Request) -> web.StreamResponse:
+        peer = request.transport.get_extra_info("peername") if request.transport else None
+        address = format_peer(peer)
+        complaint = origin_complaint(request.headers.get("Origin"), request.host)
+        if complaint is not None:
+            log.warning("Refused a WebSocket from %s: %s", address, complaint)
+            raise web.HTTPForbidden(text=f"Refused: {complaint}.\n")
+        ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE, heartbeat=20.0)
+        if not ws.can_prepare(request).ok:
+            raise web.HTTPBadRequest(text="This address is for a WebSocket.\n")
+        await ws.prepare(request)
+        await converse(self.clients, ws, address)
+        return ws
+
+
+def _loopback(host: str | None) -> str:
+    return "127.0.0.1" if host in (None, "", "0.0.0.0", "::") else str(host)
+
+
+async def start_web(clients: ClientServer, host: str | None, port: int) -> WebServer | None:
+    """A started :class:`WebServer`, or ``None`` (and an Error log line) when it cannot listen."""
+    server = WebServer(clients, host=host, port=port)
+    try:
+        await server.start()
+    except HardwareError as e:
+        log.error("Browser clients cannot connect: %s", e)
+        return None
+    return server
+
+
+__all__ = ["StaticFile", "WebServer", "page_files", "start_web"]

@@ -1,0 +1,424 @@
+/* The MOAS browser client: the client protocol over a WebSocket (docs/web-client.md).
+   It shows only what the server says and sends every wish as a request; the
+   server decides what a tap selects.  No frameworks, no build step. */
+"use strict";
+
+(() => {
+  const LONG_PRESS_MS = 550;
+  const REQUEST_TIMEOUT_MS = 5000;
+  const QUIET_MS = 15000;          // ask for the state when the server was silent this long
+  const $ = (sel, root = document) => root.querySelector(sel);
+
+  const params = new URLSearchParams(location.search);
+  const saved = JSON.parse(localStorage.getItem("moas") || "{}");
+  const choice = {
+    station: num(params.get("station")) ?? saved.station ?? null,
+    radios: [num(params.get("radio")) ?? saved.radioA ?? null,
+             params.has("radio2") ? num(params.get("radio2")) : (saved.radioB ?? null)],
+    active: 0,
+  };
+  function num(text) { const n = Number.parseInt(text ?? "", 10); return Number.isFinite(n) ? n : null; }
+  function save() {
+    localStorage.setItem("moas", JSON.stringify(
+      { station: choice.station, radioA: choice.radios[0], radioB: choice.radios[1] }));
+  }
+
+  let ws = null, connected = false, snapshot = null, nextId = 1, retry = 500, lastHeard = 0;
+  let firstState = true;
+  const pending = new Map();
+  const panels = [];
+
+  // -- the connection ----------------------------------------------------------------------------
+  function connect() {
+    const scheme = location.protocol === "https:" ? "wss://" : "ws://";
+    const socket = new WebSocket(scheme + location.host + "/ws");
+    ws = socket;
+    socket.onopen = () => {
+      retry = 500;
+      const hello = { cmd: "hello", client: "browser " + shortAgent() };
+      if (choice.station != null) hello.station = choice.station;
+      if (choice.radios[0] != null) hello.radio = choice.radios[0];
+      request(hello).catch(e => showLink(false, e.message));
+    };
+    socket.onmessage = (e) => {
+      lastHeard = Date.now();
+      let msg;
+      try { msg = JSON.parse(e.data); } catch { return; }
+      if (msg.event) onEvent(msg);
+      else if (pending.has(msg.id)) {
+        const p = pending.get(msg.id);
+        pending.delete(msg.id);
+        clearTimeout(p.timer);
+        if (msg.ok) p.resolve(msg.result);
+        else p.reject(new Error(msg.error ? msg.error.message : "refused"));
+      }
+    };
+    socket.onclose = () => {
+      if (ws !== socket || parked) return;
+      ws = null;
+      connected = false;
+      for (const p of pending.values()) { clearTimeout(p.timer); p.reject(new Error("not connected")); }
+      pending.clear();
+      showLink(false);
+      setTimeout(connect, retry + Math.random() * 250);
+      retry = Math.min(retry * 2, 4000);
+    };
+  }
+
+  function request(obj) {
+    return new Promise((resolve, reject) => {
+      if (!ws || ws.readyState !== WebSocket.OPEN) { reject(new Error("not connected")); return; }
+      const id = nextId++;
+      const timer = setTimeout(() => {
+        pending.delete(id);
+        reject(new Error("the server did not answer"));
+        if (ws) ws.close();
+      }, REQUEST_TIMEOUT_MS);
+      pending.set(id, { resolve, reject, timer });
+      ws.send(JSON.stringify({ id, ...obj }));
+    });
+  }
+
+  setInterval(() => {  // a silent server is asked; one that does not answer is left
+    if (connected && Date.now() - lastHeard > QUIET_MS) request({ cmd: "state" }).then(onState, () => {});
+  }, 5000);
+
+  function shortAgent() {
+    const m = navigator.userAgent.match(/(Android|iPad|iPhone|Windows|Mac OS X|Linux)/);
+    return m ? m[1] : "page";
+  }
+
+  // -- events ------------------------------------------------------------------------------------
+  function onEvent(msg) {
+    switch (msg.event) {
+      case "state": onState(msg); break;
+      case "radio": replace(snapshot && snapshot.radios, msg, r => r.station === msg.station && r.radio === msg.radio);
+        for (const p of panels) if (p.radio === msg.radio && choice.station === msg.station) { showRadio(p); showCompass(p); }
+        break;
+      case "rotator": replace(snapshot && snapshot.rotators, msg, r => r.id === msg.id);
+        for (const p of panels) showCompass(p);
+        break;
+      case "switch": replace(snapshot && snapshot.switches, msg, s => s.id === msg.id);
+        showLink(true); for (const p of panels) showRadio(p);
+        break;
+      case "layout":
+        for (const p of panels) {
+          if (p.asked && p.asked.station === msg.station && p.asked.radio === msg.radio &&
+              p.shape && p.shape[0] === msg.rows && p.shape[1] === msg.columns) showLayout(p, msg);
+        }
+        break;
+      default: break;
+    }
+  }
+
+  function replace(list, entry, same) {
+    if (!list) return;
+    const clean = { ...entry }; delete clean.event;
+    const i = list.findIndex(same);
+    if (i >= 0) list[i] = clean; else list.push(clean);
+  }
+
+  function onState(state) {
+    snapshot = { ...state }; delete snapshot.event;
+    connected = true;
+    $("#config").textContent = snapshot.config || "no configuration";
+    fillChoices();
+    showLink(true);
+    for (const p of panels) p.asked = null;
+    buildPanels();
+    if (firstState && snapshot.radios.length) {
+      firstState = false;
+      if (window.performance && performance.mark) performance.mark("moas-first-state");
+    }
+  }
+
+  function stopped() {
+    return !!(snapshot && snapshot.switches.length && snapshot.switches.every(s => s.status === "stopped"));
+  }
+
+  function showLink(up, detail) {
+    const link = $("#link");
+    document.body.classList.toggle("offline", !up);
+    if (!up) {
+      link.className = "link down";
+      link.textContent = "\u2715 Not connected \u2013 " + (detail || "reconnecting\u2026");
+    } else if (stopped()) {
+      link.className = "link stopped";
+      link.textContent = "\u25a0 Switches stopped: all relays off";
+    } else {
+      link.className = "link up";
+      link.textContent = "\u25cf Connected";
+    }
+    document.body.dataset.link = up ? "connected" : "not-connected";
+  }
+
+  // -- choosing station and radios ---------------------------------------------------------------
+  function fillChoices() {
+    const stations = [...new Set(snapshot.radios.map(r => r.station))].sort((a, b) => a - b);
+    if (!stations.includes(choice.station)) choice.station = stations.length ? stations[0] : null;
+    const radios = snapshot.radios.filter(r => r.station === choice.station).map(r => r.radio).sort((a, b) => a - b);
+    if (!radios.includes(choice.radios[0])) choice.radios[0] = radios.length ? radios[0] : null;
+    if (choice.radios[1] != null && (!radios.includes(choice.radios[1]) || choice.radios[1] === choice.radios[0])) {
+      choice.radios[1] = null;
+    }
+    fillSelect($("#station"), stations, choice.station, false);
+    fillSelect($("#radioA"), radios, choice.radios[0], false);
+    fillSelect($("#radioB"), radios.filter(r => r !== choice.radios[0]), choice.radios[1], true);
+  }
+
+  function fillSelect(select, values, current, blank) {
+    select.replaceChildren();
+    if (blank) select.append(new Option("\u2013", ""));
+    for (const v of values) select.append(new Option(String(v), String(v)));
+    select.value = current == null ? "" : String(current);
+  }
+
+  $("#station").addEventListener("change", (e) => {
+    choice.station = num(e.target.value); choice.radios = [null, null]; save(); fillChoices(); buildPanels();
+  });
+  $("#radioA").addEventListener("change", (e) => { choice.radios[0] = num(e.target.value); save(); fillChoices(); buildPanels(); });
+  $("#radioB").addEventListener("change", (e) => { choice.radios[1] = num(e.target.value); save(); fillChoices(); buildPanels(); });
+
+  // -- the radio panels --------------------------------------------------------------------------
+  function buildPanels() {
+    const wanted = choice.radios.filter(r => r != null);
+    const main = $("#radios");
+    while (panels.length > wanted.length) panels.pop().el.remove();
+    wanted.forEach((radio, i) => {
+      if (!panels[i]) panels.push(makePanel(i));
+      const p = panels[i];
+      if (p.radio !== radio) { p.radio = radio; p.asked = null; p.layout = null; p.rotator = null; }
+      p.el.dataset.radio = String(radio);
+      $(".title", p.el).textContent = `Station ${choice.station} \u00b7 Radio ${radio}`;
+    });
+    main.classList.toggle("two", panels.length === 2);
+    const tabs = $("#tabs");
+    tabs.classList.toggle("two", panels.length === 2);
+    tabs.replaceChildren();
+    if (choice.active >= panels.length) choice.active = 0;
+    panels.forEach((p, i) => {
+      p.el.classList.toggle("active", i === choice.active);
+      const b = document.createElement("button");
+      b.type = "button"; b.textContent = `Radio ${p.radio}`;
+      b.setAttribute("aria-pressed", String(i === choice.active));
+      b.addEventListener("click", () => { choice.active = i; buildPanels(); });
+      tabs.append(b);
+    });
+    for (const p of panels) { showRadio(p); askLayout(p); showCompass(p); }
+  }
+
+  function makePanel(index) {
+    const el = $("#panel").content.firstElementChild.cloneNode(true);
+    $("#radios").append(el);
+    const p = { index, el, radio: null, target: "both", asked: null, shape: null, layout: null, rotator: null };
+    for (const b of el.querySelectorAll(".targets button")) {
+      b.addEventListener("click", () => {
+        p.target = b.dataset.target;
+        for (const o of el.querySelectorAll(".targets button")) o.setAttribute("aria-pressed", String(o === b));
+      });
+    }
+    $(".prev", el).addEventListener("click", () => send(p, { cmd: "relative", step: -1 }));
+    $(".next", el).addEventListener("click", () => send(p, { cmd: "relative", step: 1 }));
+    $(".rotator", el).addEventListener("change", (e) => { p.rotator = num(e.target.value); showCompass(p); });
+    $(".stop", el).addEventListener("click", () => { if (p.rotator != null) act(p, { cmd: "stop", rotator: p.rotator }); });
+    const svg = $(".compass", el);
+    svg.addEventListener("pointerup", (e) => {
+      const t = p.compassTarget;
+      if (!t || !t.rotator.online) return;
+      const heading = MoasCompass.headingAt(svg, e.clientX, e.clientY, t.offset);
+      if (heading != null) act(p, { cmd: "rotate", rotator: t.rotator.id, heading });
+    });
+    return p;
+  }
+
+  function send(p, obj) {
+    if (choice.station == null || p.radio == null) return;
+    act(p, { ...obj, station: choice.station, radio: p.radio });
+  }
+  function act(p, obj) {
+    $(".message", p.el).textContent = "";
+    request(obj).catch(e => { $(".message", p.el).textContent = "\u26a0 " + e.message; });
+  }
+
+  function antenna(id) { return id == null || !snapshot ? null : snapshot.antennas.find(a => a.id === id) || null; }
+  function antennaName(id) { const a = antenna(id); return a ? (a.long || a.short || `Antenna ${a.id}`) : "none"; }
+  function radioView(p) {
+    return snapshot ? snapshot.radios.find(r => r.station === choice.station && r.radio === p.radio) || null : null;
+  }
+  function khzText(khz) { return khz == null ? "no frequency" : `${khz.toFixed(1)} kHz`; }
+
+  function showRadio(p) {
+    const r = radioView(p);
+    const el = p.el;
+    const freq = $(".freq", el), tx = $(".ant-tx", el), rx = $(".ant-rx", el), note = $(".note", el);
+    if (!r || stopped()) {
+      freq.textContent = stopped() ? "Switches stopped: no antenna is connected" : "no radio";
+      tx.textContent = rx.textContent = "";
+      $(".transmitting", el).hidden = $(".inhibited", el).hidden = note.hidden = true;
+      return;
+    }
+    freq.textContent = r.tx_khz != null && r.khz != null && r.tx_khz !== r.khz
+      ? `${khzText(r.khz)} / TX ${khzText(r.tx_khz)}` : khzText(r.khz);
+    tx.textContent = `TX ${antennaName(r.tx)}`;
+    rx.textContent = `RX ${antennaName(r.rx)}` + (r.alt != null ? ` \u00b7 ALT ${antennaName(r.alt)}` : "");
+    $(".transmitting", el).hidden = !r.transmitting;
+    $(".inhibited", el).hidden = !r.inhibited;
+    note.textContent = r.note || "";
+    note.hidden = !r.note;
+    const rel = (r.relative || []).map(id => (id === r.tx ? "\u25b8" : "") + (antenna(id) ? antenna(id).short || antennaName(id) : id));
+    $(".rel-list", el).textContent = rel.join("  ");
+    $(".prev", el).disabled = $(".next", el).disabled = !(r.relative && r.relative.length);
+  }
+
+  // -- buttons -----------------------------------------------------------------------------------
+  function wantedShape(p) {
+    const width = $(".grid", p.el).clientWidth || p.el.clientWidth || 300;
+    const columns = Math.max(1, Math.min(8, Math.floor(width / 110)));
+    const rows = Math.max(1, Math.min(8, Math.floor((window.innerHeight - 300) / 70)));
+    return [rows, columns];
+  }
+
+  function askLayout(p) {
+    if (!connected || choice.station == null || p.radio == null) return;
+    const [rows, columns] = wantedShape(p);
+    const key = { station: choice.station, radio: p.radio, rows, columns };
+    if (p.asked && JSON.stringify(p.asked) === JSON.stringify(key)) return;
+    p.asked = key;
+    request({ cmd: "layout", ...key }).then((layout) => {
+      if (p.asked !== key) return;
+      p.shape = [layout.rows, layout.columns];
+      showLayout(p, layout);
+    }, (e) => { $(".message", p.el).textContent = "\u26a0 " + e.message; });
+  }
+
+  function showLayout(p, layout) {
+    p.layout = layout;
+    const grid = $(".grid", p.el);
+    let rows = layout.rows, columns = layout.columns;
+    for (const b of layout.buttons) { rows = Math.max(rows, b.row + 1); columns = Math.max(columns, b.column + 1); }
+    grid.style.gridTemplateColumns = `repeat(${columns}, minmax(0, 1fr))`;
+    const keep = new Map([...grid.children].map(b => [b.dataset.cell, b]));
+    for (const view of layout.buttons) {
+      const cell = `${view.row},${view.column}`;
+      let b = keep.get(cell);
+      if (b) keep.delete(cell); else { b = makeButton(p); grid.append(b); }
+      b.dataset.cell = cell;
+      b.style.gridRow = String(view.row + 1);
+      b.style.gridColumn = String(view.column + 1);
+      showButton(b, view);
+    }
+    for (const gone of keep.values()) gone.remove();
+    showCompass(p);
+  }
+
+  function showButton(b, view) {
+    b.view = view;
+    b.dataset.state = view.state;
+    b.dataset.type = view.type;
+    b.dataset.id = String(view.id);
+    const mark = view.state === "selected" ? "\u2714 " : view.type === "Function" ? "\u0192 " : "";
+    b.textContent = mark + (view.label || `#${view.id}`);
+    b.disabled = view.state === "unavailable";
+    b.setAttribute("aria-pressed", String(view.state === "selected"));
+    b.title = `${view.label} (${view.type === "Function" ? "function" : "antenna"} ${view.id}): ${view.state}`;
+  }
+
+  /* Tap selects (additive antennas toggle: the server decides); a long press
+     selects that antenna alone. */
+  function makeButton(p) {
+    const b = document.createElement("button");
+    b.type = "button";
+    let timer = null, long = false, down = false;
+    const cancel = () => { clearTimeout(timer); timer = null; down = false; b.classList.remove("pressing"); };
+    b.addEventListener("pointerdown", (e) => {
+      if (b.disabled || e.button > 0) return;
+      down = true; long = false; b.classList.add("pressing");
+      timer = setTimeout(() => {
+        long = true; timer = null;
+        if (navigator.vibrate) navigator.vibrate(30);
+        press(p, b.view, true);
+      }, LONG_PRESS_MS);
+    });
+    b.addEventListener("pointerup", () => { if (down && !long) press(p, b.view, false); cancel(); });
+    b.addEventListener("pointerleave", cancel);
+    b.addEventListener("pointercancel", cancel);
+    b.addEventListener("contextmenu", (e) => e.preventDefault());
+    b.addEventListener("click", (e) => { if (e.detail === 0) press(p, b.view, false); });  // keyboard
+    return b;
+  }
+
+  function press(p, view, exclusive) {
+    if (!view || view.state === "unavailable") return;
+    if (view.type === "Function") send(p, { cmd: "function", function: view.id });
+    else send(p, { cmd: "select", antenna: view.id, target: p.target, exclusive });
+  }
+
+  // -- compass -----------------------------------------------------------------------------------
+  function compassTargets(p) {
+    const r = radioView(p);
+    if (!r || !snapshot) return [];
+    const inUse = [r.tx, r.rx].filter(i => i != null);
+    const onButtons = p.layout ? p.layout.buttons.filter(b => b.type === "Antenna").map(b => b.id) : [];
+    const seen = new Map();
+    for (const id of new Set([...inUse, ...onButtons])) {
+      const a = antenna(id);
+      if (!a || a.rotator == null || seen.has(a.rotator)) continue;
+      const rot = snapshot.rotators.find(x => x.id === a.rotator);
+      if (!rot) continue;
+      if (rot.electrical) {
+        const dirs = snapshot.antennas.filter(x => x.rotator === rot.id)
+          .map(x => ({ heading: x.offset || 0, active: inUse.includes(x.id) }));
+        seen.set(rot.id, { rotator: rot, offset: 0, directions: dirs, label: rot.short || rot.long });
+      } else {
+        seen.set(rot.id, { rotator: rot, offset: a.offset || 0, directions: [], label: a.short || rot.short });
+      }
+    }
+    return [...seen.values()];
+  }
+
+  function showCompass(p) {
+    const box = $(".compass-box", p.el);
+    const targets = compassTargets(p);
+    box.hidden = targets.length === 0;
+    if (!targets.length) { p.compassTarget = null; return; }
+    if (!targets.some(t => t.rotator.id === p.rotator)) p.rotator = targets[0].rotator.id;
+    const t = targets.find(x => x.rotator.id === p.rotator);
+    p.compassTarget = t;
+    const chooser = $(".rotator", p.el);
+    chooser.replaceChildren(...targets.map(x => new Option(x.label || `Rotator ${x.rotator.id}`, String(x.rotator.id))));
+    chooser.value = String(p.rotator);
+    chooser.hidden = targets.length < 2;
+    const svg = $(".compass", p.el);
+    MoasCompass.draw(svg, t);
+    svg.classList.toggle("offline", !t.rotator.online);
+    const rot = t.rotator;
+    let text = rot.online ? (rot.heading == null ? "\u2013" : `${pad(MoasCompass.norm(rot.heading + t.offset))}\u00b0`) : "offline";
+    if (rot.online && rot.moving && rot.target != null) text += ` \u2192 ${pad(MoasCompass.norm(rot.target + t.offset))}\u00b0`;
+    $(".heading", p.el).textContent = text;
+    $(".stop", p.el).disabled = !rot.online;
+  }
+  function pad(h) { return String(Math.round(h) % 360).padStart(3, "0"); }
+
+  let resizeTimer = null;
+  window.addEventListener("resize", () => {
+    clearTimeout(resizeTimer);
+    resizeTimer = setTimeout(() => { for (const p of panels) askLayout(p); }, 200);
+  });
+
+  // A page the browser keeps for its Back button must not stay connected (and
+  // counted) while hidden; it connects again when shown.
+  let parked = false;
+  window.addEventListener("pagehide", () => {
+    parked = true;
+    const socket = ws;
+    ws = null;
+    connected = false;
+    if (socket) socket.close(1000, "page hidden");
+  });
+  window.addEventListener("pageshow", (e) => {
+    if (e.persisted && parked) { parked = false; showLink(false, "connecting\u2026"); connect(); }
+  });
+
+  showLink(false, "connecting\u2026");
+  connect();
+})();

@@ -1,8 +1,8 @@
 """flrig's XML-RPC, without I/O: method calls out as HTTP requests, answers in.
 
 flrig (W1HKJ's rig control program) serves XML-RPC over HTTP, on TCP port
-12345 unless changed in its configuration (Config > Setup > Server; the same
-default Hamlib's flrig backend connects to).  The methods this source asks,
+12345 unless changed in its server settings (the same default Hamlib's flrig
+backend connects to).  The methods this source asks,
 as flrig documents them (w1hkj.com/flrig-help/xmlrpc_commands.html; flrig's
 src/server/xml_server.cxx):
 

@@ -17,8 +17,8 @@ import contextlib
 import logging
 from typing import Any
 
-from moas_gui.client.forwarder import Forwarder
 from moas_gui.sources.base import Source, SourceHub
+from moas_gui.sources.forwarder import Forwarder
 from moas_gui.sources.spec import SourceSpec, make_source, parse_spec
 from moas_gui.ui.qt import QAction, QInputDialog, QSettings
 

@@ -271,6 +271,8 @@ def test_a_second_launch_with_another_file_asks_and_yes_switches_cleanly(tmp_pat
 
         conflict = launch("2x6.moas", "--tcp-port", str(free_port()))
         assert conflict.returncode != 0 and "--tcp-port" in conflict.stderr, conflict.stderr
+        web = launch("2x6.moas", "--web-port", str(free_port()))
+        assert web.returncode != 0 and "--web-port" in web.stderr, web.stderr
         headless = launch("2x6.moas", "--headless")
         assert headless.returncode != 0 and "headless" in headless.stderr, headless.stderr
         broken = tmp_path / "broken.moas"

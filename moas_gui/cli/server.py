@@ -147,7 +147,7 @@ def launch_request(args: argparse.Namespace) -> dict[str, object]:
     """What this command line asks of a server, for the running one to vet."""
     launch: dict[str, object] = {"headless": bool(args.headless)}
     for key in ("bind", "tcp_port", "udp_port", "udp_bind", "dxlog_port", "wintest_port",
-                "n1mm_rotor_port"):
+                "n1mm_rotor_port", "web_port"):
         value = getattr(args, key)
         if value is not None:
             launch[key] = value
@@ -185,7 +185,8 @@ def vet_launch(app: object, launch: dict[str, object], *, headless: bool) -> str
                "tcp_port": options.tcp_port if options.tcp_port is not None
                else (address[1] if address else None),
                "udp_port": options.udp_port, "dxlog_port": options.dxlog_port,
-               "wintest_port": options.wintest_port, "n1mm_rotor_port": options.n1mm_rotor_port}
+               "wintest_port": options.wintest_port, "n1mm_rotor_port": options.n1mm_rotor_port,
+               "web_port": options.web_port}
     for key, value in running.items():
         if key in launch and launch[key] != value:
             flag = "--" + key.replace("_", "-")

@@ -124,7 +124,7 @@ def hz(value: object, what: str) -> int:
     except (TypeError, ValueError):
         raise FlrigReplyError("bad_value", f"{what} {str(value)[:40]!r} is not a number") \
             from None
-    if math.isnan(number) or not 0 < number <= MAX_HZ:
+    if math.isnan(number) or not 1 <= number <= MAX_HZ:
         raise FlrigReplyError("absurd", f"{what} of {str(value)[:40]} Hz is absurd")
     return int(number)
 

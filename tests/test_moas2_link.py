@@ -18,7 +18,7 @@ from helpers import until
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
-from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
+from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, remove_link, serve
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.transport import SerialTransport
 
@@ -68,6 +68,9 @@ class Served:
             self.received += data
 
     def stop(self) -> None:
+        # The link goes first: a link retrying it must not reach the next pseudo-terminal
+        # that takes this one's number (another test's box, in this or another process).
+        remove_link(self.link, self.endpoint.path)
         self.box.close()
         self.endpoint.close()
 
@@ -104,7 +107,9 @@ async def test_link_loads_the_box_and_then_sends_only_differences(served: Served
         await until(lambda: link.status is LinkStatus.OK)
         assert statuses == [LinkStatus.OK]
         await until(lambda: served.relays == {1, 2, 8})
-        assert served.received.startswith(b":;*0;%C")
+        # the unit id, a ping behind it (any other unit's id would come before its
+        # answer), then the load
+        assert served.received.startswith(b":;';*0;%C")
         before = len(served.received)
         written = link.apply(STATE_B)
         assert written == len(b"!1B35;")
@@ -175,7 +180,14 @@ async def test_a_box_with_another_unit_id_is_not_driven(
     link.connect()
     try:
         await until(lambda: statuses == [LinkStatus.UNRESPONSIVE])
-        await asyncio.sleep(0.3)
+        # However slow the machine (a question answered too late for one session, or
+        # not at all, only delays this): the refusal, then two more sessions, and no
+        # question answered late is ever taken as the answer of a later one
+        await until(lambda: any(r.levelno == logging.ERROR for r in caplog.records)
+                    or b"*0;" in other.received, timeout=30, what="the refusal")
+        asked = other.received.count(b":;")
+        await until(lambda: other.received.count(b":;") >= asked + 2
+                    or b"*0;" in other.received, timeout=30, what="two more sessions")
         assert b"*0;" not in other.received
         assert other.relays == frozenset()
         errors = [r for r in caplog.records if r.levelno == logging.ERROR]

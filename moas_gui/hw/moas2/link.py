@@ -4,9 +4,12 @@ engine wants, and reports what the box says.
 Its life, in plain words:
 
 * ``connect()`` starts it.  It opens the port (or the built-in emulator for
-  the port name ``"emulator"``), asks the unit id (``:;``) and, when the
-  configuration gives ``Echo``, refuses a box with another id.  Then it
-  resets and loads the box from the latest state (:func:`.sync.initialise`),
+  the port name ``"emulator"``) for itself alone, asks the unit id (``:;``)
+  and a ping after it, and refuses a box that reported any unit but ``Echo``
+  (without ``Echo``: the unit first found) before that ping was answered.
+  Nothing is written that could move a relay before that (see
+  :mod:`.questions` for how answers find their questions).  Then it resets
+  and loads the box from the latest state (:func:`.sync.initialise`),
   checks the box answers, and asks the box status to learn who transmits.
   Given ``held`` (what a previous server told the box, from the saved
   state), the first connection asks the box's status first and, when the box
@@ -75,6 +78,7 @@ from .messages import (
     UnitId,
     UnitIdReply,
 )
+from .questions import Answer, Questions
 from .replies import encode_reply
 from .sync import DEFAULT_EVENTS, Plan, difference, differs, initialise, stopped
 from .transport import EmulatorTransport, SerialTransport, Transport
@@ -150,8 +154,16 @@ class SwitchLink:
         self._open = False
         self._lost: asyncio.Event | None = None
         self._task: asyncio.Task[None] | None = None
-        self._waiters: list[tuple[type, asyncio.Future[Any]]] = []
-        self._pings: deque[Batch] = deque()
+        self._questions = Questions()
+        self._pings: deque[tuple[Batch, asyncio.Future[Any] | None]] = deque()
+        self._session_no = 0
+        """Counts sessions: what a port delivers for an ended one is dropped."""
+        self._confirmed = False
+        """The box of this session said it is our unit, and nothing said otherwise."""
+        self._foreign: UnitIdReply | None = None
+        """Another unit's id, heard in this session."""
+        self._first_unit: int | None = None
+        """Without Echo: the unit id of the first box this link drove."""
         self._batch = Batch(None)
         self._last_heard = 0.0
         self._last_problem = ""
@@ -170,7 +182,7 @@ class SwitchLink:
     @property
     def ready(self) -> bool:
         """The box is initialised and every ``apply`` goes straight out."""
-        return self._open and self._sent is not None
+        return self._open and self._confirmed and self._sent is not None
 
     @property
     def sent(self) -> SwitchState | None:
@@ -270,10 +282,17 @@ class SwitchLink:
     async def _session(self) -> bool:
         """One connection; True if the box became ready."""
         assert self._lost is not None
+        self._session_no += 1
+        session = self._session_no
+        self._confirmed = False
+        self._foreign = None
         try:
             self._lost.clear()
             self._decoder.reset()
-            self._transport.open(self._on_data, self._on_port_lost)
+            self._transport.open(
+                lambda data: self._on_data(session, data),
+                lambda reason: self._on_port_lost(session, reason),
+            )
         except PortError as exc:
             self._problem(logging.WARNING, f"{self.where}: cannot open the port: {exc}; will retry")
             return False
@@ -281,17 +300,7 @@ class SwitchLink:
         self._pings.clear()
         self._batch = Batch(None)
         self._tr.clear()
-        unit = await self._ask(UnitId(), UnitIdReply)
-        if unit is None:
-            self._problem(logging.WARNING, f"{self.where} does not answer; will retry")
-            return False
-        self.unit = unit
-        if self.echo is not None and unit.unit != self.echo:
-            self._problem(
-                logging.ERROR,
-                f"{self.where} says it is unit {unit.unit}, but the configuration's Echo is "
-                f"{self.echo}: not driving it (is it on the wrong port?)",
-            )
+        if not await self._confirm_unit():
             return False
         held, self._held = self._held, None
         if held is not None and await self._still_holds(held):
@@ -304,6 +313,8 @@ class SwitchLink:
             self._problem(logging.WARNING, f"{self.where} stopped answering while loading")
             return False
         await self._ask(StatusRequest(StatusKind.BOX), BoxStatus)
+        if not self._confirmed:  # another unit's id was heard meanwhile
+            return False
         if self._last_problem:
             log.info("%s answers again", self.where)
         self._last_problem = ""
@@ -322,6 +333,41 @@ class SwitchLink:
                 )
                 return True
             self._ping()
+
+    async def _confirm_unit(self) -> bool:
+        """Whether the box on the port now is ours: it answers the unit id and a ping
+        after it, and says no other unit id before that ping's answer.  The box answers
+        in order, so an answer that came late (to a question asked before, perhaps of
+        the box the port led to then) is followed by this session's own before the
+        ping's: a disagreement is seen, and the box is not driven."""
+        unit = await self._ask(UnitId(), UnitIdReply)
+        if unit is None or await self._ask(Ping(), Pong) is None:
+            self._problem(logging.WARNING, f"{self.where} does not answer; will retry")
+            return False
+        self.unit = unit
+        refusal = self._refusal(self._foreign or unit)
+        if refusal:
+            self._problem(logging.ERROR, refusal)
+            return False
+        self._confirmed = True
+        if self.echo is None and self._first_unit is None:
+            self._first_unit = unit.unit
+        return True
+
+    def _refusal(self, unit: UnitIdReply) -> str:
+        """Why a box that says it is ``unit`` is not ours ("" when it is)."""
+        if self.echo is not None and unit.unit != self.echo:
+            return (
+                f"{self.where} says it is unit {unit.unit}, but the configuration's Echo is "
+                f"{self.echo}: not driving it (is it on the wrong port?)"
+            )
+        if self.echo is None and self._first_unit is not None and unit.unit != self._first_unit:
+            return (
+                f"{self.where} says it is unit {unit.unit}, but the box this port led to "
+                f"before was unit {self._first_unit}: not driving it (is it on the wrong "
+                f"port? give Echo in the configuration, or restart, to drive it)"
+            )
+        return ""
 
     async def _still_holds(self, held: SwitchState) -> bool:
         """Whether the box still holds ``held`` (what this link's saved state says it was
@@ -358,23 +404,27 @@ class SwitchLink:
         self._sent = None
 
     def _close_port(self, why: str) -> None:
-        self._open = False
-        self._forget_sent()
+        self._session_no += 1  # whatever the port still delivers belongs to no session
+        self._end_session(why)
         self._transport.close()
-        for _, future in self._waiters:
-            if not future.done():
-                future.set_exception(PortError(why))
-        self._waiters.clear()
 
-    def _on_port_lost(self, reason: str) -> None:
-        self._problem(logging.WARNING, f"{self.where}: the port went away: {reason}")
+    def _end_session(self, why: str) -> None:
         self._open = False
+        self._confirmed = False
         self._forget_sent()
+        self._questions.end(PortError(why))
+        for _, future in self._pings:
+            if future is not None and not future.done():
+                future.set_exception(PortError(why))
+        self._pings.clear()
+
+    def _on_port_lost(self, session: int, reason: str) -> None:
+        if session != self._session_no:
+            return
+        self._problem(logging.WARNING, f"{self.where}: the port went away: {reason}")
+        self._end_session(reason)
         if self._lost is not None:
             self._lost.set()
-        for _, future in self._waiters:
-            if not future.done():
-                future.set_exception(PortError(reason))
 
     def _set_status(self, status: LinkStatus) -> None:
         if status is not self._status:
@@ -394,6 +444,9 @@ class SwitchLink:
     # ------------------------------------------------------------------ writing
 
     def _send(self, plan: Plan) -> int:
+        if not self._confirmed:  # never reached: every caller waits for ``ready``
+            log.error("%s: not sending to a box whose unit id is not confirmed", self.where)
+            return 0
         for problem in plan.problems:
             log.error("switch %d: %s", self.switch_id, problem)
         parts = [encode(part) for command in plan.commands for part in split(command)]
@@ -408,13 +461,13 @@ class SwitchLink:
         try:
             self._transport.write(data)
         except PortError as exc:
-            self._on_port_lost(str(exc))
+            self._on_port_lost(self._session_no, str(exc))
             return
         self.bytes_written += len(data)
 
-    def _ping(self) -> None:
-        expect = self._sent.active if self._sent is not None else None
-        self._pings.append(Batch(expect, self._batch.commands))
+    def _ping(self, future: asyncio.Future[Any] | None = None) -> None:
+        expect = self._sent.active if self.ready and self._sent is not None else None
+        self._pings.append((Batch(expect, self._batch.commands), future))
         self._batch = Batch(None)
         self._write(b"';")
 
@@ -422,34 +475,52 @@ class SwitchLink:
         """Send ``command`` and wait for a message of ``reply_type``."""
         if not self._open:
             return None
-        future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
-        self._waiters.append((reply_type, future))
+        loop = asyncio.get_running_loop()
+        future: asyncio.Future[Any] = loop.create_future()
         if isinstance(command, Ping):
-            self._ping()
+            self._ping(future)
         else:
+            self._questions.ask(reply_type, future, loop.time() + 2 * self.timing.answer_timeout)
             self._write(encode(command))
         try:
             result: _R = await asyncio.wait_for(future, self.timing.answer_timeout)
             return result
         except (TimeoutError, PortError):
             return None
-        finally:
-            with contextlib.suppress(ValueError):
-                self._waiters.remove((reply_type, future))
 
     # ------------------------------------------------------------------ reading
 
-    def _on_data(self, data: bytes) -> None:
+    def _on_data(self, session: int, data: bytes) -> None:
+        if session != self._session_no or not self._open:
+            log.debug("%s: dropped %r, which came after its session ended", self.where, data)
+            return
         for message in self._decoder.feed(data):
             if isinstance(message, Malformed):
                 log.debug("%s: skipped %r: %s", self.where, message.raw, message.reason)
                 continue
-            self._last_heard = asyncio.get_running_loop().time()
+            now = asyncio.get_running_loop().time()
+            self._last_heard = now
+            if isinstance(message, UnitIdReply):
+                self._unit_said(message)
             self._handle(message)
-            for reply_type, future in self._waiters:
-                if isinstance(message, reply_type) and not future.done():
-                    future.set_result(message)
-                    break
+            if isinstance(message, Pong):
+                continue  # answered in _pong
+            answer = self._questions.answer(message, now)
+            if answer is Answer.LATE:
+                log.debug("%s: dropped a late answer (its asker gave up): %s", self.where,
+                          describe(message))
+
+    def _unit_said(self, reply: UnitIdReply) -> None:
+        """Any unit id the box says counts, whichever question it answers: once another
+        unit's id is heard, this session drives nothing more."""
+        if not self._refusal(reply):
+            return
+        self._foreign = self._foreign or reply
+        if self._confirmed:
+            self._problem(logging.ERROR, self._refusal(reply))
+            self._confirmed = False
+            if self._lost is not None:
+                self._lost.set()
 
     def _handle(self, message: object) -> None:
         if isinstance(message, BoxStatus | PolarityStatus | RelayStatus | UnitIdReply):
@@ -477,18 +548,25 @@ class SwitchLink:
 
     def _pong(self, pong: Pong) -> None:
         if not self._pings:
+            log.debug("%s: dropped a pong no ping of this session asked for", self.where)
             return
-        batch = self._pings.popleft()
+        batch, future = self._pings.popleft()
+        if future is not None:
+            if future.done():
+                log.debug("%s: dropped a late pong (its asker gave up)", self.where)
+            else:
+                future.set_result(pong)
         if batch.expect_active is not None and pong.active != batch.expect_active and self.ready:
             log.warning(
                 "%s says it is %s, which it should not be: it was reset or lost power; "
                 "loading it again", self.where, "active" if pong.active else "inactive",
             )
-            self._pings.clear()
+            for earlier, _ in self._pings:  # asked before the load: not to be judged
+                earlier.expect_active = None
             self._load()
 
     def _error(self, reply: ErrorReply) -> None:
-        commands = self._pings[0].commands if self._pings else self._batch.commands
+        commands = self._pings[0][0].commands if self._pings else self._batch.commands
         text = blame(self.where, reply, commands)
         log.error("%s", text)
         self.errors.append(text)

@@ -1,6 +1,7 @@
 """The one seam between a switch link and the outside: a byte pipe.
 
-:class:`SerialTransport` is a real port through pyserial (9600 baud, 8N1);
+:class:`SerialTransport` is a real port through pyserial (9600 baud, 8N1),
+locked for this link alone where the system allows it (Windows always does);
 on Linux and macOS it reads with the event loop's ``add_reader`` (which
 qasync supports too), elsewhere with a small reader thread.
 :class:`EmulatorTransport` is an emulated box in the same process: the fake
@@ -90,6 +91,9 @@ class SerialTransport:
                 stopbits=serial.STOPBITS_ONE,
                 timeout=0.1 if self._use_thread else 0,
                 write_timeout=2,
+                # one program, one link per port: a second opener would take half the
+                # box's answers and drive it unchecked (POSIX: an advisory lock)
+                exclusive=True if sys.platform != "win32" else None,
             )
             port.reset_input_buffer()
         except _SERIAL_ERRORS as exc:

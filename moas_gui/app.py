@@ -85,7 +85,9 @@ class _Running:
     focus_table: FocusTable = field(default_factory=FocusTable)
     """Each station's transmit and receive focus (moas_gui/engine/focus.py)."""
     pending: list[Any] = field(default_factory=list)
-    """Frequency reports of this turn of the event loop, decided active radio first."""
+    """What the sources said in this turn of the event loop, decided together."""
+    published: set[tuple[int, int]] | None = None
+    """While a batch is decided: the radios whose entries were published."""
     rotators: Any = None
     log_handler: logging.Handler | None = None
     stopped: bool = False
@@ -405,6 +407,8 @@ class ServerApp:
         if run.clients is not None:
             for ref in changes.radios:
                 run.clients.publish_radio(self.radio_entry(ref.station, ref.radio))
+                if run.published is not None:
+                    run.published.add((ref.station, ref.radio))
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
 
@@ -459,63 +463,83 @@ class ServerApp:
         run.n1mm = run.sources.n1mm
 
     def _source_event(self, event: Any) -> None:
-        """The one way a source's event reaches the engine."""
-        from moas_gui.sources.base import ActiveRadio, FocusRadio, FrequencyReport
-        from moas_gui.sources.otrsp import AuxAntenna
+        """The one way a source's event reaches the engine.
+
+        What the sources say in one turn of the event loop (an SO2R logger's packets
+        for both radios) is decided together, in :meth:`_decide_batch`."""
+        from moas_gui.sources.base import Running
 
         run = self._run
         if run is None:
             return
-        if isinstance(event, FrequencyReport):
-            # reports of one turn of the loop (an SO2R logger's two radios) are decided
-            # together, the active radio's first (docs/engine.md, "Transmit focus")
-            if not run.pending:
-                asyncio.get_running_loop().call_soon(self._decide_reports, run)
-            run.pending.append(event)
+        if isinstance(event, Running):
+            self._source_focus(event)
             return
-        if isinstance(event, ActiveRadio | FocusRadio):
-            kind: FocusKind = "active" if isinstance(event, ActiveRadio) else "focus"
-            try:
-                self.set_focus(event.station, event.radio, kind, origin=event.origin)
-            except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
-                log.debug("Logger %s for station %d radio %d ignored: %s", kind,
-                          event.station, event.radio, exc)
-        elif isinstance(event, AuxAntenna):
-            try:
-                changes = run.engine.select(event.station, event.radio, event.antenna, "both",
-                                            True, now=asyncio.get_running_loop().time())
-            except Exception as exc:  # noqa: BLE001
-                log.info("%s asked for antenna %d on station %d radio %d: %s", event.origin,
-                         event.antenna, event.station, event.radio, exc)
-            else:
-                self.apply_changes(changes)
-        self._source_focus(event)
+        if not run.pending:
+            asyncio.get_running_loop().call_soon(self._decide_batch, run)
+        run.pending.append(event)
 
-    def _decide_reports(self, run: _Running) -> None:
-        reports, run.pending = run.pending, []
+    def _decide_batch(self, run: _Running) -> None:
+        """Focus first, then frequencies with each station's active radio first (docs/engine.md,
+        "Transmit focus"), then antennas a logger chose; a radio whose focus changed and
+        that no decision published is published once at the end."""
+        from moas_gui.sources.base import ActiveRadio, FocusRadio, FrequencyReport
+        from moas_gui.sources.otrsp import AuxAntenna
+
+        events, run.pending = run.pending, []
         if run is not self._run:
             return
+        focused: set[tuple[int, int]] = set()
+        for event in events:
+            if isinstance(event, ActiveRadio | FocusRadio):
+                kind: FocusKind = "active" if isinstance(event, ActiveRadio) else "focus"
+                try:
+                    focused |= self.set_focus(event.station, event.radio, kind,
+                                              origin=event.origin, publish=False)
+                except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
+                    log.debug("Logger %s for station %d radio %d ignored: %s", kind,
+                              event.station, event.radio, exc)
+                self._source_focus(event)
+        run.published = set()
+        reports = [e for e in events if isinstance(e, FrequencyReport)]
         for r in active_first(reports, lambda r: (r.station, r.radio), run.focus_table):
             self._logger_frequency(r.station, r.radio, r.rx_khz, r.tx_khz)
+        for event in events:
+            if isinstance(event, AuxAntenna):
+                try:
+                    changes = run.engine.select(event.station, event.radio, event.antenna,
+                                                "both", True,
+                                                now=asyncio.get_running_loop().time())
+                except Exception as exc:  # noqa: BLE001
+                    log.info("%s asked for antenna %d on station %d radio %d: %s",
+                             event.origin, event.antenna, event.station, event.radio, exc)
+                else:
+                    self.apply_changes(changes)
+        published, run.published = run.published, None
+        if run.clients is not None:
+            for station, radio in sorted(focused - (published or set())):
+                run.clients.publish_radio(self.radio_entry(station, radio))
 
     def set_focus(self, station: int, radio: int, kind: FocusKind, *,
-                  origin: str = "a client") -> None:
+                  origin: str = "a client", publish: bool = True) -> set[tuple[int, int]]:
         """The station's transmit focus (``"active"``) or receive focus (``"focus"``) is
-        on ``radio``; the radio entries of the station say so to clients.  Raises the
-        engine's not-found error for a radio that does not exist."""
+        on ``radio``; the radio entries of the station say so to clients (at once when
+        ``publish``).  Returns the radios whose entry changed.  Raises the engine's
+        not-found error for a radio that does not exist."""
         run = self._run
         if run is None:
             raise RuntimeError("No configuration is open")
         run.engine.radio_view(station, radio)
         before = run.focus_table.set(station, kind, radio)
         if before == radio:
-            return
+            return set()
         if kind == "active":
             log.info("Station %d: transmit focus on radio %d (%s)", station, radio, origin)
-        if run.clients is not None:
-            for number in (before, radio):
-                if number is not None:
-                    run.clients.publish_radio(self.radio_entry(station, number))
+        changed = {(station, number) for number in (before, radio) if number is not None}
+        if publish and run.clients is not None:
+            for _, number in sorted(changed):
+                run.clients.publish_radio(self.radio_entry(station, number))
+        return changed
 
     def radio_entry(self, station: int, radio: int) -> dict[str, Any]:
         """A radio's entry for clients: the engine's view plus ``active`` and ``focus``."""

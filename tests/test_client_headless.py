@@ -160,3 +160,50 @@ async def test_headless_client_tells_the_server_what_rigctld_and_otrsp_say(
         rigctld.wait(5)
         if pty.master >= 0:
             os.close(pty.master)
+
+
+ABSURD = (b"get_freq:\nFrequency: 1e99\nRPRT 0\nget_split_vfo:\nSplit: 0\nTX VFO: VFOA\n"
+          b"RPRT 0\nget_split_freq:\nTX Frequency: 0\nRPRT 0\nget_ptt:\nPTT: 0\nRPRT 0\n")
+
+
+@posix_only
+@pytest.mark.asyncio
+async def test_a_rig_daemon_answering_garbage_sends_nothing_to_the_server(
+        servers: list[Server]) -> None:
+    server = Server(free_port())
+    servers.append(server)
+    await server.server.start()
+    polls = 0
+
+    async def garbage(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        nonlocal polls
+        try:
+            while await reader.readuntil(b"+t\n"):
+                polls += 1
+                writer.write(ABSURD if polls % 2 else b"\xff\xfe<xml>&entity;\n" * 3)
+        except (asyncio.IncompleteReadError, ConnectionError):
+            pass
+        finally:
+            writer.close()
+
+    rig = await asyncio.start_server(garbage, "127.0.0.1", 0)
+    rig_port = rig.sockets[0].getsockname()[1]
+    client = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "moas_gui.cli.client", "--headless", "--station", "1",
+        "--source", f"rigctld:{rig_port},rate=50", f"127.0.0.1:{server.port}",
+        stdout=asyncio.subprocess.DEVNULL, stderr=asyncio.subprocess.PIPE)
+    try:
+        await until(lambda: polls >= 4, 30, what="the client polling the garbage daemon")
+        await until(lambda: server.server.client_count == 1, what="the client at the server")
+        client.send_signal(signal.SIGTERM)
+        assert await asyncio.wait_for(client.wait(), 20) == 0
+        assert client.stderr is not None
+        log = (await client.stderr.read()).decode()
+    finally:
+        if client.returncode is None:
+            client.kill()
+            await client.wait()
+        rig.close()
+    assert server.calls("frequency") == [] and server.calls("select") == []
+    assert "Traceback" not in log
+    assert "WARNING" not in log, log  # bad answers are Debug lines, not warnings

@@ -5,6 +5,7 @@ station's active radio is decided first when both radios report together (docs/e
 from __future__ import annotations
 
 import asyncio
+import socket
 
 import pytest
 from helpers import until
@@ -12,6 +13,7 @@ from test_server_protocol import Peer, app, greeted, peers, run_example  # noqa:
 
 from moas_gui.app import ServerApp
 from moas_gui.sources.base import ActiveRadio, FocusRadio, FrequencyReport
+from moas_gui.sources.n1mm_packet import radio_info_packet
 
 
 @pytest.mark.asyncio
@@ -67,3 +69,21 @@ async def test_the_active_radio_gets_the_only_antenna_when_both_report_together(
         await until(lambda r=active: app.engine.radio_view(1, r).tx == 3,  # type: ignore[union-attr,misc]
                     what=f"antenna 3 on the active radio {active}")
         assert app.engine.radio_view(1, other).tx != 3  # type: ignore[union-attr]
+
+
+@pytest.mark.asyncio
+async def test_an_n1mm_packet_gives_one_radio_event_with_frequency_and_focus(
+        app: ServerApp, peers: list[Peer]) -> None:  # noqa: F811
+    await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)
+    sources = app.sources
+    assert sources is not None and sources.n1mm is not None
+    mark = peer.mark()
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sender:
+        sender.sendto(radio_info_packet(2, 7025.0, active_radio_nr=2, focus_radio_nr=2),
+                      ("127.0.0.1", sources.n1mm.port))
+    event = await peer.event("radio", mark)
+    assert (event["radio"], event["khz"], event["active"], event["focus"]) == (2, 7025.0,
+                                                                                True, True)
+    await asyncio.sleep(0.1)
+    assert len(peer.events("radio", mark)) == 1

@@ -17,7 +17,7 @@ from collections.abc import AsyncIterator
 import pytest
 import pytest_asyncio
 
-from moas_gui.sources.base import FrequencyReport
+from moas_gui.sources.base import FrequencyReport, SourceHub
 from moas_gui.sources.flrig import FlrigSource
 from moas_gui.sources.flrig_rpc import FlrigReplyError, ResponseParser, flag, hz, request
 from tests.flrig_fake import FakeFlrig
@@ -167,3 +167,38 @@ async def test_garbage_answers_reach_nothing(flrig: tuple,
     await asyncio.sleep(0.2)
     assert len(events) == before
     assert len([r for r in caplog.records if "dropped" in r.getMessage()]) == 1
+
+
+@pytest.mark.asyncio
+async def test_two_rig_daemons_for_one_radio_the_newest_wins_logged_once(
+        caplog: pytest.LogCaptureFixture) -> None:
+    caplog.set_level(logging.INFO, logger="moas_gui.sources")
+    first, second = FakeFlrig(), FakeFlrig()
+    second.rig.update(vfoA=7010000)
+    delivered: list[FrequencyReport] = []
+    hub = SourceHub(delivered.append)  # type: ignore[arg-type]
+    sources = [FlrigSource(1, 1, hub, port=await fake.start(), interval=0.02)
+               for fake in (first, second)]
+    try:
+        for source in sources:
+            await source.start()
+        await until_true(lambda: {r.rx_khz for r in delivered} >= {14070.0, 7010.0})
+        first.rig.update(vfoA=14080000)
+        await until_true(lambda: delivered[-1].rx_khz == 14080.0)
+        second.rig.update(vfoA=7020000)
+        await until_true(lambda: delivered[-1].rx_khz == 7020.0)
+    finally:
+        for source in sources:
+            await source.close()
+        for fake in (first, second):
+            await fake.close()
+    lines = [r.getMessage() for r in caplog.records if "two sources" in r.getMessage()]
+    assert len(lines) == 1 and f"flrig 127.0.0.1:{first.port}" in lines[0]
+    assert hub.overlaps >= 3
+
+
+async def until_true(check: object, timeout: float = 5.0) -> None:
+    async def wait() -> None:
+        while not check():  # type: ignore[operator]
+            await asyncio.sleep(0.01)
+    await asyncio.wait_for(wait(), timeout)

@@ -85,7 +85,7 @@ def main(argv: list[str] | None = None) -> int:
 def run_headless(host: str, port: int, args: argparse.Namespace,
                  specs: list[SourceSpec]) -> int:
     """Reads the sources and tells the server until SIGINT / SIGTERM (or ``--quit-after``)."""
-    from moas_gui.client.headless import serve
+    from moas_gui.sources.headless import serve
 
     try:
         return asyncio.run(serve(host, port, args.station, specs, name=args.name,

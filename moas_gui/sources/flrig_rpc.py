@@ -1,8 +1,8 @@
 """flrig's XML-RPC, without I/O: method calls out as HTTP requests, answers in.
 
 flrig (W1HKJ's rig control program) serves XML-RPC over HTTP, on TCP port
-12345 unless changed in its configuration (Config > Setup > Server; the same
-default Hamlib's flrig backend connects to).  The methods this source asks,
+12345 unless changed in its server settings (the same default Hamlib's flrig
+backend connects to).  The methods this source asks,
 as flrig documents them (w1hkj.com/flrig-help/xmlrpc_commands.html; flrig's
 src/server/xml_server.cxx):
 
@@ -124,7 +124,7 @@ def hz(value: object, what: str) -> int:
     except (TypeError, ValueError):
         raise FlrigReplyError("bad_value", f"{what} {str(value)[:40]!r} is not a number") \
             from None
-    if math.isnan(number) or not 0 < number <= MAX_HZ:
+    if math.isnan(number) or not 1 <= number <= MAX_HZ:
         raise FlrigReplyError("absurd", f"{what} of {str(value)[:40]} Hz is absurd")
     return int(number)
 

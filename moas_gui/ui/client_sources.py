@@ -17,8 +17,8 @@ import contextlib
 import logging
 from typing import Any
 
-from moas_gui.client.forwarder import Forwarder
 from moas_gui.sources.base import Source, SourceHub
+from moas_gui.sources.forwarder import Forwarder
 from moas_gui.sources.spec import SourceSpec, make_source, parse_spec
 from moas_gui.ui.qt import QAction, QInputDialog, QSettings
 
@@ -59,10 +59,10 @@ class ClientSources:
         window.station_box.currentIndexChanged.connect(self._station_changed)
 
     def _saved(self) -> list[str]:
-        value = self.settings.value(SETTINGS_KEY, [])
+        value: Any = self.settings.value(SETTINGS_KEY, [])
         if isinstance(value, str):
             return [value] if value else []
-        return [str(v) for v in value or []]
+        return [str(v) for v in value] if isinstance(value, list | tuple) else []
 
     def _save(self) -> None:
         self.settings.setValue(SETTINGS_KEY, [s.text() for s in self.specs])

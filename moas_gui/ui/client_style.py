@@ -63,6 +63,8 @@ class Colours:
 
 CLIENT_STYLESHEET = """
 QWidget#clientRoot, QMainWindow { background: #101418; }
+QMenuBar { background: #1b2228; color: #eef3f6; }
+QMenuBar::item:selected { background: #34414b; }
 QLabel#display { font-size: 15pt; font-weight: bold; padding: 6px 10px;
                  background: #1b2228; border: 1px solid #34414b; border-radius: 6px; }
 QLabel#link { font-size: 11pt; font-weight: bold; padding: 3px 8px; border-radius: 4px; }

@@ -2,7 +2,7 @@
 
 Every source runs on this asyncio loop and hands its events through one
 :class:`~moas_gui.sources.base.SourceHub` (newest wins, two sources for one
-radio logged once) to a :class:`~moas_gui.client.forwarder.Forwarder`, which
+radio logged once) to a :class:`~moas_gui.sources.forwarder.Forwarder`, which
 tells the server.  The server may come and go; so may the sources.  SIGINT or
 SIGTERM ends it cleanly (exit status 0); with ``quit_after`` it ends by itself
 and returns 3 if the server was never reached.
@@ -17,11 +17,11 @@ import signal
 from collections.abc import Sequence
 
 from moas_gui.client.connection import ClientConnection
-from moas_gui.client.forwarder import Forwarder
 from moas_gui.sources.base import Source, SourceHub
+from moas_gui.sources.forwarder import Forwarder
 from moas_gui.sources.spec import SourceSpec, make_source
 
-log = logging.getLogger("moas_gui.client.headless")
+log = logging.getLogger("moas_gui.sources.headless")
 
 EXIT_NEVER_CONNECTED = 3
 

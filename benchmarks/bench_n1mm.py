@@ -32,7 +32,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from moas_gui.net.n1mm import N1MMListener, radio_info_packet
+from moas_gui.sources.n1mm import N1MMListener, radio_info_packet
 
 BASE_UNITS = 1_400_000  # 14,000.00 kHz in 10 Hz units
 

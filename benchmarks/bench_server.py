@@ -183,7 +183,7 @@ def serve_child(argv: list[str]) -> int:
 
 def send(port: int, plan_json: str) -> None:
     """The N1MM Logger computer: paced RadioInfo packets, then their send times as JSON."""
-    from moas_gui.net.n1mm_packet import radio_info_packet
+    from moas_gui.sources.n1mm_packet import radio_info_packet
 
     plan = json.loads(plan_json)
     rate = plan["rate"]
@@ -591,7 +591,7 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path) -> Flood
 async def _flood(name: str, rate: int, seconds: float, port: int,
                  process: asyncio.subprocess.Process, terminals: dict[int, Terminal],
                  config: Any) -> FloodResult:
-    from moas_gui.net.n1mm_packet import radio_info_packet
+    from moas_gui.sources.n1mm_packet import radio_info_packet
 
     flood = FLOODS[name]
     # Every radio first goes to the last frequency of its cycle, so that the first
@@ -726,7 +726,7 @@ def cost_rows(name: str, changes: int = 3000) -> list[Row]:
     from moas_gui.config import load_config
     from moas_gui.engine import Engine
     from moas_gui.hw.moas2.sync import difference
-    from moas_gui.net.n1mm_packet import parse_radio_info, radio_info_packet
+    from moas_gui.sources.n1mm_packet import parse_radio_info, radio_info_packet
 
     flood = FLOODS[name]
     steps = flood_packets(flood, changes)

@@ -53,7 +53,7 @@ from moas_gui.config import load_config
 from moas_gui.config.model import Config
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
-from moas_gui.net.n1mm_packet import radio_info_packet
+from moas_gui.sources.n1mm_packet import radio_info_packet
 
 T = TypeVar("T")
 SPEED = 6.0

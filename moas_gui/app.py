@@ -35,8 +35,10 @@ from moas_gui import state_store
 from moas_gui.config import Config, LoadResult, load_config
 from moas_gui.config.model import RotatorControl
 from moas_gui.engine import Changes, Engine, NotRunning
+from moas_gui.engine.focus import FocusKind, active_first
 from moas_gui.engine.operations import (
     Operation,
+    Select,
     SelectDirection,
     SetFrequency,
     SetTransmitting,
@@ -57,10 +59,20 @@ from moas_gui.running import (
     ServerOptions,
     close_parts,
     start_clients,
-    start_n1mm,
     start_rotators,
+    start_sources,
     start_switches,
 )
+from moas_gui.sources.base import (
+    ActiveRadio,
+    FocusRadio,
+    FrequencyReport,
+    SourceEvent,
+    event_key,
+)
+from moas_gui.sources.base import Running as LoggerRunning
+from moas_gui.sources.otrsp import AuxAntenna
+from moas_gui.sources.server import ServerSources
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
 
@@ -186,8 +198,8 @@ class ServerApp:
                        self._link_status, self._switch_tr)
         # every listener (the logger's port, the rotators' rotctld ports) is bound
         # before clients are accepted, so nothing a client sees as "ready" can miss a packet
-        await start_n1mm(run, self.options, self._logger_frequency)
         await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
+        await start_sources(run, self.options, self._source_event)
         await start_clients(run, self.options, EngineBackend(self))
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
@@ -345,7 +357,9 @@ class ServerApp:
                         run.rotators.note_direction(rotator.id, heading)
         if run.clients is not None:
             for ref in changes.radios:
-                run.clients.publish_radio(run.engine.radio_view(ref.station, ref.radio).to_dict())
+                run.clients.publish_radio(self.radio_entry(ref.station, ref.radio))
+                if run.published is not None:
+                    run.published.add((ref.station, ref.radio))
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
 
@@ -356,8 +370,105 @@ class ServerApp:
         try:
             self.act(SetFrequency(station, radio, khz, tx_khz))
         except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
-            log.debug("N1MM Logger frequency for station %d radio %d ignored: %s",
+            log.debug("Logger frequency for station %d radio %d ignored: %s",
                       station, radio, exc)
+
+    # -- frequency sources (loggers) and N1MM's rotor window: see docs/sources.md ------
+    def _source_event(self, event: SourceEvent) -> None:
+        """The one way a source's event reaches the engine.
+
+        What the sources say in one turn of the event loop (an SO2R logger's packets
+        for both radios) is decided together, in :meth:`_decide_batch`."""
+        run = self._run
+        if run is None:
+            return
+        if isinstance(event, LoggerRunning):
+            self._source_focus(event)
+            return
+        if not run.pending:
+            asyncio.get_running_loop().call_soon(self._decide_batch, run)
+        run.pending.append(event)
+
+    def _decide_batch(self, run: Running) -> None:
+        """Focus first, then frequencies with each station's active radio first (docs/engine.md,
+        "Transmit focus"), then antennas a logger chose; a radio whose focus changed and
+        that no decision published is published once at the end."""
+        events, run.pending = run.pending, []
+        if run is not self._run:
+            return
+        focused: set[tuple[int, int]] = set()
+        for event in events:
+            if isinstance(event, ActiveRadio | FocusRadio):
+                kind: FocusKind = "active" if isinstance(event, ActiveRadio) else "focus"
+                try:
+                    focused |= self.set_focus(event.station, event.radio, kind,
+                                              origin=event.origin, publish=False)
+                except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
+                    log.debug("Logger %s for station %d radio %d ignored: %s", kind,
+                              event.station, event.radio, exc)
+                self._source_focus(event)
+        run.published = set()
+        reports = [e for e in events if isinstance(e, FrequencyReport)]
+        for r in active_first(reports, lambda r: (r.station, r.radio), run.focus_table):
+            self._logger_frequency(r.station, r.radio, r.rx_khz, r.tx_khz)
+        for event in events:
+            if isinstance(event, AuxAntenna):
+                try:
+                    self.act(Select(event.station, event.radio, event.antenna, "both", True))
+                except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
+                    log.info("%s asked for antenna %d on station %d radio %d: %s",
+                             event.origin, event.antenna, event.station, event.radio, exc)
+        published, run.published = run.published, None
+        if run.clients is not None:
+            for station, radio in sorted(focused - (published or set())):
+                run.clients.publish_radio(self.radio_entry(station, radio))
+
+    def set_focus(self, station: int, radio: int, kind: FocusKind, *,
+                  origin: str = "a client", publish: bool = True) -> set[tuple[int, int]]:
+        """The station's transmit focus (``"active"``) or receive focus (``"focus"``) is
+        on ``radio``; the radio entries of the station say so to clients (at once when
+        ``publish``).  Returns the radios whose entry changed.  Raises the engine's
+        not-found error for a radio that does not exist."""
+        run = self._run
+        if run is None:
+            raise NotRunning("No configuration is open")
+        run.engine.radio_view(station, radio)
+        before = run.focus_table.set(station, kind, radio)
+        if before == radio:
+            return set()
+        if kind == "active":
+            log.info("Station %d: transmit focus on radio %d (%s)", station, radio, origin)
+        changed = {(station, number) for number in (before, radio) if number is not None}
+        if publish and run.clients is not None:
+            for _, number in sorted(changed):
+                run.clients.publish_radio(self.radio_entry(station, number))
+        return changed
+
+    def radio_entry(self, station: int, radio: int) -> dict[str, object]:
+        """A radio's entry for clients: the engine's view plus ``active`` and ``focus``."""
+        run = self._run
+        if run is None:
+            raise NotRunning("No configuration is open")
+        entry: dict[str, object] = run.engine.radio_view(station, radio).to_dict()
+        entry.update(run.focus_table.fields(station, radio))
+        return entry
+
+    def _source_focus(self, event: SourceEvent) -> None:
+        """Transmit focus, receive focus and run state of a station, from its logger."""
+        run = self._run
+        if run is not None:
+            run.focus[event_key(event)] = event
+            log.debug("Logger says: %s", event)
+
+    def source_focus(self) -> dict[tuple[object, ...], SourceEvent]:
+        """The latest focus and run-state events: ``("ActiveRadio", station)``,
+        ``("FocusRadio", station)``, ``("running", station, radio)``."""
+        return dict(self._run.focus) if self._run else {}
+
+    @property
+    def sources(self) -> ServerSources | None:
+        """The running sources, None when no configuration runs."""
+        return self._run.sources if self._run else None
 
     @property
     def rotator_manager(self) -> RotatorManager | None:
@@ -365,6 +476,8 @@ class ServerApp:
 
     def _rotator_changed(self, view: RotatorView) -> None:
         run = self._run
+        if run is not None and run.sources is not None:
+            run.sources.rotator_heading(view.id, view.heading)
         if run is not None and run.clients is not None:
             run.clients.publish_rotator(view.to_json())
 

@@ -17,7 +17,7 @@ from moas_gui.engine import Engine
 from moas_gui.engine.operations import Operation, Relative, RunFunction, Select, SetFrequency
 from moas_gui.errors import RequestRefused
 from moas_gui.hw.rotators.manager import RotatorManager
-from moas_gui.net.backend import ErrorCode, JSONObject, RequestError, Target
+from moas_gui.net.backend import ErrorCode, FocusKind, JSONObject, RequestError, Target
 from moas_gui.status import ServerStatus
 
 T = TypeVar("T")
@@ -43,6 +43,15 @@ class ServerCore(Protocol):
 
     def act(self, op: Operation) -> None:
         """Apply one engine input now; raises :class:`EngineError` when refused."""
+        ...
+
+    def radio_entry(self, station: int, radio: int) -> JSONObject:
+        """A radio's entry as clients see it (the engine's view plus its station's focus)."""
+        ...
+
+    def set_focus(self, station: int, radio: int, kind: FocusKind) -> set[tuple[int, int]]:
+        """The station's transmit (``"active"``) or receive (``"focus"``) focus is on
+        ``radio``; raises the engine's not-found error for a radio that does not exist."""
         ...
 
 
@@ -85,7 +94,7 @@ class EngineBackend:
         rotators = manager.views() if manager is not None else []
         return {
             "config": core.status.file,
-            "radios": [v.to_dict() for v in engine.radios()],
+            "radios": [core.radio_entry(v.station, v.radio) for v in engine.radios()],
             "antennas": [v.to_dict() for v in engine.antenna_views()],
             "rotators": [v.to_json() for v in rotators],
             "switches": [{"id": i, "status": s} for i, s in core.status.switches],
@@ -93,6 +102,10 @@ class EngineBackend:
 
     def frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
         self._act(SetFrequency(station, radio, khz, tx_khz))
+
+    def set_focus(self, station: int, radio: int, kind: FocusKind) -> None:
+        self._engine()
+        _refused(lambda: self.core.set_focus(station, radio, kind))
 
     def select(self, station: int, radio: int, antenna: int, target: Target,
                exclusive: bool) -> JSONObject:

@@ -2,7 +2,8 @@
 
 :class:`~moas_gui.app.ServerApp` decides *when* (open, restart, close) and owns
 the one door into the engine; this module builds the parts it names: the
-switch links, the N1MM Logger listener, the rotators and their
+switch links, the frequency sources (N1MM Logger and the other loggers, N1MM's
+rotor window), the rotators and their
 rotctld-compatible listeners, the client server and the browser client's web
 server.  Each part that cannot
 start (a port in use) is logged and left out; the others run.
@@ -18,16 +19,19 @@ from dataclasses import dataclass, field
 
 from moas_gui.config import Config
 from moas_gui.engine import Engine, SwitchState
+from moas_gui.engine.focus import FocusTable
 from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
-from moas_gui.net.n1mm import N1MMListener
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
 from moas_gui.net.web import WebServer, start_web
+from moas_gui.sources.base import EventSink, SourceEvent
+from moas_gui.sources.n1mm import N1MMListener
+from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 from moas_gui.state_store import StateKeeper
 
 log = logging.getLogger("moas_gui.app")
@@ -47,6 +51,15 @@ class ServerOptions:
     udp_port: int | None = None
     """Overrides ``UDPPort`` for N1MM Logger (0 picks a free port)."""
     udp_bind: str = "0.0.0.0"
+    """Address the logger listeners (N1MM, DXLog.net, Win-Test, N1MM rotor) bind."""
+    dxlog_port: int | None = None
+    """Overrides ``DXLogPort``."""
+    wintest_port: int | None = None
+    """Overrides ``WinTestPort``."""
+    n1mm_rotor_port: int | None = None
+    """Overrides ``N1MMRotorPort``."""
+    n1mm_rotor_headings: tuple[str, ...] | None = None
+    """Overrides ``N1MMRotorHeadings`` (``host:port`` texts)."""
     web_port: int | None = None
     """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
     max_clients: int | None = None
@@ -69,6 +82,15 @@ class Running:
     clients: ClientServer | None = None
     web: WebServer | None = None
     n1mm: N1MMListener | None = None
+    sources: ServerSources | None = None
+    focus: dict[tuple[object, ...], SourceEvent] = field(default_factory=dict)
+    """The latest transmit focus, receive focus and run state the loggers told."""
+    focus_table: FocusTable = field(default_factory=FocusTable)
+    """Each station's transmit and receive focus (moas_gui/engine/focus.py)."""
+    pending: list[SourceEvent] = field(default_factory=list)
+    """What the sources said in this turn of the event loop, decided together."""
+    published: set[tuple[int, int]] | None = None
+    """While a batch is decided: the radios whose entries were published."""
     rotators: RotatorManager | None = None
     rotctld: list[RotctldServer] = field(default_factory=list)
     log_handler: logging.Handler | None = None
@@ -100,20 +122,23 @@ def start_switches(run: Running, options: ServerOptions, held: dict[int, SwitchS
         link.connect()
 
 
-async def start_n1mm(run: Running, options: ServerOptions,
-                     on_frequency: Callable[[int, int, float, float | None], None]) -> None:
-    """The N1MM Logger listener, when the configuration uses it."""
-    if not run.config.use_n1mm_logger:
-        return
-    port = options.udp_port if options.udp_port is not None else run.config.udp_port
-    n1mm = N1MMListener.from_config(run.config, on_frequency)
-    try:
-        await n1mm.start(port, options.udp_bind)
-    except OSError as exc:
-        log.error("N1MM Logger packets cannot be received: UDP port %d cannot be opened (%s)",
-                  port, exc.strerror or exc)
-        return
-    run.n1mm = n1mm
+async def start_sources(run: Running, options: ServerOptions, sink: EventSink) -> None:
+    """Every frequency source the configuration turns on, and N1MM's rotor window
+    (after the rotators, whose manager it turns them with); see docs/sources.md."""
+    settings = SourceSettings(
+        udp_port=options.udp_port, udp_bind=options.udp_bind, dxlog_port=options.dxlog_port,
+        wintest_port=options.wintest_port, n1mm_rotor_port=options.n1mm_rotor_port,
+        n1mm_rotor_headings=options.n1mm_rotor_headings)
+    hooks = None
+    if run.rotators is not None:
+        manager, rotators = run.rotators, run.config.rotators
+        hooks = RotatorHooks(
+            names=lambda: {r.id: (r.short_name, r.long_name) for r in rotators},
+            turn=manager.start_rotate, stop=manager.start_stop,
+            headings=lambda: [(r.id, manager.view(r.id).heading) for r in rotators])
+    run.sources = ServerSources(run.config, sink, settings=settings, rotators=hooks)
+    await run.sources.start()
+    run.n1mm = run.sources.n1mm
 
 
 async def start_rotators(run: Running, options: ServerOptions,
@@ -163,8 +188,8 @@ async def close_parts(run: Running) -> None:
     """Close every listener, the rotators and the links; the relays stay as they are."""
     if run.log_handler is not None:
         logging.getLogger("moas_gui").removeHandler(run.log_handler)
-    parts: list[N1MMListener | WebServer | ClientServer | RotctldServer | RotatorManager
-                | None] = [run.n1mm, run.web, run.clients, *run.rotctld, run.rotators]
+    parts: list[ServerSources | WebServer | ClientServer | RotctldServer | RotatorManager
+                | None] = [run.sources, run.web, run.clients, *run.rotctld, run.rotators]
     for part in parts:
         if part is not None:
             try:
@@ -178,5 +203,13 @@ async def close_parts(run: Running) -> None:
             log.exception("while closing switch link")
 
 
-__all__ = ["ROTCTLD_HOST", "Running", "ServerOptions", "close_parts", "start_clients",
-           "start_n1mm", "start_rotators", "start_switches"]
+__all__ = [
+    "ROTCTLD_HOST",
+    "Running",
+    "ServerOptions",
+    "close_parts",
+    "start_clients",
+    "start_rotators",
+    "start_sources",
+    "start_switches",
+]

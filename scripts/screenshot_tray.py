@@ -40,7 +40,7 @@ def serve(argv: list[str]) -> int:
 
 
 def n1mm(port: int) -> int:
-    from moas_gui.net.n1mm_packet import radio_info_packet
+    from moas_gui.sources.n1mm_packet import radio_info_packet
 
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as udp:
         for khz in (14025.0, 7012.0, 21030.0, 14210.0):

@@ -17,7 +17,7 @@ from helpers import until
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.config import load_config
 from moas_gui.hw.moas2.link import LinkTiming
-from moas_gui.net.n1mm_packet import radio_info_packet
+from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.status import ServerState
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"

@@ -12,8 +12,8 @@ import pytest
 import pytest_asyncio
 
 from moas_gui.config.model import Config, N1MMStation
-from moas_gui.net import n1mm
-from moas_gui.net.n1mm import N1MMListener, RadioUpdate, radio_info_packet
+from moas_gui.sources import n1mm
+from moas_gui.sources.n1mm import N1MMListener, RadioUpdate, radio_info_packet
 
 Call = tuple[int, int, float, float]
 
@@ -149,7 +149,7 @@ async def test_packets_from_an_address_not_in_the_list_are_ignored_with_one_debu
     caplog: pytest.LogCaptureFixture,
 ) -> None:
     running = await start({"192.0.2.7": 1})
-    caplog.set_level(logging.DEBUG, logger="moas_gui.net.n1mm")
+    caplog.set_level(logging.DEBUG, logger="moas_gui.sources.n1mm")
     try:
         await send_all(running.listener, running.logger, (radio_info_packet(1, 14000.0),) * 5)
     finally:
@@ -165,7 +165,7 @@ async def test_packets_from_an_address_not_in_the_list_are_ignored_with_one_debu
 async def test_bad_packets_are_counted_by_reason_and_the_next_good_one_still_works(
     station3: Running, caplog: pytest.LogCaptureFixture,
 ) -> None:
-    caplog.set_level(logging.DEBUG, logger="moas_gui.net.n1mm")
+    caplog.set_level(logging.DEBUG, logger="moas_gui.sources.n1mm")
     await station3.send_and_settle(
         b"\x00\x01garbage",
         b"<RadioInfo><RadioNr>1</RadioNr>",
@@ -240,7 +240,7 @@ def test_debug_lines_about_one_sender_are_limited_to_one_a_minute(
 ) -> None:
     now = [1000.0]
     listener = N1MMListener({"192.168.1.20": 1}, lambda *a: None, clock=lambda: now[0])
-    caplog.set_level(logging.DEBUG, logger="moas_gui.net.n1mm")
+    caplog.set_level(logging.DEBUG, logger="moas_gui.sources.n1mm")
     for _ in range(100):
         listener.handle(b"junk", "192.168.1.20")
     now[0] += 61

@@ -9,8 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from moas_gui.errors import ProtocolError
-from moas_gui.net import n1mm_packet
-from moas_gui.net.n1mm_packet import (
+from moas_gui.sources import n1mm_packet
+from moas_gui.sources.n1mm_packet import (
     MAX_PACKET_BYTES,
     REASONS,
     N1MMPacketError,
@@ -111,14 +111,14 @@ def test_documented_single_radio_packet_reads_as_3522_11_khz_idle() -> None:
     info = parse_radio_info(SINGLE_RADIO_80M)
     assert info == RadioInfo(
         radio_nr=1, khz=3522.11, tx_khz=3522.11, station_name="CW-80m", app="N1MM", mode="CW",
-        is_split=False, is_transmitting=False, is_connected=None, active_radio_nr=1,
+        is_split=False, is_transmitting=False, is_connected=None, is_running=False, active_radio_nr=1,
         focus_radio_nr=1, antenna=8, radio_name="")
 
 
 def test_so2r_split_packet_gives_radio_2_its_own_tx_frequency_and_transmit_state() -> None:
     info = parse_radio_info(SO2R_RADIO2_SPLIT_TRANSMITTING)
     assert (info.radio_nr, info.khz, info.tx_khz) == (2, 21025.0, 21028.0)
-    assert info.is_split is True and info.is_transmitting is True
+    assert info.is_split is True and info.is_transmitting is True and info.is_running is True
     assert (info.active_radio_nr, info.focus_radio_nr) == (2, 1)
     assert info.is_connected is True and info.radio_name == "IC-7610"
 

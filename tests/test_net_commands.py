@@ -46,6 +46,8 @@ GOOD: dict[str, dict[str, Any]] = {
     "hello": {"client": "Button client", "station": 1, "radio": 2, "log": True},
     "state": {},
     "frequency": {"station": 1, "radio": 1, "khz": 14025.5, "tx_khz": 14030},
+    "active": {"station": 1, "radio": 2},
+    "focus": {"station": 2, "radio": 1},
     "select": {"station": 1, "radio": 1, "antenna": 6, "target": "rx", "exclusive": True},
     "function": {"station": 1, "radio": 1, "function": 0},
     "relative": {"station": 1, "radio": 1, "step": -1},

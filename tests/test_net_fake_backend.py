@@ -74,7 +74,7 @@ def test_the_snapshot_has_the_contracts_shape(fake: FakeBackend) -> None:
     snap = fake.snapshot()
     assert set(snap) == {"config", "radios", "antennas", "rotators", "switches"}
     assert set(snap["radios"][0]) == {"station", "radio", "khz", "tx_khz", "tx", "rx", "alt",
-                                      "transmitting", "inhibited", "note"}
+                                      "transmitting", "inhibited", "note", "active", "focus"}
     assert set(snap["antennas"][0]) == {"id", "short", "long", "rotator"}
     assert set(snap["rotators"][0]) == {"id", "short", "heading", "target", "moving", "online"}
     assert snap["switches"] == [{"id": 1, "status": "ok"}]

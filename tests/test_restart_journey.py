@@ -25,7 +25,7 @@ from helpers import free_port, until
 from moas_gui.config import load_config
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.snapshot import restore_selections
-from moas_gui.net.n1mm_packet import radio_info_packet
+from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.state_store import decode, fingerprint, state_path
 
 pytestmark = [

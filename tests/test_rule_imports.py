@@ -31,16 +31,18 @@ ALLOWED: dict[str, set[str]] = {
     "net": {"config", "errors", "hw"},
     "rotator_program": {"clock", "errors", "hw", "retry"},
     "engine_backend": {"engine", "errors", "hw", "net", "status"},
-    "running": {"clock", "config", "engine", "errors", "hw", "net", "state_store"},
+    "running": {"clock", "config", "engine", "errors", "hw", "net", "sources", "state_store"},
     "app": {"clock", "config", "engine", "engine_backend", "errors", "files", "hw", "running",
-            "state_store", "status"},
+            "sources", "state_store", "status"},
     "client": {"addresses", "clock", "errors", "retry"},
+    "sources": {"addresses", "aio", "client", "clock", "config", "engine", "errors", "hw", "net",
+                "retry"},
     "single_instance": set(),
     "desktop": {"files"},
-    "ui": {"app", "client", "hw", "status"},
+    "ui": {"app", "client", "hw", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
-            "retry"},
+            "retry", "sources"},
 }
 """Which packages (or top-level modules) of moas_gui each one may import."""
 

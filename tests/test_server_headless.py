@@ -20,7 +20,7 @@ from helpers import free_port, until
 from moas_gui.config import load_config
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
-from moas_gui.net.n1mm_packet import radio_info_packet
+from moas_gui.sources.n1mm_packet import radio_info_packet
 
 pytestmark = [
     pytest.mark.realtime,
@@ -129,6 +129,8 @@ async def test_headless_server_follows_the_logger_survives_a_pulled_cable_and_st
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sender:
             sender.sendto(radio_info_packet(1, 14025.0), ("127.0.0.1", udp))
         radio = await client.event("radio")
+        while radio["khz"] is None:  # the logger's transmit focus may be told first
+            radio = await client.event("radio")
         antenna = config.antenna(radio["tx"])
         assert antenna is not None and radio["khz"] == 14025.0
         wanted = next(e.relays for c in antenna.control if c.range.contains(14025.0)

@@ -255,7 +255,7 @@ def test_a_start_that_fails_half_way_shows_no_configuration(
         async def broken(*_: Any) -> None:
             raise RuntimeError("the N1MM listener broke")
 
-        monkeypatch.setattr("moas_gui.app.start_n1mm", broken)
+        monkeypatch.setattr("moas_gui.app.start_sources", broken)
         harness.answers.append(True)
         window.open_file(str(EXAMPLES / "2x6.moas"))
         await window.idle()

@@ -1,5 +1,10 @@
 """``moas-client [HOST[:PORT]]``: the button and compass client window on its own.
 
+``moas-client --headless --source KIND[:OPTIONS] --station N [HOST[:PORT]]``
+runs without a window on an operating computer: it reads that computer's
+logger or rig through :mod:`moas_gui.sources` and tells the server
+(docs/client.md, "Headless: the MOAS Client's job").
+
 Connects to a moas-gui server (default ``127.0.0.1:12059``) and keeps trying
 until it answers; closing the window ends the program.  ``--quit-after``
 closes it by itself after some seconds (for tests and demonstrations); the
@@ -15,6 +20,7 @@ import sys
 
 from moas_gui import __version__
 from moas_gui.client.address import DEFAULT_HOST, DEFAULT_PORT, parse_address
+from moas_gui.sources.spec import SourceSpec, parse_spec
 
 EXIT_NEVER_CONNECTED = 3
 
@@ -33,6 +39,12 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--columns", type=int, default=3, help="button columns (default 3)")
     parser.add_argument("--name", default=f"moas-client {__version__}",
                         help="the name the server's log shows for this client")
+    parser.add_argument("--headless", action="store_true",
+                        help="no window: read this computer's logger or rig (--source) and "
+                             "tell the server")
+    parser.add_argument("--source", action="append", default=[], metavar="KIND[:OPTIONS]",
+                        help="a logger or rig to read: rigctld, flrig, otrsp, n1mm, dxlog, "
+                             "wintest (see docs/sources.md); may be given more than once")
     parser.add_argument("--quit-after", type=float, metavar="SECONDS",
                         help="close by itself after SECONDS (for tests)")
     parser.add_argument("-v", "--verbose", action="store_true", help="log to standard error")
@@ -52,9 +64,34 @@ def main(argv: list[str] | None = None) -> int:
             parser.error(f"--{name} must be between 1 and 50, not {getattr(args, name)}")
     if args.quit_after is not None and args.quit_after <= 0:
         parser.error(f"--quit-after must be more than 0 seconds, not {args.quit_after:g}")
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+    specs = []
+    for text in args.source:
+        try:
+            specs.append(parse_spec(text))
+        except ValueError as exc:
+            parser.error(f"--source {text}: {exc}")
+    if args.headless:
+        if not specs:
+            parser.error("--headless needs at least one --source")
+        if args.station is None:
+            parser.error("--headless needs --station: the station this computer operates")
+    logging.basicConfig(level=logging.INFO if args.verbose or args.headless else logging.WARNING,
                         stream=sys.stderr, format="%(asctime)s %(levelname)s %(message)s")
+    if args.headless:
+        return run_headless(host, port, args, specs)
     return run(host, port, args)
+
+
+def run_headless(host: str, port: int, args: argparse.Namespace,
+                 specs: list[SourceSpec]) -> int:
+    """Reads the sources and tells the server until SIGINT / SIGTERM (or ``--quit-after``)."""
+    from moas_gui.sources.headless import serve
+
+    try:
+        return asyncio.run(serve(host, port, args.station, specs, name=args.name,
+                                 quit_after=args.quit_after))
+    except KeyboardInterrupt:
+        return 0
 
 
 def run(host: str, port: int, args: argparse.Namespace) -> int:
@@ -62,13 +99,17 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
     import qasync  # type: ignore[import-untyped]
 
     from moas_gui.client.connection import ClientConnection
+    from moas_gui.ui.client_sources import ClientSources
     from moas_gui.ui.client_window import ClientWindow
-    from moas_gui.ui.qt import QApplication
+    from moas_gui.ui.qt import QApplication, QSettings
 
     existing = QApplication.instance()
     qt_app = existing if isinstance(existing, QApplication) else QApplication([sys.argv[0]])
     # The window's own closed signal ends the program; Qt's quit would stop the loop early.
     qt_app.setQuitOnLastWindowClosed(False)
+    if existing is None:
+        qt_app.setOrganizationName("moas-gui")
+        qt_app.setApplicationName("moas-client")
     loop = qasync.QEventLoop(qt_app)
     asyncio.set_event_loop(loop)
 
@@ -79,12 +120,16 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
         window = ClientWindow(connection, station=args.station, radio=args.radio,
                               rows=args.rows, columns=args.columns)
         window.closed.connect(done.set)
+        sources = ClientSources(window, QSettings())
+        for text in args.source:
+            sources.choose(text)
         window.start()
         window.show()
         if args.quit_after is not None:
             loop.call_later(args.quit_after, done.set)
         await done.wait()
         window.close()
+        await sources.aclose()
         await window.aclose()
         window.deleteLater()
         if args.quit_after is not None and connection.connects == 0:

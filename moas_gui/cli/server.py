@@ -42,6 +42,15 @@ def _parser() -> argparse.ArgumentParser:
                         help="client connections served at once (default 200)")
     parser.add_argument("--udp-bind",
                         help="address the N1MM Logger listener binds (default all)")
+    parser.add_argument("--dxlog-port", type=int, metavar="PORT",
+                        help="DXLog.net port instead of DXLogPort (see docs/sources.md)")
+    parser.add_argument("--wintest-port", type=int, metavar="PORT",
+                        help="Win-Test broadcast port instead of WinTestPort")
+    parser.add_argument("--n1mm-rotor-port", type=int, metavar="PORT",
+                        help="port for N1MM's rotor commands instead of N1MMRotorPort")
+    parser.add_argument("--n1mm-rotor-headings", action="append", metavar="HOST:PORT",
+                        help="where N1MM's rotor window listens for headings, instead of "
+                             "N1MMRotorHeadings (repeat for several)")
     parser.add_argument("--no-rotator-program", action="store_true",
                         help="never start the local MOAS Rotator program")
     parser.add_argument("--new-instance", action="store_true",
@@ -87,6 +96,10 @@ def _options(args: argparse.Namespace) -> object:
 
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
+                         dxlog_port=args.dxlog_port, wintest_port=args.wintest_port,
+                         n1mm_rotor_port=args.n1mm_rotor_port,
+                         n1mm_rotor_headings=(None if args.n1mm_rotor_headings is None
+                                              else tuple(args.n1mm_rotor_headings)),
                          web_port=args.web_port,
                          max_clients=args.max_clients,
                          start_rotator_program=False if args.no_rotator_program else None)
@@ -133,7 +146,8 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
 def launch_request(args: argparse.Namespace) -> dict[str, object]:
     """What this command line asks of a server, for the running one to vet."""
     launch: dict[str, object] = {"headless": bool(args.headless)}
-    for key in ("bind", "tcp_port", "udp_port", "udp_bind", "web_port"):
+    for key in ("bind", "tcp_port", "udp_port", "udp_bind", "dxlog_port", "wintest_port",
+                "n1mm_rotor_port", "web_port"):
         value = getattr(args, key)
         if value is not None:
             launch[key] = value
@@ -170,7 +184,9 @@ def vet_launch(app: object, launch: dict[str, object], *, headless: bool) -> str
     running = {"bind": options.bind, "udp_bind": options.udp_bind,
                "tcp_port": options.tcp_port if options.tcp_port is not None
                else (address[1] if address else None),
-               "udp_port": options.udp_port, "web_port": options.web_port}
+               "udp_port": options.udp_port, "dxlog_port": options.dxlog_port,
+               "wintest_port": options.wintest_port, "n1mm_rotor_port": options.n1mm_rotor_port,
+               "web_port": options.web_port}
     for key, value in running.items():
         if key in launch and launch[key] != value:
             flag = "--" + key.replace("_", "-")

@@ -410,6 +410,14 @@ class ClientConnection:
             args["tx_khz"] = tx_khz
         await self.request("frequency", args)
 
+    async def active(self, station: int, radio: int) -> None:
+        """The station's transmit focus is on ``radio`` (an SO2R logger's active radio)."""
+        await self.request("active", {"station": station, "radio": radio})
+
+    async def focus(self, station: int, radio: int) -> None:
+        """The station's receive focus (the operator's keyboard) is on ``radio``."""
+        await self.request("focus", {"station": station, "radio": radio})
+
     async def select(self, station: int, radio: int, antenna: int, target: Target = "both",
                      exclusive: bool = False) -> Selection:
         args: dict[str, Any] = {"station": station, "radio": radio, "antenna": antenna,

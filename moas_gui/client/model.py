@@ -185,6 +185,10 @@ class RadioView:
     relative: tuple[int, ...] | None = None
     radio_rx_antenna: bool = False
     """The receive antenna is on the radio's own RX-antenna input (switch that input on)."""
+    active: bool = False
+    """This radio has its station's transmit focus (an SO2R logger's active radio)."""
+    focus: bool = False
+    """This radio has its station's receive focus (the operator is on it)."""
 
     @property
     def key(self) -> RadioKey:
@@ -365,6 +369,8 @@ def parse_radio(obj: object, where: str = "radio") -> RadioView:
         note=f.text("note"),
         relative=relative,
         radio_rx_antenna=f.flag("radio_rx_antenna"),
+        active=f.flag("active"),
+        focus=f.flag("focus"),
     )
 
 

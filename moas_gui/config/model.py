@@ -326,8 +326,20 @@ class Switch:
 
 @dataclass(frozen=True, slots=True)
 class N1MMStation:
-    address: str
-    station: int
+    address: str = ""
+    station: int = 0
+    station_name: str = ""
+    """N1MM's StationName (the sending computer's name): maps the station when the address
+    changes (DHCP).  Either this or ``address`` may be empty."""
+
+
+@dataclass(frozen=True, slots=True)
+class WinTestStation:
+    """A Win-Test computer, by the station name it broadcasts, and the radio it runs."""
+
+    station_name: str = ""
+    station: int = 0
+    radio: int = 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -350,6 +362,17 @@ class Config:
     """The browser client's port; ``None``: no browser client."""
     use_n1mm_logger: bool = False
     n1mm_logger: tuple[N1MMStation, ...] = ()
+    use_dxlog: bool = False
+    """Also listen for DXLog.net's RadioInfo on ``dxlog_port`` (mapped by ``n1mm_logger``)."""
+    dxlog_port: int = 12060
+    use_wintest: bool = False
+    wintest_port: int = 9871
+    wintest: tuple[WinTestStation, ...] = ()
+    use_n1mm_rotor: bool = False
+    """Serve N1MM's rotor window: commands on ``n1mm_rotor_port``, headings to
+    ``n1mm_rotor_headings`` (``host:port`` texts)."""
+    n1mm_rotor_port: int = 12040
+    n1mm_rotor_headings: tuple[str, ...] = ()
     protect_same_band: bool = False
     start_moas_rotator: bool = True
     client_allow: tuple[str, ...] | None = None
@@ -416,4 +439,5 @@ __all__ = [
     "Template",
     "TemplateInfo",
     "TransmitRelays",
+    "WinTestStation",
 ]

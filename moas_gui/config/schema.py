@@ -261,8 +261,17 @@ SWITCH = _spec(m.Switch, {
 })
 
 N1MM = _spec(m.N1MMStation, {
-    "Address": Field("address", text, required=True, meaning="the logging computer's IP address"),
+    "Address": Field("address", text, meaning="the logging computer's IP address"),
+    "StationName": Field("station_name", text,
+                         meaning="the logging computer's name, as N1MM sends it in StationName"),
     "Station": Field("station", ID, required=True, meaning="the station number for it"),
+})
+
+WINTEST = _spec(m.WinTestStation, {
+    "StationName": Field("station_name", text, required=True,
+                         meaning="the station name Win-Test broadcasts for that computer"),
+    "Station": Field("station", ID, required=True, meaning="the station number for it"),
+    "Radio": Field("radio", ID, meaning="the radio number for it (default 1)"),
 })
 
 TOP = GroupSpec({
@@ -280,6 +289,14 @@ TOP = GroupSpec({
     "WebPort": Field("web_port", integer(1, 65535)),
     "UseN1MMLogger": Field("use_n1mm_logger", boolean),
     "N1MMLogger": Field("n1mm_logger", list_of(group_of(N1MM, "N1MMLogger entry"))),
+    "UseDXLog": Field("use_dxlog", boolean),
+    "DXLogPort": Field("dxlog_port", integer(1, 65535)),
+    "UseWinTest": Field("use_wintest", boolean),
+    "WinTestPort": Field("wintest_port", integer(1, 65535)),
+    "WinTest": Field("wintest", list_of(group_of(WINTEST, "WinTest entry"))),
+    "UseN1MMRotor": Field("use_n1mm_rotor", boolean),
+    "N1MMRotorPort": Field("n1mm_rotor_port", integer(1, 65535)),
+    "N1MMRotorHeadings": Field("n1mm_rotor_headings", STRINGS),
     "ProtectSameBand": Field("protect_same_band", boolean),
     "StartMOASRotator": Field("start_moas_rotator", boolean),
     "ClientAllow": Field("client_allow", STRINGS),

@@ -66,6 +66,16 @@ def summarize(config: Config) -> str:
                          f"{', with a stop' if rot.has_stop else ''}")
     n1mm = "on" if config.use_n1mm_logger else "off"
     lines.append(f"Clients on TCP {config.tcp_port}; N1MM Logger on UDP {config.udp_port}: {n1mm}")
+    if config.use_dxlog:
+        lines.append(f"DXLog.net on UDP {config.dxlog_port}")
+    if config.use_wintest:
+        names = ", ".join(f"{w.station_name} = station {w.station} radio {w.radio}"
+                          for w in config.wintest) or "no station names"
+        lines.append(f"Win-Test on UDP {config.wintest_port}: {names}")
+    if config.use_n1mm_rotor:
+        where = ", ".join(config.n1mm_rotor_headings) or "nowhere"
+        lines.append(f"N1MM rotor window: commands on UDP {config.n1mm_rotor_port}, "
+                     f"headings to {where}")
     return "\n".join(lines)
 
 

@@ -385,11 +385,36 @@ class _Checker:
             self.r.warning(self.r.at(c, "Radios"), "there are no \"Radios\": no antenna can be selected")
         for entry in c.n1mm_logger:
             self.radio_ref(entry, "Station", entry.station, None, "this N1MMLogger entry")
+            if not entry.address and not entry.station_name:
+                self.r.error(self.r.at(entry, "Address"), "this N1MMLogger entry needs an "
+                             "\"Address\" or a \"StationName\" (or both)")
+                continue
+            if not entry.address:
+                continue
             try:
                 ipaddress.ip_address(entry.address)
             except ValueError:
                 self.r.error(self.r.at(entry, "Address"), f"\"{entry.address}\" is not an IP "
                              "address such as 192.168.1.20")
+        for station in c.wintest:
+            self.radio_ref(station, "Station", station.station, station.radio,
+                           "this WinTest entry")
+        if c.use_wintest and not c.wintest:
+            self.r.warning(self.r.at(c, "UseWinTest"), "UseWinTest is true but \"WinTest\" "
+                           "lists no station names; every broadcast will be ignored")
+        if c.use_dxlog and not c.n1mm_logger:
+            self.r.warning(self.r.at(c, "UseDXLog"), "UseDXLog is true but \"N1MMLogger\" "
+                           "lists no computers; every packet will be ignored")
+        for text in c.n1mm_rotor_headings:
+            host, colon, port = text.strip().rpartition(":")
+            if not colon:
+                host, port = text.strip(), "13010"
+            if not host or not port.isdigit() or not 1 <= int(port) <= 65535:
+                self.r.error(self.r.at(c, "N1MMRotorHeadings", text), f"\"{text}\" is not "
+                             "host:port, such as 192.168.1.20:13010")
+        if c.use_n1mm_rotor and not c.rotators:
+            self.r.warning(self.r.at(c, "UseN1MMRotor"), "UseN1MMRotor is true but there are "
+                           "no \"Rotators\" to turn")
         if c.use_n1mm_logger and not c.n1mm_logger:
             self.r.warning(self.r.at(c, "UseN1MMLogger"), "UseN1MMLogger is true but \"N1MMLogger\" lists no computers; "
                            "every packet will be ignored")

@@ -35,6 +35,8 @@ JSONObject = dict[str, Any]
 
 Target = Literal["both", "tx", "rx"]
 LogLevel = Literal["error", "info", "debug"]
+FocusKind = Literal["active", "focus"]
+"""Transmit focus (``active``) or receive focus (``focus``) of a station's radio."""
 
 
 class ErrorCode(StrEnum):
@@ -84,6 +86,11 @@ class ClientBackend(Protocol):
 
     def frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
         """A radio's frequency (``tx_khz`` when split); runs antenna selection for it."""
+        ...
+
+    def set_focus(self, station: int, radio: int, kind: FocusKind) -> None:
+        """The station's transmit focus (``"active"``) or receive focus (``"focus"``) is on
+        ``radio``; the radio entries of that station then carry ``active`` / ``focus``."""
         ...
 
     def select(

@@ -91,6 +91,16 @@ def _frequency(backend: ClientBackend, conn: Connection, request: Request) -> No
     conn.reply(request.id, request.cmd, {})
 
 
+def _active(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    backend.set_focus(request.args["station"], request.args["radio"], "active")
+    conn.reply(request.id, request.cmd, {})
+
+
+def _focus(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    backend.set_focus(request.args["station"], request.args["radio"], "focus")
+    conn.reply(request.id, request.cmd, {})
+
+
 def _select(backend: ClientBackend, conn: Connection, request: Request) -> None:
     a = request.args
     result = backend.select(a["station"], a["radio"], a["antenna"], a["target"], a["exclusive"])
@@ -133,6 +143,8 @@ HANDLERS: dict[str, Handler] = {
     "hello": _hello,
     "state": _state,
     "frequency": _frequency,
+    "active": _active,
+    "focus": _focus,
     "select": _select,
     "function": _function,
     "relative": _relative,

@@ -30,7 +30,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .backend import ErrorCode, EventSink, JSONObject, RequestError, Target
+from .backend import ErrorCode, EventSink, FocusKind, JSONObject, RequestError, Target
 from .fake_station import DEMO_STATION, FakeAntenna, FakeLayout, FakeRelative, FakeStation
 
 
@@ -43,6 +43,8 @@ class _Radio:
     tx: int | None
     rx: int | None
     transmitting: bool = False
+    active: bool = False
+    focus: bool = False
 
     def view(self) -> JSONObject:
         inhibited = self.tx is None
@@ -51,6 +53,7 @@ class _Radio:
             "tx_khz": self.tx_khz, "tx": self.tx, "rx": self.rx, "alt": None,
             "transmitting": self.transmitting, "inhibited": inhibited,
             "note": f"no free antenna covers {self.tx_khz:g} kHz" if inhibited else "",
+            "active": self.active, "focus": self.focus,
         }
 
     def __str__(self) -> str:
@@ -121,6 +124,18 @@ class FakeBackend:
         if not self._fits(r, r.rx, "rx"):
             r.rx = r.tx if self._fits(r, r.tx, "rx") else self._first_free(r, "rx")
         self._changed([r] if r.view() != before else [])
+
+    def set_focus(self, station: int, radio: int, kind: FocusKind) -> None:
+        self.calls.append(("set_focus", (station, radio, kind)))
+        self._radio(station, radio)
+        changed = []
+        for r in self._radios.values():
+            if r.station == station and getattr(r, kind) != (r.radio == radio):
+                setattr(r, kind, r.radio == radio)
+                changed.append(r)
+        if self.sink is not None:
+            for r in changed:
+                self.sink.publish_radio(r.view())
 
     def select(
         self, station: int, radio: int, antenna: int, target: Target, exclusive: bool

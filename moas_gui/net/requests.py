@@ -111,6 +111,18 @@ COMMANDS: dict[str, Command] = {
             "a radio's frequency, as a logger reports it; antenna selection follows",
         ),
         Command(
+            "active",
+            (_STATION, _RADIO),
+            "{}",
+            "the station's transmit focus is on this radio (SO2R), as its logger says",
+        ),
+        Command(
+            "focus",
+            (_STATION, _RADIO),
+            "{}",
+            "the station's receive focus (the operator's keyboard) is on this radio",
+        ),
+        Command(
             "select",
             (
                 _STATION,

@@ -63,6 +63,8 @@ class Colours:
 
 CLIENT_STYLESHEET = """
 QWidget#clientRoot, QMainWindow { background: #101418; }
+QMenuBar { background: #1b2228; color: #eef3f6; }
+QMenuBar::item:selected { background: #34414b; }
 QLabel#display { font-size: 15pt; font-weight: bold; padding: 6px 10px;
                  background: #1b2228; border: 1px solid #34414b; border-radius: 6px; }
 QLabel#link { font-size: 11pt; font-weight: bold; padding: 3px 8px; border-radius: 4px; }
@@ -70,6 +72,10 @@ QLabel#badgeTx { background: #e53935; color: white; font-weight: bold; font-size
                  padding: 3px 10px; border-radius: 4px; }
 QLabel#badgeInhibit { background: #ff6d00; color: black; font-weight: bold; font-size: 12pt;
                       padding: 3px 10px; border-radius: 4px; }
+QLabel#badgeActive { background: #fdd835; color: black; font-weight: bold; font-size: 11pt;
+                     padding: 3px 8px; border-radius: 4px; border: 2px solid black; }
+QLabel#badgeFocus { background: transparent; color: #80deea; font-weight: bold; font-size: 11pt;
+                    padding: 2px 8px; border-radius: 4px; border: 2px dashed #80deea; }
 QLabel#heading { font-size: 16pt; font-weight: bold; }
 QLabel { color: #eef3f6; font-size: 11pt; }
 QCheckBox { color: #eef3f6; font-size: 11pt; }

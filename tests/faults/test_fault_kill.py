@@ -21,7 +21,7 @@ from fault_harness import (
     holds_what_the_engine_says,
 )
 
-from moas_gui.net.n1mm_packet import radio_info_packet
+from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.state_store import decode, fingerprint
 
 pytestmark = [

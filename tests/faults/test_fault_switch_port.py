@@ -32,7 +32,7 @@ from fault_harness import (
 
 from moas_gui.hw.moas2.emulator.serve import make_link, serve
 from moas_gui.hw.moas2.transport import SerialTransport
-from moas_gui.net.n1mm_packet import radio_info_packet
+from moas_gui.sources.n1mm_packet import radio_info_packet
 
 pytestmark = [
     pytest.mark.realtime,

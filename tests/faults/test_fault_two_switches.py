@@ -20,7 +20,7 @@ from fault_harness import (
     until,
 )
 
-from moas_gui.net.n1mm_packet import radio_info_packet
+from moas_gui.sources.n1mm_packet import radio_info_packet
 
 pytestmark = [
     pytest.mark.realtime,

@@ -36,12 +36,11 @@ from dataclasses import dataclass
 from typing import Final
 
 from moas_gui.errors import ProtocolError
+from moas_gui.sources.base import MAX_KHZ
 
 MAX_PACKET_BYTES: Final = 16 * 1024
 """A real RadioInfo packet is about 900 bytes; anything over 16 KiB is refused unread."""
 
-MAX_KHZ: Final = 300_000_000.0
-"""300 GHz: above every amateur band.  This frequency and larger ones are refused as absurd."""
 
 _DIGITS: Final = re.compile(r"[0-9]{1,20}")
 _SIGNED: Final = re.compile(r"-?[0-9]{1,20}")
@@ -85,6 +84,8 @@ class RadioInfo:
     is_split: bool | None = None
     is_transmitting: bool | None = None
     is_connected: bool | None = None
+    is_running: bool | None = None
+    """Run (calling CQ) rather than search and pounce."""
     active_radio_nr: int | None = None
     """Transmit focus: the radio that will transmit next (the same in every radio's packet)."""
     focus_radio_nr: int | None = None
@@ -191,6 +192,7 @@ def parse_radio_info(data: bytes) -> RadioInfo:
         is_split=_bool(fields, "IsSplit"),
         is_transmitting=_bool(fields, "IsTransmitting"),
         is_connected=_bool(fields, "IsConnected"),
+        is_running=_bool(fields, "IsRunning"),
         active_radio_nr=_optional_int(fields, "ActiveRadioNr"),
         focus_radio_nr=_optional_int(fields, "FocusRadioNr"),
         antenna=_optional_int(fields, "Antenna"),
@@ -214,25 +216,29 @@ def radio_info_packet(
     station_name: str = "STATION1",
     is_transmitting: bool = False,
     active_radio_nr: int | None = None,
+    focus_radio_nr: int | None = None,
+    is_running: bool = False,
     mode: str = "CW",
+    app: str = "N1MM",
 ) -> bytes:
-    """A RadioInfo datagram as N1MM Logger+ writes it (the fake logger used by tests and
+    """A RadioInfo datagram as N1MM Logger+ (and not1mm, DXLog.net) write it (the fake logger used by tests and
     benchmarks, and a way to feed the server by hand)."""
     tx = khz if tx_khz is None else tx_khz
     active = radio_nr if active_radio_nr is None else active_radio_nr
+    focus = active if focus_radio_nr is None else focus_radio_nr
     lines = [
         '<?xml version="1.0" encoding="utf-8"?>',
         "<RadioInfo>",
-        "\t<app>N1MM</app>",
+        f"\t<app>{_escape(app)}</app>",
         f"\t<StationName>{_escape(station_name)}</StationName>",
         f"\t<RadioNr>{radio_nr}</RadioNr>",
         f"\t<Freq>{round(khz * 100)}</Freq>",
         f"\t<TXFreq>{round(tx * 100)}</TXFreq>",
         f"\t<Mode>{_escape(mode)}</Mode>",
         "\t<OpCall></OpCall>",
-        "\t<IsRunning>False</IsRunning>",
+        f"\t<IsRunning>{is_running}</IsRunning>",
         "\t<Antenna>0</Antenna>",
-        f"\t<FocusRadioNr>{active}</FocusRadioNr>",
+        f"\t<FocusRadioNr>{focus}</FocusRadioNr>",
         f"\t<IsSplit>{tx != khz}</IsSplit>",
         f"\t<ActiveRadioNr>{active}</ActiveRadioNr>",
         f"\t<IsTransmitting>{is_transmitting}</IsTransmitting>",

@@ -1,0 +1,144 @@
+"""The sources the server runs itself, from its configuration, in one place.
+
+:class:`ServerSources` starts every listener the configuration turns on:
+N1MM Logger+ (``UseN1MMLogger``, ``UDPPort``), DXLog.net (``UseDXLog``,
+``DXLogPort``; the N1MM listener serves it when both share a port), Win-Test
+(``UseWinTest``, ``WinTestPort``, ``WinTest``) and N1MM's rotor window
+(``UseN1MMRotor``, ``N1MMRotorPort``, ``N1MMRotorHeadings``).  Every event
+goes through one :class:`~moas_gui.sources.base.SourceHub` (newest wins,
+overlaps logged once) to the one sink the app gives.  A port that cannot be
+opened is logged and that source left out; the others run.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import TypeVar
+
+from moas_gui.config.model import Config
+from moas_gui.sources.base import EventSink, SourceHub
+from moas_gui.sources.dxlog import DXLogListener
+from moas_gui.sources.n1mm import N1MMListener
+from moas_gui.sources.n1mm_rotor import N1MMRotorServer, parse_destination
+from moas_gui.sources.udp import DatagramSource
+from moas_gui.sources.wintest import WinTestListener
+
+log = logging.getLogger("moas_gui.sources")
+
+_D = TypeVar("_D", bound=DatagramSource)
+
+
+@dataclass(frozen=True, slots=True)
+class SourceSettings:
+    """What the command line changes of the configuration's source keys (None: the file's)."""
+
+    udp_port: int | None = None
+    udp_bind: str = "0.0.0.0"
+    dxlog_port: int | None = None
+    wintest_port: int | None = None
+    n1mm_rotor_port: int | None = None
+    n1mm_rotor_headings: tuple[str, ...] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class RotatorHooks:
+    """How N1MM's rotor window reaches the server's rotator manager."""
+
+    names: Callable[[], dict[int, tuple[str, ...]]]
+    """Each rotator's id and the names N1MM may use for it."""
+    turn: Callable[[int, float], object]
+    stop: Callable[[int], object]
+    headings: Callable[[], Iterable[tuple[int, float | None]]]
+
+
+class ServerSources:
+    """Every source the server runs; :meth:`start` once, :meth:`close` once."""
+
+    def __init__(
+        self,
+        config: Config,
+        sink: EventSink,
+        *,
+        settings: SourceSettings | None = None,
+        rotators: RotatorHooks | None = None,
+    ) -> None:
+        self._config = config
+        self._settings = settings or SourceSettings()
+        self.hub = SourceHub(sink)
+        self._rotators = rotators
+        self.n1mm: N1MMListener | None = None
+        self.dxlog: DXLogListener | None = None
+        self.wintest: WinTestListener | None = None
+        self.rotor: N1MMRotorServer | None = None
+
+    async def start(self) -> None:
+        c, s = self._config, self._settings
+        host = s.udp_bind
+        n1mm_port = c.udp_port if s.udp_port is None else s.udp_port
+        dxlog_port = c.dxlog_port if s.dxlog_port is None else s.dxlog_port
+        if c.use_n1mm_logger:
+            self.n1mm = await self._bind(
+                N1MMListener(c.n1mm_logger, on_event=self.hub, port=n1mm_port, host=host),
+                "N1MM Logger packets", n1mm_port)
+        if c.use_dxlog and not (self.n1mm is not None and dxlog_port == n1mm_port):
+            self.dxlog = await self._bind(
+                DXLogListener(c.n1mm_logger, on_event=self.hub, port=dxlog_port, host=host),
+                "DXLog.net packets", dxlog_port)
+        if c.use_wintest:
+            port = c.wintest_port if s.wintest_port is None else s.wintest_port
+            table = {w.station_name: (w.station, w.radio) for w in c.wintest}
+            self.wintest = await self._bind(
+                WinTestListener(table, self.hub, port=port, host=host),
+                "Win-Test broadcasts", port)
+        if c.use_n1mm_rotor and self._rotators is not None:
+            await self._start_rotor(host)
+
+    async def _start_rotor(self, host: str) -> None:
+        c, s, hooks = self._config, self._settings, self._rotators
+        assert hooks is not None
+        port = c.n1mm_rotor_port if s.n1mm_rotor_port is None else s.n1mm_rotor_port
+        texts = c.n1mm_rotor_headings if s.n1mm_rotor_headings is None else s.n1mm_rotor_headings
+        destinations = []
+        for text in texts:
+            try:
+                destinations.append(parse_destination(text))
+            except ValueError as exc:
+                log.error("N1MM rotor window: %s; no headings go there", exc)
+        self.rotor = await self._bind(
+            N1MMRotorServer(hooks.names(), turn=hooks.turn, stop=hooks.stop,
+                            headings=hooks.headings, destinations=destinations, port=port,
+                            host=host),
+            "N1MM rotor commands", port)
+
+    async def _bind(self, source: _D, what: str, port: int) -> _D | None:
+        try:
+            await source.start()
+        except OSError as exc:
+            log.error("%s cannot be received: UDP port %d cannot be opened (%s)", what, port,
+                      exc.strerror or exc)
+            return None
+        return source
+
+    def rotator_heading(self, rotator_id: int, heading: float | None) -> None:
+        """A rotator's heading changed: N1MM's rotor window hears it at once."""
+        if self.rotor is not None:
+            self.rotor.heading_changed(rotator_id, heading)
+
+    def forget(self) -> None:
+        """Make the next report of every radio count as a change (the engine restarted)."""
+        for listener in (self.n1mm, self.dxlog, self.wintest):
+            if listener is not None:
+                listener.forget()
+
+    async def close(self) -> None:
+        for part in (self.n1mm, self.dxlog, self.wintest, self.rotor):
+            if part is not None:
+                try:
+                    await part.close()
+                except Exception:
+                    log.exception("while closing %s", part.label)
+
+
+__all__ = ["RotatorHooks", "ServerSources", "SourceSettings"]

@@ -1,0 +1,169 @@
+"""``KIND[:OPTIONS]``: a source named on ``moas-client``'s command line (or in its menu).
+
+``OPTIONS`` is a comma-separated list of ``name=value``; one item without a
+``=`` is the source's address.  The station is the client's ``--station``;
+the rest, per kind (docs/sources.md and docs/client.md):
+
+=========  ====================================  =====================================
+kind       address (item without ``=``)          names
+=========  ====================================  =====================================
+rigctld    ``[HOST:]PORT`` (127.0.0.1:4532)      ``radio`` (1), ``rate`` (polls/s, 10)
+flrig      ``[HOST:]PORT`` (127.0.0.1:12345)     ``radio`` (1), ``rate`` (10)
+otrsp      the serial port (required)            ``radio1``, ``radio2`` (1, 2);
+                                                 ``ant<R>.<N>=ID``: AUX<R> value N is antenna ID
+n1mm       UDP port (12060)                      ``bind`` (0.0.0.0)
+dxlog      UDP port (12060)                      ``bind``
+wintest    UDP port (9871)                       ``name`` (the Win-Test station name,
+                                                 required), ``radio`` (1), ``bind``
+=========  ====================================  =====================================
+
+Examples: ``rigctld``, ``rigctld:4534,radio=2``, ``flrig:shack-pc:12345``,
+``otrsp:/dev/ttyUSB1,ant1.3=5,ant2.3=6``, ``wintest:name=STN1``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Final
+
+from moas_gui.sources.base import EventSink, Source
+
+KINDS: Final = ("rigctld", "flrig", "otrsp", "n1mm", "dxlog", "wintest")
+_NAMES: Final[dict[str, frozenset[str]]] = {
+    "rigctld": frozenset({"radio", "rate"}),
+    "flrig": frozenset({"radio", "rate"}),
+    "otrsp": frozenset({"radio1", "radio2"}),
+    "n1mm": frozenset({"bind"}),
+    "dxlog": frozenset({"bind"}),
+    "wintest": frozenset({"name", "radio", "bind"}),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class SourceSpec:
+    """One parsed ``KIND[:OPTIONS]``."""
+
+    kind: str
+    address: str = ""
+    options: Mapping[str, str] = field(default_factory=dict)
+    antennas: Mapping[tuple[int, int], int] = field(default_factory=dict)
+    """OTRSP only: (radio 1/2, AUX value) to antenna ID."""
+
+    def text(self) -> str:
+        """Back to the command-line form (for the menu and QSettings)."""
+        items = [self.address] if self.address else []
+        items += [f"{k}={v}" for k, v in self.options.items()]
+        items += [f"ant{r}.{n}={a}" for (r, n), a in self.antennas.items()]
+        return self.kind + (":" + ",".join(items) if items else "")
+
+
+def parse_spec(text: str) -> SourceSpec:
+    """``KIND[:OPTIONS]`` to a :class:`SourceSpec`; :class:`ValueError` saying what is wrong."""
+    kind, _, rest = text.strip().partition(":")
+    kind = kind.strip().lower()
+    if kind not in KINDS:
+        raise ValueError(f"{kind or text!r} is not a source; the sources are {', '.join(KINDS)}")
+    address, options, antennas = "", {}, {}
+    for item in (i.strip() for i in rest.split(",")) if rest else ():
+        if not item:
+            continue
+        name, eq, value = item.partition("=")
+        name = name.strip().lower()
+        if not eq:
+            if address:
+                raise ValueError(f"{kind}: two addresses, {address!r} and {item!r}")
+            address = item
+        elif kind == "otrsp" and name.startswith("ant"):
+            antennas[_aux_key(name, item)] = _number(value, item, 0)
+        elif name in _NAMES[kind]:
+            options[name] = value.strip()
+        else:
+            raise ValueError(f"{kind}: {name!r} is not one of its options "
+                             f"({', '.join(sorted(_NAMES[kind]))})")
+    spec = SourceSpec(kind, address, options, antennas)
+    _check(spec)
+    return spec
+
+
+def _aux_key(name: str, item: str) -> tuple[int, int]:
+    radio, dot, value = name[3:].partition(".")
+    if not dot or radio not in ("1", "2"):
+        raise ValueError(f"otrsp: {item!r} should be ant1.N=ID or ant2.N=ID")
+    return int(radio), _number(value, item, 0, 255)
+
+
+def _number(text: str, item: str, low: int, high: int = 2_147_483_647) -> int:
+    try:
+        value = int(text.strip())
+    except ValueError:
+        raise ValueError(f"{item!r}: {text.strip()!r} is not a whole number") from None
+    if not low <= value <= high:
+        raise ValueError(f"{item!r}: {value} is not between {low} and {high}")
+    return value
+
+
+def _host_port(spec: SourceSpec, default: int) -> tuple[str, int]:
+    host, colon, port = spec.address.rpartition(":")
+    if not colon:
+        host, port = "", spec.address
+    return host or "127.0.0.1", _number(port, spec.address, 1, 65535) if port else default
+
+
+def _check(spec: SourceSpec) -> None:
+    if spec.kind == "otrsp" and not spec.address:
+        raise ValueError("otrsp needs the serial port: otrsp:/dev/ttyUSB1 or otrsp:COM5")
+    if spec.kind == "wintest" and not spec.options.get("name"):
+        raise ValueError("wintest needs the Win-Test station name: wintest:name=STN1")
+    for name in ("radio", "radio1", "radio2"):
+        if name in spec.options:
+            _number(spec.options[name], f"{name}={spec.options[name]}", 0)
+    if "rate" in spec.options:
+        try:
+            rate = float(spec.options["rate"])
+        except ValueError:
+            raise ValueError(f"rate={spec.options['rate']} is not a number") from None
+        if not 0.1 <= rate <= 100:
+            raise ValueError(f"rate={rate:g}: polls a second must be between 0.1 and 100")
+    if spec.kind in ("rigctld", "flrig", "n1mm", "dxlog", "wintest") and spec.address:
+        _host_port(spec, 1)
+
+
+def make_source(spec: SourceSpec, station: int, sink: EventSink) -> Source:
+    """The running-to-be source of ``spec`` for ``station``, handing its events to ``sink``."""
+    o = spec.options
+    radio = int(o.get("radio", "1"))
+    interval = 1.0 / float(o.get("rate", "10"))
+    if spec.kind == "rigctld":
+        from moas_gui.sources.rigctld import DEFAULT_PORT, RigctldSource
+
+        host, port = _host_port(spec, DEFAULT_PORT)
+        return RigctldSource(station, radio, sink, host=host, port=port, interval=interval)
+    if spec.kind == "flrig":
+        from moas_gui.sources.flrig import DEFAULT_PORT as FLRIG_PORT
+        from moas_gui.sources.flrig import FlrigSource
+
+        host, port = _host_port(spec, FLRIG_PORT)
+        return FlrigSource(station, radio, sink, host=host, port=port, interval=interval)
+    if spec.kind == "otrsp":
+        from moas_gui.sources.otrsp import OtrspMap, OtrspSource
+
+        radios = {1: int(o.get("radio1", "1")), 2: int(o.get("radio2", "2"))}
+        return OtrspSource(spec.address, OtrspMap(station, radios, dict(spec.antennas)), sink)
+    bind = o.get("bind", "0.0.0.0")
+    if spec.kind == "wintest":
+        from moas_gui.sources.wintest import WinTestListener
+        from moas_gui.sources.wintest_frame import DEFAULT_PORT as WT_PORT
+
+        _, port = _host_port(spec, WT_PORT)
+        return WinTestListener({o["name"]: (station, radio)}, sink, port=port, host=bind)
+    from moas_gui.sources.dxlog import DXLogListener
+    from moas_gui.sources.n1mm import DEFAULT_PORT as N1MM_PORT
+    from moas_gui.sources.n1mm import N1MMListener
+
+    _, port = _host_port(spec, N1MM_PORT)
+    listener = DXLogListener if spec.kind == "dxlog" else N1MMListener
+    return listener({}, on_event=sink, every_sender=station, port=port, host=bind)
+
+
+__all__ = ["KINDS", "SourceSpec", "make_source", "parse_spec"]

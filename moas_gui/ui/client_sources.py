@@ -1,0 +1,155 @@
+"""The client window's *Sources* menu: the same choice as ``moas-client --source``.
+
+*Sources > Read from a logger or rig...* asks for a ``KIND[:OPTIONS]``
+(docs/sources.md; ``rigctld``, ``otrsp:/dev/ttyUSB1,ant1.3=5``...), runs that
+source in the window for the station the window shows, and tells the server
+what it says, exactly as ``moas-client --headless`` does.  The choice is kept
+in the settings (``sources/list``) and read again at the next start.  *Stop
+reading* forgets it.  Changing the window's station restarts the sources for
+the new station.  The dialog is opened with ``open()``, never ``exec()``
+(no nested event loop under qasync).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+from typing import Any
+
+from moas_gui.sources.base import Source, SourceHub
+from moas_gui.sources.forwarder import Forwarder
+from moas_gui.sources.spec import SourceSpec, make_source, parse_spec
+from moas_gui.ui.qt import QAction, QInputDialog, QSettings
+
+log = logging.getLogger("moas_gui.ui.client_sources")
+
+SETTINGS_KEY = "sources/list"
+
+
+class ClientSources:
+    """Runs the chosen sources for a :class:`~moas_gui.ui.client_window.ClientWindow`."""
+
+    def __init__(self, window: Any, settings: QSettings) -> None:
+        self.window = window
+        self.settings = settings
+        self.specs: list[SourceSpec] = []
+        self.running: list[Source] = []
+        self.station: int | None = None
+        self.forwarder = Forwarder(window.connection)
+        self.hub = SourceHub(self.forwarder, logging.getLogger("moas_gui.sources"))
+        self._restart: asyncio.Task[None] | None = None
+        menu = window.menuBar().addMenu("&Sources")
+        self.menu = menu
+        self.add_action = QAction("Read from a logger or rig\u2026", window)
+        self.add_action.triggered.connect(self.ask)
+        self.stop_action = QAction("Stop reading", window)
+        self.stop_action.triggered.connect(self.stop_all)
+        menu.addAction(self.add_action)
+        menu.addAction(self.stop_action)
+        menu.addSeparator()
+        self._listed: list[QAction] = []
+        self._dialog: Any = None
+        for text in self._saved():
+            try:
+                self.specs.append(parse_spec(text))
+            except ValueError as exc:
+                log.warning("The saved source %r is not used: %s", text, exc)
+        self._show_list()
+        window.station_box.currentIndexChanged.connect(self._station_changed)
+
+    def _saved(self) -> list[str]:
+        value: Any = self.settings.value(SETTINGS_KEY, [])
+        if isinstance(value, str):
+            return [value] if value else []
+        return [str(v) for v in value] if isinstance(value, list | tuple) else []
+
+    def _save(self) -> None:
+        self.settings.setValue(SETTINGS_KEY, [s.text() for s in self.specs])
+        self.settings.sync()
+
+    def _show_list(self) -> None:
+        for action in self._listed:
+            self.menu.removeAction(action)
+        self._listed = []
+        for spec in self.specs:
+            action = QAction(f"Reading {spec.text()}", self.window)
+            action.setEnabled(False)
+            self.menu.addAction(action)
+            self._listed.append(action)
+        self.stop_action.setEnabled(bool(self.specs))
+
+    # -- choosing ---------------------------------------------------------------------------
+    def ask(self) -> None:
+        dialog = QInputDialog(self.window)
+        dialog.setWindowTitle("Read from a logger or rig")
+        dialog.setLabelText("KIND[:OPTIONS], for example rigctld:4532,radio=1 or "
+                            "otrsp:/dev/ttyUSB1 (see docs/sources.md):")
+        dialog.textValueSelected.connect(self.choose)
+        self._dialog = dialog
+        dialog.open()
+
+    def choose(self, text: str) -> bool:
+        """Adds the source ``text``; False (and the reason in the status line) if refused."""
+        try:
+            spec = parse_spec(text)
+        except ValueError as exc:
+            self.window._error(f"Source {text}: {exc}")
+            return False
+        self.specs.append(spec)
+        self._save()
+        self._show_list()
+        self.restart()
+        return True
+
+    def stop_all(self) -> None:
+        self.specs.clear()
+        self._save()
+        self._show_list()
+        self.restart()
+
+    # -- running ----------------------------------------------------------------------------
+    def _station_changed(self, _index: int = 0) -> None:
+        if self.window.station != self.station:
+            self.restart()
+
+    def restart(self) -> None:
+        """Stops what runs and starts the chosen sources for the window's station."""
+        previous = self._restart
+        self._restart = asyncio.get_event_loop().create_task(self._run_again(previous))
+
+    async def _run_again(self, previous: asyncio.Task[None] | None) -> None:
+        if previous is not None:
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await previous
+        await self._stop_running()
+        self.station = self.window.station
+        if self.station is None or not self.specs:
+            return
+        self.forwarder.start()
+        for spec in self.specs:
+            source = make_source(spec, self.station, self.hub)
+            try:
+                await source.start()
+            except OSError as exc:
+                self.window._error(f"Source {spec.text()} cannot be read: {exc}")
+                continue
+            self.running.append(source)
+            log.info("Reading %s for station %d", spec.text(), self.station)
+
+    async def _stop_running(self) -> None:
+        running, self.running = self.running, []
+        for source in running:
+            with contextlib.suppress(Exception):
+                await source.close()
+
+    async def aclose(self) -> None:
+        if self._restart is not None:
+            self._restart.cancel()
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await self._restart
+        await self._stop_running()
+        await self.forwarder.aclose()
+
+
+__all__ = ["SETTINGS_KEY", "ClientSources"]

@@ -34,7 +34,6 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from moas_gui.config import load_config
-
 from moas_gui.engine import Engine
 from moas_gui.sources.base import FrequencyReport, SourceEvent
 from moas_gui.sources.rigctld import RigctldSource

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import pytest
-from moas_gui.sources.n1mm_packet import N1MMPacketError
 
 from moas_gui.client.connection import ClientError
 from moas_gui.config import ConfigError
@@ -17,6 +16,7 @@ from moas_gui.hw.rotators.controllers.base import ControllerError, OutOfRange, U
 from moas_gui.net.backend import ErrorCode, RequestError
 from moas_gui.net.messages import MessageEncodeError
 from moas_gui.rotator_program.serial_link import PortError as RotatorPortError
+from moas_gui.sources.n1mm_packet import N1MMPacketError
 from moas_gui.state_store import StateError
 
 BRANCHES = {

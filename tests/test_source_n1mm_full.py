@@ -18,8 +18,8 @@ import logging
 import socket
 
 import pytest
-from moas_gui.config.model import N1MMStation
 
+from moas_gui.config.model import N1MMStation
 from moas_gui.sources.base import (
     ActiveRadio,
     FocusRadio,

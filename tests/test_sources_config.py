@@ -8,7 +8,6 @@ import json
 from moas_gui.config import parse_config
 from moas_gui.config.model import N1MMStation, WinTestStation
 from moas_gui.config.summary import summarize
-
 from tests.test_config_loader import BASE
 
 

@@ -8,6 +8,7 @@ from typing import Any
 
 import pytest
 from engine_builders import antenna, config, example, radio, table_problems
+from engine_invariants import apply as apply_op
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -66,28 +67,6 @@ def _operations(cfg: Config) -> st.SearchStrategy[list[tuple[Any, ...]]]:
     return st.lists(st.one_of(*options), min_size=5, max_size=30)
 
 
-def _apply(e: Engine, op: tuple[Any, ...], now: float) -> Any:
-    kind = op[0]
-    if kind == "freq":
-        (s, r), khz, split = op[1], op[2], op[3]
-        return e.set_frequency(s, r, khz, None if split is None else khz + split, now=now)
-    if kind == "select":
-        (s, r), a, target, exclusive = op[1:]
-        return e.select(s, r, a, target, exclusive, now=now)
-    if kind == "tr":
-        (w, p), on = op[1], op[2]
-        return e.set_transmitting(w, p, on, now=now)
-    if kind == "relative":
-        (s, r), step = op[1], op[2]
-        return e.relative(s, r, step=step, now=now)
-    if kind == "function":
-        (s, r), fid = op[1], op[2]
-        return e.run_function(s, r, fid, now=now)
-    if kind == "direction":
-        return e.select_direction(op[1], op[2], now=now)
-    return e.stop() if op[1] == "stop" else e.start()
-
-
 def _covers(cfg: Config, station: int, number: int, antenna_id: int, khz: float) -> bool:
     ant = cfg.antenna(antenna_id)
     assert ant is not None
@@ -137,7 +116,7 @@ def test_random_evenings_keep_every_safety_rule(name: str) -> None:
             before_views = {(v.station, v.radio): v for v in e.radios()}
             transmitting = {(v.station, v.radio) for v in e.radios() if v.transmitting}
             try:
-                changes = _apply(e, op, now)
+                changes = apply_op(e, op, now)
             except EngineError as err:
                 assert err.message
                 assert e.switch_states() == before_states

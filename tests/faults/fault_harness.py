@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import pytest
+
 from moas_gui.config import load_config
 from moas_gui.engine import Engine
 from moas_gui.engine.snapshot import restore_selections
@@ -353,3 +355,12 @@ def reference_relays(state: Any) -> frozenset[int]:
 def kill(process: Process) -> None:
     if process.process.returncode is None:
         process.process.send_signal(signal.SIGKILL)
+
+
+FAULT_MARKS = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
+    pytest.mark.asyncio,
+    pytest.mark.timeout(90),
+]
+"""Every fault test drives real processes on pseudo-terminals, on the real clock."""

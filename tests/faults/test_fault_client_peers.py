@@ -11,12 +11,11 @@ import asyncio
 import json
 import socket
 import struct
-import sys
 from pathlib import Path
 
-import pytest
 from fault_harness import (
     EXAMPLES,
+    FAULT_MARKS,
     Client,
     ScriptedSwitch,
     Station,
@@ -26,12 +25,7 @@ from fault_harness import (
 
 from moas_gui.sources.n1mm_packet import radio_info_packet
 
-pytestmark = [
-    pytest.mark.realtime,
-    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
-    pytest.mark.asyncio,
-    pytest.mark.timeout(90),
-]
+pytestmark = FAULT_MARKS
 
 
 def raw(port: int) -> socket.socket:

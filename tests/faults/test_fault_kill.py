@@ -9,12 +9,11 @@ from __future__ import annotations
 import asyncio
 import json
 import signal
-import sys
 from pathlib import Path
 
-import pytest
 from fault_harness import (
     EXAMPLES,
+    FAULT_MARKS,
     Client,
     ScriptedSwitch,
     Station,
@@ -24,12 +23,7 @@ from fault_harness import (
 from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.state_store import decode, fingerprint
 
-pytestmark = [
-    pytest.mark.realtime,
-    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
-    pytest.mark.asyncio,
-    pytest.mark.timeout(90),
-]
+pytestmark = FAULT_MARKS
 
 
 def radios(snapshot: dict) -> list[tuple[object, ...]]:

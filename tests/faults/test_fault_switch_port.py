@@ -12,13 +12,13 @@ from __future__ import annotations
 import asyncio
 import json
 import signal
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 from fault_harness import (
     EXAMPLES,
+    FAULT_MARKS,
     Client,
     FaultyPty,
     Process,
@@ -34,12 +34,7 @@ from moas_gui.hw.moas2.emulator.serve import make_link, serve
 from moas_gui.hw.moas2.transport import SerialTransport
 from moas_gui.sources.n1mm_packet import radio_info_packet
 
-pytestmark = [
-    pytest.mark.realtime,
-    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
-    pytest.mark.asyncio,
-    pytest.mark.timeout(90),
-]
+pytestmark = FAULT_MARKS
 
 
 def small_station(tmp_path: Path, port: Path) -> Station:

@@ -6,12 +6,11 @@ switch 2 is brought to the engine's state when it is back."""
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
-import pytest
 from fault_harness import (
     EXAMPLES,
+    FAULT_MARKS,
     Client,
     ScriptedSwitch,
     Station,
@@ -22,12 +21,7 @@ from fault_harness import (
 
 from moas_gui.sources.n1mm_packet import radio_info_packet
 
-pytestmark = [
-    pytest.mark.realtime,
-    pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
-    pytest.mark.asyncio,
-    pytest.mark.timeout(90),
-]
+pytestmark = FAULT_MARKS
 
 
 async def test_second_switch_fails_while_the_first_keeps_working(tmp_path: Path) -> None:

@@ -15,10 +15,10 @@ from __future__ import annotations
 
 import shutil
 import subprocess
-import time
 from collections.abc import Iterator
 
 import pytest
+from helpers import wait_for
 
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
@@ -31,8 +31,14 @@ START = 123.0
 FAST = 2000.0
 """Degrees per second of the 'fast' rotator: any turn is over before rotctl reads again."""
 SLOW = 100.0
-"""Degrees per second of the rotator that is stopped half-way (rotctl waits 0-1 s between
-the set and the stop, depending on the model)."""
+"""Degrees per second of the rotator that is stopped half-way (rotctl waits its
+post-write delay, :data:`QUIET` ms, between the set and the stop)."""
+QUIET = 20
+"""Milliseconds rotctl waits after each command (its ``post_write_delay``).
+
+Hamlib's own values (500 ms for the Hy-Gain boxes, 300 ms for the SPIDs) give a real
+controller's processor time; the emulators answer at once, and 20 ms is enough for
+the turn a set starts to be under way before the next command (a read, or the stop)."""
 
 # (our model, rotctl -m, extra rotctl options)
 CASES = [
@@ -66,11 +72,12 @@ def host() -> Iterator[EmulatorHost]:
 
 
 def rotctl(hamlib: int, path: str, *commands: str,
-           patient: bool = True) -> subprocess.Popen[str]:
-    """rotctl on ``path``; ``patient``: wait 5 s for a reply, not rotctl's 1.5 s (on a busy
-    machine the emulator's thread can be that late, which would prove nothing)."""
+           timeout: int = 5000) -> subprocess.Popen[str]:
+    """rotctl on ``path``, pausing :data:`QUIET` ms after each command and waiting up to
+    ``timeout`` ms for a reply (5 s, not rotctl's 0.4-1.5 s: on a busy machine the
+    emulator's thread can be that late, which would prove nothing)."""
     assert ROTCTL is not None, "Hamlib's rotctl is missing: scripts/setup.sh --test installs it"
-    conf = ["-C", "timeout=5000"] if patient else []
+    conf = ["-C", f"timeout={timeout},post_write_delay={QUIET}"]
     process = subprocess.Popen([ROTCTL, "-m", str(hamlib), "-r", path, *conf, *commands],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     RUNNING.append(process)
@@ -117,12 +124,15 @@ def test_rotctl_reads_sets_and_stops_the_emulator(host: EmulatorHost, model: str
         assert numbers[0] == pytest.approx(START, abs=0.05)
         # Some models read at once after the set: the turn is under way, or over.
         assert numbers[2] != START
-    time.sleep(0.3)  # the last turn ends (the DCU-1 only starts after rotctl's pause)
+    # the last turn ends (a Hy-Gain box may have more than 300 degrees to go: 0.2 s)
+    wait_for(lambda: not state(host, fast)[1], timeout=2.0, what="the fast turn to end")
     assert state(host, fast)[0] == pytest.approx(200.0, abs=0.05)
 
     code, numbers, err = finish(slow_run)
     assert code == 0, err[-800:]
-    time.sleep(0.2)
+    # rotctl has sent the stop; its turn would need 1.8 s more to end by itself
+    wait_for(lambda: not state(host, slow)[1], timeout=1.0,
+             what="the stop to stop the emulator")
     azimuth, busy = state(host, slow)
     assert not busy, "the stop did not stop the emulator"
     assert abs(azimuth - START) > 0.05, "the set did not start a turn"
@@ -142,7 +152,8 @@ def test_rotctl_gets_the_rotorez_heading_after_the_power_on_byte(host: EmulatorH
     from moas_gui.hw.rotators.controllers.rotorez_emulator import RotorEZEmulator
 
     port = host.add(RotorEZEmulator(bearing=77.0, stray_byte=True))
-    # past the stray byte by rotctl's own timeout and retry, as it comes
-    code, numbers, err = finish(rotctl(401, port.path, "p", patient=False))
+    # past the stray byte by rotctl's own timeout and retry, as it comes (a short
+    # timeout: rotctl waits it out once, for the rest of the broken answer)
+    code, numbers, err = finish(rotctl(401, port.path, "p", timeout=300))
     assert code == 0, err[-800:]
     assert numbers[0] == 77.0

@@ -22,7 +22,7 @@ from moas_gui.engine import Engine, SwitchState
 from moas_gui.engine.focus import FocusTable
 from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
-from moas_gui.hw.rotators.base import RotatorView
+from moas_gui.hw.rotators.base import RotatorView, Timing
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
@@ -69,6 +69,9 @@ class ServerOptions:
     rotator_program_port: int = 13020
     switch_timing: LinkTiming | None = None
     """Timing of the switch links (ping interval, timeouts); None for the real defaults."""
+    rotator_timing: Timing | None = None
+    """Delays and clock of the rotators (reconnects, restarts, a Test rotator's speed);
+    None for the real defaults."""
 
 
 @dataclass
@@ -154,6 +157,7 @@ async def start_rotators(run: Running, options: ServerOptions,
         select_direction=select_direction,
         start_moas_rotator=run.config.start_moas_rotator if start is None else start,
         moas_rotator_port=options.rotator_program_port,
+        timing=options.rotator_timing,
     )
     await run.rotators.start()
     # rotators with a RotctldPort answer rotctld's protocol there (Hamlib's rotctl -m 2)

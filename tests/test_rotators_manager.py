@@ -372,3 +372,42 @@ def test_the_public_names_are_frozen() -> None:
     ])
     for name in rotators_package.__all__:
         assert hasattr(rotators_package, name)
+
+
+def test_the_timing_test_hook_changes_the_delays_it_names() -> None:
+    from moas_gui.hw.rotators.base import timing_from_hook
+
+    timing = timing_from_hook(" reconnect_min=0.05, restart_min=0.1,restart_max=2 ,")
+    assert (timing.reconnect_min, timing.restart_min, timing.restart_max) == (0.05, 0.1, 2.0)
+    assert replace(timing, reconnect_min=0.5, restart_min=1.0, restart_max=30.0) == Timing()
+    for text, why in [("reconnect=1", "'reconnect' is not a rotator delay"),
+                      ("clock=1", "'clock' is not a rotator delay"),
+                      ("restart_min=soon", "'soon' is not a number of seconds"),
+                      ("reply_timeout=0", "a delay must be a positive number"),
+                      ("reply_timeout=nan", "a delay must be a positive number")]:
+        with pytest.raises(ValueError, match=why):
+            timing_from_hook(text)
+
+
+def test_the_manager_restarts_its_program_after_the_timings_waits() -> None:
+    serial = Rotator(id=1, control=RotatorControl.SERIAL, model="Yaesu", comm_port="COM3",
+                     address="127.0.0.1")
+    manager = RotatorManager([serial], timing=Timing(restart_min=0.1, restart_max=0.4))
+    assert manager.local_program is not None
+    assert (manager.local_program.restart_min, manager.local_program.restart_max) == (0.1, 0.4)
+
+
+def test_moas_server_takes_the_timing_test_hook_from_its_environment(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    from moas_gui.cli import server
+    from moas_gui.hw.rotators.base import TIMING_HOOK
+
+    args = server._parser().parse_args(["--headless", "station.moas"])
+    monkeypatch.delenv(TIMING_HOOK, raising=False)
+    assert server._options(args).rotator_timing is None  # type: ignore[attr-defined]
+    monkeypatch.setenv(TIMING_HOOK, "restart_min=0.1")
+    options = server._options(args)
+    assert options.rotator_timing == Timing(restart_min=0.1)  # type: ignore[attr-defined]
+    monkeypatch.setenv(TIMING_HOOK, "restart=0.1")
+    with pytest.raises(SystemExit, match=f"moas-server: {TIMING_HOOK}: 'restart=0.1': "):
+        server._options(args)

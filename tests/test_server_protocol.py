@@ -14,13 +14,14 @@ from typing import Any
 
 import pytest
 import pytest_asyncio
-from helpers import free_port, until
+from helpers import FakeClock, free_port, until
 
 from moas_gui import __version__
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.client.connection import Backoff, ClientConnection
 from moas_gui.config import Config, load_config
 from moas_gui.hw.moas2.link import LinkTiming
+from moas_gui.hw.rotators.base import Timing
 from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.status import ServerState
 
@@ -464,31 +465,58 @@ async def test_a_followed_layout_changes_when_another_radio_takes_an_antenna(
 # ---- rotators ----------------------------------------------------------------------------
 
 
-@pytest.mark.realtime  # the whole server, timed on the real clock
+@pytest_asyncio.fixture
+async def clocked() -> AsyncIterator[tuple[ServerApp, FakeClock]]:
+    """A server whose rotators run on a fake clock (its switches on the real one)."""
+    clock = FakeClock()
+    server = ServerApp(ServerOptions(bind="127.0.0.1", tcp_port=0, udp_port=0,
+                                     udp_bind="127.0.0.1", start_rotator_program=False,
+                                     rotator_program_port=free_port(), switch_timing=FAST,
+                                     rotator_timing=Timing(clock=clock)))
+    yield server, clock
+    await server.close()
+
+
+async def ticking(clock: FakeClock, peer: Peer, wanted: Callable[[Message], bool],
+                  since: int, limit: float, what: str) -> Message:
+    """The first message from ``since`` on that passes ``wanted``, moving ``clock`` on a
+    twentieth of a second at a time (at most ``limit`` seconds) until it comes."""
+    end = clock.now() + limit
+    while True:
+        for message in peer.messages[since:]:
+            if wanted(message):
+                return message
+        since = len(peer.messages)
+        if clock.now() >= end:
+            raise AssertionError(f"no {what} within {limit} s on the clock")
+        await clock.advance(0.05)
+
+
 @pytest.mark.asyncio
 async def test_a_test_rotator_turns_at_ten_degrees_a_second_and_stops(
-        app: ServerApp, peers: list[Peer]) -> None:
+        clocked: tuple[ServerApp, FakeClock], peers: list[Peer]) -> None:
+    """The whole server, with its rotators' clock moved on by the test."""
+    app, clock = clocked
     await run_example(app, "small-station.moas")
     peer = await greeted(app, peers)
-    loop = asyncio.get_running_loop()
     start = (await peer.ok("state"))["rotators"][0]
     assert (start["heading"], start["moving"], start["online"]) == (180, False, True)
 
     since = peer.mark()
-    began = loop.time()
+    began = clock.now()
     assert await peer.ok("rotate", rotator=1, heading=200) == {}
     seen: list[tuple[float, int]] = []
 
     def note(m: Message) -> bool:
         if m.get("event") == "rotator" and m["id"] == 1:
-            seen.append((loop.time(), m["heading"]))
+            seen.append((clock.now(), m["heading"]))
             return not m["moving"]
         return False
 
     moving = await peer.event("rotator", since, where=lambda m: m["moving"])
     assert moving["target"] == 200
-    arrived = await peer.wait_for(note, since, timeout=6, what="the arrival")
-    took = loop.time() - began
+    arrived = await ticking(clock, peer, note, since, 6, "arrival")
+    took = clock.now() - began
     assert (arrived["heading"], arrived["target"], arrived["online"]) == (200, None, True)
     headings = [h for _, h in seen]
     assert headings == sorted(headings) and len(set(headings)) >= 4, headings
@@ -496,12 +524,13 @@ async def test_a_test_rotator_turns_at_ten_degrees_a_second_and_stops(
 
     since = peer.mark()
     await peer.ok("rotate", rotator=1, heading=170)  # clockwise all the way round: 33 s
-    await peer.event("rotator", since, where=lambda m: m["moving"] and m["heading"] >= 203)
+    await ticking(clock, peer, lambda m: m.get("event") == "rotator" and m["moving"]
+                  and m["heading"] >= 203, since, 5, "the turn under way past 203")
     since = peer.mark()
     assert await peer.ok("stop", rotator=1) == {}
     stopped = await peer.event("rotator", since, where=lambda m: not m["moving"])
     assert stopped["target"] is None and 203 <= stopped["heading"] < 230
-    await asyncio.sleep(0.5)
+    await clock.advance(1.0)  # five ticks of a rotator that would still be turning
     assert all(m["heading"] == stopped["heading"] for m in peer.events("rotator", since))
 
 

@@ -22,6 +22,7 @@ from helpers import FakeClock, free_port, until
 from test_server_protocol import EXAMPLES, FAST, Message, Peer
 
 from moas_gui.app import ServerApp, ServerOptions
+from moas_gui.hw.rotators.base import Timing
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
 from moas_gui.hw.rotators.moas_rotator_process import LocalMoasRotator
@@ -33,8 +34,14 @@ pytestmark = [
 
 START = 30.0
 """Where the emulated controller points at power-on."""
-SPEED = 40.0
-"""Degrees a second the emulated controller turns (a real one: about 6)."""
+SPEED = 150.0
+"""Degrees a second the emulated controller turns (a real one: about 6): a turn of 90
+degrees still gives several reports at the Poll below."""
+POLL = 100
+"""The rotator's Poll, in milliseconds."""
+QUICK = Timing(reconnect_min=0.05, reconnect_max=0.2, restart_min=0.1)
+"""The server's rotator delays: it reconnects to the program from 50 ms on and starts a
+dead one again after 0.1 s (a station's: 0.5 s and 1 s)."""
 
 
 @dataclass
@@ -59,7 +66,7 @@ async def station(tmp_path: Path) -> AsyncIterator[Station]:
     data["Rotators"] = [{
         "ID": 1, "ShortName": "Tribander", "LongName": "Tribander rotator",
         "CCWLimit": 0, "Rotation": 360, "HasStop": True, "Control": "Serial",
-        "Address": "127.0.0.1", "CommPort": str(link), "Model": "Yaesu", "Poll": 200,
+        "Address": "127.0.0.1", "CommPort": str(link), "Model": "Yaesu", "Poll": POLL,
     }]
     data["StartMOASRotator"] = True
     config = tmp_path / "station.moas"
@@ -67,7 +74,7 @@ async def station(tmp_path: Path) -> AsyncIterator[Station]:
     program_port = free_port()
     app = ServerApp(ServerOptions(bind="127.0.0.1", tcp_port=0, udp_port=0,
                                   udp_bind="127.0.0.1", rotator_program_port=program_port,
-                                  switch_timing=FAST))
+                                  switch_timing=FAST, rotator_timing=QUICK))
     try:
         assert (await app.open(config)).ok
         yield Station(app, host, port, program_port)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import logging
+import os
 import signal
 import sys
 from pathlib import Path
@@ -93,7 +94,15 @@ def check(path: str) -> int:
 
 def _options(args: argparse.Namespace) -> object:
     from moas_gui.app import ServerOptions
+    from moas_gui.hw.rotators.base import TIMING_HOOK, timing_from_hook
 
+    rotator_timing = None
+    hook = os.environ.get(TIMING_HOOK)
+    if hook:  # a test hook: docs/rotators.md
+        try:
+            rotator_timing = timing_from_hook(hook)
+        except ValueError as error:
+            raise SystemExit(f"moas-server: {TIMING_HOOK}: {error}") from None
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
                          dxlog_port=args.dxlog_port, wintest_port=args.wintest_port,
@@ -102,7 +111,8 @@ def _options(args: argparse.Namespace) -> object:
                                               else tuple(args.n1mm_rotor_headings)),
                          web_port=args.web_port,
                          max_clients=args.max_clients,
-                         start_rotator_program=False if args.no_rotator_program else None)
+                         start_rotator_program=False if args.no_rotator_program else None,
+                         rotator_timing=rotator_timing)
 
 
 def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | None]:

@@ -23,9 +23,11 @@ something changes.
 from __future__ import annotations
 
 import logging
+import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
+from typing import Any
 
 from moas_gui.clock import LOOP_CLOCK, Clock
 from moas_gui.config.model import Rotator, RotatorControl
@@ -126,12 +128,42 @@ class Timing:
     stall_min: float = 5.0
     """A turn is over, short of its target, when the heading has not changed for
     ``max(stall_polls * poll, stall_min)``."""
+    restart_min: float = 1.0
+    """First wait before starting again a local MOAS Rotator program that died."""
+    restart_max: float = 30.0
     clock: Clock = LOOP_CLOCK
 
     @property
     def reconnect(self) -> Backoff:
         """The pauses between attempts to reach a peer that went away."""
         return Backoff(first=self.reconnect_min, factor=2.0, most=self.reconnect_max)
+
+
+TIMING_HOOK = "MOAS_GUI_TEST_ROTATOR_TIMING"
+"""The environment variable through which tests shorten a server process's rotator
+delays (see docs/rotators.md, "Test hook")."""
+
+
+def timing_from_hook(text: str) -> Timing:
+    """:class:`Timing` with the delays ``text`` names changed: ``name=seconds`` pairs
+    separated by commas (``reconnect_min=0.05,restart_min=0.1``).  Raises ValueError
+    naming the pair that is not a known delay with a positive number."""
+    changes: dict[str, Any] = {}  # float values, for the float fields named in `delays`
+    delays = {f.name for f in fields(Timing) if f.name not in ("clock", "stall_polls")}
+    for pair in filter(None, (p.strip() for p in text.split(","))):
+        name, _, value = pair.partition("=")
+        name = name.strip()
+        if name not in delays:
+            raise ValueError(f"{pair!r}: {name!r} is not a rotator delay "
+                             f"(known: {', '.join(sorted(delays))})")
+        try:
+            seconds = float(value)
+        except ValueError:
+            raise ValueError(f"{pair!r}: {value.strip()!r} is not a number of seconds") from None
+        if not 0 < seconds < math.inf:
+            raise ValueError(f"{pair!r}: a delay must be a positive number of seconds")
+        changes[name] = seconds
+    return replace(Timing(), **changes)
 
 
 def describe(rotator: Rotator) -> str:
@@ -222,6 +254,7 @@ class UnusableRotator(RotatorDriver):
 
 __all__ = [
     "ERROR_CODES",
+    "TIMING_HOOK",
     "Publish",
     "RotatorDriver",
     "RotatorError",
@@ -230,4 +263,5 @@ __all__ = [
     "Timing",
     "UnusableRotator",
     "describe",
+    "timing_from_hook",
 ]

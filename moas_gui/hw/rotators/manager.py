@@ -87,7 +87,9 @@ class RotatorManager:
         local = [port for host, port in self._moas_links if is_local(host)]
         if start_moas_rotator and local:
             command = moas_rotator_command or default_command(local[0])
-            self.local_program = LocalMoasRotator(command, local[0], clock=self.timing.clock)
+            self.local_program = LocalMoasRotator(
+                command, local[0], restart_min=self.timing.restart_min,
+                restart_max=self.timing.restart_max, clock=self.timing.clock)
         self._tasks: set[asyncio.Task[None]] = set()
 
     @classmethod

@@ -17,7 +17,7 @@ from typing import Any
 
 from moas_gui.clock import FakeClock
 
-__all__ = ["FakeClock", "free_port", "short_runtime_dir", "until", "wait_for"]
+__all__ = ["FakeClock", "free_port", "short_runtime_dir", "until", "until_on", "wait_for"]
 
 
 async def until(condition: Callable[[], object], timeout: float = 10.0,
@@ -29,6 +29,19 @@ async def until(condition: Callable[[], object], timeout: float = 10.0,
         if loop.time() > deadline:
             raise AssertionError(f"gave up waiting for {what} ({timeout:g} s)")
         await asyncio.sleep(every)
+
+
+async def until_on(clock: FakeClock, condition: Callable[[], object], timeout: float = 5.0,
+                   what: str = "the condition", step: float = 0.05) -> None:
+    """Moves ``clock`` on, ``step`` seconds at a time, until ``condition()`` is true;
+    gives up once ``timeout`` seconds have passed on that clock.  Work that is not on
+    the clock (sockets on 127.0.0.1, a pseudo-terminal) gets its turns of the event
+    loop while the clock moves (see :meth:`FakeClock.advance`)."""
+    deadline = clock.now() + timeout
+    while not condition():
+        if clock.now() >= deadline:
+            raise AssertionError(f"gave up waiting for {what} ({timeout:g} s on the clock)")
+        await clock.advance(step)
 
 
 def wait_for(condition: Callable[[], Any], timeout: float = 15.0, what: str = "",

@@ -1,15 +1,18 @@
-"""Serial rotators through the MOAS Rotator protocol, against the fake program on 127.0.0.1."""
+"""Serial rotators through the MOAS Rotator protocol, against the fake program on 127.0.0.1.
+
+The manager and the fake program share a fake clock: turns, reconnection pauses and
+stall times pass at once; only the program started as a process runs in real time."""
 
 from __future__ import annotations
 
-import asyncio
 import logging
 import sys
 from collections.abc import AsyncIterator
+from dataclasses import replace
 
 import pytest
 import pytest_asyncio
-from helpers import free_port
+from helpers import FakeClock, free_port, until_on
 from test_rotators_manager import Recorder
 
 from moas_gui.config.model import Rotator, RotatorControl
@@ -30,9 +33,14 @@ def serial(rotator_id: int, **fields: object) -> Rotator:
     return Rotator(**base)  # type: ignore[arg-type]
 
 
+@pytest.fixture
+def clock() -> FakeClock:
+    return FakeClock()
+
+
 @pytest_asyncio.fixture
-async def fake() -> AsyncIterator[FakeMoasRotator]:
-    program = FakeMoasRotator(speed=20.0, tick=0.02)
+async def fake(clock: FakeClock) -> AsyncIterator[FakeMoasRotator]:
+    program = FakeMoasRotator(speed=20.0, tick=0.02, clock=clock)
     await program.start()
     yield program
     await program.close()
@@ -40,8 +48,10 @@ async def fake() -> AsyncIterator[FakeMoasRotator]:
 
 async def running(rotators: list[Rotator], fake: FakeMoasRotator,
                   recorder: Recorder) -> RotatorManager:
+    """A manager on the fake program, on the fake program's clock (the recorder's)."""
+    assert recorder.clock is fake.clock
     manager = RotatorManager(rotators, on_change=recorder, moas_rotator_port=fake.port,
-                             start_moas_rotator=False, timing=FAST)
+                             start_moas_rotator=False, timing=replace(FAST, clock=fake.clock))
     await manager.start()
     return manager
 
@@ -50,7 +60,7 @@ async def running(rotators: list[Rotator], fake: FakeMoasRotator,
 async def test_connect_sends_version_then_configure_with_the_model_before_the_port(
     fake: FakeMoasRotator,
 ) -> None:
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     fake.move_to("COM1", 200)
     manager = await running([serial(1, ccw_limit=180, has_stop=True)], fake, recorder)
     try:
@@ -66,7 +76,7 @@ async def test_connect_sends_version_then_configure_with_the_model_before_the_po
 async def test_rotate_sends_degrees_from_the_ccw_stop_and_follows_the_reports(
     fake: FakeMoasRotator,
 ) -> None:
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     manager = await running([serial(1, ccw_limit=180, has_stop=True)], fake, recorder)
     try:
         await recorder.wait_for(lambda v: v.online and v.heading == 180)
@@ -84,7 +94,7 @@ async def test_rotate_sends_degrees_from_the_ccw_stop_and_follows_the_reports(
 @pytest.mark.asyncio
 async def test_compass_controllers_get_the_compass_bearing(fake: FakeMoasRotator) -> None:
     """The manual's tribander: a Rotor-EZ with its stop at south (6.9.1)."""
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     rotor_ez = serial(0, model="RotorEZ", comm_port="COM14", ccw_limit=180, has_stop=True,
                       poll=2000)
     fake.move_to("COM14", 350)
@@ -101,7 +111,7 @@ async def test_compass_controllers_get_the_compass_bearing(fake: FakeMoasRotator
 
 @pytest.mark.asyncio
 async def test_rotators_at_one_address_share_one_connection(fake: FakeMoasRotator) -> None:
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     manager = await running([serial(1), serial(2), serial(3)], fake, recorder)
     try:
         await fake.wait_for(lambda: len(fake.configured) == 3)
@@ -115,7 +125,7 @@ async def test_rotators_at_one_address_share_one_connection(fake: FakeMoasRotato
 
 @pytest.mark.asyncio
 async def test_stop_sends_stop_and_ends_the_turn(fake: FakeMoasRotator) -> None:
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     manager = await running([serial(1)], fake, recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
@@ -125,7 +135,7 @@ async def test_stop_sends_stop_and_ends_the_turn(fake: FakeMoasRotator) -> None:
         await fake.wait_for(lambda: Stop(1) in fake.commands)
         view = manager.view(1)
         assert view.target is None
-        await asyncio.sleep(0.5)
+        await fake.clock.advance(0.5)
         settled = manager.view(1)
         assert not settled.moving and settled.heading is not None and settled.heading < 20
     finally:
@@ -137,7 +147,7 @@ async def test_program_going_away_mid_turn_shows_offline_then_reconfigures_and_f
     fake: FakeMoasRotator, caplog: pytest.LogCaptureFixture
 ) -> None:
     caplog.set_level(logging.INFO, "moas_gui.hw.rotators")
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     manager = await running([serial(1), serial(2)], fake, recorder)
     try:
         await recorder.wait_for(lambda v: v.id == 1 and v.online)
@@ -152,7 +162,7 @@ async def test_program_going_away_mid_turn_shows_offline_then_reconfigures_and_f
         assert caught.value.code == "unavailable" and "not connected" in caught.value.message
         commands_before = len(fake.commands)
         await fake.start()
-        await fake.wait_for(lambda: len(fake.configured) == 2)
+        await until_on(fake.clock, lambda: len(fake.configured) == 2, what="the reconnection")
         after = fake.commands[commands_before:]
         assert after[0] == VersionRequest()
         assert Configure(1, "4", "COM1", 100) in after and Configure(2, "4", "COM2", 100) in after
@@ -168,7 +178,7 @@ async def test_program_going_away_mid_turn_shows_offline_then_reconfigures_and_f
 async def test_a_stop_while_the_program_is_away_cancels_the_resumed_turn(
     fake: FakeMoasRotator,
 ) -> None:
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     manager = await running([serial(1)], fake, recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
@@ -182,8 +192,8 @@ async def test_a_stop_while_the_program_is_away_cancels_the_resumed_turn(
         assert manager.view(1).target is None
         before = len(fake.commands)
         await fake.start()
-        await fake.wait_for(lambda: 1 in fake.configured)
-        await asyncio.sleep(0.2)
+        await until_on(fake.clock, lambda: 1 in fake.configured, what="the reconnection")
+        await fake.clock.advance(0.2)
         assert not any(isinstance(c, Rotate) for c in fake.commands[before:])
     finally:
         await manager.close()
@@ -193,7 +203,7 @@ async def test_a_stop_while_the_program_is_away_cancels_the_resumed_turn(
 async def test_malformed_lines_are_logged_naming_the_rotator_and_reports_carry_on(
     fake: FakeMoasRotator, caplog: pytest.LogCaptureFixture
 ) -> None:
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     manager = await running([serial(1, short_name="Tribander")], fake, recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
@@ -214,7 +224,7 @@ async def test_a_turn_that_never_arrives_ends_after_the_stall_time(
 ) -> None:
     caplog.set_level(logging.INFO, "moas_gui.hw.rotators")
     fake.speed = 0.0  # a jammed rotator: the controller never moves
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     manager = await running([serial(1)], fake, recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
@@ -233,7 +243,7 @@ async def test_a_turn_that_never_arrives_ends_after_the_stall_time(
 async def test_a_rotator_turned_at_the_controller_shows_moving_while_it_turns(
     fake: FakeMoasRotator,
 ) -> None:
-    recorder = Recorder()
+    recorder = Recorder(fake.clock)
     manager = await running([serial(1)], fake, recorder)
     try:
         await recorder.wait_for(lambda v: v.online and v.heading == 0)
@@ -250,18 +260,26 @@ async def test_no_program_at_the_address_keeps_the_rotator_offline_and_retrying(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
     port = free_port()
+    clock = FakeClock()
     manager = RotatorManager([serial(1)], moas_rotator_port=port, start_moas_rotator=False,
-                             timing=FAST)
+                             timing=replace(FAST, clock=clock))
+    caplog.set_level(logging.DEBUG, "moas_gui.hw.rotators")
+
+    def failures() -> list[int]:
+        return [r.levelno for r in caplog.records if "cannot connect" in r.getMessage()]
+
     await manager.start()
     try:
-        await asyncio.sleep(0.4)
+        await until_on(clock, lambda: len(failures()) >= 3, what="three attempts")
         assert not manager.view(1).online
         assert f"MOAS Rotator at 127.0.0.1:{port}: cannot connect" in caplog.text
-        assert caplog.text.count("cannot connect") == 1  # later failures only at debug level
-        program = FakeMoasRotator(port=port)
+        # later failures only at debug level
+        assert failures()[:3] == [logging.WARNING, logging.DEBUG, logging.DEBUG]
+        program = FakeMoasRotator(port=port, clock=clock)
         await program.start()
         try:
-            await program.wait_for(lambda: 1 in program.configured, timeout=3.0)
+            await until_on(clock, lambda: 1 in program.configured, timeout=3.0,
+                           what="the program configured")
         finally:
             await program.close()
     finally:
@@ -271,6 +289,7 @@ async def test_no_program_at_the_address_keeps_the_rotator_offline_and_retrying(
 # ---- StartMOASRotator -------------------------------------------------------------------
 
 
+@pytest.mark.realtime  # a real process, its controller turning on the real clock
 @pytest.mark.asyncio
 async def test_local_serial_rotator_starts_the_program_and_stops_it_on_exit() -> None:
     port = free_port()

@@ -11,7 +11,8 @@ CONFIGURE, while the controllers (the hardware) keep where they point.
 
 Test hooks: ``commands`` (everything received, in order), :meth:`move_to` (the
 controller moved by hand: reported at once), :meth:`send_raw` (garbage on the
-wire), :meth:`drop` (the program goes away), :meth:`restart`.
+wire), :meth:`drop` (the program goes away), :meth:`restart`; ``clock``: the
+controllers turn on it (a fake clock makes a test's turns take no time).
 
 Run ``python -m moas_gui.hw.rotators.fake_moas_rotator --port 13020`` to serve
 one until interrupted.
@@ -26,6 +27,8 @@ import logging
 import signal
 from collections.abc import Callable
 from dataclasses import dataclass
+
+from moas_gui.clock import LOOP_CLOCK, Clock
 
 from .moas_rotator_codec import (
     BadLine,
@@ -57,10 +60,12 @@ class SimulatedController:
 class FakeMoasRotator:
     def __init__(
         self, host: str = "127.0.0.1", port: int = 0, *, speed: float = 10.0,
-        tick: float = 0.05, version: str = "1.0",
+        tick: float = 0.05, version: str = "1.0", clock: Clock = LOOP_CLOCK,
     ) -> None:
         self.host, self.port = host, port
         self.speed, self.tick, self.version = speed, tick, version
+        self.clock = clock
+        """The controllers turn on this clock (a test's :class:`~moas_gui.clock.FakeClock`)."""
         self.controllers: dict[str, SimulatedController] = {}
         self.configured: dict[int, str] = {}
         """rotator number -> CommPort, as the last CONFIGUREs said."""
@@ -168,11 +173,10 @@ class FakeMoasRotator:
             log.warning("fake MOAS Rotator: bad command %r (%s)", command.line, command.reason)
 
     async def _move(self) -> None:
-        loop = asyncio.get_running_loop()
-        last = loop.time()
+        last = self.clock.now()
         while True:
-            await asyncio.sleep(self.tick)
-            now = loop.time()
+            await self.clock.sleep(self.tick)
+            now = self.clock.now()
             step, last = self.speed * (now - last), now
             for controller in self.controllers.values():
                 if controller.target is None:

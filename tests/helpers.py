@@ -11,13 +11,16 @@ import asyncio
 import socket
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from moas_gui.clock import FakeClock
 
-__all__ = ["FakeClock", "free_port", "short_runtime_dir", "until", "until_on", "wait_for"]
+T = TypeVar("T")
+
+__all__ = ["FakeClock", "free_port", "run_on", "short_runtime_dir", "until", "until_on",
+           "wait_for"]
 
 
 async def until(condition: Callable[[], object], timeout: float = 10.0,
@@ -42,6 +45,19 @@ async def until_on(clock: FakeClock, condition: Callable[[], object], timeout: f
         if clock.now() >= deadline:
             raise AssertionError(f"gave up waiting for {what} ({timeout:g} s on the clock)")
         await clock.advance(step)
+
+
+async def run_on(clock: FakeClock, work: Awaitable[T], timeout: float = 5.0,
+                 what: str = "the work", step: float = 0.05) -> T:
+    """Awaits ``work`` while moving ``clock`` on (see :func:`until_on`): for a call that
+    waits on the clock itself (a timeout, a pause) before it returns or raises."""
+    task = asyncio.ensure_future(work)
+    try:
+        await until_on(clock, task.done, timeout, what, step)
+    finally:
+        if not task.done():
+            task.cancel()
+    return task.result()
 
 
 def wait_for(condition: Callable[[], Any], timeout: float = 15.0, what: str = "",

@@ -1,13 +1,19 @@
-"""RotatorGenius rotators against the controller emulator on 127.0.0.1."""
+"""RotatorGenius rotators against the controller emulator on 127.0.0.1.
+
+The manager and the emulator share a fake clock: turns, polls, reply timeouts and
+reconnection pauses pass at once (the bytes still go through real sockets); the test
+with the real ``rotctl`` runs on the real clock."""
 
 from __future__ import annotations
 
 import asyncio
 import logging
 from collections.abc import AsyncIterator
+from dataclasses import replace
 
 import pytest
 import pytest_asyncio
+from helpers import FakeClock, run_on
 from test_rotators_manager import Recorder
 
 from moas_gui.config.model import Rotator, RotatorControl
@@ -19,7 +25,7 @@ FAST = Timing(reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.3, connect_
 
 @pytest_asyncio.fixture
 async def genius() -> AsyncIterator[GeniusServer]:
-    server = GeniusServer(GeniusModel(speed=40.0))
+    server = GeniusServer(GeniusModel(speed=40.0), clock=FakeClock())
     await server.start()
     yield server
     await server.close()
@@ -36,7 +42,10 @@ def genius_rotator(server: GeniusServer, rotator_id: int = 1, port: int = 1,
 
 
 async def running(rotators: list[Rotator], recorder: Recorder) -> RotatorManager:
-    manager = RotatorManager(rotators, on_change=recorder, timing=FAST)
+    """A manager on the recorder's clock (a fake one, unless the recorder waits in real
+    time)."""
+    timing = replace(FAST, clock=recorder.clock) if recorder.fake else FAST
+    manager = RotatorManager(rotators, on_change=recorder, timing=timing)
     await manager.start()
     return manager
 
@@ -44,7 +53,7 @@ async def running(rotators: list[Rotator], recorder: Recorder) -> RotatorManager
 @pytest.mark.asyncio
 async def test_polls_heading_and_turns_with_a_three_digit_azimuth(genius: GeniusServer) -> None:
     genius.model.set_azimuth(1, 20, genius.now())
-    recorder = Recorder()
+    recorder = Recorder(genius.clock)
     manager = await running([genius_rotator(genius)], recorder)
     try:
         await recorder.wait_for(lambda v: v.online and v.heading == 20)
@@ -65,7 +74,7 @@ async def test_both_rotators_of_one_controller_share_one_connection(
 ) -> None:
     genius.model.set_azimuth(1, 100, genius.now())
     genius.model.set_azimuth(2, 200, genius.now())
-    recorder = Recorder()
+    recorder = Recorder(genius.clock)
     manager = await running([genius_rotator(genius, 1, 1), genius_rotator(genius, 2, 2)],
                             recorder)
     try:
@@ -82,7 +91,7 @@ async def test_both_rotators_of_one_controller_share_one_connection(
 @pytest.mark.asyncio
 async def test_stop_stops_the_controller(genius: GeniusServer) -> None:
     genius.model.speed = 10.0
-    recorder = Recorder()
+    recorder = Recorder(genius.clock)
     manager = await running([genius_rotator(genius)], recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
@@ -91,7 +100,7 @@ async def test_stop_stops_the_controller(genius: GeniusServer) -> None:
         await manager.stop(1)
         assert Command("S", raw=b"|S") in genius.commands
         assert not manager.view(1).moving
-        await asyncio.sleep(0.3)
+        await recorder.clock.advance(0.3)
         assert genius.model.rotors[0].turn is None
         assert not manager.view(1).moving and manager.view(1).heading is not None
         assert manager.view(1).heading < 10
@@ -104,7 +113,7 @@ async def test_999_means_offline_until_the_sensor_comes_back(
     genius: GeniusServer, caplog: pytest.LogCaptureFixture
 ) -> None:
     caplog.set_level(logging.INFO, "moas_gui.hw.rotators")
-    recorder = Recorder()
+    recorder = Recorder(genius.clock)
     manager = await running([genius_rotator(genius, short_name="Top")], recorder)
     try:
         await recorder.wait_for(lambda v: v.online and v.heading == 0)
@@ -127,12 +136,12 @@ async def test_999_means_offline_until_the_sensor_comes_back(
 async def test_malformed_replies_are_logged_with_the_rotator_and_polling_carries_on(
     genius: GeniusServer, caplog: pytest.LogCaptureFixture
 ) -> None:
-    recorder = Recorder()
+    recorder = Recorder(genius.clock)
     manager = await running([genius_rotator(genius, short_name="Top")], recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
         genius.prefix = b"\x00\xffnoise|Q"
-        await asyncio.sleep(0.2)
+        await recorder.clock.advance(0.2)
         genius.model.set_azimuth(1, 33, genius.now())
         await recorder.wait_for(lambda v: v.heading == 33)
         assert "(rotator 1 (Top)) sent a malformed reply" in caplog.text
@@ -146,7 +155,7 @@ async def test_a_refused_turn_is_unavailable(
     genius: GeniusServer, caplog: pytest.LogCaptureFixture
 ) -> None:
     genius.model.rotors[0].limit_ccw, genius.model.rotors[0].limit_cw = 0, 300
-    recorder = Recorder()
+    recorder = Recorder(genius.clock)
     # the configuration believes in a full turn; the controller knows better
     manager = await running([genius_rotator(genius)], recorder)
     try:
@@ -167,7 +176,7 @@ async def test_a_refused_turn_is_unavailable(
 async def test_heading_outside_the_configured_travel_is_clamped_before_sending(
     genius: GeniusServer,
 ) -> None:
-    recorder = Recorder()
+    recorder = Recorder(genius.clock)
     manager = await running([genius_rotator(genius, ccw_limit=0, rotation=300)], recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
@@ -181,7 +190,7 @@ async def test_heading_outside_the_configured_travel_is_clamped_before_sending(
 async def test_controller_going_away_and_coming_back(
     genius: GeniusServer, caplog: pytest.LogCaptureFixture
 ) -> None:
-    recorder = Recorder()
+    recorder = Recorder(genius.clock)
     manager = await running([genius_rotator(genius)], recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
@@ -200,7 +209,7 @@ async def test_controller_going_away_and_coming_back(
 async def test_a_controller_that_stops_answering_is_dropped_and_reconnected(
     genius: GeniusServer, caplog: pytest.LogCaptureFixture
 ) -> None:
-    recorder = Recorder()
+    recorder = Recorder(genius.clock)
     manager = await running([genius_rotator(genius)], recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
@@ -218,21 +227,22 @@ async def test_a_controller_that_stops_answering_is_dropped_and_reconnected(
 async def test_a_unit_that_never_answers_a_turn_is_believed_when_the_heading_moves(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
-    server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False)
+    clock = FakeClock()
+    server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False, clock=clock)
     await server.start()
     server.model.set_azimuth(1, 20, server.now())
-    recorder = Recorder()
+    recorder = Recorder(clock)
     manager = await running([genius_rotator(server)], recorder)
     try:
         await recorder.wait_for(lambda v: v.online and v.heading == 20)
-        await manager.rotate(1, 60)
+        await run_on(clock, manager.rotate(1, 60))
         assert Command("A", 1, 60, b"|A1060") in server.commands
         assert manager.view(1).target == 60 and manager.view(1).moving
         await recorder.wait_for(lambda v: v.heading == 60 and not v.moving)
         assert all(v.online for v in recorder.views[1:])
         assert "reconnecting" not in caplog.text
         # Already there: nothing moves, and the turn is still taken as done.
-        await manager.rotate(1, 60)
+        await run_on(clock, manager.rotate(1, 60))
         assert "reconnecting" not in caplog.text
     finally:
         await manager.close()
@@ -243,32 +253,35 @@ async def test_a_unit_that_never_answers_a_turn_is_believed_when_the_heading_mov
 async def test_a_silent_unit_that_does_not_move_leaves_the_turn_unconfirmed_and_stays_connected(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
-    server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False)
+    clock = FakeClock()
+    server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False, clock=clock)
     server.model.rotors[0].limit_ccw, server.model.rotors[0].limit_cw = 0, 300
     await server.start()
-    recorder = Recorder()
+    recorder = Recorder(clock)
     manager = await running([genius_rotator(server)], recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
         with pytest.raises(RotatorError, match="did not confirm the turn to 330") as caught:
-            await manager.rotate(1, 330)
+            await run_on(clock, manager.rotate(1, 330))
         assert caught.value.code == "unavailable"
         assert manager.view(1).online and not manager.view(1).moving
         assert "reconnecting" not in caplog.text
-        await manager.rotate(1, 90)  # the link still works
+        await run_on(clock, manager.rotate(1, 90))  # the link still works
         await recorder.wait_for(lambda v: v.heading == 90 and not v.moving)
     finally:
         await manager.close()
         await server.close()
 
 
+@pytest.mark.realtime  # the real rotctl, waiting on the real clock
 @pytest.mark.asyncio
 async def test_real_rotctl_turns_a_unit_that_never_answers_a_turn() -> None:
     from test_rotators_rotctld_listener import close_all, free_port, manager_rotators, rotctl
 
     from moas_gui.net.rotctld_server import start_rotctld_servers
 
-    server = GeniusServer(GeniusModel(speed=40.0), acknowledge_turns=False)
+    # on the real clock, the rotor quick: rotctl waits for the turn in real time
+    server = GeniusServer(GeniusModel(speed=200.0), acknowledge_turns=False)
     await server.start()
     port = free_port()
     recorder = Recorder()

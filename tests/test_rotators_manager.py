@@ -29,6 +29,11 @@ class Recorder:
         self._fake = clock is not None
         self._changed = asyncio.Event()
 
+    @property
+    def fake(self) -> bool:
+        """True when waiting moves the fake clock on (False: real time)."""
+        return self._fake
+
     def __call__(self, view: RotatorView) -> None:
         self.views.append(view)
         self._changed.set()

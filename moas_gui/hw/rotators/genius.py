@@ -22,6 +22,7 @@ import logging
 from collections.abc import Callable
 
 from moas_gui.aio import cancel_and_wait
+from moas_gui.clock import timeout
 from moas_gui.config.model import Rotator
 
 from .base import Publish, RotatorDriver, RotatorStatus, Timing
@@ -90,7 +91,7 @@ class GeniusLink:
                 raise ConnectionError(f"{self.where} is not connected")
             try:
                 writer.write(command)
-                async with asyncio.timeout(self.timing.reply_timeout):
+                async with timeout(self.timing.clock, self.timing.reply_timeout):
                     await writer.drain()
                     return await self._answer(reader, answer)
             except (OSError, TimeoutError):
@@ -116,11 +117,11 @@ class GeniusLink:
             heard = False
             try:
                 writer.write(command)
-                async with asyncio.timeout(self.timing.reply_timeout):
+                async with timeout(self.timing.clock, self.timing.reply_timeout):
                     await writer.drain()
                     while True:
                         with contextlib.suppress(TimeoutError):
-                            async with asyncio.timeout(self._turn_check):
+                            async with timeout(self.timing.clock, self._turn_check):
                                 return await self._wait_for_reply(reader)
                         writer.write(encode_read())
                         await writer.drain()

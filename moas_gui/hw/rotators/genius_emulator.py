@@ -11,7 +11,7 @@ Test hooks on :class:`GeniusServer`: ``model`` (set ``sensor`` false for
 999, move a rotor by hand with ``set_azimuth``), ``prefix`` (bytes put before
 the next reply: garbage), ``mute`` (stop answering), ``acknowledge_turns``
 (false: carry out ``|A`` but send no ``|AK``/``|AF``, as some units and
-firmware versions may), ``drop()``.
+firmware versions may), ``drop()``, ``clock`` (the rotors turn on it).
 """
 
 from __future__ import annotations
@@ -20,6 +20,8 @@ import asyncio
 import contextlib
 import logging
 from dataclasses import dataclass, field
+
+from moas_gui.clock import LOOP_CLOCK, Clock
 
 from .genius_codec import (
     Command,
@@ -140,8 +142,11 @@ class GeniusServer:
     """Serves a :class:`GeniusModel` on TCP (loopback by default)."""
 
     def __init__(self, model: GeniusModel | None = None, host: str = "127.0.0.1",
-                 port: int = 0, *, acknowledge_turns: bool = True) -> None:
+                 port: int = 0, *, acknowledge_turns: bool = True,
+                 clock: Clock = LOOP_CLOCK) -> None:
         self.model = model or GeniusModel()
+        self.clock = clock
+        """The rotors turn on this clock (a test's fake clock makes turns take no time)."""
         self.host, self.port = host, port
         self.prefix = b""
         self.mute = False
@@ -151,7 +156,7 @@ class GeniusServer:
         self._writers: set[asyncio.StreamWriter] = set()
 
     def now(self) -> float:
-        return asyncio.get_running_loop().time()
+        return self.clock.now()
 
     async def start(self) -> int:
         self._server = await asyncio.start_server(self._serve, self.host, self.port)

@@ -22,6 +22,7 @@ import contextlib
 import logging
 
 from moas_gui.aio import cancel_and_wait
+from moas_gui.clock import timeout
 from moas_gui.config.model import Rotator
 
 from .base import Publish, RotatorDriver, RotatorStatus, Timing
@@ -141,7 +142,7 @@ class HamlibRotator(RotatorDriver):
             assembler = ReplyAssembler()
             try:
                 writer.write(command)
-                async with asyncio.timeout(self.timing.reply_timeout):
+                async with timeout(self.timing.clock, self.timing.reply_timeout):
                     await writer.drain()
                     while True:
                         line = await reader.readline()

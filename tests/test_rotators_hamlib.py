@@ -1,5 +1,6 @@
-"""Hamlib rotators: against the real rotctld (Debian's libhamlib-utils) and a
-scripted stand-in for the answers a real daemon cannot be made to give."""
+"""Hamlib rotators: against the real rotctld (Debian's libhamlib-utils), on the real
+clock, and a scripted stand-in for the answers a real daemon cannot be made to give,
+on a fake clock (its timeouts and reconnections pass at once)."""
 
 from __future__ import annotations
 
@@ -8,18 +9,17 @@ import contextlib
 import logging
 import shutil
 from collections.abc import AsyncIterator, Callable
+from dataclasses import replace
 
 import pytest
 import pytest_asyncio
-from helpers import free_port
+from helpers import FakeClock, free_port, until_on
 from test_rotators_manager import Recorder
 
 from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.hamlib import HamlibRotator
 from moas_gui.hw.rotators.hamlib_codec import Limits, ReplyAssembler, error_text, limits_of
-
-pytestmark = pytest.mark.realtime
 
 FAST = Timing(reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.4, connect_timeout=0.5,
               stall_min=2.0)
@@ -77,13 +77,16 @@ def hamlib_rotator(port: int, **fields: object) -> Rotator:
 
 
 async def running(rotator: Rotator, recorder: Recorder) -> RotatorManager:
-    manager = RotatorManager([rotator], on_change=recorder, timing=FAST)
+    """A manager on the recorder's clock (the fake one, or the real one)."""
+    timing = replace(FAST, clock=recorder.clock) if recorder.fake else FAST
+    manager = RotatorManager([rotator], on_change=recorder, timing=timing)
     await manager.start()
     return manager
 
 
 # ---- the real rotctld ---------------------------------------------------------------------
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 async def test_reads_and_turns_the_real_rotctld(rotctld: Rotctld) -> None:
     recorder = Recorder()
@@ -101,6 +104,7 @@ async def test_reads_and_turns_the_real_rotctld(rotctld: Rotctld) -> None:
         await manager.close()
 
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 async def test_a_rotator_without_a_stop_turns_the_real_dummy_the_short_way(
     rotctld: Rotctld,
@@ -120,6 +124,7 @@ async def test_a_rotator_without_a_stop_turns_the_real_dummy_the_short_way(
         await manager.close()
 
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 async def test_stop_halts_the_real_rotctld(rotctld: Rotctld) -> None:
     recorder = Recorder()
@@ -138,6 +143,7 @@ async def test_stop_halts_the_real_rotctld(rotctld: Rotctld) -> None:
         await manager.close()
 
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 async def test_rotctld_going_away_shows_offline_and_it_reconnects(
     rotctld: Rotctld, caplog: pytest.LogCaptureFixture
@@ -233,7 +239,7 @@ async def test_positions_follow_the_daemons_south_stop_scale(
 ) -> None:
     daemon = scripted(south_stop_daemon("-90.00"))
     await daemon.start()
-    recorder = Recorder()
+    recorder = Recorder(FakeClock())
     manager = await running(
         hamlib_rotator(daemon.port, ccw_limit=180, rotation=360, has_stop=True), recorder
     )
@@ -253,7 +259,7 @@ async def test_a_refused_turn_is_unavailable_with_hamlibs_reason(
 ) -> None:
     daemon = scripted(south_stop_daemon(set_code=-1))
     await daemon.start()
-    recorder = Recorder()
+    recorder = Recorder(FakeClock())
     manager = await running(hamlib_rotator(daemon.port), recorder)
     try:
         await recorder.wait_for(lambda v: v.online)
@@ -280,7 +286,7 @@ async def test_a_malformed_position_is_logged_naming_the_rotator_and_polling_car
 
     daemon = scripted(script)
     await daemon.start()
-    recorder = Recorder()
+    recorder = Recorder(FakeClock())
     manager = await running(hamlib_rotator(daemon.port, short_name="Stack"), recorder)
     try:
         await recorder.wait_for(lambda v: v.heading == 270)
@@ -297,10 +303,10 @@ async def test_a_silent_daemon_is_dropped_after_the_reply_timeout(
     caplog.set_level(logging.WARNING, "moas_gui.hw.rotators")
     daemon = scripted(lambda line: None)
     await daemon.start()
-    recorder = Recorder()
+    recorder = Recorder(FakeClock())
     manager = await running(hamlib_rotator(daemon.port), recorder)
     try:
-        await asyncio.sleep(0.6)
+        await until_on(recorder.clock, lambda: "did not answer" in caplog.text, timeout=0.6)
         assert "did not answer within 0.4 s; reconnecting" in caplog.text
         assert not manager.view(4).online
     finally:
@@ -318,7 +324,7 @@ async def test_a_daemon_that_never_finishes_dump_state_is_used_without_its_limit
 
     daemon = scripted(script)
     await daemon.start()
-    recorder = Recorder()
+    recorder = Recorder(FakeClock())
     manager = await running(hamlib_rotator(daemon.port), recorder)
     try:
         await recorder.wait_for(lambda v: v.online and v.heading == 270)

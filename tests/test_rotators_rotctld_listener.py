@@ -7,10 +7,11 @@ import logging
 import shutil
 import socket
 from collections.abc import AsyncIterator
+from dataclasses import replace
 
 import pytest
 import pytest_asyncio
-from helpers import free_port
+from helpers import FakeClock, free_port
 from hypothesis import given
 from hypothesis import strategies as st
 from test_rotators_manager import Recorder
@@ -132,13 +133,16 @@ def listened_rotator(port: int, **fields: object) -> Rotator:
 
 @pytest_asyncio.fixture
 async def served() -> AsyncIterator[tuple[RotatorManager, int, Recorder]]:
+    """A Test rotator behind a listener, and an offline Hamlib one: on a fake clock, which
+    the recorder moves on while a test waits for a view (the Test rotator's turns take
+    no time)."""
     port = free_port()
-    recorder = Recorder()
+    recorder = Recorder(FakeClock())
     manager = RotatorManager(
         [listened_rotator(port),
          Rotator(id=7, control=RotatorControl.HAMLIB, address=f"127.0.0.1:{free_port()}",
                  rotctld_port=free_port())],
-        on_change=recorder, timing=FAST,
+        on_change=recorder, timing=replace(FAST, clock=recorder.clock),
     )
     await manager.start()
     listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
@@ -218,11 +222,11 @@ async def test_park_turns_to_the_park_heading_or_says_it_cannot(
 ) -> None:
     caplog.set_level(logging.INFO, "moas_gui.hw.rotators")
     parking, plain = free_port(), free_port()
-    recorder = Recorder()
+    recorder = Recorder(FakeClock())
     manager = RotatorManager(
         [listened_rotator(parking, park_heading=200),
          listened_rotator(plain, id=8, short_name="Plain")],
-        on_change=recorder, timing=FAST)
+        on_change=recorder, timing=replace(FAST, clock=recorder.clock))
     await manager.start()
     listeners = await start_rotctld_servers(manager, manager_rotators(manager), "127.0.0.1")
     try:

@@ -21,9 +21,10 @@ pytestmark = pytest.mark.realtime
 
 @pytest_asyncio.fixture
 async def yaesu_pty() -> AsyncIterator[str]:
-    """An emulated GS-232B at azimuth 340 turning 30 degrees a second; yields its pty path."""
+    """An emulated GS-232B at azimuth 340 turning 120 degrees a second (a real one: about
+    6); yields its pty path."""
     process = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "moas_gui.cli.rotator", "--emulate", "Yaesu", "--speed", "30",
+        sys.executable, "-m", "moas_gui.cli.rotator", "--emulate", "Yaesu", "--speed", "120",
         "--azimuth", "340",
         stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.DEVNULL,
     )
@@ -49,7 +50,8 @@ async def test_manager_starts_moas_rotator_and_turns_an_emulated_yaesu_into_the_
                       comm_port=yaesu_pty, poll=200, ccw_limit=0, rotation=450, has_stop=True)
     recorder = Recorder()
     manager = RotatorManager([rotator], on_change=recorder, moas_rotator_port=port,
-                             moas_rotator_command=command, timing=Timing(reconnect_min=0.2))
+                             moas_rotator_command=command,
+                             timing=Timing(reconnect_min=0.05, reconnect_max=0.2))
     await manager.start()
     try:
         assert manager.local_program is not None and manager.local_program.process is not None

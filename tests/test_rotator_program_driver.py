@@ -1,8 +1,9 @@
-"""The program's driver against every controller emulator, over real pseudo-terminals."""
+"""The program's driver against every controller emulator, over real pseudo-terminals,
+on the bench's fake clock (tests/pty_bench.py): polls, quiet times, timeouts, retries
+and turns take no real time, the bytes still go through the pseudo-terminals."""
 
 from __future__ import annotations
 
-import asyncio
 import dataclasses
 import functools
 import logging
@@ -10,28 +11,34 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import until
+from pty_bench import PtyBench
 
 from moas_gui.hw.rotators.controllers.base import OutOfRange
 from moas_gui.hw.rotators.controllers.dcu1 import DCU1Codec
 from moas_gui.hw.rotators.controllers.faulty import FaultyController
 from moas_gui.hw.rotators.controllers.models import MODELS, find_model
-from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost
+from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
 from moas_gui.rotator_program.driver import ControllerDriver
-from moas_gui.rotator_program.serial_link import PortError, open_serial, split_port
-
-pytestmark = pytest.mark.realtime
+from moas_gui.rotator_program.serial_link import PortError, split_port
 
 SPEED = 200.0
 TURN_SPEED = 100.0
-"""For the turn that a stop must cut short: 1.7 s, time enough on a busy machine."""
+"""For the turn that a stop must cut short: 1.7 s on the clock."""
 START = 100.0
 
 
 @pytest.fixture
-def host() -> Iterator[EmulatorHost]:
-    with EmulatorHost() as running:
+def bench() -> Iterator[PtyBench]:
+    with PtyBench() as running:
         yield running
+
+
+def driver_on(bench: PtyBench, rotator: int, model: str, port: str, poll_ms: int,
+              reports: Reports, **options: object) -> ControllerDriver:
+    """A driver opening its port through the bench, on the bench's clock."""
+    options.setdefault("opener", bench.open)
+    return ControllerDriver(rotator, find_model(model), port, poll_ms, reports,
+                            clock=bench.clock, **options)  # type: ignore[arg-type]
 
 
 class Reports:
@@ -48,8 +55,8 @@ class Reports:
         return self.items[-1][1] if self.items else None
 
 
-def emulator_state(host: EmulatorHost, port: object) -> tuple[float, bool]:
-    return host.call(port, lambda e, now: (e.azimuth, e.busy))  # type: ignore[arg-type]
+def emulator_state(host: EmulatorHost, port: ServedPort) -> tuple[float, bool]:
+    return host.call(port, lambda e, now: (e.azimuth, e.busy))
 
 
 DRIVEN = [m.name for m in MODELS if m.info.has_readback]
@@ -57,72 +64,74 @@ DRIVEN = [m.name for m in MODELS if m.info.has_readback]
 
 @pytest.mark.asyncio
 @pytest.mark.parametrize("name", DRIVEN)
-async def test_driver_reads_turns_and_stops_each_model(host: EmulatorHost, name: str) -> None:
+async def test_driver_reads_turns_and_stops_each_model(bench: PtyBench, name: str) -> None:
     model = find_model(name)
-    served = host.add(model.make_emulator(START, TURN_SPEED, host.clock()))
+    host = bench.host
+    served = bench.add(model.make_emulator(START, TURN_SPEED, bench.clock.now()))
     reports = Reports()
-    driver = ControllerDriver(3, model, served.path, 100, reports)
+    driver = driver_on(bench, 3, name, served.path, 100, reports)
     driver.start()
     try:
-        await until(lambda: reports.last == START, what="the first heading")
+        await bench.until(lambda: reports.last == START, what="the first heading")
         assert reports.items[0] == (3, 100)
         driver.rotate(130)
-        await until(lambda: reports.last == 130, what="the heading after the turn")
+        await bench.until(lambda: reports.last == 130, what="the heading after the turn")
         assert len(reports.items) >= 2
         # A turn, then a stop before it is over.
         driver.rotate(300)
-        await until(lambda: emulator_state(host, served)[1], what="the turn to start")
+        await bench.until(lambda: emulator_state(host, served)[1], what="the turn to start")
         driver.stop()
-        await until(lambda: not emulator_state(host, served)[1], what="the stop")
+        await bench.until(lambda: not emulator_state(host, served)[1], what="the stop")
         stopped = emulator_state(host, served)[0]
         assert abs(stopped - 300) > 1
         # The controller reads out its own resolution (RC2800: tenths, rounded as it
         # prints them), so the whole degree reported is within one of the true stop.
-        await until(lambda: reports.last is not None and abs(reports.last - stopped) < 1,
-                    what=f"the heading where it stopped ({stopped:.2f})")
+        await bench.until(lambda: reports.last is not None and abs(reports.last - stopped) < 1,
+                          what=f"the heading where it stopped ({stopped:.2f})")
     finally:
         await driver.close()
 
 
 @pytest.mark.asyncio
-async def test_dcu1_heading_is_reported_when_the_turn_should_be_over(host: EmulatorHost) -> None:
-    served = host.add(find_model("DCU1").make_emulator(START, 400.0, host.clock()))
+async def test_dcu1_heading_is_reported_when_the_turn_should_be_over(bench: PtyBench) -> None:
+    served = bench.add(find_model("DCU1").make_emulator(START, 400.0, bench.clock.now()))
     reports = Reports()
     codec = DCU1Codec(speed=400.0, settle=0.1)
-    driver = ControllerDriver(1, find_model("DCU1"), served.path, 100, reports, codec=codec)
+    driver = driver_on(bench, 1, "DCU1", served.path, 100, reports, codec=codec)
     driver.start()
     try:
-        await until(lambda: driver.connected)
-        await asyncio.sleep(0.2)
+        await bench.until(lambda: driver.connected)
+        await bench.advance(0.2)
         assert reports.items == []  # a DCU-1 cannot tell where it is
         driver.rotate(150)
-        await until(lambda: reports.last == 150, what="the estimated heading")
+        await bench.until(lambda: reports.last == 150, what="the estimated heading")
         assert driver.estimated
-        assert emulator_state(host, served)[0] == pytest.approx(150.0)
+        assert emulator_state(bench.host, served)[0] == pytest.approx(150.0)
     finally:
         await driver.close()
 
 
 @pytest.mark.asyncio
 async def test_a_vanished_port_is_logged_retried_and_used_again(
-        host: EmulatorHost, tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+        bench: PtyBench, tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.INFO, logger="moas_gui.rotator_program")
     link = str(tmp_path / "ttyROT")
-    served = host.add(find_model("Yaesu").make_emulator(START), link=link)
+    served = bench.add(find_model("Yaesu").make_emulator(START, now=bench.clock.now()),
+                       link=link)
     reports = Reports()
-    driver = ControllerDriver(2, find_model("Yaesu"), link, 100, reports, retry=0.1)
+    driver = driver_on(bench, 2, "Yaesu", link, 100, reports, retry=0.1)
     driver.start()
     try:
-        await until(lambda: reports.last == 100)
-        host.remove(served)
-        await until(lambda: not driver.connected, what="the driver to notice")
+        await bench.until(lambda: reports.last == 100)
+        bench.host.remove(served)
+        await bench.until(lambda: not driver.connected, what="the driver to notice")
         with pytest.raises(PortError, match="not open"):
             driver.rotate(10)
         lost = [r.getMessage() for r in caplog.records if "failed" in r.getMessage()]
         assert lost and lost[0].startswith(f"rotator 2 (Yaesu on {link}): port {link} failed")
         # The adapter comes back (same name), with the antenna somewhere else.
-        host.add(find_model("Yaesu").make_emulator(222.0), link=link)
-        await until(lambda: reports.last == 222, what="the heading after reconnecting")
+        bench.add(find_model("Yaesu").make_emulator(222.0, now=bench.clock.now()), link=link)
+        await bench.until(lambda: reports.last == 222, what="the heading after reconnecting")
         assert any("port open again" in r.getMessage() for r in caplog.records)
     finally:
         await driver.close()
@@ -130,14 +139,14 @@ async def test_a_vanished_port_is_logged_retried_and_used_again(
 
 @pytest.mark.asyncio
 async def test_a_port_that_does_not_exist_is_retried_quietly(
-        tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+        bench: PtyBench, tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.DEBUG, logger="moas_gui.rotator_program")
     missing = str(tmp_path / "nothing")
-    driver = ControllerDriver(4, find_model("RotorEZ"), missing, 100, Reports(), retry=0.05)
+    driver = driver_on(bench, 4, "RotorEZ", missing, 100, Reports(), retry=0.05)
     driver.start()
     try:
-        await until(lambda: sum("still cannot open" in r.getMessage()
-                                for r in caplog.records) >= 3)
+        await bench.until(lambda: sum("still cannot open" in r.getMessage()
+                                      for r in caplog.records) >= 3)
         warnings = [r for r in caplog.records if r.levelno == logging.WARNING]
         assert len(warnings) == 1
         assert warnings[0].getMessage().startswith(
@@ -148,18 +157,19 @@ async def test_a_port_that_does_not_exist_is_retried_quietly(
 
 @pytest.mark.asyncio
 async def test_garbage_from_a_controller_is_logged_and_the_headings_still_come(
-        host: EmulatorHost, caplog: pytest.LogCaptureFixture) -> None:
+        bench: PtyBench, caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.WARNING, logger="moas_gui.rotator_program")
-    faulty = FaultyController(find_model("Prosistel D").make_emulator(START, SPEED))
+    faulty = FaultyController(
+        find_model("Prosistel D").make_emulator(START, SPEED, bench.clock.now()))
     faulty.noise = b"\xff\x00garbage"
-    served = host.add(faulty)
+    served = bench.add(faulty)
     reports = Reports()
-    driver = ControllerDriver(5, find_model("Prosistel D"), served.path, 100, reports)
+    driver = driver_on(bench, 5, "Prosistel D", served.path, 100, reports)
     driver.start()
     try:
-        await until(lambda: reports.last == 100)
+        await bench.until(lambda: reports.last == 100)
         driver.rotate(120)
-        await until(lambda: reports.last == 120)
+        await bench.until(lambda: reports.last == 120)
         bad = [r.getMessage() for r in caplog.records if "ignored" in r.getMessage()]
         assert len(bad) == 1  # once per 5 s, however much comes
         assert bad[0].startswith(f"rotator 5 (Prosistel D on {served.path}): ignored 9 bytes")
@@ -170,25 +180,27 @@ async def test_garbage_from_a_controller_is_logged_and_the_headings_still_come(
 
 @pytest.mark.asyncio
 async def test_a_controller_that_stops_answering_is_reported_and_polled_on(
-        host: EmulatorHost, caplog: pytest.LogCaptureFixture) -> None:
+        bench: PtyBench, caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.INFO, logger="moas_gui.rotator_program")
-    faulty = FaultyController(find_model("RC2800P-X").make_emulator(START))
-    served = host.add(faulty)
+    faulty = FaultyController(find_model("RC2800P-X").make_emulator(START, now=bench.clock.now()))
+    served = bench.add(faulty)
     reports = Reports()
     codec = find_model("RC2800P-X").codec()
     codec.info = dataclasses.replace(codec.info, reply_timeout=0.2)  # quicker than its 1 s
-    driver = ControllerDriver(6, find_model("RC2800P-X"), served.path, 100, reports, codec=codec)
+    driver = driver_on(bench, 6, "RC2800P-X", served.path, 100, reports, codec=codec)
     driver.start()
     try:
-        await until(lambda: reports.last == 100)
+        await bench.until(lambda: reports.last == 100)
         faulty.silent = True
-        await until(lambda: not driver.answering, timeout=8.0, what="the silence to be noticed")
+        await bench.until(lambda: not driver.answering, timeout=8.0,
+                          what="the silence to be noticed")
         silent = [r.getMessage() for r in caplog.records if "not answering" in r.getMessage()]
         assert silent == [(f"rotator 6 (RC2800P-X on {served.path}): the controller is not "
                           "answering (3 questions without a reply); still trying")]
         heard = len(faulty.heard)
         faulty.silent = False
-        await until(lambda: driver.answering, timeout=4.0, what="the controller to answer")
+        await bench.until(lambda: driver.answering, timeout=4.0,
+                          what="the controller to answer")
         assert len(faulty.heard) > heard  # it kept asking
         assert any("answers again" in r.getMessage() for r in caplog.records)
     finally:
@@ -196,18 +208,18 @@ async def test_a_controller_that_stops_answering_is_reported_and_polled_on(
 
 
 @pytest.mark.asyncio
-async def test_a_burst_of_turns_sends_only_the_last(host: EmulatorHost) -> None:
-    faulty = FaultyController(find_model("Yaesu").make_emulator(START, SPEED))
-    served = host.add(faulty)
+async def test_a_burst_of_turns_sends_only_the_last(bench: PtyBench) -> None:
+    faulty = FaultyController(find_model("Yaesu").make_emulator(START, SPEED, bench.clock.now()))
+    served = bench.add(faulty)
     reports = Reports()
-    driver = ControllerDriver(7, find_model("Yaesu"), served.path, 1000, reports)
+    driver = driver_on(bench, 7, "Yaesu", served.path, 1000, reports)
     driver.start()
     try:
-        await until(lambda: reports.last == 100)
+        await bench.until(lambda: reports.last == 100)
         for degrees in (110, 120, 130, 140):
             driver.rotate(degrees)
-        await until(lambda: b"M" in bytes(faulty.heard))
-        await asyncio.sleep(0.1)
+        await bench.until(lambda: b"M" in bytes(faulty.heard))
+        await bench.advance(0.1)
         assert bytes(faulty.heard).count(b"M") == 1 and b"M140\r" in bytes(faulty.heard)
     finally:
         await driver.close()
@@ -215,12 +227,12 @@ async def test_a_burst_of_turns_sends_only_the_last(host: EmulatorHost) -> None:
 
 @pytest.mark.asyncio
 async def test_a_heading_out_of_the_model_range_is_refused_before_sending(
-        host: EmulatorHost) -> None:
-    served = host.add(find_model("RotorEZ").make_emulator(START))
-    driver = ControllerDriver(8, find_model("RotorEZ"), served.path, 100, Reports())
+        bench: PtyBench) -> None:
+    served = bench.add(find_model("RotorEZ").make_emulator(START, now=bench.clock.now()))
+    driver = driver_on(bench, 8, "RotorEZ", served.path, 100, Reports())
     driver.start()
     try:
-        await until(lambda: driver.connected)
+        await bench.until(lambda: driver.connected)
         with pytest.raises(OutOfRange, match="RotorEZ: heading 400 is outside 0..360"):
             driver.rotate(400)
     finally:
@@ -229,17 +241,16 @@ async def test_a_heading_out_of_the_model_range_is_refused_before_sending(
 
 @pytest.mark.asyncio
 async def test_the_reader_thread_works_where_the_loop_cannot_watch_the_port(
-        host: EmulatorHost) -> None:
-    served = host.add(find_model("GS-232A").make_emulator(START, SPEED))
+        bench: PtyBench) -> None:
+    served = bench.add(find_model("GS-232A").make_emulator(START, SPEED, bench.clock.now()))
     reports = Reports()
-    opener = functools.partial(open_serial, use_thread=True)
-    driver = ControllerDriver(9, find_model("GS-232A"), served.path + "@4800", 100, reports,
-                           opener=opener)
+    opener = functools.partial(bench.open, use_thread=True)
+    driver = driver_on(bench, 9, "GS-232A", served.path + "@4800", 100, reports, opener=opener)
     driver.start()
     try:
-        await until(lambda: reports.last == 100)
+        await bench.until(lambda: reports.last == 100)
         driver.rotate(111)
-        await until(lambda: reports.last == 111)
+        await bench.until(lambda: reports.last == 111)
     finally:
         await driver.close()
 

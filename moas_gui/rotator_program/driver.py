@@ -9,7 +9,8 @@ A driver runs as one asyncio task.  Work is done in this order of priority:
    itself, only every :data:`ALIVE_CHECK` seconds, to notice it is gone).
 
 Every write is followed by the model's quiet time; a poll waits for its
-answer up to the model's reply timeout.  Headings are reported, in whole
+answer up to the model's reply timeout.  All these times are measured on the
+driver's :class:`~moas_gui.clock.Clock` (the event loop's, or a test's fake one).  Headings are reported, in whole
 degrees, only when they change.
 
 Failures never stop the driver:
@@ -29,10 +30,10 @@ import asyncio
 import contextlib
 import logging
 import math
-import time
 from collections import deque
 from collections.abc import Callable
 
+from moas_gui.clock import LOOP_CLOCK, Clock, timeout
 from moas_gui.hw.rotators.controllers.base import (
     Ack,
     ControllerCodec,
@@ -66,7 +67,7 @@ class ControllerDriver:
     def __init__(self, rotator: int, model: Model, port: str, poll_ms: int,
                  report: Callable[[int, int], None], *, opener: Opener = open_serial,
                  codec: ControllerCodec | None = None, retry: float = RETRY,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Clock = LOOP_CLOCK) -> None:
         self.rotator = rotator
         self.model = model
         self.port = port
@@ -156,13 +157,13 @@ class ControllerDriver:
             while True:
                 if self._link is None:
                     if not await self._open():
-                        await asyncio.sleep(self._retry)
+                        await self._clock.sleep(self._retry)
                     continue
                 try:
                     await self._step()
                 except PortError as error:
                     self._drop(error)
-                    await asyncio.sleep(self._retry)
+                    await self._clock.sleep(self._retry)
         finally:
             self._close_link()
 
@@ -188,7 +189,7 @@ class ControllerDriver:
             log.info("%s: port open", self.label)
         self._was_open = True
         self._open_failures = 0
-        self._next_poll = self._clock()
+        self._next_poll = self._clock.now()
         try:
             for send in self.codec.opening():
                 await self._send(send)
@@ -199,7 +200,7 @@ class ControllerDriver:
 
     async def _step(self) -> None:
         self._check_lost()
-        now = self._clock()
+        now = self._clock.now()
         if self._stop_pending:
             self._stop_pending = False
             self._rotate_pending = None
@@ -220,8 +221,9 @@ class ControllerDriver:
                 wake_at = min(wake_at, deadline)
             self._wake.clear()
             with contextlib.suppress(TimeoutError):
-                await asyncio.wait_for(self._wake.wait(), max(0.0, wake_at - now))
-        for output in self.codec.tick(self._clock()):
+                async with timeout(self._clock, max(0.0, wake_at - now)):
+                    await self._wake.wait()
+        for output in self.codec.tick(self._clock.now()):
             self._handle(output)
 
     async def _perform(self, outputs: list[Output], interruptible: bool) -> None:
@@ -239,26 +241,27 @@ class ControllerDriver:
         if link is None:
             raise PortError(f"port {self.port} is not open")
         self._answered.clear()
-        written_at = self._clock()
+        written_at = self._clock.now()
         link.write(send.data)
         info = self.codec.info
         if send.expects_reply:
             try:
-                await asyncio.wait_for(self._answered.wait(), info.reply_timeout)
+                async with timeout(self._clock, info.reply_timeout):
+                    await self._answered.wait()
                 answered = True
             except TimeoutError:
                 answered = False
             self._check_lost()
             self._note_answer(answered)
-        quiet = written_at + max(send.pause, info.write_gap) - self._clock()
+        quiet = written_at + max(send.pause, info.write_gap) - self._clock.now()
         if quiet > 0:
-            await asyncio.sleep(quiet)
+            await self._clock.sleep(quiet)
         self._check_lost()
 
     # -- what comes back -------------------------------------------------------------------
 
     def _on_data(self, data: bytes) -> None:
-        for output in self.codec.receive(data, self._clock()):
+        for output in self.codec.receive(data, self._clock.now()):
             self._handle(output)
 
     def _on_lost(self, error: Exception) -> None:
@@ -286,7 +289,7 @@ class ControllerDriver:
             self._garbage(output)
 
     def _garbage(self, garbage: Garbage) -> None:
-        now = self._clock()
+        now = self._clock.now()
         if now - self._garbage_at < GARBAGE_LOG_EVERY:
             self._garbage_hidden += len(garbage.data)
             return

@@ -23,10 +23,9 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-import time
-from collections.abc import Callable
 
 from moas_gui import __version__
+from moas_gui.clock import LOOP_CLOCK, Clock
 from moas_gui.hw.rotators.controllers.base import ControllerError
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.moas_rotator_codec import (
@@ -55,7 +54,7 @@ class RotatorProgram:
     """The program; see the module docstring."""
 
     def __init__(self, *, opener: Opener = open_serial, retry: float = RETRY,
-                 clock: Callable[[], float] = time.monotonic, version: str = __version__) -> None:
+                 clock: Clock = LOOP_CLOCK, version: str = __version__) -> None:
         self.rotators: dict[int, ControllerDriver] = {}
         self._opener = opener
         self._retry = retry

@@ -8,6 +8,10 @@ its answers go back, and while something moves (``busy``) the host calls
 on time.  The host keeps the slave open itself, so clients may come and go;
 ``remove`` closes both sides, which a client sees as a vanished port.
 
+Time is whatever ``clock`` says (``time.monotonic`` by default; a test's fake
+clock's ``now``, with :meth:`EmulatorHost.catch_up` after moving it on).
+``ServedPort.received`` and ``sent`` count the bytes each way.
+
 POSIX only (pseudo-terminals); the program's driver itself does not need it.
 """
 
@@ -116,6 +120,27 @@ class EmulatorHost:
             self._send(port, port.emulator.advance(now))
         self._wake()
         return result
+
+    def find(self, name: str) -> ServedPort | None:
+        """The port served at ``name`` (its pseudo-terminal or its link), if any."""
+        with self._lock:
+            return next((p for p in self._ports.values() if name in (p.path, p.link)), None)
+
+    def traffic(self, port: ServedPort) -> tuple[int, int] | None:
+        """``(received, sent)`` bytes of ``port``, read together; None once removed."""
+        with self._lock:
+            if self._ports.get(port.master) is not port:
+                return None
+            return port.received, port.sent
+
+    def catch_up(self) -> None:
+        """Lets every emulator see the time now and sends what it says by itself, at
+        once rather than at the next tick (for a clock a test has just moved on)."""
+        with self._lock:
+            now = self.clock()
+            for port in list(self._ports.values()):
+                self._send(port, port.emulator.advance(now))
+        self._wake()
 
     def close(self) -> None:
         with self._lock:

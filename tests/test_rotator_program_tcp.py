@@ -1,4 +1,6 @@
-"""The program's TCP protocol on 127.0.0.1, with emulated controllers on pseudo-terminals."""
+"""The program's TCP protocol on 127.0.0.1, with emulated controllers on pseudo-terminals,
+on the bench's fake clock (tests/pty_bench.py): the program's polls, quiet times and
+retries and the controllers' turns take no real time."""
 
 from __future__ import annotations
 
@@ -9,28 +11,32 @@ from pathlib import Path
 
 import pytest
 import pytest_asyncio
-from helpers import until
+from pty_bench import PtyBench
 
 from moas_gui.hw.rotators.controllers.faulty import FaultyController
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
 from moas_gui.rotator_program.program import RotatorProgram
 
-pytestmark = pytest.mark.realtime
-
 SPEED = 200.0
 
 
 @pytest.fixture
-def host() -> Iterator[EmulatorHost]:
-    with EmulatorHost() as running:
+def bench() -> Iterator[PtyBench]:
+    with PtyBench() as running:
         yield running
 
 
+@pytest.fixture
+def host(bench: PtyBench) -> EmulatorHost:
+    return bench.host
+
+
 @pytest_asyncio.fixture
-async def program(host: EmulatorHost) -> AsyncIterator[tuple[RotatorProgram, int]]:
-    """The program on a free port; it closes before the emulators go away."""
-    running = RotatorProgram(retry=0.1)
+async def program(bench: PtyBench) -> AsyncIterator[tuple[RotatorProgram, int]]:
+    """The program on a free port, its ports opened through the bench, on the bench's
+    clock; it closes before the emulators go away."""
+    running = RotatorProgram(retry=0.1, opener=bench.open, clock=bench.clock)
     _, port = await running.start("127.0.0.1", 0)
     try:
         yield running, port
@@ -39,43 +45,45 @@ async def program(host: EmulatorHost) -> AsyncIterator[tuple[RotatorProgram, int
 
 
 class Server:
-    """A MOAS Server stand-in: a TCP client that collects the program's lines."""
+    """A MOAS Server stand-in: a TCP client that collects the program's lines (as they
+    come, in a task of its own), waiting on the bench's clock."""
 
-    def __init__(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+    def __init__(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter,
+                 bench: PtyBench) -> None:
         self.reader = reader
         self.writer = writer
+        self.bench = bench
         self.lines: list[str] = []
-        self._buffer = b""
+        self.closed = False
+        """True once the program closed the connection."""
+        self._reading = asyncio.create_task(self._read())
 
     @classmethod
-    async def connect(cls, port: int) -> Server:
+    async def connect(cls, port: int, bench: PtyBench) -> Server:
         reader, writer = await asyncio.open_connection("127.0.0.1", port)
-        return cls(reader, writer)
+        return cls(reader, writer, bench)
 
     def send(self, *lines: str, end: str = "\r") -> None:
         self.writer.write("".join(line + end for line in lines).encode("latin-1"))
 
-    async def pump(self, seconds: float) -> bool:
-        """Reads for up to ``seconds``; False once the program closed the connection."""
+    async def _read(self) -> None:
+        buffer = b""
         try:
-            data = await asyncio.wait_for(self.reader.read(4096), seconds)
-        except TimeoutError:
-            return True
-        if not data:
-            return False
-        self._buffer += data
-        *complete, self._buffer = self._buffer.split(b"\r")
-        self.lines += [line.decode("ascii") for line in complete]
-        return True
+            while data := await self.reader.read(4096):
+                buffer += data
+                *complete, buffer = buffer.split(b"\r")
+                self.lines += [line.decode("ascii") for line in complete]
+        except (ConnectionError, OSError):
+            pass
+        self.closed = True
 
     async def wait_for(self, wanted: Callable[[list[str]], bool], timeout: float = 5.0,
                        what: str = "") -> None:
-        loop = asyncio.get_running_loop()
-        deadline = loop.time() + timeout
-        while not wanted(self.lines):
-            if loop.time() > deadline:
-                raise AssertionError(f"no {what or 'such message'} in {self.lines}")
-            await self.pump(0.05)
+        """Moves the clock on until ``wanted(lines)``, for at most ``timeout`` seconds."""
+        try:
+            await self.bench.until(lambda: wanted(self.lines), timeout, what)
+        except AssertionError:
+            raise AssertionError(f"no {what or 'such message'} in {self.lines}") from None
 
     async def wait_line(self, line: str, timeout: float = 5.0) -> None:
         await self.wait_for(lambda lines: line in lines, timeout, repr(line))
@@ -86,6 +94,7 @@ class Server:
             await self.writer.wait_closed()
         except (ConnectionError, OSError):
             pass
+        await self._reading
 
 
 def served(host: EmulatorHost, model: str, azimuth: float, link: str | None = None,
@@ -98,8 +107,9 @@ def where(host: EmulatorHost, port: ServedPort) -> tuple[float, bool]:
 
 
 @pytest.mark.asyncio
-async def test_version_is_major_dot_minor(program: tuple[RotatorProgram, int]) -> None:
-    server = await Server.connect(program[1])
+async def test_version_is_major_dot_minor(
+        bench: PtyBench, program: tuple[RotatorProgram, int]) -> None:
+    server = await Server.connect(program[1], bench)
     server.send("VERSION")
     await server.wait_line("VERSION 0.1")
     await server.close()
@@ -107,10 +117,10 @@ async def test_version_is_major_dot_minor(program: tuple[RotatorProgram, int]) -
 
 @pytest.mark.asyncio
 async def test_configure_in_both_orders_reports_the_headings(
-        program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
     first = served(host, "RotorEZ", 45)
     second = served(host, "Yaesu", 300)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send(f"CONFIGURE 0 2 {first.path} 200", f"CONFIGURE 1 {second.path} 4 200")
     await server.wait_line("0 45")
     await server.wait_line("1 300")
@@ -120,10 +130,10 @@ async def test_configure_in_both_orders_reports_the_headings(
 
 
 @pytest.mark.asyncio
-async def test_lf_and_crlf_endings_are_accepted(program: tuple[RotatorProgram, int],
-                                                host: EmulatorHost) -> None:
+async def test_lf_and_crlf_endings_are_accepted(
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
     port = served(host, "GS-232A", 10)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send("VERSION", end="\n")
     server.send(f"CONFIGURE 4 {port.path} GS-232A 200", end="\r\n")
     await server.wait_line("VERSION 0.1")
@@ -133,9 +143,9 @@ async def test_lf_and_crlf_endings_are_accepted(program: tuple[RotatorProgram, i
 
 @pytest.mark.asyncio
 async def test_rotate_reports_the_heading_as_it_changes_and_stop_stops(
-        program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
     port = served(host, "RC2800P-X", 100, speed=100.0)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send(f"CONFIGURE 0 9 {port.path} 100")
     await server.wait_line("0 100")
     server.send("ROTATE 0 150")
@@ -143,9 +153,9 @@ async def test_rotate_reports_the_heading_as_it_changes_and_stop_stops(
     steps = [int(line.split()[1]) for line in server.lines if line.startswith("0 ")]
     assert len(steps) >= 3 and steps == sorted(steps)  # on the way, not just the end
     server.send("ROTATE 0 350")
-    await until(lambda: where(host, port)[0] > 170)
+    await bench.until(lambda: where(host, port)[0] > 170)
     server.send("STOP 0")
-    await until(lambda: not where(host, port)[1])
+    await bench.until(lambda: not where(host, port)[1])
     stopped = where(host, port)[0]
     assert stopped < 345
     # The controller shows tenths; the report is whole degrees.
@@ -156,9 +166,9 @@ async def test_rotate_reports_the_heading_as_it_changes_and_stop_stops(
 
 @pytest.mark.asyncio
 async def test_a_heading_changed_at_the_controller_is_reported_within_a_poll(
-        program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
     port = served(host, "Rot2Prog", 20)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send(f"CONFIGURE 0 Rot2Prog {port.path} 500")
     await server.wait_line("0 20")
     host.call(port, lambda e, now: e.turn_by_hand(77.0, now))
@@ -168,22 +178,22 @@ async def test_a_heading_changed_at_the_controller_is_reported_within_a_poll(
 
 @pytest.mark.asyncio
 async def test_a_server_that_disconnects_mid_turn_leaves_the_turn_and_polling_running(
-        program: tuple[RotatorProgram, int], host: EmulatorHost,
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost,
         caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.INFO, logger="moas_gui.rotator_program")
     rotators, tcp = program
     port = served(host, "Yaesu", 0, speed=100.0)
-    server = await Server.connect(tcp)
+    server = await Server.connect(tcp, bench)
     server.send(f"CONFIGURE 0 4 {port.path} 100", "ROTATE 0 180")
-    await until(lambda: where(host, port)[1])
+    await bench.until(lambda: where(host, port)[1])
     await server.close()
-    await until(lambda: not rotators.connected)
+    await bench.until(lambda: not rotators.connected)
     driver = rotators.rotators[0]
-    await until(lambda: driver.heading == 180, timeout=5.0)  # still polled, turn finished
+    await bench.until(lambda: driver.heading == 180, timeout=5.0)  # still polled, turn finished
     assert where(host, port)[0] == pytest.approx(180.0)
     assert any("stay configured and polled" in r.getMessage() for r in caplog.records)
     # The server comes back and configures the same: same driver, heading at once.
-    again = await Server.connect(tcp)
+    again = await Server.connect(tcp, bench)
     again.send(f"CONFIGURE 0 4 {port.path} 100")
     await again.wait_line("0 180", timeout=1.0)
     assert rotators.rotators[0] is driver
@@ -192,23 +202,18 @@ async def test_a_server_that_disconnects_mid_turn_leaves_the_turn_and_polling_ru
 
 @pytest.mark.asyncio
 async def test_a_new_server_connection_replaces_the_old_one(
-        program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
     port = served(host, "Prosistel D", 5)
-    old = await Server.connect(program[1])
+    old = await Server.connect(program[1], bench)
     old.send(f"CONFIGURE 0 10 {port.path} 100")
     await old.wait_line("0 5")
-    new = await Server.connect(program[1])
-    await until(lambda: True)
+    new = await Server.connect(program[1], bench)
     # The old connection is closed by the program.
-    closed = False
-    for _ in range(40):
-        if not await old.pump(0.05):
-            closed = True
-            break
-    assert closed
+    await bench.until(lambda: old.closed, timeout=2.0, what="the old connection closed")
+    assert old.closed
     # Headings go to a connection only once it has configured the rotator.
     host.call(port, lambda e, now: e.turn_by_hand(33.0, now))
-    await new.pump(0.5)
+    await bench.advance(0.5)
     assert new.lines == []
     new.send(f"CONFIGURE 0 10 {port.path} 100", "VERSION")
     await new.wait_line("0 33")
@@ -219,19 +224,19 @@ async def test_a_new_server_connection_replaces_the_old_one(
 
 @pytest.mark.asyncio
 async def test_a_vanished_port_is_logged_and_the_other_rotators_carry_on(
-        program: tuple[RotatorProgram, int], host: EmulatorHost, tmp_path: Path,
-        caplog: pytest.LogCaptureFixture) -> None:
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost,
+        tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.INFO, logger="moas_gui.rotator_program")
     link = str(tmp_path / "usb0")
     doomed = served(host, "Yaesu", 10, link=link)
     other = served(host, "GS-232A", 20)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send(f"CONFIGURE 0 4 {link} 100", f"CONFIGURE 1 GS-232A {other.path} 100")
     await server.wait_line("0 10")
     await server.wait_line("1 20")
     host.remove(doomed)
-    await until(lambda: any(f"rotator 0 (Yaesu on {link}): port {link} failed" in r.getMessage()
-                            for r in caplog.records))
+    await bench.until(lambda: any(f"rotator 0 (Yaesu on {link}): port {link} failed"
+                                  in r.getMessage() for r in caplog.records))
     server.send("ROTATE 0 50", "ROTATE 1 40")
     await server.wait_line("1 40")
     refused = [r.getMessage() for r in caplog.records if "ROTATE 50 refused" in r.getMessage()]
@@ -244,14 +249,14 @@ async def test_a_vanished_port_is_logged_and_the_other_rotators_carry_on(
 
 @pytest.mark.asyncio
 async def test_garbage_from_one_controller_is_logged_and_nothing_else_stops(
-        program: tuple[RotatorProgram, int], host: EmulatorHost,
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost,
         caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.WARNING, logger="moas_gui.rotator_program")
     noisy = FaultyController(find_model("RotorEZ").make_emulator(70, SPEED))
     noisy.noise = b"\x00\xffNOISE"
     noisy_port = host.add(noisy)
     quiet = served(host, "Yaesu", 80)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send(f"CONFIGURE 0 2 {noisy_port.path} 100", f"CONFIGURE 1 4 {quiet.path} 100")
     await server.wait_line("0 70")
     await server.wait_line("1 80")
@@ -264,11 +269,11 @@ async def test_garbage_from_one_controller_is_logged_and_nothing_else_stops(
 
 @pytest.mark.asyncio
 async def test_malformed_commands_each_give_a_log_line_and_nothing_stops(
-        program: tuple[RotatorProgram, int], host: EmulatorHost,
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost,
         caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.WARNING, logger="moas_gui.rotator_program")
     port = served(host, "Yaesu", 12)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send(f"CONFIGURE 0 4 {port.path} 100")
     await server.wait_line("0 12")
     caplog.clear()
@@ -298,11 +303,11 @@ async def test_malformed_commands_each_give_a_log_line_and_nothing_stops(
 
 @pytest.mark.asyncio
 async def test_an_unknown_model_leaves_the_rotator_as_it_was(
-        program: tuple[RotatorProgram, int], host: EmulatorHost,
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost,
         caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.WARNING, logger="moas_gui.rotator_program")
     port = served(host, "Yaesu", 40)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send(f"CONFIGURE 2 4 {port.path} 100")
     await server.wait_line("2 40")
     driver = program[0].rotators[2]
@@ -317,9 +322,9 @@ async def test_an_unknown_model_leaves_the_rotator_as_it_was(
 
 @pytest.mark.asyncio
 async def test_a_port_given_to_another_rotator_is_taken_from_the_first(
-        program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
     port = served(host, "Yaesu", 40)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send(f"CONFIGURE 0 4 {port.path} 100")
     await server.wait_line("0 40")
     server.send(f"CONFIGURE 1 4 {port.path} 100")
@@ -330,10 +335,10 @@ async def test_a_port_given_to_another_rotator_is_taken_from_the_first(
 
 @pytest.mark.asyncio
 async def test_configure_with_another_port_moves_the_rotator(
-        program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
+        bench: PtyBench, program: tuple[RotatorProgram, int], host: EmulatorHost) -> None:
     first = served(host, "Yaesu", 40)
     second = served(host, "RC2800P-A", 41)
-    server = await Server.connect(program[1])
+    server = await Server.connect(program[1], bench)
     server.send(f"CONFIGURE 0 4 {first.path} 100")
     await server.wait_line("0 40")
     server.send(f"CONFIGURE 0 8 {second.path} 100")

@@ -56,12 +56,14 @@ class Station:
 
 
 @pytest_asyncio.fixture
-async def station(tmp_path: Path) -> AsyncIterator[Station]:
+async def station(tmp_path: Path, request: pytest.FixtureRequest) -> AsyncIterator[Station]:
     """The small station with its tribander on a Yaesu controller at this computer's
-    MOAS Rotator program, which the server starts on a free port."""
+    MOAS Rotator program, which the server starts on a free port.  The controller turns
+    :data:`SPEED` degrees a second, or as many as a test's indirect parameter says."""
+    speed = getattr(request, "param", SPEED)
     host = EmulatorHost().start()
     link = tmp_path / "yaesu"
-    port = host.add(find_model("Yaesu").make_emulator(START, SPEED, host.clock()), link=str(link))
+    port = host.add(find_model("Yaesu").make_emulator(START, speed, host.clock()), link=str(link))
     data = json.loads((EXAMPLES / "small-station.moas").read_text())
     data["Rotators"] = [{
         "ID": 1, "ShortName": "Tribander", "LongName": "Tribander rotator",
@@ -153,6 +155,7 @@ async def test_rotate_turns_the_serial_controller_through_the_started_program(
 
 @pytest.mark.asyncio
 @pytest.mark.timeout(60)
+@pytest.mark.parametrize("station", [300.0], indirect=True)  # the program is back in 0.5 s
 async def test_the_program_killed_mid_turn_shows_offline_then_comes_back_and_finishes(
         station: Station, peers: list[Peer]) -> None:
     local = program(station)

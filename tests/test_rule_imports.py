@@ -38,7 +38,7 @@ ALLOWED: dict[str, set[str]] = {
     "client": {"addresses", "clock", "errors", "retry"},
     "sources": {"addresses", "aio", "client", "clock", "config", "engine", "errors", "hw", "net",
                 "retry"},
-    "single_instance": set(),
+    "single_instance": {"errors"},
     "desktop": {"files"},
     "ui": {"app", "client", "hw", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",

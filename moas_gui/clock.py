@@ -11,9 +11,10 @@ clock, is everyone's default.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import heapq
 import itertools
-from collections.abc import Callable
+from collections.abc import AsyncIterator, Callable
 from typing import Protocol
 
 
@@ -50,6 +51,19 @@ class LoopClock:
 
 
 LOOP_CLOCK: Clock = LoopClock()
+
+
+@contextlib.asynccontextmanager
+async def timeout(clock: Clock, seconds: float) -> AsyncIterator[None]:
+    """``asyncio.timeout(seconds)`` on ``clock``: once ``seconds`` have passed on it, the
+    block's wait is cancelled and :class:`TimeoutError` raised."""
+    loop = asyncio.get_running_loop()
+    async with asyncio.timeout(None) as limit:
+        timer = clock.call_later(seconds, lambda: limit.reschedule(loop.time()))
+        try:
+            yield
+        finally:
+            timer.cancel()
 
 
 class FakeClock:
@@ -125,4 +139,4 @@ class _FakeTimer:
         self.cancelled = True
 
 
-__all__ = ["LOOP_CLOCK", "Clock", "FakeClock", "LoopClock", "Timer"]
+__all__ = ["LOOP_CLOCK", "Clock", "FakeClock", "LoopClock", "Timer", "timeout"]

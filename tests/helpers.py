@@ -17,7 +17,7 @@ from typing import Any
 
 from moas_gui.clock import FakeClock
 
-__all__ = ["FakeClock", "free_port", "short_runtime_dir", "until", "wait_for"]
+__all__ = ["FakeClock", "advance_until", "free_port", "short_runtime_dir", "until", "wait_for"]
 
 
 async def until(condition: Callable[[], object], timeout: float = 10.0,
@@ -29,6 +29,19 @@ async def until(condition: Callable[[], object], timeout: float = 10.0,
         if loop.time() > deadline:
             raise AssertionError(f"gave up waiting for {what} ({timeout:g} s)")
         await asyncio.sleep(every)
+
+
+async def advance_until(clock: FakeClock, condition: Callable[[], object], limit: float = 60.0,
+                        what: str = "the condition", step: float = 0.05) -> float:
+    """Moves ``clock`` on by ``step`` at a time until ``condition()`` is true; returns the
+    clock's time then.  ``limit`` is in the clock's seconds (no real time is waited)."""
+    end = clock.now() + limit
+    await clock.advance(0)
+    while not condition():
+        if clock.now() >= end:
+            raise AssertionError(f"{what} did not come within {limit:g} s of the fake clock")
+        await clock.advance(step)
+    return clock.now()
 
 
 def wait_for(condition: Callable[[], Any], timeout: float = 15.0, what: str = "",

@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from moas_gui.clock import LOOP_CLOCK, FakeClock
+from moas_gui.clock import LOOP_CLOCK, FakeClock, timeout
 
 
 @pytest.mark.asyncio
@@ -54,3 +54,52 @@ async def test_the_loop_clock_is_the_event_loops() -> None:
     began = loop.time()
     await LOOP_CLOCK.sleep(0.01)
     assert loop.time() - began >= 0.009
+
+
+@pytest.mark.asyncio
+async def test_a_timeout_on_the_fake_clock_ends_a_wait_when_its_time_has_come() -> None:
+    clock = FakeClock()
+    never = asyncio.get_running_loop().create_future()
+    ended: list[float] = []
+
+    async def waiting() -> None:
+        try:
+            async with timeout(clock, 3.0):
+                await never
+        except TimeoutError:
+            ended.append(clock.now())
+
+    task = asyncio.create_task(waiting())
+    await clock.advance(2.9)
+    assert ended == [] and not task.done()
+    await clock.advance(0.2)
+    assert ended == [3.0] and task.done()
+    assert never.cancelled(), "the abandoned wait is called off, as asyncio.wait_for does"
+
+
+@pytest.mark.asyncio
+async def test_a_wait_done_in_time_is_not_cut_short_later() -> None:
+    clock = FakeClock()
+    answer = asyncio.get_running_loop().create_future()
+
+    async def asking() -> object:
+        async with timeout(clock, 1.0):
+            result = await answer
+        await clock.sleep(5.0)  # long after the limit: nothing cancels this
+        return result
+
+    task = asyncio.create_task(asking())
+    await clock.advance(0.5)
+    answer.set_result("pong")
+    await clock.advance(10.0)
+    assert task.result() == "pong"
+
+
+@pytest.mark.asyncio
+async def test_a_timeout_on_the_loop_clock_is_asyncios() -> None:
+    loop = asyncio.get_running_loop()
+    began = loop.time()
+    with pytest.raises(TimeoutError):
+        async with timeout(LOOP_CLOCK, 0.02):
+            await asyncio.Event().wait()
+    assert loop.time() - began >= 0.019

@@ -60,6 +60,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--uninstall-desktop", action="store_true",
                         help="remove what --install-desktop registered, and exit")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
+    parser.set_defaults(switch_timing=None)  # no option: only the test hook sets it (main)
     return parser
 
 
@@ -93,7 +94,10 @@ def check(path: str) -> int:
 
 def _options(args: argparse.Namespace) -> object:
     from moas_gui.app import ServerOptions
+    from moas_gui.hw.moas2.timing import ENVIRONMENT
 
+    if args.switch_timing is not None:
+        log.info("Switch link clocks from %s (a test hook): %s", ENVIRONMENT, args.switch_timing)
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
                          dxlog_port=args.dxlog_port, wintest_port=args.wintest_port,
@@ -102,7 +106,8 @@ def _options(args: argparse.Namespace) -> object:
                                               else tuple(args.n1mm_rotor_headings)),
                          web_port=args.web_port,
                          max_clients=args.max_clients,
-                         start_rotator_program=False if args.no_rotator_program else None)
+                         start_rotator_program=False if args.no_rotator_program else None,
+                         switch_timing=args.switch_timing)
 
 
 def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | None]:
@@ -317,6 +322,13 @@ def main(argv: list[str] | None = None) -> int:
             print("moas-server: --check needs a configuration file", file=sys.stderr)
             return 2
         return check(args.file)
+    from moas_gui.hw.moas2.timing import timing_from_environment
+
+    try:
+        args.switch_timing = timing_from_environment()  # tests' shorter clocks, if set
+    except ValueError as exc:
+        print(f"moas-server: {exc}", file=sys.stderr)
+        return 2
     from moas_gui.net.fd_limit import raise_open_file_limit
 
     raise_open_file_limit()  # each client holds a file handle

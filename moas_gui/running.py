@@ -16,6 +16,7 @@ import functools
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from moas_gui.config import Config
 from moas_gui.engine import Engine, SwitchState
@@ -28,11 +29,13 @@ from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
-from moas_gui.net.web import WebServer, start_web
 from moas_gui.sources.base import EventSink, SourceEvent
 from moas_gui.sources.n1mm import N1MMListener
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 from moas_gui.state_store import StateKeeper
+
+if TYPE_CHECKING:  # the web server (aiohttp) is loaded only when a station asks for it
+    from moas_gui.net.web import WebServer
 
 log = logging.getLogger("moas_gui.app")
 
@@ -185,6 +188,8 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
     web_port = options.web_port
     web_port = run.config.web_port if web_port is None else web_port
     if web_port is not None:  # the browser client: docs/web-client.md
+        from moas_gui.net.web import start_web
+
         run.web = await start_web(clients, options.bind, web_port)
 
 

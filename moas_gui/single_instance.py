@@ -59,6 +59,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Final, Literal
 
+from moas_gui.errors import MoasError
+
 log = logging.getLogger("moas_gui.single_instance")
 
 DEFAULT_NAME: Final = "moas-server"
@@ -82,7 +84,7 @@ class HandOver:
     """False when no instance runs at all."""
 
 
-class InstanceError(OSError):
+class InstanceError(MoasError, OSError):
     """The per-user instance directory is unsafe or unusable; the message says why."""
 
 

@@ -19,7 +19,7 @@ from moas_gui.clock import FakeClock
 
 T = TypeVar("T")
 
-__all__ = ["FakeClock", "free_port", "run_on", "short_runtime_dir", "until", "until_on",
+__all__ = ["FakeClock", "advance_until", "free_port", "run_on", "short_runtime_dir", "until",
            "wait_for"]
 
 
@@ -34,26 +34,26 @@ async def until(condition: Callable[[], object], timeout: float = 10.0,
         await asyncio.sleep(every)
 
 
-async def until_on(clock: FakeClock, condition: Callable[[], object], timeout: float = 5.0,
-                   what: str = "the condition", step: float = 0.05) -> None:
-    """Moves ``clock`` on, ``step`` seconds at a time, until ``condition()`` is true;
-    gives up once ``timeout`` seconds have passed on that clock.  Work that is not on
-    the clock (sockets on 127.0.0.1, a pseudo-terminal) gets its turns of the event
-    loop while the clock moves (see :meth:`FakeClock.advance`)."""
-    deadline = clock.now() + timeout
+async def advance_until(clock: FakeClock, condition: Callable[[], object], limit: float = 60.0,
+                        what: str = "the condition", step: float = 0.05) -> float:
+    """Moves ``clock`` on by ``step`` at a time until ``condition()`` is true; returns the
+    clock's time then.  ``limit`` is in the clock's seconds (no real time is waited)."""
+    end = clock.now() + limit
+    await clock.advance(0)
     while not condition():
-        if clock.now() >= deadline:
-            raise AssertionError(f"gave up waiting for {what} ({timeout:g} s on the clock)")
+        if clock.now() >= end:
+            raise AssertionError(f"{what} did not come within {limit:g} s of the fake clock")
         await clock.advance(step)
+    return clock.now()
 
 
-async def run_on(clock: FakeClock, work: Awaitable[T], timeout: float = 5.0,
+async def run_on(clock: FakeClock, work: Awaitable[T], limit: float = 5.0,
                  what: str = "the work", step: float = 0.05) -> T:
-    """Awaits ``work`` while moving ``clock`` on (see :func:`until_on`): for a call that
-    waits on the clock itself (a timeout, a pause) before it returns or raises."""
+    """Awaits ``work`` while moving ``clock`` on (see :func:`advance_until`): for a call
+    that waits on the clock itself (a timeout, a pause) before it returns or raises."""
     task = asyncio.ensure_future(work)
     try:
-        await until_on(clock, task.done, timeout, what, step)
+        await advance_until(clock, task.done, limit, what, step)
     finally:
         if not task.done():
             task.cancel()

@@ -7,7 +7,9 @@ histories (hypothesis):
   station on an alternate that conflicts closes no relays.
 
 The clock moves one millisecond at a time and the rules are checked after
-every step and every command, so a change cannot slip between two looks.
+every step and every command, so a change cannot slip between two looks (a
+step while no timer runs is skipped: the box's state changes only when a
+timer runs out or a command or key line comes).
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from hypothesis import strategies as st
 
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.station import Kind
+from moas_gui.hw.moas2.emulator.view import BoxView
 from moas_gui.hw.moas2.sixbit import to_char
 
 ANTENNAS = [0, 1, 2, 3, 4, 5, 63]
@@ -98,24 +101,25 @@ class Watcher:
         self.setup = setup
         self.ms = 0
         self.model.feed(setup.commands().encode(), 0.0)
-        self.before = self.look()
+        self.before = self.look(self.model.view())
 
-    def look(self) -> dict[int, tuple[bool, frozenset[int]]]:
-        view = self.model.view()
+    @staticmethod
+    def look(view: BoxView) -> dict[int, tuple[bool, frozenset[int]]]:
         return {s.number: (s.transmitting, s.closed) for s in view.stations}
 
     def check(self) -> None:
-        now = self.look()
+        view = self.model.view()  # one look serves every rule
+        now = self.look(view)
         for n in STATIONS:
             was_on_air, was_closed = self.before[n]
             on_air, closed = now[n]
             if was_on_air and on_air and closed != was_closed:
                 assert n in self.setup.interrupt, f"station {n} relays moved on the air in wait mode"
                 assert self.model.inhibited(n), f"station {n} relays moved without inhibit"
-        self.check_conflicts()
+        self.check_conflicts(view)
         self.before = now
 
-    def check_conflicts(self) -> None:
+    def check_conflicts(self, view: BoxView) -> None:
         claims = {}
         for n, station in self.model.stations.items():
             held = {station.current[Kind.TX].antenna, station.current[Kind.RX].antenna}
@@ -129,12 +133,13 @@ class Watcher:
                     for x in claims[a]:
                         for y in claims[b]:
                             assert not table.get(x, y), f"stations {a}, {b} hold {x}, {y}"
-        for view in self.model.view().stations:
-            if view.on_alternate and any(
-                table.get(view.alt.antenna, y) for m in STATIONS if m != view.number
-                for y in claims[m]
+        for station_view in view.stations:
+            if station_view.on_alternate and any(
+                table.get(station_view.alt.antenna, y) for m in STATIONS
+                if m != station_view.number for y in claims[m]
             ):
-                assert view.closed == frozenset(), f"station {view.number} on a busy alternate"
+                assert station_view.closed == frozenset(), \
+                    f"station {station_view.number} on a busy alternate"
 
     def run(self, op: tuple) -> None:  # type: ignore[type-arg]
         kind = op[0]
@@ -154,6 +159,8 @@ class Watcher:
         else:
             for _ in range(op[1]):
                 self.ms += 1
+                if self.model.next_deadline() is None:
+                    continue  # no timer runs: the box changes only at the next command
                 self.model.advance(self.ms / 1000)
                 self.check()
 

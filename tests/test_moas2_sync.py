@@ -246,7 +246,9 @@ def load(data: bytes) -> EmulatorModel:
     return model
 
 
-@settings(max_examples=80, deadline=None)
+# The suite's examples are fixed (tests/conftest.py): 40 pass through every line of
+# sync.py, as 80 did; the wide random search is benchmarks/bench_properties.py.
+@settings(max_examples=40, deadline=None)
 @given(switch_states(), switch_states())
 def test_difference_on_a_loaded_box_ends_where_a_fresh_load_does(
     old: SwitchState, new: SwitchState
@@ -261,7 +263,9 @@ def test_difference_on_a_loaded_box_ends_where_a_fresh_load_does(
             assert got.current[Kind.RX].relays == wanted.rx_relays
 
 
-@settings(max_examples=80, deadline=None)
+# These states give commands of at most 27 bytes (as 80 examples did): the splitting
+# itself is the explicit tests' above; the wide search is benchmarks/bench_properties.py.
+@settings(max_examples=20, deadline=None)
 @given(switch_states(), switch_states())
 def test_no_command_on_the_wire_is_longer_than_40_bytes(old: SwitchState, new: SwitchState) -> None:
     for data in (initialise(old).encode(), difference(old, new).encode()):

@@ -177,10 +177,22 @@ async def test_memory_is_given_back_once_a_crowd_of_clients_has_left(
 @pytest.mark.skipif(sys.platform != "linux", reason="counts open files in /proc/self/fd")
 @pytest.mark.timeout(60)
 async def test_running_out_of_file_handles_writes_one_line_and_the_server_recovers(
-    caplog: pytest.LogCaptureFixture,
+    caplog: pytest.LogCaptureFixture, monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     import resource
 
+    # The event loop tries to accept again a second after it ran out of handles; a
+    # tenth of a second here, and the tries are counted instead of slept through.
+    monkeypatch.setattr(asyncio.constants, "ACCEPT_RETRY_DELAY", 0.1)
+    loop = asyncio.get_running_loop()
+    tries: list[float] = []
+    start_serving = loop._start_serving  # type: ignore[attr-defined]
+
+    def counted(*args: object, **kwargs: object) -> object:
+        tries.append(loop.time())
+        return start_serving(*args, **kwargs)
+
+    monkeypatch.setattr(loop, "_start_serving", counted, raising=False)
     rig = await make_rig(max_clients=1000)
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     waiting: list[socket.socket] = []
@@ -191,8 +203,8 @@ async def test_running_out_of_file_handles_writes_one_line_and_the_server_recove
             sock = socket.create_connection((HOST, rig.server.port))
             waiting.append(sock)
         resource.setrlimit(resource.RLIMIT_NOFILE, (len(os.listdir("/proc/self/fd")) + 4, hard))
-        try:
-            await asyncio.sleep(3.5)  # the event loop tries again every second
+        try:  # the fault repeats: three more tries, each failing
+            await until(lambda: len(tries) >= 4, timeout=10)  # 1 start + 3
         finally:
             resource.setrlimit(resource.RLIMIT_NOFILE, (soft, hard))
         faults = [r for r in caplog.records if "out of system resource" in r.getMessage()

@@ -13,7 +13,7 @@ from dataclasses import replace
 
 import pytest
 import pytest_asyncio
-from helpers import FakeClock, free_port, until_on
+from helpers import FakeClock, advance_until, free_port
 from test_rotators_manager import Recorder
 
 from moas_gui.config.model import Rotator, RotatorControl
@@ -306,7 +306,7 @@ async def test_a_silent_daemon_is_dropped_after_the_reply_timeout(
     recorder = Recorder(FakeClock())
     manager = await running(hamlib_rotator(daemon.port), recorder)
     try:
-        await until_on(recorder.clock, lambda: "did not answer" in caplog.text, timeout=0.6)
+        await advance_until(recorder.clock, lambda: "did not answer" in caplog.text, limit=0.6)
         assert "did not answer within 0.4 s; reconnecting" in caplog.text
         assert not manager.view(4).online
     finally:

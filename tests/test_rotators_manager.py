@@ -403,16 +403,27 @@ def test_the_manager_restarts_its_program_after_the_timings_waits() -> None:
 
 
 def test_moas_server_takes_the_timing_test_hook_from_its_environment(
-        monkeypatch: pytest.MonkeyPatch) -> None:
+        capsys: pytest.CaptureFixture[str]) -> None:
+    from moas_gui.cli import server
+    from moas_gui.hw.rotators.base import TIMING_HOOK, rotator_timing_from_environment
+
+    assert rotator_timing_from_environment({}) is None
+    timing = rotator_timing_from_environment({TIMING_HOOK: "restart_min=0.1"})
+    assert timing == Timing(restart_min=0.1)
+    args = server._parser().parse_args(["--headless", "station.moas"])
+    assert server._options(args).rotator_timing is None  # type: ignore[attr-defined]
+    args.rotator_timing = timing
+    assert server._options(args).rotator_timing == timing  # type: ignore[attr-defined]
+    with pytest.raises(ValueError, match=f"^{TIMING_HOOK}: 'restart=0.1': 'restart' is not"):
+        rotator_timing_from_environment({TIMING_HOOK: "restart=0.1"})
+
+
+def test_moas_server_stops_at_a_timing_hook_it_cannot_take(
+        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
     from moas_gui.cli import server
     from moas_gui.hw.rotators.base import TIMING_HOOK
 
-    args = server._parser().parse_args(["--headless", "station.moas"])
-    monkeypatch.delenv(TIMING_HOOK, raising=False)
-    assert server._options(args).rotator_timing is None  # type: ignore[attr-defined]
-    monkeypatch.setenv(TIMING_HOOK, "restart_min=0.1")
-    options = server._options(args)
-    assert options.rotator_timing == Timing(restart_min=0.1)  # type: ignore[attr-defined]
-    monkeypatch.setenv(TIMING_HOOK, "restart=0.1")
-    with pytest.raises(SystemExit, match=f"moas-server: {TIMING_HOOK}: 'restart=0.1': "):
-        server._options(args)
+    monkeypatch.setenv(TIMING_HOOK, "restart_min=-1")
+    assert server.main(["--headless", "--new-instance", "station.moas"]) == 2
+    assert capsys.readouterr().err == (f"moas-server: {TIMING_HOOK}: 'restart_min=-1': a delay "
+                                       "must be a positive number of seconds\n")

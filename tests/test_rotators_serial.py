@@ -12,7 +12,7 @@ from dataclasses import replace
 
 import pytest
 import pytest_asyncio
-from helpers import FakeClock, free_port, until_on
+from helpers import FakeClock, advance_until, free_port
 from test_rotators_manager import Recorder
 
 from moas_gui.config.model import Rotator, RotatorControl
@@ -162,7 +162,7 @@ async def test_program_going_away_mid_turn_shows_offline_then_reconfigures_and_f
         assert caught.value.code == "unavailable" and "not connected" in caught.value.message
         commands_before = len(fake.commands)
         await fake.start()
-        await until_on(fake.clock, lambda: len(fake.configured) == 2, what="the reconnection")
+        await advance_until(fake.clock, lambda: len(fake.configured) == 2, what="the reconnection")
         after = fake.commands[commands_before:]
         assert after[0] == VersionRequest()
         assert Configure(1, "4", "COM1", 100) in after and Configure(2, "4", "COM2", 100) in after
@@ -192,7 +192,7 @@ async def test_a_stop_while_the_program_is_away_cancels_the_resumed_turn(
         assert manager.view(1).target is None
         before = len(fake.commands)
         await fake.start()
-        await until_on(fake.clock, lambda: 1 in fake.configured, what="the reconnection")
+        await advance_until(fake.clock, lambda: 1 in fake.configured, what="the reconnection")
         await fake.clock.advance(0.2)
         assert not any(isinstance(c, Rotate) for c in fake.commands[before:])
     finally:
@@ -270,7 +270,7 @@ async def test_no_program_at_the_address_keeps_the_rotator_offline_and_retrying(
 
     await manager.start()
     try:
-        await until_on(clock, lambda: len(failures()) >= 3, what="three attempts")
+        await advance_until(clock, lambda: len(failures()) >= 3, what="three attempts")
         assert not manager.view(1).online
         assert f"MOAS Rotator at 127.0.0.1:{port}: cannot connect" in caplog.text
         # later failures only at debug level
@@ -278,7 +278,7 @@ async def test_no_program_at_the_address_keeps_the_rotator_offline_and_retrying(
         program = FakeMoasRotator(port=port, clock=clock)
         await program.start()
         try:
-            await until_on(clock, lambda: 1 in program.configured, timeout=3.0,
+            await advance_until(clock, lambda: 1 in program.configured, limit=3.0,
                            what="the program configured")
         finally:
             await program.close()

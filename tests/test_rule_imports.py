@@ -7,6 +7,7 @@ Every ``import`` and ``from ... import`` of every module is read with :mod:`ast`
 from __future__ import annotations
 
 import ast
+import functools
 import subprocess
 import sys
 from collections import defaultdict
@@ -37,7 +38,7 @@ ALLOWED: dict[str, set[str]] = {
     "client": {"addresses", "clock", "errors", "retry"},
     "sources": {"addresses", "aio", "client", "clock", "config", "engine", "errors", "hw", "net",
                 "retry"},
-    "single_instance": set(),
+    "single_instance": {"errors"},
     "desktop": {"files"},
     "ui": {"app", "client", "hw", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
@@ -84,17 +85,25 @@ def _imports(name: str, path: Path) -> set[str]:
     return out
 
 
-MODULES = _modules()
-IMPORTS = {name: _imports(name, path) for name, (_, path) in MODULES.items()}
+@functools.cache
+def modules() -> dict[str, tuple[str, Path]]:
+    """Every module of the package, read once, when a test first asks (not at collection)."""
+    return _modules()
 
 
+@functools.cache
+def imports() -> dict[str, set[str]]:
+    return {name: _imports(name, path) for name, (_, path) in modules().items()}
+
+
+@functools.cache
 def _edges() -> dict[str, set[str]]:
     edges: dict[str, set[str]] = defaultdict(set)
-    for name, (top, _) in MODULES.items():
-        for imported in IMPORTS[name]:
+    for name, (top, _) in modules().items():
+        for imported in imports()[name]:
             parts = imported.split(".")
             if parts[0] == "moas_gui" and len(parts) > 1 and parts[1] != top \
-                    and f"moas_gui.{parts[1]}" in MODULES | _packages():
+                    and f"moas_gui.{parts[1]}" in modules() | _packages():
                 edges[top].add(parts[1])
     return edges
 
@@ -104,7 +113,7 @@ def _packages() -> dict[str, tuple[str, Path]]:
 
 
 def test_every_package_of_moas_gui_has_a_rule() -> None:
-    tops = {top for top, _ in MODULES.values()} - {"__init__", "manual", "resources", "examples"}
+    tops = {top for top, _ in modules().values()} - {"__init__", "manual", "resources", "examples"}
     assert tops <= set(ALLOWED), f"add a rule for {sorted(tops - set(ALLOWED))}"
 
 
@@ -131,21 +140,21 @@ def test_the_packages_import_each_other_without_a_cycle() -> None:
 
 
 def test_hw_imports_nothing_from_net_and_net_only_rotator_types_from_hw() -> None:
-    for name, (top, _) in MODULES.items():
+    for name, (top, _) in modules().items():
         if top == "hw":
-            assert not {i for i in IMPORTS[name] if i.startswith("moas_gui.net")}, name
+            assert not {i for i in imports()[name] if i.startswith("moas_gui.net")}, name
         if top == "net":
-            used = {i for i in IMPORTS[name] if i.startswith("moas_gui.hw")}
-            modules = {i for i in used if i in MODULES}
-            assert modules <= NET_MAY_USE_FROM_HW, f"{name} uses {sorted(modules)}"
+            used = {i for i in imports()[name] if i.startswith("moas_gui.hw")}
+            taken = {i for i in used if i in modules()}
+            assert taken <= NET_MAY_USE_FROM_HW, f"{name} uses {sorted(taken)}"
 
 
 @pytest.mark.parametrize("package", sorted(PURE))
 def test_the_engine_and_the_configuration_import_no_qt_loop_serial_or_socket(
         package: str) -> None:
-    for name, (top, _) in MODULES.items():
+    for name, (top, _) in modules().items():
         if top == package:
-            roots = {i.split(".")[0] for i in IMPORTS[name]}
+            roots = {i.split(".")[0] for i in imports()[name]}
             assert not roots & FORBIDDEN_IN_PURE, f"{name} imports {sorted(roots & FORBIDDEN_IN_PURE)}"
 
 

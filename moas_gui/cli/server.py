@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import asyncio
 import logging
-import os
 import signal
 import sys
 from pathlib import Path
@@ -61,6 +60,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--uninstall-desktop", action="store_true",
                         help="remove what --install-desktop registered, and exit")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
+    # no options: only the test hooks set these (main)
+    parser.set_defaults(switch_timing=None, rotator_timing=None)
     return parser
 
 
@@ -94,15 +95,13 @@ def check(path: str) -> int:
 
 def _options(args: argparse.Namespace) -> object:
     from moas_gui.app import ServerOptions
-    from moas_gui.hw.rotators.base import TIMING_HOOK, timing_from_hook
+    from moas_gui.hw.moas2.timing import ENVIRONMENT
+    from moas_gui.hw.rotators.base import TIMING_HOOK
 
-    rotator_timing = None
-    hook = os.environ.get(TIMING_HOOK)
-    if hook:  # a test hook: docs/rotators.md
-        try:
-            rotator_timing = timing_from_hook(hook)
-        except ValueError as error:
-            raise SystemExit(f"moas-server: {TIMING_HOOK}: {error}") from None
+    if args.switch_timing is not None:
+        log.info("Switch link clocks from %s (a test hook): %s", ENVIRONMENT, args.switch_timing)
+    if args.rotator_timing is not None:
+        log.info("Rotator delays from %s (a test hook): %s", TIMING_HOOK, args.rotator_timing)
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
                          dxlog_port=args.dxlog_port, wintest_port=args.wintest_port,
@@ -112,7 +111,8 @@ def _options(args: argparse.Namespace) -> object:
                          web_port=args.web_port,
                          max_clients=args.max_clients,
                          start_rotator_program=False if args.no_rotator_program else None,
-                         rotator_timing=rotator_timing)
+                         switch_timing=args.switch_timing,
+                         rotator_timing=args.rotator_timing)
 
 
 def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | None]:
@@ -327,6 +327,15 @@ def main(argv: list[str] | None = None) -> int:
             print("moas-server: --check needs a configuration file", file=sys.stderr)
             return 2
         return check(args.file)
+    from moas_gui.hw.moas2.timing import timing_from_environment
+    from moas_gui.hw.rotators.base import rotator_timing_from_environment
+
+    try:  # tests' shorter clocks, if set
+        args.switch_timing = timing_from_environment()
+        args.rotator_timing = rotator_timing_from_environment()
+    except ValueError as exc:
+        print(f"moas-server: {exc}", file=sys.stderr)
+        return 2
     from moas_gui.net.fd_limit import raise_open_file_limit
 
     raise_open_file_limit()  # each client holds a file handle

@@ -24,6 +24,8 @@ import json
 import logging
 from typing import Any
 
+from moas_gui.errors import MoasError
+
 from .backend import ErrorCode, JSONObject, RequestError
 from .framing import Line, LineSplitter
 from .messages import encode
@@ -31,7 +33,7 @@ from .messages import encode
 log = logging.getLogger("moas_gui.net.client")
 
 
-class ConnectionClosed(ConnectionError):
+class ConnectionClosed(MoasError, ConnectionError):
     """The server closed the connection."""
 
 

@@ -11,6 +11,12 @@
 * :func:`engine_relays` says which relays each switch must close according to the engine
   (from the server's saved state, once it matches what the clients were told), so a test
   can compare them with what the box holds.
+
+The switch faults' servers run their switch links on :data:`SWITCH_TIMING`, short
+clocks handed over by the test hook ``MOAS_GUI_SWITCH_TIMING`` (docs/reliability.md): a
+switch that stops answering is seen in half a second, not three, and the retries come
+quickly.  Everything else, and the switch links of the other faults' servers (where a
+busy server must not pass for a silent switch), runs on its real clock.
 """
 
 from __future__ import annotations
@@ -22,7 +28,7 @@ import signal
 import socket
 import sys
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -36,11 +42,18 @@ from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
 from moas_gui.hw.moas2.emulator.stepped import SteppedBox
 from moas_gui.hw.moas2.sync import initialise
+from moas_gui.hw.moas2.timing import ENVIRONMENT as SWITCH_TIMING_HOOK
+from moas_gui.hw.moas2.timing import LinkTiming
 from moas_gui.state_store import decode, fingerprint, state_path
 
 EXAMPLES = Path(__file__).resolve().parent.parent.parent / "examples"
 
 LEVELS = ("WARNING", "ERROR", "CRITICAL")
+
+SWITCH_TIMING = LinkTiming(ping_interval=0.1, answer_timeout=0.5, retry_first=0.1,
+                           retry_max=0.4)
+"""The switch links' clocks in the fault tests' servers: pings ten times a second,
+half a second of silence makes a switch unresponsive, retries after 0.1 s to 0.4 s."""
 
 
 def free_port(kind: int = socket.SOCK_STREAM) -> int:
@@ -272,13 +285,20 @@ class Station:
     udp: int = field(default_factory=lambda: free_port(socket.SOCK_DGRAM))
 
     @classmethod
-    def make(cls, tmp_path: Path, data: dict[str, Any]) -> Station:
+    def make(cls, tmp_path: Path, data: dict[str, Any],
+             switch_timing: LinkTiming | None = None) -> Station:
+        """A station on ``data``; its servers' switch links run on ``switch_timing``
+        (None: the real clocks)."""
         runtime = tmp_path / "run"
         runtime.mkdir(mode=0o700, exist_ok=True)
         env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_RUNTIME_DIR=str(runtime),
                    XDG_CONFIG_HOME=str(tmp_path / "config"),
                    XDG_DATA_HOME=str(tmp_path / "data"),
                    XDG_STATE_HOME=str(tmp_path / "state"))
+        env.pop(SWITCH_TIMING_HOOK, None)
+        if switch_timing is not None:
+            env[SWITCH_TIMING_HOOK] = " ".join(
+                f"{item.name}={getattr(switch_timing, item.name)}" for item in fields(LinkTiming))
         config = tmp_path / "station.moas"
         config.write_text(json.dumps(data, indent=2))
         return cls(config, env)

@@ -13,12 +13,14 @@ import asyncio
 import json
 import signal
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 from fault_harness import (
     EXAMPLES,
     FAULT_MARKS,
+    SWITCH_TIMING,
     Client,
     FaultyPty,
     Process,
@@ -31,18 +33,26 @@ from fault_harness import (
 )
 
 from moas_gui.hw.moas2.emulator.serve import make_link, serve
+from moas_gui.hw.moas2.timing import REAL_TIMING, LinkTiming
 from moas_gui.hw.moas2.transport import SerialTransport
 from moas_gui.sources.n1mm_packet import radio_info_packet
 
 pytestmark = FAULT_MARKS
 
+SPOILED_TIMING = replace(SWITCH_TIMING, answer_timeout=REAL_TIMING.answer_timeout)
+"""Quick pings, the real answer timeout: a line that spoils every reply loses most
+pongs, and after the answer timeout the switch is rightly unresponsive; the spoiled-reply
+tests watch what the spoiling costs before that (every band change on the air, and no
+news), as with the real clocks."""
 
-def small_station(tmp_path: Path, port: Path) -> Station:
+
+def small_station(tmp_path: Path, port: Path,
+                  switch_timing: LinkTiming = SWITCH_TIMING) -> Station:
     data = json.loads((EXAMPLES / "small-station.moas").read_text())
     data["Switches"][0]["Port"] = str(port)
     data["UseN1MMLogger"] = True
     data["N1MMLogger"] = [{"Address": "127.0.0.1", "Station": 1}]
-    return Station.make(tmp_path, data)
+    return Station.make(tmp_path, data, switch_timing)
 
 
 async def test_emulator_killed_mid_transmit_and_started_again(tmp_path: Path) -> None:
@@ -79,9 +89,10 @@ async def test_emulator_killed_mid_transmit_and_started_again(tmp_path: Path) ->
         await emulator.end()
 
 
-async def scripted_station(tmp_path: Path) -> tuple[Station, ScriptedSwitch, Process]:
+async def scripted_station(tmp_path: Path, switch_timing: LinkTiming = SWITCH_TIMING,
+                           ) -> tuple[Station, ScriptedSwitch, Process]:
     switch = ScriptedSwitch(tmp_path / "moas1").plug()
-    station = small_station(tmp_path, switch.link)
+    station = small_station(tmp_path, switch.link, switch_timing)
     server = await station.server("--no-rotator-program")
     return station, switch, server
 
@@ -167,7 +178,7 @@ def reordered(switch: ScriptedSwitch) -> Callable[[bytes], bytes]:
 
 @pytest.mark.parametrize("spoil", ["garbage", "truncated", "reordered"])
 async def test_spoiled_replies_cost_nothing_on_the_air(tmp_path: Path, spoil: str) -> None:
-    station, switch, server = await scripted_station(tmp_path)
+    station, switch, server = await scripted_station(tmp_path, SPOILED_TIMING)
     try:
         client = await Client.connect(station.tcp, server)
         while (await client.state())["switches"] != [{"id": 1, "status": "ok"}]:
@@ -179,7 +190,7 @@ async def test_spoiled_replies_cost_nothing_on_the_air(tmp_path: Path, spoil: st
         for khz in (14025.0, 7020.0, 3510.0, 21030.0):
             station.logger(radio_info_packet(1, khz))
             await holds_what_the_engine_says(station, client, lambda: switch.relays)
-        await asyncio.sleep(1.5)  # a ping or two through the spoiled line
+        await asyncio.sleep(3 * SPOILED_TIMING.ping_interval)  # pings through the spoiled line
         assert client.switch_news(1, told) == [], server.text(mark)
         assert (await client.state())["switches"] == [{"id": 1, "status": "ok"}]
         assert server.problems(mark) == [], server.text(mark)
@@ -201,7 +212,10 @@ async def test_a_switch_that_stops_answering_and_comes_back(tmp_path: Path) -> N
         await until(lambda: "unresponsive" in client.switch_news(1, told), timeout=8,
                     what="the client told the switch is unresponsive")
         station.logger(radio_info_packet(1, 7020.0))  # while it says nothing
-        await asyncio.sleep(1.2)  # a retry or two meets the silence too
+        # a retry meets the silence too: it asks the unit id, gives up, and a second asks
+        asked = switch.received.count(b":;")
+        await until(lambda: switch.received.count(b":;") >= asked + 2, timeout=8,
+                    what="two retries")
         switch.endpoint.silent = False
         await until(lambda: client.switch_news(1, told)[-1:] == ["ok"], timeout=15,
                     what="the client told the switch is ok again")
@@ -209,6 +223,7 @@ async def test_a_switch_that_stops_answering_and_comes_back(tmp_path: Path) -> N
         assert changes(client.switch_news(1, told)) == ["unresponsive", "ok"]
         problems = server.problems(mark)
         assert len(problems) == 1 and "stopped answering" in problems[0], server.text(mark)
+        assert f"nothing for {SWITCH_TIMING.answer_timeout:.1f} s" in problems[0]
         assert "answers again" in server.text(mark)
         await client.close()
     finally:

@@ -11,6 +11,7 @@ from pathlib import Path
 from fault_harness import (
     EXAMPLES,
     FAULT_MARKS,
+    SWITCH_TIMING,
     Client,
     ScriptedSwitch,
     Station,
@@ -32,7 +33,7 @@ async def test_second_switch_fails_while_the_first_keeps_working(tmp_path: Path)
     data["Switches"][1]["Port"] = str(two.link)
     data["N1MMLogger"] = [{"Address": "127.0.0.1", "Station": 1}]
     data["StartMOASRotator"] = False
-    station = Station.make(tmp_path, data)
+    station = Station.make(tmp_path, data, SWITCH_TIMING)
     server = await station.server("--no-rotator-program")
     try:
         client = await Client.connect(station.tcp, server)

@@ -20,7 +20,9 @@ Its life, in plain words:
   Before the box is ready it only remembers the state.
 * It pings once a second.  Three seconds without a well-formed message, or
   the port going away, make it ``unresponsive``; it then closes the port and
-  tries again after 0.5 s, 1 s, 2 s ... up to 8 s, and on success checks, as
+  tries again after 0.5 s, 1 s, 2 s ... up to 8 s (:class:`.timing.LinkTiming`;
+  every wait is on the link's :class:`~moas_gui.clock.Clock`, which tests
+  replace by a fake one), and on success checks, as
   after a restart, whether the box still holds what it was last told: then
   only the difference to the latest state goes out, else the box is loaded
   again.  A box that answers a ping "inactive"
@@ -42,12 +44,13 @@ import re
 import time
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass, fields, is_dataclass
+from dataclasses import fields, is_dataclass
 from enum import Enum
 from pathlib import Path
 from typing import Any, TypeVar
 
 from ...aio import cancel_and_wait
+from ...clock import LOOP_CLOCK, Clock, timeout
 from ...engine.switchstate import STATIONS, SwitchState
 from ...files import write_text_atomic
 from ...retry import Backoff, keep_trying
@@ -81,6 +84,7 @@ from .messages import (
 from .questions import Answer, Questions
 from .replies import encode_reply
 from .sync import DEFAULT_EVENTS, CommandPlan, difference, differs, initialise, stopped
+from .timing import REAL_TIMING, LinkTiming
 from .transport import EmulatorTransport, SerialTransport, Transport
 
 log = logging.getLogger("moas_gui.hw.moas2.link")
@@ -98,16 +102,6 @@ class LinkStatus(str, Enum):
     STOPPED = "stopped"
 
 
-@dataclass(frozen=True, slots=True)
-class LinkTiming:
-    """The link's clocks, in seconds (tests shorten them)."""
-
-    ping_interval: float = 1.0
-    answer_timeout: float = 3.0
-    retry_first: float = 0.5
-    retry_max: float = 8.0
-
-
 class SwitchLink:
     """Owns one MOAS II switch."""
 
@@ -121,14 +115,18 @@ class SwitchLink:
         on_tr: Callable[[int, bool], None] | None = None,
         on_error: Callable[[str], None] | None = None,
         indicate_tr: bool = True,
-        timing: LinkTiming = LinkTiming(),
+        timing: LinkTiming = REAL_TIMING,
         transport: Transport | None = None,
         held: SwitchState | None = None,
+        clock: Clock = LOOP_CLOCK,
     ) -> None:
         self.switch_id = switch_id
         self.port = port
         self.echo = echo
         self.timing = timing
+        self.clock = clock
+        """What pings, answer timeouts and retries wait on (and the built-in emulator's
+        timers run on)."""
         self._on_status = on_status
         self._on_tr = on_tr
         self._on_error = on_error
@@ -136,7 +134,7 @@ class SwitchLink:
         self.emulator: EmulatedBox | None = None
         if transport is None:
             if port == EMULATOR_PORT:
-                self.emulator = EmulatedBox(EmulatorModel(unit_id=echo or 0))
+                self.emulator = EmulatedBox(EmulatorModel(unit_id=echo or 0), clock=clock)
                 transport = EmulatorTransport(self.emulator)
             else:
                 transport = SerialTransport(port)
@@ -270,7 +268,7 @@ class SwitchLink:
 
     async def _supervise(self) -> None:
         retry = Backoff(first=self.timing.retry_first, factor=2.0, most=self.timing.retry_max)
-        await keep_trying(self._attempt, retry)
+        await keep_trying(self._attempt, retry, pause=self.clock.sleep)
 
     async def _attempt(self) -> bool:
         """One session and its end; True if the box became ready (the retries start over)."""
@@ -319,13 +317,13 @@ class SwitchLink:
             log.info("%s answers again", self.where)
         self._last_problem = ""
         self._set_status(LinkStatus.STOPPED if self._stopped else LinkStatus.OK)
-        loop = asyncio.get_running_loop()
         while True:
             with contextlib.suppress(TimeoutError):
-                await asyncio.wait_for(self._lost.wait(), self.timing.ping_interval)
+                async with timeout(self.clock, self.timing.ping_interval):
+                    await self._lost.wait()
             if self._lost.is_set():
                 return True
-            if loop.time() - self._last_heard > self.timing.answer_timeout:
+            if self.clock.now() - self._last_heard > self.timing.answer_timeout:
                 self._problem(
                     logging.WARNING,
                     f"{self.where} stopped answering (nothing for "
@@ -475,18 +473,25 @@ class SwitchLink:
         """Send ``command`` and wait for a message of ``reply_type``."""
         if not self._open:
             return None
-        loop = asyncio.get_running_loop()
-        future: asyncio.Future[Any] = loop.create_future()
+        future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
         if isinstance(command, Ping):
             self._ping(future)
         else:
-            self._questions.ask(reply_type, future, loop.time() + 2 * self.timing.answer_timeout)
+            forget_at = self.clock.now() + 2 * self.timing.answer_timeout
+            self._questions.ask(reply_type, future, forget_at)
             self._write(encode(command))
+        result: _R
         try:
-            result: _R = await asyncio.wait_for(future, self.timing.answer_timeout)
-            return result
-        except (TimeoutError, PortError):
+            async with timeout(self.clock, self.timing.answer_timeout):
+                result = await future
+        except TimeoutError:
+            if not future.done() or future.cancelled() or future.exception() is not None:
+                future.cancel()  # the asker gave up: a late answer goes to nobody
+                return None
+            result = future.result()  # answered in the very turn the time ran out
+        except PortError:
             return None
+        return result
 
     # ------------------------------------------------------------------ reading
 
@@ -498,7 +503,7 @@ class SwitchLink:
             if isinstance(message, Malformed):
                 log.debug("%s: skipped %r: %s", self.where, message.raw, message.reason)
                 continue
-            now = asyncio.get_running_loop().time()
+            now = self.clock.now()
             self._last_heard = now
             if isinstance(message, UnitIdReply):
                 self._unit_said(message)

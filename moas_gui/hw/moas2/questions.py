@@ -39,7 +39,8 @@ class _Question:
     reply_type: type
     future: asyncio.Future[Any]
     forget_at: float
-    """Loop time after which an answer is no longer expected once its asker gave up."""
+    """The link clock's time after which an answer is no longer expected once its asker
+    gave up."""
 
 
 class Questions:

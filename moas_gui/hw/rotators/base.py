@@ -24,8 +24,9 @@ from __future__ import annotations
 
 import logging
 import math
+import os
 from abc import ABC, abstractmethod
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
@@ -166,6 +167,18 @@ def timing_from_hook(text: str) -> Timing:
     return replace(Timing(), **changes)
 
 
+def rotator_timing_from_environment(environ: Mapping[str, str] = os.environ) -> Timing | None:
+    """The test hook's delays (:data:`TIMING_HOOK`), or None when it is not set.
+    Raises ValueError naming the variable and the pair it cannot take."""
+    text = environ.get(TIMING_HOOK)
+    if not text:
+        return None
+    try:
+        return timing_from_hook(text)
+    except ValueError as exc:
+        raise ValueError(f"{TIMING_HOOK}: {exc}") from None
+
+
 def describe(rotator: Rotator) -> str:
     """``rotator 3 (Tribander)``: how log lines and errors name a rotator."""
     name = rotator.short_name or rotator.long_name
@@ -263,5 +276,6 @@ __all__ = [
     "Timing",
     "UnusableRotator",
     "describe",
+    "rotator_timing_from_environment",
     "timing_from_hook",
 ]

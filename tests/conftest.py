@@ -55,3 +55,24 @@ def runtime_dir() -> Iterator[Path]:
         yield path
     finally:
         shutil.rmtree(path, ignore_errors=True)
+
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """The slow tests (real processes, real clocks) are shared out among the workers and
+    run first: xdist's ``worksteal`` hands each worker one contiguous share of the list,
+    so each share starts with its part of the slow tests and the quick ones fill the
+    rest, instead of one worker ending the run alone on a long test picked up last."""
+    slow = [item for item in items if item.get_closest_marker("realtime") is not None]
+    quick = [item for item in items if item.get_closest_marker("realtime") is None]
+    workers = getattr(config, "workerinput", {}).get("workercount", 1)
+    ordered: list[pytest.Item] = []
+    left = len(items)
+    for worker in range(workers):  # the sizes worksteal's first split gives each worker
+        share = left // (workers - worker)
+        left -= share
+        part = slow[worker::workers]
+        take = max(0, share - len(part))
+        ordered += part + quick[:take]
+        quick = quick[take:]
+    items[:] = ordered + quick

@@ -20,6 +20,7 @@ from tests.web_station import Protocol, Station, browser_missing, chrome, until,
 
 MISSING = browser_missing()
 pytestmark = [
+    pytest.mark.realtime,
     pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
     pytest.mark.skipif(MISSING is not None, reason=f"no browser to test with: {MISSING}"),
 ]

@@ -31,6 +31,7 @@ from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
 from moas_gui.net.web import WebServer, start_web
 from moas_gui.sources.base import EventSink, SourceEvent
 from moas_gui.sources.n1mm import N1MMListener
+from moas_gui.sources.otrsp import AuxAntenna
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 from moas_gui.state_store import StateKeeper
 
@@ -87,7 +88,7 @@ class Running:
     """The latest transmit focus, receive focus and run state the loggers told."""
     focus_table: FocusTable = field(default_factory=FocusTable)
     """Each station's transmit and receive focus (moas_gui/engine/focus.py)."""
-    pending: list[SourceEvent] = field(default_factory=list)
+    pending: list[SourceEvent | AuxAntenna] = field(default_factory=list)
     """What the sources said in this turn of the event loop, decided together."""
     published: set[tuple[int, int]] | None = None
     """While a batch is decided: the radios whose entries were published."""

@@ -49,7 +49,7 @@ def test_source_options_are_read(text: str, spec: SourceSpec) -> None:
 
 @pytest.mark.parametrize(("text", "words"), [
     ("omnirig", "is not a source; the sources are rigctld"),
-    ("rigctld:port=4532", "'port' is not one of its options (radio, rate)"),
+    ("rigctld:port=4532", "'port' is not one of its options (radio, rate, station)"),
     ("rigctld:99999", "is not between 1 and 65535"),
     ("rigctld:4532,rate=0", "between 0.1 and 100"),
     ("otrsp", "otrsp needs the serial port"),

@@ -123,6 +123,11 @@ class OtrspSource:
                 await task
         self._close_transport()
 
+    def forget(self) -> None:
+        """Pass the next focus and AUX command on even if it repeats the last (the engine
+        restarted)."""
+        self._said.clear()
+
     def _close_transport(self) -> None:
         transport, self._transport = self._transport, None
         if transport is not None:

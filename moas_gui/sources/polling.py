@@ -125,6 +125,10 @@ class PolledRig:
             with contextlib.suppress(asyncio.CancelledError):
                 await task
 
+    def forget(self) -> None:
+        """Report the next reading even if it has not changed (the engine restarted)."""
+        self._last = None
+
     # -- the loop ---------------------------------------------------------------------------
     async def _run(self) -> None:
         loop = asyncio.get_running_loop()

@@ -4,12 +4,16 @@ at its place."""
 from __future__ import annotations
 
 import json
+from types import SimpleNamespace
 
+import pytest
+
+from moas_gui.cli import server
 from moas_gui.config import parse_config
 from moas_gui.config.model import N1MMStation, WinTestStation
 from moas_gui.config.rigs import RigDaemon
 from moas_gui.config.summary import summarize
-from moas_gui.sources.spec import config_specs, server_spec
+from moas_gui.sources.spec import SourceSpec, config_specs, server_spec
 from tests.test_config_loader import BASE
 
 
@@ -185,3 +189,44 @@ def test_every_rig_source_mistake_is_said_at_its_line() -> None:
     assert (second, (f"this Flrig entry polls 127.0.0.1:12345 again (also on line "
                     f"{_line(text, '127.0.0.1:12345', flrig) - 2}); one rig daemon serves one "
                     "radio")) in warnings, warnings
+
+
+# -- moas-server --source --------------------------------------------------------------
+
+def test_the_server_command_line_takes_rig_sources_naming_their_station() -> None:
+    args = server._parser().parse_args(
+        ["--source", "rigctld:4534,station=1,radio=2", "--source", "otrsp:COM7,station=2",
+         "station.moas"])
+    options = server._options(args)
+    assert options.sources == (  # type: ignore[attr-defined]
+        SourceSpec("rigctld", "4534", {"station": "1", "radio": "2"}),
+        SourceSpec("otrsp", "COM7", {"station": "2"}))
+    assert server.launch_request(args)["source"] == ("rigctld:4534,station=1,radio=2 "
+                                                     "otrsp:COM7,station=2")
+
+
+@pytest.mark.parametrize(("text", "words"), [
+    ("rigctld:4532", "the server needs the station this source feeds: rigctld:4532,station=N"),
+    ("n1mm", "n1mm is turned on in the configuration"),
+    ("flrig:1,station=x", "'x' is not a whole number"),
+])
+def test_a_bad_server_source_is_a_usage_error_that_says_why(
+        text: str, words: str, capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exited:
+        server._parser().parse_args(["--source", text, "station.moas"])
+    assert exited.value.code == 2
+    assert words in capsys.readouterr().err
+
+
+def test_a_second_launch_with_other_sources_is_refused_by_the_running_server() -> None:
+    running = SimpleNamespace(
+        options=server._options(server._parser().parse_args(
+            ["--source", "rigctld:4534,station=1"])),
+        client_address=("127.0.0.1", 12059))
+    same = server.launch_request(server._parser().parse_args(
+        ["--source", "rigctld:4534,station=1"]))
+    other = server.launch_request(server._parser().parse_args(
+        ["--source", "flrig:station=1"]))
+    assert server.vet_launch(running, same, headless=False) is None
+    refusal = server.vet_launch(running, other, headless=False)
+    assert refusal is not None and "--source flrig:station=1" in refusal

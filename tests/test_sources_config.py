@@ -87,7 +87,7 @@ def test_turned_on_with_nothing_to_do_is_a_warning() -> None:
 # -- the rig sources the server runs: Rigctld, Flrig, OTRSP --------------------------------
 
 RIGS = {
-    "Rigctld": [{"Station": 1, "Radio": 2, "Address": "shack-pc:4534", "Rate": 5},
+    "Rigctld": [{"Station": 1, "Radio": 2, "Address": "shack-pc:4534", "Rate": 5, "Retry": 2},
                 {"Station": 1, "Enabled": False}],
     "Flrig": [{"Station": 1, "Address": "12346"}],
     "OTRSP": [{"Station": 1, "Port": "/dev/ttyUSB1", "Radio1": 2, "Radio2": 1,
@@ -97,14 +97,15 @@ RIGS = {
 
 def test_the_rig_source_keys_are_read_and_summarized() -> None:
     config = parse_config(text_of(**RIGS), "t.moas").unwrap()
-    assert config.rigctld == (RigDaemon(1, 2, "shack-pc:4534", 5),
+    assert config.rigctld == (RigDaemon(1, 2, "shack-pc:4534", 5, 2),
                               RigDaemon(1, enabled=False))
     assert config.flrig == (RigDaemon(1, 1, "12346"),)
     [otrsp] = config.otrsp
     assert (otrsp.port, otrsp.radio1, otrsp.radio2) == ("/dev/ttyUSB1", 2, 1)
     assert otrsp.antennas() == {(1, 3): 1, (2, 3): 2}
     summary = summarize(config)
-    assert "rigctld at shack-pc:4534: station 1 radio 2, 5 polls a second" in summary
+    assert ("rigctld at shack-pc:4534: station 1 radio 2, 5 polls a second, first retry "
+            "after 2 s") in summary
     assert "rigctld at 127.0.0.1:4532: station 1 radio 1, 10 polls a second (Enabled: false" \
         in summary
     assert "flrig at 127.0.0.1:12346: station 1 radio 1, 10 polls a second" in summary
@@ -115,9 +116,10 @@ def test_the_rig_source_keys_are_read_and_summarized() -> None:
 def test_the_entries_and_the_command_line_say_the_same_thing() -> None:
     config = parse_config(text_of(**RIGS), "t.moas").unwrap()
     assert config_specs(config) == [  # the disabled entry is not run
-        server_spec("rigctld:shack-pc:4534,station=1,radio=2,rate=5"),
-        server_spec("flrig:12346,station=1,radio=1,rate=10"),
-        server_spec("otrsp:/dev/ttyUSB1,station=1,radio1=2,radio2=1,ant1.3=1,ant2.3=2"),
+        server_spec("rigctld:shack-pc:4534,station=1,radio=2,rate=5,retry=2"),
+        server_spec("flrig:12346,station=1,radio=1,rate=10,retry=0.5"),
+        server_spec("otrsp:/dev/ttyUSB1,station=1,radio1=2,radio2=1,retry=0.5,ant1.3=1,"
+                    "ant2.3=2"),
     ]
 
 
@@ -139,7 +141,8 @@ def test_every_rig_source_mistake_is_said_at_its_line() -> None:
                     {"Station": 1, "Address": "pc:65536"},
                     {"Station": 1, "Rate": 1000},
                     {"Radio": 1}],
-        "Flrig": [{"Station": 1, "Address": "127.0.0.1:12345"}, {"Station": 1, "Radio": 2}],
+        "Flrig": [{"Station": 1, "Address": "127.0.0.1:12345"},
+                  {"Station": 1, "Radio": 2, "Retry": 0}],
         "OTRSP": [{"Station": 1, "Port": "emulator"},
                   {"Station": 1, "Port": "COM7", "Radio2": 4,
                    "AUX1": [{"Value": 300, "Antenna": 1}, {"Value": 4, "Antenna": 77},
@@ -161,6 +164,8 @@ def test_every_rig_source_mistake_is_said_at_its_line() -> None:
                                            "be from 0.1 to 100")),
         (_line(text, '"Radio": 1', _line(text, '"Rate": 1000', rig)) - 1,  # its "{" line
          "this Rigctld entry needs \"Station\""),
+        (_line(text, '"Retry": 0', flrig),
+         '"Retry" of this Flrig entry is 0; it must be from 0.01 to 10'),
         (_line(text, '"Port": "emulator"', otrsp), ("this OTRSP entry's port \"emulator\" is "
                                                    "switch 1's port")),
         (_line(text, '"Radio2": 4', otrsp), ("\"Radio2\" of this OTRSP entry names station 1 "

@@ -12,6 +12,7 @@ configuration                  command line
 ``"Station": 1``               ``station=1``
 ``"Radio": 2``                 ``radio=2``
 ``"Rate": 5``                  ``rate=5`` (polls a second)
+``"Retry": 2``                 ``retry=2`` (seconds before the first new attempt)
 ``"Radio1"``, ``"Radio2"``     ``radio1=``, ``radio2=``
 ``"AUX1": [{"Value": 3,        ``ant1.3=5``
 "Antenna": 5}]``
@@ -36,6 +37,11 @@ DEFAULT_RATE: Final = 10.0
 """Polls a second when an entry gives no ``Rate``."""
 LOWEST_RATE: Final = 0.1
 HIGHEST_RATE: Final = 100.0
+DEFAULT_RETRY: Final = 0.5
+"""Seconds before the first new attempt after a daemon or port went away (then doubling
+up to 10 s) when an entry gives no ``Retry``."""
+LOWEST_RETRY: Final = 0.01
+HIGHEST_RETRY: Final = 10.0
 
 
 def split_address(text: str, default_port: int) -> tuple[str, int]:
@@ -63,6 +69,8 @@ class RigDaemon:
     """``[HOST:]PORT``; empty: the daemon's default port on this computer."""
     rate: float = DEFAULT_RATE
     """Polls a second (0.1 to 100)."""
+    retry: float = DEFAULT_RETRY
+    """Seconds before the first new attempt after the daemon went away (0.01 to 10)."""
     enabled: bool = True
 
 
@@ -86,6 +94,8 @@ class OtrspPort:
     aux1: tuple[AuxAntennaEntry, ...] = ()
     """Radio 1's AUX values and the antennas they select."""
     aux2: tuple[AuxAntennaEntry, ...] = ()
+    retry: float = DEFAULT_RETRY
+    """Seconds before the first new attempt after the port went away (0.01 to 10)."""
     enabled: bool = True
 
     def antennas(self) -> dict[tuple[int, int], int]:
@@ -183,6 +193,7 @@ def reading_has(reading: Reading, obj: object, key: str) -> bool:
 
 
 __all__ = [
-    "DEFAULT_RATE", "FLRIG_PORT", "HIGHEST_RATE", "LOWEST_RATE", "RIGCTLD_PORT",
+    "DEFAULT_RATE", "DEFAULT_RETRY", "FLRIG_PORT", "HIGHEST_RATE", "HIGHEST_RETRY",
+    "LOWEST_RATE", "LOWEST_RETRY", "RIGCTLD_PORT",
     "AuxAntennaEntry", "OtrspPort", "RigDaemon", "check_rig_sources", "split_address",
 ]

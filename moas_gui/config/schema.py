@@ -275,6 +275,9 @@ WINTEST = _spec(m.WinTestStation, {
     "Radio": Field("radio", ID, meaning="the radio number for it (default 1)"),
 })
 
+RETRY = number(rigs.LOWEST_RETRY, rigs.HIGHEST_RETRY)
+
+
 def _rig_daemon(default_port: int) -> GroupSpec:
     return _spec(rigs.RigDaemon, {
         "Station": Field("station", ID, required=True, meaning="the station number"),
@@ -282,6 +285,7 @@ def _rig_daemon(default_port: int) -> GroupSpec:
         "Address": Field("address", text, meaning=f"[host:]port (default 127.0.0.1:{default_port})"),
         "Rate": Field("rate", number(rigs.LOWEST_RATE, rigs.HIGHEST_RATE),
                       meaning="polls a second (default 10)"),
+        "Retry": Field("retry", RETRY, meaning="seconds before the first new attempt"),
         "Enabled": Field("enabled", boolean),
     })
 
@@ -300,6 +304,7 @@ OTRSP = _spec(rigs.OtrspPort, {
     "Radio2": Field("radio2", ID),
     "AUX1": Field("aux1", list_of(group_of(AUX_ANTENNA, "AUX1 entry"))),
     "AUX2": Field("aux2", list_of(group_of(AUX_ANTENNA, "AUX2 entry"))),
+    "Retry": Field("retry", RETRY, meaning="seconds before the first new attempt"),
     "Enabled": Field("enabled", boolean),
 })
 

@@ -8,9 +8,11 @@ client's ``--station``; the rest, per kind (docs/sources.md and docs/client.md):
 kind       address (item without ``=``)          names
 =========  ====================================  =====================================
 rigctld    ``[HOST:]PORT`` (127.0.0.1:4532)      ``station``, ``radio`` (1),
-                                                 ``rate`` (polls/s, 10)
-flrig      ``[HOST:]PORT`` (127.0.0.1:12345)     ``station``, ``radio`` (1), ``rate`` (10)
-otrsp      the serial port (required)            ``station``, ``radio1``, ``radio2`` (1, 2);
+                                                 ``rate`` (polls/s, 10), ``retry`` (s, 0.5)
+flrig      ``[HOST:]PORT`` (127.0.0.1:12345)     ``station``, ``radio`` (1), ``rate`` (10),
+                                                 ``retry``
+otrsp      the serial port (required)            ``station``, ``radio1``, ``radio2`` (1, 2),
+                                                 ``retry``;
                                                  ``ant<R>.<N>=ID``: AUX<R> value N is antenna ID
 n1mm       UDP port (12060)                      ``bind`` (0.0.0.0)
 dxlog      UDP port (12060)                      ``bind``
@@ -35,16 +37,24 @@ from dataclasses import dataclass, field
 from typing import Final
 
 from moas_gui.config.model import Config
-from moas_gui.config.rigs import FLRIG_PORT, RIGCTLD_PORT, split_address
-from moas_gui.sources.base import EventSink, Source
+from moas_gui.config.rigs import (
+    FLRIG_PORT,
+    HIGHEST_RATE,
+    HIGHEST_RETRY,
+    LOWEST_RATE,
+    LOWEST_RETRY,
+    RIGCTLD_PORT,
+    split_address,
+)
+from moas_gui.sources.base import DEFAULT_RETRY, EventSink, Source
 
 KINDS: Final = ("rigctld", "flrig", "otrsp", "n1mm", "dxlog", "wintest")
 SERVER_KINDS: Final = ("rigctld", "flrig", "otrsp")
 """What ``moas-server --source`` runs (the loggers' listeners have their own keys)."""
 _NAMES: Final[dict[str, frozenset[str]]] = {
-    "rigctld": frozenset({"station", "radio", "rate"}),
-    "flrig": frozenset({"station", "radio", "rate"}),
-    "otrsp": frozenset({"station", "radio1", "radio2"}),
+    "rigctld": frozenset({"station", "radio", "rate", "retry"}),
+    "flrig": frozenset({"station", "radio", "rate", "retry"}),
+    "otrsp": frozenset({"station", "radio1", "radio2", "retry"}),
     "n1mm": frozenset({"bind"}),
     "dxlog": frozenset({"bind"}),
     "wintest": frozenset({"name", "radio", "bind"}),
@@ -121,6 +131,14 @@ def _host_port(spec: SourceSpec, default: int) -> tuple[str, int]:
         raise ValueError(f"{spec.address!r}: {exc}") from None
 
 
+def _decimal(text: str, name: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(f"{name}={text} is not a number") from None
+    return value  # NaN and infinities fail the range checks
+
+
 def _check(spec: SourceSpec) -> None:
     if spec.kind == "otrsp" and not spec.address:
         raise ValueError("otrsp needs the serial port: otrsp:/dev/ttyUSB1 or otrsp:COM5")
@@ -130,12 +148,14 @@ def _check(spec: SourceSpec) -> None:
         if name in spec.options:
             _number(spec.options[name], f"{name}={spec.options[name]}", 0)
     if "rate" in spec.options:
-        try:
-            rate = float(spec.options["rate"])
-        except ValueError:
-            raise ValueError(f"rate={spec.options['rate']} is not a number") from None
-        if not 0.1 <= rate <= 100:
+        rate = _decimal(spec.options["rate"], "rate")
+        if not LOWEST_RATE <= rate <= HIGHEST_RATE:
             raise ValueError(f"rate={rate:g}: polls a second must be between 0.1 and 100")
+    if "retry" in spec.options:
+        retry = _decimal(spec.options["retry"], "retry")
+        if not LOWEST_RETRY <= retry <= HIGHEST_RETRY:
+            raise ValueError(f"retry={retry:g}: the first pause after a failure must be "
+                             "between 0.01 and 10 seconds")
     if spec.kind in ("rigctld", "flrig", "n1mm", "dxlog", "wintest") and spec.address:
         _host_port(spec, 1)
 
@@ -160,12 +180,12 @@ def config_specs(config: Config) -> list[SourceSpec]:
             if rig.enabled:
                 specs.append(SourceSpec(kind, rig.address, {
                     "station": str(rig.station), "radio": str(rig.radio),
-                    "rate": f"{rig.rate:g}"}))
+                    "rate": f"{rig.rate:g}", "retry": f"{rig.retry:g}"}))
     for otrsp in config.otrsp:
         if otrsp.enabled:
             specs.append(SourceSpec("otrsp", otrsp.port, {
                 "station": str(otrsp.station), "radio1": str(otrsp.radio1),
-                "radio2": str(otrsp.radio2)}, otrsp.antennas()))
+                "radio2": str(otrsp.radio2), "retry": f"{otrsp.retry:g}"}, otrsp.antennas()))
     return specs
 
 
@@ -176,18 +196,20 @@ def make_source(spec: SourceSpec, station: int, sink: EventSink) -> Source:
     station = int(o.get("station", station))
     radio = int(o.get("radio", "1"))
     interval = 1.0 / float(o.get("rate", "10"))
+    retry = float(o.get("retry", str(DEFAULT_RETRY)))
     if spec.kind in ("rigctld", "flrig"):
         from moas_gui.sources.flrig import FlrigSource
         from moas_gui.sources.rigctld import RigctldSource
 
         rig = RigctldSource if spec.kind == "rigctld" else FlrigSource
         host, port = _host_port(spec, RIGCTLD_PORT if spec.kind == "rigctld" else FLRIG_PORT)
-        return rig(station, radio, sink, host=host, port=port, interval=interval)
+        return rig(station, radio, sink, host=host, port=port, interval=interval, retry=retry)
     if spec.kind == "otrsp":
         from moas_gui.sources.otrsp import OtrspMap, OtrspSource
 
         radios = {1: int(o.get("radio1", "1")), 2: int(o.get("radio2", "2"))}
-        return OtrspSource(spec.address, OtrspMap(station, radios, dict(spec.antennas)), sink)
+        return OtrspSource(spec.address, OtrspMap(station, radios, dict(spec.antennas)), sink,
+                           retry=retry)
     bind = o.get("bind", "0.0.0.0")
     if spec.kind == "wintest":
         from moas_gui.sources.wintest import WinTestListener

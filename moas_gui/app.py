@@ -35,12 +35,10 @@ from moas_gui import state_store
 from moas_gui.config import Config, LoadResult, load_config
 from moas_gui.config.model import RotatorControl
 from moas_gui.engine import Changes, Engine, NotRunning
-from moas_gui.engine.focus import FocusKind, active_first
+from moas_gui.engine.focus import FocusKind
 from moas_gui.engine.operations import (
     Operation,
-    Select,
     SelectDirection,
-    SetFrequency,
     SetTransmitting,
     StartSwitches,
     StopSwitches,
@@ -63,15 +61,8 @@ from moas_gui.running import (
     start_sources,
     start_switches,
 )
-from moas_gui.sources.base import (
-    ActiveRadio,
-    FocusRadio,
-    FrequencyReport,
-    SourceEvent,
-    event_key,
-)
-from moas_gui.sources.base import Running as LoggerRunning
-from moas_gui.sources.otrsp import AuxAntenna
+from moas_gui.source_focus import ServerEvent, SourceFocus
+from moas_gui.sources.base import SourceEvent
 from moas_gui.sources.server import ServerSources
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
@@ -90,6 +81,7 @@ class ServerApp:
         self._alert_listeners: list[Callable[[str, str], None]] = []
         self._status = ServerStatus()
         self._lock = asyncio.Lock()
+        self._focus = SourceFocus(lambda: self._run, self.act)
 
     # -- what the window and tests read ---------------------------------------------
     @property
@@ -363,107 +355,27 @@ class ServerApp:
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
 
-    # -- the inputs from the logger, the switches' T/R lines and the rotators ----------------
+    # -- frequency sources (loggers, rig daemons, OTRSP): moas_gui/source_focus.py ----------
+    def _source_event(self, event: ServerEvent) -> None:
+        """The sink of every server source (docs/sources.md)."""
+        self._focus.event(event)
+
     def _logger_frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
-        if self._run is None:
-            return
-        try:
-            self.act(SetFrequency(station, radio, khz, tx_khz))
-        except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
-            log.debug("Logger frequency for station %d radio %d ignored: %s",
-                      station, radio, exc)
-
-    # -- frequency sources (loggers) and N1MM's rotor window: see docs/sources.md ------
-    def _source_event(self, event: SourceEvent) -> None:
-        """The one way a source's event reaches the engine.
-
-        What the sources say in one turn of the event loop (an SO2R logger's packets
-        for both radios) is decided together, in :meth:`_decide_batch`."""
-        run = self._run
-        if run is None:
-            return
-        if isinstance(event, LoggerRunning):
-            self._source_focus(event)
-            return
-        if not run.pending:
-            asyncio.get_running_loop().call_soon(self._decide_batch, run)
-        run.pending.append(event)
-
-    def _decide_batch(self, run: Running) -> None:
-        """Focus first, then frequencies with each station's active radio first (docs/engine.md,
-        "Transmit focus"), then antennas a logger chose; a radio whose focus changed and
-        that no decision published is published once at the end."""
-        events, run.pending = run.pending, []
-        if run is not self._run:
-            return
-        focused: set[tuple[int, int]] = set()
-        for event in events:
-            if isinstance(event, ActiveRadio | FocusRadio):
-                kind: FocusKind = "active" if isinstance(event, ActiveRadio) else "focus"
-                try:
-                    focused |= self.set_focus(event.station, event.radio, kind,
-                                              origin=event.origin, publish=False)
-                except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
-                    log.debug("Logger %s for station %d radio %d ignored: %s", kind,
-                              event.station, event.radio, exc)
-                self._source_focus(event)
-        run.published = set()
-        reports = [e for e in events if isinstance(e, FrequencyReport)]
-        for r in active_first(reports, lambda r: (r.station, r.radio), run.focus_table):
-            self._logger_frequency(r.station, r.radio, r.rx_khz, r.tx_khz)
-        for event in events:
-            if isinstance(event, AuxAntenna):
-                try:
-                    self.act(Select(event.station, event.radio, event.antenna, "both", True))
-                except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
-                    log.info("%s asked for antenna %d on station %d radio %d: %s",
-                             event.origin, event.antenna, event.station, event.radio, exc)
-        published, run.published = run.published, None
-        if run.clients is not None:
-            for station, radio in sorted(focused - (published or set())):
-                run.clients.publish_radio(self.radio_entry(station, radio))
+        self._focus.frequency(station, radio, khz, tx_khz)
 
     def set_focus(self, station: int, radio: int, kind: FocusKind, *,
                   origin: str = "a client", publish: bool = True) -> set[tuple[int, int]]:
-        """The station's transmit focus (``"active"``) or receive focus (``"focus"``) is
-        on ``radio``; the radio entries of the station say so to clients (at once when
-        ``publish``).  Returns the radios whose entry changed.  Raises the engine's
-        not-found error for a radio that does not exist."""
-        run = self._run
-        if run is None:
-            raise NotRunning("No configuration is open")
-        run.engine.radio_view(station, radio)
-        before = run.focus_table.set(station, kind, radio)
-        if before == radio:
-            return set()
-        if kind == "active":
-            log.info("Station %d: transmit focus on radio %d (%s)", station, radio, origin)
-        changed = {(station, number) for number in (before, radio) if number is not None}
-        if publish and run.clients is not None:
-            for _, number in sorted(changed):
-                run.clients.publish_radio(self.radio_entry(station, number))
-        return changed
+        """The station's transmit (``"active"``) or receive (``"focus"``) focus is on
+        ``radio`` (:meth:`SourceFocus.set_focus`); returns the radios whose entry changed."""
+        return self._focus.set_focus(station, radio, kind, origin=origin, publish=publish)
 
     def radio_entry(self, station: int, radio: int) -> dict[str, object]:
         """A radio's entry for clients: the engine's view plus ``active`` and ``focus``."""
-        run = self._run
-        if run is None:
-            raise NotRunning("No configuration is open")
-        entry: dict[str, object] = run.engine.radio_view(station, radio).to_dict()
-        entry.update(run.focus_table.fields(station, radio))
-        return entry
-
-    def _source_focus(self, event: SourceEvent) -> None:
-        """Transmit focus, receive focus and run state of a station, from its logger."""
-        run = self._run
-        if run is not None:
-            run.focus[event_key(event)] = event
-            log.debug("Logger says: %s", event)
+        return self._focus.radio_entry(station, radio)
 
     def source_focus(self) -> dict[tuple[object, ...], SourceEvent]:
-        """The latest focus and run-state events: ``("ActiveRadio", station)``,
-        ``("FocusRadio", station)``, ``("running", station, radio)``."""
-        return dict(self._run.focus) if self._run else {}
+        """The latest focus and run-state events the loggers told (:meth:`SourceFocus.latest`)."""
+        return self._focus.latest()
 
     @property
     def sources(self) -> ServerSources | None:

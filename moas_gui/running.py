@@ -2,8 +2,8 @@
 
 :class:`~moas_gui.app.ServerApp` decides *when* (open, restart, close) and owns
 the one door into the engine; this module builds the parts it names: the
-switch links, the frequency sources (N1MM Logger and the other loggers, N1MM's
-rotor window), the rotators and their
+switch links, the frequency sources (N1MM Logger and the other loggers, the
+rig daemons and OTRSP ports, N1MM's rotor window), the rotators and their
 rotctld-compatible listeners, the client server and the browser client's web
 server.  Each part that cannot
 start (a port in use) is logged and left out; the others run.
@@ -31,7 +31,9 @@ from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
 from moas_gui.sources.base import EventSink, SourceEvent
 from moas_gui.sources.n1mm import N1MMListener
+from moas_gui.sources.otrsp import AuxAntenna
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
+from moas_gui.sources.spec import SourceSpec
 from moas_gui.state_store import StateKeeper
 
 if TYPE_CHECKING:  # the web server (aiohttp) is loaded only when a station asks for it
@@ -63,6 +65,8 @@ class ServerOptions:
     """Overrides ``N1MMRotorPort``."""
     n1mm_rotor_headings: tuple[str, ...] | None = None
     """Overrides ``N1MMRotorHeadings`` (``host:port`` texts)."""
+    sources: tuple[SourceSpec, ...] = ()
+    """Rig sources (rigctld, flrig, OTRSP) run beside the configuration's (``--source``)."""
     web_port: int | None = None
     """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
     max_clients: int | None = None
@@ -93,7 +97,7 @@ class Running:
     """The latest transmit focus, receive focus and run state the loggers told."""
     focus_table: FocusTable = field(default_factory=FocusTable)
     """Each station's transmit and receive focus (moas_gui/engine/focus.py)."""
-    pending: list[SourceEvent] = field(default_factory=list)
+    pending: list[SourceEvent | AuxAntenna] = field(default_factory=list)
     """What the sources said in this turn of the event loop, decided together."""
     published: set[tuple[int, int]] | None = None
     """While a batch is decided: the radios whose entries were published."""
@@ -134,7 +138,7 @@ async def start_sources(run: Running, options: ServerOptions, sink: EventSink) -
     settings = SourceSettings(
         udp_port=options.udp_port, udp_bind=options.udp_bind, dxlog_port=options.dxlog_port,
         wintest_port=options.wintest_port, n1mm_rotor_port=options.n1mm_rotor_port,
-        n1mm_rotor_headings=options.n1mm_rotor_headings)
+        n1mm_rotor_headings=options.n1mm_rotor_headings, sources=options.sources)
     hooks = None
     if run.rotators is not None:
         manager, rotators = run.rotators, run.config.rotators

@@ -49,7 +49,7 @@ def test_source_options_are_read(text: str, spec: SourceSpec) -> None:
 
 @pytest.mark.parametrize(("text", "words"), [
     ("omnirig", "is not a source; the sources are rigctld"),
-    ("rigctld:port=4532", "'port' is not one of its options (radio, rate)"),
+    ("rigctld:port=4532", "'port' is not one of its options (radio, rate, retry, station)"),
     ("rigctld:99999", "is not between 1 and 65535"),
     ("rigctld:4532,rate=0", "between 0.1 and 100"),
     ("otrsp", "otrsp needs the serial port"),
@@ -190,7 +190,9 @@ async def test_a_rig_daemon_answering_garbage_sends_nothing_to_the_server(
     rig_port = rig.sockets[0].getsockname()[1]
     client = await asyncio.create_subprocess_exec(
         sys.executable, "-m", "moas_gui.cli.client", "--headless", "--station", "1",
-        "--source", f"rigctld:{rig_port},rate=50", f"127.0.0.1:{server.port}",
+        # retry=0.01: the pauses between the garbage answers are short (each answer that
+        # makes no sense ends the connection; the next one comes after a growing pause)
+        "--source", f"rigctld:{rig_port},rate=50,retry=0.01", f"127.0.0.1:{server.port}",
         stdout=asyncio.subprocess.DEVNULL, stderr=asyncio.subprocess.PIPE)
     try:
         await until(lambda: polls >= 4, 30, what="the client polling the garbage daemon")

@@ -139,7 +139,8 @@ async def polling(rigctld: tuple[int, list[subprocess.Popen[bytes]]]
                                            list[subprocess.Popen[bytes]]]]:
     port, processes = rigctld
     events = Events()
-    source = RigctldSource(2, 1, events, port=port, interval=0.02, timeout=1.0)
+    # short pauses before new attempts: a daemon that went away is found again at once
+    source = RigctldSource(2, 1, events, port=port, interval=0.02, timeout=1.0, retry=0.01)
     await source.start()
     yield source, events, port, processes
     await source.close()

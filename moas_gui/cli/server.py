@@ -51,6 +51,11 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--n1mm-rotor-headings", action="append", metavar="HOST:PORT",
                         help="where N1MM's rotor window listens for headings, instead of "
                              "N1MMRotorHeadings (repeat for several)")
+    parser.add_argument("--source", action="append", type=_source, metavar="KIND:OPTIONS",
+                        help="also run this rig source beside the file's Rigctld, Flrig and "
+                             "OTRSP entries: rigctld, flrig or otrsp naming its station, e.g. "
+                             "rigctld:4532,station=1,radio=2 (repeat for several; see "
+                             "docs/sources.md)")
     parser.add_argument("--no-rotator-program", action="store_true",
                         help="never start the local MOAS Rotator program")
     parser.add_argument("--new-instance", action="store_true",
@@ -73,6 +78,20 @@ def _positive(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"{value} is not a number of clients (1 or more)")
     return value
+
+
+def _source(text: str) -> object:
+    from moas_gui.sources.spec import server_spec
+
+    try:
+        return server_spec(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _source_text(specs: list[object] | tuple[object, ...] | None) -> str | None:
+    """The --source options as one text (None without any), to compare two launches."""
+    return " ".join(spec.text() for spec in specs) if specs else None  # type: ignore[attr-defined]
 
 
 def check(path: str) -> int:
@@ -109,6 +128,7 @@ def _options(args: argparse.Namespace) -> object:
                          n1mm_rotor_headings=(None if args.n1mm_rotor_headings is None
                                               else tuple(args.n1mm_rotor_headings)),
                          web_port=args.web_port,
+                         sources=tuple(args.source or ()),
                          max_clients=args.max_clients,
                          start_rotator_program=False if args.no_rotator_program else None,
                          switch_timing=args.switch_timing,
@@ -161,6 +181,8 @@ def launch_request(args: argparse.Namespace) -> dict[str, object]:
         value = getattr(args, key)
         if value is not None:
             launch[key] = value
+    if args.source:
+        launch["source"] = _source_text(args.source)
     return launch
 
 
@@ -196,7 +218,7 @@ def vet_launch(app: object, launch: dict[str, object], *, headless: bool) -> str
                else (address[1] if address else None),
                "udp_port": options.udp_port, "dxlog_port": options.dxlog_port,
                "wintest_port": options.wintest_port, "n1mm_rotor_port": options.n1mm_rotor_port,
-               "web_port": options.web_port}
+               "web_port": options.web_port, "source": _source_text(options.sources)}
     for key, value in running.items():
         if key in launch and launch[key] != value:
             flag = "--" + key.replace("_", "-")

@@ -13,6 +13,7 @@ from .jsontree import JObject, describe, parse
 from .model import Config
 from .problems import ConfigError, Problem, Severity
 from .reading import BAD, Reading
+from .rigs import check_rig_sources
 from .schema import TOP
 from .validate import check
 from .wiring import check_wiring
@@ -102,6 +103,7 @@ def parse_config(text: str, filename: str = "<config>", path: Path | None = None
                 reading.remember(config, root)
                 check(config, reading)
                 check_wiring(config, reading)
+                check_rig_sources(config, reading)
     problems = tuple(sorted(reading.problems, key=lambda p: (p.line == 0, p.line, p.column)))
     has_errors = any(p.severity is Severity.ERROR for p in problems)
     return LoadResult(None if has_errors else config, problems)

@@ -15,6 +15,7 @@ from enum import Enum
 from pathlib import Path
 
 from . import relays as relay_numbers
+from .rigs import OtrspPort, RigDaemon
 
 
 class RotatorControl(str, Enum):
@@ -373,6 +374,11 @@ class Config:
     ``n1mm_rotor_headings`` (``host:port`` texts)."""
     n1mm_rotor_port: int = 12040
     n1mm_rotor_headings: tuple[str, ...] = ()
+    rigctld: tuple[RigDaemon, ...] = ()
+    """Hamlib rig daemons the server polls, one radio each (``Rigctld``)."""
+    flrig: tuple[RigDaemon, ...] = ()
+    otrsp: tuple[OtrspPort, ...] = ()
+    """Serial ports an SO2R logger writes OTRSP to (``OTRSP``)."""
     protect_same_band: bool = False
     start_moas_rotator: bool = True
     client_allow: tuple[str, ...] | None = None

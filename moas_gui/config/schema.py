@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from . import model as m
+from . import rigs
 from .reading import (
     Field,
     GroupSpec,
@@ -274,6 +275,39 @@ WINTEST = _spec(m.WinTestStation, {
     "Radio": Field("radio", ID, meaning="the radio number for it (default 1)"),
 })
 
+RETRY = number(rigs.LOWEST_RETRY, rigs.HIGHEST_RETRY)
+
+
+def _rig_daemon(default_port: int) -> GroupSpec:
+    return _spec(rigs.RigDaemon, {
+        "Station": Field("station", ID, required=True, meaning="the station number"),
+        "Radio": Field("radio", ID, meaning="the radio number (default 1)"),
+        "Address": Field("address", text, meaning=f"[host:]port (default 127.0.0.1:{default_port})"),
+        "Rate": Field("rate", number(rigs.LOWEST_RATE, rigs.HIGHEST_RATE),
+                      meaning="polls a second (default 10)"),
+        "Retry": Field("retry", RETRY, meaning="seconds before the first new attempt"),
+        "Enabled": Field("enabled", boolean),
+    })
+
+
+AUX_ANTENNA = _spec(rigs.AuxAntennaEntry, {
+    "Value": Field("value", integer(0, 255), required=True,
+                   meaning="the AUX value 0-255 the logger sends"),
+    "Antenna": Field("antenna", ID, required=True, meaning="the antenna it selects"),
+})
+
+OTRSP = _spec(rigs.OtrspPort, {
+    "Station": Field("station", ID, required=True, meaning="the station number"),
+    "Port": Field("port", text, required=True,
+                  meaning='the serial port the logger writes OTRSP to, such as "COM7"'),
+    "Radio1": Field("radio1", ID),
+    "Radio2": Field("radio2", ID),
+    "AUX1": Field("aux1", list_of(group_of(AUX_ANTENNA, "AUX1 entry"))),
+    "AUX2": Field("aux2", list_of(group_of(AUX_ANTENNA, "AUX2 entry"))),
+    "Retry": Field("retry", RETRY, meaning="seconds before the first new attempt"),
+    "Enabled": Field("enabled", boolean),
+})
+
 TOP = GroupSpec({
     "Templates": Field("templates", list_of(group_of(TEMPLATE, "template"))),
     "Antennas": Field("antennas", list_of(group_of(ANTENNA, "antenna"))),
@@ -297,6 +331,10 @@ TOP = GroupSpec({
     "UseN1MMRotor": Field("use_n1mm_rotor", boolean),
     "N1MMRotorPort": Field("n1mm_rotor_port", integer(1, 65535)),
     "N1MMRotorHeadings": Field("n1mm_rotor_headings", STRINGS),
+    "Rigctld": Field("rigctld", list_of(group_of(_rig_daemon(rigs.RIGCTLD_PORT),
+                                                 "Rigctld entry"))),
+    "Flrig": Field("flrig", list_of(group_of(_rig_daemon(rigs.FLRIG_PORT), "Flrig entry"))),
+    "OTRSP": Field("otrsp", list_of(group_of(OTRSP, "OTRSP entry"))),
     "ProtectSameBand": Field("protect_same_band", boolean),
     "StartMOASRotator": Field("start_moas_rotator", boolean),
     "ClientAllow": Field("client_allow", STRINGS),

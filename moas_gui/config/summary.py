@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from .model import Config, RotatorControl
 from .relays import relay_span
+from .rigs import DEFAULT_RETRY, FLRIG_PORT, RIGCTLD_PORT, split_address
 
 BANDS = (
     ("160 m", 1800, 2000), ("80 m", 3500, 4000), ("60 m", 5330, 5410), ("40 m", 7000, 7300),
@@ -76,7 +77,38 @@ def summarize(config: Config) -> str:
         where = ", ".join(config.n1mm_rotor_headings) or "nowhere"
         lines.append(f"N1MM rotor window: commands on UDP {config.n1mm_rotor_port}, "
                      f"headings to {where}")
+    lines.extend(_rig_lines(config))
     return "\n".join(lines)
+
+
+def _rig_lines(config: Config) -> list[str]:
+    """One line per rig daemon the server polls and per OTRSP port it reads."""
+    lines = []
+    for name, entries, default_port in (("rigctld", config.rigctld, RIGCTLD_PORT),
+                                        ("flrig", config.flrig, FLRIG_PORT)):
+        for rig in entries:
+            host, port = split_address(rig.address, default_port)
+            off = "" if rig.enabled else " (Enabled: false, not polled)"
+            lines.append(f"{name} at {host}:{port}: station {rig.station} radio {rig.radio}, "
+                         f"{rig.rate:g} polls a second{_retry(rig.retry)}{off}")
+    for otrsp in config.otrsp:
+        aux = [f"AUX{n} {e.value} = {_antenna(config, e.antenna)}"
+               for n, table in ((1, otrsp.aux1), (2, otrsp.aux2)) for e in table]
+        off = "" if otrsp.enabled else " (Enabled: false, not read)"
+        lines.append(f"OTRSP on {otrsp.port}: station {otrsp.station}, radio 1 = radio "
+                     f"{otrsp.radio1}, radio 2 = radio {otrsp.radio2}"
+                     f"{'; ' + ', '.join(aux) if aux else '; no AUX antennas'}"
+                     f"{_retry(otrsp.retry)}{off}")
+    return lines
+
+
+def _retry(seconds: float) -> str:
+    return "" if seconds == DEFAULT_RETRY else f", first retry after {seconds:g} s"
+
+
+def _antenna(config: Config, antenna_id: int) -> str:
+    antenna = config.antenna(antenna_id)
+    return f"antenna {antenna_id}" + (f" ({antenna.label})" if antenna is not None else "")
 
 
 __all__ = ["summarize"]

@@ -34,6 +34,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Final, Protocol, TypeAlias, runtime_checkable
 
+from moas_gui.config.rigs import DEFAULT_RETRY as CONFIG_RETRY
 from moas_gui.net.log_limit import LogLimiter, held_text
 
 MAX_KHZ: Final = 300_000_000.0
@@ -211,10 +212,16 @@ class ConnectionLog:
                             self.failures, reason, held_text(held))
 
 
+DEFAULT_RETRY: Final = CONFIG_RETRY
+"""Seconds before the first new attempt after a source went away (then doubling)."""
+RETRY_LIMIT: Final = 10.0
+"""The longest pause between two attempts."""
+
+
 class Backoff:
     """Retry delays: ``first``, doubling up to ``limit``; :meth:`reset` after a success."""
 
-    def __init__(self, first: float = 0.5, limit: float = 10.0) -> None:
+    def __init__(self, first: float = DEFAULT_RETRY, limit: float = RETRY_LIMIT) -> None:
         self._first = first
         self._limit = limit
         self._next = first
@@ -286,7 +293,7 @@ class SourceHub:
 
 
 __all__ = [
-    "LOG_INTERVAL", "MAX_KHZ",
+    "DEFAULT_RETRY", "LOG_INTERVAL", "MAX_KHZ", "RETRY_LIMIT",
     "ActiveRadio", "Backoff", "BadInputLog", "ConnectionLog", "EventSink", "FocusRadio",
     "FrequencyReport", "Running", "Source", "SourceEvent", "SourceHub", "check_khz", "event_key",
 ]

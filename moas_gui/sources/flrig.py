@@ -14,7 +14,7 @@ import asyncio
 import time
 from typing import Final
 
-from moas_gui.sources.base import EventSink
+from moas_gui.sources.base import DEFAULT_RETRY, EventSink
 from moas_gui.sources.flrig_rpc import (
     DEFAULT_PORT,
     FlrigReplyError,
@@ -42,9 +42,10 @@ class FlrigSource(PolledRig):
 
     def __init__(self, station: int, radio: int, on_event: EventSink, *,
                  host: str = "127.0.0.1", port: int = DEFAULT_PORT,
-                 interval: float = DEFAULT_INTERVAL, timeout: float = DEFAULT_TIMEOUT) -> None:
+                 interval: float = DEFAULT_INTERVAL, timeout: float = DEFAULT_TIMEOUT,
+                 retry: float = DEFAULT_RETRY) -> None:
         super().__init__(station, radio, on_event, host=host, port=port, interval=interval,
-                         timeout=timeout)
+                         timeout=timeout, retry=retry)
         self._parser = ResponseParser()
         self._streams: tuple[asyncio.StreamReader, asyncio.StreamWriter] | None = None
         self._own: asyncio.StreamWriter | None = None

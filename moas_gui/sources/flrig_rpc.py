@@ -27,7 +27,9 @@ import xmlrpc.client
 from typing import Final
 from xml.parsers.expat import ExpatError
 
-DEFAULT_PORT: Final = 12345
+from moas_gui.config.rigs import FLRIG_PORT
+
+DEFAULT_PORT: Final = FLRIG_PORT
 PATH: Final = "/RPC2"
 MAX_HEADER: Final = 8192
 MAX_BODY: Final = 65536

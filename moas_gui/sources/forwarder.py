@@ -46,6 +46,7 @@ class Forwarder:
         self._dirty: dict[tuple[object, ...], None] = {}
         self._wake = asyncio.Event()
         self._task: asyncio.Task[None] | None = None
+        self._closing = False
         self._limiter = LogLimiter()
         self.sent = 0
         self.refused = 0
@@ -69,6 +70,10 @@ class Forwarder:
 
     async def aclose(self) -> None:
         self._unsubscribe()
+        # the flag ends the loop even when the cancellation is lost: on Python 3.11 a
+        # request's wait_for returns its reply instead when both happen at once
+        self._closing = True
+        self._wake.set()
         task, self._task = self._task, None
         if task is not None:
             task.cancel()
@@ -82,10 +87,11 @@ class Forwarder:
         return next(iter(self._dirty))
 
     async def _run(self) -> None:
-        while True:
+        while not self._closing:
             await self._wake.wait()
             self._wake.clear()
-            while self._dirty and self.connection.link is LinkState.CONNECTED:
+            while self._dirty and self.connection.link is LinkState.CONNECTED \
+                    and not self._closing:
                 key = self._next()
                 del self._dirty[key]
                 event = self._latest[key]

@@ -32,6 +32,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from moas_gui.sources.base import (
+    DEFAULT_RETRY,
+    RETRY_LIMIT,
     ActiveRadio,
     Backoff,
     BadInputLog,
@@ -91,6 +93,7 @@ class OtrspSource:
         *,
         transport_factory: Callable[[str], Any] | None = None,
         clock: Callable[[], float] = time.monotonic,
+        retry: float = DEFAULT_RETRY,
     ) -> None:
         self.port = port
         self.mapping = mapping
@@ -99,7 +102,7 @@ class OtrspSource:
         self._factory = transport_factory or _serial_transport
         self.bad = BadInputLog(log, self.label, clock=clock)
         self.link = ConnectionLog(log, f"OTRSP port {port}", clock=clock)
-        self._backoff = Backoff()
+        self._backoff = Backoff(retry, max(retry, RETRY_LIMIT))
         self._parser = CommandParser()
         self._transport: Any = None
         self._task: asyncio.Task[None] | None = None
@@ -122,6 +125,11 @@ class OtrspSource:
             with contextlib.suppress(asyncio.CancelledError):
                 await task
         self._close_transport()
+
+    def forget(self) -> None:
+        """Pass the next focus and AUX command on even if it repeats the last (the engine
+        restarted)."""
+        self._said.clear()
 
     def _close_transport(self) -> None:
         transport, self._transport = self._transport, None

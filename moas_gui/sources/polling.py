@@ -7,7 +7,8 @@ frequencies or transmit state changed since the last report (and always for
 the first reading after a connection).  The rules of docs/sources.md:
 
 - **The daemon goes away** (refused, reset, no answer within ``timeout``):
-  one warning, then attempts with a growing pause (0.5 s doubling to 10 s)
+  one warning, then attempts with a growing pause (``retry``, 0.5 s, doubling
+  to 10 s)
   and only rate-limited debug lines; one info line when it is back.
 - **A reply that makes no sense** (garbage, too long, an absurd frequency):
   dropped with one rate-limited debug line, nothing reaches the sink; the
@@ -26,6 +27,8 @@ from dataclasses import dataclass
 from typing import Final
 
 from moas_gui.sources.base import (
+    DEFAULT_RETRY,
+    RETRY_LIMIT,
     Backoff,
     BadInputLog,
     ConnectionLog,
@@ -73,6 +76,7 @@ class PolledRig:
         port: int,
         interval: float = DEFAULT_INTERVAL,
         timeout: float = DEFAULT_TIMEOUT,
+        retry: float = DEFAULT_RETRY,
         logger: logging.Logger | None = None,
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
@@ -90,8 +94,9 @@ class PolledRig:
         self.log = log
         self.bad = BadInputLog(log, self.label, clock=clock)
         self.link = ConnectionLog(log, f"{self.label} at {host}:{port}", clock=clock)
-        self._backoff = Backoff()
+        self._backoff = Backoff(retry, max(retry, RETRY_LIMIT))
         self._task: asyncio.Task[None] | None = None
+        self._closing = False
         self._last: RigState | None = None
         self.polls = 0
         """Answers read (for tests and benchmarks)."""
@@ -119,19 +124,26 @@ class PolledRig:
         return self.port
 
     async def close(self) -> None:
+        self._closing = True  # ends the loop even if a cancellation were lost on the way
         task, self._task = self._task, None
         if task is not None:
             task.cancel()
             with contextlib.suppress(asyncio.CancelledError):
                 await task
 
+    def forget(self) -> None:
+        """Report the next reading even if it has not changed (the engine restarted)."""
+        self._last = None
+
     # -- the loop ---------------------------------------------------------------------------
     async def _run(self) -> None:
         loop = asyncio.get_running_loop()
-        while True:
+        while not self._closing:
             try:
-                reader, writer = await asyncio.wait_for(
-                    asyncio.open_connection(self.host, self.port), self.timeout)
+                # asyncio.timeout, not wait_for: on Python 3.11 wait_for may swallow the
+                # cancellation of close() when its inner call finishes at the same moment
+                async with asyncio.timeout(self.timeout):
+                    reader, writer = await asyncio.open_connection(self.host, self.port)
             except (OSError, TimeoutError) as exc:
                 self.link.lost(_why(exc))
                 await asyncio.sleep(self._backoff.next())
@@ -140,9 +152,10 @@ class PolledRig:
             self._last = None
             try:
                 await self.connected(reader, writer)
-                while True:
+                while not self._closing:
                     started = loop.time()
-                    state = await asyncio.wait_for(self.poll(reader, writer), self.timeout)
+                    async with asyncio.timeout(self.timeout):
+                        state = await self.poll(reader, writer)
                     self.polls += 1
                     if self.polls == 1 or not self.link.connected:
                         self.link.up()

@@ -15,7 +15,7 @@ import asyncio
 import time
 from typing import Final
 
-from moas_gui.sources.base import EventSink
+from moas_gui.sources.base import DEFAULT_RETRY, EventSink
 from moas_gui.sources.polling import (
     DEFAULT_INTERVAL,
     DEFAULT_TIMEOUT,
@@ -42,9 +42,10 @@ class RigctldSource(PolledRig):
 
     def __init__(self, station: int, radio: int, on_event: EventSink, *,
                  host: str = "127.0.0.1", port: int = DEFAULT_PORT,
-                 interval: float = DEFAULT_INTERVAL, timeout: float = DEFAULT_TIMEOUT) -> None:
+                 interval: float = DEFAULT_INTERVAL, timeout: float = DEFAULT_TIMEOUT,
+                 retry: float = DEFAULT_RETRY) -> None:
         super().__init__(station, radio, on_event, host=host, port=port, interval=interval,
-                         timeout=timeout)
+                         timeout=timeout, retry=retry)
         self._parser = ReplyParser()
 
     async def connected(self, reader: asyncio.StreamReader,

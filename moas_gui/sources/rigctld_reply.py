@@ -34,7 +34,9 @@ import math
 from dataclasses import dataclass
 from typing import Final
 
-DEFAULT_PORT: Final = 4532
+from moas_gui.config.rigs import RIGCTLD_PORT
+
+DEFAULT_PORT: Final = RIGCTLD_PORT
 POLL: Final = b"+f\n+s\n+i\n+t\n"
 """One poll: frequency, split, split (transmit) frequency, PTT."""
 COMMANDS: Final = ("get_freq", "get_split_vfo", "get_split_freq", "get_ptt")

@@ -4,10 +4,13 @@
 N1MM Logger+ (``UseN1MMLogger``, ``UDPPort``), DXLog.net (``UseDXLog``,
 ``DXLogPort``; the N1MM listener serves it when both share a port), Win-Test
 (``UseWinTest``, ``WinTestPort``, ``WinTest``) and N1MM's rotor window
-(``UseN1MMRotor``, ``N1MMRotorPort``, ``N1MMRotorHeadings``).  Every event
+(``UseN1MMRotor``, ``N1MMRotorPort``, ``N1MMRotorHeadings``), and the rig
+sources: each ``Rigctld`` and ``Flrig`` entry's polled daemon, each ``OTRSP``
+entry's serial port, and those ``moas-server --source`` adds.  Every event
 goes through one :class:`~moas_gui.sources.base.SourceHub` (newest wins,
 overlaps logged once) to the one sink the app gives.  A port that cannot be
-opened is logged and that source left out; the others run.
+opened is logged and that source left out; the others run.  A rig daemon or
+OTRSP port that is not there yet is waited for quietly (docs/sources.md).
 """
 
 from __future__ import annotations
@@ -22,6 +25,9 @@ from moas_gui.sources.base import EventSink, SourceHub
 from moas_gui.sources.dxlog import DXLogListener
 from moas_gui.sources.n1mm import N1MMListener
 from moas_gui.sources.n1mm_rotor import N1MMRotorServer, parse_destination
+from moas_gui.sources.otrsp import OtrspSource
+from moas_gui.sources.polling import PolledRig
+from moas_gui.sources.spec import SourceSpec, config_specs, make_source
 from moas_gui.sources.udp import DatagramSource
 from moas_gui.sources.wintest import WinTestListener
 
@@ -40,6 +46,8 @@ class SourceSettings:
     wintest_port: int | None = None
     n1mm_rotor_port: int | None = None
     n1mm_rotor_headings: tuple[str, ...] | None = None
+    sources: tuple[SourceSpec, ...] = ()
+    """Rig sources run beside the configuration's (``--source``; each names its station)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,6 +80,10 @@ class ServerSources:
         self.dxlog: DXLogListener | None = None
         self.wintest: WinTestListener | None = None
         self.rotor: N1MMRotorServer | None = None
+        self.polled: list[PolledRig] = []
+        """The rig daemons polled (``Rigctld``, ``Flrig``, ``--source``), in order."""
+        self.otrsp: list[OtrspSource] = []
+        """The OTRSP ports read, in order."""
 
     async def start(self) -> None:
         c, s = self._config, self._settings
@@ -94,6 +106,39 @@ class ServerSources:
                 "Win-Test broadcasts", port)
         if c.use_n1mm_rotor and self._rotators is not None:
             await self._start_rotor(host)
+        await self._start_rigs()
+
+    async def _start_rigs(self) -> None:
+        """The configuration's rig daemons and OTRSP ports, then the command line's."""
+        given = [spec for spec in self._settings.sources if self._fits(spec)]
+        for spec in config_specs(self._config) + given:
+            source = make_source(spec, 0, self.hub)
+            await source.start()  # polls or opens in its own task: never fails here
+            if isinstance(source, PolledRig):
+                self.polled.append(source)
+                log.info("Polling %s for station %d radio %d, %g times a second",
+                         source.origin, source.station, source.radio, 1.0 / source.interval)
+            elif isinstance(source, OtrspSource):
+                self.otrsp.append(source)
+                log.info("Reading OTRSP on %s for station %d", source.port,
+                         source.mapping.station)
+
+    def _fits(self, spec: SourceSpec) -> bool:
+        """Whether a command-line source names radios and antennas the configuration has
+        (the configuration's own entries were checked when it was read)."""
+        c, o = self._config, spec.options
+        station = int(o.get("station", "0"))
+        names = [o.get("radio", "1")] if spec.kind != "otrsp" else \
+            [o[k] for k in ("radio1", "radio2") if k in o]
+        wrong = [f"station {station} radio {r}" for r in names if c.radio(station, int(r)) is None]
+        if not any(r.station == station for r in c.radios):
+            wrong = [f"station {station}"]
+        wrong += [f"antenna {a}" for a in sorted(set(spec.antennas.values()))
+                  if c.antenna(a) is None]
+        if wrong:
+            log.error("--source %s is left out: %s %s not in the configuration", spec.text(),
+                      ", ".join(wrong), "is" if len(wrong) == 1 else "are")
+        return not wrong
 
     async def _start_rotor(self, host: str) -> None:
         c, s, hooks = self._config, self._settings, self._rotators
@@ -131,9 +176,14 @@ class ServerSources:
         for listener in (self.n1mm, self.dxlog, self.wintest):
             if listener is not None:
                 listener.forget()
+        for rig in self.polled:
+            rig.forget()
+        for port in self.otrsp:
+            port.forget()
 
     async def close(self) -> None:
-        for part in (self.n1mm, self.dxlog, self.wintest, self.rotor):
+        for part in (self.n1mm, self.dxlog, self.wintest, self.rotor, *self.polled,
+                     *self.otrsp):
             if part is not None:
                 try:
                     await part.close()

@@ -1,15 +1,18 @@
 """``KIND[:OPTIONS]``: a source named on ``moas-client``'s command line (or in its menu).
 
 ``OPTIONS`` is a comma-separated list of ``name=value``; one item without a
-``=`` is the source's address.  The station is the client's ``--station``;
-the rest, per kind (docs/sources.md and docs/client.md):
+``=`` is the source's address.  The station is ``station=N``, or else the
+client's ``--station``; the rest, per kind (docs/sources.md and docs/client.md):
 
 =========  ====================================  =====================================
 kind       address (item without ``=``)          names
 =========  ====================================  =====================================
-rigctld    ``[HOST:]PORT`` (127.0.0.1:4532)      ``radio`` (1), ``rate`` (polls/s, 10)
-flrig      ``[HOST:]PORT`` (127.0.0.1:12345)     ``radio`` (1), ``rate`` (10)
-otrsp      the serial port (required)            ``radio1``, ``radio2`` (1, 2);
+rigctld    ``[HOST:]PORT`` (127.0.0.1:4532)      ``station``, ``radio`` (1),
+                                                 ``rate`` (polls/s, 10), ``retry`` (s, 0.5)
+flrig      ``[HOST:]PORT`` (127.0.0.1:12345)     ``station``, ``radio`` (1), ``rate`` (10),
+                                                 ``retry``
+otrsp      the serial port (required)            ``station``, ``radio1``, ``radio2`` (1, 2),
+                                                 ``retry``;
                                                  ``ant<R>.<N>=ID``: AUX<R> value N is antenna ID
 n1mm       UDP port (12060)                      ``bind`` (0.0.0.0)
 dxlog      UDP port (12060)                      ``bind``
@@ -19,6 +22,12 @@ wintest    UDP port (9871)                       ``name`` (the Win-Test station 
 
 Examples: ``rigctld``, ``rigctld:4534,radio=2``, ``flrig:shack-pc:12345``,
 ``otrsp:/dev/ttyUSB1,ant1.3=5,ant2.3=6``, ``wintest:name=STN1``.
+
+The server runs rigctld, flrig and OTRSP sources too: from its configuration's
+``Rigctld``, ``Flrig`` and ``OTRSP`` entries, whose names are these options'
+(:mod:`moas_gui.config.rigs`), and from ``moas-server --source``, which needs
+``station=N`` (:func:`server_spec`).  :func:`config_specs` turns the entries
+into the same :class:`SourceSpec` a command line gives.
 """
 
 from __future__ import annotations
@@ -27,13 +36,25 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Final
 
-from moas_gui.sources.base import EventSink, Source
+from moas_gui.config.model import Config
+from moas_gui.config.rigs import (
+    FLRIG_PORT,
+    HIGHEST_RATE,
+    HIGHEST_RETRY,
+    LOWEST_RATE,
+    LOWEST_RETRY,
+    RIGCTLD_PORT,
+    split_address,
+)
+from moas_gui.sources.base import DEFAULT_RETRY, EventSink, Source
 
 KINDS: Final = ("rigctld", "flrig", "otrsp", "n1mm", "dxlog", "wintest")
+SERVER_KINDS: Final = ("rigctld", "flrig", "otrsp")
+"""What ``moas-server --source`` runs (the loggers' listeners have their own keys)."""
 _NAMES: Final[dict[str, frozenset[str]]] = {
-    "rigctld": frozenset({"radio", "rate"}),
-    "flrig": frozenset({"radio", "rate"}),
-    "otrsp": frozenset({"radio1", "radio2"}),
+    "rigctld": frozenset({"station", "radio", "rate", "retry"}),
+    "flrig": frozenset({"station", "radio", "rate", "retry"}),
+    "otrsp": frozenset({"station", "radio1", "radio2", "retry"}),
     "n1mm": frozenset({"bind"}),
     "dxlog": frozenset({"bind"}),
     "wintest": frozenset({"name", "radio", "bind"}),
@@ -104,10 +125,18 @@ def _number(text: str, item: str, low: int, high: int = 2_147_483_647) -> int:
 
 
 def _host_port(spec: SourceSpec, default: int) -> tuple[str, int]:
-    host, colon, port = spec.address.rpartition(":")
-    if not colon:
-        host, port = "", spec.address
-    return host or "127.0.0.1", _number(port, spec.address, 1, 65535) if port else default
+    try:
+        return split_address(spec.address, default)
+    except ValueError as exc:
+        raise ValueError(f"{spec.address!r}: {exc}") from None
+
+
+def _decimal(text: str, name: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise ValueError(f"{name}={text} is not a number") from None
+    return value  # NaN and infinities fail the range checks
 
 
 def _check(spec: SourceSpec) -> None:
@@ -115,41 +144,72 @@ def _check(spec: SourceSpec) -> None:
         raise ValueError("otrsp needs the serial port: otrsp:/dev/ttyUSB1 or otrsp:COM5")
     if spec.kind == "wintest" and not spec.options.get("name"):
         raise ValueError("wintest needs the Win-Test station name: wintest:name=STN1")
-    for name in ("radio", "radio1", "radio2"):
+    for name in ("station", "radio", "radio1", "radio2"):
         if name in spec.options:
             _number(spec.options[name], f"{name}={spec.options[name]}", 0)
     if "rate" in spec.options:
-        try:
-            rate = float(spec.options["rate"])
-        except ValueError:
-            raise ValueError(f"rate={spec.options['rate']} is not a number") from None
-        if not 0.1 <= rate <= 100:
+        rate = _decimal(spec.options["rate"], "rate")
+        if not LOWEST_RATE <= rate <= HIGHEST_RATE:
             raise ValueError(f"rate={rate:g}: polls a second must be between 0.1 and 100")
+    if "retry" in spec.options:
+        retry = _decimal(spec.options["retry"], "retry")
+        if not LOWEST_RETRY <= retry <= HIGHEST_RETRY:
+            raise ValueError(f"retry={retry:g}: the first pause after a failure must be "
+                             "between 0.01 and 10 seconds")
     if spec.kind in ("rigctld", "flrig", "n1mm", "dxlog", "wintest") and spec.address:
         _host_port(spec, 1)
 
 
+def server_spec(text: str) -> SourceSpec:
+    """``moas-server --source``: a rigctld, flrig or OTRSP source naming its ``station``."""
+    spec = parse_spec(text)
+    if spec.kind not in SERVER_KINDS:
+        raise ValueError(f"the server's --source runs {', '.join(SERVER_KINDS)}; {spec.kind} "
+                         "is turned on in the configuration (docs/sources.md)")
+    if "station" not in spec.options:
+        raise ValueError(f"{spec.kind}: the server needs the station this source feeds: "
+                         f"{spec.text()},station=N")
+    return spec
+
+
+def config_specs(config: Config) -> list[SourceSpec]:
+    """The configuration's enabled ``Rigctld``, ``Flrig`` and ``OTRSP`` entries, as specs."""
+    specs = []
+    for kind, rigs in (("rigctld", config.rigctld), ("flrig", config.flrig)):
+        for rig in rigs:
+            if rig.enabled:
+                specs.append(SourceSpec(kind, rig.address, {
+                    "station": str(rig.station), "radio": str(rig.radio),
+                    "rate": f"{rig.rate:g}", "retry": f"{rig.retry:g}"}))
+    for otrsp in config.otrsp:
+        if otrsp.enabled:
+            specs.append(SourceSpec("otrsp", otrsp.port, {
+                "station": str(otrsp.station), "radio1": str(otrsp.radio1),
+                "radio2": str(otrsp.radio2), "retry": f"{otrsp.retry:g}"}, otrsp.antennas()))
+    return specs
+
+
 def make_source(spec: SourceSpec, station: int, sink: EventSink) -> Source:
-    """The running-to-be source of ``spec`` for ``station``, handing its events to ``sink``."""
+    """The running-to-be source of ``spec`` for ``station`` (unless the spec names its own),
+    handing its events to ``sink``."""
     o = spec.options
+    station = int(o.get("station", station))
     radio = int(o.get("radio", "1"))
     interval = 1.0 / float(o.get("rate", "10"))
-    if spec.kind == "rigctld":
-        from moas_gui.sources.rigctld import DEFAULT_PORT, RigctldSource
-
-        host, port = _host_port(spec, DEFAULT_PORT)
-        return RigctldSource(station, radio, sink, host=host, port=port, interval=interval)
-    if spec.kind == "flrig":
-        from moas_gui.sources.flrig import DEFAULT_PORT as FLRIG_PORT
+    retry = float(o.get("retry", str(DEFAULT_RETRY)))
+    if spec.kind in ("rigctld", "flrig"):
         from moas_gui.sources.flrig import FlrigSource
+        from moas_gui.sources.rigctld import RigctldSource
 
-        host, port = _host_port(spec, FLRIG_PORT)
-        return FlrigSource(station, radio, sink, host=host, port=port, interval=interval)
+        rig = RigctldSource if spec.kind == "rigctld" else FlrigSource
+        host, port = _host_port(spec, RIGCTLD_PORT if spec.kind == "rigctld" else FLRIG_PORT)
+        return rig(station, radio, sink, host=host, port=port, interval=interval, retry=retry)
     if spec.kind == "otrsp":
         from moas_gui.sources.otrsp import OtrspMap, OtrspSource
 
         radios = {1: int(o.get("radio1", "1")), 2: int(o.get("radio2", "2"))}
-        return OtrspSource(spec.address, OtrspMap(station, radios, dict(spec.antennas)), sink)
+        return OtrspSource(spec.address, OtrspMap(station, radios, dict(spec.antennas)), sink,
+                           retry=retry)
     bind = o.get("bind", "0.0.0.0")
     if spec.kind == "wintest":
         from moas_gui.sources.wintest import WinTestListener
@@ -166,4 +226,5 @@ def make_source(spec: SourceSpec, station: int, sink: EventSink) -> Source:
     return listener({}, on_event=sink, every_sender=station, port=port, host=bind)
 
 
-__all__ = ["KINDS", "SourceSpec", "make_source", "parse_spec"]
+__all__ = ["KINDS", "SERVER_KINDS", "SourceSpec", "config_specs", "make_source", "parse_spec",
+           "server_spec"]

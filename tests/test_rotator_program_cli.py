@@ -46,20 +46,28 @@ def stop(process: subprocess.Popen[str]) -> tuple[int, str]:
     return process.returncode, err
 
 
-def read_lines(sock: socket.socket, wanted: str, timeout: float = 15.0) -> list[str]:
-    sock.settimeout(0.1)
-    data = b""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        try:
-            chunk = sock.recv(4096)
-        except TimeoutError:
-            chunk = b""
-        data += chunk
-        lines = data.decode("ascii").split("\r")
-        if wanted in lines:
-            return lines
-    raise AssertionError(f"no {wanted!r} in {data!r}")
+class Lines:
+    """The program's lines as they come: each wait takes up to the line it wants, and
+    what came after it in the same read stays for the next wait."""
+
+    def __init__(self, sock: socket.socket) -> None:
+        self.sock, self.data = sock, b""
+        sock.settimeout(0.1)
+
+    def until(self, wanted: str, timeout: float = 15.0) -> list[str]:
+        deadline = time.monotonic() + timeout
+        while True:
+            *lines, rest = self.data.decode("ascii").split("\r")
+            if wanted in lines:
+                taken = lines[:lines.index(wanted) + 1]
+                self.data = "\r".join([*lines[len(taken):], rest]).encode("ascii")
+                return taken
+            if time.monotonic() >= deadline:
+                raise AssertionError(f"no {wanted!r} in {self.data!r}")
+            try:
+                self.data += self.sock.recv(4096)
+            except TimeoutError:
+                pass
 
 
 def test_emulator_and_program_work_together_end_to_end(
@@ -74,10 +82,11 @@ def test_emulator_and_program_work_together_end_to_end(
 
     with socket.create_connection(("127.0.0.1", port), timeout=5) as sock:
         sock.sendall(f"VERSION\rCONFIGURE 0 4 {link} 200\r".encode())
-        read_lines(sock, "VERSION 0.1")
-        read_lines(sock, "0 42")
+        lines = Lines(sock)
+        lines.until("VERSION 0.1")
+        lines.until("0 42")
         sock.sendall(b"ROTATE 0 60\r")
-        read_lines(sock, "0 60")
+        lines.until("0 60")
         sock.sendall(b"ROTATE 0 oops\r")
 
     code, err = stop(program)

@@ -7,9 +7,8 @@ answering the server meanwhile."""
 from __future__ import annotations
 
 import asyncio
-import gc
 import sys
-from collections.abc import AsyncIterator, Callable, Iterator
+from collections.abc import AsyncIterator, Callable
 from pathlib import Path
 from typing import Any
 
@@ -75,28 +74,6 @@ async def hold(driver: Any, css: str, seconds: float = 0.9) -> None:
         ActionChains(driver).click_and_hold(element).pause(seconds).release().perform()
 
     await run(do)
-
-
-@pytest.fixture(autouse=True)
-def collect_on_this_thread() -> Iterator[None]:
-    """Selenium runs in worker threads, and a garbage collection starting there would
-    destroy Qt objects left by earlier tests off Qt's thread (a crash later on): those
-    objects are deleted here first, and no collection runs during the test."""
-    qt = sys.modules.get("PySide6.QtWidgets")
-    app = qt.QApplication.instance() if qt is not None else None
-    for _ in range(3):
-        gc.collect()
-        if app is not None:
-            from PySide6.QtCore import QEvent
-
-            app.sendPostedEvents(None, QEvent.Type.DeferredDelete.value)
-            app.processEvents()
-    gc.disable()
-    try:
-        yield
-    finally:
-        gc.enable()
-        gc.collect()
 
 
 @pytest_asyncio.fixture

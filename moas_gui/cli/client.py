@@ -101,6 +101,7 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
     from moas_gui.client.connection import ClientConnection
     from moas_gui.ui.client_sources import ClientSources
     from moas_gui.ui.client_window import ClientWindow
+    from moas_gui.ui.main_thread_gc import MainThreadCollector
     from moas_gui.ui.qt import QApplication, QSettings
 
     existing = QApplication.instance()
@@ -110,6 +111,7 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
     if existing is None:
         qt_app.setOrganizationName("moas-gui")
         qt_app.setApplicationName("moas-client")
+    collector = MainThreadCollector(qt_app)  # noqa: F841 (lives as long as the application)
     loop = qasync.QEventLoop(qt_app)
     asyncio.set_event_loop(loop)
 

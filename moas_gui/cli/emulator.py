@@ -167,8 +167,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     import qasync  # type: ignore[import-untyped]
     from PySide6.QtWidgets import QApplication
 
+    from moas_gui.ui.main_thread_gc import MainThreadCollector
+
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("MOAS II emulator")
+    collector = MainThreadCollector(app)  # noqa: F841 (lives as long as the application)
     try:
         return int(qasync.run(_run(args, windowed=True)))
     except KeyboardInterrupt:

@@ -283,11 +283,13 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
     import qasync
 
     from moas_gui.app import ServerApp
+    from moas_gui.ui.main_thread_gc import MainThreadCollector
     from moas_gui.ui.qt import QSettings
     from moas_gui.ui.server_window import ServerWindow, application_icon, ensure_application
 
     qt_app = ensure_application()
     qt_app.setWindowIcon(application_icon())
+    collector = MainThreadCollector(qt_app)  # noqa: F841 (lives as long as the application)
     loop = qasync.QEventLoop(qt_app)
     asyncio.set_event_loop(loop)
     quit_event = asyncio.Event()

@@ -35,3 +35,6 @@ if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
     .venv/bin/python -m pip install -q --disable-pip-version-check -e ".$extra"
     touch "$stamp"
 fi
+# an editable install compiles nothing: compile the package once here, not in every
+# process that first imports it (servers, emulators and test workers start many)
+.venv/bin/python -m compileall -q -j 0 moas_gui >/dev/null

@@ -38,3 +38,8 @@ fi
 # an editable install compiles nothing: compile the package once here, not in every
 # process that first imports it (servers, emulators and test workers start many)
 .venv/bin/python -m compileall -q -j 0 moas_gui >/dev/null
+if [ "$want_test" = 1 ]; then
+    # pytest compiles each test module in its own way (assertions rewritten): once here,
+    # not once in each of the suite's parallel workers at the same time
+    .venv/bin/python -m pytest -q -p no:cacheprovider -n 0 --collect-only >/dev/null
+fi

@@ -69,6 +69,9 @@ async def test_emulator_killed_mid_transmit_and_started_again(tmp_path: Path) ->
         # the USB adapter pulled while the server is writing a band change
         station.logger(radio_info_packet(1, 7020.0))
         await emulator.end(signal.SIGKILL)
+        # its path goes with it, as a pulled adapter's device node does (the dead
+        # pseudo-terminal's number is soon another test's, behind a stale link)
+        link.unlink(missing_ok=True)
         await until(lambda: "unresponsive" in client.switch_news(1, told),
                     what="the client told the switch is unresponsive")
         station.logger(radio_info_packet(1, 3510.0))  # the logger moves on meanwhile

@@ -30,6 +30,21 @@ class Backoff:
             delay = min(delay * self.factor, self.most)
 
 
+class Pauses:
+    """A :class:`Backoff`'s pauses one at a time, for a loop that waits in its own way:
+    :meth:`next` gives the next pause, :meth:`reset` (after a success) starts again."""
+
+    def __init__(self, backoff: Backoff) -> None:
+        self.backoff = backoff
+        self._delays = backoff.delays()
+
+    def next(self) -> float:
+        return next(self._delays)
+
+    def reset(self) -> None:
+        self._delays = self.backoff.delays()
+
+
 Pause = Callable[[float], Awaitable[None]]
 """Waits the given seconds (``asyncio.sleep``, or a clock's ``sleep`` in tests)."""
 
@@ -56,4 +71,4 @@ async def keep_trying(
         await pause(next(delays))
 
 
-__all__ = ["Backoff", "Pause", "keep_trying"]
+__all__ = ["Backoff", "Pause", "Pauses", "keep_trying"]

@@ -17,6 +17,7 @@ from collections.abc import AsyncIterator
 import pytest
 import pytest_asyncio
 
+from moas_gui.retry import Backoff, Pauses
 from moas_gui.sources.base import FrequencyReport, SourceHub
 from moas_gui.sources.flrig import FlrigSource
 from moas_gui.sources.flrig_rpc import FlrigReplyError, ResponseParser, flag, hz, request
@@ -101,7 +102,7 @@ async def flrig() -> AsyncIterator[tuple[FakeFlrig, FlrigSource, Events]]:
     port = await fake.start()
     events = Events()
     source = FlrigSource(4, 2, events.append, port=port, interval=0.02, timeout=1.0)
-    source._backoff = type(source._backoff)(first=0.05, limit=0.1)
+    source._backoff = Pauses(Backoff(first=0.05, most=0.1))
     await source.start()
     yield fake, source, events
     await source.close()

@@ -22,6 +22,7 @@ from pathlib import Path
 import pytest
 import pytest_asyncio
 
+from moas_gui.retry import Backoff, Pauses
 from moas_gui.sources.base import ActiveRadio, FocusRadio, SourceEvent
 from moas_gui.sources.otrsp import AuxAntenna, OtrspMap, OtrspSource
 from moas_gui.sources.otrsp_command import (
@@ -165,7 +166,7 @@ class Events(list[object]):
 async def source(pty: Pty) -> AsyncIterator[tuple[OtrspSource, Events]]:
     events = Events()
     running = OtrspSource(str(pty.link), MAPPING, events.append)
-    running._backoff = type(running._backoff)(first=0.05, limit=0.1)
+    running._backoff = Pauses(Backoff(first=0.05, most=0.1))
     await running.start()
     while not running.link.connected:
         await asyncio.sleep(0.01)

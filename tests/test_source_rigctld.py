@@ -21,6 +21,7 @@ from collections.abc import AsyncIterator, Iterator
 import pytest
 import pytest_asyncio
 
+from moas_gui.retry import Backoff, Pauses
 from moas_gui.sources.base import FrequencyReport, SourceEvent
 from moas_gui.sources.rigctld import RigctldSource
 from moas_gui.sources.rigctld_reply import (
@@ -216,7 +217,7 @@ async def test_garbage_replies_reach_nothing_and_log_one_debug_line(
     port = server.sockets[0].getsockname()[1]
     events = Events()
     source = RigctldSource(1, 1, events, port=port, interval=0.01, timeout=0.5)
-    source._backoff = type(source._backoff)(first=0.01, limit=0.01)
+    source._backoff = Pauses(Backoff(first=0.01, most=0.01))
     await source.start()
     try:
         while served < 9:

@@ -6,9 +6,9 @@ import logging
 
 import pytest
 
+from moas_gui.retry import Backoff, Pauses
 from moas_gui.sources.base import (
     ActiveRadio,
-    Backoff,
     BadInputLog,
     ConnectionLog,
     FocusRadio,
@@ -128,7 +128,7 @@ def test_a_source_never_reached_warns_once() -> None:
 
 
 def test_backoff_doubles_to_its_limit_and_resets() -> None:
-    backoff = Backoff(0.5, 4.0)
+    backoff = Pauses(Backoff(first=0.5, most=4.0))
     assert [backoff.next() for _ in range(5)] == [0.5, 1.0, 2.0, 4.0, 4.0]
     backoff.reset()
     assert backoff.next() == 0.5

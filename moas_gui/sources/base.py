@@ -21,7 +21,7 @@ The rules every source follows, with the helpers here that implement them:
   changes a switch.
 - **A source that disappears is retried quietly**: one warning when it goes
   away, one info line when it is back, nothing in between but rate-limited
-  debug lines (:class:`ConnectionLog`, :class:`Backoff`).
+  debug lines (:class:`ConnectionLog`, :class:`moas_gui.retry.Pauses`).
 - **Two sources for one radio: the newest wins**, and the overlap is logged
   once per pair of sources (:class:`SourceHub`).
 """
@@ -218,23 +218,6 @@ RETRY_LIMIT: Final = 10.0
 """The longest pause between two attempts."""
 
 
-class Backoff:
-    """Retry delays: ``first``, doubling up to ``limit``; :meth:`reset` after a success."""
-
-    def __init__(self, first: float = DEFAULT_RETRY, limit: float = RETRY_LIMIT) -> None:
-        self._first = first
-        self._limit = limit
-        self._next = first
-
-    def next(self) -> float:
-        delay = self._next
-        self._next = min(self._limit, self._next * 2.0)
-        return delay
-
-    def reset(self) -> None:
-        self._next = self._first
-
-
 # -- rule: two sources for one radio ---------------------------------------------------
 
 class SourceHub:
@@ -294,6 +277,6 @@ class SourceHub:
 
 __all__ = [
     "DEFAULT_RETRY", "LOG_INTERVAL", "MAX_KHZ", "RETRY_LIMIT",
-    "ActiveRadio", "Backoff", "BadInputLog", "ConnectionLog", "EventSink", "FocusRadio",
+    "ActiveRadio", "BadInputLog", "ConnectionLog", "EventSink", "FocusRadio",
     "FrequencyReport", "Running", "Source", "SourceEvent", "SourceHub", "check_khz", "event_key",
 ]

@@ -31,11 +31,11 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from moas_gui.retry import Backoff, Pauses
 from moas_gui.sources.base import (
     DEFAULT_RETRY,
     RETRY_LIMIT,
     ActiveRadio,
-    Backoff,
     BadInputLog,
     ConnectionLog,
     EventSink,
@@ -102,7 +102,7 @@ class OtrspSource:
         self._factory = transport_factory or _serial_transport
         self.bad = BadInputLog(log, self.label, clock=clock)
         self.link = ConnectionLog(log, f"OTRSP port {port}", clock=clock)
-        self._backoff = Backoff(retry, max(retry, RETRY_LIMIT))
+        self._backoff = Pauses(Backoff(first=retry, most=max(retry, RETRY_LIMIT)))
         self._parser = CommandParser()
         self._transport: Any = None
         self._task: asyncio.Task[None] | None = None

@@ -26,10 +26,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Final
 
+from moas_gui.retry import Backoff, Pauses
 from moas_gui.sources.base import (
     DEFAULT_RETRY,
     RETRY_LIMIT,
-    Backoff,
     BadInputLog,
     ConnectionLog,
     EventSink,
@@ -94,7 +94,7 @@ class PolledRig:
         self.log = log
         self.bad = BadInputLog(log, self.label, clock=clock)
         self.link = ConnectionLog(log, f"{self.label} at {host}:{port}", clock=clock)
-        self._backoff = Backoff(retry, max(retry, RETRY_LIMIT))
+        self._backoff = Pauses(Backoff(first=retry, most=max(retry, RETRY_LIMIT)))
         self._task: asyncio.Task[None] | None = None
         self._closing = False
         self._last: RigState | None = None

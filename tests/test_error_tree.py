@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import importlib
+from pathlib import Path
+
 import pytest
 
 from moas_gui.client.connection import ClientError
@@ -70,3 +73,29 @@ def test_every_refusal_carries_a_client_protocol_code_and_a_sentence() -> None:
         ("not_running", "No configuration is open"),
     ]
     assert {ErrorCode(r.code) for r in refusals} <= set(ErrorCode)
+
+
+def _every_module() -> list[str]:
+    import moas_gui
+
+    root = Path(moas_gui.__file__).parent
+    names = []
+    for path in sorted(root.rglob("*.py")):
+        parts = path.relative_to(root).with_suffix("").parts
+        if parts[0] in {"manual", "resources", "examples"} or parts[-1] == "__main__":
+            continue
+        names.append(".".join(("moas_gui", *(parts[:-1] if parts[-1] == "__init__" else parts))))
+    return names
+
+
+def test_every_error_class_the_package_defines_is_a_moas_error() -> None:
+    """Not only the ones listed above: a new error anywhere must join the tree too."""
+    outside = []
+    for name in _every_module():
+        module = importlib.import_module(name)
+        for value in vars(module).values():
+            if (isinstance(value, type) and issubclass(value, Exception)
+                    and value.__module__ == name and not value.__name__.startswith("_")
+                    and not issubclass(value, MoasError)):  # (a private one is a signal)
+                outside.append(f"{name}.{value.__name__}")
+    assert outside == [], f"errors outside MoasError (docs/architecture.md): {outside}"

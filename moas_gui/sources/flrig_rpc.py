@@ -28,6 +28,7 @@ from typing import Final
 from xml.parsers.expat import ExpatError
 
 from moas_gui.config.rigs import FLRIG_PORT
+from moas_gui.errors import ProtocolError
 
 DEFAULT_PORT: Final = FLRIG_PORT
 PATH: Final = "/RPC2"
@@ -36,7 +37,7 @@ MAX_BODY: Final = 65536
 MAX_HZ: Final = 300_000_000_000
 
 
-class FlrigReplyError(ValueError):
+class FlrigReplyError(ProtocolError, ValueError):
     """Not an answer flrig sends; ``reason`` is a short key for counting."""
 
     def __init__(self, reason: str, message: str) -> None:

@@ -27,12 +27,14 @@ import re
 from dataclasses import dataclass
 from typing import Final, Literal, TypeAlias
 
+from moas_gui.errors import ProtocolError
+
 MAX_LINE: Final = 32
 """Longer than any OTRSP command; a longer line is dropped."""
 MAX_AUX: Final = 255
 
 
-class OtrspError(ValueError):
+class OtrspError(ProtocolError, ValueError):
     """A line that is not an OTRSP command; ``reason`` is a short key for counting."""
 
     def __init__(self, reason: str, message: str) -> None:

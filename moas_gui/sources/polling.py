@@ -26,6 +26,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Final
 
+from moas_gui.errors import ProtocolError
 from moas_gui.retry import Backoff, Pauses
 from moas_gui.sources.base import (
     DEFAULT_RETRY,
@@ -43,7 +44,7 @@ DEFAULT_TIMEOUT: Final = 2.0
 """Seconds a connection or an answer may take before the daemon counts as gone."""
 
 
-class BadReply(ValueError):
+class BadReply(ProtocolError, ValueError):
     """A reply the parser refused; ``reason`` is a short key for counting."""
 
     def __init__(self, reason: str, message: str) -> None:

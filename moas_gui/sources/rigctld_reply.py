@@ -35,6 +35,7 @@ from dataclasses import dataclass
 from typing import Final
 
 from moas_gui.config.rigs import RIGCTLD_PORT
+from moas_gui.errors import ProtocolError
 
 DEFAULT_PORT: Final = RIGCTLD_PORT
 POLL: Final = b"+f\n+s\n+i\n+t\n"
@@ -46,7 +47,7 @@ MAX_HZ: Final = 300_000_000_000
 """300 GHz."""
 
 
-class RigctldReplyError(ValueError):
+class RigctldReplyError(ProtocolError, ValueError):
     """The reply is not what rigctld sends; ``reason`` is a short key for counting."""
 
     def __init__(self, reason: str, message: str) -> None:

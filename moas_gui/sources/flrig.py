@@ -40,8 +40,10 @@ class FlrigSource(PolledRig):
     kind = "flrig"
     label = "flrig"
 
+    default_port = DEFAULT_PORT
+
     def __init__(self, station: int, radio: int, on_event: EventSink, *,
-                 host: str = "127.0.0.1", port: int = DEFAULT_PORT,
+                 host: str = "127.0.0.1", port: int | None = None,
                  interval: float = DEFAULT_INTERVAL, timeout: float = DEFAULT_TIMEOUT,
                  retry: float = DEFAULT_RETRY) -> None:
         super().__init__(station, radio, on_event, host=host, port=port, interval=interval,

@@ -66,6 +66,8 @@ class PolledRig:
 
     kind = "polled"
     label = "rig daemon"
+    default_port = 0
+    """The daemon's own port, taken when none is given."""
 
     def __init__(
         self,
@@ -73,8 +75,8 @@ class PolledRig:
         radio: int,
         on_event: EventSink,
         *,
-        host: str,
-        port: int,
+        host: str = "127.0.0.1",
+        port: int | None = None,
         interval: float = DEFAULT_INTERVAL,
         timeout: float = DEFAULT_TIMEOUT,
         retry: float = DEFAULT_RETRY,
@@ -86,6 +88,7 @@ class PolledRig:
         self.station = station
         self.radio = radio
         self.host = host
+        port = self.default_port if port is None else port
         self.port = port
         self.interval = interval
         self.timeout = timeout

@@ -15,10 +15,7 @@ import asyncio
 import time
 from typing import Final
 
-from moas_gui.sources.base import DEFAULT_RETRY, EventSink
 from moas_gui.sources.polling import (
-    DEFAULT_INTERVAL,
-    DEFAULT_TIMEOUT,
     BadReply,
     PolledRig,
     RigState,
@@ -39,18 +36,12 @@ class RigctldSource(PolledRig):
 
     kind = "rigctld"
     label = "rigctld"
-
-    def __init__(self, station: int, radio: int, on_event: EventSink, *,
-                 host: str = "127.0.0.1", port: int = DEFAULT_PORT,
-                 interval: float = DEFAULT_INTERVAL, timeout: float = DEFAULT_TIMEOUT,
-                 retry: float = DEFAULT_RETRY) -> None:
-        super().__init__(station, radio, on_event, host=host, port=port, interval=interval,
-                         timeout=timeout, retry=retry)
-        self._parser = ReplyParser()
+    default_port = DEFAULT_PORT
+    _parser: ReplyParser
 
     async def connected(self, reader: asyncio.StreamReader,
                         writer: asyncio.StreamWriter) -> None:
-        self._parser.reset()
+        self._parser = ReplyParser()  # a new connection starts a new reply stream
 
     async def poll(self, reader: asyncio.StreamReader,
                    writer: asyncio.StreamWriter) -> RigState:

@@ -22,7 +22,7 @@ import sys
 from collections.abc import Sequence
 
 from moas_gui.clock import LOOP_CLOCK, Clock
-from moas_gui.retry import Backoff
+from moas_gui.retry import Backoff, Pauses
 
 log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_process")
 
@@ -68,8 +68,7 @@ class LocalMoasRotator:
         self.restart_max = restart_max
         self.clock = clock
         """Times the program's life and waits out its restarts."""
-        self._restarts = Backoff(first=restart_min, factor=2.0, most=restart_max)
-        self._restart_delays = self._restarts.delays()
+        self._restarts = Pauses(Backoff(first=restart_min, factor=2.0, most=restart_max))
         self._started_at = 0.0
         self._listening = asyncio.Event()
         self.process: asyncio.subprocess.Process | None = None
@@ -135,8 +134,8 @@ class LocalMoasRotator:
         code = await process.wait()
         if self.process is process:
             if self.clock.now() - self._started_at >= STEADY:
-                self._restart_delays = self._restarts.delays()
-            wait = next(self._restart_delays)
+                self._restarts.reset()
+            wait = self._restarts.next()
             log.error("the MOAS Rotator program (pid %d) exited with code %d; starting it "
                       "again in %g s", process.pid, code, wait)
             self._restart = asyncio.create_task(self._start_again(process, wait),

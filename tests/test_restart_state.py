@@ -83,7 +83,7 @@ async def test_the_same_configuration_comes_back_with_the_same_selections(
     assert where.exists() and views[(1, 1)].tx is not None and views[(1, 2)].tx is not None
     await app.open(station)
     assert {(v.station, v.radio): v for v in app.engine.radios()} == views
-    assert app.engine.switch_states() == {1: app._run.links[1]._desired}  # type: ignore[union-attr]
+    assert app.engine.switch_states() == {1: app._run.links[1].session.desired}  # type: ignore[union-attr]
 
 
 @pytest.mark.asyncio

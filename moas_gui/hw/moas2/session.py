@@ -373,7 +373,7 @@ class SwitchSession:
                 continue
             self._last_heard = now
             self._message(message, now, out)
-            if self.phase is Phase.CLOSED:
+            if self._ended():
                 return out
         self._progress(now, out)
         return out
@@ -658,7 +658,7 @@ class SwitchSession:
     def _message(self, message: object, now: float, out: list[Action]) -> None:
         if isinstance(message, UnitIdReply):
             self._unit_said(message, out)
-            if self.phase is Phase.CLOSED:
+            if self._ended():
                 return
         self._handle(message, out)
         if isinstance(message, Pong):
@@ -780,6 +780,10 @@ class SwitchSession:
         out.append(Transmit(station, transmitting))
 
     # ------------------------------------------------------------------ endings
+
+    def _ended(self) -> bool:
+        """The session ended (while it read what came in)."""
+        return self.phase is Phase.CLOSED
 
     def _reset_session(self) -> None:
         self._decoder.reset()

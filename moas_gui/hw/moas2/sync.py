@@ -522,8 +522,10 @@ def reconcile(
         found = survey.slots(n)
         if found == slots_of(station):
             continue
-        if n in keyed and seen is not None and tuple(seen[n - 1]) == found:
-            waiting.add(n)
+        told, before = slots_of(station), tuple(seen[n - 1]) if seen is not None else None
+        if n in keyed and before is not None and all(
+                f in (t, b) for f, t, b in zip(found, told, before, strict=True)):
+            waiting.add(n)  # each antenna is the one told, or still the one seen before
         else:
             adopt[n] = found
     why = ""

@@ -320,46 +320,6 @@ def difference(
     return p.plan()
 
 
-def differs(
-    held: SwitchState,
-    pong: Pong | None,
-    box: BoxStatus | None,
-    polarity: PolarityStatus | None,
-    relays: RelayStatus | None,
-) -> str:
-    """Why a box that answered these status requests does not hold ``held`` ("" when,
-    as far as a box can tell, it does).
-
-    The box reports whether it is active, every station's current antennas, the
-    inhibit polarity and the closed relays; it cannot report its tables, timings,
-    interlocks or the relays behind each antenna.  So: active, the same antennas,
-    the same polarity, and closed relays that ``held`` explains (the always-on
-    relays closed, nothing closed that no antenna of ``held`` selects).  A box
-    reset or powered off since is inactive, and one driven by anyone else almost
-    surely shows other antennas or relays.
-    """
-    if pong is None or box is None or polarity is None or relays is None:
-        return "it did not answer every status request"
-    if not held.active:
-        return "the saved state is stopped"
-    if min(len(box.tx), len(box.rx), len(box.alt)) < len(STATIONS):
-        return "its box status is incomplete"
-    if not pong.active:
-        return "it is inactive (reset or powered off since)"
-    for n, station in zip(STATIONS, held.stations, strict=True):
-        at = n - 1
-        if (box.tx[at], box.rx[at], box.alt[at]) != (station.tx, station.rx, station.alt):
-            return f"station {n} has other antennas"
-    if polarity.enable_low != held.enable_low:
-        return "its inhibit polarity differs"
-    possible = set(held.station0)
-    for station in held.stations:
-        possible |= station.tx_relays | station.rx_relays | station.alt_relays | station.extra
-    if not relays.relays <= possible or not held.station0 <= relays.relays:
-        return "its closed relays differ"
-    return ""
-
-
 UNSURE = StationAntennas(
     tx=-1, tx_relays=frozenset({-1}), rx=-1, rx_relays=frozenset({-1}),
     alt=-1, alt_relays=frozenset({-1}), extra=frozenset({-1}),
@@ -581,7 +541,6 @@ __all__ = [
     "absolute",
     "count_bytes",
     "difference",
-    "differs",
     "initialise",
     "reconcile",
     "slots_of",

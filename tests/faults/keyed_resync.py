@@ -66,6 +66,7 @@ from fault_harness import (
 from moas_gui.hw.moas2.emulator.record import Entry, Event
 from moas_gui.hw.moas2.emulator.serve import make_link
 from moas_gui.sources.n1mm_packet import radio_info_packet
+from moas_gui.state_store import decode, fingerprint
 
 STATIONS = (1, 2)
 """The switch stations the configuration drives (radio n on station n)."""
@@ -101,8 +102,10 @@ def violations(entries: list[Entry], before: Entry | None = None) -> list[str]:
     previous = before
     for entry in entries:
         if entry.event is Event.RESET and entry.keyed:
-            found.append(f"record #{entry.seq}: {entry.cause} reached the box while station "
-                         f"{_numbers(entry.keyed)} was keyed (relays {_numbers(entry.relays)})")
+            who = (f"station {_numbers(entry.keyed)} was" if len(entry.keyed) == 1
+                   else f"stations {_numbers(entry.keyed)} were")
+            found.append(f"record #{entry.seq}: {entry.cause} reached the box while {who} "
+                         f"keyed (relays {_numbers(entry.relays)})")
         if previous is not None:
             if entry.seq != previous.seq + 1:
                 found.append(f"record #{previous.seq + 1}-#{entry.seq - 1} lost: cannot check")
@@ -430,7 +433,7 @@ class Rig:
         async def done() -> bool:
             state = await client.state()
             radios = {r["radio"]: r for r in state["radios"] if r["station"] == 1}
-            return (radios[radio]["khz"] == khz
+            return (radios[radio]["khz"] == khz and self.saved_khz(radio) == khz
                     and self.station.engine_relays(state) is not None)
 
         loop = asyncio.get_running_loop()
@@ -439,6 +442,18 @@ class Rig:
             if loop.time() > end:
                 raise AssertionError(f"radio {radio} never saved on {khz}:\n{self.server_log()}")
             await asyncio.sleep(0.05)
+
+    def saved_khz(self, radio: int) -> float | None:
+        """Radio ``radio``'s frequency in the saved state file (None: none there)."""
+        try:
+            saved = decode(self.station.state_file.read_bytes(),
+                           fingerprint(self.station.config.read_bytes()))
+        except (OSError, ValueError):
+            return None
+        for entry in saved.engine.get("radios", []):
+            if entry["radio"] == [1, radio]:
+                return entry["khz"]  # type: ignore[no-any-return]
+        return None
 
     # ------------------------------------------------------------------ the checks
 
@@ -518,12 +533,37 @@ class Figures:
     violations: list[str] = field(default_factory=list)
     seconds: float = 0.0
 
+    @property
+    def faults(self) -> int:
+        return sum(n for what, n in self.done.items() if what.split(" ")[0] in FAULT_WORDS)
+
+    def violation_kinds(self) -> Counter[str]:
+        kinds: Counter[str] = Counter()
+        for violation in self.violations:
+            kinds[next((kind for word, kind in VIOLATION_KINDS if word in violation),
+                       "other")] += 1
+        return kinds
+
     def report(self) -> str:
-        lines = [f"steps {self.steps} in {self.seconds:.0f} s"]
-        lines += [f"  {kind:<16} {count}" for kind, count in sorted(self.done.items())]
+        lines = [f"steps {self.steps} in {self.seconds:.0f} s ({self.faults} faults)"]
+        lines += [f"  {kind:<22} {count}" for kind, count in sorted(self.done.items())]
         lines.append(f"violations {len(self.violations)}")
-        lines += [f"  {v}" for v in self.violations[:50]]
+        lines += [f"  {kind:<22} {count}" for kind, count in
+                  sorted(self.violation_kinds().items())]
+        lines += [f"  {v}" for v in self.violations[:40]]
         return "\n".join(lines)
+
+
+FAULT_WORDS = ("restart", "unplug", "replug", "stall", "resume", "noise", "state")
+"""The first words of the steps that are faults (or their ends)."""
+
+VIOLATION_KINDS = (
+    ("reached the box while", "reset under a key"),
+    ("relays moved", "relays moved under a key"),
+    ("after settling", "box is not the engine"),
+    ("lost: cannot check", "record lost"),
+)
+"""What each violation's text contains, and its kind."""
 
 
 class ModelRun:
@@ -636,6 +676,7 @@ class ModelRun:
 __all__ = [
     "BANDS",
     "FAULTS",
+    "FAULT_WORDS",
     "NOISES",
     "STALL_S",
     "STEPS",

@@ -150,11 +150,11 @@ async def test_noisy_line_under_a_keyed_station_with_nothing_held(tmp_path: Path
 async def test_random_keys_band_changes_and_faults_keep_the_rule(tmp_path: Path) -> None:
     """A fixed-seed share of the random walk (the benchmark runs 10,000 steps)."""
     async with Rig.up(tmp_path) as rig:
-        run = ModelRun(rig, seed=19, pause=0.1)
+        run = ModelRun(rig, seed=15, pause=0.1)
         figures = await run.run(30)
         assert figures.steps == 30
-        assert sum(figures.done[k] for k in figures.done
-                   if k.split(" ")[0] in ("restart", "unplug", "stall", "noise", "state")) > 0
+        assert figures.faults > 0
+        print(figures.report())
         assert figures.violations == [], figures.report() + "\n--- the server:\n" + \
             rig.server_log()
 

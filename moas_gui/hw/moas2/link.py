@@ -26,11 +26,8 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-import re
 from collections import deque
 from collections.abc import Callable, Sequence
-from dataclasses import fields, is_dataclass
-from enum import Enum
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -69,6 +66,7 @@ from .session import (
     SwitchSession,
     Transmit,
     Write,
+    describe,
 )
 from .sync import DEFAULT_EVENTS, Slots, stopped
 from .timing import REAL_TIMING, LinkTiming
@@ -360,25 +358,6 @@ class SwitchLink:
             callback(*args)
         except Exception:  # whatever the caller's code raises, the link carries on
             log.exception("%s: the %s callback failed", self.where, callback)
-
-
-def describe(message: object) -> str:
-    """A message from the box in words for the debug log: ``antenna event: station 1,
-    status TX fast (F), antenna 3`` rather than its Python form."""
-    name = re.sub(r"(?<!^)(?=[A-Z])", " ", type(message).__name__).lower()
-    if not is_dataclass(message):
-        return name
-    parts = []
-    for item in fields(message):
-        value = getattr(message, item.name)
-        if isinstance(value, Enum):
-            shown = f"{value.name.replace('_', ' ').lower()} ({value.value})"
-        elif isinstance(value, frozenset | set | tuple | list):
-            shown = ", ".join(str(v) for v in sorted(value, key=str)) or "none"
-        else:
-            shown = str(value)
-        parts.append(f"{item.name.replace('_', ' ')} {shown}")
-    return f"{name}: {', '.join(parts)}" if parts else name
 
 
 __all__ = ["EMULATOR_PORT", "LinkStatus", "LinkTiming", "SwitchLink", "describe"]

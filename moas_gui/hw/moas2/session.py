@@ -42,9 +42,10 @@ hot-switch rules (wait or interrupt mode).
 from __future__ import annotations
 
 import logging
+import re
 from collections import deque
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields, is_dataclass
 from enum import Enum
 from typing import Any
 
@@ -718,6 +719,8 @@ class SwitchSession:
             self._tr_known = len(message.tr) >= len(STATIONS)
         elif isinstance(message, AntennaEvent):
             self._antenna_event(message)
+        if not isinstance(message, ErrorReply):
+            log.debug("%s: %s", self.where, describe(message))
 
     def _antenna_event(self, event: AntennaEvent) -> None:
         status = event.status
@@ -838,6 +841,25 @@ class SwitchSession:
         self._problem(level, text)
 
 
+def describe(message: object) -> str:
+    """A message from the box in words for the debug log: ``antenna event: station 1,
+    status TX fast (F), antenna 3`` rather than its Python form."""
+    name = re.sub(r"(?<!^)(?=[A-Z])", " ", type(message).__name__).lower()
+    if not is_dataclass(message):
+        return name
+    parts = []
+    for item in fields(message):
+        value = getattr(message, item.name)
+        if isinstance(value, Enum):
+            shown = f"{value.name.replace('_', ' ').lower()} ({value.value})"
+        elif isinstance(value, frozenset | set | tuple | list):
+            shown = ", ".join(str(v) for v in sorted(value, key=str)) or "none"
+        else:
+            shown = str(value)
+        parts.append(f"{item.name.replace('_', ' ')} {shown}")
+    return f"{name}: {', '.join(parts)}" if parts else name
+
+
 __all__ = [
     "SURVEY_TRIES",
     "Action",
@@ -854,5 +876,6 @@ __all__ = [
     "Transmit",
     "Verdict",
     "Write",
+    "describe",
     "guard",
 ]

@@ -143,7 +143,12 @@ def test_a_box_that_never_answers_its_status_is_asked_again_then_left_alone() ->
 def test_a_box_that_holds_the_saved_state_gets_only_the_difference() -> None:
     played = connected(loaded_box(STATE_A), held=STATE_A, desired=STATE_B)
     load = bytes(played.wire).split(b"|;", 1)[1]
-    assert load.startswith(b"!1B35;") and b"%" not in load and b"*0;" not in load
+    # every station's antenna commands again (the box cannot report the relays behind an
+    # antenna), together, and nothing else: no table, no reset
+    assert load.startswith(b"*r;!1B35;") and load.endswith(b"*R;';")
+    assert b"%" not in load and b"*0;" not in load
+    played.model.advance(1.0)  # past the slow transition's inhibit
+    assert played.model.view().relays == {5}
 
 
 def test_a_keyed_stations_held_change_is_consistent_and_applies_at_receive() -> None:

@@ -25,7 +25,7 @@ from moas_gui.engine.snapshot import SnapshotError, export_selections, restore_s
 from moas_gui.engine.switchstate import StationAntennas
 from moas_gui.hw.moas2.link import LinkTiming
 from moas_gui.hw.moas2.messages import BoxStatus, PolarityStatus, Pong, RelayStatus, TRState
-from moas_gui.hw.moas2.sync import Survey, reconcile
+from moas_gui.hw.moas2.sync import UNSURE, Survey, reconcile
 from moas_gui.state_store import (
     SavedState,
     StateKeeper,
@@ -281,11 +281,13 @@ def _survey(pong: Pong, box: BoxStatus, polarity: frozenset[int],
 
 
 def test_a_box_that_still_holds_the_saved_state_is_trusted() -> None:
-    r = reconcile(HELD, None, _survey(Pong(True), _box(), frozenset(), {1, 2, 8, 60}))
-    assert (r.why, r.believed, dict(r.adopt)) == ("", HELD, {})
-    # transmitting: the transmit antenna's and the extra relays
-    r = reconcile(HELD, None, _survey(Pong(True), _box(), frozenset(), {1, 2, 40, 7, 60}))
-    assert (r.why, r.believed) == ("", HELD)
+    for relays in ({1, 2, 8, 60}, {1, 2, 40, 7, 60}):  # receiving; transmitting (extras)
+        r = reconcile(HELD, None, _survey(Pong(True), _box(), frozenset(), relays))
+        assert (r.why, dict(r.adopt)) == ("", {})
+        # the tables and settings are taken as held; every station's antennas go again
+        assert r.believed is not None
+        assert replace(r.believed, stations=HELD.stations) == HELD
+        assert r.believed.stations == (UNSURE,) * 6
 
 
 @pytest.mark.parametrize(("pong", "box", "polarity", "relays", "why"), [

@@ -498,15 +498,16 @@ def reconcile(
         if not survey.relays.relays <= possible | _extras(held) \
                 or not held.station0 <= survey.relays.relays:
             why = "its closed relays differ"
-    believed: SwitchState | None = held
-    if why:
-        believed = None
-    elif adopt or waiting:
-        stations = tuple(
-            UNSURE if n in adopt or n in waiting else s
-            for n, s in zip(STATIONS, held.stations, strict=True)
-        )
-        believed = replace(held, stations=stations)
+    believed: SwitchState | None = None
+    if not why:
+        # The box reports antennas (slots), not the relays behind them: a command lost on
+        # the line leaves the right slot with other relays, which no status shows.  So
+        # every station's antenna commands go again; the box takes the same antenna and
+        # relays as no change, and anything else under its hot-switch rules.  A keyed
+        # station's extra relays (closed while it transmits, at once) are not resent.
+        believed = replace(held, stations=tuple(
+            replace(UNSURE, extra=s.extra) if n in keyed else UNSURE
+            for n, s in zip(STATIONS, held.stations, strict=True)))
     if adopt and not why:
         why = "; ".join(f"station {n} holds other antennas" for n in sorted(adopt))
     return Reconciliation(keyed, believed, MappingProxyType(adopt), frozenset(waiting), why)

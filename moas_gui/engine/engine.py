@@ -32,7 +32,7 @@ from .relative import relative_list
 from .selection import recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
-from .switchstate import StationAntennas, SwitchState
+from .switchstate import NO_ANTENNA, StationAntennas, SwitchState
 from .systems import is_selected
 from .views import AVAILABLE, SELECTED, UNAVAILABLE, AntennaView, LayoutView, RadioView
 from .work import Work, radio_name
@@ -238,6 +238,46 @@ class Engine:
                 or not math.isfinite(heading):
             raise BadRequest(f"heading must be a number of degrees (not {heading!r})")
         return self._run(lambda w: select_direction(w, rotator_id, float(heading)), now)
+
+    def keep_switch_antennas(self, switch_id: int, port: int, tx_slot: int, rx_slot: int,
+                             now: float | None = None) -> Changes:
+        """What switch ``switch_id`` holds for ``port`` wins over the saved state.
+
+        A restart (or a reconnection) found the box holding other antennas for that port
+        than the state this engine was restored from: the state could not be saved, or
+        the box was driven from elsewhere.  The box is the truth, above all for a station
+        that transmits on it, so the radio on that port takes the antennas its slots
+        stand for, as they are; its next frequency is decided afresh by the rules.
+        Nothing changes when the port has no radio or a slot stands for no antenna of
+        that radio (the switch link then sends the engine's own choice, which the box
+        applies under its hot-switch rules)."""
+        ix = self._ix
+        ref = ix.port_radio.get((switch_id, port))
+        if ref is None or switch_id not in self._maps:
+            return NO_CHANGES
+        slot_key = self._maps[switch_id].slot_key
+
+        def antenna(slot: int) -> int | None | bool:
+            if slot == NO_ANTENNA:
+                return None
+            key = slot_key.get(slot)
+            for a in ix.antennas:
+                if key is not None and self._classes.key(a, ref) == key:
+                    return a
+            return False
+
+        tx, rx = antenna(tx_slot), antenna(rx_slot)
+        if tx is False or rx is False:
+            return NO_CHANGES
+        rs = self._state.radios[ref]
+        if (rs.tx, rs.rx) == (tx, rx):
+            return NO_CHANGES
+
+        def op(w: Work) -> None:
+            w.st.radios[ref] = w.st.radios[ref].with_(tx=tx, rx=rx, note="")
+            w.log.append(f"{radio_name(ref)}: kept the antennas switch {switch_id} holds "
+                         f"for port {port} (newer than the saved state)")
+        return self._run(op, now, need_running=False)
 
     def stop(self) -> Changes:
         """Stop Switches: every switch inactive, all relays off (3.4.5)."""

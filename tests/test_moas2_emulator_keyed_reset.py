@@ -8,6 +8,9 @@ reset, with each station's key state, that tests read."""
 
 from __future__ import annotations
 
+import pytest
+
+from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.record import Entry, Event, Record
 from moas_gui.hw.moas2.emulator.station import Phase
 from moas_gui.hw.moas2.emulator.stepped import SteppedBox
@@ -154,3 +157,14 @@ def test_the_record_is_bounded_and_numbered() -> None:
     assert record.after(5) == []
     entry = record.last
     assert entry is not None and Entry.from_json(entry.as_json()) == entry
+
+
+@pytest.mark.asyncio
+async def test_the_real_time_box_keeps_the_same_record() -> None:
+    box = EmulatedBox()
+    box.receive(b"*1;&1;!1B112;")
+    box.set_tr(1, True)
+    assert [(e.event, e.cause) for e in box.record] == [
+        (Event.RELAYS, "!1B112;"), (Event.KEY, "key 1")]
+    assert box.record.last is not None and box.record.last.keyed == {1}
+    box.close()

@@ -601,7 +601,8 @@ class ModelRun:
         self.figures.steps += 1
         if self.rig.stopped_at is not None and self.random.random() < 0.5:
             await self.rig.resume()
-            self.history.append("resume")
+            self.history.append("resume (SIGCONT)")
+            self.figures.done["resume (SIGCONT)"] += 1
         await asyncio.sleep(self.random.uniform(0, self.pause))
         self._blame(await self.rig.check())
 

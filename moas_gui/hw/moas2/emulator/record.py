@@ -21,8 +21,9 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Any
 
-RECORD_SIZE = 20_000
-"""Entries kept; older ones are dropped."""
+RECORD_SIZE = 4096
+"""Entries kept (under a kilobyte each); older ones are dropped.  A reader that must
+see every entry follows the record as it is written (``watch``)."""
 
 
 class Event(str, Enum):

@@ -76,6 +76,19 @@ class Switching(BoxState):
     def _write(self, event: Event, cause: str) -> None:
         """Add an entry to the record: the box as it is now."""
         relays, closed = self.relays(), self._closed_now()
+        keyed = frozenset(n for n, st in self.stations.items() if st.key)
+        interrupt_mode = frozenset(
+            n for n, st in self.stations.items() if st.mode is StationMode.INTERRUPT)
+        last = self.record.last
+        if last is not None:
+            # What did not change is the last entry's own: an entry costs little more
+            # than what changed.
+            relays = last.relays if relays == last.relays else relays
+            closed = last.closed if closed == last.closed else tuple(
+                old if old == new else new for old, new in zip(last.closed, closed, strict=True))
+            keyed = last.keyed if keyed == last.keyed else keyed
+            if interrupt_mode == last.interrupt_mode:
+                interrupt_mode = last.interrupt_mode
         self._recorded = (relays, closed)
         self.record.add(Entry(
             seq=self.record.written + 1,
@@ -84,10 +97,9 @@ class Switching(BoxState):
             cause=cause,
             active=self.active,
             relays=relays,
-            keyed=frozenset(n for n, st in self.stations.items() if st.key),
+            keyed=keyed,
             closed=closed,
-            interrupt_mode=frozenset(
-                n for n, st in self.stations.items() if st.mode is StationMode.INTERRUPT),
+            interrupt_mode=interrupt_mode,
         ))
 
     def _note(self, cause: str) -> None:

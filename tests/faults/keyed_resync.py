@@ -391,6 +391,8 @@ class Rig:
         state = self.station.state_file
         blocker = state.with_name(f".{state.name}.{self.server_pid}.tmp")
         if blocked:
+            if blocker.is_file():  # a temporary file a killed writer of that number left
+                blocker.unlink()
             blocker.mkdir(parents=True, exist_ok=True)
         else:
             with contextlib.suppress(OSError):

@@ -10,7 +10,7 @@ import random
 import pytest
 from engine_builders import example
 from engine_invariants import Facts, operations, replay_matches, run_evening
-from engine_stations import generated_station
+from engine_stations import frequencies_for, generated_station
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -42,7 +42,7 @@ def test_every_rule_holds_after_every_event_on_the_examples(name: str) -> None:
 def test_every_rule_holds_after_every_event_on_generated_stations(seed: int) -> None:
     rng = random.Random(seed)
     cfg = generated_station(rng)
-    run_evening(cfg, list(operations(cfg, rng, EVENTS)))
+    run_evening(cfg, list(operations(cfg, rng, EVENTS, frequencies_for(cfg))))
 
 
 @pytest.mark.parametrize("name", ["big-station", "multi-multi-20"])

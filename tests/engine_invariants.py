@@ -470,6 +470,7 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
                 for _, b in _held(vo))
             conditions = (frozenset((ref, t)) in partners and users == 2 and free
                           and vt.rx is not None and vt.rx != vt.tx
+                          and not facts.conflict(vt.rx, vt.tx)
                           and not facts.ants[vt.rx].tx_only and facts.ants[vt.rx].enabled
                           and facts.covers(ref, vt.rx, v.khz)
                           and (v.tx is None or v.tx == vt.rx or facts.fast(v.tx, vt.rx)))

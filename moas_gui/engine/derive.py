@@ -68,6 +68,12 @@ def partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef
     shared = them.tx
     if shared is None or them.rx is None or them.rx == shared:
         return None
+    if them.transmitting and ix.conflict(them.rx, shared):
+        # "The other partner has an antenna which can be used": one that conflicts with the
+        # antenna the partner transmits on cannot be used while it transmits.  Until the
+        # partner is seen transmitting it stays the prepared alternate: the switch's table
+        # (its slot conflicts with the partner's transmit slot) then refuses it by itself.
+        return None
     canon = ix.canon[shared]
     count = 0
     for r in ix.mains:

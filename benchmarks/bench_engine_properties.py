@@ -33,7 +33,7 @@ from test_engine_appendix_f_differential import compare
 from moas_gui.config import load_config
 
 EXAMPLES = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
-            "triplexer", "ms-one-amp"]
+            "triplexer", "ms-one-amp", "two-op-shared-tx"]
 EVENING = 500
 """Events per evening (a fresh engine each)."""
 

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from engine_builders import example
 from engine_invariants import Facts, violations
 
 from moas_gui.config import parse_config
@@ -244,3 +245,44 @@ def test_check_says_a_flag_without_a_sub_receiver_does_nothing(tmp_path: Path) -
     warnings = _check(tmp_path, moas)
     assert any("station 1 radio 2's \"PersistSubReceiver\" has no effect" in w
                for w in warnings), warnings
+
+
+# -- the two-operator example (examples/two-op-shared-tx.moas) ---------------------------------
+
+def test_the_two_operator_example_evening_through_the_engine_and_the_emulated_box() -> None:
+    """The walk-through of docs/configuration.md: shared tribander, partners on 20 m, the
+    dipole's second feed and the beverage as alternate on 40 m, the sub receiver."""
+    cfg = example("two-op-shared-tx")
+    e = Engine(cfg, now=0.0)
+    e.set_frequency(1, 1, 14025, now=1.0)
+    e.set_frequency(2, 1, 14200, now=2.0)
+    e.select(2, 1, 0, "both", now=3.0)          # operator 2 presses the tribander
+    e.select(2, 1, 2, "rx", now=4.0)            # and listens on RX US
+    op1, op2, sub = e.radio_view(1, 1), e.radio_view(2, 1), e.radio_view(1, 2)
+    assert (op1.tx, op1.rx) == (0, 0) and (op2.tx, op2.rx) == (0, 2)
+    assert op2.radio_rx_antenna and not op1.radio_rx_antenna
+    assert sub.khz == 14025 and sub.tx is None and sub.rx not in (0, None)
+    assert op1.alt == 2                          # 5.13: the partner's receive antenna
+    box = EmulatorModel()
+    box.feed(initialise(e.switch_states()[1]).encode(), 5.0)
+    box.advance(6.0)
+    box.set_tr(2, True, 7.0)                     # operator 2 transmits on the tribander
+    e.set_transmitting(1, 2, True, now=7.0)
+    box.advance(8.0)
+    view = box.view()
+    partner_alt = e.slot_of(1, 2, 1, 1)
+    assert partner_alt == e.switch_states()[1].station(1).alt
+    assert partner_alt != e.slot_of(1, 2, 1, 1, as_partner_alt=False)
+    assert view.station(2).tx.antenna == e.slot_of(1, 0, 2, 1)
+    sub_port = e.switch_states()[1].station(3)
+    assert sub_port.tx == sub_port.rx != 63     # PersistSubReceiver on the main radio's entry
+    e.set_transmitting(1, 2, False, now=9.0)
+    # 40 m: the vertical for operator 1, the dipole through coax 2 for operator 2
+    e.set_frequency(1, 1, 7150, now=10.0)
+    e.set_frequency(2, 1, 7050, now=11.0)
+    assert e.radio_view(1, 1).tx == 3 and e.radio_view(2, 1).tx == 5
+    e.set_transmitting(1, 2, True, now=12.0)
+    assert e.radio_view(1, 1).alt == 7           # 5.9: the beverage
+    state = e.switch_states()[1]
+    assert 1 in state.use_alternate[2 - 1]
+    assert violations(e, Facts.of(cfg)) == []

@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 EXAMPLES = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
-            "triplexer", "ms-one-amp"]
+            "triplexer", "ms-one-amp", "two-op-shared-tx"]
 RUNS = int(os.environ.get("MOAS_ENGINE_EXAMPLES", "4"))
 EVENTS = 300
 

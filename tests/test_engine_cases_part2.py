@@ -286,3 +286,36 @@ def test_the_two_operator_example_evening_through_the_engine_and_the_emulated_bo
     state = e.switch_states()[1]
     assert 1 in state.use_alternate[2 - 1]
     assert violations(e, Facts.of(cfg)) == []
+
+
+def test_a_partner_alternate_slot_given_out_as_needed_survives_a_restart() -> None:
+    """With more keys than a switch's 63 slots, slots are given out as needed; the partner's
+    alternate slot (the key's third part) is exported and restored like any other."""
+    from engine_builders import antenna, config, radio
+
+    from moas_gui.engine.snapshot import export_selections, restore_selections
+
+    both = {(1, 1): [0], (1, 2): [8]}
+    ants = [antenna(0, (20,), both, fast=(1, 2), shared_tx=True),
+            antenna(1, (20,), {(1, 1): [1], (1, 2): [9]}, fast=(0,), rx_only=True),
+            antenna(2, (20,), {(1, 1): [2], (1, 2): [10]}, fast=(0,), rx_only=True)]
+    ants += [antenna(10 + i, (20,), {(1, 1): [20 + i % 40], (1, 2): [20 + i % 40]})
+             for i in range(40)]
+    partners = {"always": (RadioRef(1, 2),), "partner": (RadioRef(1, 2),)}
+    others = {"always": (RadioRef(1, 1),), "partner": (RadioRef(1, 1),)}
+    cfg = config(ants, [radio(1, 1, 1, **partners), radio(1, 2, 2, **others)])
+    e = Engine(cfg, now=0.0)
+    assert not e._maps[1].static                 # more keys than slots: given out as needed
+    e.set_frequency(1, 1, 14025, now=1.0)
+    e.set_frequency(1, 2, 14100, now=2.0)
+    e.select(1, 2, 0, "both", now=3.0)
+    e.select(1, 2, 2, "rx", now=4.0)
+    assert e.radio_view(1, 1).alt == 2
+    alt_slot = e.switch_states()[1].station(1).alt
+    assert alt_slot == e.slot_of(1, 2, 1, 1, as_partner_alt=True) != 63
+    data = json.loads(json.dumps(export_selections(e)))
+    assert any(len(item) == 4 and item[3] is True for item in data["maps"]["1"]["slots"])
+    again = Engine(cfg, now=100.0)
+    restore_selections(again, data)
+    assert again.radios() == e.radios()
+    assert again.switch_states() == e.switch_states()

@@ -18,7 +18,7 @@ from config_fuzzing import MUTATIONS, corpus, mutations, read
 from moas_gui.cli import server
 from moas_gui.config import read_config
 
-FILES = corpus(generated=3)
+FILES = corpus(generated=2)  # with the eight examples: ten files
 LIMIT_S = 1.0
 """No file may take longer than this to read (a fuzzed file takes milliseconds)."""
 

@@ -280,7 +280,7 @@ def run_window(args: argparse.Namespace) -> int:
 
 
 def _run_window(args: argparse.Namespace, instance: object | None) -> int:
-    import qasync
+    import qasync  # type: ignore[import-untyped]
 
     from moas_gui.app import ServerApp
     from moas_gui.ui.main_thread_gc import MainThreadCollector

@@ -29,7 +29,7 @@ ALLOWED: dict[str, set[str]] = {
     "engine": {"config", "errors"},
     "state_store": {"engine", "errors", "files"},
     "hw": {"addresses", "aio", "clock", "config", "engine", "errors", "files", "retry"},
-    "net": {"config", "errors", "hw"},
+    "net": {"aio", "config", "errors", "hw"},
     "rotator_program": {"clock", "errors", "hw", "retry"},
     "engine_backend": {"engine", "errors", "hw", "net", "status"},
     "running": {"clock", "config", "engine", "errors", "hw", "net", "sources", "state_store"},

@@ -34,14 +34,13 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import contextlib
 import logging
-import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from .. import __version__
+from ..aio import CleanStop, run_until_stopped
 from ..hw.moas2.emulator.box import EmulatedBox, Traffic
 from ..hw.moas2.emulator.control import (
     Control,
@@ -130,26 +129,24 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
                 remove_link(args.link, endpoint.path)
             return 2
     stop = asyncio.Event()
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        with contextlib.suppress(NotImplementedError, RuntimeError, ValueError):
-            loop.add_signal_handler(signum, stop.set)
-    # Only now: whoever reads these lines may stop the emulator at once.
-    print(endpoint.path, flush=True)
-    if args.link:
-        print(f"linked at {args.link}", flush=True)
-    if args.control == "-":
-        print("control at -", flush=True)
-        serve_stdin(Control(box), loop)
-    elif control_server is not None:
-        print(f"control at {control_at}", flush=True)
+    stopping = CleanStop(stop.set).install()
     window = None
-    if windowed:
-        from ..ui.emulator_window import EmulatorWindow
-
-        window = EmulatorWindow(box, port=endpoint.path)
-        window.closed.connect(stop.set)
-        window.show()
     try:
+        # Only now: whoever reads these lines may stop the emulator at once.
+        print(endpoint.path, flush=True)
+        if args.link:
+            print(f"linked at {args.link}", flush=True)
+        if args.control == "-":
+            print("control at -", flush=True)
+            serve_stdin(Control(box), loop)
+        elif control_server is not None:
+            print(f"control at {control_at}", flush=True)
+        if windowed:
+            from ..ui.emulator_window import EmulatorWindow
+
+            window = EmulatorWindow(box, port=endpoint.path)
+            window.closed.connect(stop.set)
+            window.show()
         await stop.wait()
     finally:
         if window is not None:
@@ -161,6 +158,7 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
         endpoint.close()
         if args.link:
             remove_link(args.link, endpoint.path)
+        stopping.remove()
     return 0
 
 
@@ -217,10 +215,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         level=log_level_number(args.log_level), stream=sys.stderr, format="%(levelname)s %(name)s: %(message)s"
     )
     if args.headless:
-        try:
-            return asyncio.run(_run(args, windowed=False))
-        except KeyboardInterrupt:
-            return 0
+        return run_until_stopped(_run(args, windowed=False))
     import qasync  # type: ignore[import-untyped]
     from PySide6.QtWidgets import QApplication
 

@@ -10,11 +10,11 @@ from __future__ import annotations
 import argparse
 import asyncio
 import logging
-import signal
 import sys
 from pathlib import Path
 
 from moas_gui import __version__
+from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.cli.options import add_log_level, log_level_number
 
 log = logging.getLogger("moas_gui.server")
@@ -236,19 +236,14 @@ async def _serve_headless(args: argparse.Namespace, instance: object | None) -> 
     if result.config is None:
         return 1
     stop = asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for number in (signal.SIGINT, signal.SIGTERM):
-        try:
-            loop.add_signal_handler(number, stop.set)
-        except (NotImplementedError, RuntimeError):  # Windows
-            signal.signal(number, lambda *_: loop.call_soon_threadsafe(stop.set))
-    if instance is not None:
-        await instance.start(  # type: ignore[attr-defined]
-            lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True))
-    log.info("Serving %s; stop with Ctrl+C", args.file)
-    await stop.wait()
-    log.info("Stopping; the relays keep their state")
-    await app.close()
+    with CleanStop(stop.set):
+        if instance is not None:
+            await instance.start(  # type: ignore[attr-defined]
+                lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True))
+        log.info("Serving %s; stop with Ctrl+C", args.file)
+        await stop.wait()
+        log.info("Stopping; the relays keep their state")
+        await app.close()
     return 0
 
 
@@ -262,7 +257,7 @@ def run_headless(args: argparse.Namespace) -> int:
     if status is not None:
         return status
     try:
-        return asyncio.run(_serve_headless(args, instance))
+        return run_until_stopped(_serve_headless(args, instance))
     finally:
         if instance is not None:
             instance.close()  # type: ignore[attr-defined]
@@ -299,35 +294,27 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
         settings = QSettings()
         window = ServerWindow(app, settings, quit_event.set)
         window.show()
-        _stop_on_signals(quit_event)
-        if instance is not None:
-            await instance.start(  # type: ignore[attr-defined]
-                window.take_hand_over, lambda path, launch: vet_launch(app, launch, headless=False))
-        from moas_gui.ui.control_hook import start_if_asked
+        # SIGINT, SIGTERM (and Ctrl+Break, a closed console) end it as Exit does
+        with CleanStop(quit_event.set):
+            if instance is not None:
+                await instance.start(  # type: ignore[attr-defined]
+                    window.take_hand_over,
+                    lambda path, launch: vet_launch(app, launch, headless=False))
+            from moas_gui.ui.control_hook import start_if_asked
 
-        hook = await start_if_asked(window)
-        if args.file:
-            window.open_file(args.file)
-        await quit_event.wait()
-        if hook is not None:
-            await hook.close()
-        await window.idle()
-        await app.close()
-        window.shutdown()
+            hook = await start_if_asked(window)
+            if args.file:
+                window.open_file(args.file)
+            await quit_event.wait()
+            if hook is not None:
+                await hook.close()
+            await window.idle()
+            await app.close()
+            window.shutdown()
         return 0
 
     with loop:
         return loop.run_until_complete(serve())
-
-
-def _stop_on_signals(quit_event: asyncio.Event) -> None:
-    """SIGINT and SIGTERM end the window server as Exit does (the relays stay as they are)."""
-    loop = asyncio.get_running_loop()
-    for number in (signal.SIGINT, signal.SIGTERM):
-        try:
-            loop.add_signal_handler(number, quit_event.set)
-        except (NotImplementedError, RuntimeError):
-            signal.signal(number, lambda *_: loop.call_soon_threadsafe(quit_event.set))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -23,11 +23,12 @@ ALLOWED: dict[str, set[str]] = {
     "aio": set(),
     "status": set(),
     "files": set(),
+    "places": set(),
     "clock": set(),
     "retry": set(),
     "config": {"errors"},
     "engine": {"config", "errors"},
-    "state_store": {"engine", "errors", "files"},
+    "state_store": {"engine", "errors", "files", "places"},
     "hw": {"addresses", "aio", "clock", "config", "engine", "errors", "files", "retry"},
     "net": {"aio", "config", "errors", "hw"},
     "rotator_program": {"clock", "errors", "hw", "retry"},
@@ -44,7 +45,7 @@ ALLOWED: dict[str, set[str]] = {
     "ui": {"app", "client", "hw", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
-            "retry", "sources"},
+            "retry", "sources", "places"},
 }
 """Which packages (or top-level modules) of moas_gui each one may import."""
 

@@ -21,6 +21,7 @@ import sys
 from moas_gui import __version__
 from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.client.address import DEFAULT_HOST, DEFAULT_PORT, parse_address
+from moas_gui.places import output_without_console
 from moas_gui.sources.spec import SourceSpec, parse_spec
 
 EXIT_NEVER_CONNECTED = 3
@@ -54,6 +55,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    output_without_console("moas-client")  # started without a console: output to a log file
     parser = _parser()
     args = parser.parse_args(argv)
     try:

@@ -60,6 +60,7 @@ from ..hw.moas2.emulator.serve import (
     serve,
 )
 from ..hw.moas2.errors import PortError
+from ..places import output_without_console
 from .options import add_log_level, log_level_number
 
 log = logging.getLogger("moas_gui.hw.moas2.emulator")
@@ -204,6 +205,7 @@ def _log_relays(box: EmulatedBox) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    output_without_console("moas-emulator")  # started without a console: output to a log file
     args = _parser().parse_args(argv)
     if not 0 <= args.unit_id <= 99:
         print("moas-emulator: --unit-id must be 0-99", file=sys.stderr)

@@ -16,6 +16,7 @@ from pathlib import Path
 from moas_gui import __version__
 from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.cli.options import add_log_level, log_level_number
+from moas_gui.places import output_without_console
 
 log = logging.getLogger("moas_gui.server")
 INSTANCE_NAME = "moas-server"
@@ -318,6 +319,7 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    output_without_console("moas-server")  # started without a console: output to a log file
     args = _parser().parse_args(argv)
     if args.install_desktop or args.uninstall_desktop:
         from moas_gui import desktop

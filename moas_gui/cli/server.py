@@ -285,6 +285,9 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
 
     qt_app = ensure_application()
     qt_app.setWindowIcon(application_icon())
+    from moas_gui.ui.file_open import FileOpenEvents
+
+    opened = FileOpenEvents(qt_app)  # macOS: a double-clicked file comes as an event
     collector = MainThreadCollector(qt_app)  # noqa: F841 (lives as long as the application)
     loop = qasync.QEventLoop(qt_app)
     asyncio.set_event_loop(loop)
@@ -306,6 +309,7 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
             hook = await start_if_asked(window)
             if args.file:
                 window.open_file(args.file)
+            opened.attach(window.take_hand_over)
             await quit_event.wait()
             if hook is not None:
                 await hook.close()

@@ -8,6 +8,7 @@ not on that system, or takes the way that is."""
 
 from __future__ import annotations
 
+# platform: any (the POSIX names below are only text)
 import subprocess
 import sys
 from pathlib import Path

@@ -42,10 +42,11 @@ ALLOWED: dict[str, set[str]] = {
                 "retry"},
     "single_instance": {"errors"},
     "desktop": {"files"},
+    "service": {"files"},
     "ui": {"app", "client", "hw", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
-            "retry", "sources", "places"},
+            "retry", "sources", "places", "service"},
 }
 """Which packages (or top-level modules) of moas_gui each one may import."""
 

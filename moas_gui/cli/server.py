@@ -65,6 +65,9 @@ def _parser() -> argparse.ArgumentParser:
                         help="register .moas files and a menu entry for this user, and exit")
     parser.add_argument("--uninstall-desktop", action="store_true",
                         help="remove what --install-desktop registered, and exit")
+    parser.add_argument("--install-service", action="store_true",
+                        help="Linux: write a systemd user service that runs FILE headless "
+                             "(with the other options given), print how to start it, and exit")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     # no options: only the test hooks set these (main)
     parser.set_defaults(switch_timing=None, rotator_timing=None)
@@ -322,6 +325,27 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
         return loop.run_until_complete(serve())
 
 
+def _install_service(args: argparse.Namespace, arguments: list[str]) -> int:
+    from moas_gui import service
+    from moas_gui.desktop import server_command
+
+    if not args.file:
+        print("moas-server: --install-service needs a configuration file", file=sys.stderr)
+        return 2
+    if check(args.file) != 0:  # every problem shown; a broken file is never installed
+        return 1
+    command = service.service_command(server_command(), arguments, args.file)
+    try:
+        done = service.install_service(command)
+    except OSError as exc:
+        print(f"moas-server: could not install the service: {exc}", file=sys.stderr)
+        return 1
+    print()
+    for line in done:
+        print(line)
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     output_without_console("moas-server")  # started without a console: output to a log file
     args = _parser().parse_args(argv)
@@ -339,6 +363,8 @@ def main(argv: list[str] | None = None) -> int:
         for line in done:
             print(line)
         return 0
+    if args.install_service:
+        return _install_service(args, sys.argv[1:] if argv is None else list(argv))
     if args.check:
         if not args.file:
             print("moas-server: --check needs a configuration file", file=sys.stderr)

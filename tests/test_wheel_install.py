@@ -42,13 +42,11 @@ def ask_state(port: int) -> dict[str, object]:
                 return message["result"]  # type: ignore[no-any-return]
 
 
-@pytest.fixture(scope="module")
-def installed(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A fresh environment with the wheel built from this source installed; its scripts'
-    folder."""
-    base = tmp_path_factory.mktemp("wheel")
+def install_fresh(base: Path) -> Path:
+    """A fresh environment under ``base`` with the wheel built from this source installed;
+    returns its scripts' folder."""
     source = base / "source"
-    source.mkdir()
+    source.mkdir(parents=True)
     for name in ("pyproject.toml", "setup.py", "README.md"):
         shutil.copy(ROOT / name, source / name)
     ignore = shutil.ignore_patterns("__pycache__", "*.egg-info")
@@ -87,7 +85,9 @@ def script(scripts: Path, name: str) -> Path:
     return scripts / (f"{name}.exe" if WINDOWS else name)
 
 
-def test_the_wheel_installs_every_program_and_its_files(installed: Path) -> None:
+def test_the_wheel_installed_in_a_fresh_environment_checks_and_serves(tmp_path: Path) -> None:
+    """One test, so that the wheel is built once (the workers would each build it)."""
+    installed = install_fresh(tmp_path / "wheel")
     for name in ("moas-server", "moas-server-gui", "moas-client", "moas-client-gui",
                  "moas-emulator", "moas-rotator"):
         assert script(installed, name).is_file(), name
@@ -97,18 +97,13 @@ def test_the_wheel_installs_every_program_and_its_files(installed: Path) -> None
     assert (package / "resources" / "web" / "index.html").is_file()
     assert (package / "resources" / "icons" / "moas-server.ico").is_file()
 
-
-def test_check_works_from_the_console_and_the_window_script(installed: Path) -> None:
-    example = installed_example(installed)
+    # --check from the console script and from the window (gui) script
     for name in ("moas-server", "moas-server-gui"):
         done = run(script(installed, name), "--check", example, cwd=installed)
         assert done.returncode == 0, (name, done.stdout, done.stderr)
         assert "Switch" in done.stdout, (name, done.stdout)
 
-
-def test_the_installed_server_serves_the_installed_example(installed: Path,
-                                                            tmp_path: Path) -> None:
-    example = installed_example(installed)
+    # the installed server serves the installed example
     runtime = short_runtime_dir()
     env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime), XDG_STATE_HOME=str(tmp_path / "state"),
                XDG_CONFIG_HOME=str(tmp_path / "config"), PYTHONUNBUFFERED="1")

@@ -52,7 +52,7 @@ def stop_signals(platform: str = sys.platform) -> tuple[tuple[str, int], ...]:
     """The signals that ask a program to stop on ``platform``, by name and number.
 
     POSIX: SIGINT (Ctrl+C), SIGTERM (``kill``, systemd, launchd) and SIGHUP (the terminal
-    closed).  Windows: SIGINT (Ctrl+C) and SIGBREAK (Ctrl+Break); SIGTERM is listed too,
+    closed; left alone when the program was started with it ignored, as ``nohup`` does).  Windows: SIGINT (Ctrl+C) and SIGBREAK (Ctrl+Break); SIGTERM is listed too,
     though Windows itself never sends it (another Python may, with ``os.kill``).
     """
     if platform == "win32":
@@ -117,6 +117,8 @@ class CleanStop:
         self._loop = loop
         self._finished.clear()
         for name, number in stop_signals(self._platform):
+            if name == "SIGHUP" and _ignored(number):
+                continue  # started with nohup (or the like): a hang-up is not a stop
             if self._platform != "win32":
                 try:
                     before = signal.getsignal(number)
@@ -194,6 +196,13 @@ class CleanStop:
         # Windows ends the process as soon as this returns: wait for the tidying up
         self._finished.wait(self._close_grace)
         return True
+
+
+def _ignored(number: int) -> bool:
+    try:
+        return signal.getsignal(number) is signal.SIG_IGN
+    except ValueError:  # not a signal of this system (a faked platform)
+        return False
 
 
 def _windows_console_hook(handler: Callable[[int], bool]) -> Callable[[], None]:

@@ -98,6 +98,19 @@ async def test_a_real_signal_stops_through_the_loop(number: int) -> None:
     assert signal.getsignal(number) == before, "the loop's handler is gone again"
 
 
+@pytest.mark.asyncio
+async def test_a_hang_up_ignored_from_the_start_stays_ignored() -> None:
+    """``nohup moas-server --headless ...``: closing the terminal must not stop it."""
+    before = signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    try:
+        with CleanStop(lambda: None):
+            assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
+            assert signal.getsignal(signal.SIGTERM) is not signal.SIG_IGN
+        assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGHUP, before)
+
+
 def test_a_loop_without_signal_handlers_gets_plain_ones_that_hand_over() -> None:
     loop = NoSignalLoop()
     fake = FakeSignals()

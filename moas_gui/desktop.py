@@ -38,7 +38,7 @@ import sys
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path, PureWindowsPath
-from typing import Final
+from typing import Any, Final, Protocol
 
 from .files import write_atomic, write_text_atomic
 
@@ -251,10 +251,18 @@ class RegistryValue:
     value: str
 
 
-def windows_command(executable: PureWindowsPath, exists: Callable[[PureWindowsPath], bool]
-                    ) -> list[str]:
-    """The server's command for Explorer: ``pythonw.exe`` (no console window) when there is one."""
+def windows_command(executable: PureWindowsPath, exists: Callable[[PureWindowsPath], bool],
+                    frozen: bool = False) -> list[str]:
+    """The server's command for Explorer, one that opens no console window: the frozen
+    app's ``moas-server-gui.exe``, else the ``moas-server-gui.exe`` a pip or pipx install
+    puts beside Python, else ``pythonw.exe -m moas_gui.cli.server``; the console
+    ``moas-server.exe`` only when there is none of those."""
     folder = executable.parent
+    if frozen:
+        return [str(folder / "moas-server-gui.exe")]
+    for candidate in (folder / "moas-server-gui.exe", folder / "Scripts" / "moas-server-gui.exe"):
+        if exists(candidate):
+            return [str(candidate)]
     if exists(folder / "pythonw.exe"):
         return [str(folder / "pythonw.exe"), "-m", "moas_gui.cli.server"]
     for candidate in (folder / "moas-server.exe", folder / "Scripts" / "moas-server.exe"):
@@ -288,37 +296,55 @@ def windows_registry_values(command: Sequence[str], icon_dir: PureWindowsPath
     ]
 
 
-def _install_windows(values: Sequence[RegistryValue]) -> list[str]:  # pragma: no cover
-    if sys.platform != "win32":
-        raise OSError("the Windows registry exists only on Windows")
-    import ctypes
-    import winreg
+class Registry(Protocol):
+    """What of ``winreg`` the association uses (the tests pass a fake with a dict inside)."""
 
+    HKEY_CURRENT_USER: int
+    KEY_SET_VALUE: int
+    KEY_ALL_ACCESS: int
+    REG_SZ: int
+
+    def CreateKeyEx(self, key: int, sub_key: str, reserved: int = ...,
+                    access: int = ...) -> Any: ...
+
+    def OpenKey(self, key: int, sub_key: str, reserved: int = ...,
+                access: int = ...) -> Any: ...
+
+    def SetValueEx(self, key: Any, name: str, reserved: int, type: int,
+                   value: str) -> None: ...
+
+    def QueryValueEx(self, key: Any, name: str) -> tuple[Any, int]: ...
+
+    def EnumKey(self, key: Any, index: int) -> str: ...
+
+    def DeleteKey(self, key: int, sub_key: str) -> None: ...
+
+    def DeleteValue(self, key: Any, name: str) -> None: ...
+
+
+def write_registry(values: Sequence[RegistryValue], registry: Registry) -> list[str]:
+    """Write ``values`` under ``HKEY_CURRENT_USER``; returns what was written."""
     for item in values:
-        with winreg.CreateKeyEx(winreg.HKEY_CURRENT_USER, item.key, 0,
-                                winreg.KEY_SET_VALUE) as key:
-            winreg.SetValueEx(key, item.name, 0, winreg.REG_SZ, item.value)
-    ctypes.windll.shell32.SHChangeNotify(0x08000000, 0, None, None)  # SHCNE_ASSOCCHANGED
+        with registry.CreateKeyEx(registry.HKEY_CURRENT_USER, item.key, 0,
+                                  registry.KEY_SET_VALUE) as key:
+            registry.SetValueEx(key, item.name, 0, registry.REG_SZ, item.value)
     return [f"wrote HKEY_CURRENT_USER\\{v.key} {v.name or '(default)'} = {v.value}"
             for v in values]
 
 
-def _uninstall_windows() -> list[str]:  # pragma: no cover
-    if sys.platform != "win32":
-        raise OSError("the Windows registry exists only on Windows")
-    import ctypes
-    import winreg
-
+def erase_registry(registry: Registry) -> list[str]:
+    """Remove what :func:`write_registry` wrote for moas-gui (and nothing of others')."""
     def delete_tree(path: str) -> bool:
         try:
-            with winreg.OpenKey(winreg.HKEY_CURRENT_USER, path, 0, winreg.KEY_ALL_ACCESS) as key:
+            with registry.OpenKey(registry.HKEY_CURRENT_USER, path, 0,
+                                  registry.KEY_ALL_ACCESS) as key:
                 while True:
                     try:
-                        child = winreg.EnumKey(key, 0)
+                        child = registry.EnumKey(key, 0)
                     except OSError:
                         break
                     delete_tree(f"{path}\\{child}")
-            winreg.DeleteKey(winreg.HKEY_CURRENT_USER, path)
+            registry.DeleteKey(registry.HKEY_CURRENT_USER, path)
             return True
         except FileNotFoundError:
             return False
@@ -327,19 +353,40 @@ def _uninstall_windows() -> list[str]:  # pragma: no cover
     if delete_tree(f"Software\\Classes\\{PROG_ID}"):
         done.append(f"removed HKEY_CURRENT_USER\\Software\\Classes\\{PROG_ID}")
     try:
-        with winreg.OpenKey(winreg.HKEY_CURRENT_USER, "Software\\Classes\\.moas", 0,
-                            winreg.KEY_ALL_ACCESS) as key:
-            if winreg.QueryValueEx(key, "")[0] == PROG_ID:
-                winreg.DeleteValue(key, "")
+        with registry.OpenKey(registry.HKEY_CURRENT_USER, "Software\\Classes\\.moas", 0,
+                              registry.KEY_ALL_ACCESS) as key:
+            if registry.QueryValueEx(key, "")[0] == PROG_ID:
+                registry.DeleteValue(key, "")
                 done.append("removed the .moas file association")
-        with winreg.OpenKey(winreg.HKEY_CURRENT_USER,
-                            "Software\\Classes\\.moas\\OpenWithProgids", 0,
-                            winreg.KEY_SET_VALUE) as key:
-            winreg.DeleteValue(key, PROG_ID)
+        with registry.OpenKey(registry.HKEY_CURRENT_USER,
+                              "Software\\Classes\\.moas\\OpenWithProgids", 0,
+                              registry.KEY_SET_VALUE) as key:
+            registry.DeleteValue(key, PROG_ID)
     except FileNotFoundError:
         pass
-    ctypes.windll.shell32.SHChangeNotify(0x08000000, 0, None, None)
     return done or ["nothing to remove: the file association was not installed"]
+
+
+def _install_windows(values: Sequence[RegistryValue]) -> list[str]:  # pragma: no cover
+    if sys.platform != "win32":
+        raise OSError("the Windows registry exists only on Windows")
+    import ctypes
+    import winreg
+
+    done = write_registry(values, winreg)  # type: ignore[arg-type]
+    ctypes.windll.shell32.SHChangeNotify(0x08000000, 0, None, None)  # SHCNE_ASSOCCHANGED
+    return done
+
+
+def _uninstall_windows() -> list[str]:  # pragma: no cover
+    if sys.platform != "win32":
+        raise OSError("the Windows registry exists only on Windows")
+    import ctypes
+    import winreg
+
+    done = erase_registry(winreg)  # type: ignore[arg-type]
+    ctypes.windll.shell32.SHChangeNotify(0x08000000, 0, None, None)
+    return done
 
 
 # -- macOS ---------------------------------------------------------------------------------
@@ -374,7 +421,8 @@ def install_desktop(*, system: str | None = None, command: Sequence[str] | None 
     system = system or platform.system()
     if system == "Windows":
         win_command = list(command) if command else windows_command(
-            PureWindowsPath(sys.executable), lambda p: Path(p).exists())
+            PureWindowsPath(sys.executable), lambda p: Path(p).exists(),
+            frozen=bool(getattr(sys, "frozen", False)))
         return _install_windows(windows_registry_values(win_command,
                                                         PureWindowsPath(ICON_DIR)))
     command = list(command) if command else server_command()
@@ -395,7 +443,22 @@ def uninstall_desktop(*, system: str | None = None, run: Runner = run_tool,
 
 
 __all__ = [
-    "DESKTOP_FILE", "MIME_PACKAGE", "MIME_TYPE", "PROG_ID", "RegistryValue", "desktop_entry",
-    "exec_quote", "install_desktop", "linux_files", "macos_instructions", "mime_package",
-    "server_command", "uninstall_desktop", "windows_command", "windows_registry_values",
+    "DESKTOP_FILE",
+    "MIME_PACKAGE",
+    "MIME_TYPE",
+    "PROG_ID",
+    "Registry",
+    "RegistryValue",
+    "desktop_entry",
+    "erase_registry",
+    "exec_quote",
+    "install_desktop",
+    "linux_files",
+    "macos_instructions",
+    "mime_package",
+    "server_command",
+    "uninstall_desktop",
+    "windows_command",
+    "windows_registry_values",
+    "write_registry",
 ]

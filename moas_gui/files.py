@@ -1,6 +1,8 @@
 """Writing a file so that a crash, ``kill -9`` or a full disk never leaves it half
 written: the new content goes to a temporary file beside it, is flushed to the disk,
 and is renamed over the old one.  A reader sees the old file or the new one, whole.
+On Windows the rename is tried again for a moment while another program (a virus
+scanner, the search indexer) holds the file.
 
 Every file the server writes goes through :func:`write_atomic` (the saved state, Save
 Switch Data, the desktop registration's files); Qt's ``QSettings`` (recent files, the
@@ -12,7 +14,10 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
+import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Final
 
 
 def temporary_name(path: Path) -> Path:
@@ -31,7 +36,7 @@ def write_atomic(path: Path, data: bytes) -> None:
             os.fsync(out.fileno())
         with contextlib.suppress(OSError):
             os.chmod(temporary, os.stat(path).st_mode & 0o7777)
-        os.replace(temporary, path)
+        replace_patiently(temporary, path)
     except BaseException:
         with contextlib.suppress(OSError):
             temporary.unlink()
@@ -46,9 +51,33 @@ def write_atomic(path: Path, data: bytes) -> None:
                 os.close(fd)
 
 
+REFUSALS_PASS = sys.platform == "win32"
+"""Whether a refused rename is worth trying again: on Windows a virus scanner, the search
+indexer or a backup program may hold the file for a moment, and the rename fails with
+``PermissionError`` until it lets go.  Elsewhere a refusal is final."""
+RETRY_PAUSES_S: Final = (0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.5)
+"""The pauses between tries (about 1.2 s in all), then the last refusal is raised."""
+
+
+def replace_patiently(source: Path, target: Path,
+                      sleep: Callable[[float], None] = time.sleep) -> None:
+    """``os.replace(source, target)``, tried again after a short pause while Windows
+    refuses it (see :data:`REFUSALS_PASS`)."""
+    pauses = iter(RETRY_PAUSES_S if REFUSALS_PASS else ())
+    while True:
+        try:
+            os.replace(source, target)
+            return
+        except PermissionError:
+            pause = next(pauses, None)
+            if pause is None:
+                raise
+            sleep(pause)
+
+
 def write_text_atomic(path: Path, text: str) -> None:
     """:func:`write_atomic` for text, in UTF-8."""
     write_atomic(path, text.encode("utf-8"))
 
 
-__all__ = ["temporary_name", "write_atomic", "write_text_atomic"]
+__all__ = ["replace_patiently", "temporary_name", "write_atomic", "write_text_atomic"]

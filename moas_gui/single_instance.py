@@ -201,6 +201,8 @@ class InstanceServer:
         self._on_open = on_open
         self._vet = vet
         if self.transport == "unix":
+            if sys.platform == "win32":
+                raise InstanceError("Unix sockets are not on Windows: use the tcp transport")
             self._server = await asyncio.start_unix_server(
                 self._serve, sock=self._sock, limit=MAX_REQUEST)
         else:
@@ -236,7 +238,8 @@ class InstanceServer:
     def _foreign_peer(self, writer: asyncio.StreamWriter) -> str | None:
         """Why the peer may not hand over (another user), or None."""
         sock = writer.get_extra_info("socket")
-        if self.transport != "unix" or sock is None or not hasattr(socket, "SO_PEERCRED"):
+        if (sys.platform == "win32" or self.transport != "unix" or sock is None
+                or not hasattr(socket, "SO_PEERCRED")):
             return None
         try:
             credentials = sock.getsockopt(socket.SOL_SOCKET, socket.SO_PEERCRED,
@@ -320,6 +323,8 @@ def claim(name: str = DEFAULT_NAME, *, directory: Path | None = None,
 
 
 def _bind_unix(path: Path) -> socket.socket:
+    if sys.platform == "win32":
+        raise InstanceError("Unix sockets are not on Windows: use the tcp transport")
     if len(os.fsencode(path)) > 100:
         raise InstanceError(f"the socket path {path} is too long for a Unix socket; "
                             "set XDG_RUNTIME_DIR to a shorter directory")
@@ -396,6 +401,8 @@ def offer(name: str = DEFAULT_NAME, path: str | os.PathLike[str] | None = None,
 def _ask(directory: Path, name: str, transport: Transport, request: dict[str, object],
          deadline: float) -> HandOver:
     if transport == "unix":
+        if sys.platform == "win32":
+            raise InstanceError("Unix sockets are not on Windows: use the tcp transport")
         sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
         address: str | tuple[str, int] = str(directory / f"{name}.sock")
     else:

@@ -3,8 +3,9 @@
 
 One file per configuration file, in the user's state directory
 (``$XDG_STATE_HOME/moas-gui/``, ``~/.local/state/moas-gui/`` by default;
-``%LOCALAPPDATA%\\moas-gui\\state`` on Windows).  It holds a fingerprint of the
-configuration file's bytes, the engine's selections
+``~/Library/Application Support/moas-gui/`` on macOS;
+``%LOCALAPPDATA%\\moas-gui\\state`` on Windows: :mod:`moas_gui.places`).  It holds a
+fingerprint of the configuration file's bytes, the engine's selections
 (:mod:`moas_gui.engine.snapshot`) and, per switch, the :class:`SwitchState` last
 sent to the box.  It is written whole to a temporary file in the same
 directory, flushed to the disk, and renamed over the old one, so whatever a
@@ -26,8 +27,6 @@ import contextlib
 import hashlib
 import json
 import logging
-import os
-import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -36,7 +35,7 @@ from typing import Any
 
 from moas_gui.errors import MoasError
 
-from . import files
+from . import files, places
 from .engine.switchstate import STATIONS, StationAntennas, SwitchState
 
 log = logging.getLogger("moas_gui.state")
@@ -51,14 +50,8 @@ class StateError(MoasError, ValueError):
 
 
 def state_dir() -> Path:
-    """The per-user directory for state files (not made here)."""
-    if sys.platform == "win32":
-        base = os.environ.get("LOCALAPPDATA") or str(Path.home() / "AppData" / "Local")
-        return Path(base) / "moas-gui" / "state"
-    base = os.environ.get("XDG_STATE_HOME", "")
-    if not base or not os.path.isabs(base):
-        base = str(Path.home() / ".local" / "state")
-    return Path(base) / "moas-gui"
+    """The per-user directory for state files (not made here): see :mod:`moas_gui.places`."""
+    return places.state_dir()
 
 
 def state_path(config_path: Path) -> Path:

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Sets up everything moas-gui needs on a Debian or Ubuntu machine:
+# Sets up everything moas-gui needs on a Debian or Ubuntu machine (and, without the
+# Debian packages, on macOS; on Windows see README.md):
 #   scripts/setup.sh          the server (Qt's system libraries when root, a venv in .venv)
 #   scripts/setup.sh --test   also what the test suite needs (Hamlib, socat, xvfb, test extra)
 set -euo pipefail
@@ -14,15 +15,19 @@ apt_pkgs="$apt_pkgs libxcb-render-util0 libxcb-shape0 libxcb-xkb1 libxkbcommon-x
 if [ "$want_test" = 1 ]; then
     apt_pkgs="$apt_pkgs libhamlib-utils socat shared-mime-info xvfb xauth trayer chromium chromium-driver"
 fi
-if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+# as root, or with MOAS_SETUP_SUDO=1 through sudo (a CI runner: passwordless sudo)
+as_root=""
+[ "$(id -u)" = 0 ] || { [ "${MOAS_SETUP_SUDO:-}" = 1 ] && as_root="sudo"; }
+if { [ "$(id -u)" = 0 ] || [ -n "$as_root" ]; } && command -v apt-get >/dev/null 2>&1; then
     missing=""
     for p in $apt_pkgs; do
         dpkg -s "$p" >/dev/null 2>&1 || missing="$missing $p"
     done
     if [ -n "$missing" ]; then
         echo "setup: installing Debian packages:$missing" >&2
-        apt-get update -qq >/dev/null
-        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $missing >/dev/null
+        $as_root apt-get update -qq >/dev/null
+        $as_root env DEBIAN_FRONTEND=noninteractive \
+            apt-get install -y -qq --no-install-recommends $missing >/dev/null
     fi
 fi
 

@@ -12,10 +12,12 @@ from __future__ import annotations
 
 import gc
 import os
+import re
 import shutil
 import sys
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from helpers import short_runtime_dir
@@ -78,6 +80,59 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
         quick = quick[take:]
     items[:] = ordered + quick
 
+
+
+# -- what some test modules need of the system -------------------------------------------
+#
+# On a system without it (the CI's Windows and macOS runners), such a module is skipped
+# whole, with the reason in the report, and its tests carry the mark (``-m "not posix"``).
+
+POSIX_ONLY = re.compile(
+    r"PtyEndpoint|EmulatorHost|openpty|^import (?:pty|tty|termios|fcntl|resource)\b|"
+    r"--emulate|/dev/pts|pty_bench|fault_harness|"
+    r"^from faults|socat|AF_UNIX|start_unix_server|SIGHUP|SIGKILL|getuid|/proc/|"
+    r"make_link|serve_control", re.MULTILINE)
+"""What a module uses that only POSIX systems have: pseudo-terminals, Unix sockets, POSIX
+signals, /proc.  Looked for in each module's text, so a new test is marked by itself."""
+ANY_PLATFORM = "# platform: any"
+"""A module holding this line only speaks of such things (in text): it runs everywhere."""
+NEEDS_PROGRAMS: dict[str, tuple[str, ...]] = {
+    "test_web_browser.py": ("chromium", "chromedriver"),
+}
+"""Modules that need programs installed (besides those that check for themselves)."""
+
+
+def cannot_run_on(path: Path, platform: str = sys.platform) -> tuple[str, str] | None:
+    """The mark and the reason the test module at ``path`` cannot run on ``platform``
+    (this system by default), or None."""
+    if platform == "win32":
+        text = path.read_text(encoding="utf-8", errors="replace")
+        used = sorted({m.group(0).split()[-1] for m in POSIX_ONLY.finditer(text)})
+        if used and ANY_PLATFORM not in text:
+            return "posix", f"POSIX only (uses {', '.join(used[:4])}): not on Windows"
+    missing = [tool for tool in NEEDS_PROGRAMS.get(path.name, ()) if shutil.which(tool) is None]
+    if missing:
+        return "programs", f"needs {' and '.join(missing)}, not installed here"
+    return None
+
+
+class _SkippedModule(pytest.Module):
+    """A test module this system cannot run: reported as skipped, with the reason."""
+
+    reason = ""
+
+    def collect(self) -> list[pytest.Item]:
+        raise pytest.skip.Exception(self.reason, allow_module_level=True)
+
+
+def pytest_pycollect_makemodule(module_path: Path, parent: pytest.Collector) -> Any:
+    why = cannot_run_on(module_path) if module_path.name.startswith("test_") else None
+    if why is None:
+        return None
+    module = _SkippedModule.from_parent(parent, path=module_path)
+    module.reason = why[1]
+    module.add_marker(why[0])
+    return module
 
 
 QT_FIXTURES = frozenset({"qapp", "qtbot"})

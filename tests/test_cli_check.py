@@ -26,12 +26,12 @@ def test_every_example_is_usable_and_summarised() -> None:
 
 def test_a_broken_file_lists_every_problem_with_its_place_and_exits_1(tmp_path: Path) -> None:
     path = tmp_path / "broken.moas"
-    path.write_text('{\n  "Switches": [ { "ID": 1, "Port": "COM3" } ]\n  "TCPPort": True\n}\n')
+    path.write_text('{\n  "Switches": [ { "ID": 1, "Port": "emulator" } ]\n  "TCPPort": True\n}\n')
     done = run_check(path)
     assert done.returncode == 1
     lines = done.stdout.splitlines()
     assert lines[0] == f'{path}:1:1: warning: there are no "Radios": no antenna can be selected'
-    assert lines[1] == f"{path}:2:46: error: missing comma after the value that ends on line 2?"
+    assert lines[1] == f"{path}:2:50: error: missing comma after the value that ends on line 2?"
     assert lines[2] == f"{path}:3:14: error: write true in lowercase, not True"
     assert "3 errors; the configuration cannot be used." in lines[-1]
     assert "must be a whole number, not true" in lines[3]

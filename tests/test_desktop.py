@@ -184,14 +184,19 @@ def test_the_menu_entry_starts_python_when_there_is_no_script() -> None:
     assert keys["Exec"] == "/usr/bin/python3 -m moas_gui.cli.server %f"
 
 
-def test_windows_prefers_pythonw_so_no_console_window_opens() -> None:
+def test_windows_prefers_a_command_that_opens_no_console_window() -> None:
     python = PureWindowsPath(r"C:\Users\Op\moas\Scripts\python.exe")
     every = windows_command(python, lambda path: True)
-    assert every == [r"C:\Users\Op\moas\Scripts\pythonw.exe", "-m", "moas_gui.cli.server"]
+    assert every == [r"C:\Users\Op\moas\Scripts\moas-server-gui.exe"]  # the gui-script
+    pythonw = windows_command(python, lambda path: path.name == "pythonw.exe")
+    assert pythonw == [r"C:\Users\Op\moas\Scripts\pythonw.exe", "-m", "moas_gui.cli.server"]
     script = windows_command(python, lambda path: path.name == "moas-server.exe")
     assert script == [r"C:\Users\Op\moas\Scripts\moas-server.exe"]
     bare = windows_command(python, lambda path: False)
     assert bare == [str(python), "-m", "moas_gui.cli.server"]
+    frozen = windows_command(PureWindowsPath(r"C:\Program Files\moas-gui\moas-server.exe"),
+                             lambda path: False, frozen=True)
+    assert frozen == [r"C:\Program Files\moas-gui\moas-server-gui.exe"]
 
 
 def test_windows_registry_values_associate_moas_files_with_the_server() -> None:
@@ -219,7 +224,7 @@ def test_windows_script_command_is_quoted_with_its_file_argument() -> None:
 
 def test_the_public_names_do_not_drift() -> None:
     assert sorted(desktop.__all__) == sorted([
-        "DESKTOP_FILE", "MIME_PACKAGE", "MIME_TYPE", "PROG_ID", "RegistryValue", "desktop_entry",
-        "exec_quote", "install_desktop", "linux_files", "macos_instructions", "mime_package",
+        "DESKTOP_FILE", "MIME_PACKAGE", "MIME_TYPE", "PROG_ID", "Registry", "RegistryValue",
+        "desktop_entry", "erase_registry", "write_registry", "exec_quote", "install_desktop", "linux_files", "macos_instructions", "mime_package",
         "server_command", "uninstall_desktop", "windows_command", "windows_registry_values"])
     assert sys.modules["moas_gui.desktop"] is desktop

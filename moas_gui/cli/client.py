@@ -19,7 +19,9 @@ import logging
 import sys
 
 from moas_gui import __version__
+from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.client.address import DEFAULT_HOST, DEFAULT_PORT, parse_address
+from moas_gui.places import output_without_console
 from moas_gui.sources.spec import SourceSpec, parse_spec
 
 EXIT_NEVER_CONNECTED = 3
@@ -53,6 +55,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    output_without_console("moas-client")  # started without a console: output to a log file
     parser = _parser()
     args = parser.parse_args(argv)
     try:
@@ -87,11 +90,8 @@ def run_headless(host: str, port: int, args: argparse.Namespace,
     """Reads the sources and tells the server until SIGINT / SIGTERM (or ``--quit-after``)."""
     from moas_gui.sources.headless import serve
 
-    try:
-        return asyncio.run(serve(host, port, args.station, specs, name=args.name,
-                                 quit_after=args.quit_after))
-    except KeyboardInterrupt:
-        return 0
+    return run_until_stopped(serve(host, port, args.station, specs, name=args.name,
+                                   quit_after=args.quit_after))
 
 
 def run(host: str, port: int, args: argparse.Namespace) -> int:
@@ -129,11 +129,12 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
         window.show()
         if args.quit_after is not None:
             loop.call_later(args.quit_after, done.set)
-        await done.wait()
-        window.close()
-        await sources.aclose()
-        await window.aclose()
-        window.deleteLater()
+        with CleanStop(done.set):  # SIGTERM, Ctrl+C, a closed console: as closing the window
+            await done.wait()
+            window.close()
+            await sources.aclose()
+            await window.aclose()
+            window.deleteLater()
         if args.quit_after is not None and connection.connects == 0:
             print(f"moas-client: could not reach the server at {connection.address}",
                   file=sys.stderr)

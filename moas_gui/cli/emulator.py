@@ -34,14 +34,13 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import contextlib
 import logging
-import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from .. import __version__
+from ..aio import CleanStop, run_until_stopped
 from ..hw.moas2.emulator.box import EmulatedBox, Traffic
 from ..hw.moas2.emulator.control import (
     Control,
@@ -61,6 +60,7 @@ from ..hw.moas2.emulator.serve import (
     serve,
 )
 from ..hw.moas2.errors import PortError
+from ..places import output_without_console
 from .options import add_log_level, log_level_number
 
 log = logging.getLogger("moas_gui.hw.moas2.emulator")
@@ -130,26 +130,24 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
                 remove_link(args.link, endpoint.path)
             return 2
     stop = asyncio.Event()
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        with contextlib.suppress(NotImplementedError, RuntimeError, ValueError):
-            loop.add_signal_handler(signum, stop.set)
-    # Only now: whoever reads these lines may stop the emulator at once.
-    print(endpoint.path, flush=True)
-    if args.link:
-        print(f"linked at {args.link}", flush=True)
-    if args.control == "-":
-        print("control at -", flush=True)
-        serve_stdin(Control(box), loop)
-    elif control_server is not None:
-        print(f"control at {control_at}", flush=True)
+    stopping = CleanStop(stop.set).install()
     window = None
-    if windowed:
-        from ..ui.emulator_window import EmulatorWindow
-
-        window = EmulatorWindow(box, port=endpoint.path)
-        window.closed.connect(stop.set)
-        window.show()
     try:
+        # Only now: whoever reads these lines may stop the emulator at once.
+        print(endpoint.path, flush=True)
+        if args.link:
+            print(f"linked at {args.link}", flush=True)
+        if args.control == "-":
+            print("control at -", flush=True)
+            serve_stdin(Control(box), loop)
+        elif control_server is not None:
+            print(f"control at {control_at}", flush=True)
+        if windowed:
+            from ..ui.emulator_window import EmulatorWindow
+
+            window = EmulatorWindow(box, port=endpoint.path)
+            window.closed.connect(stop.set)
+            window.show()
         await stop.wait()
     finally:
         if window is not None:
@@ -161,6 +159,7 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
         endpoint.close()
         if args.link:
             remove_link(args.link, endpoint.path)
+        stopping.remove()
     return 0
 
 
@@ -206,6 +205,7 @@ def _log_relays(box: EmulatedBox) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    output_without_console("moas-emulator")  # started without a console: output to a log file
     args = _parser().parse_args(argv)
     if not 0 <= args.unit_id <= 99:
         print("moas-emulator: --unit-id must be 0-99", file=sys.stderr)
@@ -217,10 +217,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         level=log_level_number(args.log_level), stream=sys.stderr, format="%(levelname)s %(name)s: %(message)s"
     )
     if args.headless:
-        try:
-            return asyncio.run(_run(args, windowed=False))
-        except KeyboardInterrupt:
-            return 0
+        return run_until_stopped(_run(args, windowed=False))
     import qasync  # type: ignore[import-untyped]
     from PySide6.QtWidgets import QApplication
 

@@ -13,13 +13,13 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import contextlib
 import logging
-import signal
 import sys
-import threading
+from collections.abc import Callable
+from typing import Any
 
 from moas_gui import __version__
+from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.hw.rotators.controllers.base import DEFAULT_SPEED, UnknownModel
 from moas_gui.hw.rotators.controllers.models import find_model, known_models
@@ -70,21 +70,24 @@ def _emulate(args: argparse.Namespace) -> int:
     if args.speed <= 0:
         print("moas-rotator: --speed must be more than 0", file=sys.stderr)
         return 2
-    done = threading.Event()
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signum, lambda *_: done.set())
-    with EmulatorHost() as host:
+    return run_until_stopped(_emulate_until_stopped(args, model, EmulatorHost))
+
+
+async def _emulate_until_stopped(args: argparse.Namespace, model: Any,
+                                 host_class: Callable[[], Any]) -> int:
+    stop = asyncio.Event()
+    with CleanStop(stop.set), host_class() as host:
         try:
             port = host.add(model.make_emulator(args.azimuth, args.speed, host.clock()),
                             link=args.link)
         except OSError as error:
             print(f"moas-rotator: cannot make the pseudo-terminal: {error}", file=sys.stderr)
             return 1
+        # said only once a SIGTERM would end it cleanly (and remove the link)
         print(port.path, flush=True)
         log.info("emulating %s (%s) on %s; stop with Ctrl+C", model.name,
                  model.info.description, port.path)
-        while not done.wait(0.5):
-            pass
+        await stop.wait()
     return 0
 
 
@@ -97,16 +100,13 @@ async def _serve(args: argparse.Namespace) -> int:
               " (is another MOAS Rotator running?)", file=sys.stderr)
         return 2
     stop = asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        with contextlib.suppress(NotImplementedError, RuntimeError):
-            loop.add_signal_handler(signum, stop.set)
-    # said only once a SIGTERM would end it cleanly: whoever starts it may stop it at once
-    print(f"listening on {host}:{port}", flush=True)
-    try:
-        await stop.wait()
-    finally:
-        await program.close()
+    with CleanStop(stop.set):
+        # said only once a SIGTERM would end it cleanly: whoever starts it may stop it at once
+        print(f"listening on {host}:{port}", flush=True)
+        try:
+            await stop.wait()
+        finally:
+            await program.close()
     log.info("stopped")
     return 0
 
@@ -120,10 +120,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.link:
         print("moas-rotator: --link is only for --emulate", file=sys.stderr)
         return 2
-    try:
-        return asyncio.run(_serve(args))
-    except KeyboardInterrupt:
-        return 0
+    return run_until_stopped(_serve(args))
 
 
 if __name__ == "__main__":

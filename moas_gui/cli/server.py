@@ -10,12 +10,13 @@ from __future__ import annotations
 import argparse
 import asyncio
 import logging
-import signal
 import sys
 from pathlib import Path
 
 from moas_gui import __version__
+from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.cli.options import add_log_level, log_level_number
+from moas_gui.places import output_without_console
 
 log = logging.getLogger("moas_gui.server")
 INSTANCE_NAME = "moas-server"
@@ -64,6 +65,9 @@ def _parser() -> argparse.ArgumentParser:
                         help="register .moas files and a menu entry for this user, and exit")
     parser.add_argument("--uninstall-desktop", action="store_true",
                         help="remove what --install-desktop registered, and exit")
+    parser.add_argument("--install-service", action="store_true",
+                        help="Linux: write a systemd user service that runs FILE headless "
+                             "(with the other options given), print how to start it, and exit")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     # no options: only the test hooks set these (main)
     parser.set_defaults(switch_timing=None, rotator_timing=None)
@@ -236,19 +240,14 @@ async def _serve_headless(args: argparse.Namespace, instance: object | None) -> 
     if result.config is None:
         return 1
     stop = asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for number in (signal.SIGINT, signal.SIGTERM):
-        try:
-            loop.add_signal_handler(number, stop.set)
-        except (NotImplementedError, RuntimeError):  # Windows
-            signal.signal(number, lambda *_: loop.call_soon_threadsafe(stop.set))
-    if instance is not None:
-        await instance.start(  # type: ignore[attr-defined]
-            lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True))
-    log.info("Serving %s; stop with Ctrl+C", args.file)
-    await stop.wait()
-    log.info("Stopping; the relays keep their state")
-    await app.close()
+    with CleanStop(stop.set):
+        if instance is not None:
+            await instance.start(  # type: ignore[attr-defined]
+                lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True))
+        log.info("Serving %s; stop with Ctrl+C", args.file)
+        await stop.wait()
+        log.info("Stopping; the relays keep their state")
+        await app.close()
     return 0
 
 
@@ -262,7 +261,7 @@ def run_headless(args: argparse.Namespace) -> int:
     if status is not None:
         return status
     try:
-        return asyncio.run(_serve_headless(args, instance))
+        return run_until_stopped(_serve_headless(args, instance))
     finally:
         if instance is not None:
             instance.close()  # type: ignore[attr-defined]
@@ -280,7 +279,7 @@ def run_window(args: argparse.Namespace) -> int:
 
 
 def _run_window(args: argparse.Namespace, instance: object | None) -> int:
-    import qasync
+    import qasync  # type: ignore[import-untyped]
 
     from moas_gui.app import ServerApp
     from moas_gui.ui.main_thread_gc import MainThreadCollector
@@ -289,6 +288,9 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
 
     qt_app = ensure_application()
     qt_app.setWindowIcon(application_icon())
+    from moas_gui.ui.file_open import FileOpenEvents
+
+    opened = FileOpenEvents(qt_app)  # macOS: a double-clicked file comes as an event
     collector = MainThreadCollector(qt_app)  # noqa: F841 (lives as long as the application)
     loop = qasync.QEventLoop(qt_app)
     asyncio.set_event_loop(loop)
@@ -299,38 +301,53 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
         settings = QSettings()
         window = ServerWindow(app, settings, quit_event.set)
         window.show()
-        _stop_on_signals(quit_event)
-        if instance is not None:
-            await instance.start(  # type: ignore[attr-defined]
-                window.take_hand_over, lambda path, launch: vet_launch(app, launch, headless=False))
-        from moas_gui.ui.control_hook import start_if_asked
+        # SIGINT, SIGTERM (and Ctrl+Break, a closed console) end it as Exit does
+        with CleanStop(quit_event.set):
+            if instance is not None:
+                await instance.start(  # type: ignore[attr-defined]
+                    window.take_hand_over,
+                    lambda path, launch: vet_launch(app, launch, headless=False))
+            from moas_gui.ui.control_hook import start_if_asked
 
-        hook = await start_if_asked(window)
-        if args.file:
-            window.open_file(args.file)
-        await quit_event.wait()
-        if hook is not None:
-            await hook.close()
-        await window.idle()
-        await app.close()
-        window.shutdown()
+            hook = await start_if_asked(window)
+            if args.file:
+                window.open_file(args.file)
+            opened.attach(window.take_hand_over)
+            await quit_event.wait()
+            if hook is not None:
+                await hook.close()
+            await window.idle()
+            await app.close()
+            window.shutdown()
         return 0
 
     with loop:
         return loop.run_until_complete(serve())
 
 
-def _stop_on_signals(quit_event: asyncio.Event) -> None:
-    """SIGINT and SIGTERM end the window server as Exit does (the relays stay as they are)."""
-    loop = asyncio.get_running_loop()
-    for number in (signal.SIGINT, signal.SIGTERM):
-        try:
-            loop.add_signal_handler(number, quit_event.set)
-        except (NotImplementedError, RuntimeError):
-            signal.signal(number, lambda *_: loop.call_soon_threadsafe(quit_event.set))
+def _install_service(args: argparse.Namespace, arguments: list[str]) -> int:
+    from moas_gui import service
+    from moas_gui.desktop import server_command
+
+    if not args.file:
+        print("moas-server: --install-service needs a configuration file", file=sys.stderr)
+        return 2
+    if check(args.file) != 0:  # every problem shown; a broken file is never installed
+        return 1
+    command = service.service_command(server_command(), arguments, args.file)
+    try:
+        done = service.install_service(command)
+    except OSError as exc:
+        print(f"moas-server: could not install the service: {exc}", file=sys.stderr)
+        return 1
+    print()
+    for line in done:
+        print(line)
+    return 0
 
 
 def main(argv: list[str] | None = None) -> int:
+    output_without_console("moas-server")  # started without a console: output to a log file
     args = _parser().parse_args(argv)
     if args.install_desktop or args.uninstall_desktop:
         from moas_gui import desktop
@@ -346,6 +363,8 @@ def main(argv: list[str] | None = None) -> int:
         for line in done:
             print(line)
         return 0
+    if args.install_service:
+        return _install_service(args, sys.argv[1:] if argv is None else list(argv))
     if args.check:
         if not args.file:
             print("moas-server: --check needs a configuration file", file=sys.stderr)

@@ -6,11 +6,13 @@ complete configuration (perhaps with warnings) or none at all.
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 from .jsontree import JObject, describe, parse
 from .model import Config
+from .ports import check_port_names
 from .problems import ConfigError, Problem, Severity
 from .reading import BAD, Reading
 from .rigs import check_rig_sources
@@ -52,8 +54,9 @@ def _whole_file(path: str, message: str) -> LoadResult:
     return LoadResult(None, (Problem(0, 0, Severity.ERROR, message, path),))
 
 
-def load_config(path: str | Path) -> LoadResult:
-    """Read and check the configuration file at ``path``."""
+def load_config(path: str | Path, *, platform: str = sys.platform) -> LoadResult:
+    """Read and check the configuration file at ``path`` (``platform``: the system it is
+    to run on, for the port names; this one by default)."""
     path = Path(path)
     name = str(path)
     try:
@@ -70,10 +73,11 @@ def load_config(path: str | Path) -> LoadResult:
         return _whole_file(name, "the file cannot be read: permission denied")
     except OSError as exc:
         return _whole_file(name, f"the file cannot be read: {exc.strerror or exc}")
-    return read_config(data, name, path)
+    return read_config(data, name, path, platform=platform)
 
 
-def read_config(data: bytes, filename: str = "<config>", path: Path | None = None) -> LoadResult:
+def read_config(data: bytes, filename: str = "<config>", path: Path | None = None, *,
+                platform: str = sys.platform) -> LoadResult:
     """Read and check a configuration file's bytes (``filename`` is used in messages)."""
     try:
         text = data.decode("utf-8")
@@ -84,10 +88,11 @@ def read_config(data: bytes, filename: str = "<config>", path: Path | None = Non
                                          "the file is not UTF-8 text (byte "
                                          f"0x{data[exc.start]:02X}); save it as UTF-8",
                                          filename),))
-    return parse_config(text, filename, path)
+    return parse_config(text, filename, path, platform=platform)
 
 
-def parse_config(text: str, filename: str = "<config>", path: Path | None = None) -> LoadResult:
+def parse_config(text: str, filename: str = "<config>", path: Path | None = None, *,
+                 platform: str = sys.platform) -> LoadResult:
     """Read and check configuration ``text`` (``filename`` is used in messages)."""
     root, syntax = parse(text, filename)
     reading = Reading(filename)
@@ -104,6 +109,7 @@ def parse_config(text: str, filename: str = "<config>", path: Path | None = None
                 check(config, reading)
                 check_wiring(config, reading)
                 check_rig_sources(config, reading)
+                check_port_names(config, reading, platform)
     problems = tuple(sorted(reading.problems, key=lambda p: (p.line == 0, p.line, p.column)))
     has_errors = any(p.severity is Severity.ERROR for p in problems)
     return LoadResult(None if has_errors else config, problems)

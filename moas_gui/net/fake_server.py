@@ -10,11 +10,10 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import contextlib
 import logging
-import signal
 import sys
 
+from ..aio import CleanStop, run_until_stopped
 from .fake_backend import FakeBackend
 from .server import DEFAULT_PORT, ClientServer
 
@@ -26,14 +25,11 @@ async def serve(host: str, port: int) -> None:
     bound = await server.start()
     print(f"port {bound}", flush=True)
     stop = asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        with contextlib.suppress(NotImplementedError, RuntimeError):
-            loop.add_signal_handler(sig, stop.set)
-    try:
-        await stop.wait()
-    finally:
-        await server.close()
+    with CleanStop(stop.set):
+        try:
+            await stop.wait()
+        finally:
+            await server.close()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -44,9 +40,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     logging.basicConfig(level=args.log.upper(), stream=sys.stderr,
                         format="%(asctime)s %(levelname)s %(message)s")
-    with contextlib.suppress(KeyboardInterrupt):
-        asyncio.run(serve(args.host, args.port))
-    return 0
+    return run_until_stopped(serve(args.host, args.port))
 
 
 if __name__ == "__main__":

@@ -13,9 +13,9 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-import signal
 from collections.abc import Sequence
 
+from moas_gui.aio import CleanStop
 from moas_gui.client.connection import ClientConnection
 from moas_gui.sources.base import Source, SourceHub
 from moas_gui.sources.forwarder import Forwarder
@@ -34,9 +34,7 @@ async def serve(host: str, port: int, station: int, specs: Sequence[SourceSpec],
     sources: list[Source] = []
     done = asyncio.Event()
     loop = asyncio.get_running_loop()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        with contextlib.suppress(NotImplementedError, RuntimeError):  # Windows
-            loop.add_signal_handler(sig, done.set)
+    stopping = CleanStop(done.set).install()
     connection.start()
     forwarder.start()
     try:
@@ -59,9 +57,7 @@ async def serve(host: str, port: int, station: int, specs: Sequence[SourceSpec],
                 await source.close()
         await forwarder.aclose()
         await connection.aclose()
-        for sig in (signal.SIGINT, signal.SIGTERM):
-            with contextlib.suppress(NotImplementedError, RuntimeError):
-                loop.remove_signal_handler(sig)
+        stopping.remove()
     if quit_after is not None and connection.connects == 0:
         log.error("could not reach the server at %s", connection.address)
         return EXIT_NEVER_CONNECTED

@@ -28,6 +28,7 @@ import asyncio
 import contextlib
 import json
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -51,6 +52,8 @@ class ControlHook:
     async def start(self, path: str) -> None:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(path)
+        if sys.platform == "win32":
+            raise OSError("the control hook listens on a Unix socket: not on Windows")
         self._server = await asyncio.start_unix_server(self._serve, path=path)
         os.chmod(path, 0o600)
 

@@ -24,10 +24,10 @@ import argparse
 import asyncio
 import contextlib
 import logging
-import signal
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.clock import LOOP_CLOCK, Clock
 
 from .moas_rotator_codec import (
@@ -208,12 +208,10 @@ async def _main(host: str, port: int) -> None:
     fake = FakeMoasRotator(host, port)
     await fake.start()
     done = asyncio.Event()
-    loop = asyncio.get_running_loop()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        loop.add_signal_handler(sig, done.set)
-    print(f"fake MOAS Rotator listening on {host}:{fake.port}", flush=True)
-    await done.wait()
-    await fake.close()
+    with CleanStop(done.set):
+        print(f"fake MOAS Rotator listening on {host}:{fake.port}", flush=True)
+        await done.wait()
+        await fake.close()
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -222,7 +220,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--port", type=int, default=13020)
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO)
-    asyncio.run(_main(args.bind, args.port))
+    run_until_stopped(_main(args.bind, args.port))
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ import asyncio
 import contextlib
 import logging
 import os
+import sys
 import threading
 from collections.abc import Callable
 from pathlib import Path
@@ -46,17 +47,25 @@ class Endpoint(Protocol):
     def close(self) -> None: ...
 
 
+def _open_pty() -> tuple[int, int, str]:
+    """A new raw pseudo-terminal: its master, its slave and the slave's name."""
+    if sys.platform == "win32":
+        raise PortError("Windows has no pseudo-terminals: give a serial port "
+                        "(one end of a COM pair) instead")
+    import pty
+    import tty
+
+    master, slave = pty.openpty()
+    tty.setraw(slave)
+    os.set_blocking(master, False)
+    return master, slave, os.ttyname(slave)
+
+
 class PtyEndpoint:
     """A new pseudo-terminal (POSIX only)."""
 
     def __init__(self) -> None:
-        import pty
-        import tty
-
-        self._master, self._slave = pty.openpty()
-        tty.setraw(self._slave)
-        os.set_blocking(self._master, False)
-        self.path = os.ttyname(self._slave)
+        self._master, self._slave, self.path = _open_pty()
         self._backlog = bytearray()
         self._loop: asyncio.AbstractEventLoop | None = None
         self._on_data: DataCallback | None = None

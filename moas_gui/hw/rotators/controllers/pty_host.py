@@ -21,6 +21,7 @@ import errno
 import logging
 import os
 import selectors
+import sys
 import threading
 import time
 import tty
@@ -53,6 +54,17 @@ class ServedPort:
     sent: int = 0
 
 
+def _wake_pipe() -> tuple[int, int]:
+    """A non-blocking pipe that wakes the host's selector."""
+    if sys.platform == "win32":
+        raise OSError("emulated controllers need pseudo-terminals: not on Windows "
+                      "(use a virtual COM port pair and the emulator models from Python)")
+    read, write = os.pipe()
+    os.set_blocking(read, False)
+    os.set_blocking(write, False)
+    return read, write
+
+
 class EmulatorHost:
     """A thread that serves emulators on pseudo-terminals; see the module docstring."""
 
@@ -61,9 +73,7 @@ class EmulatorHost:
         self._lock = threading.RLock()
         self._ports: dict[int, ServedPort] = {}
         self._selector = selectors.DefaultSelector()
-        self._wake_r, self._wake_w = os.pipe()
-        os.set_blocking(self._wake_r, False)
-        os.set_blocking(self._wake_w, False)
+        self._wake_r, self._wake_w = _wake_pipe()
         self._selector.register(self._wake_r, selectors.EVENT_READ)
         self._stopping = False
         self._thread = threading.Thread(target=self._run, name="emulator-host", daemon=True)
@@ -79,6 +89,8 @@ class EmulatorHost:
 
     def add(self, emulator: ControllerEmulator, link: str | None = None) -> ServedPort:
         """Serves ``emulator`` on a new pseudo-terminal (symlinked at ``link`` if given)."""
+        if sys.platform == "win32":
+            raise OSError("pseudo-terminals are not on Windows")
         master, slave = os.openpty()
         tty.setraw(slave)
         tty.setraw(master)

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import os
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -252,3 +254,63 @@ async def test_bytes_of_an_ended_session_are_dropped() -> None:
         await until(lambda: link.ready)
     finally:
         await link.close()
+
+
+class FlakyOpen(Pipe):
+    """A port whose first opens fail in a way nobody foresaw (not a PortError)."""
+
+    def __init__(self, failures: int) -> None:
+        super().__init__()
+        self.failures = failures
+
+    def open(self, on_data: Callable[[bytes], None], on_lost: Callable[[str], None]) -> None:
+        if self.failures:
+            self.failures -= 1
+            raise RuntimeError("a failure nobody foresaw")
+        super().open(on_data, on_lost)
+
+
+@pytest.mark.asyncio
+async def test_an_unforeseen_failure_ends_the_session_not_the_link(
+        caplog: pytest.LogCaptureFixture) -> None:
+    # found by the keyed re-sync walk: an error of another kind than the port's own
+    # (pyserial's termios.error on a port that just went away) used to end the link's
+    # task for good, and the switch was never driven again
+    pipe = FlakyOpen(failures=2)
+    clock = FakeClock()
+    link = SwitchLink(1, "pipe", 1, transport=pipe, clock=clock)
+    link.connect()
+    try:
+        await advance_until(clock, lambda: len(pipe.sessions) == 1, what="a session after two")
+        assert sum("the session failed; will retry" in r.getMessage()
+                   for r in caplog.records) == 2
+    finally:
+        await link.close()
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="termios is POSIX")
+def test_a_termios_error_on_opening_is_a_port_error(monkeypatch: pytest.MonkeyPatch,
+                                                    tmp_path: Path) -> None:
+    import termios
+
+    import serial  # type: ignore[import-untyped]
+
+    from moas_gui.hw.moas2.errors import PortError
+    from moas_gui.hw.moas2.transport import SerialTransport
+
+    def flush_fails(self: object) -> None:
+        raise termios.error(5, "Input/output error")
+
+    master, slave = os.openpty()
+    try:
+        monkeypatch.setattr(serial.Serial, "reset_input_buffer", flush_fails)
+        transport = SerialTransport(os.ttyname(slave))
+
+        async def open_it() -> None:
+            transport.open(lambda data: None, lambda reason: None)
+
+        with pytest.raises(PortError, match="Input/output error"):
+            asyncio.run(open_it())
+    finally:
+        os.close(master)
+        os.close(slave)

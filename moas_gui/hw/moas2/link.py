@@ -240,7 +240,24 @@ class SwitchLink:
         await keep_trying(self._attempt, retry, pause=self.clock.sleep)
 
     async def _attempt(self) -> bool:
-        """One session and its end; True if the box became ready (the retries start over)."""
+        """One session and its end; True if the box became ready (the retries start over).
+
+        Whatever goes wrong in it that nobody foresaw is logged with its traceback and
+        ends the session: the link keeps trying, so no single failure leaves a switch
+        undriven for the rest of the contest."""
+        try:
+            return await self._session()
+        except asyncio.CancelledError:
+            raise
+        except Exception:
+            log.exception("%s: the session failed; will retry", self.where)
+            with contextlib.suppress(Exception):
+                self._close_port()
+                self._do(self.session.closed())
+            return False
+
+    async def _session(self) -> bool:
+        """Open the port and run the session until it ends; True if the box became ready."""
         self._session_no += 1
         session = self._session_no
         self._ended = asyncio.Event()
@@ -262,7 +279,11 @@ class SwitchLink:
             while not self._ended.is_set():
                 self._wake.clear()
                 deadline = self.session.next_deadline()
-                wait = None if deadline is None else max(0.0, deadline - self.clock.now())
+                wait = None if deadline is None else deadline - self.clock.now()
+                if wait is not None and wait <= 0:  # due: however busy the port is
+                    self._do(self.session.tick(self.clock.now()))
+                    await asyncio.sleep(0)
+                    continue
                 if wait is None:
                     await self._wake.wait()
                     continue

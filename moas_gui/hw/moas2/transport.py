@@ -32,6 +32,12 @@ DataCallback = Callable[[bytes], None]
 LostCallback = Callable[[str], None]
 
 _SERIAL_ERRORS: tuple[type[BaseException], ...] = (serial.SerialException, OSError, ValueError)
+if sys.platform != "win32":
+    import termios
+
+    # pyserial lets termios.error (not an OSError) through from a flush of a port whose
+    # other end just went away (a pulled adapter, a pseudo-terminal closed)
+    _SERIAL_ERRORS += (termios.error,)
 
 
 _MAX_EMPTY_READS = 100

@@ -16,17 +16,25 @@ stops reading cannot hold anyone up).  Peers outside the allowed networks
 thread; none of them waits.
 
 Limits: at most ``max_clients`` connections at once (fewer when the process
-may open few files: half its open-file limit); a connection beyond that is
-told so in one error line and closed.  Each client's unread output is bounded
+may open few files: half its open-file limit), and at most ``per_address``
+from one address; the browser client's web connections count against the same
+two limits (:mod:`.admission`).  A connection beyond either is told so in one
+error line and closed.  A connection must say ``hello`` within
+``hello_deadline`` seconds, and a greeted one that stays silent for
+``keepalive`` seconds is closed (clients with nothing to ask send a blank line
+now and then: docs/client-protocol.md).  Each client's unread output is bounded
 (``max_pending``), and so is the sum of all of them (``max_pending_total``):
 when the sum is over, the clients with the most unread output are cut first.
 
-Log lines (logger ``moas_gui.net``): connects, hellos and disconnects at Info;
-refused peers and clients cut off for not reading at Warning; each bad line or
-refused request at Debug; a backend failure at Error with its traceback.  A
-fault that repeats (refused peers, connections over the limit, the system
-running out of file handles while accepting) writes one line per minute and
-cause, saying how many like it were left out.
+Log lines (logger ``moas_gui.net``): hellos and the disconnects of greeted
+clients at Info (a connection's opening at Debug); refused peers and clients
+cut off for not reading at Warning; each bad line or refused request at Debug;
+a backend failure at Error with its traceback.  Everything that a peer can
+repeat at will -- refused peers, connections over a limit, connections closed
+before or for want of a ``hello``, silent ones, the system running out of file
+handles while accepting -- writes one line per minute and kind, saying how
+many like it were left out (:attr:`ClientServer.trouble`, which the web server
+shares).
 """
 
 from __future__ import annotations
@@ -39,6 +47,7 @@ from typing import Any
 from moas_gui.errors import HardwareError
 
 from .access import allowed_networks, is_allowed, peer_address
+from .admission import DEFAULT_PER_ADDRESS, HELLO_DEADLINE, KEEPALIVE, Admission
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
 from .connection import (
     ClientInfo,
@@ -102,9 +111,14 @@ class ClientServer:
         max_pending_total: int = DEFAULT_MAX_PENDING_TOTAL,
         max_clients: int = DEFAULT_MAX_CLIENTS,
         max_layouts: int = 16,
+        per_address: int = DEFAULT_PER_ADDRESS,
+        hello_deadline: float = HELLO_DEADLINE,
+        keepalive: float = KEEPALIVE,
     ) -> None:
         if max_clients < 1:
             raise ValueError(f"max_clients must be at least 1, not {max_clients}")
+        if per_address < 1:
+            raise ValueError(f"per_address must be at least 1, not {per_address}")
         self.backend = backend
         self.host = host
         self.port = port
@@ -116,12 +130,17 @@ class ClientServer:
         """The connections served at once: ``max_clients``, or fewer when the
         process may open few files (set by :meth:`start`)."""
         self.max_layouts = max_layouts
+        self.admission = Admission(max_clients, per_address)
+        """Open connections of both transports, in all and per address."""
+        self.hello_deadline = hello_deadline
+        self.keepalive = keepalive
+        self.trouble = LogLimiter()
+        """One log line a minute per kind of trouble from outside (the web server's too)."""
         self._unchecked = 0
         """Bytes queued since the sum of all clients' output was last checked."""
         self._crowd = 0
         """The most clients connected at once since memory was last given back."""
         self._trim: asyncio.Handle | None = None
-        self._refusals = LogLimiter()
         self._loop_faults = LogLimiter()
         self._restore_handler: Callable[[], None] | None = None
         self._server: asyncio.Server | None = None
@@ -139,6 +158,7 @@ class ClientServer:
         cannot listen (the port is in use, say)."""
         self._loop = asyncio.get_running_loop()
         self.client_limit = fitting_client_limit(self.max_clients)
+        self.admission.total = self.client_limit
         if self._restore_handler is None:
             self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
@@ -317,7 +337,7 @@ class ClientServer:
         try:
             host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
             if not is_allowed(host, self._allowed):
-                held = self._refusals.allow(("not allowed", str(peer_address(host) or host)))
+                held = self.trouble.allow(("not allowed", str(peer_address(host) or host)))
                 if held is not None:
                     log.warning(
                         "Refused a client from %s: the address is not in the allowed networks "
@@ -327,30 +347,45 @@ class ClientServer:
                 writer.transport.abort()
                 writer.close()
                 return
-            if len(self._connections) >= self.client_limit:
-                self._refuse_over_limit(writer, address)
+            refusal = self.admission.admit(host)
+            if refusal is not None:
+                self.refused(address, refusal)
+                try:
+                    writer.write(reply_error(None, ErrorCode.UNAVAILABLE,
+                                             self.refusal_reply(refusal)))
+                except (ConnectionError, OSError):
+                    pass
+                writer.close()
                 return
-            await self._converse(reader, writer, address)
+            try:
+                await self._converse(reader, writer, address)
+            finally:
+                self.admission.release(host)
         finally:
             if task is not None:
                 self._tasks.discard(task)
 
-    def _refuse_over_limit(self, writer: asyncio.StreamWriter, address: str) -> None:
-        """Tells a connection over the limit why, in one line, and closes it."""
-        held = self._refusals.allow("over the limit")
+    def refused(self, address: str, refusal: str, what: str = "a client") -> None:
+        """Logs a connection refused by :attr:`admission` (once a minute per limit)."""
+        held = self.trouble.allow(("over a limit", refusal.split(",", 1)[1]))
         if held is not None:
-            log.warning("Refused a client from %s: %d clients are connected, the most this "
-                        "server takes at once (moas-server --max-clients sets it)%s",
-                        address, self.client_limit,
+            log.warning("Refused %s from %s: %s%s", what, address, refusal,
                         held_text(held, "more refused for the same reason"))
-        try:
-            writer.write(reply_error(
-                None, ErrorCode.UNAVAILABLE,
-                f"the server already serves {self.client_limit} clients, its limit; "
-                "try again when one has left"))
-        except (ConnectionError, OSError):
-            pass
-        writer.close()
+
+    def refusal_reply(self, refusal: str) -> str:
+        """The sentence a refused client is told."""
+        if "one address" in refusal:
+            return (f"this address already holds {self.admission.per_address} connections, "
+                    "the most one address may; close one and try again")
+        return (f"the server already serves {self.client_limit} clients, its limit; "
+                "try again when one has left")
+
+    def trouble_line(self, kind: object, level: int, message: str, *args: object) -> None:
+        """Logs ``message`` unless a line of ``kind`` went out in the last minute; the
+        next one that does says how many were left out."""
+        held = self.trouble.allow(kind)
+        if held is not None:
+            log.log(level, message + "%s", *args, held_text(held))
 
     async def _converse(
         self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter, address: str
@@ -361,11 +396,19 @@ class ClientServer:
         )
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
-        log.info("Client connected from %s", address)
+        log.debug("Client connected from %s", address)
         lost: str | None = None
+        loop = asyncio.get_running_loop()
+        hello_by = loop.time() + self.hello_deadline
         try:
             while not conn.closed:
-                data = await reader.read(_READ_CHUNK)
+                wait = self.keepalive if conn.greeted else hello_by - loop.time()
+                try:
+                    async with asyncio.timeout(max(wait, 0.0)):
+                        data = await reader.read(_READ_CHUNK)
+                except TimeoutError:
+                    conn.close(self.timed_out(conn))
+                    break
                 if not data:
                     break
                 await self._answer(conn, data)
@@ -373,13 +416,7 @@ class ClientServer:
             lost = str(e) or type(e).__name__
         finally:
             del self._connections[conn]
-            if conn.close_reason is not None:
-                how = f"disconnected by the server: {conn.close_reason}"
-            elif lost is not None:
-                how = f"connection lost: {lost}"
-            else:
-                how = "disconnected"
-            log.info("Client %s %s", _who(conn), how)
+            self.log_departure(conn, "Client", lost)
             self._after_departure()
             if not conn.closed:
                 writer.close()
@@ -422,6 +459,29 @@ class ClientServer:
             writer.transport.abort()
         except Exception:  # noqa: BLE001 - the connection is gone either way
             log.debug("Closing a client connection: the transport reported an error")
+
+
+    def timed_out(self, conn: Connection) -> str:
+        """Why ``conn`` is closed for its silence."""
+        if conn.greeted:
+            return f"silent for {self.keepalive:g} s (clients send a blank line when idle)"
+        return f"no hello within {self.hello_deadline:g} s"
+
+    def log_departure(self, conn: Connection, what: str, lost: str | None) -> None:
+        """Logs a connection's end: always for a greeted client (at Info), once a
+        minute per way of ending for one that never said hello."""
+        if conn.close_reason is not None:
+            how = f"disconnected by the server: {conn.close_reason}"
+        elif lost is not None:
+            how = f"connection lost: {lost}"
+        else:
+            how = "disconnected"
+        if conn.greeted:
+            log.info("%s %s %s", what, _who(conn), how)
+        else:
+            kind = ("left before hello", what, (conn.close_reason or lost or "")[:24])
+            never = "" if "hello" in how else " (it never said hello)"
+            self.trouble_line(kind, logging.INFO, "%s %s %s%s", what, _who(conn), how, never)
 
 
 def _who(conn: Connection) -> str:

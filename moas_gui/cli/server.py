@@ -263,6 +263,12 @@ def run_headless(args: argparse.Namespace) -> int:
     root = logging.getLogger("moas_gui")
     root.addHandler(handler)
     root.setLevel(log_level_number(args.log_level))
+    # the web server's library logs too (malformed requests: once a minute per kind,
+    # see moas_gui/net/web_limits.py), in the same form and at the same level
+    web_library = logging.getLogger("aiohttp")
+    web_library.addHandler(handler)
+    web_library.setLevel(log_level_number(args.log_level))
+    web_library.propagate = False
     instance, status = _become_instance(args)
     if status is not None:
         return status

@@ -16,7 +16,10 @@ normalises them (an IPv4 client of a dual-stack socket is its IPv4 address).
 
 from __future__ import annotations
 
-from typing import Final
+import os
+import socket
+from collections.abc import Iterable
+from typing import Any, Final
 
 from .access import peer_address
 
@@ -38,6 +41,32 @@ KEEPALIVE_SEND: Final = 30.0
 REQUEST_DEADLINE: Final = 5.0
 """Seconds an HTTP request has, from its connection (or the end of the previous
 response), until its headers and body have all arrived."""
+
+
+BACKLOG: Final = 1024
+"""Connections the system keeps waiting to be accepted, on each port.  asyncio's 100
+overflows under a crowd reconnecting as fast as it is refused, and then the system
+drops newcomers -- a legitimate client among them -- who try again only a second later;
+with a longer queue everyone is accepted, and the crowd refused, in turn."""
+
+
+def deepen_backlog(sockets: Iterable[Any], backlog: int = BACKLOG) -> None:
+    """Lengthens the system's queue of waiting connections on listening ``sockets``.
+
+    Not through asyncio's own ``backlog``: asyncio also accepts that many connections
+    at once in one turn of the loop, before any of them can be refused, and a thousand
+    at once would use up the file handles a small limit allows."""
+    for listening in sockets:
+        try:
+            twin = socket.socket(fileno=os.dup(listening.fileno()))
+        except OSError:
+            continue
+        try:
+            twin.listen(backlog)
+        except OSError:
+            pass
+        finally:
+            twin.close()
 
 
 def address_key(host: str) -> str:
@@ -93,6 +122,7 @@ class Admission:
 
 
 __all__ = [
+    "BACKLOG",
     "DEFAULT_PER_ADDRESS",
     "HELLO_DEADLINE",
     "KEEPALIVE",
@@ -100,4 +130,5 @@ __all__ = [
     "REQUEST_DEADLINE",
     "Admission",
     "address_key",
+    "deepen_backlog",
 ]

@@ -47,7 +47,13 @@ from typing import Any
 from moas_gui.errors import HardwareError
 
 from .access import allowed_networks, is_allowed, peer_address
-from .admission import DEFAULT_PER_ADDRESS, HELLO_DEADLINE, KEEPALIVE, Admission
+from .admission import (
+    DEFAULT_PER_ADDRESS,
+    HELLO_DEADLINE,
+    KEEPALIVE,
+    Admission,
+    deepen_backlog,
+)
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
 from .connection import (
     ClientInfo,
@@ -170,6 +176,7 @@ class ClientServer:
                 "(is another moas-server running? TCPPort in the configuration sets the port)"
             ) from e
         self.port = self._server.sockets[0].getsockname()[1]
+        deepen_backlog(self._server.sockets)
         where = self.host if self.host is not None else "every interface"
         log.info("Accepting clients on TCP port %d (%s)", self.port, where)
         return self.port

@@ -36,7 +36,7 @@ from aiohttp import web
 
 from moas_gui.errors import HardwareError
 
-from .admission import REQUEST_DEADLINE
+from .admission import REQUEST_DEADLINE, deepen_backlog
 from .connection import format_peer
 from .server import ClientServer
 from .web_guard import host_allowed, local_names, origin_complaint
@@ -127,6 +127,7 @@ class WebServer:
         self._runner = runner
         self._quiet.install()
         sockets = self._listener.sockets or ()
+        deepen_backlog(sockets)
         if sockets:
             self.port = int(sockets[0].getsockname()[1])
         where = self.host if self.host not in (None, "") else "every interface"
@@ -136,7 +137,7 @@ class WebServer:
 
     def _guarded(self, factory: Callable[[], asyncio.Protocol]) -> Callable[[], asyncio.Protocol]:
         """aiohttp's protocol factory, each connection behind a :class:`GuardedConnection`."""
-        return lambda: GuardedConnection(factory(), self.clients, self.request_deadline)
+        return lambda: GuardedConnection(factory, self.clients, self.request_deadline)
 
     async def close(self) -> None:
         """Stops listening and closes every page's WebSocket."""

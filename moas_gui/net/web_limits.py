@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+from collections.abc import Callable
 
 from .admission import REQUEST_DEADLINE
 from .connection import format_peer
@@ -43,9 +44,11 @@ def _refusal(text: str) -> bytes:
 class GuardedConnection(asyncio.Protocol):
     """One web connection: counted, timed, and otherwise handed to aiohttp's ``inner``."""
 
-    def __init__(self, inner: asyncio.Protocol, clients: ClientServer,
+    def __init__(self, make_inner: Callable[[], asyncio.Protocol], clients: ClientServer,
                  deadline: float = REQUEST_DEADLINE) -> None:
-        self.inner = inner
+        self._make_inner = make_inner
+        """aiohttp's handler is made only for a connection admitted (it costs)."""
+        self.inner: asyncio.Protocol = asyncio.Protocol()
         self.clients = clients
         self.deadline = deadline
         self.host = ""
@@ -89,6 +92,7 @@ class GuardedConnection(asyncio.Protocol):
             transport.close()
             return
         self.admitted = True
+        self.inner = self._make_inner()
         self.inner.connection_made(transport)
         self.arm()
 

@@ -168,8 +168,8 @@ class ClientServer:
         if self._restore_handler is None:
             self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
-            self._server = await asyncio.start_server(
-                self._serve, self.host, self.port, limit=_READ_CHUNK)
+            self._server = await self._loop.create_server(
+                lambda: _Gate(self), self.host, self.port)
         except OSError as e:
             raise HardwareError(
                 f"cannot accept clients on TCP port {self.port}: {e.strerror or e} "
@@ -335,39 +335,36 @@ class ClientServer:
 
     # ---- connections ----------------------------------------------------------------
 
+    def _gate(self, transport: asyncio.Transport) -> str | None:
+        """Decides on a new connection before anything is made for it: the peer's
+        address when it may stay, else ``None`` (it was refused and closed)."""
+        peer = transport.get_extra_info("peername")
+        address = format_peer(peer)
+        host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
+        if not is_allowed(host, self._allowed):
+            held = self.trouble.allow(("not allowed", str(peer_address(host) or host)))
+            if held is not None:
+                log.warning(
+                    "Refused a client from %s: the address is not in the allowed networks "
+                    "(ClientAllow in the configuration decides)%s", address,
+                    held_text(held, "more refused from that address"),
+                )
+            transport.abort()
+            return None
+        refusal = self.admission.admit(host)
+        if refusal is not None:
+            self.refused(address, refusal)
+            transport.write(reply_error(None, ErrorCode.UNAVAILABLE, self.refusal_reply(refusal)))
+            transport.close()
+            return None
+        return host
+
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
         if task is not None:
             self._tasks.add(task)
-        peer = writer.get_extra_info("peername")
-        address = format_peer(peer)
         try:
-            host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
-            if not is_allowed(host, self._allowed):
-                held = self.trouble.allow(("not allowed", str(peer_address(host) or host)))
-                if held is not None:
-                    log.warning(
-                        "Refused a client from %s: the address is not in the allowed networks "
-                        "(ClientAllow in the configuration decides)%s", address,
-                        held_text(held, "more refused from that address"),
-                    )
-                writer.transport.abort()
-                writer.close()
-                return
-            refusal = self.admission.admit(host)
-            if refusal is not None:
-                self.refused(address, refusal)
-                try:
-                    writer.write(reply_error(None, ErrorCode.UNAVAILABLE,
-                                             self.refusal_reply(refusal)))
-                except (ConnectionError, OSError):
-                    pass
-                writer.close()
-                return
-            try:
-                await self._converse(reader, writer, address)
-            finally:
-                self.admission.release(host)
+            await self._converse(reader, writer, format_peer(writer.get_extra_info("peername")))
         finally:
             if task is not None:
                 self._tasks.discard(task)
@@ -489,6 +486,49 @@ class ClientServer:
             kind = ("left before hello", what, (conn.close_reason or lost or "")[:24])
             never = "" if "hello" in how else " (it never said hello)"
             self.trouble_line(kind, logging.INFO, "%s %s %s%s", what, _who(conn), how, never)
+
+
+class _Gate(asyncio.Protocol):
+    """A connection to the client port: refused at once, before any stream or task is
+    made for it, when its address is not allowed or over a limit (a crowd reconnecting
+    as fast as it is refused then costs little); otherwise asyncio's streams take it,
+    and its place in the :class:`~.admission.Admission` is given back when it closes."""
+
+    def __init__(self, server: ClientServer) -> None:
+        self.server = server
+        self.host = ""
+        self.inner: asyncio.StreamReaderProtocol | None = None
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        host = self.server._gate(transport)
+        if host is None:
+            return
+        self.host = host
+        reader = asyncio.StreamReader(limit=_READ_CHUNK)
+        self.inner = asyncio.StreamReaderProtocol(reader, self.server._serve)
+        self.inner.connection_made(transport)
+
+    def data_received(self, data: bytes) -> None:
+        if self.inner is not None:
+            self.inner.data_received(data)
+
+    def eof_received(self) -> bool | None:
+        return self.inner.eof_received() if self.inner is not None else None
+
+    def pause_writing(self) -> None:
+        if self.inner is not None:
+            self.inner.pause_writing()
+
+    def resume_writing(self) -> None:
+        if self.inner is not None:
+            self.inner.resume_writing()
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        inner, self.inner = self.inner, None
+        if inner is not None:
+            self.server.admission.release(self.host)
+            inner.connection_lost(exc)
 
 
 def _who(conn: Connection) -> str:

@@ -52,6 +52,7 @@ from .admission import (
     HELLO_DEADLINE,
     KEEPALIVE,
     Admission,
+    address_key,
     deepen_backlog,
 )
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
@@ -62,6 +63,7 @@ from .connection import (
     LineWriter,
     cut_slowest,
     format_peer,
+    host_of,
 )
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
@@ -83,6 +85,11 @@ _LINES_PER_TURN = 8
 """Requests of one client answered before the loop serves everything else once."""
 _CROWD = 32
 """Clients at once after which their leaving gives memory back to the system."""
+CHATTER_BURST = 120
+"""Info lines a minute about the clients of one address (a hello and a goodbye are two,
+a page's WebSocket three): far more than a station's computers reconnecting, or a
+benchmark opening dozens of pages, ever write; beyond them, one a minute with a count
+(a program connecting in a loop)."""
 DEFAULT_MAX_CLIENTS = 200
 """Connections served at once unless ``--max-clients`` says otherwise."""
 DEFAULT_MAX_PENDING_TOTAL = 32 << 20
@@ -142,6 +149,8 @@ class ClientServer:
         self.keepalive = keepalive
         self.trouble = LogLimiter()
         """One log line a minute per kind of trouble from outside (the web server's too)."""
+        self.chatter = LogLimiter(burst=CHATTER_BURST)
+        """Each address's share of the Info lines about greeted clients."""
         self._unchecked = 0
         """Bytes queued since the sum of all clients' output was last checked."""
         self._crowd = 0
@@ -224,6 +233,7 @@ class ClientServer:
             return None
         conn = Connection(writer, address, max_pending=self.max_pending,
                           max_layouts=self.max_layouts, on_queued=self._queued)
+        conn.chatter = self._chatter_of(address)
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         return conn
@@ -398,6 +408,7 @@ class ClientServer:
             writer, address, max_pending=self.max_pending, max_layouts=self.max_layouts,
             on_queued=self._queued,
         )
+        conn.chatter = self._chatter_of(address)
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         log.debug("Client connected from %s", address)
@@ -465,6 +476,10 @@ class ClientServer:
             log.debug("Closing a client connection: the transport reported an error")
 
 
+    def _chatter_of(self, address: str) -> Callable[[], int | None]:
+        key = ("clients", address_key(host_of(address)))
+        return lambda: self.chatter.allow(key)
+
     def timed_out(self, conn: Connection) -> str:
         """Why ``conn`` is closed for its silence."""
         if conn.greeted:
@@ -481,7 +496,7 @@ class ClientServer:
         else:
             how = "disconnected"
         if conn.greeted:
-            log.info("%s %s %s", what, _who(conn), how)
+            conn.note("%s %s %s", what, _who(conn), how)
         else:
             kind = ("left before hello", what, (conn.close_reason or lost or "")[:24])
             never = "" if "hello" in how else " (it never said hello)"

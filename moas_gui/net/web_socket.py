@@ -155,7 +155,7 @@ async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: st
                 if conn.closed:
                     break
             if conn.greeted and not greeted:
-                log.info("Browser client connected from %s", address)
+                conn.note("Browser client connected from %s", address)
             if conn.closed:
                 break
             await asyncio.sleep(0)  # a page sending a flood must not starve the others

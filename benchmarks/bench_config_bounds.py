@@ -11,7 +11,10 @@ Each is checked by ``moas-server --check`` as its own process; the benchmark pri
 its wall time, its peak memory (resident set), the lines printed and the first problem.
 
 The verdict is PASS when every file took under 2 s and 200 MB, printed at most a few
-hundred lines, and the valid station was found valid.  Figures: docs/reliability.md.
+hundred lines, and the valid station was found valid.  The seconds judged are the
+processor's (user and system) of the checking process: on the shared machine the wall
+time also counts whatever else runs, and is printed beside them.  Figures:
+docs/reliability.md.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ import argparse
 import json
 import os
 import re
+import resource
 import subprocess
 import sys
 import tempfile
@@ -62,6 +66,16 @@ def largest_valid_station(size: int) -> str:
     return best
 
 
+def widest(text: str, size: int) -> str:
+    """``text`` written with the deepest indentation that stays within ``size``."""
+    data = json.loads(text)
+    for indent in range(64, 0, -1):
+        wide = json.dumps(data, indent=indent)
+        if len(wide) < size:
+            return wide
+    return text
+
+
 def count_values(value: object) -> int:
     if isinstance(value, dict):
         return 1 + sum(count_values(v) for v in value.values())
@@ -90,19 +104,24 @@ def files(size: int) -> dict[str, Callable[[], str]]:
                                                         r'"ShortName": \1', big),
         "90,000 wrong antennas": lambda: '{"Antennas": [' + ", ".join(['"x"'] * 90_000) + "]}",
         "a station padded with blanks": lambda: fill(" ", size, big[:-1], "}"),
+        "blanks between all its values": lambda: widest(big, size),
         "one long text": lambda: fill("x", size, '{"Name": "', '"}'),
     }
 
 
-def check(path: Path, env: dict[str, str]) -> tuple[float, float, list[str], int]:
-    """Wall seconds, peak memory in MB, printed lines and exit status of ``--check``."""
+def check(path: Path, env: dict[str, str]) -> tuple[float, float, float, list[str], int]:
+    """Wall seconds, processor seconds, peak memory in MB, printed lines and exit status
+    of ``--check``."""
     started = time.perf_counter()
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     done = subprocess.run([sys.executable, "-c", _MEASURED, str(path)], env=env,
                           capture_output=True, check=False)
     seconds = time.perf_counter() - started
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     lines = done.stdout.decode(errors="replace").splitlines()
     peak = int(done.stderr.decode().strip().splitlines()[-1].split()[1]) / 1024
-    return seconds, peak, lines, done.returncode
+    return seconds, cpu, peak, lines, done.returncode
 
 
 _MEASURED = """
@@ -126,31 +145,34 @@ def main() -> None:
     args = parser.parse_args()
     size = int(args.megabytes * 1024 * 1024) - 1024
     ok = True
-    worst_s = worst_mb = 0.0
+    worst_s = worst_cpu = worst_mb = 0.0
     with tempfile.TemporaryDirectory() as folder:
         env = dict(os.environ, XDG_CONFIG_HOME=folder, XDG_DATA_HOME=folder,
                    XDG_STATE_HOME=folder, XDG_RUNTIME_DIR=folder)
         baseline = Path(folder) / "baseline.moas"
         baseline.write_text((ROOT / "examples" / "small-station.moas").read_text())
-        seconds, megabytes, _lines, _code = check(baseline, env)
-        print(f"baseline (small-station.moas): {seconds:.2f} s, {megabytes:.0f} MB")
-        print(f"{'file':<36} {'MB':>5} {'s':>6} {'peak MB':>8} {'lines':>6}  first line")
+        seconds, cpu, megabytes, _lines, _code = check(baseline, env)
+        print(f"baseline (small-station.moas): {seconds:.2f} s ({cpu:.2f} s of processor), "
+              f"{megabytes:.0f} MB")
+        print(f"{'file':<36} {'MB':>5} {'wall s':>6} {'cpu s':>6} {'peak MB':>7} "
+              f"{'lines':>5}  first line")
         for name, make in files(size).items():
             path = Path(folder) / "worst.moas"
             path.write_text(make())
-            seconds, megabytes, lines, code = check(path, env)
+            seconds, cpu, megabytes, lines, code = check(path, env)
             worst_s, worst_mb = max(worst_s, seconds), max(worst_mb, megabytes)
+            worst_cpu = max(worst_cpu, cpu)
             first = lines[0] if lines else ""
             first = first.split(": ", 1)[-1][:60] if "error" in first or "warning" in first \
                 else first[:60]
-            print(f"{name:<36} {path.stat().st_size / 1e6:5.2f} {seconds:6.2f} "
-                  f"{megabytes:8.0f} {len(lines):6}  {first}")
+            print(f"{name:<36} {path.stat().st_size / 1e6:5.2f} {seconds:6.2f} {cpu:6.2f} "
+                  f"{megabytes:7.0f} {len(lines):5}  {first}")
             valid = code == 0
-            ok = ok and seconds < LIMIT_S and megabytes < LIMIT_MB and len(lines) <= MAX_LINES
+            ok = ok and cpu < LIMIT_S and megabytes < LIMIT_MB and len(lines) <= MAX_LINES
             if name == "largest valid station":
                 ok = ok and valid
-    print(f"worst: {worst_s:.2f} s (limit {LIMIT_S:g} s), {worst_mb:.0f} MB "
-          f"(limit {LIMIT_MB:g} MB)")
+    print(f"worst: {worst_cpu:.2f} s of processor (limit {LIMIT_S:g} s), {worst_s:.2f} s of "
+          f"wall time, {worst_mb:.0f} MB (limit {LIMIT_MB:g} MB)")
     print(f"verdict: {'PASS' if ok else 'FAIL'}")
     sys.exit(0 if ok else 1)
 

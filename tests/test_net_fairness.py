@@ -6,6 +6,7 @@ transports, the web port's request deadline, and aiohttp's own log lines kept sh
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import logging
 from typing import Any
@@ -33,6 +34,13 @@ async def closed(reader: asyncio.StreamReader) -> bytes:
         return await reader.read()
 
 
+async def shut(writer: asyncio.StreamWriter) -> None:
+    """Closes a connection and waits until it is closed (none is left to the loop's end)."""
+    writer.close()
+    with contextlib.suppress(OSError):
+        await writer.wait_closed()
+
+
 def lines(caplog: pytest.LogCaptureFixture, words: str) -> list[logging.LogRecord]:
     return [r for r in caplog.records if words in r.getMessage()]
 
@@ -51,10 +59,10 @@ async def test_one_address_over_its_limit_is_refused_while_another_is_served(
         refusal = json.loads(await closed(reader))
         assert refusal["error"]["code"] == "unavailable"
         assert "this address already holds 4 connections" in refusal["error"]["message"]
-        writer.close()
+        await shut(writer)
         reader, writer = await from_address(made.web.port)
         assert (await closed(reader)).startswith(b"HTTP/1.1 503 ")
-        writer.close()
+        await shut(writer)
         # 127.0.0.1 is another address: served on both ports
         client = await ProtocolClient.connect(HOST, made.clients.port)
         assert (await client.request("hello", client="legit"))["server"] == "moas-gui"
@@ -65,7 +73,7 @@ async def test_one_address_over_its_limit_is_refused_while_another_is_served(
         assert len(refused) == 1 and refused[0].levelno == logging.WARNING
     finally:
         for writer in held:
-            writer.close()
+            await shut(writer)
         await made.session.close()
         await made.web.close()
         await made.clients.close()
@@ -81,7 +89,7 @@ async def test_a_connection_that_never_says_hello_is_closed(
         silent = [await from_address(rig.server.port) for _ in range(5)]
         for reader, writer in silent:
             assert await closed(reader) == b""
-            writer.close()
+            await shut(writer)
         await until(lambda: rig.server.admission.count == 0)
         said = lines(caplog, "no hello within 0.3 s")
         assert len(said) == 1, [r.getMessage() for r in said]  # once a minute, for five
@@ -147,7 +155,7 @@ async def slow_request(port: int, head: bytes) -> bytes:
     try:
         return await closed(reader)
     finally:
-        writer.close()
+        await shut(writer)
 
 
 @pytest.mark.asyncio
@@ -189,7 +197,7 @@ async def test_malformed_requests_write_one_short_line(caplog: pytest.LogCapture
             reader, writer = await asyncio.open_connection(HOST, port)
             writer.write(head)
             await closed(reader)
-            writer.close()
+            await shut(writer)
         from_aiohttp = [r for r in caplog.records if r.name.startswith("aiohttp")]
         assert all(r.exc_info is None and "Traceback" not in r.getMessage()
                    for r in from_aiohttp)
@@ -222,7 +230,7 @@ async def test_the_origin_must_be_the_served_one_and_only_one() -> None:
                      "Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
                      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n".encode())
         assert (await reader.readline()).startswith(b"HTTP/1.1 403")
-        writer.close()
+        await shut(writer)
         ws = await made.session.ws_connect(url, headers={"Origin": f"http://{HOST}:{made.web.port}"})
         await ws.send_str('{"id": 1, "cmd": "hello", "client": "page"}')
         assert (await receive(ws))["ok"]
@@ -245,7 +253,7 @@ async def test_a_program_greeting_in_a_loop_gets_a_share_of_the_log(
             reader, writer = await from_address(rig.server.port)
             writer.write(b'{"id": 1, "cmd": "hello", "client": "loop"}\n')
             await reader.readline()
-            writer.close()
+            await shut(writer)
             await until(lambda: rig.server.admission.count == 0)
         about = [r.getMessage() for r in caplog.records if ATTACKER in r.getMessage()]
         assert len(about) == CHATTER_BURST, len(about)

@@ -269,6 +269,7 @@ async def test_pages_count_towards_the_servers_client_limit() -> None:
         refusal = json.loads(await reader.readline())
         assert refusal["error"]["code"] == "unavailable" and "limit" in refusal["error"]["message"]
         writer.close()
+        await writer.wait_closed()
         assert made.clients.client_count == 2
         await first.close()
         await _until(lambda: made.clients.admission.count == 1)

@@ -181,6 +181,9 @@ async def _hello_once(port: int) -> float:
                 return time.perf_counter() - started
     finally:
         writer.close()
+        with contextlib.suppress(OSError, TimeoutError):
+            async with asyncio.timeout(1.0):
+                await writer.wait_closed()
 
 
 async def _page_once(port: int) -> float:
@@ -195,6 +198,9 @@ async def _page_once(port: int) -> float:
         return time.perf_counter() - started
     finally:
         writer.close()
+        with contextlib.suppress(OSError, TimeoutError):
+            async with asyncio.timeout(1.0):
+                await writer.wait_closed()
 
 
 async def _legit(tcp: int, web: int, until: float, service: Service, patience: float) -> None:

@@ -264,3 +264,35 @@ async def test_a_program_greeting_in_a_loop_gets_a_share_of_the_log(
         assert any('is "other"' in r.getMessage() for r in caplog.records)
     finally:
         await dispose(rig)
+
+
+def test_aiohttp_lines_lose_their_traceback_except_at_debug() -> None:
+    from moas_gui.net.web_limits import QuietAiohttp
+
+    logger = logging.getLogger("aiohttp.server")
+    quiet = QuietAiohttp()
+    try:
+        raise ValueError("bad\n  request line")
+    except ValueError as exc:
+        error = exc
+    saved = logger.level
+    try:
+        for level, kept in ((logging.INFO, False), (logging.DEBUG, True)):
+            logger.setLevel(level)
+            record = logger.makeRecord("aiohttp.server", logging.ERROR, __file__, 1,
+                                       "Error handling request from %s", ("127.0.0.2",),
+                                       (type(error), error, error.__traceback__))
+            quiet.limiter = type(quiet.limiter)()  # a fresh minute for each level
+            assert quiet.filter(record)
+            assert (record.exc_info is not None) is kept
+            if not kept:
+                assert record.getMessage() == ("Error handling request from 127.0.0.2: "
+                                               "ValueError: bad request line")
+                assert record.levelno == logging.WARNING
+            # the same kind again within the minute: held back
+            again = logger.makeRecord("aiohttp.server", logging.ERROR, __file__, 1,
+                                      "Error handling request from %s", ("127.0.0.3",),
+                                      (type(error), error, error.__traceback__))
+            assert not quiet.filter(again)
+    finally:
+        logger.setLevel(saved)

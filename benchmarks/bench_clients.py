@@ -251,7 +251,7 @@ async def measure(args: argparse.Namespace, pid: int, port: int) -> None:
 def main(args: argparse.Namespace) -> None:
     server = subprocess.Popen(
         [sys.executable, "-m", "moas_gui.net.fake_server", "--host", HOST, "--port", "0",
-         "--log", "WARNING"],
+         "--log", "WARNING", "--max-per-address", "100000"],  # every client is on 127.0.0.1
         stdout=subprocess.PIPE, text=True,
     )
     try:

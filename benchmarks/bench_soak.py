@@ -157,6 +157,14 @@ class Client:
         self.next_id = 0
         self.listeners: list[Callable[[dict[str, Any]], None]] = []
         self.task = asyncio.create_task(self._read())
+        self.keeper = asyncio.create_task(self._keep_alive())
+
+    async def _keep_alive(self) -> None:
+        """A blank line every 30 s: the server closes a client silent for two minutes, and
+        the observer only listens (docs/client-protocol.md)."""
+        while True:
+            await asyncio.sleep(30)
+            self.writer.write(b"\n")
 
     @classmethod
     async def connect(cls, port: int, figures: Figures) -> Client:
@@ -190,7 +198,8 @@ class Client:
     async def close(self) -> None:
         self.writer.close()
         self.task.cancel()
-        await asyncio.gather(self.task, return_exceptions=True)
+        self.keeper.cancel()
+        await asyncio.gather(self.task, self.keeper, return_exceptions=True)
 
 
 class Station:

@@ -63,7 +63,7 @@ async def main(args: argparse.Namespace) -> None:
 
     tmp = Path(tempfile.mkdtemp(prefix="bench-web-"))
     station = Station(tmp)
-    await station.start_server()
+    await station.start_server("--max-per-address", "1000")  # every page on 127.0.0.1
     tcp = await Protocol.connect(station.tcp)
     await tcp.call("frequency", station=1, radio=1, khz=14025.0)
     driver = await asyncio.to_thread(chrome, tmp / "chromium")

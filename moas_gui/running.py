@@ -25,6 +25,7 @@ from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.rotators.base import RotatorView, Timing
 from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.net.admission import DEFAULT_PER_ADDRESS
 from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
@@ -71,6 +72,8 @@ class ServerOptions:
     """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
     max_clients: int | None = None
     """Client connections served at once; None for the client server's default."""
+    max_per_address: int | None = None
+    """Connections one address may hold at once; None for the default."""
     start_rotator_program: bool | None = None
     """Overrides ``StartMOASRotator`` when not None."""
     rotator_program_port: int = 13020
@@ -180,9 +183,11 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
     browser client's web server on top of it when a web port is set."""
     port = options.tcp_port if options.tcp_port is not None else run.config.tcp_port
     most = options.max_clients
+    each = options.max_per_address
     clients = ClientServer(backend, host=options.bind, port=port,
                            allow=run.config.client_allow,
-                           max_clients=DEFAULT_MAX_CLIENTS if most is None else most)
+                           max_clients=DEFAULT_MAX_CLIENTS if most is None else most,
+                           per_address=DEFAULT_PER_ADDRESS if each is None else each)
     try:
         await clients.start()
     except HardwareError as exc:

@@ -62,7 +62,7 @@ async def test_a_refused_address_writes_one_warning_a_minute_with_a_count(
 ) -> None:
     rig = await make_rig(allow=["10.0.0.0/8"])
     now = [0.0]
-    rig.server._refusals = LogLimiter(60.0, clock=lambda: now[0])
+    rig.server.trouble = LogLimiter(60.0, clock=lambda: now[0])
     try:
         for _ in range(50):
             reader, writer = await asyncio.open_connection(HOST, rig.server.port)
@@ -155,7 +155,7 @@ async def test_memory_is_given_back_once_a_crowd_of_clients_has_left(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
     caplog.set_level(logging.DEBUG, logger="moas_gui.net")
-    rig = await make_rig()
+    rig = await make_rig(per_address=100)  # a crowd from one address, on purpose
     try:
         crowd = [await rig.connect(None) for _ in range(40)]
         await until(lambda: rig.server.client_count == 40)
@@ -193,7 +193,7 @@ async def test_running_out_of_file_handles_writes_one_line_and_the_server_recove
         return start_serving(*args, **kwargs)
 
     monkeypatch.setattr(loop, "_start_serving", counted, raising=False)
-    rig = await make_rig(max_clients=1000)
+    rig = await make_rig(max_clients=1000, per_address=1000)
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     waiting: list[socket.socket] = []
     try:

@@ -253,24 +253,31 @@ async def test_a_websocket_from_another_sites_page_is_refused(
 
 @pytest.mark.asyncio
 async def test_pages_count_towards_the_servers_client_limit() -> None:
-    made = await make_web(max_clients=1)
+    made = await make_web(max_clients=2)
     try:
+        tcp = await ProtocolClient.connect(HOST, made.clients.port)
+        await tcp.request("hello", client="desktop")
         first = await made.socket()
         await first.send_str('{"id": 1, "cmd": "hello", "client": "tablet 1"}')
         await until_event(first, "state")
-        second = await made.socket()
-        refusal = await receive(second)
-        assert refusal["error"]["code"] == "unavailable"
-        assert "limit" in refusal["error"]["message"]
-        closing = await second.receive(5.0)
-        assert closing.type in (aiohttp.WSMsgType.CLOSE, aiohttp.WSMsgType.CLOSED)
-        assert made.clients.client_count == 1
+        # a TCP client and a page hold the two places: the next web connection is
+        # refused before its request is read, and so is the next TCP client
+        with pytest.raises(aiohttp.WSServerHandshakeError) as refused:
+            await made.socket()
+        assert refused.value.status == 503
+        reader, writer = await asyncio.open_connection(HOST, made.clients.port)
+        refusal = json.loads(await reader.readline())
+        assert refusal["error"]["code"] == "unavailable" and "limit" in refusal["error"]["message"]
+        writer.close()
+        await writer.wait_closed()
+        assert made.clients.client_count == 2
         await first.close()
-        await _until(lambda: made.clients.client_count == 0)
+        await _until(lambda: made.clients.admission.count == 1)
         third = await made.socket()
-        await third.send_str('{"id": 1, "cmd": "state"}')
+        await third.send_str('{"id": 1, "cmd": "hello", "client": "tablet 2"}')
         assert (await receive(third))["ok"]
         await third.close()
+        await tcp.close()
     finally:
         await made.session.close()
         await made.web.close()
@@ -318,7 +325,14 @@ def test_host_names_of_this_computer_and_addresses_pass_others_do_not() -> None:
 def test_origin_must_be_the_servers_own_page() -> None:
     assert origin_complaint(None, "10.0.0.5:8080") is None
     assert origin_complaint("http://10.0.0.5:8080", "10.0.0.5:8080") is None
-    assert origin_complaint("https://shack:8443", "SHACK:8443") is None
+    assert origin_complaint("http://SHACK:8443", "shack:8443") is None
+    assert origin_complaint(["http://shack"], "shack:80") is None
+    assert origin_complaint([], "shack:80") is None
+    assert "not a web page" in str(origin_complaint("https://shack:8443", "shack:8443"))
+    assert "not a web page" in str(origin_complaint("http://shack:8443/x", "shack:8443"))
+    assert "not a web page" in str(origin_complaint("http://a@shack:8443", "shack:8443"))
+    assert "2 Origin headers" in str(origin_complaint(
+        ["http://10.0.0.5:8080", "http://evil.example"], "10.0.0.5:8080"))
     assert "another site" in str(origin_complaint("http://10.0.0.5:8081", "10.0.0.5:8080"))
     assert "another site" in str(origin_complaint("http://evil.example", "10.0.0.5:8080"))
     assert "not a web page" in str(origin_complaint("null", "10.0.0.5:8080"))

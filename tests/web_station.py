@@ -100,11 +100,11 @@ class Station:
     def url(self) -> str:
         return f"http://127.0.0.1:{self.web}/"
 
-    async def start_server(self) -> None:
+    async def start_server(self, *extra: str) -> None:
         self.process = await asyncio.create_subprocess_exec(
             sys.executable, "-m", "moas_gui.cli.server", "--headless", str(self.config_path),
             "--bind", "127.0.0.1", "--tcp-port", str(self.tcp), "--udp-port", str(free_port()),
-            "--web-port", str(self.web), "--no-rotator-program", "--new-instance",
+            "--web-port", str(self.web), "--no-rotator-program", "--new-instance", *extra,
             stderr=asyncio.subprocess.PIPE, env=self.env)
         self._collector = asyncio.create_task(self._collect(self.process))
         await until(lambda: any("Opened" in line for line in self.log), 30,

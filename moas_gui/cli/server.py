@@ -40,7 +40,11 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--web-port", type=int,
                         help="serve the browser client on this port (instead of WebPort)")
     parser.add_argument("--max-clients", type=_positive, default=None, metavar="N",
-                        help="client connections served at once (default 200)")
+                        help="client connections served at once, browser connections "
+                             "included (default 200)")
+    parser.add_argument("--max-per-address", type=_positive, default=None, metavar="N",
+                        help="connections one address may hold at once, client and browser "
+                             "together (default 32)")
     parser.add_argument("--udp-bind",
                         help="address the N1MM Logger listener binds (default all)")
     parser.add_argument("--dxlog-port", type=int, metavar="PORT",
@@ -80,7 +84,7 @@ def _positive(text: str) -> int:
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
     if value < 1:
-        raise argparse.ArgumentTypeError(f"{value} is not a number of clients (1 or more)")
+        raise argparse.ArgumentTypeError(f"{value} is not a number of connections (1 or more)")
     return value
 
 
@@ -134,6 +138,7 @@ def _options(args: argparse.Namespace) -> object:
                          web_port=args.web_port,
                          sources=tuple(args.source or ()),
                          max_clients=args.max_clients,
+                         max_per_address=args.max_per_address,
                          start_rotator_program=False if args.no_rotator_program else None,
                          switch_timing=args.switch_timing,
                          rotator_timing=args.rotator_timing)
@@ -257,6 +262,12 @@ def run_headless(args: argparse.Namespace) -> int:
     root = logging.getLogger("moas_gui")
     root.addHandler(handler)
     root.setLevel(log_level_number(args.log_level))
+    # the web server's library logs too (malformed requests: once a minute per kind,
+    # see moas_gui/net/web_limits.py), in the same form and at the same level
+    web_library = logging.getLogger("aiohttp")
+    web_library.addHandler(handler)
+    web_library.setLevel(log_level_number(args.log_level))
+    web_library.propagate = False
     instance, status = _become_instance(args)
     if status is not None:
         return status

@@ -14,7 +14,9 @@ Requests fail quickly rather than hang: with :class:`NotConnected` when there
 is no connection, with :class:`RequestTimeout` when no reply comes in time,
 with :class:`ConnectionLost` when the connection drops before the reply, and
 with :class:`ServerError` (carrying the protocol's error ``code`` and the
-server's sentence) when the server refuses.  Anything unusable the server
+server's sentence) when the server refuses.  A connection with nothing to ask
+sends a blank line every ``keepalive`` seconds: the server closes a client
+that stays silent for two minutes (docs/client-protocol.md).  Anything unusable the server
 sends is reported to listeners as :class:`~moas_gui.client.events.ProblemSeen`
 and logged (logger ``moas_gui.client``); the connection and the snapshot carry
 on unharmed.
@@ -125,6 +127,7 @@ class ClientConnection:
         timeout: float = 5.0,
         connect_timeout: float = 3.0,
         backoff: Backoff | None = None,
+        keepalive: float = 30.0,
     ) -> None:
         self.host = host
         self.port = port
@@ -135,6 +138,9 @@ class ClientConnection:
         self.timeout = timeout
         self.connect_timeout = connect_timeout
         self.backoff = backoff or Backoff()
+        self.keepalive = keepalive
+        self._sent_at = 0.0
+        """When the last bytes went to the server (the loop's clock)."""
 
         self.link = LinkState.CONNECTING
         self.snapshot: Snapshot | None = None
@@ -238,12 +244,16 @@ class ClientConnection:
         self._writer = writer
         reading = asyncio.ensure_future(self._read(reader))
         greeted = False
+        keeping: asyncio.Future[None] | None = None
         try:
             greeted = await self._greet()
             if greeted:
+                keeping = asyncio.ensure_future(self._keep_alive(writer))
                 await reading
         finally:
             self._writer = None
+            if keeping is not None:
+                keeping.cancel()
             reading.cancel()
             with contextlib.suppress(asyncio.CancelledError, Exception):
                 await reading
@@ -253,6 +263,16 @@ class ClientConnection:
             self._connected.clear()
             self._fail_pending(ConnectionLost(f"the connection to {self.address} was lost"))
         return greeted
+
+    async def _keep_alive(self, writer: asyncio.StreamWriter) -> None:
+        """Sends a blank line whenever nothing was sent for ``keepalive`` seconds."""
+        loop = asyncio.get_running_loop()
+        with contextlib.suppress(OSError):
+            while not writer.is_closing():
+                await asyncio.sleep(max(self._sent_at + self.keepalive - loop.time(), 0.05))
+                if loop.time() - self._sent_at >= self.keepalive and not writer.is_closing():
+                    writer.write(b"\n")
+                    self._sent_at = loop.time()
 
     async def _greet(self) -> bool:
         args: dict[str, Any] = {"client": self.name}
@@ -385,6 +405,7 @@ class ClientConnection:
         self._pending[request_id] = (cmd, future)
         try:
             writer.write(data)
+            self._sent_at = asyncio.get_running_loop().time()
             await writer.drain()
             return await asyncio.wait_for(asyncio.shield(future), self.timeout)
         except TimeoutError:

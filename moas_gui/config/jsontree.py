@@ -12,15 +12,24 @@ line a value sits.  Station builders edit these files by hand, so this reader:
 * reports a name given twice in one group.
 
 It accepts nothing that strict JSON refuses: every recovery is also an error.
+
+Whatever a file holds, reading it costs bounded time and memory: groups and
+lists nest at most :data:`MAX_DEPTH` deep and a file holds at most
+:data:`MAX_VALUES` values (beyond either, one problem at the place and the
+reading stops); at most :data:`~.problems.SHOWN_PER_KIND` problems of a kind
+are listed, the rest counted; and after :data:`MAX_SYNTAX_PROBLEMS` mistakes
+the reader stops, since a file that broken is not worth reading further.
 """
 
 from __future__ import annotations
 
+import json
+import math
 import re
-from bisect import bisect_right
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-from .problems import Problem, Severity
+from .problems import Problem, ProblemList, Severity
 
 Scalar = str | int | float | bool | None
 
@@ -81,14 +90,47 @@ class _Stop(Exception):
     """Raised when the reader cannot go on."""
 
 
+class _Pairs(list[tuple[str, object]]):
+    """A group as :mod:`json` read it: its names and values in order, repeats kept."""
+
+
+class _Slow(Exception):
+    """A group or list read whole is not plain JSON after all: read it step by step."""
+
+
+def _refuse(word: str) -> object:
+    raise ValueError(f"{word} is not JSON")
+
+
+_DECODER = json.JSONDecoder(object_pairs_hook=_Pairs, parse_constant=_refuse)
+_TOKEN = re.compile(r'[ \t\r\n,:\]}]*'
+                    r'("[^"\\]*(?:\\.[^"\\]*)*"|-?[0-9][0-9.eE+\-]*|true|false|null|[{\[])')
+"""Where each name and value starts (group 1), in a stretch that is plain JSON; what
+lies between them is taken in the same match, which is many times quicker than
+searching for the next one character by character."""
+_LONGEST_INTEGER = 100
+"""Integers with more digits are read as infinity (the checks then call them too large)."""
+_HUGE = 10 ** _LONGEST_INTEGER
+
+
 _WS = re.compile(r"[ \t\r\n\ufeff]*")
 _NUMBER = re.compile(r"[+-]?\d+(\.\d+)?([eE][+-]?\d+)?")
 _WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_\-]*")
 _STRING_BODY = re.compile(r'[^"\\\n]*')
+_PLAIN_SCALAR = re.compile(r'"([^"\\\n]*)"|(-?(?:0|[1-9][0-9]{0,17}))(?![0-9.eE])'
+                           r'|(true|false|null)(?![A-Za-z0-9_\-])')
+"""The common values, read at once: text without escapes, whole numbers, words."""
+_PLAIN_KEY = re.compile(r'"([^"\\\n]*)"[ \t\r\n]*:')
+"""The common start of a member: a name without escapes and its colon."""
 _ESCAPES = {'"': '"', "\\": "\\", "/": "/", "b": "\b", "f": "\f", "n": "\n", "r": "\r", "t": "\t"}
 _CLOSERS = {"{": "}", "[": "]"}
-_LONGEST_INTEGER = 100
-"""Integers with more digits are read as infinity (the checks then call them too large)."""
+MAX_DEPTH = 64
+"""Groups and lists inside each other, at most (a station's file needs under 10)."""
+MAX_VALUES = 100_000
+"""Values (names not counted) in one file, at most: ten times the largest example
+station (multi-multi-20.moas has about 9,000)."""
+MAX_SYNTAX_PROBLEMS = 1000
+"""Mistakes of JSON after which the reader stops."""
 
 
 def _without_leading_zeros(unsigned: str) -> str:
@@ -99,23 +141,72 @@ def _without_leading_zeros(unsigned: str) -> str:
     return digits + unsigned[whole.end():]
 
 
+_STRIDE = 1024
+
+
+class _Lines:
+    """Line and column of any place in a text, in little memory whatever its shape
+    (a file of ten million empty lines, or one line ten million characters long):
+    the lines before every :data:`_STRIDE` characters are counted once, the rest on
+    demand."""
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self.before = [0]
+        """Line breaks before each multiple of the stride."""
+        self.start = [0]
+        """Where the line holding each multiple of the stride starts."""
+        self.commas = [0]
+        """Commas before each multiple of the stride."""
+        count = start = commas = 0
+        for at in range(0, len(text), _STRIDE):
+            count += text.count("\n", at, at + _STRIDE)
+            commas += text.count(",", at, at + _STRIDE)
+            last = text.rfind("\n", at, at + _STRIDE)
+            if last >= 0:
+                start = last + 1
+            self.before.append(count)
+            self.start.append(start)
+            self.commas.append(commas)
+
+    def commas_after(self, offset: int) -> int:
+        """Commas from ``offset`` to the end of the text."""
+        chunk = offset // _STRIDE
+        before = self.commas[chunk] + self.text.count(",", chunk * _STRIDE, offset)
+        return self.commas[-1] - before
+
+    def where(self, offset: int) -> tuple[int, int]:
+        """``(line, column)`` of ``offset``, both from 1."""
+        chunk = offset // _STRIDE
+        at = chunk * _STRIDE
+        line = self.before[chunk] + self.text.count("\n", at, offset) + 1
+        last = self.text.rfind("\n", at, offset)
+        start = last + 1 if last >= 0 else self.start[chunk]
+        return line, offset - start + 1
+
+
 class _Reader:
     def __init__(self, text: str, filename: str) -> None:
         self.text = text
         self.filename = filename
         self.pos = 0
-        self.problems: list[Problem] = []
-        self.line_starts = [0] + [m.end() for m in re.finditer(r"\n", text)]
+        self.problems = ProblemList(filename)
+        self.lines = _Lines(text)
+        self.where = self.lines.where
         self.depth = 0
+        self.values = 0
+        self.wasted = 0
+        """Characters read in vain by :meth:`whole` (it is given up beyond a bound)."""
 
     # -- positions and messages --------------------------------------------
-    def where(self, offset: int) -> tuple[int, int]:
-        index = bisect_right(self.line_starts, offset) - 1
-        return index + 1, offset - self.line_starts[index] + 1
-
     def error(self, offset: int, message: str) -> None:
         line, column = self.where(offset)
-        self.problems.append(Problem(line, column, Severity.ERROR, message, self.filename))
+        self.problems.add(line, column, Severity.ERROR, message)
+        if self.problems.total == MAX_SYNTAX_PROBLEMS:
+            self.problems.add(line, column, Severity.ERROR,
+                              f"the reading stops here, after {MAX_SYNTAX_PROBLEMS:,} mistakes: "
+                              "correct those listed and check the file again")
+            raise _Stop()
 
     def stop(self, offset: int, message: str) -> _Stop:
         self.error(offset, message)
@@ -135,6 +226,8 @@ class _Reader:
         text = self.text
         while True:
             self.pos = _WS.match(text, self.pos).end()  # type: ignore[union-attr]
+            if text[self.pos : self.pos + 1] != "/":
+                return
             if text.startswith("//", self.pos):
                 self.error(self.pos, "JSON has no comments: remove the '//' comment")
                 end = text.find("\n", self.pos)
@@ -153,11 +246,27 @@ class _Reader:
     def value(self) -> Node:
         self.skip()
         start = self.pos
+        self.values += 1
+        if self.values > MAX_VALUES:
+            raise self.stop(start, f"the file holds more than {MAX_VALUES:,} values, far more "
+                                   "than any station needs (is this the right file?)")
         line, column = self.where(start)
+        plain = _PLAIN_SCALAR.match(self.text, start)
+        if plain is not None:
+            self.pos = plain.end()
+            text, whole, word = plain.groups()
+            if text is not None:
+                return JScalar(line, column, text)
+            if whole is not None:
+                return JScalar(line, column, int(whole))
+            return JScalar(line, column, None if word == "null" else word == "true")
         char = self.peek()
-        if char == "{":
-            return self.group(start, line, column)
-        if char == "[":
+        if char == "{" or char == "[":
+            whole = self.whole(start)
+            if whole is not None:
+                return whole
+            if char == "{":
+                return self.group(start, line, column)
             return self.array(start, line, column)
         if char and char in "\"'":
             return JScalar(line, column, self.string())
@@ -180,6 +289,66 @@ class _Reader:
         if not char:
             raise self.stop(start, "the file ends where a value was expected")
         raise self.stop(start, f"expected a value but found {self.shown(start)}")
+
+    # -- plain JSON, read at once -------------------------------------------
+    def whole(self, start: int) -> Node | None:
+        """The group or list at ``start`` read by :mod:`json` at once (most files are
+        plain JSON, and this is many times quicker), or ``None`` when it has a mistake:
+        then it is read step by step, and its parts are tried this way in turn.  The
+        time lost on tries that fail is bounded (twice the file's length)."""
+        text = self.text
+        if self.wasted > 2 * len(text) or self.lines.commas_after(start) > 2 * MAX_VALUES:
+            return None  # (the second: far too many values to be worth making at once)
+        try:
+            value, end = _DECODER.raw_decode(text, start)
+        except json.JSONDecodeError as exc:
+            self.wasted += exc.pos - start
+            return None
+        except (ValueError, RecursionError):
+            self.wasted += 1000
+            return None
+        tokens = _TOKEN.finditer(text, start, end)
+        values, depth = self.values, self.depth
+        try:
+            node = self.build(value, tokens, self.depth)
+        except _Slow:
+            self.values, self.depth = values, depth
+            self.wasted += end - start
+            return None
+        self.values -= 1  # value() counted the group or list already
+        self.pos = end
+        return node
+
+    def build(self, value: object, tokens: Iterator[re.Match[str]], depth: int) -> Node:
+        at = next(tokens).start(1)
+        self.values += 1
+        if self.values > MAX_VALUES + 1:
+            raise self.stop(at, f"the file holds more than {MAX_VALUES:,} values, far more "
+                                "than any station needs (is this the right file?)")
+        line, column = self.where(at)
+        if type(value) is _Pairs:
+            if depth >= MAX_DEPTH:
+                self.enter_too_deep(at)
+            group = JObject(line, column)
+            members = group.members
+            seen: set[str] = set()
+            for key, item in value:
+                if key in seen:
+                    raise _Slow()  # step by step says where both are
+                seen.add(key)
+                key_line, key_column = self.where(next(tokens).start(1))
+                members.append(Member(key, key_line, key_column,
+                                      self.build(item, tokens, depth + 1)))
+            return group
+        if type(value) is list:
+            if depth >= MAX_DEPTH:
+                self.enter_too_deep(at)
+            array = JArray(line, column)
+            array.items = [self.build(item, tokens, depth + 1) for item in value]
+            return array
+        if type(value) is int and not -_HUGE < value < _HUGE:
+            value = math.copysign(math.inf, value)
+        return JScalar(line, column, value)  # type: ignore[arg-type]
 
     def string(self) -> str:
         text = self.text
@@ -276,15 +445,20 @@ class _Reader:
             if not expecting_member:
                 self.error(last_end, self.missing_comma(last_end))
             key_at = self.pos
-            key = self.key()
             key_line, key_column = self.where(key_at)
-            self.skip()
-            if self.peek() == ":":
-                self.pos += 1
-            elif not self.peek():
-                raise self.stop(self.pos, f'the file ends after the name "{key}"')
+            plain = _PLAIN_KEY.match(self.text, key_at)
+            if plain is not None:
+                key = plain.group(1)
+                self.pos = plain.end()
             else:
-                self.error(self.pos, f"missing ':' after the name \"{key}\"")
+                key = self.key()
+                self.skip()
+                if self.peek() == ":":
+                    self.pos += 1
+                elif not self.peek():
+                    raise self.stop(self.pos, f'the file ends after the name "{key}"')
+                else:
+                    self.error(self.pos, f"missing ':' after the name \"{key}\"")
             value = self.value()
             if key in seen:
                 self.error(key_at, f"the name \"{key}\" appears twice in this group "
@@ -345,26 +519,30 @@ class _Reader:
 
     def enter(self, offset: int) -> None:
         self.depth += 1
-        if self.depth > 200:
-            raise self.stop(offset, "groups and lists are nested more than 200 deep")
+        if self.depth > MAX_DEPTH:
+            self.enter_too_deep(offset)
+
+    def enter_too_deep(self, offset: int) -> None:
+        raise self.stop(offset, f"groups and lists are nested more than {MAX_DEPTH} deep; "
+                                "a configuration needs far fewer")
 
 
 def parse(text: str, filename: str = "") -> tuple[Node | None, list[Problem]]:
     """Read ``text``; return the tree (None when unreadable) and the problems found."""
     reader = _Reader(text, filename)
-    reader.skip()
-    if reader.pos >= len(text):
-        reader.error(0, "the file is empty: a configuration is a group that starts with '{'")
-        return None, reader.problems
     try:
+        reader.skip()
+        if reader.pos >= len(text):
+            reader.error(0, "the file is empty: a configuration is a group that starts with '{'")
+            return None, reader.problems.listed()
         root = reader.value()
         reader.skip()
         if reader.pos < len(text):
             reader.error(reader.pos, f"unexpected {reader.shown(reader.pos)} after the end of the "
                                      "configuration; the whole file must be one group { ... }")
     except _Stop:
-        return None, reader.problems
-    return root, reader.problems
+        return None, reader.problems.listed()
+    return root, reader.problems.listed()
 
 
-__all__ = ["JArray", "JObject", "JScalar", "Member", "Node", "describe", "parse"]
+__all__ = ["MAX_DEPTH", "MAX_SYNTAX_PROBLEMS", "MAX_VALUES", "JArray", "JObject", "JScalar", "Member", "Node", "describe", "parse"]

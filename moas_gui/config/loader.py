@@ -6,6 +6,7 @@ complete configuration (perhaps with warnings) or none at all.
 
 from __future__ import annotations
 
+import gc
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -94,9 +95,20 @@ def read_config(data: bytes, filename: str = "<config>", path: Path | None = Non
 def parse_config(text: str, filename: str = "<config>", path: Path | None = None, *,
                  platform: str = sys.platform) -> LoadResult:
     """Read and check configuration ``text`` (``filename`` is used in messages)."""
+    # Reading makes a great many small objects and no cycles: the cycle collector,
+    # left on, would walk them all again and again (it doubled the time of a large file).
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        return _parse_config(text, filename, path, platform)
+    finally:
+        if collecting:
+            gc.enable()
+
+
+def _parse_config(text: str, filename: str, path: Path | None, platform: str) -> LoadResult:
     root, syntax = parse(text, filename)
     reading = Reading(filename)
-    reading.problems.extend(syntax)
     config: Config | None = None
     if root is not None:
         if not isinstance(root, JObject):
@@ -110,7 +122,8 @@ def parse_config(text: str, filename: str = "<config>", path: Path | None = None
                 check_wiring(config, reading)
                 check_rig_sources(config, reading)
                 check_port_names(config, reading, platform)
-    problems = tuple(sorted(reading.problems, key=lambda p: (p.line == 0, p.line, p.column)))
+    problems = tuple(sorted(syntax + reading.problems.listed(),
+                            key=lambda p: (p.line == 0, p.line, p.column)))
     has_errors = any(p.severity is Severity.ERROR for p in problems)
     return LoadResult(None if has_errors else config, problems)
 

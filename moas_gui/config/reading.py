@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .jsontree import JArray, JObject, JScalar, Member, Node, describe
-from .problems import Problem, Severity
+from .problems import ProblemList, Severity
 
 INT32_MIN = -2_147_483_648
 INT32_MAX = 2_147_483_647
@@ -40,7 +40,8 @@ class Reading:
 
     def __init__(self, filename: str) -> None:
         self.filename = filename
-        self.problems: list[Problem] = []
+        self.problems = ProblemList(filename)
+        """Every problem found (a few of each kind listed, the rest counted)."""
         self._origin: dict[int, JObject] = {}
         self._keep: list[object] = []
         self._items: dict[int, dict[object, JScalar]] = {}
@@ -54,7 +55,7 @@ class Reading:
 
     def _add(self, node: Node | Member | None, severity: Severity, message: str) -> None:
         line, column = (node.line, node.column) if node is not None else (0, 0)
-        self.problems.append(Problem(line, column, severity, message, self.filename))
+        self.problems.add(line, column, severity, message)
 
     # -- where objects came from ------------------------------------------------
     def remember(self, obj: object, node: JObject) -> None:
@@ -253,15 +254,18 @@ def list_of(item: Kind, convert: Callable[[list[Any]], Any] = tuple) -> Kind:
         failed = 0
         first_hidden: Node | None = None
         for index, child in enumerate(node.items):
-            mark = len(reading.problems)
-            value = item(child, reading, f"item {index + 1} of {label}")
+            # Plain values wrong by the thousand are one mistake: show a few, then count.
+            hide = failed >= SHOWN_ITEM_PROBLEMS and not isinstance(child, JObject)
+            reading.problems.muted += hide
+            try:
+                value = item(child, reading, f"item {index + 1} of {label}")
+            finally:
+                reading.problems.muted -= hide
             if value is not BAD:  # the error is recorded; check the rest without it
                 values.append(value)
             elif not isinstance(child, JObject):
-                # Plain values wrong by the thousand are one mistake: show a few, then count.
                 failed += 1
-                if failed > SHOWN_ITEM_PROBLEMS:
-                    del reading.problems[mark:]
+                if hide:
                     first_hidden = first_hidden or child
         if first_hidden is not None:
             reading.error(first_hidden, f"{failed - SHOWN_ITEM_PROBLEMS:,} more items of "

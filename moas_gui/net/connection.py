@@ -19,6 +19,7 @@ from typing import Any, Protocol
 
 from .backend import ErrorCode
 from .framing import LineSplitter
+from .log_limit import held_text
 from .messages import MessageEncodeError, reply_error, reply_ok
 
 log = logging.getLogger("moas_gui.net")
@@ -54,6 +55,13 @@ class LineWriter(Protocol):
     @property
     def transport(self) -> LineTransport: ...
     def close(self) -> None: ...
+
+
+def host_of(address: str) -> str:
+    """The host of a :func:`format_peer` text (``[::1]:80`` -> ``::1``)."""
+    if address.startswith("["):
+        return address[1:].split("]", 1)[0]
+    return address.rsplit(":", 1)[0]
 
 
 def format_peer(peer: Any) -> str:
@@ -103,6 +111,20 @@ class Connection:
         """Layouts this connection follows, with the last one it was sent."""
         self.closed = False
         self.close_reason: str | None = None
+        self.chatter: Callable[[], int | None] | None = None
+        """Asked before each Info line about this client (its hello, its leaving): None
+        to stay quiet, else how many were left out -- the server gives each address a
+        share of the log, so that a program connecting in a loop cannot flood it."""
+
+    def note(self, message: str, *args: object) -> None:
+        """An Info line about this client, within its address's share of the log."""
+        held = self.chatter() if self.chatter is not None else 0
+        if held is None:
+            return
+        if held:
+            message += "%s"
+            args = (*args, held_text(held, "more lines about clients at that address"))
+        log.info(message, *args)
 
     def __str__(self) -> str:
         if self.name is None:

@@ -70,7 +70,7 @@ def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
         serves = f" for station {conn.station}" + (
             f" radio {conn.radio}" if conn.radio is not None else ""
         )
-    log.info('Client at %s is "%s"%s', conn.address, conn.name, serves)
+    conn.note('Client at %s is "%s"%s', conn.address, conn.name, serves)
     conn.reply(request.id, request.cmd, hello_result())
     conn.greeted = True
     try:

@@ -1,6 +1,6 @@
 """Serve the client protocol over the fake backend, for client authors and benchmarks.
 
-``python -m moas_gui.net.fake_server [--host 127.0.0.1] [--port 12059]``
+``python -m moas_gui.net.fake_server [--host 127.0.0.1] [--port 12059] [--max-per-address N]``
 prints ``port N`` on its first line once it listens, then serves the
 demonstration station of :mod:`moas_gui.net.fake_station` until interrupted.
 No switch, engine or configuration file is involved.
@@ -14,13 +14,14 @@ import logging
 import sys
 
 from ..aio import CleanStop, run_until_stopped
+from .admission import DEFAULT_PER_ADDRESS
 from .fake_backend import FakeBackend
 from .server import DEFAULT_PORT, ClientServer
 
 
-async def serve(host: str, port: int) -> None:
+async def serve(host: str, port: int, per_address: int = DEFAULT_PER_ADDRESS) -> None:
     backend = FakeBackend()
-    server = ClientServer(backend, host=host, port=port)
+    server = ClientServer(backend, host=host, port=port, per_address=per_address)
     backend.attach(server)
     bound = await server.start()
     print(f"port {bound}", flush=True)
@@ -37,10 +38,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--host", default="127.0.0.1", help="address to listen on")
     parser.add_argument("--port", type=int, default=DEFAULT_PORT, help="TCP port (0: any)")
     parser.add_argument("--log", default="INFO", help="log level (DEBUG, INFO, WARNING)")
+    parser.add_argument("--max-per-address", type=int, default=DEFAULT_PER_ADDRESS,
+                        help="connections one address may hold (a benchmark's crowd of "
+                             f"clients on one computer needs more than {DEFAULT_PER_ADDRESS})")
     args = parser.parse_args(argv)
     logging.basicConfig(level=args.log.upper(), stream=sys.stderr,
                         format="%(asctime)s %(levelname)s %(message)s")
-    return run_until_stopped(serve(args.host, args.port))
+    return run_until_stopped(serve(args.host, args.port, args.max_per_address))
 
 
 if __name__ == "__main__":

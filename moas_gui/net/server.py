@@ -16,17 +16,25 @@ stops reading cannot hold anyone up).  Peers outside the allowed networks
 thread; none of them waits.
 
 Limits: at most ``max_clients`` connections at once (fewer when the process
-may open few files: half its open-file limit); a connection beyond that is
-told so in one error line and closed.  Each client's unread output is bounded
+may open few files: half its open-file limit), and at most ``per_address``
+from one address; the browser client's web connections count against the same
+two limits (:mod:`.admission`).  A connection beyond either is told so in one
+error line and closed.  A connection must say ``hello`` within
+``hello_deadline`` seconds, and a greeted one that stays silent for
+``keepalive`` seconds is closed (clients with nothing to ask send a blank line
+now and then: docs/client-protocol.md).  Each client's unread output is bounded
 (``max_pending``), and so is the sum of all of them (``max_pending_total``):
 when the sum is over, the clients with the most unread output are cut first.
 
-Log lines (logger ``moas_gui.net``): connects, hellos and disconnects at Info;
-refused peers and clients cut off for not reading at Warning; each bad line or
-refused request at Debug; a backend failure at Error with its traceback.  A
-fault that repeats (refused peers, connections over the limit, the system
-running out of file handles while accepting) writes one line per minute and
-cause, saying how many like it were left out.
+Log lines (logger ``moas_gui.net``): hellos and the disconnects of greeted
+clients at Info (a connection's opening at Debug); refused peers and clients
+cut off for not reading at Warning; each bad line or refused request at Debug;
+a backend failure at Error with its traceback.  Everything that a peer can
+repeat at will -- refused peers, connections over a limit, connections closed
+before or for want of a ``hello``, silent ones, the system running out of file
+handles while accepting -- writes one line per minute and kind, saying how
+many like it were left out (:attr:`ClientServer.trouble`, which the web server
+shares).
 """
 
 from __future__ import annotations
@@ -39,6 +47,14 @@ from typing import Any
 from moas_gui.errors import HardwareError
 
 from .access import allowed_networks, is_allowed, peer_address
+from .admission import (
+    DEFAULT_PER_ADDRESS,
+    HELLO_DEADLINE,
+    KEEPALIVE,
+    Admission,
+    address_key,
+    deepen_backlog,
+)
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
 from .connection import (
     ClientInfo,
@@ -47,6 +63,7 @@ from .connection import (
     LineWriter,
     cut_slowest,
     format_peer,
+    host_of,
 )
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
@@ -68,6 +85,11 @@ _LINES_PER_TURN = 8
 """Requests of one client answered before the loop serves everything else once."""
 _CROWD = 32
 """Clients at once after which their leaving gives memory back to the system."""
+CHATTER_BURST = 120
+"""Info lines a minute about the clients of one address (a hello and a goodbye are two,
+a page's WebSocket three): far more than a station's computers reconnecting, or a
+benchmark opening dozens of pages, ever write; beyond them, one a minute with a count
+(a program connecting in a loop)."""
 DEFAULT_MAX_CLIENTS = 200
 """Connections served at once unless ``--max-clients`` says otherwise."""
 DEFAULT_MAX_PENDING_TOTAL = 32 << 20
@@ -102,9 +124,14 @@ class ClientServer:
         max_pending_total: int = DEFAULT_MAX_PENDING_TOTAL,
         max_clients: int = DEFAULT_MAX_CLIENTS,
         max_layouts: int = 16,
+        per_address: int = DEFAULT_PER_ADDRESS,
+        hello_deadline: float = HELLO_DEADLINE,
+        keepalive: float = KEEPALIVE,
     ) -> None:
         if max_clients < 1:
             raise ValueError(f"max_clients must be at least 1, not {max_clients}")
+        if per_address < 1:
+            raise ValueError(f"per_address must be at least 1, not {per_address}")
         self.backend = backend
         self.host = host
         self.port = port
@@ -116,12 +143,19 @@ class ClientServer:
         """The connections served at once: ``max_clients``, or fewer when the
         process may open few files (set by :meth:`start`)."""
         self.max_layouts = max_layouts
+        self.admission = Admission(max_clients, per_address)
+        """Open connections of both transports, in all and per address."""
+        self.hello_deadline = hello_deadline
+        self.keepalive = keepalive
+        self.trouble = LogLimiter()
+        """One log line a minute per kind of trouble from outside (the web server's too)."""
+        self.chatter = LogLimiter(burst=CHATTER_BURST)
+        """Each address's share of the Info lines about greeted clients."""
         self._unchecked = 0
         """Bytes queued since the sum of all clients' output was last checked."""
         self._crowd = 0
         """The most clients connected at once since memory was last given back."""
         self._trim: asyncio.Handle | None = None
-        self._refusals = LogLimiter()
         self._loop_faults = LogLimiter()
         self._restore_handler: Callable[[], None] | None = None
         self._server: asyncio.Server | None = None
@@ -139,17 +173,19 @@ class ClientServer:
         cannot listen (the port is in use, say)."""
         self._loop = asyncio.get_running_loop()
         self.client_limit = fitting_client_limit(self.max_clients)
+        self.admission.total = self.client_limit
         if self._restore_handler is None:
             self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
-            self._server = await asyncio.start_server(
-                self._serve, self.host, self.port, limit=_READ_CHUNK)
+            self._server = await self._loop.create_server(
+                lambda: _Gate(self), self.host, self.port)
         except OSError as e:
             raise HardwareError(
                 f"cannot accept clients on TCP port {self.port}: {e.strerror or e} "
                 "(is another moas-server running? TCPPort in the configuration sets the port)"
             ) from e
         self.port = self._server.sockets[0].getsockname()[1]
+        deepen_backlog(self._server.sockets)
         where = self.host if self.host is not None else "every interface"
         log.info("Accepting clients on TCP port %d (%s)", self.port, where)
         return self.port
@@ -197,6 +233,7 @@ class ClientServer:
             return None
         conn = Connection(writer, address, max_pending=self.max_pending,
                           max_layouts=self.max_layouts, on_queued=self._queued)
+        conn.chatter = self._chatter_of(address)
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         return conn
@@ -308,49 +345,61 @@ class ClientServer:
 
     # ---- connections ----------------------------------------------------------------
 
+    def _gate(self, transport: asyncio.Transport) -> str | None:
+        """Decides on a new connection before anything is made for it: the peer's
+        address when it may stay, else ``None`` (it was refused and closed)."""
+        peer = transport.get_extra_info("peername")
+        address = format_peer(peer)
+        host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
+        if not is_allowed(host, self._allowed):
+            held = self.trouble.allow(("not allowed", str(peer_address(host) or host)))
+            if held is not None:
+                log.warning(
+                    "Refused a client from %s: the address is not in the allowed networks "
+                    "(ClientAllow in the configuration decides)%s", address,
+                    held_text(held, "more refused from that address"),
+                )
+            transport.abort()
+            return None
+        refusal = self.admission.admit(host)
+        if refusal is not None:
+            self.refused(address, refusal)
+            transport.write(reply_error(None, ErrorCode.UNAVAILABLE, self.refusal_reply(refusal)))
+            transport.close()
+            return None
+        return host
+
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
         if task is not None:
             self._tasks.add(task)
-        peer = writer.get_extra_info("peername")
-        address = format_peer(peer)
         try:
-            host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
-            if not is_allowed(host, self._allowed):
-                held = self._refusals.allow(("not allowed", str(peer_address(host) or host)))
-                if held is not None:
-                    log.warning(
-                        "Refused a client from %s: the address is not in the allowed networks "
-                        "(ClientAllow in the configuration decides)%s", address,
-                        held_text(held, "more refused from that address"),
-                    )
-                writer.transport.abort()
-                writer.close()
-                return
-            if len(self._connections) >= self.client_limit:
-                self._refuse_over_limit(writer, address)
-                return
-            await self._converse(reader, writer, address)
+            await self._converse(reader, writer, format_peer(writer.get_extra_info("peername")))
         finally:
             if task is not None:
                 self._tasks.discard(task)
 
-    def _refuse_over_limit(self, writer: asyncio.StreamWriter, address: str) -> None:
-        """Tells a connection over the limit why, in one line, and closes it."""
-        held = self._refusals.allow("over the limit")
+    def refused(self, address: str, refusal: str, what: str = "a client") -> None:
+        """Logs a connection refused by :attr:`admission` (once a minute per limit)."""
+        held = self.trouble.allow(("over a limit", refusal.split(",", 1)[1]))
         if held is not None:
-            log.warning("Refused a client from %s: %d clients are connected, the most this "
-                        "server takes at once (moas-server --max-clients sets it)%s",
-                        address, self.client_limit,
+            log.warning("Refused %s from %s: %s%s", what, address, refusal,
                         held_text(held, "more refused for the same reason"))
-        try:
-            writer.write(reply_error(
-                None, ErrorCode.UNAVAILABLE,
-                f"the server already serves {self.client_limit} clients, its limit; "
-                "try again when one has left"))
-        except (ConnectionError, OSError):
-            pass
-        writer.close()
+
+    def refusal_reply(self, refusal: str) -> str:
+        """The sentence a refused client is told."""
+        if "one address" in refusal:
+            return (f"this address already holds {self.admission.per_address} connections, "
+                    "the most one address may; close one and try again")
+        return (f"the server already serves {self.client_limit} clients, its limit; "
+                "try again when one has left")
+
+    def trouble_line(self, kind: object, level: int, message: str, *args: object) -> None:
+        """Logs ``message`` unless a line of ``kind`` went out in the last minute; the
+        next one that does says how many were left out."""
+        held = self.trouble.allow(kind)
+        if held is not None:
+            log.log(level, message + "%s", *args, held_text(held))
 
     async def _converse(
         self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter, address: str
@@ -359,13 +408,22 @@ class ClientServer:
             writer, address, max_pending=self.max_pending, max_layouts=self.max_layouts,
             on_queued=self._queued,
         )
+        conn.chatter = self._chatter_of(address)
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
-        log.info("Client connected from %s", address)
+        log.debug("Client connected from %s", address)
         lost: str | None = None
+        loop = asyncio.get_running_loop()
+        hello_by = loop.time() + self.hello_deadline
         try:
             while not conn.closed:
-                data = await reader.read(_READ_CHUNK)
+                wait = self.keepalive if conn.greeted else hello_by - loop.time()
+                try:
+                    async with asyncio.timeout(max(wait, 0.0)):
+                        data = await reader.read(_READ_CHUNK)
+                except TimeoutError:
+                    conn.close(self.timed_out(conn))
+                    break
                 if not data:
                     break
                 await self._answer(conn, data)
@@ -373,13 +431,7 @@ class ClientServer:
             lost = str(e) or type(e).__name__
         finally:
             del self._connections[conn]
-            if conn.close_reason is not None:
-                how = f"disconnected by the server: {conn.close_reason}"
-            elif lost is not None:
-                how = f"connection lost: {lost}"
-            else:
-                how = "disconnected"
-            log.info("Client %s %s", _who(conn), how)
+            self.log_departure(conn, "Client", lost)
             self._after_departure()
             if not conn.closed:
                 writer.close()
@@ -422,6 +474,76 @@ class ClientServer:
             writer.transport.abort()
         except Exception:  # noqa: BLE001 - the connection is gone either way
             log.debug("Closing a client connection: the transport reported an error")
+
+
+    def _chatter_of(self, address: str) -> Callable[[], int | None]:
+        key = ("clients", address_key(host_of(address)))
+        return lambda: self.chatter.allow(key)
+
+    def timed_out(self, conn: Connection) -> str:
+        """Why ``conn`` is closed for its silence."""
+        if conn.greeted:
+            return f"silent for {self.keepalive:g} s (clients send a blank line when idle)"
+        return f"no hello within {self.hello_deadline:g} s"
+
+    def log_departure(self, conn: Connection, what: str, lost: str | None) -> None:
+        """Logs a connection's end: always for a greeted client (at Info), once a
+        minute per way of ending for one that never said hello."""
+        if conn.close_reason is not None:
+            how = f"disconnected by the server: {conn.close_reason}"
+        elif lost is not None:
+            how = f"connection lost: {lost}"
+        else:
+            how = "disconnected"
+        if conn.greeted:
+            conn.note("%s %s %s", what, _who(conn), how)
+        else:
+            kind = ("left before hello", what, (conn.close_reason or lost or "")[:24])
+            never = "" if "hello" in how else " (it never said hello)"
+            self.trouble_line(kind, logging.INFO, "%s %s %s%s", what, _who(conn), how, never)
+
+
+class _Gate(asyncio.Protocol):
+    """A connection to the client port: refused at once, before any stream or task is
+    made for it, when its address is not allowed or over a limit (a crowd reconnecting
+    as fast as it is refused then costs little); otherwise asyncio's streams take it,
+    and its place in the :class:`~.admission.Admission` is given back when it closes."""
+
+    def __init__(self, server: ClientServer) -> None:
+        self.server = server
+        self.host = ""
+        self.inner: asyncio.StreamReaderProtocol | None = None
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        host = self.server._gate(transport)
+        if host is None:
+            return
+        self.host = host
+        reader = asyncio.StreamReader(limit=_READ_CHUNK)
+        self.inner = asyncio.StreamReaderProtocol(reader, self.server._serve)
+        self.inner.connection_made(transport)
+
+    def data_received(self, data: bytes) -> None:
+        if self.inner is not None:
+            self.inner.data_received(data)
+
+    def eof_received(self) -> bool | None:
+        return self.inner.eof_received() if self.inner is not None else None
+
+    def pause_writing(self) -> None:
+        if self.inner is not None:
+            self.inner.pause_writing()
+
+    def resume_writing(self) -> None:
+        if self.inner is not None:
+            self.inner.resume_writing()
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        inner, self.inner = self.inner, None
+        if inner is not None:
+            self.server.admission.release(self.host)
+            inner.connection_lost(exc)
 
 
 def _who(conn: Connection) -> str:

@@ -16,13 +16,17 @@ It serves three kinds of request, and nothing else:
   :class:`~.server.ClientServer` as TCP clients (:mod:`.web_socket`);
 * nothing else (``404``; methods other than GET and HEAD: ``405``).
 
-Every request is checked first against the client server's ``ClientAllow``
-(refused with ``403`` and a Warning log line), then its Host header, and a
-WebSocket's Origin (:mod:`.web_guard`).  ``docs/web-client.md`` has the page's side.
+Every connection is counted against the client server's limits, in all and per
+address, and must deliver each complete request within a few seconds
+(:mod:`.web_limits`).  Every request is checked first against the client
+server's ``ClientAllow`` (refused with ``403``), then its Host header, and a
+WebSocket's Origin (:mod:`.web_guard`); each refusal writes a Warning line, once
+a minute per kind.  ``docs/web-client.md`` has the page's side.
 """
 
 from __future__ import annotations
 
+import asyncio
 import logging
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
@@ -32,9 +36,11 @@ from aiohttp import web
 
 from moas_gui.errors import HardwareError
 
+from .admission import REQUEST_DEADLINE, deepen_backlog
 from .connection import format_peer
 from .server import ClientServer
 from .web_guard import host_allowed, local_names, origin_complaint
+from .web_limits import GuardedConnection, QuietAiohttp
 from .web_socket import MAX_MESSAGE, converse
 
 log = logging.getLogger("moas_gui.net")
@@ -85,13 +91,17 @@ Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
 class WebServer:
     """Serves the browser client for one :class:`~.server.ClientServer`."""
 
-    def __init__(self, clients: ClientServer, *, host: str | None = None, port: int) -> None:
+    def __init__(self, clients: ClientServer, *, host: str | None = None, port: int,
+                 request_deadline: float = REQUEST_DEADLINE) -> None:
         self.clients = clients
         self.host = host
         self.port = port
+        self.request_deadline = request_deadline
         self._files = page_files()
         self._names = local_names()
         self._runner: web.AppRunner | None = None
+        self._listener: asyncio.Server | None = None
+        self._quiet = QuietAiohttp(clients.trouble)
 
     async def start(self) -> int:
         """Starts listening; returns the port.  Raises
@@ -99,11 +109,15 @@ class WebServer:
         app = web.Application(middlewares=[self._guard], client_max_size=MAX_MESSAGE)
         app.router.add_get("/ws", self._websocket)
         app.router.add_get("/{name:.*}", self._static)
-        runner = web.AppRunner(app, access_log=None, handle_signals=False, shutdown_timeout=0.5)
+        runner = web.AppRunner(app, access_log=None, handle_signals=False, shutdown_timeout=0.5,
+                               keepalive_timeout=self.request_deadline, lingering_time=1.0)
         await runner.setup()
-        site = web.TCPSite(runner, self.host, self.port)
+        assert runner.server is not None
         try:
-            await site.start()
+            # not aiohttp's TCPSite: every connection goes through the guard first
+            self._listener = await asyncio.get_running_loop().create_server(
+                self._guarded(runner.server),
+                self.host or None, self.port)
         except OSError as e:
             await runner.cleanup()
             raise HardwareError(
@@ -111,8 +125,9 @@ class WebServer:
                 f"{e.strerror or e} (WebPort in the configuration, or --web-port, sets it)"
             ) from e
         self._runner = runner
-        server = site._server  # the one place aiohttp keeps the bound port
-        sockets = getattr(server, "sockets", None) or ()
+        self._quiet.install()
+        sockets = self._listener.sockets or ()
+        deepen_backlog(sockets)
         if sockets:
             self.port = int(sockets[0].getsockname()[1])
         where = self.host if self.host not in (None, "") else "every interface"
@@ -120,24 +135,49 @@ class WebServer:
                  _loopback(self.host), self.port, where)
         return self.port
 
+    def _guarded(self, factory: Callable[[], asyncio.Protocol]) -> Callable[[], asyncio.Protocol]:
+        """aiohttp's protocol factory, each connection behind a :class:`GuardedConnection`."""
+        return lambda: GuardedConnection(factory, self.clients, self.request_deadline)
+
     async def close(self) -> None:
         """Stops listening and closes every page's WebSocket."""
+        if self._listener is not None:
+            self._listener.close()
         if self._runner is not None:
             runner, self._runner = self._runner, None
             await runner.cleanup()
+        if self._listener is not None:
+            listener, self._listener = self._listener, None
+            await listener.wait_closed()
+        self._quiet.remove()
 
     @web.middleware
     async def _guard(self, request: web.Request, handler: Handler) -> web.StreamResponse:
+        transport = request.transport
+        guard = transport.get_protocol() if transport is not None else None
+        if isinstance(guard, GuardedConnection):
+            guard.disarm()  # the request is here; the next one is timed after the response
+        try:
+            return await self._checked(request, handler)
+        finally:
+            if isinstance(guard, GuardedConnection):
+                guard.arm()
+
+    async def _checked(self, request: web.Request, handler: Handler) -> web.StreamResponse:
         peer = request.transport.get_extra_info("peername") if request.transport else None
         host = str(peer[0]) if isinstance(peer, tuple) else str(request.remote or "")
         if not self.clients.allows(host):
-            log.warning("Refused a browser from %s: the address is not in the allowed networks "
-                        "(ClientAllow in the configuration decides)", format_peer(peer))
+            self.clients.trouble_line(
+                ("browser not allowed", host), logging.WARNING,
+                "Refused a browser from %s: the address is not in the allowed networks "
+                "(ClientAllow in the configuration decides)", format_peer(peer))
             raise web.HTTPForbidden(text="This address may not use the MOAS server "
                                          "(ClientAllow in its configuration decides).\n")
         if not host_allowed(request.host, self._names):
-            log.warning("Refused a browser request from %s for host %r: not a name of this "
-                        "computer", format_peer(peer), request.host[:80])
+            self.clients.trouble_line(
+                "browser host", logging.WARNING,
+                "Refused a browser request from %s for host %r: not a name of this computer",
+                format_peer(peer), request.host[:80])
             raise web.HTTPMisdirectedRequest(text="Use this computer's address or name.\n")
         if request.method not in ("GET", "HEAD"):
             raise web.HTTPMethodNotAllowed(request.method, ["GET", "HEAD"])
@@ -154,9 +194,11 @@ class WebServer:
     async def _websocket(self, request: web.Request) -> web.StreamResponse:
         peer = request.transport.get_extra_info("peername") if request.transport else None
         address = format_peer(peer)
-        complaint = origin_complaint(request.headers.get("Origin"), request.host)
+        complaint = origin_complaint(request.headers.getall("Origin", []), request.host)
         if complaint is not None:
-            log.warning("Refused a WebSocket from %s: %s", address, complaint)
+            self.clients.trouble_line(("websocket origin", complaint.split(" ", 2)[1]),
+                                      logging.WARNING, "Refused a WebSocket from %s: %s",
+                                      address, complaint)
             raise web.HTTPForbidden(text=f"Refused: {complaint}.\n")
         ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE, heartbeat=20.0)
         if not ws.can_prepare(request).ok:

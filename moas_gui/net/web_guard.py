@@ -9,9 +9,11 @@ the Host header
     or with ``.local``).  A page on another site that makes its own name point
     at a station computer (DNS rebinding) sends that other name and is refused.
 the Origin header of a WebSocket
-    a browser always sends the page's origin with a WebSocket; it must be the
-    server's own (``http://`` or ``https://`` and the same host and port as
-    the Host header).  A page from anywhere else on the network is refused:
+    a browser always sends the page's origin with a WebSocket; it must be
+    exactly an origin the page is served from: ``http://`` (the server serves
+    no ``https``), the host and port of the Host header (the port 80 may be
+    left out of either), nothing more, and one Origin header only.  A page
+    from anywhere else on the network is refused:
     browsers let any page open a WebSocket to any address, so without this a
     web page read on the shack computer could press buttons.  A connection
     without an Origin is not a browser, and is judged by ``ClientAllow`` alone,
@@ -22,6 +24,7 @@ from __future__ import annotations
 
 import ipaddress
 import socket
+from collections.abc import Sequence
 from urllib.parse import urlsplit
 
 __all__ = ["host_allowed", "local_names", "origin_complaint", "split_host"]
@@ -71,18 +74,32 @@ def host_allowed(host: str | None, names: frozenset[str]) -> bool:
         return name in names
 
 
-def origin_complaint(origin: str | None, host: str | None) -> str | None:
-    """Why a WebSocket with this Origin may not use this server, or ``None`` when it may."""
-    if origin is None:
+def _with_port(host: str) -> tuple[str, str]:
+    name, port = split_host(host)
+    return name.rstrip("."), port or "80"
+
+
+def origin_complaint(origins: str | Sequence[str] | None, host: str | None) -> str | None:
+    """Why a WebSocket with these Origin headers (a request's every Origin header, or
+    the one) may not use this server, or ``None`` when it may."""
+    if origins is None:
         return None
+    if not isinstance(origins, str):
+        if not origins:
+            return None
+        if len(origins) > 1:
+            return f"it sent {len(origins)} Origin headers; a browser sends one"
+        origins = origins[0]
+    origin = origins
     shown = origin if len(origin) <= 80 else origin[:77] + "..."
     try:
         parts = urlsplit(origin.strip())
     except ValueError:
         return f"its Origin {shown!r} is not an address"
-    if parts.scheme not in ("http", "https") or not parts.netloc:
-        return f"its Origin {shown!r} is not a web page of this server"
-    if host is None or parts.netloc.lower() != host.strip().lower():
+    if parts.scheme != "http" or not parts.netloc or parts.path or parts.query \
+            or parts.fragment or "@" in parts.netloc:
+        return f"its Origin {shown!r} is not a web page of this server (it serves http:// only)"
+    if host is None or _with_port(parts.netloc) != _with_port(host):
         return (f"it comes from a page of another site ({shown}); only the page this server "
                 "serves may use it")
     return None

@@ -7,7 +7,12 @@ lines), answered by the same :func:`~.dispatch.answer` as a TCP line, and every
 reply and event goes back as one text message holding one JSON object.  The
 connection is a :class:`~.connection.Connection` attached to the
 :class:`~.server.ClientServer`, so it is counted, logged, and sent events as a
-TCP client is, with the same bad-line rule and the same errors.
+TCP client is, with the same bad-line rule and the same errors, and the same
+clocks: ``hello`` within the client server's ``hello_deadline`` and then a
+message at least every ``keepalive`` seconds (an empty message will do; the
+page sends one when it has had nothing to ask for a while).  WebSocket pings
+and pongs keep the connection itself checked (every 20 s) but do not count as
+messages.
 
 :class:`WebSocketOutlet` is that connection's writer: :meth:`write` queues a
 message and returns at once, a task sends the queue in order, and the bytes
@@ -124,10 +129,18 @@ async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: st
                                  "its limit; try again when one has left"))
         await outlet.finished()
         return
-    log.info("Browser client connected from %s", address)
+    log.debug("Browser client connected from %s", address)
     lost: str | None = None
+    loop = asyncio.get_running_loop()
+    hello_by = loop.time() + clients.hello_deadline
     try:
-        async for message in ws:
+        while True:
+            wait = clients.keepalive if conn.greeted else hello_by - loop.time()
+            try:
+                message = await ws.receive(timeout=max(wait, 0.001))
+            except TimeoutError:
+                conn.close(clients.timed_out(conn))
+                break
             if message.type is WSMsgType.TEXT:
                 data = message.data.encode("utf-8", "surrogatepass")
             elif message.type is WSMsgType.BINARY:
@@ -136,23 +149,19 @@ async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: st
                 if message.type is WSMsgType.ERROR:
                     lost = str(ws.exception() or "error")
                 break
+            greeted = conn.greeted
             for item in conn.splitter.feed(data + b"\n"):
                 answer(clients.backend, conn, item)
                 if conn.closed:
                     break
+            if conn.greeted and not greeted:
+                conn.note("Browser client connected from %s", address)
             if conn.closed:
                 break
             await asyncio.sleep(0)  # a page sending a flood must not starve the others
     finally:
         clients.detach(conn)
-        if conn.close_reason is not None:
-            how = f"disconnected by the server: {conn.close_reason}"
-        elif lost is not None:
-            how = f"connection lost: {lost}"
-        else:
-            how = "disconnected"
-        who = f'"{conn.name}" at {address}' if conn.name else f"at {address}"
-        log.info("Browser client %s %s", who, how)
+        clients.log_departure(conn, "Browser client", lost)
         try:
             async with asyncio.timeout(clients.close_grace):
                 await outlet.finished()

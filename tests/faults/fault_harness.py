@@ -81,10 +81,13 @@ class Process:
     reader: asyncio.Task[None] | None = None
 
     @classmethod
-    async def start(cls, *args: str, env: dict[str, str], python: bool = True) -> Process:
+    async def start(cls, *args: str, env: dict[str, str], python: bool = True,
+                    preexec: Callable[[], None] | None = None) -> Process:
+        """``preexec`` runs in the child before it starts (a resource limit, say)."""
         argv = (sys.executable, *args) if python else args
         process = await asyncio.create_subprocess_exec(
-            *argv, stdout=asyncio.subprocess.DEVNULL, stderr=asyncio.subprocess.PIPE, env=env)
+            *argv, stdout=asyncio.subprocess.DEVNULL, stderr=asyncio.subprocess.PIPE, env=env,
+            preexec_fn=preexec)
         self = cls(process)
 
         async def collect() -> None:
@@ -343,11 +346,11 @@ class Station:
         config.write_text(json.dumps(data, indent=2))
         return cls(config, env)
 
-    async def server(self, *extra: str) -> Process:
+    async def server(self, *extra: str, preexec: Callable[[], None] | None = None) -> Process:
         self.running = await Process.start(
             "-m", "moas_gui.cli.server", "--headless", str(self.config), "--bind", "127.0.0.1",
             "--tcp-port", str(self.tcp), "--udp-port", str(self.udp), "--udp-bind", "127.0.0.1",
-            "--new-instance", "--log-level", "info", *extra, env=self.env)
+            "--new-instance", "--log-level", "info", *extra, env=self.env, preexec=preexec)
         return self.running
 
     async def emulator(self, link: Path, *extra: str) -> Process:

@@ -7,6 +7,7 @@
   const LONG_PRESS_MS = 550;
   const REQUEST_TIMEOUT_MS = 5000;
   const QUIET_MS = 15000;          // ask for the state when the server was silent this long
+  const KEEPALIVE_MS = 30000;      // say something this often: the server closes a silent page
   const $ = (sel, root = document) => root.querySelector(sel);
 
   const params = new URLSearchParams(location.search);
@@ -23,7 +24,7 @@
       { station: choice.station, radioA: choice.radios[0], radioB: choice.radios[1] }));
   }
 
-  let ws = null, connected = false, snapshot = null, nextId = 1, retry = 500, lastHeard = 0;
+  let ws = null, connected = false, snapshot = null, nextId = 1, retry = 500, lastHeard = 0, lastSent = 0;
   let firstState = true;
   const pending = new Map();
   const panels = [];
@@ -76,11 +77,16 @@
       }, REQUEST_TIMEOUT_MS);
       pending.set(id, { resolve, reject, timer });
       ws.send(JSON.stringify({ id, ...obj }));
+      lastSent = Date.now();
     });
   }
 
   setInterval(() => {  // a silent server is asked; one that does not answer is left
     if (connected && Date.now() - lastHeard > QUIET_MS) request({ cmd: "state" }).then(onState, () => {});
+    else if (connected && ws && Date.now() - lastSent > KEEPALIVE_MS) {  // an empty message: a blank line
+      ws.send("");
+      lastSent = Date.now();
+    }
   }, 5000);
 
   function shortAgent() {

@@ -1,0 +1,162 @@
+"""Fair service under a hostile load: the full figures of issue 20.
+
+    .venv/bin/python benchmarks/bench_hostile_load.py [--idle 1500] [--slow 1100]
+        [--malformed 300] [--hold 30] [--files 1024]
+
+Starts ``moas-server --headless --web-port`` (an example station, no switch attached,
+its own XDG folders) with ``--files`` file handles, soft and hard, so it cannot raise its
+own limit.  Then, from 127.0.0.2-127.0.0.4 for ``--hold`` seconds: ``--idle``
+connections to the client port that never send a byte, ``--slow`` slowloris connections
+to the web port (half a request, a header line every 2 s), each reopened a second after
+the server closes it, and ``--malformed`` malformed HTTP requests; meanwhile a client on
+127.0.0.1 says hello on a new connection, and loads the page on another, every half
+second (tests/faults/hostile_load.py has the attack, run in a process of its own so
+that the legitimate client's times are the server's).
+
+Prints the share of the legitimate client's hellos and pages served, and served within
+1 s, with the median and slowest times; the server's log lines during the attack by kind
+(at most one a minute each); the server's open files and resident memory before, at the
+peak, and 10 s after the attack.  The verdict is PASS when at least 99 % of both were
+served within 1 s, no kind wrote more than one line, no traceback was logged, and the
+files and memory came back (files to where they were, memory within 10 % or 10 MB).
+Figures: docs/reliability.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import statistics
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "tests" / "faults"))
+
+from fault_harness import EXAMPLES, Station, free_port, until
+from hostile_load import (
+    Attack,
+    Service,
+    legit_only,
+    limit_files,
+    open_files,
+    resident_mb,
+    trouble_kinds,
+)
+
+
+def listen_overflows() -> int:
+    """The system's count of connections dropped because a listening queue was full
+    (such a client tries again a second later)."""
+    with open("/proc/net/netstat") as netstat:
+        lines = netstat.read().splitlines()
+    for names, values in zip(lines[::2], lines[1::2], strict=False):
+        if names.startswith("TcpExt:"):
+            table = dict(zip(names.split()[1:], values.split()[1:], strict=False))
+            return int(table.get("ListenOverflows", 0))
+    return 0
+
+
+def describe(name: str, tries: list[float | None]) -> bool:
+    times = sorted(t for t in tries if t is not None)
+    served = Service.served(tries)
+    quick = Service.served(tries, within=1.0)
+    median = statistics.median(times) * 1000 if times else float("nan")
+    print(f"  {name:<6} {len(tries):4} tries: served {served:7.2%}, within 1 s {quick:7.2%}; "
+          f"median {median:5.1f} ms, slowest {Service.slowest(tries) * 1000:6.1f} ms")
+    return quick >= 0.99
+
+
+async def run(args: argparse.Namespace) -> bool:
+    with tempfile.TemporaryDirectory() as folder:
+        tmp = Path(folder)
+        data = json.loads((EXAMPLES / "small-station.moas").read_text())
+        data["Switches"][0]["Port"] = str(tmp / "no-switch")
+        station = Station.make(tmp, data)
+        web = free_port()
+        server = await station.server("--no-rotator-program", "--web-port", str(web),
+                                      preexec=limit_files(args.files))
+        try:
+            await until(lambda: "Serving the browser client" in server.text(), 20, "the web port")
+            pid = server.process.pid
+            await asyncio.sleep(1.0)
+            files_before, rss_before = open_files(pid), resident_mb(pid)
+            mark = len(server.lines)
+            peak = {"files": files_before, "rss": rss_before}
+            sampling = True
+
+            async def sample() -> None:
+                while sampling:
+                    peak["files"] = max(peak["files"], open_files(pid))
+                    peak["rss"] = max(peak["rss"], resident_mb(pid))
+                    await asyncio.sleep(0.25)
+
+            sampler = asyncio.ensure_future(sample())
+            overflows = listen_overflows()
+            print(f"server pid {pid}: {args.files} file handles; attack from 127.0.0.2-4: "
+                  f"{args.idle} idle, {args.slow} slowloris, {args.malformed} malformed, "
+                  f"held {args.hold:g} s; a client on 127.0.0.1 every 0.5 s")
+            attacker = await asyncio.create_subprocess_exec(
+                sys.executable, str(ROOT / "tests" / "faults" / "hostile_load.py"),
+                str(station.tcp), str(web), str(args.idle), str(args.slow),
+                str(args.malformed), str(args.hold), stdout=asyncio.subprocess.PIPE)
+            await asyncio.sleep(0.5)  # the crowd arrives first
+            service = await legit_only(station.tcp, web, args.hold - 0.5, patience=5.0)
+            said, _ = await attacker.communicate()
+            overflows = listen_overflows() - overflows
+            done = Attack(**json.loads(said.decode().strip().splitlines()[-1]))
+            await asyncio.sleep(10.0)
+            sampling = False
+            await sampler
+            files_after, rss_after = open_files(pid), resident_mb(pid)
+            after = server.lines[mark:]
+            print(f"attacker: {done.opened:,} connections opened, {done.refused_or_closed:,} "
+                  f"refused or closed by the server, {done.failed_to_open:,} failed to open, "
+                  f"{done.malformed_sent} malformed requests sent")
+            print(f"connections the system dropped for a full queue (any process): "
+                  f"{overflows:,}")
+            print("legitimate client on 127.0.0.1:")
+            ok = describe("hello", service.hellos) & describe("page", service.pages)
+            for failure in service.failures[:5]:
+                print(f"    failed: {failure}")
+            kinds = trouble_kinds(after)
+            legit = len(after) - sum(kinds.values())
+            print(f"server log during the attack: {len(after)} lines, {legit} about the "
+                  f"legitimate client, {sum(kinds.values())} about trouble in "
+                  f"{len(kinds)} kinds:")
+            for kind, count in sorted(kinds.items(), key=lambda item: -item[1]):
+                print(f"  {count:4} x {kind[:110]}")
+            tracebacks = sum("Traceback" in line for line in after)
+            print(f"  tracebacks: {tracebacks}")
+            print(f"server files: {files_before} before, {peak['files']} at the peak, "
+                  f"{files_after} 10 s after (limit {args.files})")
+            print(f"server memory: {rss_before:.1f} MB before, {peak['rss']:.1f} MB at the peak, "
+                  f"{rss_after:.1f} MB 10 s after")
+            ok = ok and all(count <= 1 for count in kinds.values()) and tracebacks == 0
+            ok = ok and files_after <= files_before
+            ok = ok and rss_after <= max(rss_before * 1.1, rss_before + 10)
+            ok = ok and server.process.returncode is None
+            return ok
+        finally:
+            await server.end()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--idle", type=int, default=1500)
+    parser.add_argument("--slow", type=int, default=1100)
+    parser.add_argument("--malformed", type=int, default=300)
+    parser.add_argument("--hold", type=float, default=30.0)
+    parser.add_argument("--files", type=int, default=1024,
+                        help="the server's open-file limit (default 1024)")
+    args = parser.parse_args()
+    ok = asyncio.run(run(args))
+    print(f"verdict: {'PASS' if ok else 'FAIL'}")
+    sys.exit(0 if ok else 1)
+
+
+if __name__ == "__main__":
+    main()

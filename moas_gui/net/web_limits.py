@@ -1,0 +1,157 @@
+"""The web port's defences below HTTP: every connection counted and timed, and
+aiohttp's own log lines kept short and rare.
+
+:class:`GuardedConnection` stands between the socket and aiohttp's request
+handler.  It asks the client server's :class:`~.admission.Admission` before
+aiohttp sees a byte (a connection over a limit gets a ``503`` and is closed),
+gives it back when the connection closes, and closes a connection whose request
+has not fully arrived within :data:`~.admission.REQUEST_DEADLINE` seconds of its
+opening or of the previous response: a half-sent request (slowloris), a body sent
+a byte at a time, or a kept-alive connection left idle.  A WebSocket leaves this
+clock once upgraded; the client protocol's own hello deadline and keepalive then
+apply to it (:mod:`.web_socket`).
+
+:class:`QuietAiohttp` is a filter on aiohttp's loggers: each kind of line (a
+malformed request, say) goes out once a minute with a count of those held back,
+as one Warning line without its traceback (the traceback stays at Debug).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections.abc import Callable
+
+from .admission import REQUEST_DEADLINE
+from .connection import format_peer
+from .log_limit import LogLimiter, held_text
+from .server import ClientServer
+
+log = logging.getLogger("moas_gui.net")
+
+AIOHTTP_LOGGERS = ("aiohttp.server", "aiohttp.web", "aiohttp.websocket", "aiohttp.access",
+                   "aiohttp.internal")
+
+
+def _refusal(text: str) -> bytes:
+    body = text.encode()
+    return (b"HTTP/1.1 503 Service Unavailable\r\n"
+            b"Content-Type: text/plain; charset=utf-8\r\n"
+            b"Content-Length: " + str(len(body)).encode() + b"\r\n"
+            b"Connection: close\r\n\r\n" + body)
+
+
+class GuardedConnection(asyncio.Protocol):
+    """One web connection: counted, timed, and otherwise handed to aiohttp's ``inner``."""
+
+    def __init__(self, make_inner: Callable[[], asyncio.Protocol], clients: ClientServer,
+                 deadline: float = REQUEST_DEADLINE) -> None:
+        self._make_inner = make_inner
+        """aiohttp's handler is made only for a connection admitted (it costs)."""
+        self.inner: asyncio.Protocol = asyncio.Protocol()
+        self.clients = clients
+        self.deadline = deadline
+        self.host = ""
+        self.address = ""
+        self.admitted = False
+        self.transport: asyncio.Transport | None = None
+        self._timer: asyncio.TimerHandle | None = None
+
+    # -- the request clock ---------------------------------------------------------
+    def arm(self) -> None:
+        """The next request must have fully arrived within the deadline from now."""
+        self.disarm()
+        if self.transport is not None and not self.transport.is_closing():
+            self._timer = asyncio.get_running_loop().call_later(self.deadline, self._expire)
+
+    def disarm(self) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
+
+    def _expire(self) -> None:
+        self._timer = None
+        self.clients.trouble_line(
+            "web request deadline", logging.INFO,
+            "Closed a web connection from %s: no complete request within %g s",
+            self.address, self.deadline)
+        if self.transport is not None:
+            self.transport.abort()
+
+    # -- asyncio.Protocol ------------------------------------------------------------
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        self.transport = transport
+        peer = transport.get_extra_info("peername")
+        self.host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
+        self.address = format_peer(peer)
+        refusal = self.clients.admission.admit(self.host)
+        if refusal is not None:
+            self.clients.refused(self.address, refusal, "a browser")
+            transport.write(_refusal(self.clients.refusal_reply(refusal) + "\n"))
+            transport.close()
+            return
+        self.admitted = True
+        self.inner = self._make_inner()
+        self.inner.connection_made(transport)
+        self.arm()
+
+    def data_received(self, data: bytes) -> None:
+        if self.admitted:
+            self.inner.data_received(data)
+
+    def eof_received(self) -> bool | None:
+        return self.inner.eof_received() if self.admitted else None
+
+    def pause_writing(self) -> None:
+        if self.admitted:
+            self.inner.pause_writing()
+
+    def resume_writing(self) -> None:
+        if self.admitted:
+            self.inner.resume_writing()
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self.disarm()
+        if self.admitted:
+            self.admitted = False
+            self.clients.admission.release(self.host)
+            self.inner.connection_lost(exc)
+        self.transport = None
+
+
+class QuietAiohttp(logging.Filter):
+    """Lets each kind of aiohttp log line through once a minute, short (see module notes)."""
+
+    def __init__(self, limiter: LogLimiter | None = None) -> None:
+        super().__init__()
+        self.limiter = limiter or LogLimiter()
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        exc = record.exc_info[1] if record.exc_info else None
+        kind = ("aiohttp", record.name, str(record.msg)[:80], type(exc).__name__)
+        held = self.limiter.allow(kind)
+        if held is None:
+            return False
+        message = record.getMessage()
+        if exc is not None and not logging.getLogger(record.name).isEnabledFor(logging.DEBUG):
+            detail = " ".join(str(exc).split())
+            detail = detail if len(detail) <= 160 else detail[:157] + "..."
+            message = f"{message}: {type(exc).__name__}" + (f": {detail}" if detail else "")
+            record.exc_info = None
+            record.exc_text = None
+            if record.levelno > logging.WARNING:  # the peer's fault, not the server's
+                record.levelno, record.levelname = logging.WARNING, "WARNING"
+        record.msg, record.args = message + held_text(held), None
+        return True
+
+    def install(self) -> None:
+        for name in AIOHTTP_LOGGERS:
+            logging.getLogger(name).addFilter(self)
+
+    def remove(self) -> None:
+        for name in AIOHTTP_LOGGERS:
+            logging.getLogger(name).removeFilter(self)
+
+
+__all__ = ["AIOHTTP_LOGGERS", "GuardedConnection", "QuietAiohttp"]

@@ -248,6 +248,11 @@ def test_the_panel_follows_the_transmit_rotator_until_the_user_picks_one(qtbot: 
     assert panel.current is one
     panel.show_targets((two,), prefer=None)
     assert panel.current is two
+    panel.show_targets((one, two), prefer=2)
+    assert panel.choose(1)
+    panel.show_targets((one, two), prefer=1)
+    panel.show_targets((one, two), prefer=2)  # another antenna in use: the chooser follows it
+    assert panel.current is two
 
 
 def test_an_electrical_system_shows_its_directions_and_the_one_in_use(qtbot: Any) -> None:

@@ -213,7 +213,7 @@ async def test_the_compass_turns_a_test_rotator_and_a_stopped_server_shows_not_c
                      ".grid button[data-state=\"selected\"]').length === 0",
                      what="no antenna shown selected")
     assert await js(browser, heading_text) == "not connected"
-    await tap(browser, f'.radio[data-radio="1"] .grid button[data-id="3"]')
+    await tap(browser, '.radio[data-radio="1"] .grid button[data-id="3"]')
     message = "return document.querySelector('.radio[data-radio=\"1\"] .message').textContent"
     assert "not connected" in await page_until(browser, message, what="the tap answered")
     await tap(browser, svg, 10, 10)
@@ -257,3 +257,46 @@ async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
     assert station.pages() == 1
     await run(browser.get, "about:blank")
     await until(lambda: station.pages() == 0, 5, "the page left disconnecting")
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
+        browser: Any) -> None:
+    from moas_gui.net.fake_backend import FakeBackend
+    from moas_gui.net.server import ClientServer
+    from moas_gui.net.web import WebServer
+
+    backend = FakeBackend()
+    clients = ClientServer(backend, host="127.0.0.1", port=0)
+    backend.attach(clients)
+    await clients.start()
+    web = WebServer(clients, host="127.0.0.1", port=0)
+    await web.start()
+    selected = ("return document.querySelectorAll('.radio[data-radio=\"1\"] "
+                ".grid button[data-state=\"selected\"]').length")
+    message = "return document.querySelector('.radio[data-radio=\"1\"] .message').textContent"
+    try:
+        await run(browser.get, f"http://127.0.0.1:{web.port}/?station=1&radio=1")
+        await page_until(browser, selected, what="an antenna selected")
+        backend.stop_switches()
+        await page_until(browser, "return document.getElementById('link').textContent"
+                         ".includes('Switches stopped')", what="the stop in the top bar")
+        await page_until(browser, f"{selected.replace('return ', 'return 0 === ')}",
+                         what="no antenna shown selected")
+        assert await js(browser, "return document.body.dataset.screen") == "switches stopped"
+        freq = "return document.querySelector('.radio[data-radio=\"1\"] .freq').textContent"
+        assert await js(browser, freq) == "Switches stopped: no antenna is connected"
+        assert "\u25b8" not in await js(browser, "return document.querySelector("
+                                        "'.radio[data-radio=\"1\"] .rel-list').textContent")
+        selects = len([c for c in backend.calls if c[0] == "select"])
+        await tap(browser, '.radio[data-radio="1"] .grid button[data-type="Antenna"]')
+        assert "the switches are stopped" in await page_until(browser, message,
+                                                              what="the tap answered")
+        assert len([c for c in backend.calls if c[0] == "select"]) == selects
+        backend.start_switches()
+        await page_until(browser, selected, what="the selection shown again after Start")
+        assert await js(browser, "return document.body.dataset.screen") == "connected"
+    finally:
+        await web.close()
+        await clients.close()

@@ -388,7 +388,8 @@ def offer(name: str = DEFAULT_NAME, path: str | os.PathLike[str] | None = None,
             return _ask(directory, name, transport, request, deadline)
         except (OSError, ValueError) as exc:
             if time.monotonic() >= deadline:
-                log.warning("The running moas-server did not take %s: %s", request["open"], exc)
+                log.warning("The running moas-server did not take %s: %s",
+                            request["open"] or "a launch without a file", exc)
                 return HandOver(taken=False)
             time.sleep(0.05)
 
@@ -416,7 +417,8 @@ def _ask(directory: Path, name: str, transport: Transport, request: dict[str, ob
             reply += chunk
     answer = json.loads(reply)
     if not answer.get("ok"):
-        log.warning("The running moas-server refused %s: %s", request["open"], answer.get("error"))
+        log.info("The running moas-server refused %s: %s",
+                 request["open"] or "a launch without a file", answer.get("error"))
         return HandOver(taken=False, refusal=str(answer.get("error")))
     return HandOver(taken=True)
 

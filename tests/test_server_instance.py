@@ -74,8 +74,8 @@ def test_a_refused_window_launch_shows_the_reason_in_a_message_window(
         tmp_path: Path, runtime_dir: Path) -> None:
     first, env, _common, tcp = start_headless(tmp_path, runtime_dir)
     try:
-        for args, what in (([str(EXAMPLES / "big-station.moas")], "big-station.moas was not "
-                                                                  "opened"),
+        double_click = [str(EXAMPLES / "big-station.moas")]
+        for args, what in ((double_click, "big-station.moas was not opened"),
                            ([], "no window opened")):  # a menu entry: no file
             second = second_launch(env, *args)
             assert second.returncode == 1, second.stderr

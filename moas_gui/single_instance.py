@@ -270,12 +270,13 @@ class InstanceServer:
 
     def _deliver(self, path: Path | None) -> str | None:
         assert self._on_open is not None
+        # said first: what the callback logs (asking, "already open") follows from it
+        log.info("Another moas-server handed over %s", path or "(no file: show the window)")
         try:
             self._on_open(path)
         except Exception as exc:
             log.exception("Opening %s handed over by another moas-server failed", path)
             return f"the running instance could not take it: {exc}"
-        log.info("Another moas-server handed over %s", path or "(no file: show the window)")
         return None
 
     def close(self) -> None:

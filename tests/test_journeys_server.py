@@ -251,7 +251,23 @@ def test_a_second_launch_with_another_file_asks_and_yes_switches_cleanly(tmp_pat
 
         same = launch("small-station.moas")  # the same file: the window comes forward
         assert same.returncode == 0, same.stderr
-        assert not server.look()["dialogs"]
+        seen = server.look()
+        assert not seen["dialogs"]
+        handed = [i for i, line in enumerate(seen["log"]) if "handed over" in line]
+        already = [i for i, line in enumerate(seen["log"]) if "is already open" in line]
+        assert handed and already and handed[-1] < already[-1], seen["log"][-6:]
+
+        # two quick launches: one question, the newer's; only its answer counts
+        assert launch("big-station.moas").returncode == 0
+        server.shows(lambda s: len(s["dialogs"]) == 1, "the first question")
+        assert launch("tribander-stack.moas").returncode == 0
+        seen = server.shows(lambda s: len(s["dialogs"]) == 1
+                            and "tribander-stack.moas?" in s["dialogs"][0]["text"],
+                            "the newer question in place of the older")
+        assert "big-station" not in seen["dialogs"][0]["text"]
+        server.answer("No")
+        server.shows(lambda s: not s["dialogs"], "no question left behind")
+        assert server.config() == "small-station.moas"
 
         other = launch("2x6.moas")  # a double-click on another file
         assert other.returncode == 0 and "handed" in other.stderr, other.stderr

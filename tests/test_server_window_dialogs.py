@@ -82,6 +82,32 @@ def test_no_in_the_real_dialog_keeps_the_running_file(qapp: Any, harness: Harnes
     run_on_qt(qapp, scenario())
 
 
+def test_a_newer_question_replaces_the_open_one_and_only_its_answer_counts(
+        qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = real_dialogs(harness)
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        window.open_file(str(EXAMPLES / "big-station.moas"))
+        older = window.last_dialog
+        assert older is not None and "open big-station.moas?" in older.text()
+        window.open_file(str(EXAMPLES / "2x6.moas"))  # a second quick launch
+        newer = window.last_dialog
+        assert newer is not older and "open 2x6.moas?" in newer.text()
+        assert gone(older), "the older question is closed, not left underneath"
+        questions = [w for w in QApplication.topLevelWidgets()
+                     if isinstance(w, QMessageBox) and w.isVisible()]
+        assert questions == [newer]
+        window._answered(2, str(EXAMPLES / "big-station.moas"), True)  # a late older Yes
+        await window.idle()
+        assert harness.app is not None and harness.app.status.file == "small-station.moas"
+        newer.button(QMessageBox.StandardButton.Yes).click()
+        await until(lambda: window._tasks == set() and harness.app is not None
+                    and harness.app.status.file == "2x6.moas", timeout=10)
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
 def test_the_open_dialog_starts_in_the_open_files_folder(qapp: Any, harness: Harness) -> None:
     async def scenario() -> None:
         window = real_dialogs(harness)

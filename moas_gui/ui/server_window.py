@@ -8,6 +8,7 @@ own beyond what the user sees: everything it shows comes from the
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import functools
 import logging
 from collections.abc import Callable, Coroutine
@@ -60,6 +61,9 @@ class ServerWindow(QMainWindow):
         self.client_windows: list[QWidget] = []
         self.emulator_windows: dict[int, QWidget] = {}
         self.last_dialog: QMessageBox | None = None
+        self._question: QMessageBox | None = None
+        """The open "Stop ... and open ...?" question, if any: one at a time."""
+        self._question_number = 0
         self.file_dialog: QFileDialog | None = None
         self.open_url: Callable[[QUrl], bool] = QDesktopServices.openUrl
         """Opens a file in the desktop's viewer; False when none does (tests replace it)."""
@@ -226,15 +230,38 @@ class ServerWindow(QMainWindow):
         """Open ``path``; when one runs already, ask first, then restart on the new one.
 
         Returns at once: the question is a non-blocking dialog whose answer
-        opens the file later (never a nested event loop, see docs/architecture.md)."""
+        opens the file later (never a nested event loop, see docs/architecture.md).
+        One question at a time: a newer one (another launch, File > Open) closes
+        the one on screen, and only the answer to the newest takes effect."""
+        self._question_number += 1
+        number = self._question_number
+        self._close_question()
         if self.app.config is not None:
             current = self.app.status.file or "the current configuration"
             self.ask("Open configuration",
                      f"Stop {current} and open {Path(path).name}?\n\n"
+                     f"{path}\n\n"
                      "The switches will be re-initialised from the new file.",
-                     lambda yes: self._spawn(self._open(path)) if yes else None)
+                     lambda yes: self._answered(number, path, yes))
             return
         self._spawn(self._open(path))
+
+    def _answered(self, number: int, path: str, yes: bool) -> None:
+        if number != self._question_number:  # replaced by a newer question: not on screen
+            log.info("The question about %s was replaced by a newer one; its answer is ignored",
+                     Path(path).name)
+            return
+        self._question = None
+        if yes:
+            self._spawn(self._open(path))
+
+    def _close_question(self) -> None:
+        """Closes the open question (its late answer is ignored, see :meth:`_answered`)."""
+        question, self._question = self._question, None
+        if question is not None:
+            with contextlib.suppress(RuntimeError):  # already deleted by Qt
+                if question.isVisible():
+                    question.done(int(QMessageBox.StandardButton.No))
 
     async def _open(self, path: str) -> None:
         result = await self.app.open(path)
@@ -420,7 +447,7 @@ class ServerWindow(QMainWindow):
 
     def _ask_dialog(self, title: str, text: str, answered: Callable[[bool], None]) -> None:
         self.bring_to_front()
-        self.last_dialog = ask_yes_no(self, title, text, answered)
+        self.last_dialog = self._question = ask_yes_no(self, title, text, answered)
 
     def _file_dialog(self, title: str, saving: bool, chosen: Callable[[str], None]) -> None:
         self.file_dialog = choose_file(self, title, saving, self._start_directory(), chosen)

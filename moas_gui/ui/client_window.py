@@ -65,6 +65,7 @@ from .qt import (
     QWidget,
     Signal,
 )
+from .screen_fit import fit_to_screen
 
 __all__ = ["ClientWindow", "open_builtin_client"]
 
@@ -136,7 +137,7 @@ class ClientWindow(QMainWindow):
         self._darken_inputs()
         self._show_link(connection.link, "")
         self._unsubscribe = connection.subscribe(self._on_event)
-        self.resize(1040, 660)
+        fit_to_screen(self, 1040, 660)
 
     # -- building ---------------------------------------------------------------------------------
     def _build(self, rows: int, columns: int) -> None:
@@ -358,14 +359,14 @@ class ClientWindow(QMainWindow):
                 pass
 
     @property
-    def screen(self) -> ScreenState:
+    def screen_now(self) -> ScreenState:
         """Where the window stands in the table of :mod:`moas_gui.client.screen`."""
         return screen_state(self.link_state, self.snapshot)
 
     def _show_link(self, state: LinkState, detail: str) -> None:
         self._link_detail = detail
         self.link_state = state
-        screen = self.screen
+        screen = self.screen_now
         colour = {LinkState.CONNECTED: Colours.CONNECTED,
                   LinkState.RECONNECTING: Colours.RECONNECTING}.get(state, Colours.CLOSED)
         text = {
@@ -392,7 +393,7 @@ class ClientWindow(QMainWindow):
 
     def _show_screen(self) -> None:
         """Greys what cannot be pressed now, with the reason, and shows no stale selection."""
-        screen = self.screen
+        screen = self.screen_now
         refusal = "" if screen.can_select else screen.refusal
         self.grid.set_greyed(refusal)
         for widget in (self.previous_button, self.next_button, self.relative_go,
@@ -409,7 +410,7 @@ class ClientWindow(QMainWindow):
 
     def _refused(self, what: str) -> bool:
         """Answers a press that cannot go to the server now; True when it was answered."""
-        screen = self.screen
+        screen = self.screen_now
         if screen.can_select or (what in ("Turn", "Stop") and screen.can_turn):
             return False
         self._error(f"{what}: {screen.refusal}")
@@ -418,7 +419,7 @@ class ClientWindow(QMainWindow):
     @property
     def switches_stopped(self) -> bool:
         """Every switch is stopped (File > Stop Switches): no antenna is connected."""
-        return self.screen.screen is Screen.STOPPED
+        return self.screen_now.screen is Screen.STOPPED
 
     def _show_snapshot(self, snapshot: Snapshot) -> None:
         self.snapshot = snapshot
@@ -460,8 +461,8 @@ class ClientWindow(QMainWindow):
     def _show_radio(self) -> None:
         radio = self.radio_view
         snapshot = self.snapshot
-        screen = self.screen.screen
-        if radio is None or snapshot is None or not self.screen.shows_selection:
+        screen = self.screen_now.screen
+        if radio is None or snapshot is None or not self.screen_now.shows_selection:
             self.display.setText({
                 Screen.STOPPED: "Switches stopped: no antenna is connected",
                 Screen.RECONNECTING: "Not connected: the antennas in use are not known",
@@ -499,7 +500,7 @@ class ClientWindow(QMainWindow):
             return
         radio = self.radio_view
         targets = compass_targets(snapshot, radio, self.layout_view,
-                                  selection_known=self.screen.shows_selection)
+                                  selection_known=self.screen_now.shows_selection)
         tx = snapshot.antenna(radio.tx) if radio else None
         self.compass_panel.show_targets(targets, prefer=tx.rotator if tx else None)
 

@@ -38,6 +38,7 @@ from .qt import (
     QUrl,
     QWidget,
 )
+from .screen_fit import fit_to_screen
 
 if TYPE_CHECKING:
     from moas_gui.app import ServerApp
@@ -75,7 +76,7 @@ class ServerWindow(QMainWindow):
         """Asks for a file name (title, saving, then the callback with the name), the same way."""
 
         self.setWindowTitle("MOAS Server")
-        self.resize(760, 420)
+        fit_to_screen(self, 760, 420)
         self.log_view = LogView(self)
         self.setCentralWidget(self.log_view)
         self.log_handler = QtLogHandler()

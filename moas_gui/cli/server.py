@@ -57,7 +57,8 @@ def _parser() -> argparse.ArgumentParser:
                              "rigctld:4532,station=1,radio=2 (repeat for several; see "
                              "docs/sources.md)")
     parser.add_argument("--no-rotator-program", action="store_true",
-                        help="never start the local MOAS Rotator program")
+                        help="no MOAS Rotator program: neither start one nor connect to "
+                             "one (the rotators that go through it stay offline)")
     parser.add_argument("--new-instance", action="store_true",
                         help="do not hand FILE to a server that is already running")
     parser.add_argument("--install-desktop", action="store_true",
@@ -131,6 +132,7 @@ def _options(args: argparse.Namespace) -> object:
                          sources=tuple(args.source or ()),
                          max_clients=args.max_clients,
                          start_rotator_program=False if args.no_rotator_program else None,
+                         use_rotator_program=not args.no_rotator_program,
                          switch_timing=args.switch_timing,
                          rotator_timing=args.rotator_timing)
 
@@ -269,7 +271,9 @@ async def _serve_headless(args: argparse.Namespace, instance: object | None) -> 
 
 
 def run_headless(args: argparse.Namespace) -> int:
-    handler = logging.StreamHandler(sys.stderr)
+    from moas_gui.log_repeats import fold_repeats
+
+    handler = fold_repeats(logging.StreamHandler(sys.stderr))
     handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)-7s %(message)s", "%H:%M:%S"))
     root = logging.getLogger("moas_gui")
     root.addHandler(handler)

@@ -11,11 +11,13 @@ import asyncio
 import contextlib
 import functools
 import logging
+import sys
 from collections.abc import Callable, Coroutine
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from moas_gui import __version__
+from moas_gui.log_repeats import fold_repeats
 from moas_gui.status import ServerState, ServerStatus
 
 from .dialogs import ask_yes_no, choose_file, docs_path, show_message
@@ -33,6 +35,7 @@ from .qt import (
     QMainWindow,
     QMenu,
     QMessageBox,
+    QProcess,
     QSettings,
     QSystemTrayIcon,
     QUrl,
@@ -68,6 +71,12 @@ class ServerWindow(QMainWindow):
         self.file_dialog: QFileDialog | None = None
         self.open_url: Callable[[QUrl], bool] = QDesktopServices.openUrl
         """Opens a file in the desktop's viewer; False when none does (tests replace it)."""
+        self.viewer_command: list[str] | None = (
+            ["xdg-open"] if sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd"))
+            else None)
+        """The program that shows the manual (watched for failing), or None for
+        :attr:`open_url`; tests point it at a program of their own."""
+        self._viewer: QProcess | None = None
         self.ask: Callable[[str, str, Callable[[bool], None]], None] = self._ask_dialog
         """Asks the user a yes/no question without waiting (a window-modal dialog
         opened with ``open()``): the answer comes later to the callback.  Tests
@@ -79,7 +88,7 @@ class ServerWindow(QMainWindow):
         fit_to_screen(self, 760, 420)
         self.log_view = LogView(self)
         self.setCentralWidget(self.log_view)
-        self.log_handler = QtLogHandler()
+        self.log_handler = fold_repeats(QtLogHandler())
         self.log_handler.bridge.record.connect(self.log_view.add_record)
         product_log = logging.getLogger("moas_gui")
         product_log.addHandler(self.log_handler)
@@ -376,13 +385,54 @@ class ServerWindow(QMainWindow):
                       "An open-source server for the YCCC MOAS II antenna switch.")
 
     def open_manual(self) -> None:
-        """Help > Manual: the manual in the desktop's viewer, or where it is when none opens it."""
+        """Help > Manual: the manual in the desktop's viewer, or where it is when none opens it.
+
+        On Linux and the BSDs the viewer is started with ``xdg-open`` and watched: it
+        may start and then fail (no program for Markdown, a missing terminal), which
+        Qt's own opener does not report."""
         docs = docs_path()
         target = docs / "README.md" if (docs / "README.md").exists() else docs
-        if not self.open_url(QUrl.fromLocalFile(str(target))):
-            self._message(QMessageBox.Icon.Information, "MOAS Server manual",
-                          f"No program on this computer opens {target.suffix or 'folder'} files."
-                          f"\n\nThe manual is at:\n{target}")
+        command = self.viewer_command
+        if not command:
+            if not self.open_url(QUrl.fromLocalFile(str(target))):
+                self._manual_elsewhere(target, f"no program on this computer opens "
+                                               f"{target.suffix or 'folder'} files")
+            return
+        process = QProcess(self)
+        process.setProgram(command[0])
+        process.setArguments([*command[1:], str(target)])
+        process.setProcessChannelMode(QProcess.ProcessChannelMode.SeparateChannels)
+
+        def failed_to_start(error: QProcess.ProcessError) -> None:
+            if error is QProcess.ProcessError.FailedToStart:
+                self._manual_elsewhere(target, f"{command[0]} could not be started "
+                                               f"({process.errorString()})")
+                self._done_viewing(process)
+
+        def finished(code: int, status: QProcess.ExitStatus) -> None:
+            said = bytes(process.readAllStandardError().data()).decode(errors="replace")
+            lines = [line.strip() for line in said.splitlines() if line.strip()]
+            if code != 0 or status is QProcess.ExitStatus.CrashExit:
+                why = f"{command[0]} found no viewer for it (exit status {code}"
+                why += f": {lines[-1]})" if lines else ")"
+                self._manual_elsewhere(target, why)
+            self._done_viewing(process)
+
+        process.errorOccurred.connect(failed_to_start)
+        process.finished.connect(finished)
+        process.start()
+        self._viewer = process
+
+    def _done_viewing(self, process: QProcess) -> None:
+        if self._viewer is process:
+            self._viewer = None
+        process.deleteLater()
+
+    def _manual_elsewhere(self, target: Path, why: str) -> None:
+        log.warning("Help > Manual: %s; the manual is at %s", why, target)
+        self._message(QMessageBox.Icon.Information, "MOAS Server manual",
+                      f"The manual did not open: {why}.\n\nThe manual is at:\n{target}\n\n"
+                      "Open it with any text editor or web browser.")
 
     # -- window and tray -------------------------------------------------------------
     def bring_to_front(self) -> None:

@@ -19,7 +19,6 @@ import signal
 import socket
 import subprocess
 import sys
-import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -30,6 +29,8 @@ from helpers import free_port, short_runtime_dir, wait_for
 pytestmark = pytest.mark.realtime
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+HANG = 30.0
+"""Seconds after which a server that should have ended is taken to hang."""
 
 
 class Server:
@@ -102,14 +103,14 @@ class Server:
     def config(self) -> str | None:
         return self.client({"cmd": "state"})["result"]["config"]  # type: ignore[no-any-return]
 
-    def ends_within(self, seconds: float) -> float:
+    def ends(self) -> int:
+        """Waits for the process to end by itself; its exit status.  (How soon it ends is
+        measured by benchmarks/bench_server.py; the limit here only catches a hang.)"""
         assert self.process is not None
-        started = time.monotonic()
         try:
-            self.process.wait(timeout=seconds)
+            return self.process.wait(timeout=HANG)
         except subprocess.TimeoutExpired:
-            raise AssertionError(f"the server still runs {seconds} s later") from None
-        return time.monotonic() - started
+            raise AssertionError(f"the server still runs {HANG} s later: it hangs") from None
 
     def output(self) -> str:
         assert self.process is not None
@@ -191,7 +192,7 @@ def test_stop_start_reset_restart_and_the_emulator_window(server: Server) -> Non
     server.shows(lambda s: relays(s) == on, "the new switch shows the relays")
 
     server.click("Tray", "Exit")
-    assert server.ends_within(2.0) < 2.0
+    assert server.ends() == 0
     out = server.output()
     assert server.process is not None and server.process.returncode == 0, out
     assert "Traceback" not in out
@@ -233,7 +234,7 @@ def test_file_open_another_station_then_the_emulator_and_sigterm(server: Server)
 
     assert server.process is not None
     server.process.send_signal(signal.SIGTERM)
-    assert server.ends_within(2.0) < 2.0
+    assert server.ends() == 0
     assert "Traceback" not in server.output()
 
 
@@ -300,7 +301,7 @@ def test_a_second_launch_with_another_file_asks_and_yes_switches_cleanly(tmp_pat
         server.click("File", "Stop Switches")
         server.shows(lambda s: "stopped" in s["status"], "stopped")
         server.click("Tray", "Exit")
-        assert server.ends_within(2.0) < 2.0
+        assert server.ends() == 0
         out = server.output()
         assert "Traceback" not in out and "Cannot enter into task" not in out, out
     finally:

@@ -50,10 +50,13 @@ class Server:
         self._hook: socket.socket | None = None
         self._reader: Any = None
 
-    def start(self, file: str) -> Server:
+    def start(self, file: str, *extra: str) -> Server:
+        if self.process is not None:  # a restart: the ended process's hook and output go
+            self.output()
+        self.control.unlink(missing_ok=True)  # a restart waits for the new process's hook
         args = [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / file),
                 "--bind", "127.0.0.1", "--tcp-port", str(self.tcp), "--udp-port", "0",
-                "--udp-bind", "127.0.0.1", "--no-rotator-program"]
+                "--udp-bind", "127.0.0.1", "--no-rotator-program", *extra]
         if self.new_instance:
             args.append("--new-instance")
         self.process = subprocess.Popen(args, env=self.env, stdout=subprocess.PIPE,

@@ -152,7 +152,7 @@ class ClientWindow(QMainWindow):
         outer.setSpacing(8)
 
         top = QHBoxLayout()
-        self.link_label = QLabel(root)
+        self.link_label = ElidedLabel("", root)  # a long reason must not widen the window
         self.link_label.setObjectName("link")
         self.config_label = QLabel(root)
         self.config_label.setStyleSheet("color: #9fb1bd;")
@@ -387,6 +387,7 @@ class ClientWindow(QMainWindow):
         self.link_label.setText(text)
         fg = "white" if colour in (Colours.CLOSED,) else "black"
         self.link_label.setStyleSheet(f"background: {colour.name()}; color: {fg};")
+        self.link_label.updateGeometry()
         self._show_screen()
         if state is LinkState.CONNECTED and self.last_error.startswith("Connection:"):
             self._clear_error()
@@ -468,7 +469,7 @@ class ClientWindow(QMainWindow):
                 Screen.RECONNECTING: "Not connected: the antennas in use are not known",
                 Screen.NO_CONFIGURATION: "The server has no configuration open",
             }.get(screen, "no radio"))
-            if radio is not None and snapshot is not None and screen is Screen.STOPPED:
+            if radio is not None and snapshot is not None:  # no antenna marked in use
                 self.relative_strip.show_list(radio, snapshot, mark=False)
             self.badge_tx.hide()
             self.badge_inhibit.hide()

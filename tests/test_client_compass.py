@@ -207,7 +207,7 @@ def test_the_window_compass_turns_and_stops_the_rotator(qapp: QApplication, qtbo
             window.show()
             try:
                 panel = window.compass_panel
-                await until(lambda: panel.current is not None and panel.isEnabled(),
+                await until(lambda: panel.current is not None and not panel.greyed,
                             what="the compass of the 20 m stack")
                 assert panel.current.rotator.id == 2  # type: ignore[union-attr]
                 assert panel.heading_label.text() == "45\u00b0"

@@ -25,6 +25,7 @@ ALLOWED: dict[str, set[str]] = {
     "files": set(),
     "clock": set(),
     "retry": set(),
+    "log_repeats": set(),
     "config": {"errors"},
     "engine": {"config", "errors"},
     "state_store": {"engine", "errors", "files"},
@@ -41,10 +42,10 @@ ALLOWED: dict[str, set[str]] = {
                 "retry"},
     "single_instance": {"errors"},
     "desktop": {"files"},
-    "ui": {"app", "client", "hw", "sources", "status"},
+    "ui": {"app", "client", "hw", "log_repeats", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
-            "retry", "sources"},
+            "retry", "sources", "log_repeats"},
 }
 """Which packages (or top-level modules) of moas_gui each one may import."""
 

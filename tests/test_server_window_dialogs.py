@@ -95,8 +95,7 @@ def test_a_newer_question_replaces_the_open_one_and_only_its_answer_counts(
         newer = window.last_dialog
         assert newer is not older and "open 2x6.moas?" in newer.text()
         assert gone(older), "the older question is closed, not left underneath"
-        questions = [w for w in QApplication.topLevelWidgets()
-                     if isinstance(w, QMessageBox) and w.isVisible()]
+        questions = [w for w in window.findChildren(QMessageBox) if w.isVisible()]
         assert questions == [newer]
         window._answered(2, str(EXAMPLES / "big-station.moas"), True)  # a late older Yes
         await window.idle()

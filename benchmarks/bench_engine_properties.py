@@ -4,9 +4,13 @@ after every event, plus the appendix F differential test on generated stations.
 
 Run:  .venv/bin/python benchmarks/bench_engine_properties.py [--events N] [--seed S]
 
-At least 10^5 events by default.  Prints events, refusals and time per station kind, and
-exits with status 1 (naming the rule and the events that broke it) on the first failure.
-The normal test suite runs a fast, derandomized subset of the same checks.
+At least 10^5 events by default, at least a third of them on generated multi-operator
+stations (shared transmit antennas, partners, alternate paths, alternate antennas, sub
+receivers: ``engine_stations.multiop_station``).  Prints events, refusals and time per
+station kind, how many stations used each feature, how many checks of each multi-operator
+rule actually ran, and the violations (0), and exits with status 1 (naming the rule and
+the events that broke it) on the first failure.  The normal test suite runs a fast,
+derandomized subset of the same checks.
 """
 
 from __future__ import annotations
@@ -20,14 +24,16 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
 
-from engine_invariants import Facts, operations, replay_matches, run_evening
-from engine_stations import generated_station
+from collections import Counter
+
+from engine_invariants import MULTIOP_RULES, Facts, operations, replay_matches, run_evening
+from engine_stations import features, frequencies_for, generated_station, multiop_station
 from test_engine_appendix_f_differential import compare
 
 from moas_gui.config import load_config
 
 EXAMPLES = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
-            "triplexer", "ms-one-amp"]
+            "triplexer", "ms-one-amp", "two-op-shared-tx"]
 EVENING = 500
 """Events per evening (a fresh engine each)."""
 
@@ -41,10 +47,14 @@ def main() -> int:
     configs = {name: load_config(ROOT / "examples" / f"{name}.moas").unwrap()
                for name in EXAMPLES}
     facts = {name: Facts.of(cfg) for name, cfg in configs.items()}
-    share_examples = args.events * 6 // 10
-    share_generated = args.events * 3 // 10
-    share_differential = args.events - share_examples - share_generated
+    share_examples = args.events * 35 // 100
+    share_generated = args.events * 15 // 100
+    share_multiop = args.events * 40 // 100
+    share_differential = args.events - share_examples - share_generated - share_multiop
     total = refused = 0
+    counts: Counter[str] = Counter()
+    used: Counter[str] = Counter()
+    multiop_events = 0
     print(f"{'job':<22}{'events':>9}{'refused':>9}{'seconds':>9}{'us/event':>10}")
     try:
         for name in EXAMPLES:
@@ -53,7 +63,7 @@ def main() -> int:
             n = r = 0
             while n < share_examples // len(EXAMPLES):
                 ops = list(operations(cfg, random.Random(rng.random()), EVENING))
-                r += run_evening(cfg, ops, facts[name])
+                r += run_evening(cfg, ops, facts[name], counts)
                 n += len(ops)
             assert replay_matches(cfg, ops), f"{name}: the same events gave another result"
             took = time.perf_counter() - start
@@ -62,21 +72,30 @@ def main() -> int:
             refused += r
         start = time.perf_counter()
         n = r = stations = 0
-        while n < share_generated:
-            seed = rng.random()
-            station_rng = random.Random(seed)
-            cfg = generated_station(station_rng)
-            ops = list(operations(cfg, station_rng, EVENING))
-            try:
-                r += run_evening(cfg, ops)
-            except AssertionError as err:
-                raise AssertionError(f"generated station (seed {seed!r}): {err}") from err
-            n += len(ops)
-            stations += 1
-        took = time.perf_counter() - start
-        print(f"{f'generated ({stations})':<22}{n:>9}{r:>9}{took:>9.1f}{took / n * 1e6:>10.0f}")
-        total += n
-        refused += r
+        for job, make, share in (("generated", generated_station, share_generated),
+                                 ("multi-operator", multiop_station, share_multiop)):
+            start = time.perf_counter()
+            n = r = stations = 0
+            while n < share:
+                seed = rng.random()
+                station_rng = random.Random(seed)
+                cfg = make(station_rng)
+                found = features(cfg)
+                used.update(found)
+                ops = list(operations(cfg, station_rng, EVENING, frequencies_for(cfg)))
+                try:
+                    r += run_evening(cfg, ops, counts=counts)
+                except AssertionError as err:
+                    raise AssertionError(f"{job} station (seed {seed!r}): {err}") from err
+                n += len(ops)
+                if {"SharedTX", "alternate paths"} <= found:
+                    multiop_events += len(ops)
+                stations += 1
+            took = time.perf_counter() - start
+            print(f"{f'{job} ({stations})':<22}{n:>9}{r:>9}{took:>9.1f}"
+                  f"{took / n * 1e6:>10.0f}")
+            total += n
+            refused += r
         start = time.perf_counter()
         n = stations = 0
         while n < share_differential:
@@ -90,6 +109,14 @@ def main() -> int:
         print(f"FAILED: {err}")
         return 1
     print(f"{'total':<22}{total:>9}{refused:>9}   every rule held after every event")
+    print(f"\nevents on multi-operator stations: {multiop_events} of {total} "
+          f"({multiop_events / total:.0%})")
+    print(f"{'stations using':<28}{'stations':>9}")
+    for feature, number in sorted(used.items()):
+        print(f"{feature:<28}{number:>9}")
+    print(f"\n{'multi-operator rule':<28}{'checks':>9}{'violations':>12}")
+    for rule in MULTIOP_RULES:
+        print(f"{rule:<28}{counts[rule]:>9}{0:>12}")
     return 0
 
 

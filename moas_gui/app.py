@@ -37,6 +37,7 @@ from moas_gui.config.model import RotatorControl
 from moas_gui.engine import Changes, Engine, NotRunning
 from moas_gui.engine.focus import FocusKind
 from moas_gui.engine.operations import (
+    KeepSwitchAntennas,
     Operation,
     SelectDirection,
     SetTransmitting,
@@ -186,8 +187,8 @@ class ServerApp:
         loop = asyncio.get_running_loop()
         self._run = run = Running(config=config, engine=Engine(config, now=loop.time()))
         saved = self._restore(run)
-        start_switches(run, self.options, saved.switches if saved is not None else {},
-                       self._link_status, self._switch_tr)
+        start_switches(run, self.options, saved or SavedState(""),
+                       self._link_status, self._switch_tr, self._switch_antennas)
         # every listener (the logger's port, the rotators' rotctld ports) is bound
         # before clients are accepted, so nothing a client sees as "ready" can miss a packet
         await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
@@ -228,11 +229,21 @@ class ServerApp:
                                      functools.partial(self._collect_state, run))
         if saved is not None and not run.engine.running:
             run.stopped = True
+        if saved is not None:
+            for station, (active, focus) in saved.focus.items():
+                if active is not None:
+                    run.focus_table.set(station, "active", active)
+                if focus is not None:
+                    run.focus_table.set(station, "focus", focus)
         return saved
 
     def _collect_state(self, run: Running) -> SavedState:
-        held = {i: link.sent for i, link in run.links.items() if link.sent is not None}
-        return SavedState(run.fingerprint, export_selections(run.engine), held)
+        # what each box was last told, also while it is away (a restart during an outage
+        # must still check the box, not load it), and what it was last seen holding
+        held = {i: s for i, link in run.links.items() if (s := link.holds) is not None}
+        seen = {i: v for i, link in run.links.items() if (v := link.seen) is not None}
+        return SavedState(run.fingerprint, export_selections(run.engine), held, seen,
+                          run.focus_table.items())
 
     def _state_changed(self) -> None:
         run = self._run
@@ -265,6 +276,13 @@ class ServerApp:
     def _switch_tr(self, switch_id: int, port: int, transmitting: bool) -> None:
         if self._run is not None:  # not a late event of a link being closed
             self.act(SetTransmitting(switch_id, port, transmitting))
+
+    def _switch_antennas(self, switch_id: int, port: int, slots: tuple[int, int, int],
+                         transmitting: bool) -> None:
+        """A switch holds other antennas for ``port`` than the saved state says: the box
+        wins, and the engine takes them (the link logged which and why)."""
+        if self._run is not None:
+            self.act(KeepSwitchAntennas(switch_id, port, slots[0], slots[1]))
 
     def reset_switches(self) -> None:
         """File > Reset Switches: reset every switch and set the antennas in use again."""

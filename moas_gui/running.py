@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 
 from moas_gui.config import Config
 from moas_gui.config.model import Antenna, Rotator, RotatorControl
-from moas_gui.engine import Engine, SwitchState
+from moas_gui.engine import Engine
 from moas_gui.engine.focus import FocusTable
 from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
@@ -43,7 +43,7 @@ from moas_gui.sources.n1mm import N1MMListener
 from moas_gui.sources.otrsp import AuxAntenna
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 from moas_gui.sources.spec import SourceSpec
-from moas_gui.state_store import StateKeeper
+from moas_gui.state_store import SavedState, StateKeeper
 
 if TYPE_CHECKING:  # the web server (aiohttp) is loaded only when a station asks for it
     from moas_gui.net.web import WebServer
@@ -122,10 +122,12 @@ class Running:
     fingerprint: str = ""
 
 
-def start_switches(run: Running, options: ServerOptions, held: dict[int, SwitchState],
+def start_switches(run: Running, options: ServerOptions, saved: SavedState,
                    on_status: Callable[[int, LinkStatus], None],
-                   on_tr: Callable[[int, int, bool], None]) -> None:
-    """A link per configured switch, told what the engine wants and connecting."""
+                   on_tr: Callable[[int, int, bool], None],
+                   on_adopt: Callable[[int, int, tuple[int, int, int], bool], None]) -> None:
+    """A link per configured switch, told what the engine wants and connecting: each
+    checks what its box holds against the saved state (``saved``) before it writes."""
     states = run.engine.switch_states()
     for switch in run.config.switches:
         run.switch_status[switch.id] = "connecting"
@@ -133,8 +135,10 @@ def start_switches(run: Running, options: ServerOptions, held: dict[int, SwitchS
             switch.id, switch.port, switch.echo,
             on_status=functools.partial(on_status, switch.id),
             on_tr=functools.partial(on_tr, switch.id),
+            on_adopt=functools.partial(on_adopt, switch.id),
             indicate_tr=switch.indicate_tr,
-            held=held.get(switch.id),
+            held=saved.switches.get(switch.id),
+            seen=saved.seen.get(switch.id),
             timing=options.switch_timing or LinkTiming(),
         )
         run.links[switch.id] = link

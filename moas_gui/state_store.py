@@ -169,6 +169,13 @@ class SavedState:
     engine: dict[str, Any] = field(default_factory=dict)
     switches: dict[int, SwitchState] = field(default_factory=dict)
     """Per switch id: what the box was last told to hold."""
+    seen: dict[int, tuple[tuple[int, int, int], ...]] = field(default_factory=dict)
+    """Per switch id: each station's antennas (transmit, receive, alternate slots) the box
+    last reported in use.  Beside ``switches`` it tells, after a restart, a change the
+    box still holds back for a transmitting station (the box shows what it was seen
+    holding) from a state file older than the box (it shows something else)."""
+    focus: dict[int, tuple[int | None, int | None]] = field(default_factory=dict)
+    """Per station: the radio with the transmit focus and the one with the receive focus."""
 
 
 def encode(saved: SavedState) -> bytes:
@@ -177,6 +184,8 @@ def encode(saved: SavedState) -> bytes:
         "config": saved.fingerprint,
         "engine": saved.engine,
         "switches": {str(i): switch_to_data(s) for i, s in sorted(saved.switches.items())},
+        "seen": {str(i): [list(slots) for slots in seen] for i, seen in sorted(saved.seen.items())},
+        "focus": {str(n): list(pair) for n, pair in sorted(saved.focus.items())},
     }
     return json.dumps(data, separators=(",", ":")).encode()
 
@@ -200,7 +209,39 @@ def decode(raw: bytes, expected_fingerprint: str) -> SavedState:
         if not name.isdigit():
             raise StateError(f"switch {name!r:.20} is not a number")
         held[int(name)] = switch_from_data(value, f"switch {name}")
-    return SavedState(expected_fingerprint, engine, held)
+    return SavedState(expected_fingerprint, engine, held, _seen(data.get("seen", {})),
+                      _focus(data.get("focus", {})))
+
+
+def _seen(data: object) -> dict[int, tuple[tuple[int, int, int], ...]]:
+    """The ``seen`` part (absent in files of earlier versions: empty)."""
+    if not isinstance(data, dict):
+        raise StateError("its seen antennas are not a table")
+    seen = {}
+    for name, value in data.items():
+        where = f"seen antennas of switch {name!r:.20}"
+        if not name.isdigit():
+            raise StateError(f"{where}: not a switch number")
+        rows = _list(value, where, len(STATIONS))
+        seen[int(name)] = tuple(
+            (_int(r[0], where, 0, 63), _int(r[1], where, 0, 63), _int(r[2], where, 0, 63))
+            for r in (_list(row, where, 3) for row in rows))
+    return seen
+
+
+def _focus(data: object) -> dict[int, tuple[int | None, int | None]]:
+    """The ``focus`` part (absent in files of earlier versions: empty)."""
+    if not isinstance(data, dict):
+        raise StateError("its focus is not a table")
+    focus = {}
+    for name, value in data.items():
+        where = f"focus of station {name!r:.20}"
+        if not name.isdigit():
+            raise StateError(f"{where}: not a station number")
+        pair = _list(value, where, 2)
+        active, rx = (None if v is None else _int(v, where, 1, 99) for v in pair)
+        focus[int(name)] = (active, rx)
+    return focus
 
 
 def write_atomic(path: Path, data: bytes) -> None:

@@ -131,6 +131,13 @@ def table_problems(e: Engine) -> list[str]:
     only = cfg.switches[0].id if len(cfg.switches) == 1 else None
     states = e.switch_states()
     used: dict[int, list[tuple[RadioRef, int, str, int]]] = {}
+    # 6.10 "PersistSubReceiver ... True if the sub receiver relays should remain set during
+    # transmit": such a sub receiver's port transmits on (keeps) its receive antenna
+    persisted = set()
+    for r in cfg.radios:
+        sub = cfg.radio(r.station, r.sub_receiver) if r.sub_receiver is not None else None
+        if sub is not None and (r.persist_sub_receiver or sub.persist_sub_receiver):
+            persisted.add(sub.ref)
     for view in e.radios():
         r = cfg.radio(view.station, view.radio)
         if r is None:
@@ -139,7 +146,8 @@ def table_problems(e: Engine) -> list[str]:
             w = sp.switch or only
             assert w is not None
             port = states[w].station(sp.port)
-            for role, antenna_id, slot in (("tx", view.tx, port.tx), ("rx", view.rx, port.rx)):
+            held_tx = view.rx if r.ref in persisted else view.tx
+            for role, antenna_id, slot in (("tx", held_tx, port.tx), ("rx", view.rx, port.rx)):
                 if antenna_id is None:
                     if slot != 63:
                         problems.append(f"{r.ref} {role}: no antenna but slot {slot}")

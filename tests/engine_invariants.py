@@ -8,8 +8,9 @@ property job (``benchmarks/bench_engine_properties.py``).
 from __future__ import annotations
 
 import random
+from collections import Counter
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from moas_gui.config.model import (
@@ -51,6 +52,14 @@ class Facts:
     """Sub and alternate receivers (they only receive)."""
     family: dict[RadioRef, RadioRef]
     """Every radio -> its main radio."""
+    subs: dict[RadioRef, RadioRef] = field(default_factory=dict)
+    """Sub receiver -> its main radio (6.10 ``SubReceiver``)."""
+    persist: frozenset[RadioRef] = frozenset()
+    """Sub receivers with ``PersistSubReceiver`` (on the main radio's entry or their own)."""
+    partner_lists: frozenset[frozenset[RadioRef]] = frozenset()
+    """Pairs partnered by ``Partner`` lists."""
+    partner_functions: tuple[tuple[int, frozenset[RadioRef]], ...] = ()
+    """Partner functions and the pair each toggles."""
 
     @staticmethod
     def of(cfg: Config) -> Facts:
@@ -81,8 +90,20 @@ class Facts:
                 if n is not None:
                     receivers.add(RadioRef(r.station, n))
                     family[RadioRef(r.station, n)] = r.ref
+        subs = {RadioRef(r.station, r.sub_receiver): r.ref for r in cfg.radios
+                if r.sub_receiver is not None and r.sub_receiver != r.radio}
+        persist = frozenset(sub for sub, main in subs.items()
+                            if _radio(cfg, main).persist_sub_receiver
+                            or (cfg.radio(sub.station, sub.radio) or Radio(0, 0))
+                            .persist_sub_receiver)
+        lists = frozenset(frozenset((r.ref, p)) for r in cfg.radios for p in r.partner
+                          if p != r.ref)
+        functions = tuple((f.id, frozenset((RadioRef(*f.int_params[:2]),
+                                            RadioRef(*f.int_params[2:4]))))
+                          for f in cfg.functions
+                          if f.name == "Partner" and len(f.int_params) >= 4)
         return Facts(cfg, ants, frozen, parts, capable, shared_members, frozenset(receivers),
-                     family)
+                     family, subs, persist, lists, functions)
 
     def conflict(self, a: int, b: int) -> bool:
         """Configured conflicts (either direction), or one physical antenna shared by the two
@@ -128,6 +149,33 @@ class Facts:
                     best = (lo, hi)
         return best
 
+    def entry(self, ref: RadioRef, antenna: int, khz: float | None) -> Any:
+        """The Stations entry (6.4.2) serving ``ref`` on ``antenna`` at ``khz``: the most
+        specific one of the range holding ``khz`` (None when no range holds it)."""
+        for cr in self.ants[antenna].control:
+            if khz is None or not cr.range.contains(khz):
+                continue
+            best, score = None, -1
+            for e in cr.stations:
+                if e.applies_to(ref.station, ref.radio):
+                    here = (e.station is not None) + (e.radio is not None)
+                    if here > score:
+                        best, score = e, here
+            if best is not None:
+                return best
+        return None
+
+    def partners_now(self, e: Engine) -> set[frozenset[RadioRef]]:
+        """Pairs that are partners now: the ``Partner`` lists, each toggled by a Partner
+        function naming the same pair (6.6.9)."""
+        pairs = set(self.partner_lists)
+        for fid, pair in self.partner_functions:
+            if e.function_on(fid):
+                pairs.add(pair)
+            else:
+                pairs.discard(pair)
+        return pairs
+
     def switches_of(self, ref: RadioRef) -> dict[int, list[int]]:
         r = self.cfg.radio(ref.station, ref.radio)
         only = self.cfg.switches[0].id if len(self.cfg.switches) == 1 else None
@@ -150,8 +198,15 @@ def _held(v: RadioView) -> list[tuple[str, int]]:
     return out
 
 
-def violations(e: Engine, facts: Facts) -> list[str]:
-    """Every rule broken by the engine's state now (empty when all hold)."""
+def violations(e: Engine, facts: Facts, counts: Counter[str] | None = None) -> list[str]:
+    """Every rule broken by the engine's state now (empty when all hold).  ``counts`` gets,
+    per rule of :func:`multiop_violations`, how many checks actually ran."""
+    problems = _basic_violations(e, facts)
+    problems += multiop_violations(e, facts, Counter() if counts is None else counts)
+    return problems
+
+
+def _basic_violations(e: Engine, facts: Facts) -> list[str]:
     cfg = facts.cfg
     views = {RadioRef(v.station, v.radio): v for v in e.radios()}
     states = e.switch_states()
@@ -322,6 +377,203 @@ def violations(e: Engine, facts: Facts) -> list[str]:
     return problems
 
 
+MULTIOP_RULES = ("one physical antenna", "alternate not held", "shared TX listener",
+                 "sub receiver relays", "switch conflict table", "RadioRXAntenna")
+"""The rules :func:`multiop_violations` checks, by the name their counts go under."""
+
+
+def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[str]:
+    """The rules of shared transmit antennas, partners, alternate paths, alternate antennas
+    and sub receivers, each written from the manual's text."""
+    cfg = facts.cfg
+    views = {RadioRef(v.station, v.radio): v for v in e.radios()}
+    states = e.switch_states()
+    alt_receivers = {RadioRef(r.station, r.alt_receiver) for r in cfg.radios
+                     if r.alt_receiver is not None}
+    holders = [(ref, v) for ref, v in views.items() if ref not in alt_receivers]
+    problems: list[str] = []
+    partners = facts.partners_now(e)
+
+    # 5.8: "Since the two paths to the 15 meter antenna use different relays the MOAS server
+    # considers them to be different antennas. The configuration file specifies that they are
+    # alternates for each other"; 1.1.1: "The operator will not be able to select that antenna
+    # unless it is configured to be shared."  Two paths are one antenna: never held by two
+    # radios at once when it is used by one radio at a time (lists itself in Conflicts).
+    for i, (ra, va) in enumerate(holders):
+        for rb, vb in holders[i + 1:]:
+            if facts.family[ra] == facts.family[rb]:
+                continue
+            for _, x in _held(va):
+                for _, y in _held(vb):
+                    g = facts.group[x]
+                    if len(g) < 2 and len(facts.group[y]) < 2:
+                        continue
+                    counts["one physical antenna"] += 1
+                    if g != facts.group[y]:
+                        continue
+                    exclusive = any(m in facts.ants[m].conflicts for m in g)
+                    if exclusive and not e.may_share(ra, x, rb, y):
+                        problems.append(f"{ra} on {x} and {rb} on {y}: two paths of one "
+                                        "antenna (5.8)")
+
+    # 5.9: "If the alternate antenna is not available it will select no antenna for the
+    # receiving station."  An alternate is never an antenna another radio holds (or one
+    # conflicting with it), except the partner's receive antenna, which 5.13 gives: "the
+    # radio will instead be connected to the partner's receive antenna".
+    for ref, v in holders:
+        if v.alt is None or ref in facts.receivers:
+            continue
+        counts["alternate not held"] += 1
+        for other, vo in holders:
+            if facts.family[other] == facts.family[ref]:
+                continue
+            for role, b in _held(vo):
+                if not facts.conflict(v.alt, b) or e.may_share(ref, v.alt, other, b):
+                    continue
+                if frozenset((ref, other)) in partners and role == "rx" and b == v.alt:
+                    continue
+                problems.append(f"{ref}'s alternate {v.alt} is {b}, held by {other} (5.9)")
+
+    # 5.13: "Normally if a radio is receiving on a transmit antenna it will be disconnected
+    # when another radio transmits on it. If the stations are partners and certain conditions
+    # are met the radio will instead be connected to the partner's receive antenna": "There
+    # are two stations using the shared transmit antenna. This is not available if more than
+    # two radios are using the antenna"; "The other partner has an antenna which can be used.
+    # It must be able to be connected to the partner and it must be fast."  (1.1.14: "It can
+    # also be configured so that the operator can select an alternate antenna": the
+    # alternate receiver's antenna.)
+    for ref, v in holders:
+        if ref in facts.receivers or v.rx is None:
+            continue
+        triggers = [(t, vt) for t, vt in holders
+                    if facts.family[t] != facts.family[ref] and t not in facts.receivers
+                    and vt.transmitting and vt.tx is not None and facts.conflict(v.rx, vt.tx)
+                    and e.may_share(ref, v.rx, t, vt.tx)
+                    and (facts.ants[v.rx].shared_tx or facts.ants[vt.tx].shared_tx)]
+        if not triggers:
+            continue
+        counts["shared TX listener"] += 1
+        r = _radio(cfg, ref)
+        manual = views[RadioRef(ref.station, r.alt_receiver)].rx \
+            if r.alt_receiver is not None else None
+        for t, vt in triggers:
+            assert vt.tx is not None
+            group = facts.group[vt.tx]
+            users = sum(1 for o, vo in holders if o not in facts.receivers
+                        and any(a in group for _, a in _held(vo)))
+            # "can be used": nobody but the partner holds it (a sub receiver of the partner
+            # still listening on it makes it unavailable, 5.9)
+            rx = vt.rx
+            free = rx is not None and not any(
+                facts.conflict(rx, b) and not e.may_share(ref, rx, o, b)
+                for o, vo in holders if o != t and facts.family[o] != facts.family[ref]
+                for _, b in _held(vo))
+            conditions = (frozenset((ref, t)) in partners and users == 2 and free
+                          and vt.rx is not None and vt.rx != vt.tx
+                          and not facts.conflict(vt.rx, vt.tx)
+                          and not facts.ants[vt.rx].tx_only and facts.ants[vt.rx].enabled
+                          and facts.covers(ref, vt.rx, v.khz)
+                          and (v.tx is None or v.tx == vt.rx or facts.fast(v.tx, vt.rx)))
+            if v.alt is not None and v.alt != manual and not (conditions and v.alt == vt.rx):
+                problems.append(f"{ref} listens on {v.rx} while {t} transmits on {vt.tx}; its "
+                                f"alternate is {v.alt}, not none or the partner's receive "
+                                "antenna (5.13)")
+            if conditions and len(triggers) == 1 and v.alt != vt.rx:
+                problems.append(f"{ref} and its partner {t} meet 5.13's conditions, but its "
+                                f"alternate is {v.alt}, not {vt.rx}")
+
+    # 6.10: "PersistSubReceiver ... True if the sub receiver relays should remain set during
+    # transmit"; 1.1.12: "A sub receiver can be configured as an additional radio" (one that
+    # receives: it never transmits).
+    only = cfg.switches[0].id if len(cfg.switches) == 1 else None
+    for sub, main in facts.subs.items():
+        v = views.get(sub)
+        if v is None:
+            continue
+        counts["sub receiver relays"] += 1
+        persist = sub in facts.persist
+        if v.tx is not None:
+            problems.append(f"sub receiver {sub} transmits on {v.tx}")
+        own = facts.switches_of(sub)
+        for w, ports in own.items():
+            for p in ports:
+                port = states[w].station(p)
+                if v.rx is None:
+                    if port.rx != 63 or port.tx != 63:
+                        problems.append(f"sub receiver {sub} has no antenna but port {p} holds "
+                                        f"{port.tx}/{port.rx}")
+                    continue
+                if port.rx == 63:
+                    problems.append(f"sub receiver {sub} listens on {v.rx} but port {p} holds "
+                                    "nothing")
+                if persist and (port.tx != port.rx or port.tx_relays != port.rx_relays):
+                    problems.append(f"sub receiver {sub} with PersistSubReceiver: port {p} "
+                                    f"transmit {port.tx} {sorted(port.tx_relays)} differs from "
+                                    f"receive {port.rx} {sorted(port.rx_relays)}")
+                if not persist and (port.tx != 63 or port.tx_relays):
+                    problems.append(f"sub receiver {sub}: port {p} transmits on {port.tx}")
+        if own or v.rx is None:
+            continue
+        entry = facts.entry(sub, v.rx, v.khz)
+        if entry is None:
+            continue
+        relays = entry.rx_relays if entry.rx_relays is not None else entry.relays
+        for w, ports in facts.switches_of(main).items():
+            mine = {x % 100 for x in relays if x // 100 + 1 == w or only == w and x < 100}
+            for p in ports:
+                port = states[w].station(p)
+                if not mine <= port.rx_relays:
+                    problems.append(f"sub receiver {sub} listens on {v.rx} but {main}'s port "
+                                    f"{p} lacks relays {sorted(mine - port.rx_relays)}")
+                if persist and port.tx != 63 and not mine <= port.tx_relays:
+                    problems.append(f"sub receiver {sub} with PersistSubReceiver: {main}'s "
+                                    f"port {p} drops relays {sorted(mine - port.tx_relays)} "
+                                    "during transmit")
+
+    # The switch is a safety layer (1.1.4: "the operator will not be able to select them";
+    # 1.1.2 hot switch protection happens in the box): the table it is sent forbids, per
+    # slot, every conflict the engine relies on.  For every antenna a radio holds, the slot
+    # another radio on that switch would take a conflicting antenna through conflicts with
+    # it, unless the two may share them now.  (A sub receiver without a port of its own
+    # rides on its main radio's port: the box sees that port only, so the main radio's
+    # pairs are the ones it can enforce.)
+    for w, state in states.items():
+        on_w = [(ref, v) for ref, v in holders if w in facts.switches_of(ref)]
+        for ra, va in on_w:
+            for _, x in _held(va):
+                sa = e.slot_of(w, x, ra.station, ra.radio, as_partner_alt=False)
+                if sa is None:
+                    continue
+                for rb, _vb in on_w:
+                    if facts.family[rb] == facts.family[ra]:
+                        continue
+                    for y in facts.ants:
+                        if not facts.conflict(x, y) or e.may_share(ra, x, rb, y):
+                            continue
+                        sb = e.slot_of(w, y, rb.station, rb.radio, as_partner_alt=False)
+                        if sb is None:
+                            continue
+                        counts["switch conflict table"] += 1
+                        if (min(sa, sb), max(sa, sb)) not in state.conflicts:
+                            problems.append(f"switch {w}: {ra} holds {x} (slot {sa}); the table "
+                                            f"would let {rb} take conflicting {y} (slot {sb})")
+
+    # 6.4: "The radio RX antenna is designed to handle switching of receive antennas that are
+    # connected to the radio's RX antenna. The information is passed to the client".
+    for ref, v in views.items():
+        if v.rx is None or v.khz is None or ref in alt_receivers:
+            continue
+        entry = facts.entry(ref, v.rx, v.khz)
+        if entry is None:
+            continue
+        counts["RadioRXAntenna"] += 1
+        if v.radio_rx_antenna != entry.radio_rx_antenna:
+            problems.append(f"{ref} on {v.rx} at {v.khz}: radio_rx_antenna is "
+                            f"{v.radio_rx_antenna}, the configuration says "
+                            f"{entry.radio_rx_antenna}")
+    return problems
+
+
 def _radio(cfg: Config, ref: RadioRef) -> Radio:
     r = cfg.radio(ref.station, ref.radio)
     assert r is not None
@@ -338,8 +590,9 @@ def _may_share_band(cfg: Config, facts: Facts, a: RadioRef, b: RadioRef) -> bool
 
 # -- random evenings -----------------------------------------------------------------------
 
-def operations(cfg: Config, rng: random.Random, count: int) -> Iterator[Op]:
-    """``count`` random operator events for ``cfg``."""
+def operations(cfg: Config, rng: random.Random, count: int,
+               frequencies: Sequence[float] = FREQUENCIES) -> Iterator[Op]:
+    """``count`` random operator events for ``cfg``, frequencies from ``frequencies``."""
     e = Engine(cfg)
     radios = [(v.station, v.radio) for v in e.radios()]
     mains = [(r.station, r.radio) for r in cfg.radios]
@@ -352,10 +605,10 @@ def operations(cfg: Config, rng: random.Random, count: int) -> Iterator[Op]:
     for _ in range(count):
         x = rng.random()
         if x < 0.35:
-            yield ("freq", rng.choice(mains), rng.choice(FREQUENCIES),
+            yield ("freq", rng.choice(mains), rng.choice(frequencies),
                    rng.choice((None, None, None, 3.0, -250.0)))
         elif x < 0.40:
-            yield ("freq", rng.choice(radios), rng.choice(FREQUENCIES), None)
+            yield ("freq", rng.choice(radios), rng.choice(frequencies), None)
         elif x < 0.62:
             yield ("select", rng.choice(radios), rng.choice(antennas),
                    rng.choice(("both", "both", "tx", "rx")), rng.random() < 0.2)
@@ -398,7 +651,8 @@ def snapshot(e: Engine) -> tuple[object, ...]:
     return (e.radios(), tuple(sorted(e.switch_states().items())), e.running)
 
 
-def run_evening(cfg: Config, ops: Sequence[Op], facts: Facts | None = None) -> int:
+def run_evening(cfg: Config, ops: Sequence[Op], facts: Facts | None = None,
+                counts: Counter[str] | None = None) -> int:
     """Apply ``ops``, checking every rule after each; raise AssertionError naming the first
     broken one with the events that led there.  Returns the number of events refused."""
     facts = facts or Facts.of(cfg)
@@ -415,7 +669,7 @@ def run_evening(cfg: Config, ops: Sequence[Op], facts: Facts | None = None) -> i
             assert err.message
             assert snapshot(e) == before, f"refused {op} changed the state"
             continue
-        problems = violations(e, facts)
+        problems = violations(e, facts, counts)
         assert not problems, f"after {list(ops[:i + 1])[-8:]}: {problems}"
     return refused
 
@@ -436,4 +690,5 @@ def replay_matches(cfg: Config, ops: Sequence[Op]) -> bool:
     return results[0] == results[1]
 
 
-__all__ = ["Facts", "apply", "operations", "replay_matches", "run_evening", "violations"]
+__all__ = ["MULTIOP_RULES", "Facts", "apply", "multiop_violations", "operations", "replay_matches",
+           "run_evening", "violations"]

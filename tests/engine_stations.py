@@ -7,7 +7,7 @@ import random
 from collections.abc import Sequence
 from typing import Any
 
-from engine_invariants import BANDS
+from engine_invariants import BANDS, FREQUENCIES
 
 from moas_gui.config.model import (
     AlternateRule,
@@ -24,11 +24,17 @@ from moas_gui.config.model import (
     System,
 )
 
+MULTIOP_SHARE = 0.4
+"""The share of generated stations built by :func:`multiop_station`."""
+
 
 def generated_station(rng: random.Random) -> Config:
-    """A random station: 2-4 main radios (one switch, or two with every radio on both), a sub
+    """A random station: 40 % of them a multi-operator station (:func:`multiop_station`),
+    the others 2-4 main radios (one switch, or two with every radio on both), a sub
     receiver, single- and multi-band antennas, TX-only and RX-only antennas, a shared
     beverage system, a stack with components, conflicts, fast pairs and inhibits."""
+    if rng.random() < MULTIOP_SHARE:
+        return multiop_station(rng)
     n_radios = rng.randint(2, 4)
     two_switches = rng.random() < 0.3
     refs = [RadioRef(1 + i // 2, 1 + i % 2) for i in range(n_radios)]
@@ -106,9 +112,177 @@ def generated_station(rng: random.Random) -> Config:
                   protect_same_band=rng.random() < 0.3)
 
 
+def multiop_station(rng: random.Random) -> Config:
+    """A random multi-operator station using what big stations rely on (5.8, 5.9, 5.12,
+    5.13, 6.10): shared transmit antennas (some transmit-only) with a receive antenna per
+    radio (some wired to the radio's RX-antenna input), the interlock 5.12 asks for
+    (``Always`` both ways, an inhibit buss or ``SameBand`` both ways; now and then none,
+    which the engine must then refuse), partners by ``Partner`` lists or by the Partner
+    function, an antenna reached by two paths on two feeds, ``Alternate`` rules with and
+    without ``AltActive`` (and the AltActive function), and sub receivers with and without a
+    port of their own, with ``UseMainFreq`` and ``PersistSubReceiver`` on the main radio's
+    entry or on the sub receiver's."""
+    n = rng.randint(2, 4)
+    mains = [RadioRef(1, i + 1) for i in range(n)]
+    two_switches = rng.random() < 0.2
+    sub_port = rng.random() < 0.5
+    subs = {mains[0]: RadioRef(1, 5)}
+    if rng.random() < 0.4:
+        subs[mains[1]] = RadioRef(1, 6)
+    everyone = mains + list(subs.values())
+    bands = rng.sample(BANDS, rng.randint(1, 3))
+
+    def entries(base: int, rx_input: float = 0.0) -> tuple[StationRelays, ...]:
+        return tuple(StationRelays(station=r.station, radio=r.radio,
+                                   relays=frozenset({(base + 3 * i) % 60}),
+                                   radio_rx_antenna=rng.random() < rx_input)
+                     for i, r in enumerate(everyone))
+
+    def control(ranges: Sequence[tuple[float, float]], base: int,
+                rx_input: float = 0.0) -> tuple[ControlRange, ...]:
+        return tuple(ControlRange(FrequencyRange(lo, hi), entries(base + k, rx_input))
+                     for k, (lo, hi) in enumerate(ranges))
+
+    antennas: list[Antenna] = []
+    shared_tx = list(range(rng.randint(1, 2)))
+    receive = list(range(len(shared_tx), len(shared_tx) + n))
+    ordinary = list(range(receive[-1] + 1, receive[-1] + 1 + rng.randint(2, 3)))
+    path_a, path_b = ordinary[-1] + 1, ordinary[-1] + 2
+    fast_rx = tuple(receive) + (path_a, path_b)
+    for a in shared_tx:
+        antennas.append(Antenna(
+            id=a, short_name=f"STX{a}", shared_tx=True, tx_only=rng.random() < 0.5,
+            control=control(bands, 10 * a), conflicts=tuple(shared_tx),
+            fast=fast_rx + tuple(shared_tx)))
+    for k, a in enumerate(receive):
+        antennas.append(Antenna(
+            id=a, short_name=f"RX{k + 1}", rx_only=rng.random() < 0.7,
+            control=control(bands, 10 * a, rx_input=0.3), conflicts=(a,),
+            fast=tuple(shared_tx) + tuple(receive)))
+    for a in ordinary:
+        own = rng.sample(BANDS, rng.randint(1, 2))
+        antennas.append(Antenna(
+            id=a, short_name=f"A{a}", control=control(own, 10 * a), conflicts=(a,),
+            fast=tuple(shared_tx) + tuple(receive) + (path_a, path_b),
+            no_select=rng.random() < 0.1))
+    # one antenna on two feeds (5.8): the first path shares a feed with the first ordinary
+    # antenna, the second with the last one
+    path_bands = rng.sample(BANDS, rng.randint(1, 2))
+    for a, mate, other in ((path_a, ordinary[0], path_b), (path_b, ordinary[-1], path_a)):
+        antennas.append(Antenna(
+            id=a, short_name=f"P{a}", control=control(path_bands, 10 * a), conflicts=(a, mate),
+            alternate=(other,), fast=tuple(shared_tx) + tuple(receive)))
+    antennas = [ant if ant.id not in (ordinary[0], ordinary[-1]) else Antenna(**{
+        **_fields(ant), "conflicts": ant.conflicts + ((path_a,) if ant.id == ordinary[0]
+                                                      else (path_b,))}) for ant in antennas]
+    a, b = mains[0], mains[1]
+    interlock = rng.choice(("always", "always", "buss", "same_band", "none"))
+    partner_by = rng.choice(("list", "function", "none"))
+    flags_on_sub = rng.random() < 0.3
+    alt_rule_radio = mains[rng.randrange(n)]
+    functions = [
+        Function(id=1, name="AltActive", int_params=(alt_rule_radio.station, alt_rule_radio.radio,
+                                                     a.station, a.radio)),
+        Function(id=2, name="Inhibit", int_params=(b.station, b.radio, 1)),
+        Function(id=3, name="RXTX"),
+        Function(id=4, name="AntennaSwap", int_params=(a.station, a.radio, b.station, b.radio)),
+    ]
+    if partner_by == "function":
+        functions.append(Function(id=5, name="Partner",
+                                  int_params=(a.station, a.radio, b.station, b.radio)))
+    radios = []
+    next_port = n + 1
+    for i, ref in enumerate(mains):
+        pair = [o for o in (a, b) if o != ref] if ref in (a, b) else []
+        third = [o for o in mains if o != ref and rng.random() < 0.25]
+        always = tuple(pair if interlock == "always" else []) + tuple(
+            o for o in third if o not in pair)
+        same_band = tuple(pair) if interlock == "same_band" else ()
+        buss = (1,) if interlock == "buss" and ref in (a, b) or i == 2 and rng.random() < 0.5 \
+            else ()
+        partner = tuple(pair) if partner_by == "list" else ()
+        sub = subs.get(ref)
+        persist = sub is not None and rng.random() < 0.5
+        main_freq = sub is not None and rng.random() < 0.5
+        rules: tuple[AlternateRule, ...] = ()
+        if ref == alt_rule_radio:
+            lo, hi = rng.choice(bands)
+            covering = receive + [ant.id for ant in antennas if ant.id in ordinary + [path_a]
+                                  and any(c.range.contains(lo + 1) for c in ant.control)]
+            rules = (AlternateRule(
+                range=FrequencyRange(lo, hi) if rng.random() < 0.7 else FrequencyRange(),
+                this_antennas=tuple(rng.sample(receive + shared_tx, rng.randint(0, 2))),
+                other_antennas=tuple(rng.sample(shared_tx + ordinary, rng.randint(0, 2))),
+                antenna=rng.choice(covering)),)
+        alt_active = tuple(o for o in mains if o != ref and rng.random() < 0.5) \
+            if rules and rng.random() < 0.5 else ()
+        switches = (SwitchPort(1, i + 1),) + ((SwitchPort(2, i + 1),) if two_switches else ())
+        radios.append(Radio(
+            station=ref.station, radio=ref.radio, switches=switches, always=always,
+            same_band=same_band, inhibit_buss=buss, partner=partner, out_of_band=True,
+            sub_receiver=sub.radio if sub else None,
+            persist_sub_receiver=persist and not flags_on_sub,
+            use_main_freq=main_freq and not flags_on_sub, alternate=rules,
+            alt_active=alt_active))
+        if sub is not None:
+            own: tuple[SwitchPort, ...] = ()
+            if sub_port and next_port <= 6:
+                own = (SwitchPort(1, next_port),)
+                next_port += 1
+            radios.append(Radio(station=sub.station, radio=sub.radio, switches=own,
+                                persist_sub_receiver=persist and flags_on_sub,
+                                use_main_freq=main_freq and flags_on_sub))
+    switches = [Switch(1, "emulator", indicate_tr=True)] + (
+        [Switch(2, "emulator", indicate_tr=True)] if two_switches else [])
+    return Config(antennas=tuple(antennas), functions=tuple(functions), radios=tuple(radios),
+                  switches=tuple(switches), protect_same_band=rng.random() < 0.2)
+
+
+def frequencies_for(cfg: Config) -> tuple[float, ...]:
+    """The property suite's frequencies plus, per configured range, its edges and a frequency
+    inside it: so that random evenings put radios on one band often (where shared transmit
+    antennas, partners and alternate rules matter)."""
+    extra = set()
+    for ant in cfg.antennas:
+        for cr in ant.control:
+            lo, hi = cr.range.lower, cr.range.upper
+            if lo is not None and hi is not None:
+                extra.update((lo, hi, round(lo + (hi - lo) * 0.3, 1), round(lo + (hi - lo) * 0.6, 1)))
+    return FREQUENCIES + tuple(sorted(extra))
+
+
+def features(cfg: Config) -> set[str]:
+    """Which of the multi-operator features a configuration uses (for the benchmark)."""
+    found: set[str] = set()
+    subs = {RadioRef(r.station, r.sub_receiver): r for r in cfg.radios if r.sub_receiver}
+    if any(a.shared_tx for a in cfg.antennas):
+        found.add("SharedTX")
+    if any(r.partner for r in cfg.radios):
+        found.add("Partner list")
+    if any(f.name == "Partner" for f in cfg.functions):
+        found.add("Partner function")
+    if any(a.alternate for a in cfg.antennas):
+        found.add("alternate paths")
+    if any(r.alternate for r in cfg.radios):
+        found.add("Alternate rules")
+    if any(r.alt_active for r in cfg.radios) or any(f.name == "AltActive"
+                                                     for f in cfg.functions):
+        found.add("AltActive")
+    for r in cfg.radios:
+        if r.ref in subs:
+            found.add("sub receiver with port" if r.switches else "sub receiver without port")
+        if r.use_main_freq:
+            found.add("UseMainFreq")
+        if r.persist_sub_receiver:
+            found.add("PersistSubReceiver")
+    if any(s.radio_rx_antenna for a in cfg.antennas for c in a.control for s in c.stations):
+        found.add("RadioRXAntenna")
+    return found
+
+
 def _fields(a: Antenna) -> dict[str, Any]:
     return {f: getattr(a, f) for f in a.__slots__}  # type: ignore[attr-defined]
 
 
 
-__all__ = ["generated_station"]
+__all__ = ["MULTIOP_SHARE", "features", "frequencies_for", "generated_station", "multiop_station"]

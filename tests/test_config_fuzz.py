@@ -19,7 +19,7 @@ from config_fuzzing import MUTATIONS, corpus, mutations, read
 from moas_gui.cli import server
 from moas_gui.config import read_config
 
-FILES = corpus(generated=3)
+FILES = corpus(generated=2)  # with the eight examples: ten files
 
 
 def test_the_unmutated_corpus_is_usable_without_a_single_problem() -> None:

@@ -16,7 +16,7 @@ from moas_gui.config.model import Config, RadioRef, RotatorControl
 from moas_gui.engine import Engine, EngineError
 
 EXAMPLE_NAMES = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
-                 "triplexer", "ms-one-amp"]
+                 "triplexer", "ms-one-amp", "two-op-shared-tx"]
 FREQUENCIES = [1830.0, 1999.0, 3550.0, 3799.5, 7025.0, 7300.0, 10120.0, 13999.0, 14000.0,
                14025.0, 14200.0, 14351.0, 18100.0, 21025.0, 21300.0, 24900.0, 28500.0,
                5000.0, 50100.0]

@@ -10,12 +10,12 @@ import random
 import pytest
 from engine_builders import example
 from engine_invariants import Facts, operations, replay_matches, run_evening
-from engine_stations import generated_station
+from engine_stations import frequencies_for, generated_station
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 EXAMPLES = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
-            "triplexer", "ms-one-amp"]
+            "triplexer", "ms-one-amp", "two-op-shared-tx"]
 RUNS = int(os.environ.get("MOAS_ENGINE_EXAMPLES", "4"))
 EVENTS = 300
 
@@ -42,7 +42,7 @@ def test_every_rule_holds_after_every_event_on_the_examples(name: str) -> None:
 def test_every_rule_holds_after_every_event_on_generated_stations(seed: int) -> None:
     rng = random.Random(seed)
     cfg = generated_station(rng)
-    run_evening(cfg, list(operations(cfg, rng, EVENTS)))
+    run_evening(cfg, list(operations(cfg, rng, EVENTS, frequencies_for(cfg))))
 
 
 @pytest.mark.parametrize("name", ["big-station", "multi-multi-20"])

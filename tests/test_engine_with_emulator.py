@@ -24,7 +24,7 @@ from moas_gui.hw.moas2.emulator import EmulatorModel
 from moas_gui.hw.moas2.sync import difference, initialise
 
 NAMES = ["small-station", "big-station", "tribander-stack", "triplexer", "multi-multi-20",
-         "ms-one-amp"]
+         "ms-one-amp", "two-op-shared-tx"]
 
 
 class Rig:
@@ -92,7 +92,7 @@ def _held_conflicts(rig: Rig, cfg: Config) -> list[str]:
             assert w is not None
             owners[(w, sp.port)] = r.ref
             for a in cfg.antennas:
-                slot = e.slot_of(w, a.id, r.station, r.radio)
+                slot = e.slot_of(w, a.id, r.station, r.radio, as_partner_alt=False)
                 if slot is not None:
                     antennas_of.setdefault((w, r.ref, slot), a.id)
     problems = []

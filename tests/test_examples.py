@@ -20,8 +20,11 @@ from typing import Any
 import pytest
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
-NAMES = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
-         "triplexer", "ms-one-amp"]
+CHAPTER_7 = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
+             "triplexer", "ms-one-amp"]
+NAMES = [*CHAPTER_7, "two-op-shared-tx"]
+"""The chapter 7 stations and the project's own two-operator station (shared transmit
+antennas, partners, alternate paths and rules, a sub receiver)."""
 BANDS = {160: (1800, 2000), 80: (3500, 4000), 40: (7000, 7300), 30: (10100, 10150),
          20: (14000, 14350), 17: (18068, 18168), 15: (21000, 21450), 12: (24890, 24990),
          10: (28000, 29700)}
@@ -236,8 +239,9 @@ examples = pytest.mark.parametrize("name", NAMES)
 
 # ------------------------------------------------------------------ the files
 
-def test_the_examples_folder_holds_exactly_the_seven_stations_of_chapter_7() -> None:
+def test_the_examples_folder_holds_exactly_the_seven_stations_of_chapter_7_and_one_more() -> None:
     assert sorted(p.stem for p in EXAMPLES.glob("*.moas")) == sorted(NAMES)
+    assert len(CHAPTER_7) == 7 and set(CHAPTER_7) < set(NAMES)
 
 
 @pytest.mark.parametrize("text, problem", [
@@ -928,3 +932,22 @@ def test_json_snippets_in_the_guide_are_valid_json() -> None:
                 continue
         else:
             pytest.fail(f"not JSON, even as a list or group:\n{block}")
+
+
+def test_two_op_shared_tx_shares_the_tribander_between_interlocked_partners() -> None:
+    cfg = load("two-op-shared-tx")
+    ants = antennas(cfg)
+    by_ref = {(r["Station"], r["Radio"]): r for r in cfg["Radios"]}
+    one, two = by_ref[(1, 1)], by_ref[(2, 1)]
+    assert ants[0].get("SharedTX") is True
+    assert {"Station": 2, "Radio": 1} in one["Always"] and {"Station": 1, "Radio": 1} in two["Always"]
+    assert one["Partner"] == [{"Station": 2, "Radio": 1}] and two["Partner"] == [{"Station": 1, "Radio": 1}]
+    # the dipole on two feeds, each feed shared with another antenna
+    assert ants[4]["Alternate"] == [5] and ants[5]["Alternate"] == [4]
+    assert 3 in ants[4]["Conflicts"] and 6 in ants[5]["Conflicts"]
+    # the sub receiver's flags sit on the main radio's entry (6.10's table)
+    assert one["SubReceiver"] == 2 and one["UseMainFreq"] is True
+    assert one["PersistSubReceiver"] is True
+    assert "UseMainFreq" not in by_ref[(1, 2)] and by_ref[(1, 2)]["Switches"] == [{"Port": 3}]
+    assert all(rule["Antenna"] == 7 for r in (one, two) for rule in r["Alternate"])
+    assert one["AltActive"] == [{"Station": 2, "Radio": 1}]

@@ -82,14 +82,17 @@ def test_keying_from_an_alternate_on_a_slow_pair_inhibits() -> None:
     assert not box.inhibited(1) and box.station(1).phase is Phase.TRANSMIT
 
 
-def test_activating_with_a_station_keyed_inhibits_it_while_its_relays_close() -> None:
+def test_activating_with_a_station_keyed_leaves_its_relays_open_until_it_receives() -> None:
     box = SteppedBox()
     box.send("!1B112;")
     box.key(1, True, at=1)
     assert box.relays == set() and not box.inhibited(1)
     box.send("*1;", at=2)
-    assert box.relays == {1, 2} and box.inhibited(1)
-    box.wait(22)
+    assert box.relays == set() and not box.inhibited(1)
+    assert box.station(1).transmitting and box.station(1).pending == (("T", 1),)
+    box.key(1, False, at=50)
+    assert box.relays == {1, 2} and box.inhibited(1)  # all pairs slow after power-on
+    box.wait(70)
     assert not box.inhibited(1)
 
 

@@ -110,8 +110,10 @@ async def test_link_loads_the_box_and_then_sends_only_differences(served: Served
         assert statuses == [LinkStatus.OK]
         await until(lambda: served.relays == {1, 2, 8})
         # the unit id, a ping behind it (any other unit's id would come before its
-        # answer), then the load
-        assert served.received.startswith(b":;';*0;%C")
+        # answer), then what the box holds and who transmits, then the load as values:
+        # never a reset, which would open every relay at once
+        assert served.received.startswith(b":;';';" + b'"B;"I;|;%0;%C')
+        assert b"*0;" not in served.received
         before = len(served.received)
         written = link.apply(STATE_B)
         assert written == len(b"!1B35;")
@@ -142,8 +144,9 @@ async def test_transmit_and_receive_reach_the_callback(served: Served) -> None:
     served.box.set_tr(3, True)
     link.connect()
     try:
-        await until(lambda: len(events) == 6)
-        assert (3, True) in events and (1, False) in events
+        # every station's state from the box status, station 3 keyed once the box is
+        # active (an inactive box reports every station receiving)
+        await until(lambda: (3, True) in events and (1, False) in events)
         events.clear()
         served.box.set_tr(3, False)
         served.box.set_tr(1, True)
@@ -275,7 +278,7 @@ async def test_a_box_reset_behind_the_links_back_is_loaded_again(
 ) -> None:
     link, statuses = make_link_to(served)
     link.apply(STATE_A)
-    caplog.set_level(logging.WARNING, "moas_gui.hw.moas2.link")
+    caplog.set_level(logging.WARNING, "moas_gui.hw.moas2")
     link.connect()
     try:
         await until(lambda: served.relays == {1, 2, 8})
@@ -299,12 +302,12 @@ async def test_an_error_from_the_box_names_the_command_that_caused_it(
     errors: list[str] = []
 
     def refuse_interlocks(kind: Traffic, data: bytes) -> None:
-        if kind is Traffic.RECEIVED and b"~" in data:
+        if kind is Traffic.RECEIVED and b"~12;" in data:
             served.endpoint.write(b"?T;")
 
     served.box.add_listener(refuse_interlocks)
     link, _ = make_link_to(served, on_error=errors.append)
-    caplog.set_level(logging.ERROR, "moas_gui.hw.moas2.link")
+    caplog.set_level(logging.ERROR, "moas_gui.hw.moas2")
     link.connect()
     try:
         await until(lambda: link.status is LinkStatus.OK)
@@ -429,7 +432,7 @@ async def test_a_failing_callback_is_logged_and_the_link_carries_on(
 
     link, statuses = make_link_to(served, on_tr=broken)
     link.apply(STATE_A)
-    caplog.set_level(logging.ERROR, "moas_gui.hw.moas2.link")
+    caplog.set_level(logging.ERROR, "moas_gui.hw.moas2")
     link.connect()
     try:
         await until(lambda: served.relays == {1, 2, 8})

@@ -107,7 +107,7 @@ async def test_silence_is_unresponsive_after_the_answer_timeout_and_retries_doub
     told: list[tuple[LinkStatus, float]] = []
     link = SwitchLink(1, "in-process", on_status=lambda s: told.append((s, clock.now())),
                       transport=port, clock=clock)
-    caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2.link")
+    caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2")
     link.connect()
     try:
         await until(lambda: link.status is LinkStatus.OK)
@@ -165,7 +165,7 @@ async def test_garbage_from_the_box_is_skipped_and_logged_at_debug(
     clock = FakeClock()
     port = BoxPort(clock)
     link, statuses = link_to(port, clock)
-    caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2.link")
+    caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2")
     link.connect()
     try:
         await until(lambda: link.status is LinkStatus.OK)

@@ -19,7 +19,14 @@ from test_moas2_link import FAST, STATE_A, STATE_B, Served, make_link_to
 from test_moas2_link_clock import BoxPort, link_to
 
 from moas_gui.hw.moas2.link import LinkStatus, SwitchLink
-from moas_gui.hw.moas2.messages import Pong, UnitIdReply
+from moas_gui.hw.moas2.messages import (
+    BoxStatus,
+    PolarityStatus,
+    Pong,
+    RelayStatus,
+    TRState,
+    UnitIdReply,
+)
 from moas_gui.hw.moas2.replies import encode_reply
 from moas_gui.hw.moas2.timing import REAL_TIMING
 
@@ -31,9 +38,11 @@ class LateBox(BoxPort):
     answer to a later question."""
 
     def __init__(self, clock: FakeClock, question: bytes, *, unit_id: int = 0,
-                 instead: bytes | None = None) -> None:
+                 instead: bytes | None = None, skip: int = 0) -> None:
         super().__init__(clock, unit_id)
         self.question = question
+        self.skip = skip
+        """Answers to ``question`` let through before the one held back."""
         self.instead = instead
         self.heard = 0
         self.held: bytes | None = None
@@ -51,7 +60,10 @@ class LateBox(BoxPort):
     def _said(self, out: bytes) -> None:
         if self._current == self.question:
             self.heard += 1
-            if self.heard == 1:
+            if self.heard <= self.skip:
+                self.say(out)
+                return
+            if self.heard == self.skip + 1:
                 self.held = self.instead if self.instead is not None else out
                 return
             if self.held is not None:
@@ -92,10 +104,10 @@ async def test_a_late_answer_goes_to_nobody_rather_than_to_the_next_asker(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
     clock = FakeClock()
-    box = LateBox(clock, b"|;")
+    box = LateBox(clock, b"|;", skip=1)  # the first is the link's own, on connecting
     link, _ = link_to(box, clock)
     link.apply(STATE_A)
-    caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2.link")
+    caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2")
     link.connect()
     try:
         await until(lambda: link.status is LinkStatus.OK)
@@ -219,9 +231,9 @@ async def test_bytes_of_an_ended_session_are_dropped() -> None:
         # the first session's answer, read before its port was closed, handed over now
         old_on_data, old_on_lost = pipe.sessions[0]
         old_on_data(encode_reply(UnitIdReply("100", 1)) + encode_reply(Pong(False)))
-        await advance_until(clock, lambda: len(pipe.sessions) == 3 or b"*0;" in pipe.written,
+        await advance_until(clock, lambda: len(pipe.sessions) == 3 or b'"B;' in pipe.written,
                             what="a third session")
-        assert b"*0;" not in pipe.written, "driven on the word of an ended session"
+        assert b'"B;' not in pipe.written, "confirmed on the word of an ended session"
         old_on_lost("the first session's port went away")  # nothing to the third session
         # this session's own answers do confirm the box
         on_data, _ = pipe.sessions[-1]
@@ -229,7 +241,14 @@ async def test_bytes_of_an_ended_session_are_dropped() -> None:
         on_data(encode_reply(UnitIdReply("100", 1)))
         await until(lambda: pipe.written.endswith(b"';"))
         on_data(encode_reply(Pong(False)))
-        await until(lambda: b"*0;" in pipe.written)
+        # confirmed: what does it hold?  An inactive box, every station receiving
+        await until(lambda: pipe.written.endswith(b'|;'))
+        on_data(encode_reply(Pong(False)) + encode_reply(BoxStatus(
+            (TRState.RECEIVE,) * 6, (63,) * 6, (63,) * 6, (63,) * 6))
+            + encode_reply(PolarityStatus(frozenset())) + encode_reply(RelayStatus(frozenset())))
+        await until(lambda: b"*1;" in pipe.written)  # loaded as values and activated
+        assert b"*0;" not in pipe.written
+        on_data(encode_reply(Pong(True)))
         await until(lambda: link.ready)
     finally:
         await link.close()

@@ -25,7 +25,7 @@ from moas_gui.engine.snapshot import SnapshotError, export_selections, restore_s
 from moas_gui.engine.switchstate import StationAntennas
 from moas_gui.hw.moas2.link import LinkTiming
 from moas_gui.hw.moas2.messages import BoxStatus, PolarityStatus, Pong, RelayStatus, TRState
-from moas_gui.hw.moas2.sync import differs
+from moas_gui.hw.moas2.sync import UNSURE, Survey, reconcile
 from moas_gui.state_store import (
     SavedState,
     StateKeeper,
@@ -83,7 +83,7 @@ async def test_the_same_configuration_comes_back_with_the_same_selections(
     assert where.exists() and views[(1, 1)].tx is not None and views[(1, 2)].tx is not None
     await app.open(station)
     assert {(v.station, v.radio): v for v in app.engine.radios()} == views
-    assert app.engine.switch_states() == {1: app._run.links[1]._desired}  # type: ignore[union-attr]
+    assert app.engine.switch_states() == {1: app._run.links[1].session.desired}  # type: ignore[union-attr]
 
 
 @pytest.mark.asyncio
@@ -275,31 +275,44 @@ def _box(tx: tuple[int, ...] = (3, 5, 63, 63, 63, 63),
     return BoxStatus((TRState.RECEIVE,) * 6, tx, rx, (63,) * 6)
 
 
+def _survey(pong: Pong, box: BoxStatus, polarity: frozenset[int],
+            relays: set[int]) -> Survey:
+    return Survey(pong, box, PolarityStatus(polarity), RelayStatus(frozenset(relays)))
+
+
 def test_a_box_that_still_holds_the_saved_state_is_trusted() -> None:
-    assert differs(HELD, Pong(True), _box(), PolarityStatus(frozenset()),
-                   RelayStatus(frozenset({1, 2, 8, 60}))) == ""
-    # transmitting: the transmit antenna's and the extra relays
-    assert differs(HELD, Pong(True), _box(), PolarityStatus(frozenset()),
-                   RelayStatus(frozenset({1, 2, 40, 7, 60}))) == ""
+    for relays in ({1, 2, 8, 60}, {1, 2, 40, 7, 60}):  # receiving; transmitting (extras)
+        r = reconcile(HELD, None, _survey(Pong(True), _box(), frozenset(), relays))
+        assert (r.why, dict(r.adopt)) == ("", {})
+        # the tables and settings are taken as held; every station's antennas go again
+        assert r.believed is not None
+        assert replace(r.believed, stations=HELD.stations) == HELD
+        assert r.believed.stations == (UNSURE,) * 6
 
 
 @pytest.mark.parametrize(("pong", "box", "polarity", "relays", "why"), [
     (Pong(False), _box(), frozenset(), {1, 2, 8, 60}, "inactive"),
-    (None, _box(), frozenset(), {1, 2, 8, 60}, "did not answer"),
-    (Pong(True), _box(rx=(3, 5, 63, 63, 63, 63)), frozenset(), {1, 2, 8, 60}, "station 2"),
     (Pong(True), _box(), frozenset({1}), {1, 2, 8, 60}, "polarity"),
     (Pong(True), _box(), frozenset(), {1, 2, 8}, "relays"),
     (Pong(True), _box(), frozenset(), {1, 2, 8, 60, 33}, "relays"),
 ])
-def test_a_box_that_does_not_is_loaded_again(pong: Pong | None, box: BoxStatus,
-                                             polarity: frozenset[int], relays: set[int],
-                                             why: str) -> None:
-    assert why in differs(HELD, pong, box, PolarityStatus(polarity), RelayStatus(frozenset(relays)))
+def test_a_box_that_does_not_is_loaded_again_as_values(
+        pong: Pong, box: BoxStatus, polarity: frozenset[int], relays: set[int],
+        why: str) -> None:
+    r = reconcile(HELD, None, _survey(pong, box, polarity, relays))
+    assert why in r.why and r.believed is None
+
+
+def test_a_station_showing_other_antennas_than_the_saved_state_is_adopted() -> None:
+    r = reconcile(HELD, None, _survey(Pong(True), _box(rx=(3, 5, 63, 63, 63, 63)), frozenset(),
+                                      {1, 2, 8, 60}))
+    assert dict(r.adopt) == {2: (5, 5, 63)} and "station 2" in r.why
 
 
 def test_a_stopped_state_is_always_loaded() -> None:
-    assert differs(replace(HELD, active=False), Pong(False), _box(), PolarityStatus(frozenset()),
-                   RelayStatus(frozenset())) != ""
+    r = reconcile(replace(HELD, active=False), None,
+                  _survey(Pong(True), _box(), frozenset(), set()))
+    assert r.believed is None and r.why
 
 
 # -- binding --------------------------------------------------------------------------------

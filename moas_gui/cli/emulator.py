@@ -4,14 +4,30 @@
     moas-emulator --headless            the same without a window
     moas-emulator --link ~/moas1        also make ~/moas1 a link to the port
     moas-emulator --port COM7           serve a serial port instead (Windows)
+    moas-emulator --headless --control -            key stations from standard input
+    moas-emulator --headless --control ~/moas1.ctl  ... or from a local socket
 
-With ``--log-level info`` every change of the closed relays is logged
-(``relays 1 2 3 (active)``, ``relays none (inactive)``): a script can watch
-what the box did across a server's restart.
+With ``--log-level info`` every change of the closed relays or of a key line
+is logged (``relays 1 2 3 (active, keyed 1)``, ``relays none (inactive)``),
+and every reset (``reset (*0;) received while station 1 was keyed``): a
+script can watch what the box did across a server's restart.
+
+``--control`` takes commands one line at a time, so stations can be keyed
+without the window: ``key N`` and ``unkey N`` (station 1-6), ``relays``,
+``status`` (one JSON line), ``record [N]`` (the box's record of every relay
+change, key change and reset, each with every station's key state; one JSON
+line each, then ``end M``), ``watch [N]`` (the same, then every new entry as
+it comes) and ``help`` (details in :mod:`moas_gui.hw.moas2.emulator.control`).
+``--control -`` reads standard input and answers on standard output (after
+the lines below); ``--control PATH`` listens on a Unix socket at PATH (any
+number of connections; ``socat - UNIX-CONNECT:PATH`` makes a terminal of
+it); ``--control PORT`` (a number; the only kind on Windows) listens on that
+TCP port of 127.0.0.1, 0 for any free one.
 
 The first line printed is the port's path (flushed at once), so a script
 can read it; a configuration can name the ``--link`` path instead, which
-stays the same from one run to the next.
+stays the same from one run to the next.  Then ``linked at PATH`` (with
+``--link``) and ``control at WHERE`` (with ``--control``, once it listens).
 """
 
 from __future__ import annotations
@@ -27,7 +43,15 @@ from pathlib import Path
 
 from .. import __version__
 from ..hw.moas2.emulator.box import EmulatedBox, Traffic
+from ..hw.moas2.emulator.control import (
+    Control,
+    describe_relays,
+    remove_control,
+    serve_control,
+    serve_stdin,
+)
 from ..hw.moas2.emulator.model import EmulatorModel
+from ..hw.moas2.emulator.record import Event
 from ..hw.moas2.emulator.serve import (
     Endpoint,
     PtyEndpoint,
@@ -56,6 +80,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="the stored unit identifier, 0-99 (what the configuration's Echo checks)")
     p.add_argument("--firmware", default="100", metavar="VER",
                    help="three-character firmware version reported by ':' (default 100)")
+    p.add_argument("--control", metavar="WHERE",
+                   help="take commands (key N, unkey N, relays, status, record, watch, help)"
+                        " from standard input ('-'), a Unix socket at this path, or this"
+                        " TCP port on 127.0.0.1 (a number; 0: any free port)")
     add_log_level(p, "warning", "what goes to standard error")
     p.add_argument("--version", action="version", version=f"moas-emulator {__version__}")
     return p
@@ -89,6 +117,18 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
         print(f"moas-emulator: cannot make the link {args.link}: {exc}", file=sys.stderr)
         endpoint.close()
         return 2
+    control_server: asyncio.AbstractServer | None = None
+    control_at = ""
+    if args.control and args.control != "-":
+        try:
+            control_server, control_at = await serve_control(Control(box), args.control)
+        except OSError as exc:
+            print(f"moas-emulator: cannot listen for --control at {args.control}: {exc}",
+                  file=sys.stderr)
+            endpoint.close()
+            if args.link:
+                remove_link(args.link, endpoint.path)
+            return 2
     stop = asyncio.Event()
     for signum in (signal.SIGINT, signal.SIGTERM):
         with contextlib.suppress(NotImplementedError, RuntimeError, ValueError):
@@ -97,6 +137,11 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
     print(endpoint.path, flush=True)
     if args.link:
         print(f"linked at {args.link}", flush=True)
+    if args.control == "-":
+        print("control at -", flush=True)
+        serve_stdin(Control(box), loop)
+    elif control_server is not None:
+        print(f"control at {control_at}", flush=True)
     window = None
     if windowed:
         from ..ui.emulator_window import EmulatorWindow
@@ -109,6 +154,9 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
     finally:
         if window is not None:
             window.close()
+        if control_server is not None:
+            control_server.close()
+            remove_control(args.control)
         box.close()
         endpoint.close()
         if args.link:
@@ -132,18 +180,27 @@ class _WatchedBox(EmulatedBox):
 
 
 def _log_relays(box: EmulatedBox) -> None:
-    """Log the closed relays (and whether the box is active) whenever they change."""
-    shown: list[tuple[frozenset[int], bool]] = []
+    """Log the closed relays (whether the box is active, which stations are keyed)
+    whenever they change, and every reset with the stations keyed at that moment."""
+    shown: list[str] = []
+    read = [box.model.record.written]
 
     def changed(kind: Traffic, data: bytes) -> None:
         if kind is not Traffic.CHANGED:
             return
+        for entry in box.model.record.after(read[0]):
+            read[0] = entry.seq
+            if entry.event is Event.RESET:
+                keyed = " ".join(str(n) for n in sorted(entry.keyed))
+                log.info("reset (%s) received%s", entry.cause,
+                         f" while station {keyed} was keyed" if len(entry.keyed) == 1
+                         else f" while stations {keyed} were keyed" if entry.keyed else "")
         view = box.view()
-        now = (view.relays, view.active)
-        if not shown or shown[-1] != now:
-            shown[:] = [now]
-            log.info("relays %s (%s)", " ".join(str(r) for r in sorted(view.relays)) or "none",
-                     "active" if view.active else "inactive")
+        line = describe_relays(view.relays, view.active,
+                               frozenset(st.number for st in view.stations if st.key))
+        if shown != [line]:
+            shown[:] = [line]
+            log.info("%s", line)
 
     box.add_listener(changed)
 

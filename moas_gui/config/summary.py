@@ -44,7 +44,19 @@ def summarize(config: Config) -> str:
         if r.always:
             extra.append("inhibited by " + ", ".join(str(x) for x in r.always))
         if r.sub_receiver is not None:
-            extra.append(f"sub receiver radio {r.sub_receiver}")
+            sub = config.radio(r.station, r.sub_receiver)
+            how = [text for on, text in (
+                (r.use_main_freq or bool(sub and sub.use_main_freq), "on this radio's frequency"),
+                (r.persist_sub_receiver or bool(sub and sub.persist_sub_receiver),
+                 "relays kept during transmit")) if on]
+            extra.append(f"sub receiver radio {r.sub_receiver}"
+                         + (f" ({', '.join(how)})" if how else ""))
+        if r.partner:
+            extra.append("partner " + ", ".join(str(x) for x in r.partner))
+        if r.alternate:
+            extra.append(f"{len(r.alternate)} alternate rule{'s' if len(r.alternate) > 1 else ''}"
+                         + (" (AltActive " + ", ".join(str(x) for x in r.alt_active) + ")"
+                            if r.alt_active else ""))
         tail = f"; {'; '.join(extra)}" if extra else ""
         lines.append(f"  station {r.station} radio {r.radio}: {ports}, {mode} mode{tail}")
     lines.append("Antennas per band:")

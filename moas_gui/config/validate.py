@@ -333,6 +333,8 @@ class _Checker:
     def check_radios(self) -> None:
         used_ports: dict[tuple[int, int], m.Radio] = {}
         single = next(iter(self.switches)) if len(self.switches) == 1 else None
+        subs_of = {m.RadioRef(r.station, r.sub_receiver): r for r in self.c.radios
+                   if r.sub_receiver is not None and r.sub_receiver != r.radio}
         for radio in self.c.radios:
             label = f"station {radio.station} radio {radio.radio}"
             for sp in radio.switches:
@@ -367,6 +369,7 @@ class _Checker:
                 if number is not None and m.RadioRef(radio.station, number) not in self.radios:
                     self.r.error(self.r.at(radio, key), f"{label}'s \"{key}\" is radio {number}, "
                                  f"but station {radio.station} has no radio {number} in \"Radios\"")
+            self._sub_flags(radio, label, subs_of)
             for rule in radio.alternate:
                 self.antenna_refs(rule, "ThisAntennas", rule.this_antennas, f"{label}'s Alternate")
                 self.antenna_refs(rule, "OtherAntennas", rule.other_antennas, f"{label}'s Alternate")
@@ -376,6 +379,25 @@ class _Checker:
                 for key, relays in (("Extra", entry.extra), ("Set", entry.set),
                                     ("Reset", entry.reset)):
                     self.relays(entry, key, relays, f"{label}'s Relays")
+
+    def _sub_flags(self, radio: m.Radio, label: str, subs_of: dict[m.RadioRef, m.Radio]
+                   ) -> None:
+        """6.10's radio table lists PersistSubReceiver and UseMainFreq with SubReceiver: they
+        belong on the main radio's entry.  On the sub receiver's own entry they still work."""
+        for key, on in (("PersistSubReceiver", radio.persist_sub_receiver),
+                        ("UseMainFreq", radio.use_main_freq)):
+            if not on or radio.sub_receiver is not None:
+                continue
+            main = subs_of.get(radio.ref)
+            if main is not None:
+                self.r.warning(self.r.at(radio, key), f"{label}'s \"{key}\" belongs on the entry "
+                               f"of its main radio, station {main.station} radio {main.radio}, "
+                               "next to its \"SubReceiver\" (the manual's radio table, 6.10); "
+                               "it is honoured here too")
+            else:
+                self.r.warning(self.r.at(radio, key), f"{label}'s \"{key}\" has no effect: "
+                               f"{label} has no \"SubReceiver\" and is no radio's sub receiver; "
+                               "it belongs on the entry of a radio with a \"SubReceiver\" (6.10)")
 
     def check_misc(self) -> None:
         c = self.c

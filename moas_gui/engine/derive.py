@@ -24,6 +24,12 @@ Alternate receive antennas, per radio, from three sources in this order:
 The switch has one alternate antenna per station: when sources disagree, the
 first wins and triggers wanting something else are dropped (for source 1,
 disagreeing triggers all get "none").
+
+An alternate is never an antenna another radio holds (5.9: "If the alternate
+antenna is not available it will select no antenna for the receiving
+station"): one that conflicts with another radio's transmit or receive antenna
+becomes "none".  The one exception is the partner's receive antenna while the
+partner transmits (5.13), which is why that radio gets it.
 """
 
 from __future__ import annotations
@@ -32,7 +38,7 @@ from moas_gui.config.model import RadioRef
 
 from .index import ConfigIndex, Kind
 from .ranges import describe_khz
-from .rules import permitted, related, unusable
+from .rules import permitted, related, unusable, users
 from .state import State
 
 
@@ -62,6 +68,12 @@ def partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef
     shared = them.tx
     if shared is None or them.rx is None or them.rx == shared:
         return None
+    if them.transmitting and ix.conflict(them.rx, shared):
+        # "The other partner has an antenna which can be used": one that conflicts with the
+        # antenna the partner transmits on cannot be used while it transmits.  Until the
+        # partner is seen transmitting it stays the prepared alternate: the switch's table
+        # (its slot conflicts with the partner's transmit slot) then refuses it by itself.
+        return None
     canon = ix.canon[shared]
     count = 0
     for r in ix.mains:
@@ -75,6 +87,21 @@ def partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef
     if me.tx is not None and me.tx != them.rx and not ix.is_fast(me.tx, them.rx):
         return None
     return them.rx
+
+
+def available(ix: ConfigIndex, st: State, ref: RadioRef, want: int | None,
+              partner: RadioRef | None = None) -> int | None:
+    """``want`` when no radio outside ``ref``'s family holds it (or anything conflicting
+    with it) without the manual's permission, else None.  The receive antenna of
+    ``partner`` is exempt: 5.13 gives it to ``ref`` while the partner transmits."""
+    if want is None:
+        return None
+    for other, role, y in users(ix, st, ref):
+        if other == partner and role == "rx":
+            continue
+        if ix.conflict(want, y) and not permitted(ix, st, ref, other, want, y):
+            return None
+    return want
 
 
 def alternates(ix: ConfigIndex, st: State
@@ -96,7 +123,11 @@ def alternates(ix: ConfigIndex, st: State
                 if ts.tx is not None and ix.conflict(rs.rx, ts.tx) and permitted(
                         ix, st, ref, t, rs.rx, ts.tx):
                     want = partner_alternate(ix, st, ref, t)
-                    safety.append((t, want if want is not None else manual))
+                    if want is not None:
+                        want = available(ix, st, ref, want, partner=t)
+                    else:
+                        want = available(ix, st, ref, manual)
+                    safety.append((t, want))
             allowed = st.alt_active.get(ref)
             for rule in info.radio.alternate:
                 if rule.this_antennas and ix.canon[rs.rx] not in {
@@ -108,6 +139,7 @@ def alternates(ix: ConfigIndex, st: State
                 if want is not None and (want not in ix.antennas or unusable(
                         ix, st, info, want, rs.khz, "rx") is not None):
                     want = None
+                want = available(ix, st, ref, want)
                 for t in ix.mains:
                     if related(ix, ref, t) or (allowed is not None and t not in allowed):
                         continue
@@ -119,7 +151,8 @@ def alternates(ix: ConfigIndex, st: State
                         continue
                     others.append((t, want))
             if allowed is not None and manual is not None:
-                others.extend((t, manual) for t in sorted(allowed) if t in ix.radios
+                free = available(ix, st, ref, manual)
+                others.extend((t, free) for t in sorted(allowed) if t in ix.radios
                               and not related(ix, ref, t))
         if safety:
             wants = {want for _, want in safety}
@@ -127,7 +160,7 @@ def alternates(ix: ConfigIndex, st: State
         elif others:
             alt = others[0][1]
         else:
-            out[ref] = (manual, frozenset())
+            out[ref] = (available(ix, st, ref, manual), frozenset())
             continue
         triggers = {t for t, _want in safety}
         triggers |= {t for t, want in others if want == alt and t not in triggers}
@@ -135,4 +168,4 @@ def alternates(ix: ConfigIndex, st: State
     return out
 
 
-__all__ = ["alternates", "inhibit_reason", "partner_alternate"]
+__all__ = ["alternates", "available", "inhibit_reason", "partner_alternate"]

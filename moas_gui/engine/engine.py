@@ -32,7 +32,7 @@ from .relative import relative_list
 from .selection import recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
-from .switchstate import StationAntennas, SwitchState
+from .switchstate import NO_ANTENNA, StationAntennas, SwitchState
 from .systems import is_selected
 from .views import AVAILABLE, SELECTED, UNAVAILABLE, AntennaView, LayoutView, RadioView
 from .work import Work, radio_name
@@ -66,6 +66,7 @@ class Engine:
         self._owners: dict[int, dict[int, RadioRef | None]] = {}
         self._views: dict[RadioRef, RadioView] = {}
         self._port_cache: dict[RadioRef, tuple[object, PortAntennas]] = {}
+        self._ports: dict[RadioRef, PortAntennas] = {}
         self._station_cache: dict[tuple[object, ...], StationAntennas] = {}
         self._commit(Work(ix, st), force=True)
 
@@ -95,11 +96,24 @@ class Engine:
             out.append(AntennaView(a, ant.label, ant.title, ant.rotator, ant.offset))
         return tuple(out)
 
-    def slot_of(self, switch_id: int, antenna: int, station: int, radio: int) -> int | None:
-        """The switch slot standing for ``antenna`` on that radio's ports (None: none now)."""
+    def slot_of(self, switch_id: int, antenna: int, station: int, radio: int,
+                as_partner_alt: bool | None = None) -> int | None:
+        """The switch slot standing for ``antenna`` on that radio's ports (None: none now).
+
+        A radio listening on its partner's receive antenna as its alternate (5.13) does so
+        through a slot of its own: with ``as_partner_alt`` None that slot is answered while
+        it is in use (and the radio does not hold the antenna itself), with False always the
+        radio's ordinary slot (the one it transmits or receives through), with True always
+        the partner-alternate slot.
+        """
         if antenna not in self._ix.antennas or switch_id not in self._maps:
             return None
-        key = self._classes.key(antenna, RadioRef(station, radio))
+        ref = RadioRef(station, radio)
+        if as_partner_alt is None:
+            pa = self._ports.get(ref)
+            as_partner_alt = (pa is not None and pa.alt == antenna and pa.alt_partner
+                              and antenna not in (pa.tx, pa.rx))
+        key = self._classes.key(antenna, ref, as_partner_alt)
         return self._maps[switch_id].key_slot.get(key)
 
     def may_share(self, a: RadioRef, antenna_a: int, b: RadioRef, antenna_b: int) -> bool:
@@ -239,6 +253,46 @@ class Engine:
             raise BadRequest(f"heading must be a number of degrees (not {heading!r})")
         return self._run(lambda w: select_direction(w, rotator_id, float(heading)), now)
 
+    def keep_switch_antennas(self, switch_id: int, port: int, tx_slot: int, rx_slot: int,
+                             now: float | None = None) -> Changes:
+        """What switch ``switch_id`` holds for ``port`` wins over the saved state.
+
+        A restart (or a reconnection) found the box holding other antennas for that port
+        than the state this engine was restored from: the state could not be saved, or
+        the box was driven from elsewhere.  The box is the truth, above all for a station
+        that transmits on it, so the radio on that port takes the antennas its slots
+        stand for, as they are; its next frequency is decided afresh by the rules.
+        Nothing changes when the port has no radio or a slot stands for no antenna of
+        that radio (the switch link then sends the engine's own choice, which the box
+        applies under its hot-switch rules)."""
+        ix = self._ix
+        ref = ix.port_radio.get((switch_id, port))
+        if ref is None or switch_id not in self._maps:
+            return NO_CHANGES
+        slot_key = self._maps[switch_id].slot_key
+
+        def antenna(slot: int) -> int | None | bool:
+            if slot == NO_ANTENNA:
+                return None
+            key = slot_key.get(slot)
+            for a in ix.antennas:
+                if key is not None and self._classes.key(a, ref) == key:
+                    return a
+            return False
+
+        tx, rx = antenna(tx_slot), antenna(rx_slot)
+        if tx is False or rx is False:
+            return NO_CHANGES
+        rs = self._state.radios[ref]
+        if (rs.tx, rs.rx) == (tx, rx):
+            return NO_CHANGES
+
+        def op(w: Work) -> None:
+            w.st.radios[ref] = w.st.radios[ref].with_(tx=tx, rx=rx, note="")
+            w.log.append(f"{radio_name(ref)}: kept the antennas switch {switch_id} holds "
+                         f"for port {port} (newer than the saved state)")
+        return self._run(op, now, need_running=False)
+
     def stop(self) -> Changes:
         """Stop Switches: every switch inactive, all relays off (3.4.5)."""
         def op(w: Work) -> None:
@@ -284,8 +338,7 @@ class Engine:
             if extra is None or extra not in ix.radios:
                 continue
             einfo = ix.radios[extra]
-            follows = einfo.kind is Kind.ALT or info.radio.use_main_freq or \
-                einfo.radio.use_main_freq
+            follows = einfo.kind is Kind.ALT or ix.sub_flag(extra, "use_main_freq")
             if follows:
                 eold = st.radios[extra].khz
                 st.radios[extra] = st.radios[extra].with_(khz=khz)
@@ -329,7 +382,9 @@ class Engine:
         for ref in ix.order:
             if ix.radios[ref].kind is Kind.ALT:
                 continue
-            key = (st.radios[ref], alts.get(ref), extras.get(ref))
+            partner = st.partners.get(ref)
+            key = (st.radios[ref], alts.get(ref), extras.get(ref), partner,
+                   st.radios[partner].rx if partner in st.radios else None)
             cached = self._port_cache.get(ref)
             if cached is not None and cached[0] == key and not ix.radios[ref].sub:
                 ports[ref] = cached[1]
@@ -359,6 +414,7 @@ class Engine:
             or old.alt_active != st.alt_active or old.relay_on != st.relay_on
             or old.extra_on != st.extra_on or old.stored != st.stored)
         self._state = st
+        self._ports = ports
         self._maps = maps
         self._switch_states = built.states
         self._owners = built.station0_owner

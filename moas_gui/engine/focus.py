@@ -60,6 +60,10 @@ class FocusTable:
     def clear(self) -> None:
         self._stations.clear()
 
+    def items(self) -> dict[int, tuple[int | None, int | None]]:
+        """Every station's ``(active, focus)`` radios (what a saved state keeps)."""
+        return {n: (f.active, f.focus) for n, f in sorted(self._stations.items())}
+
 
 def active_first(items: Iterable[T], key: Callable[[T], tuple[int, int]],
                  table: FocusTable) -> list[T]:

@@ -171,6 +171,7 @@ class ConfigIndex:
         self.conflicts = _symmetric(config.antennas, "conflicts")
         self.fast = _symmetric(config.antennas, "fast")
         self._build_path_groups(config)
+        self._physical_conflicts()
         self.systems: SystemIndex = build_system_index(config.systems, self.canon, self.comps)
         self.shared_members: frozenset[int] = frozenset(
             a for a in self.canon if (m := self.systems.parent(self.canon[a])) is not None
@@ -221,6 +222,32 @@ class ConfigIndex:
         self.combos: dict[frozenset[int], tuple[int, ...]] = {
             k: tuple(sorted(v, key=lambda i: (self.canon[i] != i, i))) for k, v in combos.items()
         }
+
+    def _physical_conflicts(self) -> None:
+        """Two selections using one physical antenna conflict like the antenna with itself.
+
+        5.8: "Since the two paths to the 15 meter antenna use different relays the MOAS
+        server considers them to be different antennas"; they are still one antenna, so a
+        path, another path of it, and a combination using it (``InUse``, 5.3) conflict when
+        any path of it lists itself in ``Conflicts`` (one radio at a time).  An antenna that
+        does not conflict with itself may be used by several radios through any path.
+        """
+        exclusive = {c for c, members in self.group.items() if c == members[0]
+                     and any(m in self.conflicts[m] for m in members)}
+        if not exclusive:
+            return
+        users: dict[int, list[int]] = {}
+        for a in self.ids:
+            for c in self.comps[a] & exclusive:
+                users.setdefault(c, []).append(a)
+        extra: dict[int, set[int]] = {}
+        for found in users.values():
+            for a in found:
+                for b in found:
+                    if b not in self.conflicts[a]:
+                        extra.setdefault(a, set()).add(b)
+        for a, more in extra.items():
+            self.conflicts[a] = self.conflicts[a] | more
 
     def conflict(self, a: int, b: int) -> bool:
         return b in self.conflicts.get(a, ())
@@ -335,6 +362,17 @@ class ConfigIndex:
         points = sorted({v for ps in paths.values() for p in ps for v in (p.lower, p.upper)})
         return IndexedRadio(radio.ref, kind, radio, main, sub, alt, tuple(ports), paths, segments,
                          tuple(bands), tuple(sorted(paths)), tuple(points))
+
+    def sub_flag(self, sub: RadioRef, name: str) -> bool:
+        """``PersistSubReceiver`` or ``UseMainFreq`` (``name`` is the model's attribute) for
+        the sub receiver ``sub``: 6.10's radio table lists them with ``SubReceiver`` on the
+        main radio's entry; a file that puts them on the sub receiver's own entry is honoured
+        too (``--check`` says where they belong)."""
+        info = self.radios.get(sub)
+        if info is None or info.kind is not Kind.SUB or info.main is None:
+            return False
+        main = self.radios[info.main].radio
+        return bool(getattr(main, name) or getattr(info.radio, name))
 
     def radio_info(self, ref: RadioRef) -> IndexedRadio | None:
         return self.radios.get(ref)

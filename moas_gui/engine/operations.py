@@ -76,6 +76,17 @@ class SelectDirection:
 
 
 @dataclass(frozen=True, slots=True)
+class KeepSwitchAntennas:
+    """A switch found holding other antennas for a port than the saved state says: the
+    radio on that port takes the box's antennas (switch slots)."""
+
+    switch_id: int
+    port: int
+    tx_slot: int
+    rx_slot: int
+
+
+@dataclass(frozen=True, slots=True)
 class StopSwitches:
     """File > Stop Switches: every switch inactive, all relays off."""
 
@@ -86,7 +97,7 @@ class StartSwitches:
 
 
 Operation = (SetFrequency | Select | RunFunction | Relative | SetTransmitting
-             | SelectDirection | StopSwitches | StartSwitches)
+             | SelectDirection | KeepSwitchAntennas | StopSwitches | StartSwitches)
 """Anything the engine can be asked to do."""
 
 
@@ -109,6 +120,8 @@ def perform(engine: Engine, op: Operation, now: float) -> Changes:
             return engine.set_transmitting(switch_id, port, transmitting, now=now)
         case SelectDirection(rotator_id, heading):
             return engine.select_direction(rotator_id, heading, now=now)
+        case KeepSwitchAntennas(switch_id, port, tx_slot, rx_slot):
+            return engine.keep_switch_antennas(switch_id, port, tx_slot, rx_slot, now=now)
         case StopSwitches():
             return engine.stop()
         case StartSwitches():
@@ -116,6 +129,7 @@ def perform(engine: Engine, op: Operation, now: float) -> Changes:
 
 
 __all__ = [
+    "KeepSwitchAntennas",
     "Operation",
     "Relative",
     "RunFunction",

@@ -42,6 +42,8 @@ class PortAntennas:
     alt: int | None
     alt_relays: frozenset[int]
     extra: frozenset[int]
+    alt_partner: bool = False
+    """The alternate is the partner's receive antenna (5.13): it has a slot of its own."""
 
 
 def _path(paths: tuple[RangeRelays, ...], khz: float | None) -> RangeRelays | None:
@@ -70,18 +72,24 @@ def radio_relays(ix: ConfigIndex, st: State, ref: RadioRef,
             and _group(ix, rs.tx) != _group(ix, rs.rx)):
         tx_relays = tx_relays | rx_path.persistent
         rx_relays = rx_relays | tx_path.persistent
-    if info.kind is Kind.SUB and info.ports and not info.radio.persist_sub_receiver:
-        return PortAntennas(None, frozenset(), rs.rx, rx_relays, None, frozenset(), frozenset())
     if info.kind is Kind.SUB and info.ports:
+        if not ix.sub_flag(ref, "persist_sub_receiver"):
+            return PortAntennas(None, frozenset(), rs.rx, rx_relays, None, frozenset(),
+                                frozenset())
         return PortAntennas(rs.rx, rx_relays, rs.rx, rx_relays, None, frozenset(), frozenset())
+    rx_antenna = rs.rx
     sub = info.sub
     if sub is not None and sub in ix.radios and not ix.radios[sub].ports:
         ss = st.radios[sub]
         if ss.rx is not None:
             p = _path(ix.radios[sub].paths.get(ss.rx, ()), ss.khz)
             if p is not None:
+                if rx_antenna is None:
+                    # the main radio receives on nothing: the port's receive antenna is the
+                    # sub receiver's, so its relays are not dropped with the empty slot
+                    rx_antenna = ss.rx
                 rx_relays = rx_relays | p.rx_relays
-                if info.radio.persist_sub_receiver:
+                if ix.sub_flag(sub, "persist_sub_receiver"):
                     tx_relays = tx_relays | p.rx_relays
     alt_antenna = alt[0] if alt else None
     alt_relays: frozenset[int] = frozenset()
@@ -95,8 +103,11 @@ def radio_relays(ix: ConfigIndex, st: State, ref: RadioRef,
             alt_antenna = None
         else:
             alt_relays = p.rx_relays
-    return PortAntennas(rs.tx, tx_relays, rs.rx, rx_relays, alt_antenna, alt_relays,
-                        extras.get(ref, frozenset()))
+    partner = st.partners.get(ref)
+    alt_partner = (alt_antenna is not None and partner is not None and partner in st.radios
+                   and st.radios[partner].rx == alt_antenna)
+    return PortAntennas(rs.tx, tx_relays, rx_antenna, rx_relays, alt_antenna, alt_relays,
+                        extras.get(ref, frozenset()), alt_partner)
 
 
 @dataclass(slots=True)
@@ -112,9 +123,11 @@ def slot_needs(ix: ConfigIndex, classes: SlotClasses, ports: Mapping[RadioRef, P
     for ref, pa in ports.items():
         info = ix.radios[ref]
         for switch_id, _port in info.ports:
-            for a in (pa.tx, pa.rx, pa.alt):
+            for a in (pa.tx, pa.rx):
                 if a is not None:
                     needed[switch_id].add(classes.key(a, ref))
+            if pa.alt is not None:
+                needed[switch_id].add(classes.key(pa.alt, ref, pa.alt_partner))
     return needed
 
 
@@ -206,7 +219,8 @@ def build(ix: ConfigIndex, st: State, classes: SlotClasses, maps: Mapping[int, S
                         _local_cached(pa.tx_relays, switch_id) if pa.tx is not None else frozenset(),
                         m.slot(classes.key(pa.rx, ref)) if pa.rx is not None else NO_ANTENNA,
                         _local_cached(pa.rx_relays, switch_id) if pa.rx is not None else frozenset(),
-                        m.slot(classes.key(pa.alt, ref)) if pa.alt is not None else NO_ANTENNA,
+                        m.slot(classes.key(pa.alt, ref, pa.alt_partner))
+                        if pa.alt is not None else NO_ANTENNA,
                         _local_cached(pa.alt_relays, switch_id) if pa.alt is not None else frozenset(),
                         extra,
                     )
@@ -292,8 +306,8 @@ def _waivers(ix: ConfigIndex, st: State, classes: SlotClasses, m: SlotMap,
                     if not ok and y_is_alt and not x_is_alt:
                         ok = st.partners.get(b) == a and x == pa.rx and x == y
                     if ok:
-                        s1 = m.slot(classes.key(x, a))
-                        s2 = m.slot(classes.key(y, b))
+                        s1 = m.slot(classes.key(x, a, x_is_alt and pa.alt_partner))
+                        s2 = m.slot(classes.key(y, b, y_is_alt and pb.alt_partner))
                         out.add((s1, s2) if s1 <= s2 else (s2, s1))
     return frozenset(out)
 

@@ -226,7 +226,7 @@ def plan(ix: ConfigIndex, st: State, ref: RadioRef, antenna: int, *,
             result.takeovers.append(other)
             continue
         for role, y in roles:
-            moved = _repath(ix, st, ref, mine, other, role, y, held, result) if repath else None
+            moved = _repath(ix, st, ref, mine, other, role, y, result) if repath else None
             if moved is None:
                 return None, (f"{ix.describe(y)} is in use by {other}"
                               if y in mine or ix.canon[y] in {ix.canon[m] for m in mine}
@@ -237,7 +237,7 @@ def plan(ix: ConfigIndex, st: State, ref: RadioRef, antenna: int, *,
 
 
 def _repath(ix: ConfigIndex, st: State, ref: RadioRef, mine: Sequence[int], other: RadioRef,
-            role: str, y: int, held: list[tuple[RadioRef, str, int]], result: UsePlan) -> int | None:
+            role: str, y: int, result: UsePlan) -> int | None:
     ors = st.radios[other]
     oinfo = ix.radios[other]
     both = ors.tx == ors.rx
@@ -247,8 +247,11 @@ def _repath(ix: ConfigIndex, st: State, ref: RadioRef, mine: Sequence[int], othe
         if any(_blocks(ix, st, ref, x, other, y2) for x in mine):
             continue
         clash = False
-        for third, _r, z in held:
-            if third == other:
+        # every other holder counts, the requesting radio's own family too (its sub receiver
+        # may hold an antenna on the new path's feed); the requesting radio's own antennas
+        # are the ones being replaced (``mine``, checked above)
+        for third, _r, z in users(ix, st, other):
+            if third == ref:
                 continue
             z = result.moves.get((third, _r), z)
             if _blocks(ix, st, other, y2, third, z):

@@ -13,6 +13,11 @@ server owns the mapping, per switch (ERRATA).  The rules:
   antenna when partners or sub receivers with their own port exist) are keyed
   per owning radio, so a waived conflict between two sharing radios never
   loosens the table for a third.
+* A radio listening on its partner's receive antenna as its alternate (5.13)
+  does so through a slot of its own (the key's third part), whose conflict
+  with the partner's slot is the one waived: the radio's ordinary slot for that
+  antenna keeps every conflict, so the table never lets it take the antenna
+  for transmit or receive while the partner holds it.
 * When every key a switch could need fits in 63 slots, the mapping is fixed
   when the engine starts and the tables never change (apart from waivers).
 * Otherwise slots are given to keys when they come into use.  A slot given up
@@ -29,7 +34,7 @@ server owns the mapping, per switch (ERRATA).  The rules:
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 
 from moas_gui.config.model import RadioRef
@@ -38,8 +43,8 @@ from .errors import Unavailable
 from .index import ConfigIndex, Kind
 from .switchstate import NO_ANTENNA
 
-SlotKey = tuple[int, RadioRef | None]
-"""(antenna class, owning radio or None)."""
+SlotKey = tuple[int, RadioRef | None, bool]
+"""(antenna class, owning radio or None, held as the partner's receive antenna)."""
 
 SLOTS = 63
 SETTLE_MARGIN_S = 0.5
@@ -76,9 +81,13 @@ class SlotClasses:
         self.rep: dict[int, int] = {k: v[0] for k, v in self.members.items()}
         self.any_owned = any(self.per_radio.values())
         """Whether any antenna is keyed per radio (only then can a conflict be waived)."""
+        self.partners: dict[RadioRef, frozenset[RadioRef]] = _possible_partners(ix)
+        """Every radio that may ever be partnered, with the radios it may be partnered with."""
 
-    def key(self, antenna: int, owner: RadioRef) -> SlotKey:
-        return (self.klass[antenna], owner if self.per_radio[antenna] else None)
+    def key(self, antenna: int, owner: RadioRef, as_partner_alt: bool = False) -> SlotKey:
+        if not self.per_radio[antenna]:
+            return (self.klass[antenna], None, False)
+        return (self.klass[antenna], owner, as_partner_alt)
 
     def conflict(self, k1: SlotKey, k2: SlotKey) -> bool:
         return self.ix.conflict(self.rep[k1[0]], self.rep[k2[0]])
@@ -113,7 +122,40 @@ class SlotClasses:
                         antennas.add(rule.antenna)
             for a in sorted(antennas):
                 keys.setdefault(self.key(a, ref), None)
-        return sorted(keys, key=lambda k: (self.rep[k[0]], k[1] or RadioRef(0, 0)))
+            for other in sorted(self.partners.get(ref, ())):
+                oinfo = ix.radios.get(other)
+                if oinfo is None:
+                    continue
+                for a in sorted(set(info.antennas) & set(oinfo.antennas)):
+                    if self.per_radio[a] and not ix.antennas[a].tx_only:
+                        keys.setdefault(self.key(a, ref, True), None)
+        return sorted(keys, key=_order(self))
+
+
+def _order(classes: SlotClasses) -> Callable[[SlotKey], tuple[int, RadioRef, bool]]:
+    """Keys in a stable order: by class, then owner, the ordinary key before the alternate."""
+    def key(k: SlotKey) -> tuple[int, RadioRef, bool]:
+        return (classes.rep[k[0]], k[1] or RadioRef(0, 0), k[2])
+    return key
+
+
+def _possible_partners(ix: ConfigIndex) -> dict[RadioRef, frozenset[RadioRef]]:
+    """Radios that may be partners (5.13): the ``Partner`` lists and the Partner functions."""
+    pairs: dict[RadioRef, set[RadioRef]] = {}
+
+    def add(a: RadioRef, b: RadioRef) -> None:
+        if a != b and a in ix.radios and b in ix.radios:
+            pairs.setdefault(a, set()).add(b)
+            pairs.setdefault(b, set()).add(a)
+
+    for info in ix.radios.values():
+        for other in info.radio.partner:
+            add(info.ref, other)
+    for f in ix.functions.values():
+        p = f.int_params
+        if f.name == "Partner" and len(p) >= 4:
+            add(RadioRef(p[0], p[1]), RadioRef(p[2], p[3]))
+    return {k: frozenset(v) for k, v in pairs.items()}
 
 
 @dataclass(frozen=True, slots=True)
@@ -199,8 +241,7 @@ def allocate(classes: SlotClasses, old: SlotMap, needed: Iterable[SlotKey], now:
         if k in key_slot:
             released.pop(key_slot[k], None)
     changed: list[int] = []
-    for k in sorted(want - key_slot.keys(), key=lambda k: (classes.rep[k[0]],
-                                                         k[1] or RadioRef(0, 0))):
+    for k in sorted(want - key_slot.keys(), key=_order(classes)):
         slot = next((s for s in range(SLOTS) if s not in slot_key), None)
         if slot is None:
             ready = [(rel.time, s) for s, rel in released.items()

@@ -44,8 +44,11 @@ def _ref(ref: RadioRef) -> list[int]:
 
 
 def _key(key: SlotKey) -> list[Any]:
-    klass, owner = key
-    return [klass, None if owner is None else _ref(owner)]
+    klass, owner, as_partner_alt = key
+    out: list[Any] = [klass, None if owner is None else _ref(owner)]
+    if as_partner_alt:
+        out.append(True)
+    return out
 
 
 def export_selections(engine: Engine) -> dict[str, Any]:
@@ -144,11 +147,15 @@ class _Reader:
             raise self.fail(where, f"there is no antenna {a} in the configuration")
         return a
 
-    def key(self, klass: object, owner: object, where: str, classes: Mapping[int, Any]) -> SlotKey:
+    def key(self, klass: object, owner: object, where: str, classes: Mapping[int, Any],
+            as_partner_alt: object = False) -> SlotKey:
         k = self.int_(klass, where)
         if k not in classes:
             raise self.fail(where, f"no antenna class {k}")
-        return (k, None if owner is None else self.ref(owner, where))
+        if not isinstance(as_partner_alt, bool) or as_partner_alt and owner is None:
+            raise self.fail(where, f"expected true for a partner's alternate slot, found "
+                            f"{as_partner_alt!r:.20}")
+        return (k, None if owner is None else self.ref(owner, where), as_partner_alt)
 
 
 def _radios(r: _Reader, data: Mapping[str, Any], st: State) -> None:
@@ -234,9 +241,11 @@ def _maps(r: _Reader, engine: Engine, data: Mapping[str, Any], now: float) -> di
         key_slot: dict[SlotKey, int] = {}
         slot_key: dict[int, SlotKey] = {}
         for item in r.list_(entry.get("slots"), where):
-            slot, klass, owner = r.list_(item, where, 3)
+            fields = r.list_(item, where, 4 if isinstance(item, list) and len(item) == 4
+                             else 3)
+            slot, klass, owner = fields[:3]
             slot = r.int_(slot, where)
-            key = r.key(klass, owner, where, classes.rep)
+            key = r.key(klass, owner, where, classes.rep, *fields[3:])
             if not 0 <= slot < 63 or slot in slot_key or key in key_slot:
                 raise r.fail(where, f"slot {slot} is out of range or given twice")
             key_slot[key], slot_key[slot] = slot, key

@@ -205,6 +205,46 @@ class FaultyPty(PtyEndpoint):
             super().write(data)
 
 
+def garbage(data: bytes) -> bytes:
+    """Noise on the line: bytes no MOAS II message has, in the middle of a reply."""
+    cut = len(data) // 2
+    return data[:cut] + b"\x07\xff%&\x1b[0m" + data[cut:]
+
+
+def truncated() -> Callable[[bytes], bytes]:
+    """Every third reply cut short: its last byte (the ';' or more) is lost."""
+    count = [0]
+
+    def spoil(data: bytes) -> bytes:
+        count[0] += 1
+        return data[:-1] if count[0] % 3 == 0 else data
+
+    return spoil
+
+
+def reordered(endpoint: Callable[[], FaultyPty | None]) -> Callable[[bytes], bytes]:
+    """Replies swapped in pairs: a reply is held back until the next one has gone out
+    (or 50 ms have passed: a reply delayed, never lost).  ``endpoint`` gives the
+    pseudo-terminal the spoiling is on (it may change: a cable plugged in again)."""
+    held: list[bytes] = []
+
+    def late() -> None:
+        pty = endpoint()
+        if held and pty is not None:
+            pty.spoil = None
+            pty.write(held.pop())
+            pty.spoil = spoil
+
+    def spoil(data: bytes) -> bytes:
+        if not held:
+            held.append(data)
+            asyncio.get_running_loop().call_later(0.05, late)
+            return b""
+        return data + held.pop()
+
+    return spoil
+
+
 class CommandByCommandBox(EmulatedBox):
     """A box that takes the computer's bytes one command at a time, so its listeners see
     every state the relays pass through (a reset and a reload written together open

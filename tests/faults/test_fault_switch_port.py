@@ -12,7 +12,6 @@ from __future__ import annotations
 import asyncio
 import json
 import signal
-from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 
@@ -28,7 +27,10 @@ from fault_harness import (
     Station,
     changes,
     emulator_relays,
+    garbage,
     holds_what_the_engine_says,
+    reordered,
+    truncated,
     until,
 )
 
@@ -141,44 +143,6 @@ async def test_cable_pulled_while_a_station_is_keyed_never_moves_a_relay(
         switch.unplug()
 
 
-def garbage(data: bytes) -> bytes:
-    """Noise on the line: bytes no MOAS II message has, in the middle of a reply."""
-    cut = len(data) // 2
-    return data[:cut] + b"\x07\xff%&\x1b[0m" + data[cut:]
-
-
-def truncated() -> Callable[[bytes], bytes]:
-    """Every third reply cut short: its last byte (the ';' or more) is lost."""
-    count = [0]
-
-    def spoil(data: bytes) -> bytes:
-        count[0] += 1
-        return data[:-1] if count[0] % 3 == 0 else data
-
-    return spoil
-
-
-def reordered(switch: ScriptedSwitch) -> Callable[[bytes], bytes]:
-    """Replies swapped in pairs: a reply is held back until the next one has gone out
-    (or 50 ms have passed: a reply delayed, never lost)."""
-    held: list[bytes] = []
-
-    def late() -> None:
-        if held and switch.endpoint is not None:
-            switch.endpoint.spoil = None
-            switch.endpoint.write(held.pop())
-            switch.endpoint.spoil = spoil
-
-    def spoil(data: bytes) -> bytes:
-        if not held:
-            held.append(data)
-            asyncio.get_running_loop().call_later(0.05, late)
-            return b""
-        return data + held.pop()
-
-    return spoil
-
-
 @pytest.mark.parametrize("spoil", ["garbage", "truncated", "reordered"])
 async def test_spoiled_replies_cost_nothing_on_the_air(tmp_path: Path, spoil: str) -> None:
     station, switch, server = await scripted_station(tmp_path, SPOILED_TIMING)
@@ -189,7 +153,7 @@ async def test_spoiled_replies_cost_nothing_on_the_air(tmp_path: Path, spoil: st
         mark, told = len(server.lines), len(client.told)
         assert switch.endpoint is not None
         switch.endpoint.spoil = {"garbage": garbage, "truncated": truncated(),
-                                 "reordered": reordered(switch)}[spoil]
+                                 "reordered": reordered(lambda: switch.endpoint)}[spoil]
         for khz in (14025.0, 7020.0, 3510.0, 21030.0):
             station.logger(radio_info_packet(1, khz))
             await holds_what_the_engine_says(station, client, lambda: switch.relays)

@@ -25,10 +25,11 @@ The rules, in plain words:
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, replace
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
 
-from ...engine.switchstate import STATIONS, StationAntennas, SwitchState
+from ...engine.switchstate import NO_ANTENNA, STATIONS, StationAntennas, SwitchState
 from .commands import MAX_RELAYS, encode_all
 from .messages import (
     Antenna,
@@ -54,6 +55,7 @@ from .messages import (
     StateOp,
     StationMode,
     SystemTable,
+    TRState,
     Uninhibit,
     UseAlternate,
 )
@@ -318,44 +320,204 @@ def difference(
     return p.plan()
 
 
-def differs(
-    held: SwitchState,
-    pong: Pong | None,
-    box: BoxStatus | None,
-    polarity: PolarityStatus | None,
-    relays: RelayStatus | None,
-) -> str:
-    """Why a box that answered these status requests does not hold ``held`` ("" when,
-    as far as a box can tell, it does).
+UNSURE = StationAntennas(
+    tx=-1, tx_relays=frozenset({-1}), rx=-1, rx_relays=frozenset({-1}),
+    alt=-1, alt_relays=frozenset({-1}), extra=frozenset({-1}),
+)
+"""A station whose antennas and relays on the box are not known for sure: every
+antenna command of the wanted state differs from it, so :func:`difference` sends
+them all (a box that holds them already takes them as no change)."""
 
-    The box reports whether it is active, every station's current antennas, the
-    inhibit polarity and the closed relays; it cannot report its tables, timings,
-    interlocks or the relays behind each antenna.  So: active, the same antennas,
-    the same polarity, and closed relays that ``held`` explains (the always-on
-    relays closed, nothing closed that no antenna of ``held`` selects).  A box
-    reset or powered off since is inactive, and one driven by anyone else almost
-    surely shows other antennas or relays.
+
+def absolute(
+    state: SwitchState, *, box_active: bool, events: tuple[StateOp, ...] = DEFAULT_EVENTS
+) -> CommandPlan:
+    """Everything that makes a box hold ``state``, whatever it holds now, without a
+    reset: every table cleared and loaded, every setting, interlock and station sent
+    as a value (not as a change), the events asked for, and activation when
+    ``state.active`` and the box is not active yet.
+
+    On an active box (``box_active``) the whole load goes between "resolver off" and
+    "resolver on", so no antenna moves until the box has every table, and then every
+    antenna change goes through the box's own hot-switch rules: a transmitting station
+    in wait mode keeps its relays until it receives.  This is how the link loads a box
+    on its own initiative (a restart, a reconnection, a box found reset): it never
+    resets a box (``*0``), which would open every relay at once (docs/switch.md)."""
+    p = _Planner()
+    if box_active:
+        p.commands.append(SetState((StateOp.RESOLVER_OFF,)))
+    p.commands += [ConflictTable(ConflictOp.NONE)]
+    conflicts = tuple(sorted(p._pairs(state.conflicts, "conflict")))
+    if conflicts:
+        p.commands.append(ConflictTable(ConflictOp.SET, conflicts))
+    p.commands.append(FastTable(FastOp.ALL_SLOW))
+    fast = tuple(sorted(p._pairs(state.fast, "fast")))
+    if fast:
+        p.commands.append(FastTable(FastOp.FAST, fast))
+    p.commands.append(SystemTable(True))
+    systems = tuple((a, n) for a, n in sorted(state.systems) if 0 <= a <= 63 and 1 <= n <= 63)
+    if systems:
+        p.commands.append(SystemTable(False, systems))
+    low = p._stations(state.enable_low, "polarity")
+    p.commands.append(InhibitPolarity(PolarityOp.ALL_INHIBIT_LOW))
+    if low:
+        p.commands.append(InhibitPolarity(PolarityOp.ENABLE_LOW, low))
+    interrupt = p._stations(state.interrupt, "interrupt mode")
+    wait = frozenset(STATIONS) - interrupt
+    if wait:
+        p.commands.append(Mode(StationMode.WAIT, wait))
+    if interrupt:
+        p.commands.append(Mode(StationMode.INTERRUPT, interrupt))
+    p.commands.append(InhibitTime(p._ms(state.inhibit_time, 1, 9999, "inhibit time")))
+    p.commands.append(
+        InterruptDelay(p._ms(state.interrupt_delay, 0, 99, "interrupt delay")))
+    for n in STATIONS:
+        ms = p._ms(state.receive_delay[n - 1], 0, 9999, f"station {n} receive delay")
+        p.commands.append(ReceiveDelay(n, ms))
+    for n in STATIONS:
+        others = p._stations(state.inhibit_others[n - 1] - {n}, f"station {n} inhibits")
+        p.commands.append(InhibitOthers(n, others))
+    for n in STATIONS:
+        others = p._stations(state.use_alternate[n - 1] - {n}, f"station {n} alternates")
+        p.commands.append(UseAlternate(n, others))
+    inhibited = p._stations(state.inhibited, "inhibit")
+    if inhibited:
+        p.commands.append(Inhibit(inhibited))
+    if frozenset(STATIONS) - inhibited:
+        p.commands.append(Uninhibit(frozenset(STATIONS) - inhibited))
+    if events:
+        p.commands.append(SetState(events))
+    unsure = SwitchState(stations=(UNSURE,) * len(STATIONS), station0=frozenset({-1}))
+    p.antennas(unsure, state, bracket=False)
+    if box_active:
+        p.commands.append(SetState((StateOp.RESOLVER_ON,)))
+    elif state.active:
+        p.commands.append(SetState((StateOp.ACTIVATE,)))
+    return p.plan()
+
+
+Slots = tuple[int, int, int]
+"""A station's transmit, receive and alternate antennas (switch slots)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Survey:
+    """What a box answered when the link asked what it holds."""
+
+    pong: Pong
+    box: BoxStatus
+    polarity: PolarityStatus
+    relays: RelayStatus
+
+    def keyed(self) -> frozenset[int]:
+        """Stations that transmit, or may: a station shown inhibited by command (``I``)
+        does not say whether its key line is up, so it counts as transmitting."""
+        return frozenset(
+            n for n, letter in zip(STATIONS, self.box.tr, strict=False)
+            if letter is not TRState.RECEIVE
+        ) | frozenset(STATIONS[len(self.box.tr):])
+
+    def slots(self, station: int) -> Slots:
+        at = station - 1
+        return (self.box.tx[at], self.box.rx[at], self.box.alt[at])
+
+
+@dataclass(frozen=True, slots=True)
+class Reconciliation:
+    """How a box found on (re)connection is brought to the wanted state."""
+
+    keyed: frozenset[int]
+    """Stations transmitting (or that may be) when the box answered."""
+    believed: SwitchState | None
+    """What the box is taken to hold: the wanted state goes out as the difference from
+    it; None when the box's contents are not known well enough, and the whole state goes
+    out as values (:func:`absolute`), never as a reset."""
+    adopt: Mapping[int, Slots] = field(default_factory=lambda: MappingProxyType({}))
+    """Stations whose antennas on the box win over the saved state: the engine takes
+    them as the radio's antennas (the saved state is older than the box)."""
+    waiting: frozenset[int] = frozenset()
+    """Transmitting stations whose last change the box still holds back (wait mode):
+    consistent, and sent again so that it is surely what the box applies at receive."""
+    why: str = ""
+    """Why the box does not simply hold the saved state ("" when it does)."""
+    inactive: bool = False
+    """The box is inactive: reset or powered off since it was loaded."""
+
+
+def slots_of(station: StationAntennas) -> Slots:
+    return (station.tx, station.rx, station.alt)
+
+
+def reconcile(
+    held: SwitchState | None, seen: Sequence[Slots] | None, survey: Survey
+) -> Reconciliation:
+    """Compare what a box reports (``survey``) with what it was last told (``held``,
+    from this server or the saved state) and last seen holding (``seen``: the antennas
+    it reported as in use), station by station.
+
+    * An inactive box lost what it held (reset, power): it is loaded again as values.
+    * A station showing what it was told is consistent.
+    * A transmitting station showing what it was *seen* holding, not what it was told
+      since, has a change waiting for it to receive (wait mode): consistent.
+    * Any other station shows a change the saved state does not know (the state could
+      not be saved, or the box was driven from elsewhere): what the box holds wins and
+      the engine adopts it (stations transmitting always, receiving ones when a saved
+      state exists to be wrong).
+    * What cannot be judged station by station (inhibit polarity, closed relays that
+      the saved state cannot explain while nobody transmits) loads the box as values.
     """
-    if pong is None or box is None or polarity is None or relays is None:
-        return "it did not answer every status request"
-    if not held.active:
-        return "the saved state is stopped"
-    if min(len(box.tx), len(box.rx), len(box.alt)) < len(STATIONS):
-        return "its box status is incomplete"
-    if not pong.active:
-        return "it is inactive (reset or powered off since)"
+    keyed = survey.keyed()
+    if not survey.pong.active:
+        return Reconciliation(keyed, None, why="it is inactive (reset or powered off since)",
+                              inactive=True)
+    adopt: dict[int, Slots] = {}
+    if held is None or not held.active:
+        for n in sorted(keyed):
+            if survey.slots(n) != (NO_ANTENNA,) * 3:
+                adopt[n] = survey.slots(n)
+        why = "there is no saved state" if held is None else "the saved state is stopped"
+        return Reconciliation(keyed, None, MappingProxyType(adopt), why=why)
+    waiting = set()
     for n, station in zip(STATIONS, held.stations, strict=True):
-        at = n - 1
-        if (box.tx[at], box.rx[at], box.alt[at]) != (station.tx, station.rx, station.alt):
-            return f"station {n} has other antennas"
-    if polarity.enable_low != held.enable_low:
-        return "its inhibit polarity differs"
-    possible = set(held.station0)
-    for station in held.stations:
-        possible |= station.tx_relays | station.rx_relays | station.alt_relays | station.extra
-    if not relays.relays <= possible or not held.station0 <= relays.relays:
-        return "its closed relays differ"
-    return ""
+        found = survey.slots(n)
+        if found == slots_of(station):
+            continue
+        told, before = slots_of(station), tuple(seen[n - 1]) if seen is not None else None
+        if n in keyed and before is not None and all(
+                f in (t, b) for f, t, b in zip(found, told, before, strict=True)):
+            waiting.add(n)  # each antenna is the one told, or still the one seen before
+        else:
+            adopt[n] = found
+    why = ""
+    if survey.polarity.enable_low != held.enable_low:
+        why = "its inhibit polarity differs"
+    elif not keyed and not adopt:
+        possible = set(held.station0)
+        for station in held.stations:
+            possible |= station.tx_relays | station.rx_relays | station.alt_relays
+        if not survey.relays.relays <= possible | _extras(held) \
+                or not held.station0 <= survey.relays.relays:
+            why = "its closed relays differ"
+    believed: SwitchState | None = None
+    if not why:
+        # The box reports antennas (slots), not the relays behind them: a command lost on
+        # the line leaves the right slot with other relays, which no status shows.  So
+        # every station's antenna commands go again; the box takes the same antenna and
+        # relays as no change, and anything else under its hot-switch rules.  A keyed
+        # station's extra relays (closed while it transmits, at once) are not resent.
+        believed = replace(held, stations=tuple(
+            replace(UNSURE, extra=s.extra) if n in keyed else UNSURE
+            for n, s in zip(STATIONS, held.stations, strict=True)))
+    if adopt and not why:
+        why = "; ".join(f"station {n} holds other antennas" for n in sorted(adopt))
+    return Reconciliation(keyed, believed, MappingProxyType(adopt), frozenset(waiting), why)
+
+
+def _extras(state: SwitchState) -> set[int]:
+    found: set[int] = set()
+    for station in state.stations:
+        found |= station.extra
+    return found
 
 
 def count_bytes(old: SwitchState, new: SwitchState) -> int:
@@ -372,10 +534,16 @@ __all__ = [
     "ALL_PAIRS",
     "DEFAULT_EVENTS",
     "POWER_ON",
+    "UNSURE",
     "CommandPlan",
+    "Reconciliation",
+    "Slots",
+    "Survey",
+    "absolute",
     "count_bytes",
     "difference",
-    "differs",
     "initialise",
+    "reconcile",
+    "slots_of",
     "stopped",
 ]

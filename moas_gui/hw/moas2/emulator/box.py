@@ -18,6 +18,7 @@ from enum import Enum
 from moas_gui.clock import Clock, Timer
 
 from .model import EmulatorModel
+from .record import Record
 from .view import BoxView
 
 log = logging.getLogger("moas_gui.hw.moas2.emulator")
@@ -102,6 +103,11 @@ class EmulatedBox:
 
     def view(self) -> BoxView:
         return self.model.view()
+
+    @property
+    def record(self) -> Record:
+        """Every relay change, key change and reset, with the key states (:mod:`.record`)."""
+        return self.model.record
 
     # ------------------------------------------------------------------ internals
 

@@ -10,6 +10,7 @@ from ..messages import (
     StateOp,
 )
 from .pairs import PairTable
+from .record import Record
 from .station import Kind, Station
 
 STATIONS = (1, 2, 3, 4, 5, 6)
@@ -60,6 +61,12 @@ class BoxState:
         self._seq = 0
         self._out: list[BoxMessage] = []
         self.stations: dict[int, Station] = {n: Station(n) for n in STATIONS}
+        self.record = Record()
+        """Every change of the closed relays, key line and reset (see :mod:`.record`)."""
+        self._recorded: tuple[frozenset[int], tuple[frozenset[int], ...]] = (
+            frozenset(), tuple(frozenset() for _ in STATIONS))
+        self._command = ""
+        """The command being carried out (for the record)."""
         self._power_on()
 
     def _power_on(self) -> None:

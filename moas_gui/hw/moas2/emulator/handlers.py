@@ -44,6 +44,7 @@ from ..messages import (
     VendorReply,
 )
 from .boxstate import _EVENT_FLAGS, _KIND_OF, STATIONS, VENDOR_TEXT
+from .record import Event
 from .station import Kind, Request, Slot
 from .switching import Switching
 
@@ -125,6 +126,7 @@ class CommandHandlers(Switching):
     def _set_state(self, c: SetState) -> None:
         for op in c.ops:
             if op is StateOp.RESET:
+                self._write(Event.RESET, self._command)
                 self._power_on()
             elif op is StateOp.ACTIVATE:
                 self._activate()

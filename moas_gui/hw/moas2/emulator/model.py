@@ -17,10 +17,17 @@ where the manual is silent):
 * Input: characters at or below space are ignored, ``$`` throws away the
   command so far, ``;`` ends a command.  The input buffer holds 128
   characters; a longer command is answered ``?F`` and dropped up to its ``;``.
-* After power-on or ``*0`` the box is inactive: all relays open, nothing
-  switches, antenna commands are remembered.  ``*1`` activates it and turns
-  the conflict resolver on; a station whose key line is already asserted then
-  gets the slow-transition inhibit while its relays close.
+* After power-on or ``*0`` the box is inactive: all relays open (a reset
+  under a transmitting station opens its relays too: the manual's "power-up
+  state"), nothing switches, antenna commands are remembered, every station is
+  in wait mode; the key lines are still followed.  ``*1`` activates it and
+  turns the conflict resolver on.  A station whose key line is asserted at
+  that moment is transmitting: it goes on the air where it stands (on no
+  relays, after a reset) and its remembered antenna commands are changes on
+  the air -- in wait mode they wait until it stops transmitting, in interrupt
+  mode (set by ``&`` before ``*1``) its inhibit is asserted, the interrupt
+  delay runs and the relays move the slow way.  Receive and alternate
+  antennas are not in use while it transmits and are taken at once.
 * Antenna commands become requests; the resolver (see :mod:`.resolver`)
   carries them out when there is no conflict and the station's phase table
   (see :mod:`.station`) allows, and holds them otherwise.  A newer request of
@@ -31,6 +38,9 @@ where the manual is silent):
   is on the air (none at all if the alternate conflicts with another
   station's antenna), the transmit antenna's if the transmit/receive pair is
   not in the fast table.
+* Every change of the closed relays, every key line change and every ``*0``
+  goes into :attr:`record` with each station's key state and relays at that
+  moment (see :mod:`.record`).
 * A station's inhibit is asserted while it is inhibited by command, while a
   station that ``~`` lists it for is on the air, and during slow transitions
   and interrupts.  The output is pulled down when inhibited (or, with ``^E``,
@@ -47,6 +57,7 @@ from ..messages import (
 from ..replies import encode_reply
 from .boxstate import INPUT_BUFFER, STATIONS, Connection
 from .handlers import HANDLERS, CommandHandlers
+from .record import Event
 from .station import NO_SLOT, Kind, Station, Trigger
 from .view import BoxView, StationView
 
@@ -91,6 +102,7 @@ class EmulatorModel(CommandHandlers):
                 else:
                     self._fire(st, Trigger.KEY_UP)
                 self._settle()
+            self._write(Event.KEY, f"{'key' if transmitting else 'unkey'} {station}")
         return self._flush()
 
     def view(self) -> BoxView:
@@ -140,8 +152,10 @@ class EmulatorModel(CommandHandlers):
         except CommandRejected as exc:
             self._emit(ErrorReply(exc.code))
             return
+        self._command = f"{text};"
         HANDLERS[type(command)](self, command)
         self._settle()
+        self._note(self._command)
 
     # ------------------------------------------------------------------ view
 

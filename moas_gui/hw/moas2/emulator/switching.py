@@ -16,6 +16,7 @@ from ..messages import (
     TransmitEvent,
 )
 from .boxstate import _SLACK, BoxState, Connection
+from .record import Entry, Event
 from .resolver import CLAIMING, KIND_ORDER, Candidate, choose
 from .station import Kind, Phase, Slot, Station, Timer, Trigger, next_phase
 
@@ -49,18 +50,62 @@ class Switching(BoxState):
             return
         self.active = True
         self.resolver_on = True
-        self._resolve()
         for st in self.stations.values():
             if st.key:
-                # Relays close under a transmitting radio: inhibit it meanwhile.
-                self._fire(st, Trigger.KEY_DOWN_SLOW)
-                self._go_on_air(st)
+                # Its radio transmits: it goes on the air where it stands (after a reset
+                # or power-on, on no relays at all), and only then does the resolver look
+                # at its antenna commands, which wait (wait mode) or interrupt (interrupt
+                # mode) like any change on the air.
+                self._key_down(st)
+        self._resolve()
 
     def _advance_to(self, now: float) -> None:
         while (deadline := self.next_deadline()) is not None and deadline <= now + _SLACK:
             self._now = max(self._now, deadline)
             self._settle()
+            self._note("timer")
         self._now = max(self._now, now)
+
+    # ------------------------------------------------------------------ the record
+
+    def _closed_now(self) -> tuple[frozenset[int], ...]:
+        if not self.active:
+            return tuple(frozenset() for _ in self.stations)
+        return tuple(self._closed(st) for st in self.stations.values())
+
+    def _write(self, event: Event, cause: str) -> None:
+        """Add an entry to the record: the box as it is now."""
+        relays, closed = self.relays(), self._closed_now()
+        keyed = frozenset(n for n, st in self.stations.items() if st.key)
+        interrupt_mode = frozenset(
+            n for n, st in self.stations.items() if st.mode is StationMode.INTERRUPT)
+        last = self.record.last
+        if last is not None:
+            # What did not change is the last entry's own: an entry costs little more
+            # than what changed.
+            relays = last.relays if relays == last.relays else relays
+            closed = last.closed if closed == last.closed else tuple(
+                old if old == new else new for old, new in zip(last.closed, closed, strict=True))
+            keyed = last.keyed if keyed == last.keyed else keyed
+            if interrupt_mode == last.interrupt_mode:
+                interrupt_mode = last.interrupt_mode
+        self._recorded = (relays, closed)
+        self.record.add(Entry(
+            seq=self.record.written + 1,
+            at=self._now,
+            event=event,
+            cause=cause,
+            active=self.active,
+            relays=relays,
+            keyed=keyed,
+            closed=closed,
+            interrupt_mode=interrupt_mode,
+        ))
+
+    def _note(self, cause: str) -> None:
+        """Add an entry if the closed relays changed since the last one."""
+        if (self.relays(), self._closed_now()) != self._recorded:
+            self._write(Event.RELAYS, cause)
 
     def _settle(self) -> None:
         """Run timers that are due and the resolver until nothing moves."""

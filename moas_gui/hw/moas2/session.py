@@ -1,0 +1,881 @@
+"""The switch session as a pure state machine: bytes and time in, actions out.
+
+:class:`SwitchSession` holds every decision the switch link makes about one
+MOAS II; :class:`~.link.SwitchLink` is the thin driver around it that opens
+the port, writes what the session says, calls the server back and waits for
+the session's next deadline.  The session never reads a clock, never touches
+a port and never awaits: the driver hands it ``now`` with every call, so a
+test can play any interleaving of bytes, silences and port losses against it.
+
+Inputs: :meth:`~SwitchSession.opened` (a port is open), :meth:`~SwitchSession.feed`
+(bytes from the box), :meth:`~SwitchSession.tick` (the deadline came),
+:meth:`~SwitchSession.lost` (the port went away), :meth:`~SwitchSession.apply`
+(the engine's wanted state), :meth:`~SwitchSession.stop`, :meth:`~SwitchSession.start`,
+:meth:`~SwitchSession.reset` (the operator) and :meth:`~SwitchSession.ask` (a
+question of the driver's own).  Each returns a list of actions:
+:class:`Write`, :class:`Status`, :class:`Transmit`, :class:`BoxError`,
+:class:`Adopt`, :class:`Reconcile`, :class:`Answered` and :class:`End`.
+
+A session's life:
+
+1. **Confirm**: ask the unit id and a ping; a box that answers with another unit
+   (or says another unit's id before that ping's answer) is not driven.
+2. **Survey**: ask what the box holds and who transmits (ping, box status,
+   inhibit polarity, relays), up to :data:`SURVEY_TRIES` times.  Until every
+   answer is in, nothing is written that could move a relay.
+3. **Reconcile** (:func:`.sync.reconcile`): the difference from what the box
+   holds, or, when its contents are unsure, the whole state as values
+   (:func:`.sync.absolute`); stations whose antennas on the box win over a stale
+   saved state are first handed to the engine (:class:`Adopt`).
+4. **Run**: a ping every ``ping_interval``; silence past ``answer_timeout`` ends the
+   session (the driver retries); a box that says it is inactive when it should be
+   active lost its state and is loaded again as values.
+
+**The safety rule** is :func:`guard`, the one gate every write of a plan goes
+through: the session never sends a reset (``*0``) on its own initiative; an
+operator's Reset or Stop Switches may, and the log then names the stations that
+were transmitting (or whose state was unknown) at that moment.  Everything else
+the session sends changes a station's relays only through the box's own
+hot-switch rules (wait or interrupt mode).
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass, field, fields, is_dataclass
+from enum import Enum
+from typing import Any
+
+from ...engine.switchstate import NO_ANTENNA, STATIONS, SwitchState
+from .commands import encode, split
+from .decoder import SwitchDecoder
+from .diagnostics import Batch, blame
+from .messages import (
+    AntennaEvent,
+    AntennaStatus,
+    BoxStatus,
+    Command,
+    ErrorReply,
+    Malformed,
+    Ping,
+    PolarityStatus,
+    Pong,
+    ReceiveEvent,
+    RelayStatus,
+    RelayStatusRequest,
+    SetState,
+    StateOp,
+    StatusKind,
+    StatusRequest,
+    TransmitEvent,
+    TRState,
+    UnitId,
+    UnitIdReply,
+)
+from .sync import (
+    CommandPlan,
+    Reconciliation,
+    Slots,
+    Survey,
+    absolute,
+    difference,
+    initialise,
+    reconcile,
+    stopped,
+)
+from .timing import REAL_TIMING, LinkTiming
+
+log = logging.getLogger("moas_gui.hw.moas2.session")
+
+SURVEY_TRIES = 3
+"""How many times a session asks what the box holds before it gives up (and the
+driver tries a new session later): a noisy line gets as many chances, and meanwhile
+nothing is written that could move a relay."""
+
+
+class LinkStatus(str, Enum):
+    CONNECTING = "connecting"
+    OK = "ok"
+    UNRESPONSIVE = "unresponsive"
+    STOPPED = "stopped"
+
+
+class Initiative(Enum):
+    """Who asks for a plan to be written: the safety rule depends on it."""
+
+    OPERATOR = "operator"
+    """Reset Switches, Stop and Start Switches, and the engine's decisions (a press, a
+    logger's frequency)."""
+    AUTOMATIC = "automatic"
+    """The session itself: a (re)connection, a box found reset."""
+
+
+# ---------------------------------------------------------------------------- actions
+
+@dataclass(frozen=True, slots=True)
+class Write:
+    """Write these bytes to the port now."""
+
+    data: bytes
+
+
+@dataclass(frozen=True, slots=True)
+class Status:
+    """The link's status changed."""
+
+    status: LinkStatus
+
+
+@dataclass(frozen=True, slots=True)
+class Transmit:
+    """A station began (True) or ended (False) transmitting."""
+
+    station: int
+    transmitting: bool
+
+
+@dataclass(frozen=True, slots=True)
+class BoxError:
+    """The box refused a command (the text names it)."""
+
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
+class Adopt:
+    """What the box holds for ``station`` wins over the saved state: the engine should
+    take these slots as that port's antennas (then call :meth:`SwitchSession.apply`)."""
+
+    station: int
+    slots: Slots
+    transmitting: bool
+
+
+@dataclass(frozen=True, slots=True)
+class Reconcile:
+    """Call :meth:`SwitchSession.reconcile` once the actions before it are done (the
+    engine has adopted what it was asked to)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Answered:
+    """The answer to the driver's question ``ticket`` (None: no answer)."""
+
+    ticket: int
+    reply: object | None
+
+
+@dataclass(frozen=True, slots=True)
+class End:
+    """The session is over: close the port and try again later.  ``reached``: the box
+    had become ready in it (the retries start over)."""
+
+    reached: bool
+
+
+Action = Write | Status | Transmit | BoxError | Adopt | Reconcile | Answered | End
+
+
+# ---------------------------------------------------------------------------- the rule
+
+@dataclass(frozen=True, slots=True)
+class Verdict:
+    plan: CommandPlan
+    refused: str = ""
+    """Why (part of) the plan was not sent ("" when all of it may go)."""
+    warning: str = ""
+    """What an allowed plan does to transmitting stations, for the log."""
+
+
+def _resets(plan: CommandPlan) -> bool:
+    return any(isinstance(c, SetState) and StateOp.RESET in c.ops for c in plan.commands)
+
+
+def guard(plan: CommandPlan, keyed: frozenset[int] | None, initiative: Initiative,
+          where: str) -> Verdict:
+    """The safety rule, for every plan the session writes.
+
+    A reset (``*0``) opens every relay at once, whoever transmits: it is a hot switch of
+    every transmitting station.  The session never sends one on its own initiative (it
+    loads a box as values instead, :func:`.sync.absolute`), so an automatic plan that
+    holds one is refused whole.  An operator's reset goes out, and the returned warning
+    names the stations transmitting then (``keyed``; None: not known, which counts as
+    transmitting).  Every other command reaches a station's relays only through the
+    box's own wait or interrupt rules."""
+    if not _resets(plan):
+        return Verdict(plan)
+    if keyed is None:
+        on_air = "the stations' transmit states are not known yet"
+    elif keyed:
+        names = ", ".join(str(n) for n in sorted(keyed))
+        on_air = f"station{'s' if len(keyed) > 1 else ''} {names} transmitting"
+    else:
+        on_air = ""
+    if initiative is Initiative.AUTOMATIC:
+        return Verdict(CommandPlan(), refused=f"{where}: not resetting it on the server's own "
+                       f"initiative ({on_air or 'a reset is for the operator alone'})")
+    warning = f"{where}: reset by the operator with {on_air}: their relays open now" \
+        if on_air else ""
+    return Verdict(plan, warning=warning)
+
+
+# ---------------------------------------------------------------------------- questions
+
+@dataclass(slots=True)
+class _Question:
+    reply_type: type
+    ticket: int
+    expires: float
+    """When the asker stops waiting."""
+    gave_up: bool = False
+    forget_at: float = 0.0
+
+
+class Phase(Enum):
+    CLOSED = "closed"
+    CONFIRM = "confirm"
+    SURVEY = "survey"
+    LOADING = "loading"
+    RUNNING = "running"
+
+
+@dataclass(slots=True)
+class _Step:
+    """The questions the current phase waits for, by name, and their answers."""
+
+    asked: dict[str, int] = field(default_factory=dict)
+    answers: dict[str, Any] = field(default_factory=dict)
+
+    def done(self) -> bool:
+        return len(self.answers) == len(self.asked)
+
+
+# ---------------------------------------------------------------------------- the session
+
+class SwitchSession:
+    """Every decision about one MOAS II, with no I/O (see the module docstring)."""
+
+    def __init__(
+        self,
+        switch_id: int,
+        echo: int | None = None,
+        *,
+        events: tuple[StateOp, ...],
+        timing: LinkTiming = REAL_TIMING,
+        held: SwitchState | None = None,
+        seen: Sequence[Slots] | None = None,
+        where: str = "",
+    ) -> None:
+        self.switch_id = switch_id
+        self.echo = echo
+        self.timing = timing
+        self.where = where or f"switch {switch_id}"
+        self._events = events
+        self._decoder = SwitchDecoder()
+        self.desired = SwitchState()
+        self._sent: SwitchState | None = None
+        self._held = held
+        """What the box was last told (a saved state, or an earlier session's): a new
+        session checks what the box holds against it instead of loading it blindly."""
+        self._seen: list[Slots] | None = [tuple(s) for s in seen] if seen else None  # type: ignore[misc]
+        self.stopped = False
+        self.status = LinkStatus.CONNECTING
+        self.phase = Phase.CLOSED
+        self._step = _Step()
+        self._survey_tries = 0
+        self._questions: deque[_Question] = deque()
+        self._pings: deque[tuple[Batch, int | None]] = deque()
+        self._batch = Batch(None)
+        self._tickets = 0
+        self._last_heard = 0.0
+        self._next_ping: float | None = None
+        self._confirmed = False
+        self._foreign: UnitIdReply | None = None
+        self._first_unit: int | None = None
+        self._tr: dict[int, bool] = {}
+        self._unsure: set[int] = set()
+        self._tr_known = False
+        self._reconciliation: Reconciliation | None = None
+        self._last_problem = ""
+        self.unit: UnitIdReply | None = None
+        self.bytes_written = 0
+        self.refusals: list[str] = []
+        """Every plan the safety rule refused (for tests and Save Switch Data)."""
+
+    # ------------------------------------------------------------------ what it knows
+
+    @property
+    def ready(self) -> bool:
+        """The box is reconciled and every ``apply`` goes straight out."""
+        return self.phase in (Phase.LOADING, Phase.RUNNING) and self._confirmed \
+            and self._sent is not None
+
+    @property
+    def sent(self) -> SwitchState | None:
+        """What the box holds as far as the session knows (None while not ready)."""
+        return self._sent if self.ready else None
+
+    @property
+    def holds(self) -> SwitchState | None:
+        """What the box was last told, ready or not: what a saved state should keep, so
+        that a restart during an outage still checks the box rather than loading it."""
+        return self._sent if self._sent is not None else self._held
+
+    @property
+    def seen(self) -> tuple[Slots, ...] | None:
+        """Each station's antennas the box last reported in use (events and status)."""
+        return tuple(self._seen) if self._seen is not None else None
+
+    def keyed(self) -> frozenset[int] | None:
+        """Stations transmitting as the box last said; None until it said it for all."""
+        if not self._tr_known:
+            return None
+        return frozenset(n for n, on in self._tr.items() if on) | frozenset(self._unsure)
+
+    def next_deadline(self) -> float | None:
+        """When :meth:`tick` must be called next (None: only input moves it)."""
+        times = [q.expires for q in self._questions if not q.gave_up]
+        times += [q.forget_at for q in self._questions if q.gave_up]
+        if self.phase is Phase.RUNNING and self._next_ping is not None:
+            times.append(self._next_ping)
+        return min(times) if times else None
+
+    # ------------------------------------------------------------------ inputs
+
+    def opened(self, now: float) -> list[Action]:
+        """A port is open to (maybe) the box: confirm it is ours."""
+        self._reset_session()
+        self.phase = Phase.CONFIRM
+        self._last_heard = now
+        out: list[Action] = []
+        self._step = _Step()
+        self._step.asked["unit"] = self._question(UnitId(), UnitIdReply, now, out)
+        self._step.asked["ping"] = self._ping_question(now, out)
+        return out
+
+    def lost(self, reason: str) -> list[Action]:
+        """The port went away (or the driver closed it)."""
+        if self.phase is Phase.CLOSED:
+            return []
+        return self._end_session(reached=self.phase is Phase.RUNNING)
+
+    def feed(self, data: bytes, now: float) -> list[Action]:
+        """Bytes from the box."""
+        out: list[Action] = []
+        if self.phase is Phase.CLOSED:
+            log.debug("%s: dropped %r, which came after its session ended", self.where, data)
+            return out
+        for message in self._decoder.feed(data):
+            if isinstance(message, Malformed):
+                log.debug("%s: skipped %r: %s", self.where, message.raw, message.reason)
+                continue
+            self._last_heard = now
+            self._message(message, now, out)
+            if self._ended():
+                return out
+        self._progress(now, out)
+        return out
+
+    def tick(self, now: float) -> list[Action]:
+        """Time passed: questions time out, pings go out, silence ends the session."""
+        out: list[Action] = []
+        if self.phase is Phase.CLOSED:
+            return out
+        for q in list(self._questions):
+            if q.gave_up and q.forget_at <= now:
+                self._questions.remove(q)  # the box may never have heard it
+            elif not q.gave_up and q.expires <= now:
+                q.gave_up = True
+                q.forget_at = q.expires + self.timing.answer_timeout
+                self._answer(q.ticket, None, out)
+        if self.phase is Phase.RUNNING and self._next_ping is not None \
+                and now >= self._next_ping:
+            if now - self._last_heard > self.timing.answer_timeout:
+                self._problem(logging.WARNING, f"{self.where} stopped answering (nothing for "
+                              f"{self.timing.answer_timeout:.1f} s); will retry")
+                out += self._end_session(reached=True)
+                return out
+            self._ping(now, out)
+            self._next_ping = now + self.timing.ping_interval
+        self._progress(now, out)
+        return out
+
+    def apply(self, state: SwitchState) -> list[Action]:
+        """The engine wants the box to hold ``state``."""
+        self.desired = state
+        out: list[Action] = []
+        if self.ready and self._sent is not None:
+            self._send_state(self._effective(state), Initiative.OPERATOR, out)
+        return out
+
+    def stop(self) -> list[Action]:
+        """Stop Switches: all relays off (a reset, and a load without activation)."""
+        self.stopped = True
+        out = self.apply(self.desired)
+        if self.ready:
+            self._set_status(LinkStatus.STOPPED, out)
+        return out
+
+    def start(self) -> list[Action]:
+        """Start Switches: activate a stopped switch again."""
+        self.stopped = False
+        out = self.apply(self.desired)
+        if self.ready:
+            self._set_status(LinkStatus.OK, out)
+        return out
+
+    def reset(self) -> list[Action]:
+        """Reset Switches: the operator resets the box and it is loaded again."""
+        out: list[Action] = []
+        if self.ready:
+            log.info("%s: resetting and loading it again", self.where)
+            target = self._effective(self.desired)
+            if self._write_plan(initialise(target, events=self._events), Initiative.OPERATOR,
+                                out):
+                self._sent = target
+                self._seen = [(NO_ANTENNA,) * 3 for _ in STATIONS]
+        return out
+
+    def ask(self, command: Command, reply_type: type, now: float) -> tuple[int, list[Action]]:
+        """Ask the box ``command``; the answer comes as :class:`Answered` with the ticket
+        (None when the session is not open or no answer came in time)."""
+        out: list[Action] = []
+        if self.phase is Phase.CLOSED:
+            self._tickets += 1
+            out.append(Answered(self._tickets, None))
+            return self._tickets, out
+        if isinstance(command, Ping):
+            return self._ping_question(now, out), out
+        return self._question(command, reply_type, now, out), out
+
+    def reconcile(self, now: float) -> list[Action]:
+        """Bring the box to the wanted state (after the engine adopted what it was asked
+        to; see :class:`Reconcile`)."""
+        out: list[Action] = []
+        r, self._reconciliation = self._reconciliation, None
+        if r is None or self.phase is not Phase.SURVEY:
+            return out
+        target = self._effective(self.desired)
+        if self.stopped and not r.inactive:
+            # Stop Switches stands: only a reset deactivates a box (the operator's order)
+            plan, initiative = initialise(target, events=self._events), Initiative.OPERATOR
+        elif r.believed is None:
+            plan = absolute(target, box_active=not r.inactive, events=self._events)
+            initiative = Initiative.AUTOMATIC
+        else:
+            plan, initiative = difference(r.believed, target, events=self._events), \
+                Initiative.AUTOMATIC
+        if not self._write_plan(plan, initiative, out):
+            out += self._end_session()
+            return out
+        self._sent = target
+        self._held = None
+        self.phase = Phase.LOADING
+        self._step = _Step()
+        self._step.asked["ping"] = self._ping_question(now, out)
+        return out
+
+    # ------------------------------------------------------------------ phases
+
+    def _progress(self, now: float, out: list[Action]) -> None:
+        step = self._step
+        if self.phase is Phase.CONFIRM and step.done():
+            self._confirm(now, out)
+        elif self.phase is Phase.SURVEY and step.done():
+            self._surveyed(now, out)
+        elif self.phase is Phase.LOADING and step.done():
+            self._loaded(now, out)
+
+    def _confirm(self, now: float, out: list[Action]) -> None:
+        unit, pong = self._step.answers["unit"], self._step.answers["ping"]
+        if unit is None or pong is None:
+            self._problem(logging.WARNING, f"{self.where} does not answer; will retry")
+            out += self._end_session()
+            return
+        self.unit = unit
+        refusal = self._refusal(self._foreign or unit)
+        if refusal:
+            self._problem(logging.ERROR, refusal)
+            out += self._end_session()
+            return
+        self._confirmed = True
+        if self.echo is None and self._first_unit is None:
+            self._first_unit = unit.unit
+        self._survey_tries = 0
+        self._ask_survey(now, out)
+
+    def _ask_survey(self, now: float, out: list[Action]) -> None:
+        self.phase = Phase.SURVEY
+        self._survey_tries += 1
+        self._step = _Step()
+        self._step.asked["ping"] = self._ping_question(now, out)
+        self._step.asked["box"] = self._question(StatusRequest(StatusKind.BOX), BoxStatus,
+                                                 now, out)
+        self._step.asked["polarity"] = self._question(
+            StatusRequest(StatusKind.POLARITY), PolarityStatus, now, out)
+        self._step.asked["relays"] = self._question(RelayStatusRequest(), RelayStatus, now, out)
+
+    def _surveyed(self, now: float, out: list[Action]) -> None:
+        a = self._step.answers
+        if any(a[name] is None for name in ("ping", "box", "polarity", "relays")):
+            if self._survey_tries < SURVEY_TRIES:
+                log.info("%s did not answer every status request; asking again (nothing is "
+                         "sent until it does)", self.where)
+                self._ask_survey(now, out)
+                return
+            self._problem(logging.WARNING, f"{self.where} did not answer every status "
+                          f"request ({SURVEY_TRIES} tries): not driving it until it does; "
+                          f"will retry")
+            out += self._end_session()
+            return
+        box: BoxStatus = a["box"]
+        if min(len(box.tx), len(box.rx), len(box.alt)) < len(STATIONS):
+            self._problem(logging.WARNING, f"{self.where} sent an incomplete box status; "
+                          f"will retry")
+            out += self._end_session()
+            return
+        survey = Survey(a["ping"], box, a["polarity"], a["relays"])
+        r = reconcile(self._held, self._seen, survey)
+        self._reconciliation = r
+        self._seen = [survey.slots(n) for n in STATIONS]
+        if self._held is None:
+            log.info("%s: %s: loading it (no reset)", self.where, r.why)
+        elif r.why:
+            log.info("%s does not hold the saved state (%s): %s", self.where, r.why,
+                     "loading it again (no reset)" if r.believed is None
+                     else "sending what differs")
+        else:
+            log.info("%s still holds the saved state: carrying on without a reset%s",
+                     self.where, self._waiting_text(r))
+        for n, slots in sorted(r.adopt.items()):
+            on_air = n in r.keyed
+            log.warning(
+                "%s station %d %s antennas %s (transmit, receive, alternate slots), not the "
+                "saved %s: keeping what the box holds", self.where, n,
+                "is transmitting on" if on_air else "holds",
+                "/".join(str(s) for s in slots),
+                "/".join(str(s) for s in self._held_slots(n)))
+            out.append(Adopt(n, slots, on_air))
+        out.append(Reconcile())
+
+    def _waiting_text(self, r: Reconciliation) -> str:
+        if not r.waiting:
+            return ""
+        names = ", ".join(str(n) for n in sorted(r.waiting))
+        return f" (station {names} transmitting: its change waits for receive)"
+
+    def _held_slots(self, n: int) -> Slots:
+        if self._held is None:
+            return (NO_ANTENNA,) * 3
+        s = self._held.station(n)
+        return (s.tx, s.rx, s.alt)
+
+    def _loaded(self, now: float, out: list[Action]) -> None:
+        if self._step.answers["ping"] is None:
+            self._problem(logging.WARNING, f"{self.where} stopped answering while loading")
+            out += self._end_session()
+            return
+        if not self._confirmed:  # another unit's id was heard meanwhile
+            out += self._end_session()
+            return
+        if self._last_problem:
+            log.info("%s answers again", self.where)
+        self._last_problem = ""
+        self.phase = Phase.RUNNING
+        self._next_ping = now + self.timing.ping_interval
+        self._set_status(LinkStatus.STOPPED if self.stopped else LinkStatus.OK, out)
+
+    # ------------------------------------------------------------------ writing
+
+    def _effective(self, state: SwitchState) -> SwitchState:
+        return stopped(state) if self.stopped else state
+
+    def _send_state(self, target: SwitchState, initiative: Initiative,
+                    out: list[Action]) -> None:
+        assert self._sent is not None
+        if self._write_plan(difference(self._sent, target, events=self._events), initiative,
+                            out):
+            self._sent = target
+
+    def _write_plan(self, plan: CommandPlan, initiative: Initiative,
+                    out: list[Action]) -> bool:
+        """Every plan goes out here, through :func:`guard`; False when it was refused."""
+        if not self._confirmed:  # never reached: every caller waits for confirmation
+            log.error("%s: not sending to a box whose unit id is not confirmed", self.where)
+            return False
+        verdict = guard(plan, self.keyed(), initiative, self.where)
+        if verdict.refused:
+            log.error("%s", verdict.refused)
+            self.refusals.append(verdict.refused)
+            return False
+        if verdict.warning:
+            log.warning("%s", verdict.warning)
+        for problem in plan.problems:
+            log.error("switch %d: %s", self.switch_id, problem)
+        parts = [encode(part) for command in plan.commands for part in split(command)]
+        if parts:
+            data = b"".join(parts)
+            self._write(data, out)
+            self._batch.commands += parts
+        return True
+
+    def _write(self, data: bytes, out: list[Action]) -> None:
+        out.append(Write(data))
+        self.bytes_written += len(data)
+
+    def _ping(self, now: float, out: list[Action], ticket: int | None = None) -> None:
+        expect = self._sent.active if self.ready and self._sent is not None else None
+        self._pings.append((Batch(expect, self._batch.commands), ticket))
+        self._batch = Batch(None)
+        self._write(b"';", out)
+
+    def _ping_question(self, now: float, out: list[Action]) -> int:
+        self._tickets += 1
+        ticket = self._tickets
+        self._questions.append(_Question(Pong, ticket, now + self.timing.answer_timeout))
+        self._ping(now, out, ticket)
+        return ticket
+
+    def _question(self, command: Command, reply_type: type, now: float,
+                  out: list[Action]) -> int:
+        self._tickets += 1
+        ticket = self._tickets
+        self._questions.append(_Question(reply_type, ticket, now + self.timing.answer_timeout))
+        self._write(encode(command), out)
+        return ticket
+
+    def _answer(self, ticket: int, reply: object | None, out: list[Action]) -> None:
+        for name, asked in self._step.asked.items():
+            if asked == ticket:
+                self._step.answers[name] = reply
+                return
+        out.append(Answered(ticket, reply))
+
+    # ------------------------------------------------------------------ reading
+
+    def _message(self, message: object, now: float, out: list[Action]) -> None:
+        if isinstance(message, UnitIdReply):
+            self._unit_said(message, out)
+            if self._ended():
+                return
+        self._handle(message, out)
+        if isinstance(message, Pong):
+            return  # answered in _pong, by the order of the pings
+        for q in self._questions:
+            if isinstance(message, q.reply_type):
+                self._questions.remove(q)
+                if q.gave_up:
+                    log.debug("%s: dropped a late answer (its asker gave up): %s",
+                              self.where, message)
+                else:
+                    self._answer(q.ticket, message, out)
+                return
+
+    def _unit_said(self, reply: UnitIdReply, out: list[Action]) -> None:
+        """Any unit id the box says counts, whichever question it answers: once another
+        unit's id is heard, this session drives nothing more."""
+        if not self._refusal(reply):
+            return
+        self._foreign = self._foreign or reply
+        if self._confirmed:
+            self._problem(logging.ERROR, self._refusal(reply))
+            self._confirmed = False
+            out += self._end_session(reached=self.phase is Phase.RUNNING)
+
+    def _refusal(self, unit: UnitIdReply) -> str:
+        """Why a box that says it is ``unit`` is not ours ("" when it is)."""
+        if self.echo is not None and unit.unit != self.echo:
+            return (
+                f"{self.where} says it is unit {unit.unit}, but the configuration's Echo is "
+                f"{self.echo}: not driving it (is it on the wrong port?)"
+            )
+        if self.echo is None and self._first_unit is not None and unit.unit != self._first_unit:
+            return (
+                f"{self.where} says it is unit {unit.unit}, but the box this port led to "
+                f"before was unit {self._first_unit}: not driving it (is it on the wrong "
+                f"port? give Echo in the configuration, or restart, to drive it)"
+            )
+        return ""
+
+    def _handle(self, message: object, out: list[Action]) -> None:
+        if isinstance(message, Pong):
+            self._pong(message, out)
+        elif isinstance(message, ErrorReply):
+            commands = self._pings[0][0].commands if self._pings else self._batch.commands
+            text = blame(self.where, message, commands)
+            log.error("%s", text)
+            out.append(BoxError(text))
+        elif isinstance(message, TransmitEvent | ReceiveEvent):
+            self._tr_changed(message.station, isinstance(message, TransmitEvent), out)
+        elif isinstance(message, BoxStatus):
+            for number, letter in zip(STATIONS, message.tr, strict=False):
+                self._tr_changed(number, letter is TRState.TRANSMIT, out)
+            # a station shown inhibited by command may be keyed behind its inhibit
+            self._unsure = {n for n, letter in zip(STATIONS, message.tr, strict=False)
+                            if letter is TRState.INHIBITED}
+            self._tr_known = len(message.tr) >= len(STATIONS)
+        elif isinstance(message, AntennaEvent):
+            self._antenna_event(message)
+        if not isinstance(message, ErrorReply):
+            log.debug("%s: %s", self.where, describe(message))
+
+    def _antenna_event(self, event: AntennaEvent) -> None:
+        status = event.status
+        if status in (AntennaStatus.TX_CONFLICT, AntennaStatus.RX_CONFLICT):
+            kind = "transmit" if status is AntennaStatus.TX_CONFLICT else "receive"
+            log.warning(
+                "%s holds station %d's %s antenna (slot %d): it conflicts with another "
+                "station's antenna", self.where, event.station, kind, event.antenna,
+            )
+            return
+        if self._seen is None or event.station not in STATIONS:
+            return
+        tx, rx, alt = self._seen[event.station - 1]
+        if status in (AntennaStatus.TX_FAST, AntennaStatus.TX_SLOW):
+            tx = event.antenna
+        elif status in (AntennaStatus.RX_FAST, AntennaStatus.RX_SLOW):
+            rx = event.antenna
+        else:
+            alt = event.antenna
+        self._seen[event.station - 1] = (tx, rx, alt)
+
+    def _pong(self, pong: Pong, out: list[Action]) -> None:
+        if not self._pings:
+            log.debug("%s: dropped a pong no ping of this session asked for", self.where)
+            return
+        batch, ticket = self._pings.popleft()
+        if ticket is not None:
+            for q in self._questions:
+                if q.ticket == ticket:
+                    self._questions.remove(q)
+                    if not q.gave_up:
+                        self._answer(ticket, pong, out)
+                    break
+            else:
+                log.debug("%s: dropped a late pong (its asker gave up)", self.where)
+        if batch.expect_active is not None and pong.active != batch.expect_active \
+                and self.ready and self._sent is not None:
+            log.warning(
+                "%s says it is %s, which it should not be: it was reset or lost power; "
+                "loading it again", self.where, "active" if pong.active else "inactive",
+            )
+            for earlier, _ in self._pings:  # asked before the load: not to be judged
+                earlier.expect_active = None
+            target = self._effective(self.desired)
+            if pong.active:
+                # active while it should be stopped: only a reset stops it (Stop Switches)
+                plan, initiative = initialise(target, events=self._events), Initiative.OPERATOR
+            else:
+                plan = absolute(target, box_active=False, events=self._events)
+                initiative = Initiative.AUTOMATIC
+            if self._write_plan(plan, initiative, out):
+                self._sent = target
+                self._seen = [(NO_ANTENNA,) * 3 for _ in STATIONS]
+
+    def _tr_changed(self, station: int, transmitting: bool, out: list[Action]) -> None:
+        self._unsure.discard(station)
+        if self._tr.get(station) is transmitting:
+            return
+        self._tr[station] = transmitting
+        out.append(Transmit(station, transmitting))
+
+    # ------------------------------------------------------------------ endings
+
+    def _ended(self) -> bool:
+        """The session ended (while it read what came in)."""
+        return self.phase is Phase.CLOSED
+
+    def _reset_session(self) -> None:
+        self._decoder.reset()
+        self._questions.clear()
+        self._pings.clear()
+        self._batch = Batch(None)
+        self._tr.clear()
+        self._unsure = set()
+        self._tr_known = False
+        self._confirmed = False
+        self._foreign = None
+        self._reconciliation = None
+        self._next_ping = None
+
+    def _end_session(self, reached: bool = False) -> list[Action]:
+        out: list[Action] = []
+        for q in self._questions:
+            if not q.gave_up:
+                self._answer(q.ticket, None, out)
+        self._questions.clear()
+        if self._sent is not None:
+            self._held = self._sent  # a cable pulled and plugged back must not reset a box
+        self._sent = None
+        self.phase = Phase.CLOSED
+        self._confirmed = False
+        self._pings.clear()
+        self._step = _Step()
+        out.append(End(reached))
+        return out
+
+    def _set_status(self, status: LinkStatus, out: list[Action]) -> None:
+        if status is not self.status:
+            self.status = status
+            out.append(Status(status))
+
+    def closed(self) -> list[Action]:
+        """The driver closed the port after an :class:`End` (or to stop): unresponsive."""
+        out: list[Action] = []
+        self._set_status(LinkStatus.UNRESPONSIVE, out)
+        return out
+
+    def _problem(self, level: int, text: str) -> None:
+        """Log a problem once per outage: its first warning (and an error not said yet);
+        what the retries meet after it goes to the debug log, "answers again" ends it."""
+        quiet = text == self._last_problem or (
+            level <= logging.WARNING and bool(self._last_problem))
+        log.log(logging.DEBUG if quiet else level, "%s", text)
+        self._last_problem = text
+
+    def problem(self, level: int, text: str) -> None:
+        """A problem the driver met (a port that cannot be opened), logged the same way."""
+        self._problem(level, text)
+
+
+def describe(message: object) -> str:
+    """A message from the box in words for the debug log: ``antenna event: station 1,
+    status TX fast (F), antenna 3`` rather than its Python form."""
+    name = re.sub(r"(?<!^)(?=[A-Z])", " ", type(message).__name__).lower()
+    if not is_dataclass(message):
+        return name
+    parts = []
+    for item in fields(message):
+        value = getattr(message, item.name)
+        if isinstance(value, Enum):
+            shown = f"{value.name.replace('_', ' ').lower()} ({value.value})"
+        elif isinstance(value, frozenset | set | tuple | list):
+            shown = ", ".join(str(v) for v in sorted(value, key=str)) or "none"
+        else:
+            shown = str(value)
+        parts.append(f"{item.name.replace('_', ' ')} {shown}")
+    return f"{name}: {', '.join(parts)}" if parts else name
+
+
+__all__ = [
+    "SURVEY_TRIES",
+    "Action",
+    "Adopt",
+    "Answered",
+    "BoxError",
+    "End",
+    "Initiative",
+    "LinkStatus",
+    "Phase",
+    "Reconcile",
+    "Status",
+    "SwitchSession",
+    "Transmit",
+    "Verdict",
+    "Write",
+    "describe",
+    "guard",
+]

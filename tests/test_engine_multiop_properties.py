@@ -1,0 +1,176 @@
+"""The multi-operator rules of the property suite (``engine_invariants.multiop_violations``):
+shared transmit antennas, partners, alternate paths, alternate antennas and sub receivers.
+
+First that random evenings on generated multi-operator stations keep every rule and that the
+checks really run; then, per rule, that the check catches it broken on purpose: the engine
+patched back to the behaviour issue 25 found, or a state made by hand.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+from collections import Counter
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import pytest
+from engine_invariants import MULTIOP_RULES, Facts, multiop_violations, operations, run_evening
+from engine_stations import features, frequencies_for, generated_station, multiop_station
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import moas_gui.engine.engine as engine_module
+from moas_gui.config import parse_config
+from moas_gui.config.model import Config, RadioRef
+from moas_gui.engine import Engine, derive
+from moas_gui.engine.index import ConfigIndex, Kind
+
+CASES = Path(__file__).parent / "engine_cases"
+EXAMPLES = int(os.environ.get("MOAS_ENGINE_EXAMPLES", "12"))
+FAST = settings(max_examples=EXAMPLES, deadline=None, derandomize=True,
+                suppress_health_check=[HealthCheck.too_slow])
+
+
+def _case(name: str) -> tuple[Config, list[dict[str, Any]]]:
+    data = json.loads((CASES / name).read_text())
+    cfg = parse_config(json.dumps(data["moas"]), name).config
+    assert cfg is not None
+    return cfg, data["events"]
+
+
+def _replay(name: str) -> tuple[Engine, Facts]:
+    cfg, events = _case(name)
+    e = Engine(cfg, now=0.0)
+    for i, ev in enumerate(events):
+        if ev["op"] == "frequency":
+            e.set_frequency(ev["station"], ev["radio"], ev["khz"], now=1.0 + i)
+        else:
+            e.select(*ev["args"], now=1.0 + i)
+    return e, Facts.of(cfg)
+
+
+def _fired(e: Engine, facts: Facts, rule: str, text: str) -> list[str]:
+    counts: Counter[str] = Counter()
+    found = [p for p in multiop_violations(e, facts, counts) if text in p]
+    assert counts[rule] > 0, counts
+    return found
+
+
+# -- the rules hold, and the checks run -------------------------------------------------------
+
+@FAST
+@given(st.integers(0, 2**32 - 1))
+def test_every_multiop_rule_holds_on_generated_multiop_stations(seed: int) -> None:
+    rng = random.Random(seed)
+    cfg = multiop_station(rng)
+    run_evening(cfg, list(operations(cfg, rng, 120, frequencies_for(cfg))))
+
+
+def test_the_generated_stations_use_the_features_and_every_check_runs() -> None:
+    stations = [generated_station(random.Random(seed)) for seed in range(200)]
+    multiop = [cfg for cfg in stations if {"SharedTX", "alternate paths"} <= features(cfg)]
+    assert len(multiop) >= len(stations) // 4
+    seen: Counter[str] = Counter()
+    for cfg in multiop:
+        seen.update(features(cfg))
+    for feature in ("SharedTX", "Partner list", "Partner function", "alternate paths",
+                    "Alternate rules", "AltActive", "sub receiver with port",
+                    "sub receiver without port", "UseMainFreq", "PersistSubReceiver",
+                    "RadioRXAntenna"):
+        assert seen[feature] > 0, feature
+    counts: Counter[str] = Counter()
+    for seed in range(12):
+        rng = random.Random(seed)
+        cfg = multiop_station(rng)
+        run_evening(cfg, list(operations(cfg, rng, 200, frequencies_for(cfg))), counts=counts)
+    for rule in MULTIOP_RULES:
+        assert counts[rule] > 0, (rule, counts)
+
+
+# -- each rule caught broken ------------------------------------------------------------------
+
+def test_two_paths_of_one_antenna_are_caught(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The engine before: paths conflicted only as their Conflicts lists said."""
+    monkeypatch.setattr(ConfigIndex, "_physical_conflicts", lambda self: None)
+    e, facts = _replay("same-antenna.json")
+    assert _fired(e, facts, "one physical antenna", "two paths of one antenna (5.8)")
+
+
+def test_an_alternate_someone_holds_is_caught(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The engine before: an alternate rule's antenna was used whoever held it."""
+    monkeypatch.setattr(derive, "available",
+                        lambda ix, st, ref, want, partner=None: want)
+    e, facts = _replay("alt-conflict.json")
+    assert _fired(e, facts, "alternate not held", "alternate 0 is 0, held by station 1 radio 2")
+
+
+def _partner_transmitting() -> tuple[Engine, Facts]:
+    e, facts = _replay("switch-conflict-table.json")
+    e.set_transmitting(1, 2, True, now=10.0)      # radio 2 transmits on shared 21
+    return e, facts
+
+
+def test_the_shared_transmit_listener_rule_holds_for_partners() -> None:
+    e, facts = _partner_transmitting()
+    assert e.radio_view(1, 1).alt == e.radio_view(1, 2).rx == 39
+    counts: Counter[str] = Counter()
+    assert multiop_violations(e, facts, counts) == []
+    assert counts["shared TX listener"] == 1
+
+
+def test_a_listener_moved_to_another_antenna_is_caught(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A hand-made state: radio 1's alternate is another antenna than the partner's."""
+    e, facts = _partner_transmitting()
+    views = tuple(replace(v, alt=45) if (v.station, v.radio) == (1, 1) else v
+                  for v in e.radios())
+    monkeypatch.setattr(e, "radios", lambda: views)
+    assert _fired(e, facts, "shared TX listener", "not none or the partner's receive antenna")
+
+
+def test_a_partner_left_without_the_partners_antenna_is_caught(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A patched engine that never applies 5.13."""
+    monkeypatch.setattr(derive, "partner_alternate", lambda ix, st, ref, other: None)
+    e, facts = _partner_transmitting()
+    assert e.radio_view(1, 1).alt is None
+    assert _fired(e, facts, "shared TX listener", "meet 5.13's conditions")
+
+
+def test_a_sub_receiver_dropping_its_relays_is_caught(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The engine before: PersistSubReceiver read from the sub receiver's own entry only."""
+    def own_entry_only(self: ConfigIndex, sub: RadioRef, name: str) -> bool:
+        info = self.radios.get(sub)
+        return info is not None and info.kind is Kind.SUB and bool(getattr(info.radio, name))
+    monkeypatch.setattr(ConfigIndex, "sub_flag", own_entry_only)
+    e, facts = _replay("sub-persist.json")
+    assert _fired(e, facts, "sub receiver relays", "with PersistSubReceiver: port 5")
+
+
+def test_a_sub_receiver_transmitting_is_caught(monkeypatch: pytest.MonkeyPatch) -> None:
+    e, facts = _replay("sub-persist.json")
+    views = tuple(replace(v, tx=18) if (v.station, v.radio) == (1, 5) else v
+                  for v in e.radios())
+    monkeypatch.setattr(e, "radios", lambda: views)
+    assert _fired(e, facts, "sub receiver relays", "sub receiver station 1 radio 5 transmits")
+
+
+def test_a_loose_switch_table_is_caught(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The engine before: the partner's receive antenna as alternate used the radio's own
+    slot, so waiving it loosened the table for the radio's own use of that antenna."""
+    real = engine_module.radio_relays
+    monkeypatch.setattr(engine_module, "radio_relays",
+                        lambda *a: replace(real(*a), alt_partner=False))
+    e, facts = _replay("switch-conflict-table.json")
+    assert _fired(e, facts, "switch conflict table",
+                  "would let station 1 radio 1 take conflicting 39")
+
+
+def test_a_wrong_radio_rx_antenna_flag_is_caught(monkeypatch: pytest.MonkeyPatch) -> None:
+    e, facts = _replay("switch-conflict-table.json")
+    views = tuple(replace(v, radio_rx_antenna=not v.radio_rx_antenna)
+                  if (v.station, v.radio) == (1, 2) else v for v in e.radios())
+    monkeypatch.setattr(e, "radios", lambda: views)
+    assert _fired(e, facts, "RadioRXAntenna", "station 1 radio 2 on 39")

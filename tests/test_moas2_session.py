@@ -1,0 +1,198 @@
+"""The switch session as a pure state machine: bytes and times in, actions out.
+
+No port, no loop, no clock: each test plays the box's side by hand (or through the
+project's emulator model) and reads the actions.  The safety rule (:func:`guard`) is
+checked on its own and on every path that loads a box.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from moas_gui.engine.switchstate import StationAntennas, SwitchState
+from moas_gui.hw.moas2.emulator.model import EmulatorModel
+from moas_gui.hw.moas2.messages import (
+    Pong,
+    UnitIdReply,
+)
+from moas_gui.hw.moas2.replies import encode_reply
+from moas_gui.hw.moas2.session import (
+    SURVEY_TRIES,
+    Action,
+    Adopt,
+    End,
+    Initiative,
+    LinkStatus,
+    Phase,
+    Reconcile,
+    SwitchSession,
+    Write,
+    guard,
+)
+from moas_gui.hw.moas2.sync import DEFAULT_EVENTS, absolute, initialise
+from moas_gui.hw.moas2.timing import LinkTiming
+
+TIMING = LinkTiming()
+A = StationAntennas(tx=1, tx_relays=frozenset({1, 2}), rx=1, rx_relays=frozenset({1, 2}))
+B = StationAntennas(tx=3, tx_relays=frozenset({5}), rx=3, rx_relays=frozenset({5}))
+STATE_A = SwitchState(stations=(A,) + (StationAntennas(),) * 5, conflicts=frozenset({(1, 1)}))
+STATE_B = replace(STATE_A, stations=(B,) + (StationAntennas(),) * 5)
+
+
+def written(actions: list[Action]) -> bytes:
+    return b"".join(a.data for a in actions if isinstance(a, Write))
+
+
+class Played:
+    """A session against the emulator model, driven by hand: what the session writes
+    goes to the model, what the model answers goes back, until nothing moves."""
+
+    def __init__(self, session: SwitchSession, model: EmulatorModel) -> None:
+        self.session, self.model = session, model
+        self.now = 0.0
+        self.wire = bytearray()
+        self.actions: list[Action] = []
+
+    def run(self, actions: list[Action]) -> None:
+        pending = list(actions)
+        while pending:
+            action = pending.pop(0)
+            self.actions.append(action)
+            if isinstance(action, Write):
+                self.wire += action.data
+                answer = self.model.feed(action.data, self.now)
+                if answer:
+                    pending += self.session.feed(answer, self.now)
+            elif isinstance(action, Reconcile):
+                pending += self.session.reconcile(self.now)
+
+    def key(self, station: int, on: bool) -> None:
+        self.run(self.session.feed(self.model.set_tr(station, on, self.now), self.now))
+
+
+def connected(model: EmulatorModel, desired: SwitchState = STATE_A, **kw: object) -> Played:
+    session = SwitchSession(1, events=DEFAULT_EVENTS, timing=TIMING, **kw)  # type: ignore[arg-type]
+    played = Played(session, model)
+    played.run(session.apply(desired))
+    played.run(session.opened(played.now))
+    return played
+
+
+def loaded_box(state: SwitchState) -> EmulatorModel:
+    model = EmulatorModel()
+    model.feed(initialise(state).encode(), 0.0)
+    return model
+
+
+# ---------------------------------------------------------------------------- the rule
+
+def test_the_guard_refuses_every_reset_the_session_asks_for_itself() -> None:
+    reset = initialise(STATE_A)
+    for keyed in (None, frozenset(), frozenset({2})):
+        verdict = guard(reset, keyed, Initiative.AUTOMATIC, "switch 1")
+        assert verdict.plan.commands == () and "not resetting it" in verdict.refused
+
+
+def test_the_guard_lets_the_operator_reset_and_names_who_transmits() -> None:
+    reset = initialise(STATE_A)
+    assert guard(reset, frozenset(), Initiative.OPERATOR, "switch 1").warning == ""
+    verdict = guard(reset, frozenset({2, 5}), Initiative.OPERATOR, "switch 1")
+    assert verdict.plan == reset and "stations 2, 5 transmitting" in verdict.warning
+    verdict = guard(reset, None, Initiative.OPERATOR, "switch 1")
+    assert "not known yet" in verdict.warning
+
+
+def test_a_load_as_values_holds_no_reset_and_no_plan_the_session_sends_does() -> None:
+    assert b"*0;" not in absolute(STATE_A, box_active=True).encode()
+    assert b"*0;" not in absolute(STATE_A, box_active=False).encode()
+    played = connected(EmulatorModel())  # a box fresh from power-on
+    assert played.session.phase is Phase.RUNNING
+    assert b"*0;" not in played.wire and b"*1;" in played.wire
+    assert played.model.view().relays == {1, 2}
+
+
+# ---------------------------------------------------------------------------- nothing before
+
+def test_nothing_that_moves_a_relay_is_written_before_the_box_said_who_transmits() -> None:
+    session = SwitchSession(1, events=DEFAULT_EVENTS, timing=TIMING, held=STATE_A)
+    session.apply(STATE_B)
+    out = session.opened(0.0)
+    out += session.feed(encode_reply(UnitIdReply("100", 0)) + encode_reply(Pong(True)), 0.1)
+    assert written(out) == b":;';';\"B;\"I;|;"  # questions only
+    assert session.keyed() is None  # not known: counts as transmitting
+
+
+def test_a_box_that_never_answers_its_status_is_asked_again_then_left_alone() -> None:
+    session = SwitchSession(1, events=DEFAULT_EVENTS, timing=TIMING, held=STATE_A)
+    session.apply(STATE_B)
+    out = session.opened(0.0)
+    out += session.feed(encode_reply(UnitIdReply("100", 0)) + encode_reply(Pong(True)), 0.1)
+    now = 0.1
+    for _ in range(SURVEY_TRIES):
+        now += TIMING.answer_timeout
+        out += session.tick(now)
+    assert out[-1] == End(False)
+    assert written(out).count(b'"B;') == SURVEY_TRIES
+    assert all(part in (b":", b"'", b'"B', b'"I', b"|", b"")
+               for part in written(out).split(b";")), written(out)
+    assert session.holds == STATE_A  # still what the next session checks against
+
+
+# ---------------------------------------------------------------------------- reconciling
+
+def test_a_box_that_holds_the_saved_state_gets_only_the_difference() -> None:
+    played = connected(loaded_box(STATE_A), held=STATE_A, desired=STATE_B)
+    load = bytes(played.wire).split(b"|;", 1)[1]
+    # every station's antenna commands again (the box cannot report the relays behind an
+    # antenna), together, and nothing else: no table, no reset
+    assert load.startswith(b"*r;!1B35;") and load.endswith(b"*R;';")
+    assert b"%" not in load and b"*0;" not in load
+    played.model.advance(1.0)  # past the slow transition's inhibit
+    assert played.model.view().relays == {5}
+
+
+def test_a_keyed_stations_held_change_is_consistent_and_applies_at_receive() -> None:
+    model = loaded_box(STATE_A)
+    model.feed(b"*1;", 0.0)
+    model.set_tr(1, True, 0.0)
+    model.feed(b"!1B35;", 0.1)  # sent by the server that then died: held (wait mode)
+    assert model.view().relays == {1, 2}
+    played = connected(model, held=STATE_B, seen=[(1, 1, 63)] + [(63, 63, 63)] * 5,
+                       desired=STATE_B)
+    assert [a for a in played.actions if isinstance(a, Adopt)] == []
+    assert b"*0;" not in played.wire and b"%0;" not in played.wire
+    assert played.model.view().relays == {1, 2}  # transmitting: untouched
+    played.key(1, False)
+    played.now = 1.0
+    played.run(played.session.feed(played.model.advance(1.0), 1.0))
+    assert played.model.view().relays == {5}
+
+
+def test_a_keyed_station_showing_what_the_state_file_never_knew_is_adopted() -> None:
+    model = loaded_box(STATE_B)  # the box moved on to B; the file says A (not saved)
+    model.feed(b"*1;", 0.0)
+    model.set_tr(1, True, 0.0)
+    played = connected(model, held=STATE_A, seen=[(1, 1, 63)] + [(63, 63, 63)] * 5,
+                       desired=STATE_A)
+    adopted = [a for a in played.actions if isinstance(a, Adopt)]
+    assert adopted == [Adopt(1, (3, 3, 63), True)]
+    assert b"*0;" not in played.wire
+    assert played.model.view().relays == {5}
+
+
+def test_a_box_that_lost_power_is_loaded_as_values_even_under_a_keyed_station() -> None:
+    model = EmulatorModel()
+    model.set_tr(2, True, 0.0)
+    played = connected(model, held=STATE_A)
+    assert b"*0;" not in played.wire and b"*1;" in played.wire
+    assert played.session.status is LinkStatus.OK
+
+
+def test_stop_switches_is_the_operators_reset_and_says_who_was_keyed(caplog) -> None:  # type: ignore[no-untyped-def]
+    model = loaded_box(STATE_A)
+    model.feed(b"*1;", 0.0)
+    played = connected(model, held=STATE_A)
+    played.key(2, True)
+    played.run(played.session.stop())
+    assert b"*0;" in played.wire
+    assert any("station 2 transmitting" in r.getMessage() for r in caplog.records)

@@ -94,8 +94,11 @@ class Server:
         return wait_for(seen_when_true, timeout, what)  # type: ignore[no-any-return]
 
     def client(self, request: dict[str, Any]) -> dict[str, Any]:
-        """One request on the client port, as any client sends it; the reply."""
-        with socket.create_connection(("127.0.0.1", self.tcp), timeout=5) as conn:
+        """One request on the client port, as any client sends it; the reply.  (While a
+        new configuration starts, its port opens a moment after the window names it:
+        a refused connection is tried again, as a client does.)"""
+        conn = wait_for(lambda: _connected(self.tcp), 20, "the client port")
+        with conn:
             conn.sendall(json.dumps({"id": 1, **request}).encode() + b"\n")
             reader = conn.makefile("rb")
             while True:
@@ -141,6 +144,13 @@ class Server:
                 self.process.kill()
                 self.process.communicate(timeout=10)
         shutil.rmtree(self.runtime, ignore_errors=True)
+
+
+def _connected(port: int) -> socket.socket | None:
+    try:
+        return socket.create_connection(("127.0.0.1", port), timeout=5)
+    except ConnectionRefusedError:
+        return None
 
 
 @pytest.fixture

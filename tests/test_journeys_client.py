@@ -34,6 +34,8 @@ pytestmark = [
 ]
 
 FAST = Backoff(first=0.05, factor=2.0, most=0.3)
+PATIENCE = 30.0
+"""Seconds any one step may take on a loaded machine before it is taken as not happening."""
 THREE_EL, NW, YAGI_ROTATOR, FOUR_SQUARE = 30, 34, 1, 12
 """big-station: the 40 m 3 element Yagi on rotator 1, the 40 m 4-square's NW on system 12."""
 
@@ -47,7 +49,7 @@ class Page:
     async def js(self, script: str) -> Any:
         return await asyncio.to_thread(self.driver.execute_script, script)
 
-    async def until(self, script: str, what: str, timeout: float = 10.0) -> Any:
+    async def until(self, script: str, what: str, timeout: float = PATIENCE) -> Any:
         loop = asyncio.get_running_loop()
         end = loop.time() + timeout
         while True:
@@ -105,12 +107,13 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
                                   "khz": 7025.0})["ok"]
 
             # the selection moves: the relative list and the rotator chooser follow it
-            for antenna, rotator in ((NW, FOUR_SQUARE), (THREE_EL, YAGI_ROTATOR), (NW, FOUR_SQUARE)):
+            moves = ((NW, FOUR_SQUARE), (THREE_EL, YAGI_ROTATOR), (NW, FOUR_SQUARE))
+            for antenna, rotator in moves:
                 assert server.client({"cmd": "select", "station": 1, "radio": 1,
                                       "antenna": antenna, "exclusive": True})["ok"]
                 await until(lambda a=antenna: shown_selected(window) == [a]  # type: ignore[misc]
                             and window.compass_panel.current is not None,
-                            what=f"antenna {antenna} selected in the desktop client")
+                            timeout=PATIENCE, what=f"antenna {antenna} selected (desktop)")
                 assert window.relative_box.currentText().startswith("\u2714 "), \
                     window.relative_box.currentText()
                 assert window.compass_panel.current.rotator.id == rotator
@@ -123,7 +126,8 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
 
             # the switches stop: no antenna is shown selected anywhere; a press is answered
             server.click("File", "Stop Switches")
-            await until(lambda: window.switches_stopped, what="the stop in the desktop client")
+            await until(lambda: window.switches_stopped, timeout=PATIENCE,
+                        what="the stop in the desktop client")
             assert shown_selected(window) == [] and window.grid.greyed
             assert window.display.text() == "Switches stopped: no antenna is connected"
             assert not any("\u2714" in window.relative_box.itemText(i)
@@ -138,7 +142,8 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
 
             # started again: the selection is back on both
             server.click("File", "Start Switches")
-            await until(lambda: shown_selected(window) == [NW], what="NW back on the desktop")
+            await until(lambda: shown_selected(window) == [NW], timeout=PATIENCE,
+                        what="NW back on the desktop")
             await page.until(f"return document.querySelector('.radio[data-radio=\"1\"] .grid "
                              f"button[data-id=\"{NW}\"]').dataset.state === 'selected'",
                              "NW back on the page")
@@ -147,7 +152,7 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
             server.click("Tray", "Exit")
             assert await asyncio.to_thread(server.ends) == 0
             await until(lambda: window.link_state is LinkState.RECONNECTING,
-                        what="the desktop client noticing")
+                        timeout=PATIENCE, what="the desktop client noticing")
             assert shown_selected(window) == [] and window.grid.greyed
             assert window.compass_panel.compass.greyed
             assert window.compass_panel.heading_label.text() == "not connected"
@@ -162,9 +167,9 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
             # the server comes back: both are live again by themselves
             await asyncio.to_thread(server.start, "big-station.moas", "--web-port", str(web_port))
             await until(lambda: window.link_state is LinkState.CONNECTED
-                        and not window.grid.greyed, timeout=20, what="the desktop client back")
+                        and not window.grid.greyed, timeout=PATIENCE, what="the desktop client back")
             await page.until("return document.body.dataset.screen === 'connected'",
-                             "the page back", timeout=20)
+                             "the page back")
             assert window.status_text() == ""
         finally:
             await window.aclose()
@@ -172,7 +177,7 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
             window.deleteLater()
 
     try:
-        run_on_qt(qapp, scenario(), timeout=120)
+        run_on_qt(qapp, scenario(), timeout=240)
     finally:
         driver.quit()
         server.stop()

@@ -161,6 +161,11 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
             await page.until("return document.body.dataset.link === 'not-connected'",
                              "not connected on the page")
             assert await page.selected() == []
+            assert await page.js("return document.querySelector('.radio[data-radio=\"1\"] "
+                                 ".freq').textContent") == ("Not connected: the antennas in "
+                                                            "use are not known")
+            assert await page.js("return document.querySelectorAll('.radio[data-radio=\"1\"] "
+                                 ".compass .needle').length") == 0, "no heading drawn"
             await page.tap('.radio[data-radio="1"] .grid button[data-type="Antenna"]')
             assert "not connected" in await page.message()
 

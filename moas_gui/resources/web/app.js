@@ -174,7 +174,7 @@
     }
     document.body.dataset.link = up ? "connected" : "not-connected";
     document.body.dataset.screen = state;
-    for (const p of panels) if (p.layout) showLayout(p, p.layout);
+    for (const p of panels) { showRadio(p); if (p.layout) showLayout(p, p.layout); else showCompass(p); }
   }
 
   // -- choosing station and radios ---------------------------------------------------------------
@@ -282,8 +282,12 @@
     const r = radioView(p);
     const el = p.el;
     const freq = $(".freq", el), tx = $(".ant-tx", el), rx = $(".ant-rx", el), note = $(".note", el);
-    if (!r || stopped()) {
-      freq.textContent = stopped() ? "Switches stopped: no antenna is connected" : "no radio";
+    if (!r || !showsSelection()) {
+      freq.textContent = {
+        "switches stopped": "Switches stopped: no antenna is connected",
+        "reconnecting": "Not connected: the antennas in use are not known",
+        "no configuration": "The server has no configuration open",
+      }[screenState()] || "no radio";
       tx.textContent = rx.textContent = "";
       $(".transmitting", el).hidden = $(".inhibited", el).hidden = note.hidden = true;
       if (r) $(".rel-list", el).textContent = (r.relative || []).map(id => antenna(id) ? antenna(id).short || antennaName(id) : id).join("  ");
@@ -429,7 +433,9 @@
     chooser.value = String(p.rotator);
     chooser.hidden = targets.length < 2;
     const svg = $(".compass", p.el);
-    MoasCompass.draw(svg, t);
+    // not connected: the last heading heard is not the heading now, so none is drawn
+    MoasCompass.draw(svg, connected ? t
+      : { ...t, rotator: { ...t.rotator, heading: null, target: null, moving: false } });
     svg.classList.toggle("offline", !t.rotator.online || !connected);
     const rot = t.rotator;
     let text = rot.online ? (rot.heading == null ? "\u2013" : `${pad(MoasCompass.norm(rot.heading + t.offset))}\u00b0`) : "offline";

@@ -6,6 +6,7 @@ Each test runs on a qasync loop (``run_on_qt``): clicks go through pytest-qt's
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 from collections.abc import AsyncIterator
 from typing import Any
@@ -342,3 +343,28 @@ def test_a_refusal_clears_when_another_configuration_arrives(qapp: QApplication)
             await until(lambda: window.status_text() == "", what="the old refusal gone")
 
     run_on_qt(qapp, scenario())
+
+
+def test_a_request_cancelled_before_it_starts_leaves_no_unawaited_coroutine(
+        qapp: QApplication) -> None:
+    import gc
+    import warnings
+
+    async def asked() -> None:
+        await asyncio.sleep(0)
+
+    async def scenario() -> None:
+        async with LiveServer() as live:
+            connection = ClientConnection(LOOPBACK, live.port, backoff=FAST, timeout=2.0)
+            window = ClientWindow(connection)
+            window.start()
+            window._spawn(asked(), "Layout")  # and the window closes before it runs
+            await window.aclose()
+            window.close()
+            window.deleteLater()
+
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        run_on_qt(qapp, scenario())
+        gc.collect()
+    assert not [w for w in seen if "never awaited" in str(w.message)], [str(w.message) for w in seen]

@@ -576,6 +576,9 @@ class ClientWindow(QMainWindow):
             return
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
+        # a task cancelled before its first step (the window closing at once) never
+        # starts ``coro``: closed here, it is not reported as "never awaited"
+        task.add_done_callback(lambda _task: coro.close())
 
     async def _guarded(self, coro: Coroutine[Any, Any, Any], what: str) -> None:
         try:

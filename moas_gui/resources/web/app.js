@@ -355,7 +355,7 @@
     b.dataset.id = String(view.id);
     const mark = view.state === "selected" ? "\u2714 " : view.type === "Function" ? "\u0192 " : "";
     b.textContent = mark + (view.label || `#${view.id}`);
-    b.disabled = view.state === "unavailable";
+    b.disabled = view.state === "unavailable" && showsSelection();  // greyed: every tap is answered
     b.setAttribute("aria-pressed", String(view.state === "selected"));
     b.title = `${view.label} (${view.type === "Function" ? "function" : "antenna"} ${view.id}): ${view.state}`;
   }
@@ -385,7 +385,7 @@
   }
 
   function press(p, view, exclusive) {
-    if (!view || view.state === "unavailable") return;
+    if (!view || (view.state === "unavailable" && showsSelection())) return;
     if (view.type === "Function") send(p, { cmd: "function", function: view.id });
     else send(p, { cmd: "select", antenna: view.id, target: p.target, exclusive });
   }

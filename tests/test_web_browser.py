@@ -298,5 +298,7 @@ async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         await page_until(browser, selected, what="the selection shown again after Start")
         assert await js(browser, "return document.body.dataset.screen") == "connected"
     finally:
+        await run(browser.get, "about:blank")  # the page leaves before its server closes
+        await until(lambda: not clients.clients(), 5, "the page gone")
         await web.close()
         await clients.close()

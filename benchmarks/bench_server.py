@@ -12,7 +12,9 @@ Prints one table:
     window's title and status bar name the file in the same instant), and for
     the window also until its status bar shows both switches answering.
     Resident memory (VmRSS, ``/proc/PID/status``) one second after "Opened",
-    and the peak (VmHWM).  Targets: start < 2 s, RSS < 150 MB.
+    and the peak (VmHWM); then SIGTERM until the process has ended (the
+    journeys in tests/ check that Exit and SIGTERM end it, not how soon).
+    Targets: start < 2 s, RSS < 150 MB, stop < 2 s.
 (b) **N1MM Logger flood.**  A sender process plays N1MM Logger+ at 1,000
     RadioInfo packets a second for 10 s over real UDP on 127.0.0.1 into
     ``moas-server --headless``.  The switches are emulated boxes on
@@ -330,14 +332,19 @@ async def read_marks(process: asyncio.subprocess.Process, wanted: set[str],
     return marks
 
 
-async def stop(process: asyncio.subprocess.Process) -> None:
-    if process.returncode is None:
-        process.send_signal(signal.SIGTERM)
-        try:
-            await asyncio.wait_for(process.wait(), 10)
-        except TimeoutError:
-            process.kill()
-            await process.wait()
+async def stop(process: asyncio.subprocess.Process) -> float:
+    """SIGTERM, then the seconds until the process ended (nan when it had to be killed)."""
+    if process.returncode is not None:
+        return float("nan")
+    began = time.monotonic()
+    process.send_signal(signal.SIGTERM)
+    try:
+        await asyncio.wait_for(process.wait(), 10)
+    except TimeoutError:
+        process.kill()
+        await process.wait()
+        return float("nan")
+    return time.monotonic() - began
 
 
 # --------------------------------------------------------------------------- (a) start-up
@@ -351,6 +358,8 @@ class StartRun:
     """What the server itself logged for loading and starting the file."""
     rss_kb: int
     hwm_kb: int
+    stop_s: float = float("nan")
+    """SIGTERM to the process's end (the journeys check that it ends, this how soon)."""
 
 
 async def start_once(headless: bool, work: Path) -> StartRun:
@@ -365,11 +374,12 @@ async def start_once(headless: bool, work: Path) -> StartRun:
         await asyncio.sleep(1.0)
         memory = proc_status(process.pid)
     finally:
-        await stop(process)
+        stop_s = await stop(process)
     found = re.search(r" in (\d+) ms", marks["opened"][1])
     return StartRun(seconds={name: (at - started) / 1e9 for name, (at, _) in marks.items()},
                     open_ms=float(found.group(1)) if found else float("nan"),
-                    rss_kb=memory.get("VmRSS", 0), hwm_kb=memory.get("VmHWM", 0))
+                    rss_kb=memory.get("VmRSS", 0), hwm_kb=memory.get("VmHWM", 0),
+                    stop_s=stop_s)
 
 
 async def bench_start(runs: int, window: bool, work: Path) -> list[Row]:
@@ -396,6 +406,10 @@ async def bench_start(runs: int, window: bool, work: Path) -> list[Row]:
                      (f"{statistics.median(rss):.0f} MB "
                      f"(peak {max(r.hwm_kb for r in results) / 1024:.0f} MB)"),
                      "< 150 MB", _verdict(max(rss) < 150)))
+        stops = [r.stop_s for r in results]
+        rows.append((f"SIGTERM to the end of the process ({label})",
+                     f"median {statistics.median(stops):.2f} s, max {max(stops):.2f} s",
+                     "< 2 s", _verdict(max(stops) < 2.0)))
     return rows
 
 

@@ -12,6 +12,8 @@ Debian's Chromium, headless, driven by Selenium (all on this one machine).
    a long press) to the emulated switch having the new antenna's relays (both
    clocks are this machine's wall clock).  The same over TCP, for comparison.
    Target: p99 under 20 ms.
+   Then ``--follows`` (20) taps on one page, timed until a second page shows the
+   antenna selected (both pages' clocks are this machine's).  Target: under 100 ms.
 3. Idle pages: the server's CPU (user + system, from /proc) over ``--idle``
    (20) seconds with no page, then with ``--pages`` (30) pages connected.
    Target: the pages add under 5 % of one core.
@@ -143,6 +145,41 @@ async def main(args: argparse.Namespace) -> None:
               f"is a tap and not a long press; the finger was down {statistics.median(holds):.1f} "
               "ms before that")
 
+        # 2b. a tap on one page, seen on another (tests/test_web_browser.py checks that
+        # the second page follows; how soon is this figure)
+        first = driver.current_window_handle
+        await asyncio.to_thread(driver.switch_to.new_window, "window")
+        second = driver.current_window_handle
+        await asyncio.to_thread(driver.get, url)
+        await page_until(driver, "return document.querySelector('.grid button[data-id=\"3\"]')")
+        follows = []
+        for n in range(args.follows):
+            antenna = antennas[n % 2]
+            await asyncio.to_thread(driver.switch_to.window, second)
+            await asyncio.to_thread(driver.execute_script, f"""
+                window.seenAt = null;
+                const b = document.querySelector('.grid button[data-id="{antenna}"]');
+                new MutationObserver((_, o) => {{
+                    if (b.dataset.state === 'selected' && window.seenAt === null) {{
+                        window.seenAt = performance.timeOrigin + performance.now(); o.disconnect();
+                    }}
+                }}).observe(b, {{attributes: true}});""")
+            await asyncio.to_thread(driver.switch_to.window, first)
+
+            def tap_first(ident: int = antenna) -> None:
+                element = driver.find_element(
+                    By.CSS_SELECTOR, f'.grid button[data-type="Antenna"][data-id="{ident}"]')
+                ActionChains(driver).move_to_element(element).click().perform()
+            await asyncio.to_thread(tap_first)
+            tapped = await page_until(driver, "return window.taps.at(-1)")
+            await asyncio.to_thread(driver.switch_to.window, second)
+            seen = await page_until(driver, "return window.seenAt")
+            follows.append(float(seen) - float(tapped))
+        await asyncio.to_thread(driver.close)
+        await asyncio.to_thread(driver.switch_to.window, first)
+        print(f"a tap on one page seen on a second page: p50 {pct(follows, 50):.1f} ms, "
+              f"max {max(follows):.1f} ms over {len(follows)} taps (target < 100 ms)")
+
         # 3. idle CPU with no page, then with many
         await asyncio.to_thread(driver.get, "about:blank")
         assert station.process is not None
@@ -177,5 +214,7 @@ if __name__ == "__main__":
     parser.add_argument("--loads", type=int, default=10)
     parser.add_argument("--taps", type=int, default=200)
     parser.add_argument("--pages", type=int, default=30)
+    parser.add_argument("--follows", type=int, default=20,
+                        help="taps timed from one page to a second page")
     parser.add_argument("--idle", type=float, default=20.0)
     asyncio.run(main(parser.parse_args()))

@@ -14,16 +14,25 @@ from __future__ import annotations
 import asyncio
 import functools
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from moas_gui.config import Config
+from moas_gui.config.model import Antenna, Rotator, RotatorControl
 from moas_gui.engine import Engine
 from moas_gui.engine.focus import FocusTable
 from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
-from moas_gui.hw.rotators.base import RotatorView, Timing
+from moas_gui.hw.rotators.base import (
+    RotatorDriver,
+    RotatorStatus,
+    RotatorView,
+    Timing,
+    UnusableRotator,
+)
+from moas_gui.hw.rotators.electrical import SelectDirection
+from moas_gui.hw.rotators.headings import Travel
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.net.admission import DEFAULT_PER_ADDRESS
 from moas_gui.net.backend import ClientBackend
@@ -76,6 +85,9 @@ class ServerOptions:
     """Connections one address may hold at once; None for the default."""
     start_rotator_program: bool | None = None
     """Overrides ``StartMOASRotator`` when not None."""
+    use_rotator_program: bool = True
+    """False (``--no-rotator-program``): no MOAS Rotator program at all, neither started
+    nor connected to; the rotators that go through one are shown offline, saying why."""
     rotator_program_port: int = 13020
     switch_timing: LinkTiming | None = None
     """Timing of the switch links (ping interval, timeouts); None for the real defaults."""
@@ -158,6 +170,27 @@ async def start_sources(run: Running, options: ServerOptions, sink: EventSink) -
     run.n1mm = run.sources.n1mm
 
 
+class _WithoutRotatorProgram(RotatorManager):
+    """Rotators with no MOAS Rotator program: those that go through one (``Serial``)
+    are built offline, with the reason, so no connection is ever tried."""
+
+    def _build(self, rotator: Rotator, travel: Travel,
+               publish: Callable[[RotatorStatus], None], antennas: Sequence[Antenna],
+               select: SelectDirection | None, moas_port: int) -> RotatorDriver:
+        if rotator.control is RotatorControl.SERIAL:
+            return _LeftOut(rotator, travel, publish, "it goes through the MOAS Rotator "
+                            "program, which --no-rotator-program leaves out")
+        return super()._build(rotator, travel, publish, antennas, select, moas_port)
+
+
+class _LeftOut(UnusableRotator):
+    """A rotator left out on purpose: offline, and a request says why; the one line
+    :func:`start_rotators` logs for all of them is enough at start."""
+
+    async def start(self) -> None:
+        return None
+
+
 async def start_rotators(run: Running, options: ServerOptions,
                          on_change: Callable[[RotatorView], None],
                          select_direction: Callable[[int, int], None]) -> None:
@@ -165,7 +198,15 @@ async def start_rotators(run: Running, options: ServerOptions,
     if not run.config.rotators:
         return
     start = options.start_rotator_program
-    run.rotators = RotatorManager.from_config(
+    manager = RotatorManager if options.use_rotator_program else _WithoutRotatorProgram
+    if not options.use_rotator_program:
+        start = False
+        serial = [r.id for r in run.config.rotators if r.control is RotatorControl.SERIAL]
+        if serial:
+            log.info("No MOAS Rotator program (--no-rotator-program): rotator%s %s, which "
+                     "go%s through one, stay offline", "s" if len(serial) > 1 else "",
+                     ", ".join(str(i) for i in serial), "" if len(serial) > 1 else "es")
+    run.rotators = manager.from_config(
         run.config,
         on_change=on_change,
         select_direction=select_direction,

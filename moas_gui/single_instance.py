@@ -273,12 +273,13 @@ class InstanceServer:
 
     def _deliver(self, path: Path | None) -> str | None:
         assert self._on_open is not None
+        # said first: what the callback logs (asking, "already open") follows from it
+        log.info("Another moas-server handed over %s", path or "(no file: show the window)")
         try:
             self._on_open(path)
         except Exception as exc:
             log.exception("Opening %s handed over by another moas-server failed", path)
             return f"the running instance could not take it: {exc}"
-        log.info("Another moas-server handed over %s", path or "(no file: show the window)")
         return None
 
     def close(self) -> None:
@@ -393,7 +394,8 @@ def offer(name: str = DEFAULT_NAME, path: str | os.PathLike[str] | None = None,
             return _ask(directory, name, transport, request, deadline)
         except (OSError, ValueError) as exc:
             if time.monotonic() >= deadline:
-                log.warning("The running moas-server did not take %s: %s", request["open"], exc)
+                log.warning("The running moas-server did not take %s: %s",
+                            request["open"] or "a launch without a file", exc)
                 return HandOver(taken=False)
             time.sleep(0.05)
 
@@ -423,7 +425,8 @@ def _ask(directory: Path, name: str, transport: Transport, request: dict[str, ob
             reply += chunk
     answer = json.loads(reply)
     if not answer.get("ok"):
-        log.warning("The running moas-server refused %s: %s", request["open"], answer.get("error"))
+        log.info("The running moas-server refused %s: %s",
+                 request["open"] or "a launch without a file", answer.get("error"))
         return HandOver(taken=False, refusal=str(answer.get("error")))
     return HandOver(taken=True)
 

@@ -1,19 +1,30 @@
 #!/usr/bin/env bash
 # Installs moas-gui (scripts/setup.sh) and starts the server window on an example
 # station whose switches are the built-in emulator (no hardware needed); the
-# example's serial rotators get emulated controllers.  With no display (a server
-# over ssh), it runs the same server headless instead.
+# example's serial rotators get emulated controllers, linked in a private directory
+# made for this run (removed at the end).  The server listens on this computer only
+# (127.0.0.1) unless --bind or --udp-bind is given.  When no display can be opened
+# (a server over ssh, or a DISPLAY that does not answer), it runs the same server
+# headless instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 example="${1:-examples/big-station.moas}"
 shift || true
-emulators=$(.venv/bin/python scripts/example_rotators.py "$example")
-cleanup() { for pid in $emulators; do kill "$pid" 2>/dev/null || true; done; }
+private=$(mktemp -d "${TMPDIR:-/tmp}/moas-example.XXXXXX")  # mode 700, this run's own
+emulators=$(.venv/bin/python scripts/example_rotators.py "$example" "$private")
+cleanup() {
+    for pid in $emulators; do kill "$pid" 2>/dev/null || true; done
+    rm -rf "$private"
+}
 trap cleanup EXIT
-if [ "$(uname)" = "Linux" ] && [ -z "${DISPLAY:-}" ] && [ -z "${WAYLAND_DISPLAY:-}" ]; then
-    echo "run-example: no display; running the server headless (Ctrl+C stops it)" >&2
-    .venv/bin/moas-server --headless "$example" "$@"
+opened="$private/$(basename "$example")"
+bind=()
+case " $* " in *" --bind"*) ;; *) bind+=(--bind 127.0.0.1) ;; esac
+case " $* " in *" --udp-bind"*) ;; *) bind+=(--udp-bind 127.0.0.1) ;; esac
+if problem=$(.venv/bin/python -m moas_gui.ui.display); then
+    .venv/bin/moas-server "$opened" "${bind[@]}" "$@"
 else
-    .venv/bin/moas-server "$example" "$@"
+    echo "run-example: $problem; running the server headless (Ctrl+C stops it)" >&2
+    .venv/bin/moas-server --headless "$opened" "${bind[@]}" "$@"
 fi

@@ -4,9 +4,14 @@ Runs the server (big-station example, built-in emulated switches) and the
 built-in client in one process, tunes station 1 radio 1 to 20 m, and saves:
 
 - ``client-window.png`` at the window's usual size;
-- ``client-window-laptop.png`` at 1240x720, what fits a 1280x800 laptop screen.
+- ``client-window-laptop.png`` at 1240x720, what fits a 1280x800 laptop screen;
+- ``client-window-stopped.png`` after File > Stop Switches: no antenna shown
+  selected, the buttons greyed;
+- ``client-window-disconnected.png`` after the server has gone: everything
+  greyed, the compass too, and a press answered "not connected".
 
 Usage: QT_QPA_PLATFORM=offscreen .venv/bin/python scripts/screenshot_client.py [FOLDER]
+(or on an X display: ``xvfb-run -s "-screen 0 1280x800x24" .venv/bin/python ...``)
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ from __future__ import annotations
 import asyncio
 import sys
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 import qasync
@@ -28,6 +34,14 @@ ROOT = Path(__file__).resolve().parent.parent
 
 async def settle(seconds: float = 0.6) -> None:
     await asyncio.sleep(seconds)
+
+
+async def until(condition: Callable[[], object], seconds: float = 10.0) -> None:
+    for _ in range(int(seconds / 0.05)):
+        if condition():
+            return
+        await asyncio.sleep(0.05)
+    raise RuntimeError("screenshot_client: the window never showed what was waited for")
 
 
 async def shoot(out: Path) -> None:
@@ -50,11 +64,24 @@ async def shoot(out: Path) -> None:
         client.resize(1240, 720)
         await settle()
         client.grab().save(str(out / "client-window-laptop.png"))
-        print(f"screenshot_client: wrote {out}/client-window.png and client-window-laptop.png")
+        client.resize(1060, 700)
+        server.stop_switches()
+        await until(lambda: client.switches_stopped)
+        client._pressed(client.grid.buttons[0].view, False)  # what a press answers
+        await settle()
+        client.grab().save(str(out / "client-window-stopped.png"))
+        server.start_switches()
+        await until(lambda: not client.grid.greyed)
+        window.shutdown()
+        await server.close()  # the server goes: the window keeps trying
+        await until(lambda: client.grid.greyed)
+        client._pressed(client.grid.buttons[0].view, False)
+        await settle()
+        client.grab().save(str(out / "client-window-disconnected.png"))
+        print(f"screenshot_client: wrote client-window.png, client-window-laptop.png, "
+              f"client-window-stopped.png and client-window-disconnected.png in {out}")
         await client.aclose()
         client.close()
-        window.shutdown()
-        await server.close()
 
 
 def main() -> int:

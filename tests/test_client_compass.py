@@ -207,7 +207,7 @@ def test_the_window_compass_turns_and_stops_the_rotator(qapp: QApplication, qtbo
             window.show()
             try:
                 panel = window.compass_panel
-                await until(lambda: panel.current is not None and panel.isEnabled(),
+                await until(lambda: panel.current is not None and not panel.greyed,
                             what="the compass of the 20 m stack")
                 assert panel.current.rotator.id == 2  # type: ignore[union-attr]
                 assert panel.heading_label.text() == "45\u00b0"
@@ -247,6 +247,11 @@ def test_the_panel_follows_the_transmit_rotator_until_the_user_picks_one(qtbot: 
     panel.show_targets((one, two), prefer=2)
     assert panel.current is one
     panel.show_targets((two,), prefer=None)
+    assert panel.current is two
+    panel.show_targets((one, two), prefer=2)
+    assert panel.choose(1)
+    panel.show_targets((one, two), prefer=1)
+    panel.show_targets((one, two), prefer=2)  # another antenna in use: the chooser follows it
     assert panel.current is two
 
 

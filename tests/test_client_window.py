@@ -6,6 +6,7 @@ Each test runs on a qasync loop (``run_on_qt``): clicks go through pytest-qt's
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 from collections.abc import AsyncIterator
 from typing import Any
@@ -28,7 +29,7 @@ async def open_window(live: LiveServer, **kwargs: Any) -> AsyncIterator[ClientWi
     window.start()
     window.show()
     try:
-        await until(lambda: window.grid.buttons and window.grid.isEnabled(),
+        await until(lambda: window.grid.buttons and not window.grid.greyed,
                     what="the window connecting and showing its buttons")
         yield window
     finally:
@@ -252,11 +253,23 @@ def test_stopped_switches_show_no_antenna_and_start_clears_the_refusal(
             assert "Connected" not in window.link_label.text()
             assert window.display.text() == "Switches stopped: no antenna is connected"
             assert "TX" not in window.display.text()
-            assert not window.grid.isEnabled() and not window.frequency_button.isEnabled()
+            # no antenna is shown selected anywhere: not the buttons, not the relative list
+            assert all(b.shown_state is None for b in window.grid.buttons)
+            assert "switches are stopped" in button(window, "20 Stack").toolTip()
+            assert not any("\u2714" in window.relative_box.itemText(i)
+                           for i in range(window.relative_box.count()))
+            selects = len(live.calls("select"))
+            qtbot.mouseClick(button(window, "Tribander"), Qt.MouseButton.LeftButton)
+            await until(lambda: "switches are stopped" in window.status_text(),
+                        what="the click answered, not dropped")
+            assert window.status_text().startswith("\u26a0 Select Tribander: the switches")
+            assert len(live.calls("select")) == selects, "nothing was sent"
+            qtbot.mouseClick(window.frequency_button, Qt.MouseButton.LeftButton)
+            assert "Frequency: the switches are stopped" in window.status_text()
             window._pressed(button(window, "Tribander").view, False)  # a click racing the stop
             await until(lambda: "switches are stopped" in window.status_text())
             live.backend.start_switches()
-            await until(lambda: window.grid.isEnabled(), what="the grid usable again")
+            await until(lambda: not window.grid.greyed, what="the grid usable again")
             assert window.status_text() == "", "the refusal is gone after Start"
             assert "Connected" in window.link_label.text()
             assert "TX" in window.display.text()
@@ -271,7 +284,16 @@ def test_reconnects_after_the_server_restarts(qapp: QApplication, qtbot: Any) ->
             await until(lambda: window.link_state is LinkState.RECONNECTING,
                         what="the window noticing the loss")
             assert "Reconnecting" in window.link_label.text()
-            assert not window.grid.isEnabled()
+            # greyed, nothing shown selected, the compass greyed, a click answered
+            assert window.grid.greyed and all(b.shown_state is None
+                                              for b in window.grid.buttons)
+            assert window.display.text() == "Not connected: the antennas in use are not known"
+            assert window.compass_panel.compass.greyed
+            qtbot.mouseClick(button(window, "Tribander"), Qt.MouseButton.LeftButton)
+            assert window.status_text() == ("\u26a0 Select Tribander: not connected to the "
+                                            "server; the window keeps trying")
+            qtbot.mouseClick(window.next_button, Qt.MouseButton.LeftButton)
+            assert "Relative: not connected" in window.status_text()
             layouts_before = len(live.calls("layout"))
 
             await live.start()
@@ -279,7 +301,8 @@ def test_reconnects_after_the_server_restarts(qapp: QApplication, qtbot: Any) ->
                         what="the window reconnecting")
             await until(lambda: len(live.calls("layout")) > layouts_before,
                         what="the layout asked again")
-            await until(lambda: window.grid.isEnabled())
+            await until(lambda: not window.grid.greyed)
+            assert window.status_text() == "", "the local answer is gone once connected"
             qtbot.mouseClick(button(window, "Tribander"), Qt.MouseButton.LeftButton)
             await until(lambda: states(window)["Tribander"] == "selected",
                         what="a press after reconnecting")
@@ -320,3 +343,28 @@ def test_a_refusal_clears_when_another_configuration_arrives(qapp: QApplication)
             await until(lambda: window.status_text() == "", what="the old refusal gone")
 
     run_on_qt(qapp, scenario())
+
+
+def test_a_request_cancelled_before_it_starts_leaves_no_unawaited_coroutine(
+        qapp: QApplication) -> None:
+    import gc
+    import warnings
+
+    async def asked() -> None:
+        await asyncio.sleep(0)
+
+    async def scenario() -> None:
+        async with LiveServer() as live:
+            connection = ClientConnection(LOOPBACK, live.port, backoff=FAST, timeout=2.0)
+            window = ClientWindow(connection)
+            window.start()
+            window._spawn(asked(), "Layout")  # and the window closes before it runs
+            await window.aclose()
+            window.close()
+            window.deleteLater()
+
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        run_on_qt(qapp, scenario())
+        gc.collect()
+    assert not [w for w in seen if "never awaited" in str(w.message)], [str(w.message) for w in seen]

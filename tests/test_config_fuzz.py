@@ -1,6 +1,7 @@
 """Configuration fuzzing: mutations of every example and of generated stations, through
-the reader and through ``moas-server --check``.  Never a traceback, never a long wait,
-every problem at a line and column.
+the reader and through ``moas-server --check``.  Never a traceback, every problem at a
+line and column.  How long a file takes to read (never a second) is a figure of the
+benchmark below, not a limit here: a busy machine must not fail a test.
 
 The corpus is fixed (seeded), so every run reads the same files; the large run with
 figures is ``benchmarks/bench_config_fuzz.py`` (docs/reliability.md).
@@ -19,8 +20,6 @@ from moas_gui.cli import server
 from moas_gui.config import read_config
 
 FILES = corpus(generated=2)  # with the eight examples: ten files
-LIMIT_S = 1.0
-"""No file may take longer than this to read (a fuzzed file takes milliseconds)."""
 
 
 def test_the_unmutated_corpus_is_usable_without_a_single_problem() -> None:
@@ -31,7 +30,7 @@ def test_the_unmutated_corpus_is_usable_without_a_single_problem() -> None:
 
 
 @pytest.mark.parametrize("kind", sorted(MUTATIONS))
-def test_mutated_files_give_placed_problems_never_a_crash_or_a_wait(kind: str) -> None:
+def test_mutated_files_give_placed_problems_never_a_crash(kind: str) -> None:
     made = [m for m in mutations(FILES, 400, seed=15) if m[1] == kind]
     assert len(made) == 80
     broken = 0
@@ -39,7 +38,6 @@ def test_mutated_files_give_placed_problems_never_a_crash_or_a_wait(kind: str) -
         outcome = read(data, name)
         assert outcome.crash is None, f"{name} ({kind}):\n{outcome.crash}"
         assert outcome.unplaced is None, f"{name} ({kind}): {outcome.unplaced}"
-        assert outcome.seconds < LIMIT_S, f"{name} ({kind}) took {outcome.seconds:.2f} s"
         broken += not outcome.usable
     assert broken >= 10, "the mutations must break files, or they test nothing"
 

@@ -19,7 +19,6 @@ import signal
 import socket
 import subprocess
 import sys
-import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -30,6 +29,8 @@ from helpers import free_port, short_runtime_dir, wait_for
 pytestmark = pytest.mark.realtime
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+HANG = 30.0
+"""Seconds after which a server that should have ended is taken to hang."""
 
 
 class Server:
@@ -49,10 +50,13 @@ class Server:
         self._hook: socket.socket | None = None
         self._reader: Any = None
 
-    def start(self, file: str) -> Server:
+    def start(self, file: str, *extra: str) -> Server:
+        if self.process is not None:  # a restart: the ended process's hook and output go
+            self.output()
+        self.control.unlink(missing_ok=True)  # a restart waits for the new process's hook
         args = [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / file),
                 "--bind", "127.0.0.1", "--tcp-port", str(self.tcp), "--udp-port", "0",
-                "--udp-bind", "127.0.0.1", "--no-rotator-program"]
+                "--udp-bind", "127.0.0.1", "--no-rotator-program", *extra]
         if self.new_instance:
             args.append("--new-instance")
         self.process = subprocess.Popen(args, env=self.env, stdout=subprocess.PIPE,
@@ -90,8 +94,11 @@ class Server:
         return wait_for(seen_when_true, timeout, what)  # type: ignore[no-any-return]
 
     def client(self, request: dict[str, Any]) -> dict[str, Any]:
-        """One request on the client port, as any client sends it; the reply."""
-        with socket.create_connection(("127.0.0.1", self.tcp), timeout=5) as conn:
+        """One request on the client port, as any client sends it; the reply.  (While a
+        new configuration starts, its port opens a moment after the window names it:
+        a refused connection is tried again, as a client does.)"""
+        conn = wait_for(lambda: _connected(self.tcp), 20, "the client port")
+        with conn:
             conn.sendall(json.dumps({"id": 1, **request}).encode() + b"\n")
             reader = conn.makefile("rb")
             while True:
@@ -102,14 +109,14 @@ class Server:
     def config(self) -> str | None:
         return self.client({"cmd": "state"})["result"]["config"]  # type: ignore[no-any-return]
 
-    def ends_within(self, seconds: float) -> float:
+    def ends(self) -> int:
+        """Waits for the process to end by itself; its exit status.  (How soon it ends is
+        measured by benchmarks/bench_server.py; the limit here only catches a hang.)"""
         assert self.process is not None
-        started = time.monotonic()
         try:
-            self.process.wait(timeout=seconds)
+            return self.process.wait(timeout=HANG)
         except subprocess.TimeoutExpired:
-            raise AssertionError(f"the server still runs {seconds} s later") from None
-        return time.monotonic() - started
+            raise AssertionError(f"the server still runs {HANG} s later: it hangs") from None
 
     def output(self) -> str:
         assert self.process is not None
@@ -137,6 +144,13 @@ class Server:
                 self.process.kill()
                 self.process.communicate(timeout=10)
         shutil.rmtree(self.runtime, ignore_errors=True)
+
+
+def _connected(port: int) -> socket.socket | None:
+    try:
+        return socket.create_connection(("127.0.0.1", port), timeout=5)
+    except ConnectionRefusedError:
+        return None
 
 
 @pytest.fixture
@@ -191,7 +205,7 @@ def test_stop_start_reset_restart_and_the_emulator_window(server: Server) -> Non
     server.shows(lambda s: relays(s) == on, "the new switch shows the relays")
 
     server.click("Tray", "Exit")
-    assert server.ends_within(2.0) < 2.0
+    assert server.ends() == 0
     out = server.output()
     assert server.process is not None and server.process.returncode == 0, out
     assert "Traceback" not in out
@@ -233,7 +247,7 @@ def test_file_open_another_station_then_the_emulator_and_sigterm(server: Server)
 
     assert server.process is not None
     server.process.send_signal(signal.SIGTERM)
-    assert server.ends_within(2.0) < 2.0
+    assert server.ends() == 0
     assert "Traceback" not in server.output()
 
 
@@ -251,7 +265,23 @@ def test_a_second_launch_with_another_file_asks_and_yes_switches_cleanly(tmp_pat
 
         same = launch("small-station.moas")  # the same file: the window comes forward
         assert same.returncode == 0, same.stderr
-        assert not server.look()["dialogs"]
+        seen = server.look()
+        assert not seen["dialogs"]
+        handed = [i for i, line in enumerate(seen["log"]) if "handed over" in line]
+        already = [i for i, line in enumerate(seen["log"]) if "is already open" in line]
+        assert handed and already and handed[-1] < already[-1], seen["log"][-6:]
+
+        # two quick launches: one question, the newer's; only its answer counts
+        assert launch("big-station.moas").returncode == 0
+        server.shows(lambda s: len(s["dialogs"]) == 1, "the first question")
+        assert launch("tribander-stack.moas").returncode == 0
+        seen = server.shows(lambda s: len(s["dialogs"]) == 1
+                            and "tribander-stack.moas?" in s["dialogs"][0]["text"],
+                            "the newer question in place of the older")
+        assert "big-station" not in seen["dialogs"][0]["text"]
+        server.answer("No")
+        server.shows(lambda s: not s["dialogs"], "no question left behind")
+        assert server.config() == "small-station.moas"
 
         other = launch("2x6.moas")  # a double-click on another file
         assert other.returncode == 0 and "handed" in other.stderr, other.stderr
@@ -284,7 +314,7 @@ def test_a_second_launch_with_another_file_asks_and_yes_switches_cleanly(tmp_pat
         server.click("File", "Stop Switches")
         server.shows(lambda s: "stopped" in s["status"], "stopped")
         server.click("Tray", "Exit")
-        assert server.ends_within(2.0) < 2.0
+        assert server.ends() == 0
         out = server.output()
         assert "Traceback" not in out and "Cannot enter into task" not in out, out
     finally:

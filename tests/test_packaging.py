@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import os
 import shutil
+import signal
 import subprocess
 import sys
 import tomllib
 from pathlib import Path
 
+import pytest
+from helpers import wait_for
 from packaging.requirements import Requirement
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -67,3 +71,30 @@ def test_the_readme_runs_an_example_from_the_source_folder() -> None:
     readme = (ROOT / "README.md").read_text()
     assert "bash scripts/run-example.sh examples/big-station.moas" in readme
     assert (ROOT / "examples" / "big-station.moas").is_file()
+
+
+@pytest.mark.realtime
+def test_the_examples_rotator_links_go_into_the_runs_private_directory(tmp_path: Path) -> None:
+    from moas_gui.config import RotatorControl, load_config
+
+    private = tmp_path / "run"
+    private.mkdir(mode=0o700)
+    done = subprocess.run([sys.executable, str(ROOT / "scripts" / "example_rotators.py"),
+                           str(ROOT / "examples" / "big-station.moas"), str(private)],
+                          capture_output=True, text=True, check=True, timeout=60)
+    pids = [int(line) for line in done.stdout.split()]
+    try:
+        copy = load_config(private / "big-station.moas").config
+        assert copy is not None
+        serial = [r for r in copy.rotators if r.control is RotatorControl.SERIAL]
+        assert len(serial) == len(pids) == 9
+        assert all(Path(r.comm_port).parent == private for r in serial)
+        wait_for(lambda: all(Path(r.comm_port).exists() for r in serial), 20,
+                 "every emulator's link")
+        assert f"on {private}/moas-rotator-1" in done.stderr
+    finally:
+        for pid in pids:
+            os.kill(pid, signal.SIGTERM)
+    script = (ROOT / "scripts" / "run-example.sh").read_text()
+    assert "--bind 127.0.0.1" in script and "mktemp -d" in script
+    assert "python -m moas_gui.ui.display" in script

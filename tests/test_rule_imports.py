@@ -26,6 +26,7 @@ ALLOWED: dict[str, set[str]] = {
     "places": set(),
     "clock": set(),
     "retry": set(),
+    "log_repeats": set(),
     "config": {"errors"},
     "engine": {"config", "errors"},
     "state_store": {"engine", "errors", "files", "places"},
@@ -43,10 +44,10 @@ ALLOWED: dict[str, set[str]] = {
     "single_instance": {"errors"},
     "desktop": {"files"},
     "service": {"files"},
-    "ui": {"app", "client", "hw", "sources", "status"},
+    "ui": {"app", "client", "hw", "log_repeats", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
-            "retry", "sources", "places", "service"},
+            "retry", "sources", "log_repeats", "places", "service"},
 }
 """Which packages (or top-level modules) of moas_gui each one may import."""
 

@@ -82,6 +82,31 @@ def test_no_in_the_real_dialog_keeps_the_running_file(qapp: Any, harness: Harnes
     run_on_qt(qapp, scenario())
 
 
+def test_a_newer_question_replaces_the_open_one_and_only_its_answer_counts(
+        qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = real_dialogs(harness)
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        window.open_file(str(EXAMPLES / "big-station.moas"))
+        older = window.last_dialog
+        assert older is not None and "open big-station.moas?" in older.text()
+        window.open_file(str(EXAMPLES / "2x6.moas"))  # a second quick launch
+        newer = window.last_dialog
+        assert newer is not older and "open 2x6.moas?" in newer.text()
+        assert gone(older), "the older question is closed, not left underneath"
+        questions = [w for w in window.findChildren(QMessageBox) if w.isVisible()]
+        assert questions == [newer]
+        window._answered(2, str(EXAMPLES / "big-station.moas"), True)  # a late older Yes
+        await window.idle()
+        assert harness.app is not None and harness.app.status.file == "small-station.moas"
+        newer.button(QMessageBox.StandardButton.Yes).click()
+        await until(lambda: window._tasks == set() and harness.app is not None
+                    and harness.app.status.file == "2x6.moas", timeout=10)
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
 def test_the_open_dialog_starts_in_the_open_files_folder(qapp: Any, harness: Harness) -> None:
     async def scenario() -> None:
         window = real_dialogs(harness)
@@ -173,6 +198,7 @@ def test_help_manual_opens_the_manual_or_says_where_it_is(qapp: Any, harness: Ha
 
     async def scenario() -> None:
         window = harness.make()
+        window.viewer_command = None  # Qt's own opener, as on Windows and macOS
         asked: list[str] = []
         window.open_url = lambda url: asked.append(url.toLocalFile()) or True
         window.action_manual.trigger()
@@ -183,6 +209,43 @@ def test_help_manual_opens_the_manual_or_says_where_it_is(qapp: Any, harness: Ha
         box = window.last_dialog
         assert box is not None and box.isVisible()
         assert str(docs_path() / "README.md") in box.text()
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_help_manual_says_where_the_manual_is_when_the_viewer_fails(
+        qapp: Any, harness: Harness, tmp_path: Path) -> None:
+    """xdg-open starts, finds nothing to show Markdown with and fails: the window says so
+    and where the manual is (the failing viewer here is a real program)."""
+    from moas_gui.ui.server_window import docs_path
+
+    failing = tmp_path / "xdg-open"
+    failing.write_text("#!/bin/sh\necho 'x-terminal-emulator: not found' >&2\nexit 3\n")
+    failing.chmod(0o755)
+    working = tmp_path / "viewer"
+    working.write_text("#!/bin/sh\nexit 0\n")
+    working.chmod(0o755)
+
+    async def scenario() -> None:
+        window = harness.make()
+        window.viewer_command = [str(working)]
+        window.action_manual.trigger()
+        assert window._viewer is not None
+        await until(lambda: window._viewer is None, what="the viewer ran and ended")
+        await asyncio.sleep(0.05)
+        assert window.last_dialog is None, "a viewer that works needs no message"
+        window.viewer_command = [str(failing)]
+        window.action_manual.trigger()
+        await until(lambda: window.last_dialog is not None and window.last_dialog.isVisible(),
+                    what="the message about the manual")
+        text = window.last_dialog.text()
+        assert str(docs_path() / "README.md") in text
+        assert "exit status 3: x-terminal-emulator: not found" in text
+        window.viewer_command = [str(tmp_path / "missing-viewer")]
+        window.last_dialog = None
+        window.action_manual.trigger()
+        await until(lambda: window.last_dialog is not None, what="the missing viewer told")
+        assert "could not be started" in window.last_dialog.text()
         await harness.close()
     run_on_qt(qapp, scenario())
 

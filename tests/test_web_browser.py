@@ -123,29 +123,18 @@ async def test_taps_select_antennas_a_second_page_follows_and_frequencies_move_t
         assert station.relays() != before
         await page_until(browser, f"return {button(1, vertical)}.dataset.state === 'selected'")
 
-        # A second page sees a tap on the first within 100 ms.
+        # A second page sees a tap on the first (how soon: benchmarks/bench_web.py).
         first = browser.current_window_handle
         await run(browser.switch_to.new_window, "window")
         second = browser.current_window_handle
         await run(browser.get, station.url + "?station=1&radio=1")
         await page_until(browser, f"return {button(1, tribander)} !== null")
-        await js(browser, f"""
-            window.seenAt = null;
-            const b = {button(1, tribander)};
-            new MutationObserver(() => {{
-                if (b.dataset.state === 'selected' && window.seenAt === null)
-                    window.seenAt = performance.timeOrigin + performance.now();
-            }}).observe(b, {{attributes: true}});""")
+        assert await js(browser, f"return {button(1, tribander)}.dataset.state") == "available"
         await run(browser.switch_to.window, first)
-        await js(browser, f"""
-            window.tappedAt = null;
-            {button(1, tribander)}.addEventListener('pointerdown',
-                () => {{ window.tappedAt = performance.timeOrigin + performance.now(); }});""")
         await tap(browser, f'.radio[data-radio="1"] .grid button[data-id="{tribander}"]')
-        tapped = await page_until(browser, "return window.tappedAt")
         await run(browser.switch_to.window, second)
-        seen = await page_until(browser, "return window.seenAt", what="the change on page 2")
-        assert seen - tapped < 100, f"the second page saw the tap after {seen - tapped:.0f} ms"
+        await page_until(browser, f"return {button(1, tribander)}.dataset.state === 'selected'",
+                         what="the tap of page 1 on page 2")
         await until(lambda: station.relays_of(tribander, 14025.0) <= station.relays(), 5)
         await run(browser.close)
         await run(browser.switch_to.window, first)
@@ -219,6 +208,16 @@ async def test_the_compass_turns_a_test_rotator_and_a_stopped_server_shows_not_c
     await page_until(browser, f"{link.replace('return ', 'const t = ')}; "
                      "return t.toLowerCase().includes('not connected')", what="not connected")
     assert await js(browser, "return document.body.classList.contains('offline')")
+    # nothing is shown as true any more: no antenna selected, no heading; a tap is answered
+    await page_until(browser, "return document.querySelectorAll('.radio[data-radio=\"1\"] "
+                     ".grid button[data-state=\"selected\"]').length === 0",
+                     what="no antenna shown selected")
+    assert await js(browser, heading_text) == "not connected"
+    await tap(browser, '.radio[data-radio="1"] .grid button[data-id="3"]')
+    message = "return document.querySelector('.radio[data-radio=\"1\"] .message').textContent"
+    assert "not connected" in await page_until(browser, message, what="the tap answered")
+    await tap(browser, svg, 10, 10)
+    assert (await js(browser, message)).startswith("\u26a0 Turn: not connected")
     await station.start_server()
     await page_until(browser, f"{link.replace('return ', 'const t = ')}; "
                      "return t.includes('Connected') && !t.includes('Not')", 15, "reconnected")
@@ -258,3 +257,48 @@ async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
     assert station.pages() == 1
     await run(browser.get, "about:blank")
     await until(lambda: station.pages() == 0, 5, "the page left disconnecting")
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
+        browser: Any) -> None:
+    from moas_gui.net.fake_backend import FakeBackend
+    from moas_gui.net.server import ClientServer
+    from moas_gui.net.web import WebServer
+
+    backend = FakeBackend()
+    clients = ClientServer(backend, host="127.0.0.1", port=0)
+    backend.attach(clients)
+    await clients.start()
+    web = WebServer(clients, host="127.0.0.1", port=0)
+    await web.start()
+    selected = ("return document.querySelectorAll('.radio[data-radio=\"1\"] "
+                ".grid button[data-state=\"selected\"]').length")
+    message = "return document.querySelector('.radio[data-radio=\"1\"] .message').textContent"
+    try:
+        await run(browser.get, f"http://127.0.0.1:{web.port}/?station=1&radio=1")
+        await page_until(browser, selected, what="an antenna selected")
+        backend.stop_switches()
+        await page_until(browser, "return document.getElementById('link').textContent"
+                         ".includes('Switches stopped')", what="the stop in the top bar")
+        await page_until(browser, f"{selected.replace('return ', 'return 0 === ')}",
+                         what="no antenna shown selected")
+        assert await js(browser, "return document.body.dataset.screen") == "switches stopped"
+        freq = "return document.querySelector('.radio[data-radio=\"1\"] .freq').textContent"
+        assert await js(browser, freq) == "Switches stopped: no antenna is connected"
+        assert "\u25b8" not in await js(browser, "return document.querySelector("
+                                        "'.radio[data-radio=\"1\"] .rel-list').textContent")
+        selects = len([c for c in backend.calls if c[0] == "select"])
+        await tap(browser, '.radio[data-radio="1"] .grid button[data-type="Antenna"]')
+        assert "the switches are stopped" in await page_until(browser, message,
+                                                              what="the tap answered")
+        assert len([c for c in backend.calls if c[0] == "select"]) == selects
+        backend.start_switches()
+        await page_until(browser, selected, what="the selection shown again after Start")
+        assert await js(browser, "return document.body.dataset.screen") == "connected"
+    finally:
+        await run(browser.get, "about:blank")  # the page leaves before its server closes
+        await until(lambda: not clients.clients(), 5, "the page gone")
+        await web.close()
+        await clients.close()

@@ -96,6 +96,13 @@ def run_headless(host: str, port: int, args: argparse.Namespace,
 
 def run(host: str, port: int, args: argparse.Namespace) -> int:
     """Shows the window on a qasync loop until it is closed (or ``--quit-after``)."""
+    from moas_gui.ui.display import display_problem
+
+    problem = display_problem()
+    if problem is not None:  # Qt would abort the process: say why instead
+        print(f"moas-client: {problem}; on a computer without a screen, read a logger "
+              "with moas-client --headless --station N --source KIND HOST", file=sys.stderr)
+        return 1
     import qasync  # type: ignore[import-untyped]
 
     from moas_gui.client.connection import ClientConnection

@@ -218,6 +218,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     if args.headless:
         return run_until_stopped(_run(args, windowed=False))
+    from moas_gui.ui.display import display_problem
+
+    problem = display_problem()
+    if problem is not None:  # Qt would abort the process: say why instead
+        print(f"moas-emulator: {problem}; run it without a window with --headless",
+              file=sys.stderr)
+        return 1
     import qasync  # type: ignore[import-untyped]
     from PySide6.QtWidgets import QApplication
 

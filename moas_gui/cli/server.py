@@ -62,7 +62,8 @@ def _parser() -> argparse.ArgumentParser:
                              "rigctld:4532,station=1,radio=2 (repeat for several; see "
                              "docs/sources.md)")
     parser.add_argument("--no-rotator-program", action="store_true",
-                        help="never start the local MOAS Rotator program")
+                        help="no MOAS Rotator program: neither start one nor connect to "
+                             "one (the rotators that go through it stay offline)")
     parser.add_argument("--new-instance", action="store_true",
                         help="do not hand FILE to a server that is already running")
     parser.add_argument("--install-desktop", action="store_true",
@@ -140,6 +141,7 @@ def _options(args: argparse.Namespace) -> object:
                          max_clients=args.max_clients,
                          max_per_address=args.max_per_address,
                          start_rotator_program=False if args.no_rotator_program else None,
+                         use_rotator_program=not args.no_rotator_program,
                          switch_timing=args.switch_timing,
                          rotator_timing=args.rotator_timing)
 
@@ -148,7 +150,9 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
     """Become the one running server, or hand FILE to the one that runs.
 
     Returns ``(instance, None)`` to go on serving (``instance`` is None with
-    ``--new-instance``), or ``(None, exit status)`` when another server took over.
+    ``--new-instance``), or ``(None, exit status)`` when another server took over
+    or this launch cannot go on; then the reason has been told (a message window
+    too for a window launch, :func:`_refuse`).
     """
     if args.new_instance:
         return None, None
@@ -161,8 +165,10 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
         return None, None
     if instance is not None:
         return instance, None
-    if args.file and not _usable(args.file):
-        return None, 1
+    if args.file:
+        status = _refuse_unusable(args)
+        if status is not None:
+            return None, status
     target = str(Path(args.file).resolve()) if args.file else None
     answer = offer(INSTANCE_NAME, target, launch_request(args))
     if answer.taken:
@@ -170,16 +176,25 @@ def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | Non
               "the server that is already running", file=sys.stderr)
         return None, 0
     if answer.refusal is not None:
-        print(f"moas-server: the moas-server that is already running refused: {answer.refusal}",
-              file=sys.stderr)
-        return None, 1
+        what = f"{Path(args.file).name} was not opened" if args.file else "no window opened"
+        return None, _refuse(args, f"{what}: the moas-server that is already running "
+                                   f"refused: {answer.refusal}", "")
     if not answer.running:
-        print("moas-server: the running moas-server ended while this one started; "
-              "start it again", file=sys.stderr)
-        return None, 1
-    print("moas-server: another moas-server is running but does not answer; "
-          "use --new-instance to start one anyway", file=sys.stderr)
-    return None, 1
+        return None, _refuse(args, "the running moas-server ended while this one started",
+                             "start it again")
+    return None, _refuse(args, "another moas-server is running but does not answer",
+                         "end it (or wait for it), or use --new-instance to start one anyway")
+
+
+def _refuse(args: argparse.Namespace, reason: str, advice: str, *, detail: str = "",
+            status: int = 1) -> int:
+    """Tells why this launch cannot go on (stderr, and a message window for a window
+    launch) and returns the exit status."""
+    from moas_gui.ui.launch_message import tell_launch_refused
+
+    tell_launch_refused("moas-server", reason, advice, detail=detail,
+                        window=not args.headless)
+    return status
 
 
 def launch_request(args: argparse.Namespace) -> dict[str, object]:
@@ -195,20 +210,23 @@ def launch_request(args: argparse.Namespace) -> dict[str, object]:
     return launch
 
 
-def _usable(path: str) -> bool:
-    """Whether ``path`` loads; when not, every problem goes to stderr (the running
-    server is not disturbed)."""
+def _refuse_unusable(args: argparse.Namespace) -> int | None:
+    """None when FILE loads; else every problem is told (the running server is not
+    disturbed) and the exit status returned."""
     from moas_gui.config import load_config
 
+    path = args.file
     result = load_config(path)
     if result.config is not None:
-        return True
-    for problem in result.errors:
-        print(problem, file=sys.stderr)
+        return None
     count = len(result.errors)
-    print(f"moas-server: {path} has {count} error{'s' if count != 1 else ''}; not handed to "
-          "the server that is already running, which carries on untouched", file=sys.stderr)
-    return False
+    shown = "\n".join(str(problem) for problem in result.errors[:20])
+    if count > 20:
+        shown += f"\n... and {count - 20} more"
+    return _refuse(args, f"{path} has {count} error{'s' if count != 1 else ''}; not handed to "
+                         "the server that is already running, which carries on untouched",
+                   f"correct the file (moas-server --check {path} lists every problem) and "
+                   "open it again", detail=shown)
 
 
 def vet_launch(app: object, launch: dict[str, object], *, headless: bool) -> str | None:
@@ -257,7 +275,9 @@ async def _serve_headless(args: argparse.Namespace, instance: object | None) -> 
 
 
 def run_headless(args: argparse.Namespace) -> int:
-    handler = logging.StreamHandler(sys.stderr)
+    from moas_gui.log_repeats import fold_repeats
+
+    handler = fold_repeats(logging.StreamHandler(sys.stderr))
     handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)-7s %(message)s", "%H:%M:%S"))
     root = logging.getLogger("moas_gui")
     root.addHandler(handler)
@@ -279,6 +299,12 @@ def run_headless(args: argparse.Namespace) -> int:
 
 
 def run_window(args: argparse.Namespace) -> int:
+    from moas_gui.ui.display import NO_DISPLAY_ADVICE, display_problem
+
+    problem = display_problem()
+    if problem is not None:  # Qt would abort the process: say why instead
+        print(f"moas-server: {problem}; {NO_DISPLAY_ADVICE}", file=sys.stderr)
+        return 1
     instance, status = _become_instance(args)
     if status is not None:
         return status

@@ -8,6 +8,7 @@ window, ``moas-client`` and scripts use it the same way.
     events.py      what a connection tells its listeners
     connection.py  the asyncio connection: hello, requests by id, events, reconnect
     address.py     HOST[:PORT] as people type it
+    screen.py      what a client screen may show as true: the one table of states
 """
 
 from __future__ import annotations

@@ -7,6 +7,12 @@ by its state (colours and second cues in :mod:`.client_style`).  A click emits
 an unavailable button is disabled, so it cannot be pressed at all.  Which
 antennas a press adds, removes or replaces is the server's decision.
 
+While the window does not have the server's state now (not connected, or the
+switches stopped: :mod:`moas_gui.client.screen`), :meth:`ButtonGrid.set_greyed`
+draws every button grey with no check mark, says why in its tooltip, and lets
+it be pressed, so the window can answer the press with the reason instead of
+dropping it.
+
 A double-click is a click followed by a double-click: the first press is sent
 at once (no waiting to see whether a second comes, which would slow every
 ordinary press), and the double-click then asks for the exclusive selection.
@@ -66,6 +72,8 @@ class LayoutButton(QAbstractButton):
         self.setCursor(Qt.CursorShape.PointingHandCursor)
         self.knob_cursor = False
         """The knob's cursor is on this button (a ring is drawn)."""
+        self.greyed = ""
+        """Why the button is drawn grey and its press is answered, not sent ("" when live)."""
         self.show_view(view)
 
     def set_cursor(self, on: bool) -> None:
@@ -76,11 +84,26 @@ class LayoutButton(QAbstractButton):
     def show_view(self, view: ButtonView) -> None:
         self.view = view
         self.setText(view.label or f"#{view.id}")
-        self.setEnabled(view.state is not ButtonState.UNAVAILABLE)
+        self.setEnabled(bool(self.greyed) or view.state is not ButtonState.UNAVAILABLE)
         kind = "function" if view.type is ButtonType.FUNCTION else "antenna"
-        self.setToolTip(f"{view.label} ({kind} {view.id}): {view.state.value}")
-        self.setAccessibleName(f"{view.label} {view.state.value}")
+        if self.greyed:
+            self.setToolTip(f"{view.label} ({kind} {view.id}): {self.greyed}")
+            self.setAccessibleName(f"{view.label}: {self.greyed}")
+        else:
+            self.setToolTip(f"{view.label} ({kind} {view.id}): {view.state.value}")
+            self.setAccessibleName(f"{view.label} {view.state.value}")
         self.update()
+
+    def set_greyed(self, why: str) -> None:
+        """Grey with ``why`` (not connected, switches stopped), or live again with ""."""
+        if why != self.greyed:
+            self.greyed = why
+            self.show_view(self.view)
+
+    @property
+    def shown_state(self) -> ButtonState | None:
+        """The state the button shows now: None while greyed (no state is known to be true)."""
+        return None if self.greyed else self.view.state
 
     def sizeHint(self) -> QSize:
         return QSize(132, 64)
@@ -99,7 +122,11 @@ class LayoutButton(QAbstractButton):
         rect = QRectF(self.rect()).adjusted(3, 3, -3, -3)
         state = view.state
         is_function = view.type is ButtonType.FUNCTION
-        if state is ButtonState.SELECTED:
+        if self.greyed:
+            fill, text_colour = Colours.GREYED, Colours.GREYED_TEXT
+            pen = QPen(Colours.GREYED_FRAME, 1.5, Qt.PenStyle.DotLine)
+            state = ButtonState.AVAILABLE  # drawn as no state: nothing selected, not struck
+        elif state is ButtonState.SELECTED:
             fill, text_colour, frame = Colours.SELECTED, Colours.SELECTED_TEXT, Colours.SELECTED_FRAME
             pen = QPen(frame, 4)
         elif state is ButtonState.AVAILABLE:
@@ -130,7 +157,7 @@ class LayoutButton(QAbstractButton):
 
         font = QFont(self.font())
         font.setPointSizeF(max(11.0, min(16.0, rect.height() / 4.2)))
-        font.setBold(state is not ButtonState.UNAVAILABLE)
+        font.setBold(state is not ButtonState.UNAVAILABLE and not self.greyed)
         font.setStrikeOut(state is ButtonState.UNAVAILABLE)
         painter.setFont(font)
         painter.setPen(text_colour)
@@ -167,6 +194,14 @@ class ButtonGrid(QWidget):
         self.rows = 0
         self.columns = 0
         self._wheel = 0
+        self.greyed = ""
+        """Why every button is grey (see the module notes); "" when live."""
+
+    def set_greyed(self, why: str) -> None:
+        """Greys every button with ``why``, or makes them live again with ""."""
+        self.greyed = why
+        for button in self._buttons.values():
+            button.set_greyed(why)
 
     def wheelEvent(self, event: QWheelEvent) -> None:
         delta = event.angleDelta()
@@ -213,6 +248,7 @@ class ButtonGrid(QWidget):
                 existing.show_view(view)
                 continue
             button = LayoutButton(view, self)
+            button.set_greyed(self.greyed)
             button.clicked.connect(lambda _=False, b=button: self.pressed.emit(b.view))
             button.double_clicked.connect(lambda b=button: self.double_pressed.emit(b.view))
             self._buttons[cell] = button

@@ -24,6 +24,7 @@ from .qt import (
 
 __all__ = ["FrequencyBox", "RelativeStrip", "frequency_text"]
 
+CHECK = "\u2714"
 UNKNOWN_LIST_POSITIONS = 8
 """Positions offered when the server does not send the radio's relative list."""
 
@@ -39,6 +40,7 @@ class RelativeStrip(QGroupBox):
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__("Relative", parent)
         row = QHBoxLayout(self)
+        self._shown_tx: int | None = None
         self.previous_button = QPushButton("\u25c0 Previous", self)
         self.next_button = QPushButton("Next \u25b6", self)
         self.list_box = QComboBox(self)
@@ -59,20 +61,25 @@ class RelativeStrip(QGroupBox):
         self.use_button.clicked.connect(
             lambda: self.index_requested.emit(max(0, self.list_box.currentIndex())))
 
-    def show_list(self, radio: RadioView, snapshot: Snapshot) -> None:
-        """The radio's relative list by name when the server sends it, else positions."""
+    def show_list(self, radio: RadioView, snapshot: Snapshot, *, mark: bool = True) -> None:
+        """The radio's relative list by name when the server sends it, else positions.
+        The antenna in use is marked and shown as the current entry (``mark`` False:
+        none is in use, the switches are stopped)."""
         before = self.list_box.currentIndex()
         self.list_box.blockSignals(True)
         self.list_box.clear()
         if radio.relative is not None:
             for index, antenna_id in enumerate(radio.relative):
                 antenna = snapshot.antenna(antenna_id)
-                mark = "\u2714 " if antenna_id == radio.tx else ""
+                in_use = mark and antenna_id == radio.tx
                 name = antenna.name if antenna else f"Antenna {antenna_id}"
-                self.list_box.addItem(f"{mark}{index + 1}. {name}")
+                self.list_box.addItem(f"{CHECK + ' ' if in_use else ''}{index + 1}. {name}")
+            if mark and radio.tx in radio.relative and radio.tx != self._shown_tx:
+                before = radio.relative.index(radio.tx)  # the list follows a new selection
         else:
             for index in range(UNKNOWN_LIST_POSITIONS):
                 self.list_box.addItem(f"Position {index + 1}")
+        self._shown_tx = radio.tx if mark else None
         self.list_box.setCurrentIndex(max(0, min(before, self.list_box.count() - 1)))
         self.list_box.blockSignals(False)
 

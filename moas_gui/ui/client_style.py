@@ -8,6 +8,8 @@ selected       amber fill, black **bold** text, a check mark, a thick white fram
 available      slate-blue fill, white text, a thin frame
 unavailable    near-black fill with diagonal hatching, grey struck-through text,
                a dashed frame; the button cannot be pressed
+greyed         dark grey fill, grey plain text, a dotted frame, no check mark:
+               not connected or switches stopped, nothing is shown as selected
 =============  =================================================================
 
 The three differ in brightness as well as hue, so they read apart even in
@@ -40,6 +42,9 @@ class Colours:
     UNAVAILABLE_TEXT = QColor("#737b82")
     UNAVAILABLE_HATCH = QColor("#3a4046")
     PRESSED = QColor("#ffffff")
+    GREYED = QColor("#24282c")
+    GREYED_TEXT = QColor("#80878d")
+    GREYED_FRAME = QColor("#4a5056")
 
     TRANSMIT = QColor("#e53935")
     INHIBIT = QColor("#ff6d00")
@@ -87,10 +92,12 @@ QPushButton { color: #eef3f6; font-size: 11pt; background: #26323b; border: 1px 
 QPushButton:hover { border-color: #9fb1bd; }
 QPushButton:pressed { background: #3b4b57; }
 QPushButton:disabled { color: #5f6468; border-color: #30383e; }
+QPushButton[greyed="true"] { color: #5f6468; border: 1px dotted #4a5056; background: #1c2126; }
 QPushButton:checked { background: #ffc107; color: black; border: 2px solid white; }
 QPushButton#stop { background: #b71c1c; border: 2px solid #ff8a80; color: white;
                    font-size: 13pt; min-height: 34px; }
 QPushButton#stop:disabled { background: #2a2022; color: #6d5f60; border-color: #3b2f30; }
+QPushButton#stop[greyed="true"] { background: #2a2022; color: #6d5f60; border: 2px dotted #3b2f30; }
 QCheckBox { spacing: 6px; }
 QStatusBar { background: #1b2228; color: #ffab91; font-weight: bold; }
 """

@@ -40,6 +40,7 @@ from moas_gui.client.events import (
     SwitchChanged,
 )
 from moas_gui.client.model import ButtonType, ButtonView, LayoutView, RadioView, Snapshot
+from moas_gui.client.screen import Screen, ScreenState, screen_state
 
 from .button_grid import ButtonGrid
 from .client_panels import FrequencyBox, RelativeStrip, frequency_text
@@ -64,6 +65,7 @@ from .qt import (
     QWidget,
     Signal,
 )
+from .screen_fit import fit_to_screen
 
 __all__ = ["ClientWindow", "open_builtin_client"]
 
@@ -126,6 +128,7 @@ class ClientWindow(QMainWindow):
         self._stations: list[int] = []
         self._radios: list[int] = []
         self.link_state = connection.link
+        self._screen_shown: Screen | None = None
 
         self.setWindowTitle(f"MOAS Client \u2013 {connection.address}")
         self.setPalette(dark_palette(self.palette()))
@@ -134,7 +137,7 @@ class ClientWindow(QMainWindow):
         self._darken_inputs()
         self._show_link(connection.link, "")
         self._unsubscribe = connection.subscribe(self._on_event)
-        self.resize(1040, 660)
+        fit_to_screen(self, 1040, 660)
 
     # -- building ---------------------------------------------------------------------------------
     def _build(self, rows: int, columns: int) -> None:
@@ -149,7 +152,7 @@ class ClientWindow(QMainWindow):
         outer.setSpacing(8)
 
         top = QHBoxLayout()
-        self.link_label = QLabel(root)
+        self.link_label = ElidedLabel("", root)  # a long reason must not widen the window
         self.link_label.setObjectName("link")
         self.config_label = QLabel(root)
         self.config_label.setStyleSheet("color: #9fb1bd;")
@@ -256,7 +259,7 @@ class ClientWindow(QMainWindow):
         self.relative_strip.step_requested.connect(lambda step: self._relative(step=step))
         self.relative_strip.index_requested.connect(lambda index: self._relative(index=index))
         self.frequency_box.frequency_requested.connect(self._send_frequency)
-        self._set_usable(False)
+        self.compass_panel.refused.connect(self._refused)
         self.knob = KnobControl(self)
         """Mouse wheel, keys and USB knobs step through the antennas (docs/web-client.md)."""
 
@@ -355,34 +358,69 @@ class ClientWindow(QMainWindow):
             case _:
                 pass
 
+    @property
+    def screen_now(self) -> ScreenState:
+        """Where the window stands in the table of :mod:`moas_gui.client.screen`."""
+        return screen_state(self.link_state, self.snapshot)
+
     def _show_link(self, state: LinkState, detail: str) -> None:
+        self._link_detail = detail
+        self.link_state = state
+        screen = self.screen_now
         colour = {LinkState.CONNECTED: Colours.CONNECTED,
                   LinkState.RECONNECTING: Colours.RECONNECTING}.get(state, Colours.CLOSED)
-        self._link_detail = detail
-        stopped = state is LinkState.CONNECTED and self.switches_stopped
-        if stopped:
-            colour = Colours.INHIBIT
         text = {
             LinkState.CONNECTING: f"\u25cc Connecting to {self.connection.address}\u2026",
             LinkState.CONNECTED: f"\u25cf Connected to {detail or self.connection.address}",
             LinkState.RECONNECTING: f"\u25cc Reconnecting: {detail}",
             LinkState.CLOSED: "\u2715 Closed",
         }[state]
-        if stopped:
-            text = "\u25a0 Switches stopped: all relays off"
+        if screen.screen is Screen.STOPPED:
+            colour, text = Colours.INHIBIT, "\u25a0 Switches stopped: all relays off"
+        elif screen.screen is Screen.NO_CONFIGURATION:
+            colour, text = Colours.CLOSED, "\u25cb Connected; the server has no configuration open"
+        elif screen.screen is Screen.UNRESPONSIVE:
+            which = ", ".join(str(i) for i in screen.unresponsive)
+            colour = Colours.RECONNECTING
+            text = (f"\u25b2 Switch {which} not answering: its relays may not match "
+                    "what is shown")
         self.link_label.setText(text)
-        fg = "black" if state in (LinkState.CONNECTED, LinkState.RECONNECTING) else "white"
+        fg = "white" if colour in (Colours.CLOSED,) else "black"
         self.link_label.setStyleSheet(f"background: {colour.name()}; color: {fg};")
-        self.link_state = state
-        connected = state is LinkState.CONNECTED
-        self._set_usable(connected and self.snapshot is not None and not stopped)
-        if connected and self.last_error.startswith("Connection:"):
+        self.link_label.updateGeometry()
+        self._show_screen()
+        if state is LinkState.CONNECTED and self.last_error.startswith("Connection:"):
             self._clear_error()
 
-    def _set_usable(self, usable: bool) -> None:
-        for widget in (self.grid, self.previous_button, self.next_button, self.relative_go,
-                       self.frequency_button, self.compass_panel):
-            widget.setEnabled(usable)
+    def _show_screen(self) -> None:
+        """Greys what cannot be pressed now, with the reason, and shows no stale selection."""
+        screen = self.screen_now
+        refusal = "" if screen.can_select else screen.refusal
+        self.grid.set_greyed(refusal)
+        for widget in (self.previous_button, self.next_button, self.relative_go,
+                       self.frequency_button):
+            widget.setProperty("greyed", "true" if refusal else "false")
+            widget.setToolTip(refusal[:1].upper() + refusal[1:] if refusal else "")
+            widget.style().unpolish(widget)
+            widget.style().polish(widget)
+        self.compass_panel.set_greyed("" if screen.can_turn else screen.refusal)
+        if screen.screen is not self._screen_shown:
+            self._screen_shown = screen.screen
+            self._show_radio()
+            self._show_compass()
+
+    def _refused(self, what: str) -> bool:
+        """Answers a press that cannot go to the server now; True when it was answered."""
+        screen = self.screen_now
+        if screen.can_select or (what in ("Turn", "Stop") and screen.can_turn):
+            return False
+        self._error(f"{what}: {screen.refusal}")
+        return True
+
+    @property
+    def switches_stopped(self) -> bool:
+        """Every switch is stopped (File > Stop Switches): no antenna is connected."""
+        return self.screen_now.screen is Screen.STOPPED
 
     def _show_snapshot(self, snapshot: Snapshot) -> None:
         self.snapshot = snapshot
@@ -397,14 +435,6 @@ class ClientWindow(QMainWindow):
         self.station_box.setCurrentIndex(index if self._stations else -1)
         self.station_box.blockSignals(False)
         self._fill_radios()
-        self._set_usable(self.connection.link is LinkState.CONNECTED and not self.switches_stopped)
-
-    @property
-    def switches_stopped(self) -> bool:
-        """Every switch is stopped (File > Stop Switches): no antenna is connected."""
-        snapshot = self.snapshot
-        return bool(snapshot is not None and snapshot.switches
-                    and all(s.status == "stopped" for s in snapshot.switches))
 
     def _station_chosen(self, _index: int = 0) -> None:
         self._fill_radios()
@@ -432,9 +462,15 @@ class ClientWindow(QMainWindow):
     def _show_radio(self) -> None:
         radio = self.radio_view
         snapshot = self.snapshot
-        if radio is None or snapshot is None or self.switches_stopped:
-            self.display.setText("Switches stopped: no antenna is connected"
-                                 if self.switches_stopped else "no radio")
+        screen = self.screen_now.screen
+        if radio is None or snapshot is None or not self.screen_now.shows_selection:
+            self.display.setText({
+                Screen.STOPPED: "Switches stopped: no antenna is connected",
+                Screen.RECONNECTING: "Not connected: the antennas in use are not known",
+                Screen.NO_CONFIGURATION: "The server has no configuration open",
+            }.get(screen, "no radio"))
+            if radio is not None and snapshot is not None:  # no antenna marked in use
+                self.relative_strip.show_list(radio, snapshot, mark=False)
             self.badge_tx.hide()
             self.badge_inhibit.hide()
             self.badge_active.hide()
@@ -464,7 +500,8 @@ class ClientWindow(QMainWindow):
             self.compass_panel.show_targets(())
             return
         radio = self.radio_view
-        targets = compass_targets(snapshot, radio, self.layout_view)
+        targets = compass_targets(snapshot, radio, self.layout_view,
+                                  selection_known=self.screen_now.shows_selection)
         tx = snapshot.antenna(radio.tx) if radio else None
         self.compass_panel.show_targets(targets, prefer=tx.rotator if tx else None)
 
@@ -493,7 +530,8 @@ class ClientWindow(QMainWindow):
     # -- the user's wishes ----------------------------------------------------------------------
     def _pressed(self, view: ButtonView, exclusive: bool) -> None:
         station, radio = self.station, self.radio
-        if station is None or radio is None:
+        kind = "Function" if view.type is ButtonType.FUNCTION else "Select"
+        if self._refused(f"{kind} {view.label}") or station is None or radio is None:
             return
         if view.type is ButtonType.FUNCTION:
             if not exclusive:
@@ -504,21 +542,25 @@ class ClientWindow(QMainWindow):
                     f"Select {view.label}")
 
     def _relative(self, *, step: int | None = None, index: int | None = None) -> None:
-        if self.station is None or self.radio is None:
+        if self._refused("Relative") or self.station is None or self.radio is None:
             return
         self._spawn(self.connection.relative(self.station, self.radio, step=step, index=index),
                     "Relative")
 
     def _send_frequency(self, khz: float, tx_khz: float | None) -> None:
-        if self.station is None or self.radio is None:
+        if self._refused("Frequency") or self.station is None or self.radio is None:
             return
         self._spawn(self.connection.frequency(self.station, self.radio, khz, tx_khz),
                     "Frequency")
 
     def _rotate(self, rotator: int, heading: float) -> None:
+        if self._refused("Turn"):
+            return
         self._spawn(self.connection.rotate(rotator, heading), f"Turn to {heading:.0f}\u00b0")
 
     def _stop(self, rotator: int) -> None:
+        if self._refused("Stop"):
+            return
         self._spawn(self.connection.stop(rotator), "Stop")
 
     # -- running requests -----------------------------------------------------------------------
@@ -534,6 +576,9 @@ class ClientWindow(QMainWindow):
             return
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
+        # a task cancelled before its first step (the window closing at once) never
+        # starts ``coro``: closed here, it is not reported as "never awaited"
+        task.add_done_callback(lambda _task: coro.close())
 
     async def _guarded(self, coro: Coroutine[Any, Any, Any], what: str) -> None:
         try:

@@ -14,6 +14,11 @@ direction of an electrical system is nearest is the server's business.
 Stop button.  :func:`compass_targets` decides which rotators a radio's
 compass offers: those of its transmit and receive antennas first, then those
 of the antennas on its buttons.
+
+While the window is not connected, :meth:`CompassPanel.set_greyed` draws the
+compass grey with the reason across it and no heading in figures (the last
+one heard is not the heading now); a click or Stop then emits
+:attr:`CompassPanel.refused` for the window to answer, instead of nothing.
 """
 
 from __future__ import annotations
@@ -85,11 +90,15 @@ class CompassTarget:
 
 
 def compass_targets(snapshot: Snapshot, radio: RadioView | None,
-                    layout: LayoutView | None) -> tuple[CompassTarget, ...]:
-    """The rotators the radio's compass offers (see the module notes)."""
+                    layout: LayoutView | None, *,
+                    selection_known: bool = True) -> tuple[CompassTarget, ...]:
+    """The rotators the radio's compass offers (see the module notes).  Without
+    ``selection_known`` (the switches are stopped) no direction of an electrical
+    system is marked as in use."""
     if radio is None:
         return ()
     in_use = [i for i in (radio.tx, radio.rx) if i is not None]
+    marked = in_use if selection_known else []
     on_buttons = [b.id for b in (layout.buttons if layout else ())
                   if b.type is ButtonType.ANTENNA]
     seen: dict[int, CompassTarget] = {}
@@ -102,7 +111,7 @@ def compass_targets(snapshot: Snapshot, radio: RadioView | None,
             continue
         if rotator.electrical:
             directions = tuple(
-                Direction(a.offset, a.short or a.name, a.id in in_use)
+                Direction(a.offset, a.short or a.name, a.id in marked)
                 for a in snapshot.antennas_with_rotator(rotator.id))
             seen[rotator.id] = CompassTarget(rotator, "", 0.0, directions)
         else:
@@ -120,11 +129,15 @@ class CompassWidget(QWidget):
 
     rotate_requested = Signal(float)
     """The rotator heading the user asked for (degrees, whole)."""
+    refused = Signal()
+    """A click while greyed: the window says why nothing turns."""
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.target: CompassTarget | None = None
         self._drag: float | None = None
+        self.greyed = ""
+        """Why the compass is grey and a click is answered, not sent ("" when live)."""
         self.setMinimumSize(220, 220)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
         self.setCursor(Qt.CursorShape.CrossCursor)
@@ -164,13 +177,15 @@ class CompassWidget(QWidget):
 
     # -- mouse ----------------------------------------------------------------------------------
     def mousePressEvent(self, event: QMouseEvent) -> None:
-        if not self.usable or event.button() != Qt.MouseButton.LeftButton:
+        if not self.usable or self.greyed or event.button() != Qt.MouseButton.LeftButton:
             super().mousePressEvent(event)
             return
         self._drag = self.heading_for_point(event.position().x(), event.position().y())
         self.update()
 
     def mouseMoveEvent(self, event: QMouseEvent) -> None:
+        if self.greyed:
+            return
         if self._drag is not None or (self.usable and event.buttons()
                                       & Qt.MouseButton.LeftButton):
             heading = self.heading_for_point(event.position().x(), event.position().y())
@@ -178,8 +193,20 @@ class CompassWidget(QWidget):
                 self._drag = heading
                 self.update()
 
+    def set_greyed(self, why: str) -> None:
+        if why != self.greyed:
+            self.greyed = why
+            self._drag = None
+            self.setToolTip(f"Rotator: {why}" if why else "")
+            self.update()
+
     def mouseReleaseEvent(self, event: QMouseEvent) -> None:
-        if event.button() != Qt.MouseButton.LeftButton or self.target is None:
+        if event.button() != Qt.MouseButton.LeftButton:
+            return
+        if self.greyed:
+            self.refused.emit()
+            return
+        if self.target is None:
             return
         heading = self.heading_for_point(event.position().x(), event.position().y())
         if heading is None:
@@ -199,7 +226,7 @@ class CompassWidget(QWidget):
         centre = QPointF(cx, cy)
         dial = QRectF(cx - radius, cy - radius, 2 * radius, 2 * radius)
         target = self.target
-        online = target is not None and target.rotator.online
+        online = target is not None and target.rotator.online and not self.greyed
 
         painter.setPen(QPen(Colours.COMPASS_RING, 3))
         painter.setBrush(QBrush(Colours.COMPASS_FACE))
@@ -207,8 +234,13 @@ class CompassWidget(QWidget):
         if target is not None:
             self._paint_travel(painter, dial, target)
         self._paint_scale(painter, cx, cy, radius, online)
-        if target is None:
-            self._centre_text(painter, dial, "no rotator", Colours.DIM_TEXT)
+        if target is None or self.greyed:
+            if self.greyed:
+                painter.setPen(Qt.PenStyle.NoPen)
+                painter.setBrush(QBrush(QColor(0, 0, 0, 140)))
+                painter.drawEllipse(dial)
+            self._centre_text(painter, dial, "NOT CONNECTED" if self.greyed else "no rotator",
+                              Colours.OFFLINE.lighter(160) if self.greyed else Colours.DIM_TEXT)
             painter.end()
             return
         rotator = target.rotator
@@ -322,11 +354,14 @@ class CompassPanel(QWidget):
     rotate_requested = Signal(int, float)
     """(rotator, rotator heading)"""
     stop_requested = Signal(int)
+    refused = Signal(str)
+    """A click or Stop while greyed ("Turn" or "Stop"): the window answers why not."""
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.targets: tuple[CompassTarget, ...] = ()
         self._user_choice: int | None = None
+        self._prefer: int | None = None
         self.chooser = QComboBox(self)
         self.chooser.setSizeAdjustPolicy(
             QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
@@ -349,9 +384,11 @@ class CompassPanel(QWidget):
         row.addWidget(self.stop_button)
         box.addLayout(row)
 
+        self.greyed = ""
         self.chooser.currentIndexChanged.connect(self._chosen)
         self.chooser.activated.connect(self._picked)
         self.compass.rotate_requested.connect(self._rotate)
+        self.compass.refused.connect(lambda: self.refused.emit("Turn"))
         self.stop_button.clicked.connect(self._stop)
         self._chosen()
 
@@ -361,10 +398,14 @@ class CompassPanel(QWidget):
         return self.targets[index] if 0 <= index < len(self.targets) else None
 
     def show_targets(self, targets: tuple[CompassTarget, ...], prefer: int | None = None) -> None:
-        """Shows ``targets``: the rotator the user chose while it is there, else
-        rotator ``prefer`` (the transmit antenna's), else the one shown before,
-        else the first."""
+        """Shows ``targets``: the rotator the user chose while it is there (until
+        ``prefer`` changes), else rotator ``prefer`` (the transmit antenna's),
+        else the one shown before, else the first."""
         before = self.current.rotator.id if self.current else None
+        if prefer != self._prefer:  # a new antenna in use: the chooser follows its rotator
+            self._prefer = prefer
+            if prefer is not None:
+                self._user_choice = None
         self.targets = targets
         present = {t.rotator.id for t in targets}
         wanted = next((r for r in (self._user_choice, prefer, before) if r in present), None)
@@ -391,12 +432,25 @@ class CompassPanel(QWidget):
         current = self.current
         self._user_choice = current.rotator.id if current else None
 
+    def set_greyed(self, why: str) -> None:
+        """Grey with ``why`` (not connected), or live again with ""."""
+        self.greyed = why
+        self.compass.set_greyed(why)
+        self.stop_button.setProperty("greyed", "true" if why else "false")
+        self.stop_button.setToolTip(f"Stop: {why}" if why else "Stop this rotator where it is")
+        style = self.stop_button.style()
+        style.unpolish(self.stop_button)
+        style.polish(self.stop_button)
+        self._chosen()
+
     def _chosen(self, _index: int = 0) -> None:
         target = self.current
         self.compass.show_target(target)
         self.chooser.setEnabled(bool(self.targets))
-        self.stop_button.setEnabled(target is not None and target.rotator.online)
-        self.heading_label.setText(_heading_text(target))
+        self.stop_button.setEnabled(
+            target is not None and (bool(self.greyed) or target.rotator.online))
+        self.heading_label.setText("not connected" if self.greyed and target is not None
+                                   else _heading_text(target))
 
     def _rotate(self, heading: float) -> None:
         target = self.current
@@ -405,7 +459,9 @@ class CompassPanel(QWidget):
 
     def _stop(self) -> None:
         target = self.current
-        if target is not None:
+        if self.greyed:
+            self.refused.emit("Stop")
+        elif target is not None:
             self.stop_requested.emit(target.rotator.id)
 
 

@@ -49,7 +49,8 @@ class ElidedLabel(QLabel):
         self.setToolTip(self._full if shown != self._full else "")
 
     def sizeHint(self) -> QSize:
-        width = self.fontMetrics().horizontalAdvance(self._full) + self._chrome()
+        # a pixel or two more: elidedText() cuts a text that fits its width exactly
+        width = self.fontMetrics().horizontalAdvance(self._full) + self._chrome() + 2
         return QSize(width, super().sizeHint().height())
 
     def minimumSizeHint(self) -> QSize:
@@ -65,8 +66,10 @@ class ElidedLabel(QLabel):
 
     def changeEvent(self, event: QEvent) -> None:
         super().changeEvent(event)
-        if event.type() == QEvent.Type.FontChange and self.isVisible():
-            self._fit()
+        if event.type() in (QEvent.Type.FontChange, QEvent.Type.StyleChange):
+            self.updateGeometry()  # a style sheet's font or padding: another size wanted
+            if self.isVisible():
+                self._fit()
 
 
 __all__ = ["ElidedLabel"]

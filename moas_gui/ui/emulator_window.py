@@ -24,12 +24,14 @@ from PySide6.QtWidgets import (
     QLabel,
     QPlainTextEdit,
     QScrollArea,
+    QStyle,
     QVBoxLayout,
     QWidget,
 )
 
 from ..hw.moas2.emulator.box import EmulatedBox, Traffic
 from ..hw.moas2.emulator.view import BoxView, StationView
+from .screen_fit import fit_to_screen
 
 _ON = "background:#2e9e44; color:white; border:1px solid #1d6b2c; border-radius:3px;"
 _OFF = "background:#d8d8d8; color:#555; border:1px solid #aaa; border-radius:3px;"
@@ -117,6 +119,12 @@ class EmulatorWindow(QWidget):
 
         self._stop_listening = box.add_listener(self._on_box)
         self.refresh()
+        # wide enough for all 64 relays where the screen allows; else they scroll
+        margins = layout.contentsMargins()
+        bar = self.style().pixelMetric(QStyle.PixelMetric.PM_ScrollBarExtent)
+        wanted = panels.sizeHint().width() + margins.left() + margins.right() + bar
+        fit_to_screen(self, max(wanted, self.sizeHint().width()),
+                      max(620, self.sizeHint().height()))
 
     # ------------------------------------------------------------------ building
 

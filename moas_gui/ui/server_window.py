@@ -8,13 +8,16 @@ own beyond what the user sees: everything it shows comes from the
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import functools
 import logging
+import sys
 from collections.abc import Callable, Coroutine
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from moas_gui import __version__
+from moas_gui.log_repeats import fold_repeats
 from moas_gui.status import ServerState, ServerStatus
 
 from .dialogs import ask_yes_no, choose_file, docs_path, show_message
@@ -32,11 +35,13 @@ from .qt import (
     QMainWindow,
     QMenu,
     QMessageBox,
+    QProcess,
     QSettings,
     QSystemTrayIcon,
     QUrl,
     QWidget,
 )
+from .screen_fit import fit_to_screen
 
 if TYPE_CHECKING:
     from moas_gui.app import ServerApp
@@ -60,9 +65,18 @@ class ServerWindow(QMainWindow):
         self.client_windows: list[QWidget] = []
         self.emulator_windows: dict[int, QWidget] = {}
         self.last_dialog: QMessageBox | None = None
+        self._question: QMessageBox | None = None
+        """The open "Stop ... and open ...?" question, if any: one at a time."""
+        self._question_number = 0
         self.file_dialog: QFileDialog | None = None
         self.open_url: Callable[[QUrl], bool] = QDesktopServices.openUrl
         """Opens a file in the desktop's viewer; False when none does (tests replace it)."""
+        self.viewer_command: list[str] | None = (
+            ["xdg-open"] if sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd"))
+            else None)
+        """The program that shows the manual (watched for failing), or None for
+        :attr:`open_url`; tests point it at a program of their own."""
+        self._viewer: QProcess | None = None
         self.ask: Callable[[str, str, Callable[[bool], None]], None] = self._ask_dialog
         """Asks the user a yes/no question without waiting (a window-modal dialog
         opened with ``open()``): the answer comes later to the callback.  Tests
@@ -71,10 +85,10 @@ class ServerWindow(QMainWindow):
         """Asks for a file name (title, saving, then the callback with the name), the same way."""
 
         self.setWindowTitle("MOAS Server")
-        self.resize(760, 420)
+        fit_to_screen(self, 760, 420)
         self.log_view = LogView(self)
         self.setCentralWidget(self.log_view)
-        self.log_handler = QtLogHandler()
+        self.log_handler = fold_repeats(QtLogHandler())
         self.log_handler.bridge.record.connect(self.log_view.add_record)
         product_log = logging.getLogger("moas_gui")
         product_log.addHandler(self.log_handler)
@@ -226,15 +240,38 @@ class ServerWindow(QMainWindow):
         """Open ``path``; when one runs already, ask first, then restart on the new one.
 
         Returns at once: the question is a non-blocking dialog whose answer
-        opens the file later (never a nested event loop, see docs/architecture.md)."""
+        opens the file later (never a nested event loop, see docs/architecture.md).
+        One question at a time: a newer one (another launch, File > Open) closes
+        the one on screen, and only the answer to the newest takes effect."""
+        self._question_number += 1
+        number = self._question_number
+        self._close_question()
         if self.app.config is not None:
             current = self.app.status.file or "the current configuration"
             self.ask("Open configuration",
                      f"Stop {current} and open {Path(path).name}?\n\n"
+                     f"{path}\n\n"
                      "The switches will be re-initialised from the new file.",
-                     lambda yes: self._spawn(self._open(path)) if yes else None)
+                     lambda yes: self._answered(number, path, yes))
             return
         self._spawn(self._open(path))
+
+    def _answered(self, number: int, path: str, yes: bool) -> None:
+        if number != self._question_number:  # replaced by a newer question: not on screen
+            log.info("The question about %s was replaced by a newer one; its answer is ignored",
+                     Path(path).name)
+            return
+        self._question = None
+        if yes:
+            self._spawn(self._open(path))
+
+    def _close_question(self) -> None:
+        """Closes the open question (its late answer is ignored, see :meth:`_answered`)."""
+        question, self._question = self._question, None
+        if question is not None:
+            with contextlib.suppress(RuntimeError):  # already deleted by Qt
+                if question.isVisible():
+                    question.done(int(QMessageBox.StandardButton.No))
 
     async def _open(self, path: str) -> None:
         result = await self.app.open(path)
@@ -348,13 +385,54 @@ class ServerWindow(QMainWindow):
                       "An open-source server for the YCCC MOAS II antenna switch.")
 
     def open_manual(self) -> None:
-        """Help > Manual: the manual in the desktop's viewer, or where it is when none opens it."""
+        """Help > Manual: the manual in the desktop's viewer, or where it is when none opens it.
+
+        On Linux and the BSDs the viewer is started with ``xdg-open`` and watched: it
+        may start and then fail (no program for Markdown, a missing terminal), which
+        Qt's own opener does not report."""
         docs = docs_path()
         target = docs / "README.md" if (docs / "README.md").exists() else docs
-        if not self.open_url(QUrl.fromLocalFile(str(target))):
-            self._message(QMessageBox.Icon.Information, "MOAS Server manual",
-                          f"No program on this computer opens {target.suffix or 'folder'} files."
-                          f"\n\nThe manual is at:\n{target}")
+        command = self.viewer_command
+        if not command:
+            if not self.open_url(QUrl.fromLocalFile(str(target))):
+                self._manual_elsewhere(target, f"no program on this computer opens "
+                                               f"{target.suffix or 'folder'} files")
+            return
+        process = QProcess(self)
+        process.setProgram(command[0])
+        process.setArguments([*command[1:], str(target)])
+        process.setProcessChannelMode(QProcess.ProcessChannelMode.SeparateChannels)
+
+        def failed_to_start(error: QProcess.ProcessError) -> None:
+            if error is QProcess.ProcessError.FailedToStart:
+                self._manual_elsewhere(target, f"{command[0]} could not be started "
+                                               f"({process.errorString()})")
+                self._done_viewing(process)
+
+        def finished(code: int, status: QProcess.ExitStatus) -> None:
+            said = bytes(process.readAllStandardError().data()).decode(errors="replace")
+            lines = [line.strip() for line in said.splitlines() if line.strip()]
+            if code != 0 or status is QProcess.ExitStatus.CrashExit:
+                why = f"{command[0]} found no viewer for it (exit status {code}"
+                why += f": {lines[-1]})" if lines else ")"
+                self._manual_elsewhere(target, why)
+            self._done_viewing(process)
+
+        process.errorOccurred.connect(failed_to_start)
+        process.finished.connect(finished)
+        process.start()
+        self._viewer = process
+
+    def _done_viewing(self, process: QProcess) -> None:
+        if self._viewer is process:
+            self._viewer = None
+        process.deleteLater()
+
+    def _manual_elsewhere(self, target: Path, why: str) -> None:
+        log.warning("Help > Manual: %s; the manual is at %s", why, target)
+        self._message(QMessageBox.Icon.Information, "MOAS Server manual",
+                      f"The manual did not open: {why}.\n\nThe manual is at:\n{target}\n\n"
+                      "Open it with any text editor or web browser.")
 
     # -- window and tray -------------------------------------------------------------
     def bring_to_front(self) -> None:
@@ -420,7 +498,7 @@ class ServerWindow(QMainWindow):
 
     def _ask_dialog(self, title: str, text: str, answered: Callable[[bool], None]) -> None:
         self.bring_to_front()
-        self.last_dialog = ask_yes_no(self, title, text, answered)
+        self.last_dialog = self._question = ask_yes_no(self, title, text, answered)
 
     def _file_dialog(self, title: str, saving: bool, chosen: Callable[[str], None]) -> None:
         self.file_dialog = choose_file(self, title, saving, self._start_directory(), chosen)

@@ -105,7 +105,7 @@
         for (const p of panels) showCompass(p);
         break;
       case "switch": replace(snapshot && snapshot.switches, msg, s => s.id === msg.id);
-        showLink(true); for (const p of panels) showRadio(p);
+        showLink(true); for (const p of panels) { showRadio(p); showCompass(p); }
         break;
       case "layout":
         for (const p of panels) {
@@ -138,24 +138,49 @@
     }
   }
 
-  function stopped() {
-    return !!(snapshot && snapshot.switches.length && snapshot.switches.every(s => s.status === "stopped"));
+  /* The table of screen states, the same as the desktop client's
+     (moas_gui/client/screen.py; docs/client.md "What the window shows when"). */
+  function screenState() {
+    if (!connected || !snapshot) return "reconnecting";
+    if (!snapshot.config) return "no configuration";
+    const switches = snapshot.switches || [];
+    if (switches.length && switches.every(s => s.status === "stopped")) return "switches stopped";
+    if (switches.some(s => s.status === "unresponsive" || s.status === "connecting")) return "switch unresponsive";
+    return "connected";
   }
+  function stopped() { return screenState() === "switches stopped"; }
+  function showsSelection() { const s = screenState(); return s === "connected" || s === "switch unresponsive"; }
+  const REFUSALS = {
+    "reconnecting": "not connected to the server; the page keeps trying",
+    "no configuration": "the server has no configuration open",
+    "switches stopped": "the switches are stopped; start them on the server (File > Start Switches)",
+  };
 
   function showLink(up, detail) {
     const link = $("#link");
+    const state = up ? screenState() : "reconnecting";
     document.body.classList.toggle("offline", !up);
+    document.body.classList.toggle("stopped", up && state === "switches stopped");
     if (!up) {
       link.className = "link down";
       link.textContent = "\u2715 Not connected \u2013 " + (detail || "reconnecting\u2026");
-    } else if (stopped()) {
+    } else if (state === "switches stopped") {
       link.className = "link stopped";
       link.textContent = "\u25a0 Switches stopped: all relays off";
+    } else if (state === "no configuration") {
+      link.className = "link stopped";
+      link.textContent = "\u25cb Connected; the server has no configuration open";
+    } else if (state === "switch unresponsive") {
+      const which = snapshot.switches.filter(s => s.status === "unresponsive" || s.status === "connecting").map(s => s.id).join(", ");
+      link.className = "link stopped";
+      link.textContent = `\u25b2 Switch ${which} not answering: its relays may not match what is shown`;
     } else {
       link.className = "link up";
       link.textContent = "\u25cf Connected";
     }
     document.body.dataset.link = up ? "connected" : "not-connected";
+    document.body.dataset.screen = state;
+    for (const p of panels) { showRadio(p); if (p.layout) showLayout(p, p.layout); else showCompass(p); }
   }
 
   // -- choosing station and radios ---------------------------------------------------------------
@@ -225,11 +250,15 @@
     }
     $(".prev", el).addEventListener("click", () => send(p, { cmd: "relative", step: -1 }));
     $(".next", el).addEventListener("click", () => send(p, { cmd: "relative", step: 1 }));
-    $(".rotator", el).addEventListener("change", (e) => { p.rotator = num(e.target.value); showCompass(p); });
-    $(".stop", el).addEventListener("click", () => { if (p.rotator != null) act(p, { cmd: "stop", rotator: p.rotator }); });
+    $(".rotator", el).addEventListener("change", (e) => { p.rotator = num(e.target.value); p.picked = true; showCompass(p); });
+    $(".stop", el).addEventListener("click", () => {
+      if (!connected) { $(".message", el).textContent = "\u26a0 Stop: " + REFUSALS.reconnecting; return; }
+      if (p.rotator != null) act(p, { cmd: "stop", rotator: p.rotator });
+    });
     const svg = $(".compass", el);
     svg.addEventListener("pointerup", (e) => {
       const t = p.compassTarget;
+      if (!connected) { $(".message", el).textContent = "\u26a0 Turn: " + REFUSALS.reconnecting; return; }
       if (!t || !t.rotator.online) return;
       const heading = MoasCompass.headingAt(svg, e.clientX, e.clientY, t.offset);
       if (heading != null) act(p, { cmd: "rotate", rotator: t.rotator.id, heading });
@@ -239,6 +268,8 @@
 
   function send(p, obj) {
     if (choice.station == null || p.radio == null) return;
+    const refusal = REFUSALS[screenState()];
+    if (refusal) { $(".message", p.el).textContent = "\u26a0 " + refusal; return; }
     act(p, { ...obj, station: choice.station, radio: p.radio });
   }
   function act(p, obj) {
@@ -257,10 +288,15 @@
     const r = radioView(p);
     const el = p.el;
     const freq = $(".freq", el), tx = $(".ant-tx", el), rx = $(".ant-rx", el), note = $(".note", el);
-    if (!r || stopped()) {
-      freq.textContent = stopped() ? "Switches stopped: no antenna is connected" : "no radio";
+    if (!r || !showsSelection()) {
+      freq.textContent = {
+        "switches stopped": "Switches stopped: no antenna is connected",
+        "reconnecting": "Not connected: the antennas in use are not known",
+        "no configuration": "The server has no configuration open",
+      }[screenState()] || "no radio";
       tx.textContent = rx.textContent = "";
       $(".transmitting", el).hidden = $(".inhibited", el).hidden = note.hidden = true;
+      if (r) $(".rel-list", el).textContent = (r.relative || []).map(id => antenna(id) ? antenna(id).short || antennaName(id) : id).join("  ");
       return;
     }
     freq.textContent = r.tx_khz != null && r.khz != null && r.tx_khz !== r.khz
@@ -319,12 +355,13 @@
 
   function showButton(b, view) {
     b.view = view;
+    if (view.state === "selected" && !showsSelection()) view = { ...view, state: "available" };  // stopped: nothing is on
     b.dataset.state = view.state;
     b.dataset.type = view.type;
     b.dataset.id = String(view.id);
     const mark = view.state === "selected" ? "\u2714 " : view.type === "Function" ? "\u0192 " : "";
     b.textContent = mark + (view.label || `#${view.id}`);
-    b.disabled = view.state === "unavailable";
+    b.disabled = view.state === "unavailable" && showsSelection();  // greyed: every tap is answered
     b.setAttribute("aria-pressed", String(view.state === "selected"));
     b.title = `${view.label} (${view.type === "Function" ? "function" : "antenna"} ${view.id}): ${view.state}`;
   }
@@ -354,7 +391,7 @@
   }
 
   function press(p, view, exclusive) {
-    if (!view || view.state === "unavailable") return;
+    if (!view || (view.state === "unavailable" && showsSelection())) return;
     if (view.type === "Function") send(p, { cmd: "function", function: view.id });
     else send(p, { cmd: "select", antenna: view.id, target: p.target, exclusive });
   }
@@ -364,6 +401,7 @@
     const r = radioView(p);
     if (!r || !snapshot) return [];
     const inUse = [r.tx, r.rx].filter(i => i != null);
+    const marked = showsSelection() ? inUse : [];
     const onButtons = p.layout ? p.layout.buttons.filter(b => b.type === "Antenna").map(b => b.id) : [];
     const seen = new Map();
     for (const id of new Set([...inUse, ...onButtons])) {
@@ -373,7 +411,7 @@
       if (!rot) continue;
       if (rot.electrical) {
         const dirs = snapshot.antennas.filter(x => x.rotator === rot.id)
-          .map(x => ({ heading: x.offset || 0, active: inUse.includes(x.id) }));
+          .map(x => ({ heading: x.offset || 0, active: marked.includes(x.id) }));
         seen.set(rot.id, { rotator: rot, offset: 0, directions: dirs, label: rot.short || rot.long });
       } else {
         seen.set(rot.id, { rotator: rot, offset: a.offset || 0, directions: [], label: a.short || rot.short });
@@ -387,6 +425,12 @@
     const targets = compassTargets(p);
     box.hidden = targets.length === 0;
     if (!targets.length) { p.compassTarget = null; return; }
+    // the chooser follows the transmit antenna's rotator; a rotator picked by hand
+    // stays until another antenna is in use
+    const r = radioView(p), txAntenna = r ? antenna(r.tx) : null;
+    const prefer = txAntenna && txAntenna.rotator != null ? txAntenna.rotator : null;
+    if (prefer !== p.prefer) { p.prefer = prefer; if (prefer != null) p.picked = false; }
+    if (!p.picked && prefer != null && targets.some(t => t.rotator.id === prefer)) p.rotator = prefer;
     if (!targets.some(t => t.rotator.id === p.rotator)) p.rotator = targets[0].rotator.id;
     const t = targets.find(x => x.rotator.id === p.rotator);
     p.compassTarget = t;
@@ -395,13 +439,16 @@
     chooser.value = String(p.rotator);
     chooser.hidden = targets.length < 2;
     const svg = $(".compass", p.el);
-    MoasCompass.draw(svg, t);
-    svg.classList.toggle("offline", !t.rotator.online);
+    // not connected: the last heading heard is not the heading now, so none is drawn
+    MoasCompass.draw(svg, connected ? t
+      : { ...t, rotator: { ...t.rotator, heading: null, target: null, moving: false } });
+    svg.classList.toggle("offline", !t.rotator.online || !connected);
     const rot = t.rotator;
     let text = rot.online ? (rot.heading == null ? "\u2013" : `${pad(MoasCompass.norm(rot.heading + t.offset))}\u00b0`) : "offline";
     if (rot.online && rot.moving && rot.target != null) text += ` \u2192 ${pad(MoasCompass.norm(rot.target + t.offset))}\u00b0`;
+    if (!connected) text = "not connected";  // the last heading heard is not the heading now
     $(".heading", p.el).textContent = text;
-    $(".stop", p.el).disabled = !rot.online;
+    $(".stop", p.el).disabled = connected && !rot.online;
   }
   function pad(h) { return String(Math.round(h) % 360).padStart(3, "0"); }
 

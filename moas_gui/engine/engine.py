@@ -71,6 +71,23 @@ class Engine:
         self._station_cache: dict[tuple[object, ...], StationAntennas] = {}
         self._commit(Work(ix, st), force=True)
 
+    def clone(self) -> Engine:
+        """An independent engine in exactly this engine's state: a fresh copy of a new
+        engine costs far less than building one (the configuration's read-only index is
+        shared).  The station plan runs every scenario on such a copy."""
+        c = Engine.__new__(Engine)
+        c._ix = self._ix
+        c._classes = self._classes
+        c._state = self._state.clone()
+        c._maps = dict(self._maps)
+        c._switch_states = dict(self._switch_states)
+        c._owners = {k: dict(v) for k, v in self._owners.items()}
+        c._views = dict(self._views)
+        c._port_cache = dict(self._port_cache)
+        c._ports = dict(self._ports)
+        c._station_cache = dict(self._station_cache)
+        return c
+
     # -- reading ---------------------------------------------------------------------------
     @property
     def config(self) -> Config:

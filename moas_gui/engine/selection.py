@@ -25,7 +25,7 @@ antenna, and changes it only when something suitable was found.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 from moas_gui.config.model import RadioRef
 
@@ -63,8 +63,14 @@ def _choices(w: Work, info: IndexedRadio, antenna: int, role: str) -> list[int]:
     return out
 
 
-def _took(w: Work, ref: RadioRef, losers: list[RadioRef], why: Why | None) -> Why | None:
+Reason = Why | Callable[[], Why] | None
+"""A reason, or a function making it: selection tries many antennas and words only the
+reason of the one it gives."""
+
+
+def _took(w: Work, ref: RadioRef, losers: list[RadioRef], reason: Reason) -> Why | None:
     """The reason for antennas taken from radios they did not suit (a hand-over)."""
+    why = reason() if callable(reason) else reason
     if not losers:
         return why
     names = ", ".join(str(o) for o in losers)
@@ -74,7 +80,7 @@ def _took(w: Work, ref: RadioRef, losers: list[RadioRef], why: Why | None) -> Wh
 
 
 def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = "",
-          takeover: bool | None = None, why: Why | None = None) -> bool:
+          takeover: bool | None = None, why: Reason = None) -> bool:
     """Give ``ref`` the antennas ``tx``/``rx`` (any free path of them) for the reason ``why``;
     False if impossible (``w.refusal`` then says why).
 
@@ -197,7 +203,9 @@ def passed_over(w: Work, info: IndexedRadio, khz: float | None, below: int | Non
         if below is not None and a >= below:
             break
         reason = failed.get(a)
-        if reason is None:
+        if reason is not None:
+            reason = _short(w, a, reason)
+        else:
             ant = ix.antennas[a]
             if a not in covering:
                 reason = f"does not cover {describe_khz(khz)}"
@@ -232,7 +240,10 @@ def _suitable_steps(w: Work, ref: RadioRef) -> bool:
     remembered = st.history.get(ref, {}).get(band) if band is not None else None
     if remembered is not None:
         htx, hrx = remembered
-        why = Why(STEP_HISTORY, f"used last by this radio on this band ({describe_khz(khz)})")
+        def why() -> Why:
+            return Why(STEP_HISTORY, f"used last by this radio on this band "
+                                     f"({describe_khz(khz)})")
+
         if main and htx is not None and hrx is not None and place(w, ref, htx, hrx, why=why):
             return True
         for a in (htx, hrx):
@@ -250,30 +261,30 @@ def _suitable_steps(w: Work, ref: RadioRef) -> bool:
         ant = ix.antennas[a]
         if ant.no_select or ant.tx_only or ant.rx_only or not ant.enabled:
             continue
-        if place(w, ref, a if main else None, a,
-                 why=Why(STEP_LOWEST, f"lowest-numbered antenna covering {describe_khz(khz)}",
-                         passed_over(w, info, khz, a, failed))):
+        if place(w, ref, a if main else None, a, why=lambda a=a: Why(
+                STEP_LOWEST, f"lowest-numbered antenna covering {describe_khz(khz)}",
+                passed_over(w, info, khz, a, failed))):
             return True
-        failed[a] = _short(w, a, w.refusal)
+        failed[a] = w.refusal
     if not main:
         for a in _rx_only(w, info, khz):
-            if place(w, ref, None, a, why=Why(
+            if place(w, ref, None, a, why=lambda a=a: Why(
                     STEP_LOWEST, f"lowest-numbered receive antenna covering {describe_khz(khz)}",
                     passed_over(w, info, khz, a, failed))):
                 return True
-            failed[a] = _short(w, a, w.refusal)
+            failed[a] = w.refusal
         return False
     for t in covering:
         ant = ix.antennas[t]
         if not ant.tx_only or ant.no_select or not ant.enabled:
             continue
         for r in _rx_only(w, info, khz):
-            if ix.is_fast(t, r) and place(w, ref, t, r, why=Why(
+            if ix.is_fast(t, r) and place(w, ref, t, r, why=lambda t=t, r=r: Why(
                     STEP_PAIR, f"lowest-numbered transmit-only antenna covering "
                                f"{describe_khz(khz)}, with the receive-only {ix.name(r)}",
                     passed_over(w, info, khz, t, failed))):
                 return True
-        failed[t] = _short(w, t, w.refusal) if w.refusal else "has no free receive-only partner"
+        failed[t] = w.refusal or "has no free receive-only partner"
     return False
 
 

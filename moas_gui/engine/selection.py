@@ -31,10 +31,19 @@ from moas_gui.config.model import RadioRef
 
 from .index import IndexedRadio, Kind
 from .ranges import describe_khz, distance, in_segment
-from .rules import join_shared, plan, related, seen_together, unusable
+from .rules import (
+    join_shared,
+    plan,
+    related,
+    seen_together,
+    shared_member,
+    shared_users,
+    unusable,
+)
 from .why import (
     HANDOVER,
     SAME_BAND,
+    SHARED,
     STEP_HISTORY,
     STEP_KEPT,
     STEP_LOWEST,
@@ -297,6 +306,7 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
     if khz is None:
         return False
     best: int | None = None
+    best_joined = False
     best_d = float("inf")
     current = rs.tx if rs.tx is not None else rs.rx
     order = ([current] if current is not None else []) + [a for a in info.antennas
@@ -305,7 +315,8 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
         ant = ix.antennas[a]
         if not ant.enabled or ant.tx_only or (ant.no_select and a != current):
             continue
-        a = join_shared(ix, st, ref, a)
+        joined = join_shared(ix, st, ref, a)
+        was, a = a, joined
         if a not in info.paths:
             continue
         d = distance(info.paths[a], khz)
@@ -315,7 +326,7 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
             continue
         if plan(ix, st, ref, a, takeover=False, repath=False)[0] is None:
             continue
-        best, best_d = a, d
+        best, best_d, best_joined = a, d, joined != was
     if best is None:
         return False
     covered = best_d == 0
@@ -323,8 +334,14 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
     tx = best if info.kind is Kind.MAIN and ix.can_transmit(best) else None
     text = (f"free antenna covering {describe_khz(khz)} (found by nearest range)" if covered
             else f"no free antenna covers {describe_khz(khz)}; the nearest range")
-    w.set_pair(ref, tx, best, note, Why(STEP_NEAREST, text,
-                                         passed_over(w, info, khz, None, w.failed)))
+    if best_joined:
+        users = ", ".join(str(o) for o, _m in shared_users(ix, st, shared_member(ix, st, best)
+                                                            or 0, ref))
+        why = Why(SHARED, f"{text}: the member of a shared system that {users} already use",
+                  passed_over(w, info, khz, None, w.failed))
+    else:
+        why = Why(STEP_NEAREST, text, passed_over(w, info, khz, None, w.failed))
+    w.set_pair(ref, tx, best, note, why)
     return True
 
 

@@ -160,7 +160,37 @@ class Plan:
         }
 
     def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=1, sort_keys=False) + "\n"
+        """:meth:`to_dict` as JSON text, one scenario or finding a line (small, and easy to
+        compare line by line)."""
+        data = self.to_dict()
+
+        def one(value: object) -> str:
+            return json.dumps(value, ensure_ascii=False, separators=(", ", ": "))
+
+        def rows(items: list[Any], indent: str) -> str:
+            if not items:
+                return "[]"
+            return "[\n" + ",\n".join(indent + " " + one(i) for i in items) + "\n" + indent + "]"
+
+        parts = [f' "file": {one(data["file"])}', f' "bands": {rows(data["bands"], " ")}',
+                 f' "radios": {one(data["radios"])}',
+                 f' "antennas": {rows(data["antennas"], " ")}',
+                 f' "alone": {rows(data["alone"], " ")}']
+        pairs = []
+        for p in data["pairs"]:
+            head = {k: v for k, v in p.items() if k != "scenarios"}
+            pairs.append("  " + one(head)[:-1] + ', "scenarios": '
+                         + rows(p["scenarios"], "   ") + "}")
+        parts.append(' "pairs": ' + ("[\n" + ",\n".join(pairs) + "\n ]" if pairs else "[]"))
+        parts.append(f' "findings": {rows(data["findings"], " ")}')
+        return "{\n" + ",\n".join(parts) + "\n}\n"
+
+    def passed_over(self, o: Outcome) -> str:
+        """The antennas ``o`` passed over, grouped by reason, lowest first."""
+        groups: dict[str, list[str]] = {}
+        for a, reason in o.passed_over:
+            groups.setdefault(reason, []).append(self.name(a))
+        return "; ".join(f"{', '.join(names)}: {reason}" for reason, names in groups.items())
 
     def _antennas(self, o: Outcome) -> str:
         if o.tx is None and o.rx is None:
@@ -188,8 +218,7 @@ class Plan:
                     continue
                 out.append(f"    {self._line(o)}")
                 if o.passed_over:
-                    out.append("      passed over: " + "; ".join(
-                        f"{self.name(a)} {r}" for a, r in o.passed_over))
+                    out.append(f"      passed over: {self.passed_over(o)}")
         for a, b, meet, scenarios in self.pairs:
             out.append("")
             out.append(f"{_radio(a)} and {_radio(b)} ({meet}; {_radio(a)} tunes first)")

@@ -227,10 +227,10 @@ def test_the_log_line_says_why_and_debug_lists_what_was_passed_over() -> None:
     e = engine(so2r())
     e.set_frequency(1, 1, 14025)
     changes = e.set_frequency(1, 2, 7025)
-    assert changes.log == ("Station 1 radio 2: 40 m beam \u2014 lowest-numbered antenna covering "
-                           "7025 kHz (Tribander does not cover it)",)
-    assert changes.details == ("Station 1 radio 2 passed over: Tribander does not cover "
-                               "7025 kHz",)
+    assert changes.log == (("Station 1 radio 2: 40 m beam \u2014 lowest-numbered antenna covering "
+                           "7025 kHz (Tribander does not cover it)"),)
+    assert changes.details == (("Station 1 radio 2 passed over: Tribander does not cover "
+                               "7025 kHz"),)
 
 
 def test_the_radio_entry_carries_why_and_a_restart_keeps_it() -> None:

@@ -455,6 +455,7 @@ class ClientWindow(QMainWindow):
             self.badge_active.hide()
             self.badge_focus.hide()
             self.note_label.hide()
+            self.display.set_detail("")
             return
         parts = [frequency_text(radio)]
         tx = snapshot.antenna(radio.tx)
@@ -465,7 +466,7 @@ class ClientWindow(QMainWindow):
         if alt is not None:
             parts.append(f"ALT  {alt.name}")
         self.display.setText("     ".join(parts))
-        self.display.setToolTip(explain(radio, snapshot))
+        self.display.set_detail(explain(radio, snapshot))
         self.badge_tx.setVisible(radio.transmitting)
         self.badge_inhibit.setVisible(radio.inhibited)
         self.badge_active.setVisible(radio.active)

@@ -16,7 +16,7 @@ import sys
 import time
 from pathlib import Path
 
-from moas_gui.station_plan import plan_file
+from moas_gui.plan import plan_file
 
 ROOT = Path(__file__).resolve().parent.parent
 

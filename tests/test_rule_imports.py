@@ -28,6 +28,7 @@ ALLOWED: dict[str, set[str]] = {
     "config": {"errors"},
     "engine": {"config", "errors"},
     "state_store": {"engine", "errors", "files"},
+    "plan": {"config", "engine"},
     "hw": {"addresses", "aio", "clock", "config", "engine", "errors", "files", "retry"},
     "net": {"config", "errors", "hw"},
     "rotator_program": {"clock", "errors", "hw", "retry"},
@@ -41,10 +42,10 @@ ALLOWED: dict[str, set[str]] = {
                 "retry"},
     "single_instance": {"errors"},
     "desktop": {"files"},
-    "ui": {"app", "client", "hw", "sources", "status"},
+    "ui": {"app", "client", "hw", "plan", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
-            "retry", "sources"},
+            "retry", "sources", "plan"},
 }
 """Which packages (or top-level modules) of moas_gui each one may import."""
 

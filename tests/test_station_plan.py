@@ -17,7 +17,7 @@ from typing import Any
 import pytest
 
 from moas_gui.config import parse_config
-from moas_gui.station_plan import FINDING_KINDS, Plan, build_plan, plan_file
+from moas_gui.plan import FINDING_KINDS, Plan, build_plan, plan_file
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = sorted((ROOT / "examples").glob("*.moas"))

@@ -116,7 +116,7 @@ def check(path: str) -> int:
     if result.warnings:
         print()
     print(summarize(result.config))
-    from moas_gui.station_plan import plan_file
+    from moas_gui.plan import plan_file
 
     plan, error = plan_file(path)
     if plan is None:
@@ -134,7 +134,7 @@ def check(path: str) -> int:
 
 def plan(path: str, as_json: bool) -> int:
     """Print the station plan of ``path``; 0 when the file is usable."""
-    from moas_gui.station_plan import plan_file
+    from moas_gui.plan import plan_file
 
     found, error = plan_file(path)
     if found is None:

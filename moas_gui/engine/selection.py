@@ -238,6 +238,16 @@ def _short(w: Work, a: int, reason: str) -> str:
     return reason.removeprefix(prefix)
 
 
+def _reason(w: Work, info: IndexedRadio, khz: float | None, chosen: int,
+            failed: dict[int, str], rule: str, text: str) -> Callable[[], Why]:
+    """The reason for giving ``chosen`` by ``rule``, worded only when it is given
+    (``{khz}`` in ``text`` becomes the frequency)."""
+    def make() -> Why:
+        return Why(rule, text.replace("{khz}", describe_khz(khz)),
+                   passed_over(w, info, khz, chosen, failed))
+    return make
+
+
 def _suitable_steps(w: Work, ref: RadioRef) -> bool:
     """Steps 3, 4 and 5."""
     ix, st = w.ix, w.st
@@ -270,16 +280,16 @@ def _suitable_steps(w: Work, ref: RadioRef) -> bool:
         ant = ix.antennas[a]
         if ant.no_select or ant.tx_only or ant.rx_only or not ant.enabled:
             continue
-        if place(w, ref, a if main else None, a, why=lambda a=a: Why(
-                STEP_LOWEST, f"lowest-numbered antenna covering {describe_khz(khz)}",
-                passed_over(w, info, khz, a, failed))):
+        if place(w, ref, a if main else None, a, why=_reason(
+                w, info, khz, a, failed, STEP_LOWEST,
+                "lowest-numbered antenna covering {khz}")):
             return True
         failed[a] = w.refusal
     if not main:
         for a in _rx_only(w, info, khz):
-            if place(w, ref, None, a, why=lambda a=a: Why(
-                    STEP_LOWEST, f"lowest-numbered receive antenna covering {describe_khz(khz)}",
-                    passed_over(w, info, khz, a, failed))):
+            if place(w, ref, None, a, why=_reason(
+                    w, info, khz, a, failed, STEP_LOWEST,
+                    "lowest-numbered receive antenna covering {khz}")):
                 return True
             failed[a] = w.refusal
         return False
@@ -288,10 +298,10 @@ def _suitable_steps(w: Work, ref: RadioRef) -> bool:
         if not ant.tx_only or ant.no_select or not ant.enabled:
             continue
         for r in _rx_only(w, info, khz):
-            if ix.is_fast(t, r) and place(w, ref, t, r, why=lambda t=t, r=r: Why(
-                    STEP_PAIR, f"lowest-numbered transmit-only antenna covering "
-                               f"{describe_khz(khz)}, with the receive-only {ix.name(r)}",
-                    passed_over(w, info, khz, t, failed))):
+            if ix.is_fast(t, r) and place(w, ref, t, r, why=_reason(
+                    w, info, khz, t, failed, STEP_PAIR,
+                    "lowest-numbered transmit-only antenna covering {khz}, with the "
+                    "receive-only " + ix.name(r))):
                 return True
         failed[t] = w.refusal or "has no free receive-only partner"
     return False

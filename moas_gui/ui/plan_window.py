@@ -1,14 +1,13 @@
 """View > Station plan: the plan of the open configuration as a table, with its findings.
 
-The plan is made by :mod:`moas_gui.station_plan` on copies of a new engine for the file:
+The plan is made by :mod:`moas_gui.plan` on copies of a new engine for the file:
 the switches are not touched.  Two filters (radio, band) hide the rows that do not
 concern them; the findings below name the line of the file to look at.
 """
 
 from __future__ import annotations
 
-from moas_gui.config.model import RadioRef
-from moas_gui.station_plan import FINDING_KINDS, Outcome, Plan
+from moas_gui.plan import FINDING_KINDS, Outcome, Plan, RadioRef
 
 from .qt import (
     QComboBox,

@@ -340,7 +340,7 @@ class ServerWindow(QMainWindow):
         self._spawn(self._open_plan(config, path))
 
     async def _open_plan(self, config: Any, path: Path | None) -> None:
-        from moas_gui.station_plan import build_plan
+        from moas_gui.plan import build_plan
 
         def make() -> Any:
             try:

@@ -1,5 +1,5 @@
 """Findings of the station plan: what a configuration does that its author most likely did
-not mean, each with the line of the file to look at (see :mod:`moas_gui.station_plan`)."""
+not mean, each with the line of the file to look at (see :mod:`moas_gui.plan`)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from moas_gui.engine.index import ConfigIndex
 from moas_gui.engine.why import STEP_SAME_BAND_TAKEN
 
 if TYPE_CHECKING:
-    from .station_plan import Finding, Lines, Outcome, Plan
+    from . import Finding, Lines, Outcome, Plan
 
 
 def find(plan: Plan, template: Engine, lines: Lines) -> list[Finding]:
@@ -28,7 +28,7 @@ def find(plan: Plan, template: Engine, lines: Lines) -> list[Finding]:
 
 def _finding(kind: str, line: int, text: str, radios: tuple[RadioRef, ...] = (),
              bands: tuple[str, ...] = ()) -> Finding:
-    from .station_plan import Finding
+    from . import Finding
 
     return Finding(kind, line, text, radios, bands)
 

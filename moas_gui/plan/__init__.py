@@ -414,7 +414,7 @@ def build_plan(config: Config, file: str = "", text: str | None = None) -> Plan:
             scenarios.sort(key=lambda s: (not s.same_band, _order(bands, s.first.band),
                                           _order(bands, s.second.band)))
             plan.pairs.append((a, b, meet, scenarios))
-    from .plan_findings import find
+    from .findings import find
 
     plan.findings = find(plan, template, Lines(text))
     return plan
@@ -450,5 +450,5 @@ def plan_file(path: str | Path) -> tuple[Plan | None, str]:
 
 
 __all__ = ["BANDS", "CONTEST_BANDS", "FINDING_KINDS", "Band", "Finding", "Lines", "Outcome",
-           "PairScenario", "Plan", "bands_of", "build_plan", "findings_text", "meeting",
-           "plan_file"]
+           "PairScenario", "Plan", "RadioRef", "bands_of", "build_plan", "findings_text",
+           "meeting", "plan_file"]

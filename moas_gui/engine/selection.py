@@ -203,12 +203,14 @@ def _rx_only(w: Work, info: IndexedRadio, khz: float | None) -> Iterable[int]:
 
 def passed_over(w: Work, info: IndexedRadio, khz: float | None, below: int | None,
                 failed: dict[int, str]) -> tuple[tuple[int, str], ...]:
-    """Why each antenna of this radio numbered below ``below`` (all, for None) was not
-    chosen: ``failed`` holds the reasons found while trying them."""
+    """Why each antenna of this radio numbered below ``below`` was not chosen (``failed``
+    holds the reasons found while trying them).  With ``below`` None (nothing free covers
+    the frequency: steps 6 and 7) only the antennas covering the frequency are listed."""
     ix = w.ix
     covering = info.covering(khz)
     out = []
-    for a in info.antennas:
+    outside = ""
+    for a in info.antennas if below is not None else covering:
         if below is not None and a >= below:
             break
         reason = failed.get(a)
@@ -217,7 +219,8 @@ def passed_over(w: Work, info: IndexedRadio, khz: float | None, below: int | Non
         else:
             ant = ix.antennas[a]
             if a not in covering:
-                reason = f"does not cover {describe_khz(khz)}"
+                outside = outside or f"does not cover {describe_khz(khz)}"
+                reason = outside
             elif not ant.enabled:
                 reason = "is not enabled"
             elif ant.no_select:

@@ -439,16 +439,24 @@ def plan_file(path: str | Path) -> tuple[Plan | None, str]:
     result = load_config(path)
     if result.config is None:
         return None, "\n".join(str(p) for p in result.problems)
+    return plan_of(result.config, path)
+
+
+def plan_of(config: Config, path: Path | None) -> tuple[Plan | None, str]:
+    """The plan of a loaded configuration (``path``: its file, read again for the findings'
+    lines), or None and why it could not be made."""
+    text = None
+    if path is not None:
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            text = None
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
-        text = None
-    try:
-        return build_plan(result.config, path.name, text), ""
+        return build_plan(config, path.name if path is not None else "", text), ""
     except EngineError as exc:  # a scenario the engine refuses is a bug, said plainly
-        return None, f"{path}: the plan could not be made: {exc}"
+        return None, f"{path or 'the configuration'}: the plan could not be made: {exc}"
 
 
 __all__ = ["BANDS", "CONTEST_BANDS", "FINDING_KINDS", "Band", "Finding", "Lines", "Outcome",
            "PairScenario", "Plan", "RadioRef", "bands_of", "build_plan", "findings_text",
-           "meeting", "plan_file"]
+           "meeting", "plan_file", "plan_of"]

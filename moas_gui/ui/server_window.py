@@ -340,16 +340,12 @@ class ServerWindow(QMainWindow):
         self._spawn(self._open_plan(config, path))
 
     async def _open_plan(self, config: Any, path: Path | None) -> None:
-        from moas_gui.plan import build_plan
+        from moas_gui.plan import plan_of
 
-        def make() -> Any:
-            try:
-                text = path.read_text(encoding="utf-8") if path is not None else None
-            except (OSError, UnicodeDecodeError):
-                text = None
-            return build_plan(config, path.name if path is not None else "", text)
-
-        plan = await asyncio.to_thread(make)
+        plan, error = await asyncio.to_thread(plan_of, config, path)
+        if plan is None:
+            log.error("%s", error)
+            return
         from .plan_window import PlanWindow
 
         if self.plan_window is not None:
@@ -430,6 +426,8 @@ class ServerWindow(QMainWindow):
         self.tray.hide()
         for window in [*self.client_windows, *self.emulator_windows.values()]:
             window.close()
+        if self.plan_window is not None:
+            self.plan_window.close()
 
     # -- helpers ---------------------------------------------------------------------
     def _spawn(self, coroutine: Coroutine[Any, Any, object]) -> None:

@@ -1,18 +1,30 @@
 """How fast the engine answers: frequency changes and button presses on the examples.
 
 Run:  .venv/bin/python benchmarks/bench_engine.py [--ops N]
+      .venv/bin/python benchmarks/bench_engine.py --compare REV [--rounds N]
 
 Prints, per configuration, the median and 99th percentile time from an input
 to the new switch states, both wall-clock and CPU time of this thread (on a
 busy shared machine the wall-clock tail is the scheduler's, not the engine's).
 Targets (big-station, multi-multi-20): median under 0.5 ms, p99 under 2 ms.
+
+``--compare REV`` measures band changes of this tree and of git revision REV (say, the
+commit before a change) in the same run: the two take turns, in separate processes, for
+``--rounds`` rounds, and the best median CPU time of each is printed with the ratio.
+Explaining each decision (the reasons in ``engine/why.py``) may cost at most 10 %.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import random
 import statistics
+import subprocess
+import sys
+import tarfile
+import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -125,10 +137,78 @@ def bench(name: str, cfg: Config, ops: int, rng: random.Random) -> None:
           f" | presses accepted {pressed[1]}/{pressed[0]}")
 
 
+BAND_CHANGES = """
+import json, random, statistics, sys, time
+from pathlib import Path
+from moas_gui.config import load_config
+from moas_gui.engine import Engine
+bands = %r
+out = {}
+for name in %r:
+    cfg = load_config(Path(%r) / "examples" / f"{name}.moas").unwrap()
+    e = Engine(cfg)
+    radios = [(v.station, v.radio) for v in e.radios() if cfg.radio(v.station, v.radio)]
+    rng = random.Random(4)
+    ops = [(*rng.choice(radios), rng.uniform(*rng.choice(bands))) for _ in range(%d)]
+    now = 0.0
+    cpu = []
+    for i, (s, r, khz) in enumerate(ops):
+        now += 0.05
+        c0 = time.thread_time()
+        e.set_frequency(s, r, khz, now=now)
+        if i >= len(ops) // 10:
+            cpu.append(time.thread_time() - c0)
+    out[name] = statistics.median(cpu) * 1e6
+print(json.dumps(out))
+"""
+COMPARED = ("small-station", "big-station", "multi-multi-20")
+
+
+def compare(rev: str, rounds: int, ops: int) -> None:
+    """Band changes of this tree against revision ``rev``, taking turns (see the docstring)."""
+    with tempfile.TemporaryDirectory(prefix="moas-bench-") as tmp:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", rev],
+                                 check=True, capture_output=True).stdout
+        base = Path(tmp) / "base"
+        base.mkdir()
+        tar = Path(tmp) / "base.tar"
+        tar.write_bytes(archive)
+        with tarfile.open(tar) as t:
+            t.extractall(base, filter="data")
+        best: dict[str, dict[str, float]] = {"before": {}, "after": {}}
+        ratios: dict[str, list[float]] = {name: [] for name in COMPARED}
+        for turn in range(rounds):
+            seen: dict[str, dict[str, float]] = {}
+            order = (("before", base), ("after", ROOT))
+            for label, tree in order if turn % 2 == 0 else order[::-1]:
+                code = BAND_CHANGES % (BANDS, COMPARED, str(ROOT), ops)
+                env = dict(os.environ, PYTHONPATH=str(tree))
+                done = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp,
+                                      check=True, capture_output=True, text=True)
+                seen[label] = json.loads(done.stdout)
+                for name, us in seen[label].items():
+                    best[label][name] = min(best[label].get(name, float("inf")), us)
+            for name in COMPARED:
+                ratios[name].append(seen["after"][name] / seen["before"][name])
+    print(f"band change, median CPU time per change, {rounds} rounds of {ops} changes, "
+          f"before = {rev}; best of the rounds, and the median of each round's after/before")
+    for name in COMPARED:
+        before, after = best["before"][name], best["after"][name]
+        print(f"{name:16} before {before:7.1f} us  after {after:7.1f} us  "
+              f"best {(after / before - 1) * 100:+5.1f} %  "
+              f"per round {(statistics.median(ratios[name]) - 1) * 100:+5.1f} %")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ops", type=int, default=2000)
+    parser.add_argument("--compare", metavar="REV",
+                        help="compare band changes with git revision REV, in the same run")
+    parser.add_argument("--rounds", type=int, default=7)
     args = parser.parse_args()
+    if args.compare:
+        compare(args.compare, args.rounds, args.ops)
+        return
     rng = random.Random(4)
     print("median/p99 per operation; cpu = this thread's CPU time")
     for name in EXAMPLES:

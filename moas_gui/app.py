@@ -357,6 +357,8 @@ class ServerApp:
                 link.apply(state)
         for line in changes.log:
             log.info("%s", line)
+        for line in changes.details:
+            log.debug("%s", line)
         if run.rotators is not None and changes.radios:
             # an Electrical rotator points where its antenna in use points, however
             # that antenna was chosen (a button, a band change, a turn)

@@ -36,6 +36,10 @@ class RefRadio:
     history: dict[Range, tuple[int | None, int | None]] = field(default_factory=dict)
     blocked: bool = False
     """Stopped by step 1 (same band)."""
+    rule: str = ""
+    """Which rule gave the radio its antennas last (the engine's ``why.rule`` names)."""
+    took: bool = False
+    """The last antennas were taken from a radio they did not suit."""
 
 
 class AppendixF:
@@ -99,6 +103,7 @@ class AppendixF:
             return False
         rs = self.radios[r]
         rs.tx, rs.rx = tx, rx
+        rs.took = bool(losers)
         # "a different antenna will be chosen for the radio that originally had the
         # antenna": every radio taken from has lost its antenna at once.
         for o in losers:
@@ -139,11 +144,11 @@ class AppendixF:
         if found is not None:
             htx, hrx = found
             if htx is not None and hrx is not None and self._use(r, htx, hrx, takeover):
-                return True
+                return self._rule(r, "f3_history")
             for a in (htx, hrx):
                 if a is not None and not self.ants[a].tx_only and not self.ants[a].rx_only \
                         and self.covers(r, a, khz) and self._use(r, a, a, takeover):
-                    return True
+                    return self._rule(r, "f3_history")
         # Step 4: "Starting with the lowest numbered antenna in the configuration check each
         # to see if it covers the frequency and is available. If so, use it. This check
         # ignores antennas which are transmit-only or receive-only."
@@ -151,7 +156,7 @@ class AppendixF:
             if ant.tx_only or ant.rx_only or not self.covers(r, a, khz):
                 continue
             if self._use(r, a, a, takeover):
-                return True
+                return self._rule(r, "f4_lowest")
         # Step 5: "check each to see if it is transmit-only. If so and it covers the frequency
         # and is available check each receive-only antenna starting with the lowest numbered
         # to see if it covers the frequency and is available. If so use them."
@@ -160,8 +165,15 @@ class AppendixF:
                 continue
             for x, other in self.ants.items():
                 if other.rx_only and self.covers(r, x, khz) and self._use(r, t, x, takeover):
-                    return True
+                    return self._rule(r, "f5_tx_rx_pair")
         return False
+
+    def _rule(self, r: tuple[int, int], rule: str) -> bool:
+        """Record the rule that gave ``r`` its antennas (a hand-over when it took them)."""
+        rs = self.radios[r]
+        rs.rule = "handover" if rs.took else rule
+        rs.took = False
+        return True
 
     def _select(self, r: tuple[int, int], old_khz: float | None, takeover: bool) -> None:
         rs = self.radios[r]
@@ -171,6 +183,7 @@ class AppendixF:
         if self._same_band(r):
             rs.tx = rs.rx = None
             rs.blocked = True
+            rs.rule = "f1_same_band"
             return
         # Step 2: "If the current antenna covers a frequency range which includes the current
         # frequency and is contiguous to the range that was being used, continue to use the
@@ -182,6 +195,7 @@ class AppendixF:
             used = min(self.ranges(r, cur), key=lambda rg: max(rg[0] - old_khz, old_khz - rg[1],
                                                                 0.0), default=None)
             if used is not None and used[0] <= khz <= used[1]:
+                rs.rule = "f2_kept"
                 if rs.rx is not None and rs.rx != cur and self.covers(r, rs.rx, khz):
                     return self._remember(r)
                 if not self.ants[cur].tx_only:
@@ -210,9 +224,11 @@ class AppendixF:
         if best is not None:
             rs.tx = None if self.ants[best].rx_only else best
             rs.rx = best
+            rs.rule = "f6_nearest"
             return self._remember(r)
         # Step 7: "If no antenna at all can be found don't connect the radio to any antenna."
         rs.tx = rs.rx = None
+        rs.rule = "f7_none"
         return None
 
     def _remember(self, r: tuple[int, int]) -> None:
@@ -240,10 +256,15 @@ class AppendixF:
                 before = (rs.tx, rs.rx)
                 if self._suitable(r, takeover=False):
                     rs.blocked = False
+                    rs.rule = "restart"
                     self._remember(r)
                     changed = changed or (rs.tx, rs.rx) != before
                 else:
                     rs.tx, rs.rx = before
+                    if rs.blocked:
+                        # the band is free of the other radio, but nothing suitable is
+                        rs.rule = "same_band"
+                        rs.blocked = False
             if not changed:
                 return
 
@@ -257,6 +278,10 @@ class AppendixF:
 
     def pairs(self) -> dict[tuple[int, int], tuple[int | None, int | None]]:
         return {r: (rs.tx, rs.rx) for r, rs in self.radios.items()}
+
+    def rules(self) -> dict[tuple[int, int], str]:
+        """The rule that decided each radio's antennas last ("" before its first report)."""
+        return {r: rs.rule for r, rs in self.radios.items()}
 
     def inhibited(self, r: tuple[int, int]) -> bool:
         """Steps 1, 6 and 7: "inhibit transmit"."""

@@ -50,7 +50,9 @@ def test_radio_entry_has_the_protocol_fields() -> None:
     assert e.radio_view(1, 1).to_dict() == {
         "station": 1, "radio": 1, "khz": 14025.0, "tx_khz": 14025.0, "tx": 0, "rx": 0,
         "alt": None, "transmitting": False, "inhibited": False, "note": "", "relative": None,
-        "radio_rx_antenna": False}
+        "radio_rx_antenna": False,
+        "why": {"rule": "f4_lowest", "text": "lowest-numbered antenna covering 14025 kHz",
+                "passed_over": []}}
     assert e.antenna_views()[0].to_dict() == {"id": 0, "short": "Tri", "long": "Tribander",
                                               "rotator": None, "offset": 0}
 

@@ -30,6 +30,7 @@ ALLOWED: dict[str, set[str]] = {
     "config": {"errors"},
     "engine": {"config", "errors"},
     "state_store": {"engine", "errors", "files", "places"},
+    "plan": {"config", "engine"},
     "hw": {"addresses", "aio", "clock", "config", "engine", "errors", "files", "retry"},
     "net": {"aio", "config", "errors", "hw"},
     "rotator_program": {"clock", "errors", "hw", "retry"},
@@ -44,10 +45,10 @@ ALLOWED: dict[str, set[str]] = {
     "single_instance": {"errors"},
     "desktop": {"files"},
     "service": {"files"},
-    "ui": {"app", "client", "hw", "log_repeats", "sources", "status"},
+    "ui": {"app", "client", "hw", "log_repeats", "plan", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
-            "retry", "sources", "log_repeats", "places", "service"},
+            "retry", "sources", "log_repeats", "places", "service", "plan"},
 }
 """Which packages (or top-level modules) of moas_gui each one may import."""
 

@@ -302,3 +302,27 @@ async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         await until(lambda: not clients.clients(), 5, "the page gone")
         await web.close()
         await clients.close()
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_tapping_the_display_line_shows_why_the_radio_has_its_antennas(
+        station: Station, browser: Any) -> None:
+    tcp = await Protocol.connect(station.tcp)
+    try:
+        await tcp.call("frequency", station=1, radio=1, khz=7025.0)
+        await run(browser.get, station.url + "?station=1&radio=1")
+        display = '.radio[data-radio="1"] .display'
+        why = "document.querySelector('.radio[data-radio=\"1\"] .why')"
+        await page_until(browser, "return document.querySelector('.radio[data-radio=\"1\"] "
+                         ".display').textContent.includes('7025.0 kHz')", what="radio 1")
+        assert await js(browser, f"return {why}.hidden") is True
+        await tap(browser, display)
+        await page_until(browser, f"return !{why}.hidden", what="the reason after a tap")
+        text = await js(browser, f"return {why}.textContent")
+        assert text.startswith("Lowest-numbered antenna covering 7025 kHz")
+        assert "Triband Yagi 20-15-10: does not cover 7025 kHz" in text
+        await tap(browser, display)
+        await page_until(browser, f"return {why}.hidden", what="the reason hidden again")
+    finally:
+        await tcp.close()

@@ -2,7 +2,8 @@
 
 ``moas-server [FILE]`` opens the window (and FILE at once, which is what a
 double-click does); ``--headless FILE`` runs the same server without a window;
-``--check FILE`` explains every problem of a configuration and exits.
+``--check FILE`` explains every problem of a configuration and exits;
+``--plan FILE`` prints the station plan (``--json``: as data) and exits.
 """
 
 from __future__ import annotations
@@ -30,6 +31,12 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--check", action="store_true",
                         help="check FILE, print every problem (or a summary) and exit; "
                              "exit status 0 only when the file is usable")
+    parser.add_argument("--plan", action="store_true",
+                        help="print FILE's station plan: for every band and every pair of "
+                             "radios, which antennas each radio gets and why, then the "
+                             "findings; exit status 0 when the file is usable")
+    parser.add_argument("--json", action="store_true",
+                        help="with --plan: print the plan as JSON")
     parser.add_argument("--headless", action="store_true",
                         help="run without a window, logging to standard error")
     add_log_level(parser, "info", "what the headless server logs")
@@ -118,6 +125,31 @@ def check(path: str) -> int:
     if result.warnings:
         print()
     print(summarize(result.config))
+    from moas_gui.plan import plan_file
+
+    plan, error = plan_file(path)
+    if plan is None:
+        print(error)
+        return 1
+    count = len(plan.findings)
+    print()
+    for finding in plan.findings:
+        where = f"{path}:{finding.line}" if finding.line else path
+        print(f"{where}: {finding.text}")
+    print(f"{count} finding{'s' if count != 1 else ''}; the whole plan: "
+          f"moas-server --plan {path}")
+    return 0
+
+
+def plan(path: str, as_json: bool) -> int:
+    """Print the station plan of ``path``; 0 when the file is usable."""
+    from moas_gui.plan import plan_file
+
+    found, error = plan_file(path)
+    if found is None:
+        print(error, file=sys.stderr)
+        return 1
+    sys.stdout.write(found.to_json() if as_json else found.to_text())
     return 0
 
 
@@ -402,6 +434,14 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if args.install_service:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
+    if args.json and not args.plan:
+        print("moas-server: --json goes with --plan", file=sys.stderr)
+        return 2
+    if args.plan:
+        if not args.file:
+            print("moas-server: --plan needs a configuration file", file=sys.stderr)
+            return 2
+        return plan(args.file, args.json)
     if args.check:
         if not args.file:
             print("moas-server: --check needs a configuration file", file=sys.stderr)

@@ -44,6 +44,8 @@ __all__ = [
     "RotatorView",
     "Snapshot",
     "SwitchView",
+    "WhyView",
+    "explain",
     "parse_antenna",
     "parse_layout",
     "parse_radio",
@@ -169,6 +171,15 @@ def _describe(value: object) -> str:
 
 
 @dataclass(frozen=True, slots=True)
+class WhyView:
+    """Why the server gave a radio its antennas (a radio entry's ``why``)."""
+
+    rule: str
+    text: str
+    passed_over: tuple[tuple[int, str], ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
 class RadioView:
     """One radio as the server reports it (snapshot ``radios`` / ``radio`` event)."""
 
@@ -189,6 +200,8 @@ class RadioView:
     """This radio has its station's transmit focus (an SO2R logger's active radio)."""
     focus: bool = False
     """This radio has its station's receive focus (the operator is on it)."""
+    why: WhyView | None = None
+    """Why the radio has these antennas (None when the server did not say)."""
 
     @property
     def key(self) -> RadioKey:
@@ -371,7 +384,32 @@ def parse_radio(obj: object, where: str = "radio") -> RadioView:
         radio_rx_antenna=f.flag("radio_rx_antenna"),
         active=f.flag("active"),
         focus=f.flag("focus"),
+        why=_parse_why(obj.get("why") if isinstance(obj, Mapping) else None, f"{where}: why"),
     )
+
+
+def _parse_why(obj: object, where: str) -> WhyView | None:
+    """A radio entry's ``why`` (None when absent: servers before 0.1 do not send it)."""
+    if obj is None:
+        return None
+    f = _Fields(obj, where)
+    passed = []
+    for index, item in enumerate(f.items("passed_over", optional=True)):
+        g = _Fields(item, f"{where}: passed_over[{index}]")
+        passed.append((g.whole("antenna"), g.text("reason")))
+    return WhyView(f.text("rule"), f.text("text"), tuple(passed))
+
+
+def explain(radio: RadioView, snapshot: Snapshot | None) -> str:
+    """The radio's ``why`` in words for a tooltip: the reason, then each antenna passed over."""
+    why = radio.why
+    if why is None:
+        return ""
+    lines = [why.text[:1].upper() + why.text[1:]]
+    for antenna, reason in why.passed_over:
+        found = snapshot.antenna(antenna) if snapshot is not None else None
+        lines.append(f"  {found.name if found is not None else f'Antenna {antenna}'}: {reason}")
+    return "\n".join(lines)
 
 
 def parse_antenna(obj: object, where: str = "antenna") -> AntennaView:

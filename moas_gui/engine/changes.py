@@ -26,13 +26,15 @@ class Changes:
     note) changed.  ``switches``: the complete new wanted state of every switch
     whose wanted state changed.  ``layouts``: True when any layout's buttons may
     show something different now.  ``log``: sentences for the operator's log at
-    Info level.
+    Info level.  ``details``: sentences for the log at Debug level (the antennas each
+    decision passed over, and why).
     """
 
     radios: frozenset[RadioRef] = frozenset()
     switches: Mapping[int, SwitchState] = field(default_factory=lambda: _EMPTY)
     layouts: bool = False
     log: tuple[str, ...] = ()
+    details: tuple[str, ...] = ()
 
     def __bool__(self) -> bool:
         return bool(self.radios or self.switches or self.layouts or self.log)
@@ -46,6 +48,7 @@ class Changes:
             MappingProxyType(switches),
             self.layouts or later.layouts,
             self.log + later.log,
+            self.details + later.details,
         )
 
 

@@ -35,6 +35,7 @@ from .state import RadioState, State
 from .switchstate import NO_ANTENNA, StationAntennas, SwitchState
 from .systems import is_selected
 from .views import AVAILABLE, SELECTED, UNAVAILABLE, AntennaView, LayoutView, RadioView
+from .why import SWITCH, Why
 from .work import Work, radio_name
 
 
@@ -69,6 +70,23 @@ class Engine:
         self._ports: dict[RadioRef, PortAntennas] = {}
         self._station_cache: dict[tuple[object, ...], StationAntennas] = {}
         self._commit(Work(ix, st), force=True)
+
+    def clone(self) -> Engine:
+        """An independent engine in exactly this engine's state: a fresh copy of a new
+        engine costs far less than building one (the configuration's read-only index is
+        shared).  The station plan runs every scenario on such a copy."""
+        c = Engine.__new__(Engine)
+        c._ix = self._ix
+        c._classes = self._classes
+        c._state = self._state.clone()
+        c._maps = dict(self._maps)
+        c._switch_states = dict(self._switch_states)
+        c._owners = {k: dict(v) for k, v in self._owners.items()}
+        c._views = dict(self._views)
+        c._port_cache = dict(self._port_cache)
+        c._ports = dict(self._ports)
+        c._station_cache = dict(self._station_cache)
+        return c
 
     # -- reading ---------------------------------------------------------------------------
     @property
@@ -289,6 +307,8 @@ class Engine:
 
         def op(w: Work) -> None:
             w.st.radios[ref] = w.st.radios[ref].with_(tx=tx, rx=rx, note="")
+            w.st.why[ref] = Why(SWITCH, f"switch {switch_id} held these antennas for port "
+                                        f"{port} after a restart (newer than the saved state)")
             w.log.append(f"{radio_name(ref)}: kept the antennas switch {switch_id} holds "
                          f"for port {port} (newer than the saved state)")
         return self._run(op, now, need_running=False)
@@ -422,7 +442,7 @@ class Engine:
         if not (changed_radios or changed_switches or layouts or w.log):
             return NO_CHANGES
         return Changes(frozenset(changed_radios), MappingProxyType(changed_switches), layouts,
-                       tuple(w.log))
+                       tuple(w.log), tuple(w.details))
 
     def _busy(self, st: State, switch: int) -> tuple[frozenset[int], bool]:
         indicate = self._ix.switches[switch].indicate_tr
@@ -458,7 +478,7 @@ class Engine:
         view = RadioView(ref.station, ref.radio, rs.khz, rs.tx_freq if main else None,
                          rs.tx, rs.rx, alt, rs.transmitting, inhibited, note,
                          None if listed is None else listed[1].ids,
-                         path is not None and path.radio_rx_antenna)
+                         path is not None and path.radio_rx_antenna, st.why.get(ref))
         old = self._views.get(ref)
         return old if old == view else view
 

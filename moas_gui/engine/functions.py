@@ -26,6 +26,7 @@ from .errors import NotFound, Unavailable
 from .function_kinds import KINDS, OK, Status, relay_condition, swap_status
 from .index import ConfigIndex
 from .state import State
+from .why import FUNCTION, Why
 from .work import Work
 
 
@@ -58,7 +59,11 @@ def run(w: Work, ref: RadioRef, f: Function) -> None:
     verdict = status(w.ix, w.st, ref, f)
     if not verdict.available:
         raise Unavailable(f"{f.label} is not available: {verdict.reason}")
-    KINDS[f.name].run(w, ref, f)
+    w.default_why = Why(FUNCTION, f"the {f.label} function ({f.name}) run by {ref}")
+    try:
+        KINDS[f.name].run(w, ref, f)
+    finally:
+        w.default_why = None
 
 
 def refresh_relays(ix: ConfigIndex, st: State, w: Work | None = None) -> None:

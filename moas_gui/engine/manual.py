@@ -21,6 +21,7 @@ from .index import Kind
 from .rules import plan, shared_member, shared_users, unusable
 from .selection import place
 from .systems import press
+from .why import DIRECTION, PRESS, SHARED, Why
 from .work import Work, radio_name
 
 TARGETS = ("both", "tx", "rx")
@@ -87,11 +88,13 @@ def select_antenna(w: Work, ref: RadioRef, antenna: int, target: str, exclusive:
             and base in candidates:
         return
     reason = ""
+    why = Why(PRESS, f"{ix.name(antenna)} pressed by the operator"
+              + (" (alone)" if exclusive else ""))
     for c in candidates:
         tx, rx = _roles(w, ref, role, c)
         if _shared_press(w, ref, c, role):
             return
-        if place(w, ref, tx, rx, rs.note if rs.khz is None else ""):
+        if place(w, ref, tx, rx, rs.note if rs.khz is None else "", why=why):
             return
         reason = reason or _why_not(w, ref, tx, rx)
     raise Unavailable(reason[0].upper() + reason[1:] if reason else
@@ -123,7 +126,9 @@ def _shared_press(w: Work, ref: RadioRef, c: int, role: str) -> bool:
     if not mine:
         member = others[0][1]
         tx, rx = _roles(w, ref, role, member)
-        if not place(w, ref, tx, rx):
+        users = ", ".join(str(o) for o, _m in others)
+        if not place(w, ref, tx, rx, why=Why(SHARED, f"the member of a shared system that "
+                                                     f"{users} already use")):
             raise Unavailable(_why_not(w, ref, tx, rx))
         w.log.append(f"{radio_name(ref)} joined the shared system on {ix.name(member)}, "
                      "which its other users have selected")
@@ -145,9 +150,11 @@ def _shared_press(w: Work, ref: RadioRef, c: int, role: str) -> bool:
         w.set_pair(other,
                    c if ors.tx is not None and shared_member(ix, st, ors.tx) == system else ors.tx,
                    c if ors.rx is not None and shared_member(ix, st, ors.rx) == system else ors.rx,
-                   ors.note)
+                   ors.note, Why(SHARED, f"{ref} changed the member of the shared system "
+                                         "this radio uses"))
     tx, rx = _roles(w, ref, role, c)
-    if not place(w, ref, tx, rx):
+    if not place(w, ref, tx, rx, why=Why(PRESS, f"{ix.name(c)} pressed by the operator "
+                                                "(for every user of the shared system)")):
         raise Unavailable(_why_not(w, ref, tx, rx))
     return True
 
@@ -178,7 +185,8 @@ def select_direction(w: Work, rotator: int, heading: float) -> None:
                     "tx" if rs.tx in members else "rx")
             tx, rx = _roles(w, ref, role, target)
             if (tx, rx) == (rs.tx, rs.rx) or _shared_press(w, ref, target, role) or place(
-                    w, ref, tx, rx):
+                    w, ref, tx, rx, why=Why(DIRECTION, f"rotator {rotator} turned to "
+                                                       f"{heading:g} degrees")):
                 done = True
                 break
         else:

@@ -19,6 +19,7 @@ from .errors import BadRequest, NotFound, Unavailable
 from .index import ConfigIndex
 from .ranges import describe_khz
 from .selection import place
+from .why import RELATIVE, Why
 from .work import Work, radio_name
 
 
@@ -68,7 +69,7 @@ def relative(w: Work, ref: RadioRef, step: int | None, index: int | None) -> Non
         if not 0 <= index < n:
             raise NotFound(f"There is no relative antenna {index} for {ref}: the list has {n}")
         tx, rx = _pair(entry, index)
-        if tx not in ix.antennas or not place(w, ref, tx, rx):
+        if tx not in ix.antennas or not place(w, ref, tx, rx, why=_why(entry, index, rs.khz)):
             raise Unavailable(f"Relative antenna {index} ({ix.name(tx)}) cannot be used by "
                               f"{ref} now")
         _mark(w, ref, key, index)
@@ -85,10 +86,16 @@ def relative(w: Work, ref: RadioRef, step: int | None, index: int | None) -> Non
         (pos + k * step) % n for k in range(1, n + 1)]
     for j in order:
         tx, rx = _pair(entry, j)
-        if tx in ix.antennas and (rx in ix.antennas) and place(w, ref, tx, rx):
+        if tx in ix.antennas and (rx in ix.antennas) and place(w, ref, tx, rx,
+                                                               why=_why(entry, j, rs.khz)):
             _mark(w, ref, key, j)
             return
     raise Unavailable(f"No other relative antenna can be used by {ref} now")
+
+
+def _why(entry: RelativeRange, i: int, khz: float | None) -> Why:
+    return Why(RELATIVE, f"relative antenna {i + 1} of {len(entry.ids)} for "
+                         f"{describe_khz(khz)}")
 
 
 def _mark(w: Work, ref: RadioRef, key: tuple[int, int], pos: int) -> None:

@@ -25,16 +25,37 @@ antenna, and changes it only when something suitable was found.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 from moas_gui.config.model import RadioRef
 
 from .index import IndexedRadio, Kind
 from .ranges import describe_khz, distance, in_segment
-from .rules import join_shared, plan, related, seen_together, unusable
+from .rules import (
+    join_shared,
+    plan,
+    related,
+    seen_together,
+    shared_member,
+    shared_users,
+    unusable,
+)
+from .why import (
+    HANDOVER,
+    SAME_BAND,
+    SHARED,
+    STEP_HISTORY,
+    STEP_KEPT,
+    STEP_LOWEST,
+    STEP_NEAREST,
+    STEP_NONE,
+    STEP_PAIR,
+    STEP_SAME_BAND_TAKEN,
+    Why,
+)
 from .work import Work
 
-SAME_BAND = "already on this band"
+SAME_BAND_NOTE = "already on this band"
 
 
 def _choices(w: Work, info: IndexedRadio, antenna: int, role: str) -> list[int]:
@@ -51,9 +72,26 @@ def _choices(w: Work, info: IndexedRadio, antenna: int, role: str) -> list[int]:
     return out
 
 
+Reason = Why | Callable[[], Why] | None
+"""A reason, or a function making it: selection tries many antennas and words only the
+reason of the one it gives."""
+
+
+def _took(w: Work, ref: RadioRef, losers: list[RadioRef], reason: Reason) -> Why | None:
+    """The reason for antennas taken from radios they did not suit (a hand-over)."""
+    why = reason() if callable(reason) else reason
+    if not losers:
+        return why
+    names = ", ".join(str(o) for o in losers)
+    base = why.text if why is not None else "selected"
+    return Why(HANDOVER, f"{base}; handed over from {names}, which it does not suit",
+               why.passed_over if why is not None else ())
+
+
 def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = "",
-          takeover: bool | None = None) -> bool:
-    """Give ``ref`` the antennas ``tx``/``rx`` (any free path of them); False if impossible.
+          takeover: bool | None = None, why: Reason = None) -> bool:
+    """Give ``ref`` the antennas ``tx``/``rx`` (any free path of them) for the reason ``why``;
+    False if impossible (``w.refusal`` then says why).
 
     Paths that disturb nobody are preferred; only then is another radio moved to
     another path of its antenna to make room.
@@ -66,13 +104,16 @@ def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = ""
         tx = None
     if tx is not None and rx is not None and ix.canon[tx] == ix.canon[rx]:
         choices = _choices(w, info, tx, "both")
+        if not choices:
+            w.refusal = unusable(ix, w.st, info, tx, w.st.radios[ref].khz, "both") or ""
         for repath in (False, True):
             for a in choices:
-                p, _ = plan(ix, w.st, ref, a, takeover=takeover, repath=repath)
+                p, reason = plan(ix, w.st, ref, a, takeover=takeover, repath=repath)
                 if p is not None:
                     w.apply_plan(p)
-                    w.set_pair(ref, a, a, note)
+                    w.set_pair(ref, a, a, note, _took(w, ref, p.takeovers, why))
                     return True
+                w.refusal = reason
         return False
     tx_choices = _choices(w, info, tx, "tx") if tx is not None else [None]
     rx_choices = _choices(w, info, rx, "rx") if rx is not None else [None]
@@ -85,11 +126,14 @@ def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = ""
                 if first is None:
                     continue
                 also = (r,) if t is not None and r is not None else ()
-                p, _ = plan(ix, w.st, ref, first, also=also, takeover=takeover, repath=repath)
+                p, reason = plan(ix, w.st, ref, first, also=also, takeover=takeover,
+                                 repath=repath)
                 if p is not None:
                     w.apply_plan(p)
-                    w.set_pair(ref, t, r, note)
+                    w.set_pair(ref, t, r, note, _took(w, ref, p.takeovers, why))
                     return True
+                w.refusal = reason
+    w.refusal = w.refusal or "no free path"
     return False
 
 
@@ -132,20 +176,21 @@ def _keep_current(w: Work, ref: RadioRef, old_khz: float | None) -> bool:
     cur = rs.tx if info.kind is Kind.MAIN else rs.rx
     if cur is None or not in_segment(info.used_segment(cur, old_khz), khz):
         return False
+    why = Why(STEP_KEPT, f"kept: it covers {describe_khz(khz)} in the range it was used in")
     if info.kind is not Kind.MAIN:
-        w.set_pair(ref, None, cur)
+        w.set_pair(ref, None, cur, why=why)
         return True
     rx = rs.rx
     if rx is not None and rx != cur and info.covers(rx, khz):
-        w.set_pair(ref, cur, rx)
+        w.set_pair(ref, cur, rx, why=why)
         return True
     if ix.can_receive(cur):
-        w.set_pair(ref, cur, cur)
+        w.set_pair(ref, cur, cur, why=why)
         return True
     for r in _rx_only(w, info, khz):
-        if ix.is_fast(cur, r) and place(w, ref, cur, r):
+        if ix.is_fast(cur, r) and place(w, ref, cur, r, why=why):
             return True
-    w.set_pair(ref, cur, None)
+    w.set_pair(ref, cur, None, why=why)
     return True
 
 
@@ -154,6 +199,56 @@ def _rx_only(w: Work, info: IndexedRadio, khz: float | None) -> Iterable[int]:
         ant = w.ix.antennas[a]
         if ant.rx_only and not ant.no_select and ant.enabled:
             yield a
+
+
+def passed_over(w: Work, info: IndexedRadio, khz: float | None, below: int | None,
+                failed: dict[int, str]) -> tuple[tuple[int, str], ...]:
+    """Why each antenna of this radio numbered below ``below`` was not chosen (``failed``
+    holds the reasons found while trying them).  With ``below`` None (nothing free covers
+    the frequency: steps 6 and 7) only the antennas covering the frequency are listed."""
+    ix = w.ix
+    covering = info.covering(khz)
+    out = []
+    outside = ""
+    for a in info.antennas if below is not None else covering:
+        if below is not None and a >= below:
+            break
+        reason = failed.get(a)
+        if reason is not None:
+            reason = _short(w, a, reason)
+        else:
+            ant = ix.antennas[a]
+            if a not in covering:
+                outside = outside or f"does not cover {describe_khz(khz)}"
+                reason = outside
+            elif not ant.enabled:
+                reason = "is not enabled"
+            elif ant.no_select:
+                reason = "is never selected automatically (NoSelect)"
+            elif ant.tx_only:
+                reason = "is transmit only"
+            elif ant.rx_only:
+                reason = "is receive only"
+            else:
+                continue
+        out.append((a, reason))
+    return tuple(out)
+
+
+def _short(w: Work, a: int, reason: str) -> str:
+    """A refusal about antenna ``a`` without its own name in front."""
+    prefix = w.ix.describe(a) + " "
+    return reason.removeprefix(prefix)
+
+
+def _reason(w: Work, info: IndexedRadio, khz: float | None, chosen: int,
+            failed: dict[int, str], rule: str, text: str) -> Callable[[], Why]:
+    """The reason for giving ``chosen`` by ``rule``, worded only when it is given
+    (``{khz}`` in ``text`` becomes the frequency)."""
+    def make() -> Why:
+        return Why(rule, text.replace("{khz}", describe_khz(khz)),
+                   passed_over(w, info, khz, chosen, failed))
+    return make
 
 
 def _suitable_steps(w: Work, ref: RadioRef) -> bool:
@@ -167,34 +262,51 @@ def _suitable_steps(w: Work, ref: RadioRef) -> bool:
     remembered = st.history.get(ref, {}).get(band) if band is not None else None
     if remembered is not None:
         htx, hrx = remembered
-        if main and htx is not None and hrx is not None and place(w, ref, htx, hrx):
+        def why() -> Why:
+            return Why(STEP_HISTORY, f"used last by this radio on this band "
+                                     f"({describe_khz(khz)})")
+
+        if main and htx is not None and hrx is not None and place(w, ref, htx, hrx, why=why):
             return True
         for a in (htx, hrx):
             if a is None:
                 continue
-            if main and ix.can_transmit(a) and ix.can_receive(a) and place(w, ref, a, a):
+            if main and ix.can_transmit(a) and ix.can_receive(a) and place(w, ref, a, a,
+                                                                             why=why):
                 return True
-            if not main and ix.can_receive(a) and place(w, ref, None, a):
+            if not main and ix.can_receive(a) and place(w, ref, None, a, why=why):
                 return True
     covering = info.covering(khz)
+    failed: dict[int, str] = {}
+    w.failed = failed
     for a in covering:
         ant = ix.antennas[a]
         if ant.no_select or ant.tx_only or ant.rx_only or not ant.enabled:
             continue
-        if place(w, ref, a if main else None, a):
+        if place(w, ref, a if main else None, a, why=_reason(
+                w, info, khz, a, failed, STEP_LOWEST,
+                "lowest-numbered antenna covering {khz}")):
             return True
+        failed[a] = w.refusal
     if not main:
         for a in _rx_only(w, info, khz):
-            if place(w, ref, None, a):
+            if place(w, ref, None, a, why=_reason(
+                    w, info, khz, a, failed, STEP_LOWEST,
+                    "lowest-numbered receive antenna covering {khz}")):
                 return True
+            failed[a] = w.refusal
         return False
     for t in covering:
         ant = ix.antennas[t]
         if not ant.tx_only or ant.no_select or not ant.enabled:
             continue
         for r in _rx_only(w, info, khz):
-            if ix.is_fast(t, r) and place(w, ref, t, r):
+            if ix.is_fast(t, r) and place(w, ref, t, r, why=_reason(
+                    w, info, khz, t, failed, STEP_PAIR,
+                    "lowest-numbered transmit-only antenna covering {khz}, with the "
+                    "receive-only " + ix.name(r))):
                 return True
+        failed[t] = w.refusal or "has no free receive-only partner"
     return False
 
 
@@ -207,6 +319,7 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
     if khz is None:
         return False
     best: int | None = None
+    best_joined = False
     best_d = float("inf")
     current = rs.tx if rs.tx is not None else rs.rx
     order = ([current] if current is not None else []) + [a for a in info.antennas
@@ -215,7 +328,8 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
         ant = ix.antennas[a]
         if not ant.enabled or ant.tx_only or (ant.no_select and a != current):
             continue
-        a = join_shared(ix, st, ref, a)
+        joined = join_shared(ix, st, ref, a)
+        was, a = a, joined
         if a not in info.paths:
             continue
         d = distance(info.paths[a], khz)
@@ -225,13 +339,22 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
             continue
         if plan(ix, st, ref, a, takeover=False, repath=False)[0] is None:
             continue
-        best, best_d = a, d
+        best, best_d, best_joined = a, d, joined != was
     if best is None:
         return False
     covered = best_d == 0
     note = "" if covered else f"no free antenna covers {describe_khz(khz)}; nearest used"
     tx = best if info.kind is Kind.MAIN and ix.can_transmit(best) else None
-    w.set_pair(ref, tx, best, note)
+    text = (f"free antenna covering {describe_khz(khz)} (found by nearest range)" if covered
+            else f"no free antenna covers {describe_khz(khz)}; the nearest range")
+    if best_joined:
+        users = ", ".join(str(o) for o, _m in shared_users(ix, st, shared_member(ix, st, best)
+                                                            or 0, ref))
+        why = Why(SHARED, f"{text}: the member of a shared system that {users} already use",
+                  passed_over(w, info, khz, None, w.failed))
+    else:
+        why = Why(STEP_NEAREST, text, passed_over(w, info, khz, None, w.failed))
+    w.set_pair(ref, tx, best, note, why)
     return True
 
 
@@ -248,17 +371,30 @@ def select_by_frequency(w: Work, ref: RadioRef, old_khz: float | None,
         if other is not None:
             if suitable_only:
                 return False
-            return w.set_pair(ref, None, None, f"{other} is {SAME_BAND}")
-    if not suitable_only and _keep_current(w, ref, old_khz) or _suitable_steps(w, ref):
+            return w.set_pair(ref, None, None, f"{other} is {SAME_BAND_NOTE}",
+                              Why(STEP_SAME_BAND_TAKEN, f"{other} is already on this band "
+                                  "(ProtectSameBand)"))
+    w.failed = {}
+    w.restarting = suitable_only
+    try:
+        kept = not suitable_only and _keep_current(w, ref, old_khz) or _suitable_steps(w, ref)
+    finally:
+        w.restarting = False
+    if kept:
         pass
     elif suitable_only:
-        if before.note.endswith(SAME_BAND):
+        if before.note.endswith(SAME_BAND_NOTE):
             w.set_pair(ref, before.tx, before.rx, "no free antenna covers "
-                       f"{describe_khz(before.khz)}")
+                       f"{describe_khz(before.khz)}", Why(
+                           SAME_BAND, "no longer kept off the band by same-band protection, "
+                           f"but no free antenna covers {describe_khz(before.khz)}",
+                           passed_over(w, info, before.khz, None, w.failed)))
             return _changed(w, ref, before)
         return False
     elif not _nearest(w, ref):
-        w.set_pair(ref, None, None, f"no antenna can be connected at {describe_khz(before.khz)}")
+        w.set_pair(ref, None, None, f"no antenna can be connected at {describe_khz(before.khz)}",
+                   Why(STEP_NONE, f"no antenna can be connected at {describe_khz(before.khz)}",
+                       passed_over(w, info, before.khz, None, w.failed)))
     return _changed(w, ref, before)
 
 

@@ -27,6 +27,7 @@ from .changes import Changes
 from .engine import Engine
 from .slots import Release, SlotKey, SlotMap, _tables
 from .state import RadioState, State
+from .why import Why
 from .work import Work
 
 FORMAT = 1
@@ -60,6 +61,7 @@ def export_selections(engine: Engine) -> dict[str, Any]:
             "radio": _ref(ref), "khz": rs.khz, "tx_khz": rs.tx_khz, "tx": rs.tx, "rx": rs.rx,
             "note": rs.note, "rel_pos": rs.rel_pos,
             "rel_key": None if rs.rel_key is None else list(rs.rel_key),
+            "why": None if ref not in st.why else st.why[ref].to_dict(),
         })
     history = [{"radio": _ref(ref), "bands": [[seg[0], seg[1], pair[0], pair[1]]
                                               for seg, pair in sorted(bands.items())]}
@@ -158,6 +160,19 @@ class _Reader:
         return (k, None if owner is None else self.ref(owner, where), as_partner_alt)
 
 
+def _why(r: _Reader, value: object, where: str) -> Why:
+    """A saved reason (the radio entry's ``why``)."""
+    if not isinstance(value, dict) or not isinstance(value.get("rule"), str) \
+            or not isinstance(value.get("text"), str):
+        raise r.fail(where, "why is not an object with rule and text")
+    passed = []
+    for item in r.list_(value.get("passed_over", []), where):
+        if not isinstance(item, dict) or not isinstance(item.get("reason"), str):
+            raise r.fail(where, "why.passed_over holds something other than antenna reasons")
+        passed.append((r.int_(item.get("antenna"), where), item["reason"]))
+    return Why(value["rule"], value["text"], tuple(passed))
+
+
 def _radios(r: _Reader, data: Mapping[str, Any], st: State) -> None:
     for entry in r.list_(data.get("radios"), "radios"):
         if not isinstance(entry, dict):
@@ -168,6 +183,9 @@ def _radios(r: _Reader, data: Mapping[str, Any], st: State) -> None:
         note = entry.get("note", "")
         if not isinstance(note, str):
             raise r.fail(where, "note is not text")
+        why = entry.get("why")
+        if why is not None:
+            st.why[ref] = _why(r, why, where)
         st.radios[ref] = RadioState(
             khz=r.opt_khz(entry.get("khz"), where), tx_khz=r.opt_khz(entry.get("tx_khz"), where),
             tx=r.antenna(entry.get("tx"), where), rx=r.antenna(entry.get("rx"), where),

@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 from moas_gui.config.model import RadioRef
 
 from .ranges import Segment
+from .why import Why
 
 
 @dataclass(frozen=True, slots=True)
@@ -60,6 +61,7 @@ class State:
         "running",
         "shared",
         "stored",
+        "why",
     )
 
     def __init__(self) -> None:
@@ -81,6 +83,8 @@ class State:
         self.ports_tr: dict[tuple[int, int], bool] = {}
         """Last T/R event per (switch, port): True while transmitting."""
         self.now = 0.0
+        self.why: dict[RadioRef, Why] = {}
+        """The reason for each radio's antennas (recorded where they were decided)."""
 
     def clone(self) -> State:
         c = State.__new__(State)
@@ -98,6 +102,7 @@ class State:
         c.running = self.running
         c.ports_tr = dict(self.ports_tr)
         c.now = self.now
+        c.why = dict(self.why)
         return c
 
     def remember(self, ref: RadioRef, band: Segment,

@@ -6,6 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from .why import Why
+
 
 @dataclass(frozen=True, slots=True)
 class RadioView:
@@ -26,6 +28,8 @@ class RadioView:
     radio_rx_antenna: bool = False
     """The receive antenna is wired to the radio's own RX-antenna input (6.4
     ``RadioRXAntenna``): a client controlling the radio switches that input on."""
+    why: Why | None = None
+    """Why the radio has these antennas (None before any decision)."""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -34,6 +38,7 @@ class RadioView:
             "transmitting": self.transmitting, "inhibited": self.inhibited, "note": self.note,
             "relative": None if self.relative is None else list(self.relative),
             "radio_rx_antenna": self.radio_rx_antenna,
+            "why": None if self.why is None else self.why.to_dict(),
         }
 
 

@@ -39,7 +39,14 @@ from moas_gui.client.events import (
     StateReceived,
     SwitchChanged,
 )
-from moas_gui.client.model import ButtonType, ButtonView, LayoutView, RadioView, Snapshot
+from moas_gui.client.model import (
+    ButtonType,
+    ButtonView,
+    LayoutView,
+    RadioView,
+    Snapshot,
+    explain,
+)
 from moas_gui.client.screen import Screen, ScreenState, screen_state
 
 from .button_grid import ButtonGrid
@@ -49,9 +56,11 @@ from .compass import CompassPanel, compass_targets
 from .elided_label import ElidedLabel
 from .knob import KnobControl
 from .qt import (
+    QAction,
     QButtonGroup,
     QCloseEvent,
     QComboBox,
+    QCursor,
     QFrame,
     QGroupBox,
     QHBoxLayout,
@@ -61,6 +70,7 @@ from .qt import (
     QScrollArea,
     QSpinBox,
     Qt,
+    QToolTip,
     QVBoxLayout,
     QWidget,
     Signal,
@@ -260,6 +270,11 @@ class ClientWindow(QMainWindow):
         self.relative_strip.index_requested.connect(lambda index: self._relative(index=index))
         self.frequency_box.frequency_requested.connect(self._send_frequency)
         self.compass_panel.refused.connect(self._refused)
+        self.why_action = QAction("Why?", self)
+        """On the button grid's context menu: why the selected antenna was chosen."""
+        self.why_action.triggered.connect(self._show_why)
+        self.grid.setContextMenuPolicy(Qt.ContextMenuPolicy.ActionsContextMenu)
+        self.grid.addAction(self.why_action)
         self.knob = KnobControl(self)
         """Mouse wheel, keys and USB knobs step through the antennas (docs/web-client.md)."""
 
@@ -476,6 +491,7 @@ class ClientWindow(QMainWindow):
             self.badge_active.hide()
             self.badge_focus.hide()
             self.note_label.hide()
+            self.display.set_detail("")
             return
         parts = [frequency_text(radio)]
         tx = snapshot.antenna(radio.tx)
@@ -486,6 +502,7 @@ class ClientWindow(QMainWindow):
         if alt is not None:
             parts.append(f"ALT  {alt.name}")
         self.display.setText("     ".join(parts))
+        self.display.set_detail(explain(radio, snapshot))
         self.badge_tx.setVisible(radio.transmitting)
         self.badge_inhibit.setVisible(radio.inhibited)
         self.badge_active.setVisible(radio.active)
@@ -493,6 +510,17 @@ class ClientWindow(QMainWindow):
         self.note_label.setText(radio.note)
         self.note_label.setVisible(bool(radio.note))
         self.relative_strip.show_list(radio, snapshot)
+
+    def why_text(self) -> str:
+        """Why the radio shown has its antennas, in words (empty when the server did not say)."""
+        radio = self.radio_view
+        return explain(radio, self.snapshot) if radio is not None else ""
+
+    def _show_why(self) -> None:
+        """The "Why?" action: the reason in the status bar and next to the pointer."""
+        text = self.why_text() or "The server has not said why (no decision yet)"
+        self.statusBar().showMessage(text.replace("\n", "; "), 20000)
+        QToolTip.showText(QCursor.pos(), text, self.grid)
 
     def _show_compass(self) -> None:
         snapshot = self.snapshot

@@ -19,6 +19,7 @@ class ElidedLabel(QLabel):
     def __init__(self, text: str = "", parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self._full = ""
+        self._detail = ""
         self.setText(text)
 
     def text(self) -> str:
@@ -37,6 +38,18 @@ class ElidedLabel(QLabel):
             super().setText(text)  # before its object name picks its style sheet rule
         self.updateGeometry()
 
+    def set_detail(self, detail: str) -> None:
+        """More words for the tooltip, under the whole text when that is cut (the client's
+        display line: why the radio has its antennas)."""
+        self._detail = detail
+        self._tip(super().text())
+
+    def _tip(self, shown: str) -> None:
+        parts = [self._full] if shown != self._full else []
+        if self._detail:
+            parts.append(self._detail)
+        self.setToolTip("\n\n".join(parts))
+
     def _chrome(self) -> int:
         """Pixels around the text: margins, and a style sheet's padding and border."""
         return max(0, super().sizeHint().width()
@@ -46,7 +59,7 @@ class ElidedLabel(QLabel):
         width = max(1, self.width() - self._chrome())
         shown = self.fontMetrics().elidedText(self._full, Qt.TextElideMode.ElideRight, width)
         super().setText(shown)
-        self.setToolTip(self._full if shown != self._full else "")
+        self._tip(shown)
 
     def sizeHint(self) -> QSize:
         # a pixel or two more: elidedText() cuts a text that fits its width exactly

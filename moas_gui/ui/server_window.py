@@ -64,6 +64,8 @@ class ServerWindow(QMainWindow):
         self._state: ServerState | None = None
         self.client_windows: list[QWidget] = []
         self.emulator_windows: dict[int, QWidget] = {}
+        self.plan_window: QWidget | None = None
+        """View > Station plan, while open."""
         self.last_dialog: QMessageBox | None = None
         self._question: QMessageBox | None = None
         """The open "Stop ... and open ...?" question, if any: one at a time."""
@@ -139,6 +141,7 @@ class ServerWindow(QMainWindow):
             self.level_actions[level] = action
         view.addSeparator()
         self.action_client = view.addAction("&Client", self.open_client)
+        self.action_plan = view.addAction("Station &Plan", self.open_plan)
         self.emulator_menu = view.addMenu("E&mulator")
 
         help_menu = bar.addMenu("&Help")
@@ -196,7 +199,7 @@ class ServerWindow(QMainWindow):
         running = self.app.config is not None
         stopped = self.app.switches_stopped
         for action in (self.action_reset, self.action_save_data, self.action_stop_start,
-                       self.tray_stop_start, self.action_restart):
+                       self.tray_stop_start, self.action_restart, self.action_plan):
             action.setEnabled(running)
         label = "S&tart Switches" if stopped else "S&top Switches"
         self.action_stop_start.setText(label)
@@ -364,6 +367,31 @@ class ServerWindow(QMainWindow):
 
         self.client_windows.append(open_builtin_client(self.app))
 
+    def open_plan(self) -> None:
+        """View > Station plan: the plan of the open configuration (the switches are not
+        touched); made off the event loop's thread, then shown with ``show()``."""
+        config, path = self.app.config, self.app.path
+        if config is None:
+            log.error("The station plan needs an open configuration: open one first")
+            return
+        self._spawn(self._open_plan(config, path))
+
+    async def _open_plan(self, config: Any, path: Path | None) -> None:
+        from moas_gui.plan import plan_of
+
+        plan, error = await asyncio.to_thread(plan_of, config, path)
+        if plan is None:
+            log.error("%s", error)
+            return
+        from .plan_window import PlanWindow
+
+        if self.plan_window is not None:
+            self.plan_window.close()
+        self.plan_window = PlanWindow(plan)
+        self.plan_window.show()
+        log.info("Station plan of %s: %d finding%s", plan.file, len(plan.findings),
+                 "" if len(plan.findings) == 1 else "s")
+
     def open_emulator(self, switch_id: int) -> None:
         emulator = self.app.emulators().get(switch_id)
         if emulator is None:
@@ -476,6 +504,8 @@ class ServerWindow(QMainWindow):
         self.tray.hide()
         for window in [*self.client_windows, *self.emulator_windows.values()]:
             window.close()
+        if self.plan_window is not None:
+            self.plan_window.close()
 
     # -- helpers ---------------------------------------------------------------------
     def _spawn(self, coroutine: Coroutine[Any, Any, object]) -> None:

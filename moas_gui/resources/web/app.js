@@ -248,6 +248,11 @@
         for (const o of el.querySelectorAll(".targets button")) o.setAttribute("aria-pressed", String(o === b));
       });
     }
+    // tapping the display line shows (or hides) why the radio has its antennas
+    $(".display", el).addEventListener("click", () => {
+      const why = $(".why", el);
+      why.hidden = !why.hidden || !why.textContent;
+    });
     $(".prev", el).addEventListener("click", () => send(p, { cmd: "relative", step: -1 }));
     $(".next", el).addEventListener("click", () => send(p, { cmd: "relative", step: 1 }));
     $(".rotator", el).addEventListener("change", (e) => { p.rotator = num(e.target.value); p.picked = true; showCompass(p); });
@@ -284,6 +289,13 @@
   }
   function khzText(khz) { return khz == null ? "no frequency" : `${khz.toFixed(1)} kHz`; }
 
+  function whyText(r) {
+    if (!r.why || !r.why.text) return "";
+    const lines = [r.why.text.charAt(0).toUpperCase() + r.why.text.slice(1)];
+    for (const item of r.why.passed_over || []) lines.push(`${antennaName(item.antenna)}: ${item.reason}`);
+    return lines.join("\n");
+  }
+
   function showRadio(p) {
     const r = radioView(p);
     const el = p.el;
@@ -307,6 +319,10 @@
     $(".inhibited", el).hidden = !r.inhibited;
     note.textContent = r.note || "";
     note.hidden = !r.note;
+    const why = $(".why", el);
+    why.textContent = whyText(r);
+    $(".display", el).title = why.textContent;
+    if (!why.textContent) why.hidden = true;
     const rel = (r.relative || []).map(id => (id === r.tx ? "\u25b8" : "") + (antenna(id) ? antenna(id).short || antennaName(id) : id));
     $(".rel-list", el).textContent = rel.join("  ");
     $(".prev", el).disabled = $(".next", el).disabled = !(r.relative && r.relative.length);

@@ -140,14 +140,14 @@ def _blocked_pairs(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
                 if where not in found:
                     found.append(where)
     out = []
-    for (kind, line, cause, a, b), where in groups.items():
+    for (kind, line, cause, a, b), bands in groups.items():
         if kind == "band_taken":
             text = (f"{_radio(a)} and {_radio(b)} cannot both have an antenna when both are "
-                    f"on {_list(where)}: {cause}")
+                    f"on {_list(bands)}: {cause}")
         else:
             text = (f"{_radio(a)} and {_radio(b)} cannot both have an antenna on "
-                    f"{_list(where)} (bands of {_radio(a)} + {_radio(b)}): {cause}")
-        out.append(_finding(kind, line, text, (a, b), tuple(where)))
+                    f"{_list(bands)} (bands of {_radio(a)} + {_radio(b)}): {cause}")
+        out.append(_finding(kind, line, text, (a, b), tuple(bands)))
     return out
 
 
@@ -226,20 +226,20 @@ def _alternates(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
     for ref in plan.radios:
         info = ix.radios[ref]
         for rule in info.radio.alternate:
-            alt = rule.antenna
+            named = rule.antenna
             why = ""
-            if alt is None or alt not in ix.antennas:
+            if named is None or named not in ix.antennas:
                 why = "it names no antenna of the configuration"
-            elif ix.antennas[alt].tx_only:
-                why = f"{ix.name(alt)} is transmit only"
+            elif ix.antennas[named].tx_only:
+                why = f"{ix.name(named)} is transmit only"
             elif not any((rule.range.upper is None or seg[0] <= rule.range.upper)
                          and (rule.range.lower is None or seg[1] >= rule.range.lower)
-                         for seg in info.segments.get(alt, ())):
-                why = (f"{ix.name(alt)} covers no frequency of the rule's range for "
+                         for seg in info.segments.get(named, ())):
+                why = (f"{ix.name(named)} covers no frequency of the rule's range for "
                        f"{_radio(ref)}")
             elif rule.other_antennas and all(
-                    o in ix.antennas and ix.conflict(alt, o) for o in rule.other_antennas):
-                why = (f"{ix.name(alt)} conflicts with every antenna the rule waits for another "
+                    o in ix.antennas and ix.conflict(named, o) for o in rule.other_antennas):
+                why = (f"{ix.name(named)} conflicts with every antenna the rule waits for another "
                        "radio to transmit on")
             if why:
                 out.append(_finding("alternate_never_usable", lines.radio(ref, "Alternate"),

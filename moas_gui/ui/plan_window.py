@@ -127,7 +127,8 @@ class PlanWindow(QWidget):
         for row in range(self.table.rowCount()):
             if self.table.isRowHidden(row):
                 continue
-            out.append(tuple(self.table.item(row, c).text() for c in range(len(COLUMNS))))
+            items = (self.table.item(row, c) for c in range(len(COLUMNS)))
+            out.append(tuple(item.text() if item is not None else "" for item in items))
         return out
 
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 import asyncio
 import json
 import logging
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -221,17 +221,19 @@ async def test_transmit_and_receive_focus_come_back_after_a_restart(
 
 # ------------------------------------------------------------------------- replug and stall
 
-@pytest.mark.asyncio
-async def test_a_replug_under_a_keyed_station_sends_only_what_differs(
-        box: Box, station: Path) -> None:
+async def outage_under_a_keyed_station(box: Box, station: Path, lose: Callable[[], None],
+                                       regain: Callable[[], None]) -> None:
+    """Radio 1's change held under its key; the link loses the box (``lose``) until it is
+    unresponsive, then finds it again (``regain``): no reset and no reload on the way
+    back, station 1's relays untouched until it receives, then the held change."""
     app = await running(station)
     try:
         forty, twenty = await band_change_held_while_keyed(app, box)
         link = app._run.links[1]  # type: ignore[union-attr]
-        box.unplug()
+        lose()
         await until(lambda: link.status is LinkStatus.UNRESPONSIVE, what="the link lost")
         start = len(box.received)
-        box.plug()
+        regain()
         await until(lambda: link.ready, what="the link back")
         again = bytes(box.received[start:])
         assert b"*0;" not in again and b"%0;" not in again, again  # no reset, no reload
@@ -244,27 +246,22 @@ async def test_a_replug_under_a_keyed_station_sends_only_what_differs(
 
 
 @pytest.mark.asyncio
+async def test_a_replug_under_a_keyed_station_sends_only_what_differs(
+        box: Box, station: Path) -> None:
+    await outage_under_a_keyed_station(box, station, box.unplug, box.plug)
+
+
+@pytest.mark.asyncio
 async def test_a_stall_longer_than_every_timeout_reloads_nothing_under_a_keyed_station(
         box: Box, station: Path) -> None:
-    app = await running(station)
-    try:
-        _, twenty = await band_change_held_while_keyed(app, box)
-        link = app._run.links[1]  # type: ignore[union-attr]
-        # the server hears nothing for longer than every timeout (a stopped process, a
-        # suspended laptop): the box's answers are lost meanwhile
-        box.box.attach(None)
-        await until(lambda: link.status is LinkStatus.UNRESPONSIVE, what="the link unresponsive")
-        start = len(box.received)
+    # the server hears nothing for longer than every timeout (a stopped process, a
+    # suspended laptop): the box's answers are lost meanwhile
+    def answer_again() -> None:
         assert box.endpoint is not None
         box.box.attach(box.endpoint.write)
-        await until(lambda: link.ready, what="the link back")
-        again = bytes(box.received[start:])
-        assert b"*0;" not in again and b"%0;" not in again, again
-        box.key(1, False)
-        await until(lambda: box.closed(1) == twenty, what="the 20 m antenna after receive")
-        no_harm(box)
-    finally:
-        await app.close()
+
+    await outage_under_a_keyed_station(box, station, lambda: box.box.attach(None),
+                                       answer_again)
 
 
 # ------------------------------------------------------------------------- a noisy line

@@ -30,7 +30,7 @@ ALLOWED: dict[str, set[str]] = {
     "config": {"errors"},
     "engine": {"config", "errors"},
     "state_store": {"engine", "errors", "files", "places"},
-    "plan": {"config", "engine"},
+    "plan": {"config", "engine", "errors"},
     "hw": {"addresses", "aio", "clock", "config", "engine", "errors", "files", "retry"},
     "net": {"aio", "config", "errors", "hw"},
     "rotator_program": {"clock", "errors", "hw", "retry"},

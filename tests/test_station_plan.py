@@ -223,3 +223,21 @@ def write_golden() -> None:
 if __name__ == "__main__":
     if sys.argv[1:] == ["--write"]:
         write_golden()
+
+
+def test_a_plan_out_of_time_stops_and_check_says_so_instead_of_waiting(
+        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    # --check of any file stays quick (issue 20); the plan of a huge station is for --plan
+    from moas_gui.cli import server
+    from moas_gui.plan import PlanTooLong, deadline_after
+
+    big = ROOT / "examples" / "big-station.moas"
+    config = parse_config(big.read_text()).unwrap()
+    with pytest.raises(PlanTooLong):
+        build_plan(config, in_time=deadline_after(0.0))
+    assert build_plan(config, in_time=deadline_after(None)).findings  # no limit: finished
+    monkeypatch.setattr(server, "CHECK_SECONDS", 0.0)
+    assert server.main(["--check", str(big)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[-1].startswith("findings: not counted (the station is too large to plan")
+    assert out[-1].endswith(f"moas-server --plan {big}")

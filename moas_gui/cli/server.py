@@ -12,6 +12,7 @@ import argparse
 import asyncio
 import logging
 import sys
+import time
 from pathlib import Path
 
 from moas_gui import __version__
@@ -110,11 +111,16 @@ def _source_text(specs: list[object] | tuple[object, ...] | None) -> str | None:
     return " ".join(spec.text() for spec in specs) if specs else None  # type: ignore[attr-defined]
 
 
+CHECK_SECONDS = 1.2
+"""How long ``--check`` gives the configuration and its findings together (wall time)."""
+
+
 def check(path: str) -> int:
     """Print the problems of ``path`` (or its summary); 0 when it is usable."""
     from moas_gui.config import load_config
     from moas_gui.config.summary import summarize
 
+    started = time.monotonic()
     result = load_config(path)
     for problem in result.problems:
         print(problem)
@@ -125,9 +131,19 @@ def check(path: str) -> int:
     if result.warnings:
         print()
     print(summarize(result.config))
-    from moas_gui.plan import plan_file
+    from moas_gui.plan import PlanTooLong, deadline_after, plan_of
 
-    plan, error = plan_file(path)
+    # --check stays quick on any file: the findings get what is left of CHECK_SECONDS
+    # (the whole plan of a huge station is for --plan, which takes its time)
+    left = max(0.0, CHECK_SECONDS - (time.monotonic() - started))
+    try:
+        plan, error = plan_of(result.config, Path(path), deadline_after(left))
+    except PlanTooLong:
+        print()
+        print(f"findings: not counted (the station is too large to plan within "
+              f"{CHECK_SECONDS:g} s); the whole plan and its findings: "
+              f"moas-server --plan {path}")
+        return 0
     if plan is None:
         print(error)
         return 1

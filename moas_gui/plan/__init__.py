@@ -21,7 +21,8 @@ file gives the same text and the same JSON.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable
+import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -31,6 +32,7 @@ from moas_gui.config.model import Config, RadioRef
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.index import ConfigIndex, Kind
 from moas_gui.engine.views import RadioView
+from moas_gui.errors import MoasError
 
 BANDS: tuple[tuple[str, float, float], ...] = (
     ("160 m", 1800, 2000), ("80 m", 3500, 4000), ("60 m", 5330, 5410), ("40 m", 7000, 7300),
@@ -255,11 +257,21 @@ class Lines:
     """Lines of the configuration's groups and keys, read from the file's text."""
 
     def __init__(self, text: str | None) -> None:
-        self._root: JObject | None = None
-        if text is not None:
-            root, _problems = parse(text, "")
-            if isinstance(root, JObject):
-                self._root = root
+        self._text = text
+        self._read = False
+        self._tree: JObject | None = None
+
+    @property
+    def _root(self) -> JObject | None:
+        """The file's tree, read when a finding first asks for a line (reading a large
+        file again costs more than many a plan)."""
+        if not self._read:
+            self._read = True
+            if self._text is not None:
+                root, _problems = parse(self._text, "")
+                if isinstance(root, JObject):
+                    self._tree = root
+        return self._tree
 
     def _top(self, key: str) -> Node | None:
         member = _member(self._root, key)
@@ -381,9 +393,30 @@ def meeting(ix: ConfigIndex, a: RadioRef, b: RadioRef) -> str:
     return ""
 
 
-def build_plan(config: Config, file: str = "", text: str | None = None) -> Plan:
-    """The station plan of ``config`` (``text``: the file's text, for the findings' lines)."""
+class PlanTooLong(MoasError):
+    """The plan was not finished within the time it was given (``--check`` on a huge
+    station: the whole plan is for ``--plan``)."""
+
+
+def deadline_after(seconds: float | None) -> Callable[[], None]:
+    """A check to call as the plan goes: raises :class:`PlanTooLong` once ``seconds`` of
+    wall time have passed (never, for None)."""
+    if seconds is None:
+        return lambda: None
+    end = time.monotonic() + seconds
+
+    def check() -> None:
+        if time.monotonic() > end:
+            raise PlanTooLong(f"not finished within {seconds:.1f} s")
+    return check
+
+
+def build_plan(config: Config, file: str = "", text: str | None = None,
+               in_time: Callable[[], None] = lambda: None) -> Plan:
+    """The station plan of ``config`` (``text``: the file's text, for the findings' lines;
+    ``in_time``: called as the plan goes, it may stop it by raising :class:`PlanTooLong`)."""
     template = Engine(config)
+    in_time()
     ix: ConfigIndex = template._ix
     bands = bands_of(ix)
     radios = tuple(ref for ref in ix.order if ix.radios[ref].kind is Kind.MAIN)
@@ -392,6 +425,7 @@ def build_plan(config: Config, file: str = "", text: str | None = None) -> Plan:
                 antennas)
     for band in bands:
         for ref in radios:
+            in_time()
             e = template.clone()
             e.set_frequency(ref.station, ref.radio, band.probe)
             plan.alone.append(_outcome(e, ix, ref, band))
@@ -403,6 +437,7 @@ def build_plan(config: Config, file: str = "", text: str | None = None) -> Plan:
             scenarios = []
             for ba in bands:
                 for bb in bands:
+                    in_time()
                     e = template.clone()
                     e.set_frequency(a.station, a.radio, ba.probe)
                     e.set_frequency(b.station, b.radio, bb.probe)
@@ -416,7 +451,7 @@ def build_plan(config: Config, file: str = "", text: str | None = None) -> Plan:
             plan.pairs.append((a, b, meet, scenarios))
     from .findings import find
 
-    plan.findings = find(plan, template, Lines(text))
+    plan.findings = find(plan, template, Lines(text), in_time)
     return plan
 
 
@@ -442,9 +477,11 @@ def plan_file(path: str | Path) -> tuple[Plan | None, str]:
     return plan_of(result.config, path)
 
 
-def plan_of(config: Config, path: Path | None) -> tuple[Plan | None, str]:
+def plan_of(config: Config, path: Path | None,
+            in_time: Callable[[], None] = lambda: None) -> tuple[Plan | None, str]:
     """The plan of a loaded configuration (``path``: its file, read again for the findings'
-    lines), or None and why it could not be made."""
+    lines), or None and why it could not be made.  :class:`PlanTooLong` from ``in_time``
+    goes through to the caller."""
     text = None
     if path is not None:
         try:
@@ -452,11 +489,28 @@ def plan_of(config: Config, path: Path | None) -> tuple[Plan | None, str]:
         except (OSError, UnicodeDecodeError):
             text = None
     try:
-        return build_plan(config, path.name if path is not None else "", text), ""
+        return build_plan(config, path.name if path is not None else "", text, in_time), ""
     except EngineError as exc:  # a scenario the engine refuses is a bug, said plainly
         return None, f"{path or 'the configuration'}: the plan could not be made: {exc}"
 
 
-__all__ = ["BANDS", "CONTEST_BANDS", "FINDING_KINDS", "Band", "Finding", "Lines", "Outcome",
-           "PairScenario", "Plan", "RadioRef", "bands_of", "build_plan", "findings_text",
-           "meeting", "plan_file", "plan_of"]
+__all__ = [
+    "BANDS",
+    "CONTEST_BANDS",
+    "FINDING_KINDS",
+    "Band",
+    "Finding",
+    "Lines",
+    "Outcome",
+    "PairScenario",
+    "Plan",
+    "PlanTooLong",
+    "RadioRef",
+    "bands_of",
+    "build_plan",
+    "deadline_after",
+    "findings_text",
+    "meeting",
+    "plan_file",
+    "plan_of",
+]

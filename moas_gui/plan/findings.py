@@ -3,6 +3,7 @@ not mean, each with the line of the file to look at (see :mod:`moas_gui.plan`)."
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from moas_gui.config.model import RadioRef
@@ -14,11 +15,13 @@ if TYPE_CHECKING:
     from . import Finding, Lines, Outcome, Plan
 
 
-def find(plan: Plan, template: Engine, lines: Lines) -> list[Finding]:
-    """Every finding of ``plan`` (``template``: a new engine for the file, never changed)."""
+def find(plan: Plan, template: Engine, lines: Lines,
+         in_time: Callable[[], None] = lambda: None) -> list[Finding]:
+    """Every finding of ``plan`` (``template``: a new engine for the file, never changed;
+    ``in_time`` may stop a search that takes too long)."""
     ix: ConfigIndex = template._ix
     out: list[Finding] = []
-    out += _unreachable(plan, template, ix, lines)
+    out += _unreachable(plan, template, ix, lines, in_time)
     out += _without_antenna(plan, ix, lines)
     out += _blocked_pairs(plan, ix, lines)
     out += _every_same_band(plan, ix, lines)
@@ -45,10 +48,12 @@ def _outcomes(plan: Plan) -> list[Outcome]:
     return found
 
 
-def _unreachable(plan: Plan, template: Engine, ix: ConfigIndex, lines: Lines) -> list[Finding]:
+def _unreachable(plan: Plan, template: Engine, ix: ConfigIndex, lines: Lines,
+                 in_time: Callable[[], None]) -> list[Finding]:
     seen = {ix.canon[a] for o in _outcomes(plan) for a in (o.tx, o.rx) if a is not None}
     out = []
     for a in ix.ids:
+        in_time()
         if ix.canon[a] != a or a in seen:
             continue
         ant = ix.antennas[a]

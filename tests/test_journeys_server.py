@@ -61,12 +61,23 @@ class Server:
             args.append("--new-instance")
         self.process = subprocess.Popen(args, env=self.env, stdout=subprocess.PIPE,
                                         stderr=subprocess.STDOUT, text=True)
-        wait_for(self.control.exists, 20, "the control hook")
-        self._hook = socket.socket(socket.AF_UNIX)
-        self._hook.settimeout(5)
-        self._hook.connect(str(self.control))
+        # the hook's file appears when it is bound, a moment before it listens: a refused
+        # connection is "not yet"
+        self._hook = wait_for(self._hook_connected, 20, "the control hook")
         self._reader = self._hook.makefile("rb")
         return self
+
+    def _hook_connected(self) -> socket.socket | None:
+        if not self.control.exists():
+            return None
+        hook = socket.socket(socket.AF_UNIX)
+        hook.settimeout(5)
+        try:
+            hook.connect(str(self.control))
+        except OSError:
+            hook.close()
+            return None
+        return hook
 
     def ask(self, **request: Any) -> dict[str, Any]:
         assert self._hook is not None, "not started"
@@ -122,8 +133,10 @@ class Server:
         assert self.process is not None
         if self._hook is not None:
             self._hook.close()
-            self._reader.close()
             self._hook = None
+        if self._reader is not None:
+            self._reader.close()
+            self._reader = None
         if self.process.poll() is None:
             self.process.kill()
         out, _ = self.process.communicate(timeout=10)
@@ -133,6 +146,7 @@ class Server:
     def stop(self) -> None:
         if self._hook is not None:
             self._hook.close()
+        if self._reader is not None:
             self._reader.close()
         if self.process is not None and self.process.poll() is None:
             # SIGTERM first: a server killed outright leaves the MOAS Rotator program it

@@ -24,7 +24,6 @@ from test_source_rigctld import _rigctl, _start_rigctld
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.cli.server import check
 from moas_gui.config import Config
-from moas_gui.engine.operations import SetFrequency
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, serve
 from moas_gui.hw.moas2.link import LinkTiming
@@ -180,7 +179,11 @@ async def test_otrsp_aux_selects_the_mapped_antenna_and_tx_moves_the_transmit_fo
     pty.write(b"AUX22\r")  # radio 2 takes the 80 m dipole, and leaves the vertical free
     await until(lambda: app.engine.radio_view(1, 2).tx == DIPOLE_80,  # type: ignore[union-attr]
                 what="AUX2 2 selecting the 80 m dipole")
-    app.act(SetFrequency(1, 1, 14025.0))  # radio 1's rig too would say 20 m; here at once
+    # radio 1 to 20 m by its own rig: a frequency set beside it would last only until the
+    # rigctld source next reports (a reconnection under load reports 145 MHz again)
+    await _rigctl(station.rig_port, "F", "14025000")
+    await until(lambda: app.engine.radio_view(1, 1).khz == 14025.0,  # type: ignore[union-attr]
+                what="rigctld's 20 m on radio 1")
     pty.write(b"AUX19\r")  # no antenna for AUX1 9: nothing changes
     pty.write(b"AUX15\r")  # the tribander for radio 1
     await until(lambda: app.engine.radio_view(1, 1).tx == TRIBANDER,  # type: ignore[union-attr]

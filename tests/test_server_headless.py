@@ -53,13 +53,19 @@ class Cable:
 
 
 class Client:
-    def __init__(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+    def __init__(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter,
+                 server_log: list[str] | None = None) -> None:
         self.reader, self.writer = reader, writer
         self.switch_status: dict[int, str] = {}
+        self.server_log = server_log if server_log is not None else []
 
     async def event(self, name: str, timeout: float = 10.0) -> dict:
         while True:
-            message = json.loads(await asyncio.wait_for(self.reader.readline(), timeout))
+            line = await asyncio.wait_for(self.reader.readline(), timeout)
+            assert line, (f"the server closed the connection while {name!r} was awaited:\n"
+                          + "".join(self.server_log))
+            message = json.loads(line)
+            assert "error" not in message, (message, "".join(self.server_log))
             if message.get("event") == "switch":
                 self.switch_status[message["id"]] = message["status"]
             if message.get("event") == "state":
@@ -110,6 +116,7 @@ async def test_headless_server_follows_the_logger_survives_a_pulled_cable_and_st
             stderr_lines.append(line.decode(errors="replace"))
 
     collector = asyncio.create_task(collect())
+    writer: asyncio.StreamWriter | None = None
     try:
         for _ in range(100):
             try:
@@ -119,7 +126,7 @@ async def test_headless_server_follows_the_logger_survives_a_pulled_cable_and_st
                 await asyncio.sleep(0.1)
         else:
             raise AssertionError("the server never listened:\n" + "".join(stderr_lines))
-        client = Client(reader, writer)
+        client = Client(reader, writer, stderr_lines)
         writer.write(b'{"id": 1, "cmd": "hello", "client": "test"}\n')
         await client.event("state")
         await client.switch_becomes("ok")
@@ -155,6 +162,8 @@ async def test_headless_server_follows_the_logger_survives_a_pulled_cable_and_st
         assert new_box.view().relays == wanted, "stopping the server leaves the relays alone"
         assert any("Stopping" in line for line in stderr_lines)
     finally:
+        if writer is not None:
+            writer.close()  # also when a check failed: no socket left for another test
         if process.returncode is None:
             process.kill()
             await process.wait()

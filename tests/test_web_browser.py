@@ -314,8 +314,10 @@ async def test_tapping_the_display_line_shows_why_the_radio_has_its_antennas(
         await run(browser.get, station.url + "?station=1&radio=1")
         display = '.radio[data-radio="1"] .display'
         why = "document.querySelector('.radio[data-radio=\"1\"] .why')"
-        await page_until(browser, "return document.querySelector('.radio[data-radio=\"1\"] "
-                         ".display').textContent.includes('7025.0 kHz')", what="radio 1")
+        # the page is built from the server's first state: until then there is no display
+        await page_until(browser, "const d = document.querySelector('.radio[data-radio=\"1\"] "
+                         ".display'); return d !== null && d.textContent.includes('7025.0 kHz')",
+                         what="radio 1")
         assert await js(browser, f"return {why}.hidden") is True
         await tap(browser, display)
         await page_until(browser, f"return !{why}.hidden", what="the reason after a tap")

@@ -24,9 +24,9 @@ async def serve(host: str, port: int, per_address: int = DEFAULT_PER_ADDRESS) ->
     server = ClientServer(backend, host=host, port=port, per_address=per_address)
     backend.attach(server)
     bound = await server.start()
-    print(f"port {bound}", flush=True)
     stop = asyncio.Event()
-    with CleanStop(stop.set):
+    with CleanStop(stop.set):  # before the port is told: a stop from then on is clean
+        print(f"port {bound}", flush=True)
         try:
             await stop.wait()
         finally:

@@ -408,11 +408,16 @@ def test_the_client_stops_on_sigterm(headless: bool, start: Any,
 @pytest.mark.realtime
 @pytest.mark.parametrize("args, ready", [
     (["-m", "moas_gui.net.fake_server", "--port", "0"], "port "),
-    (["-m", "moas_gui.hw.rotators.fake_moas_rotator", "--port", "0"], "listening on"),
+    (["-m", "moas_gui.hw.rotators.fake_moas_rotator", "--port", "0"],
+     "fake MOAS Rotator listening on"),
 ], ids=["fake-server", "fake-moas-rotator"])
 def test_the_stand_ins_stop_on_sigterm(args: list[str], ready: str, start: Any) -> None:
     program = start(args)
-    wait_for(lambda: program.said(ready), 30, "the stand-in listening")
+    # the line the stand-in prints once it would stop cleanly (its log's "Accepting
+    # clients on TCP port ..." comes before, and a stop then would kill it outright)
+    wait_for(lambda: program.said(ready) and any(line.startswith(ready)
+                                                 for line in program.lines),
+             30, "the stand-in listening")
     code, output = program.stop(signal.SIGTERM)
     assert code == 0, output
     assert "Stopping (SIGTERM)" in output and "Traceback" not in output

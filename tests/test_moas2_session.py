@@ -196,3 +196,18 @@ def test_stop_switches_is_the_operators_reset_and_says_who_was_keyed(caplog) -> 
     played.run(played.session.stop())
     assert b"*0;" in played.wire
     assert any("station 2 transmitting" in r.getMessage() for r in caplog.records)
+
+
+def test_station_0_relays_wait_while_a_station_transmits_on_a_reconnection() -> None:
+    # the box sets station 0's relays at once, with no hot-switch rule: an automatic
+    # plan keeps them back while anyone transmits, and sends them when all receive
+    model = loaded_box(STATE_A)
+    model.feed(b"*1;", 0.0)
+    model.set_tr(2, True, 0.0)
+    wanted = replace(STATE_A, station0=frozenset({61}))
+    played = connected(model, held=STATE_A, desired=wanted)
+    assert b"!0X" not in played.wire and played.model.view().station0 == frozenset()
+    assert guard(initialise(wanted), frozenset({2}), Initiative.OPERATOR, "x").held_back \
+        is False
+    played.key(2, False)
+    assert b"!0X" in played.wire and played.model.view().station0 == {61}

@@ -45,7 +45,7 @@ import logging
 import re
 from collections import deque
 from collections.abc import Sequence
-from dataclasses import dataclass, field, fields, is_dataclass
+from dataclasses import dataclass, field, fields, is_dataclass, replace
 from enum import Enum
 from typing import Any
 
@@ -54,6 +54,7 @@ from .commands import encode, split
 from .decoder import SwitchDecoder
 from .diagnostics import Batch, blame
 from .messages import (
+    Antenna,
     AntennaEvent,
     AntennaStatus,
     BoxStatus,
@@ -188,6 +189,8 @@ class Verdict:
     """Why (part of) the plan was not sent ("" when all of it may go)."""
     warning: str = ""
     """What an allowed plan does to transmitting stations, for the log."""
+    held_back: bool = False
+    """The station-0 relays were taken out of the plan until nobody transmits."""
 
 
 def _resets(plan: CommandPlan) -> bool:
@@ -204,8 +207,15 @@ def guard(plan: CommandPlan, keyed: frozenset[int] | None, initiative: Initiativ
     holds one is refused whole.  An operator's reset goes out, and the returned warning
     names the stations transmitting then (``keyed``; None: not known, which counts as
     transmitting).  Every other command reaches a station's relays only through the
-    box's own wait or interrupt rules."""
+    box's own wait or interrupt rules -- except the station-0 relays (``!0X``), which the
+    box sets at once: on the session's own initiative they wait, taken out of the plan,
+    while a station transmits or may (the session sends them when all receive)."""
     if not _resets(plan):
+        if initiative is Initiative.AUTOMATIC and (keyed is None or keyed):
+            kept = tuple(c for c in plan.commands
+                         if not (isinstance(c, Antenna) and c.station == 0))
+            if len(kept) != len(plan.commands):
+                return Verdict(CommandPlan(kept, plan.problems), held_back=True)
         return Verdict(plan)
     if keyed is None:
         on_air = "the stations' transmit states are not known yet"
@@ -299,6 +309,8 @@ class SwitchSession:
         self._unsure: set[int] = set()
         self._tr_known = False
         self._reconciliation: Reconciliation | None = None
+        self._station0_waits = False
+        """The last plan's station-0 relays were held back (see :func:`guard`)."""
         self._last_problem = ""
         self.unit: UnitIdReply | None = None
         self.bytes_written = 0
@@ -435,7 +447,7 @@ class SwitchSession:
             target = self._effective(self.desired)
             if self._write_plan(initialise(target, events=self._events), Initiative.OPERATOR,
                                 out):
-                self._sent = target
+                self._sent = self._told(target)
                 self._seen = [(NO_ANTENNA,) * 3 for _ in STATIONS]
         return out
 
@@ -471,7 +483,7 @@ class SwitchSession:
         if not self._write_plan(plan, initiative, out):
             out += self._end_session()
             return out
-        self._sent = target
+        self._sent = self._told(target)
         self._held = None
         self.phase = Phase.LOADING
         self._step = _Step()
@@ -598,7 +610,7 @@ class SwitchSession:
         assert self._sent is not None
         if self._write_plan(difference(self._sent, target, events=self._events), initiative,
                             out):
-            self._sent = target
+            self._sent = self._told(target)
 
     def _write_plan(self, plan: CommandPlan, initiative: Initiative,
                     out: list[Action]) -> bool:
@@ -611,6 +623,11 @@ class SwitchSession:
             log.error("%s", verdict.refused)
             self.refusals.append(verdict.refused)
             return False
+        plan = verdict.plan
+        self._station0_waits = verdict.held_back
+        if verdict.held_back:
+            log.info("%s: its always-on (station 0) relays wait until no station transmits",
+                     self.where)
         if verdict.warning:
             log.warning("%s", verdict.warning)
         for problem in plan.problems:
@@ -621,6 +638,11 @@ class SwitchSession:
             self._write(data, out)
             self._batch.commands += parts
         return True
+
+    def _told(self, target: SwitchState) -> SwitchState:
+        """What the box was told of ``target``: all of it, or all but the station-0 relays
+        the safety rule held back (marked unsure, so they go out later)."""
+        return replace(target, station0=frozenset({-1})) if self._station0_waits else target
 
     def _write(self, data: bytes, out: list[Action]) -> None:
         out.append(Write(data))
@@ -772,7 +794,7 @@ class SwitchSession:
                 plan = absolute(target, box_active=False, events=self._events)
                 initiative = Initiative.AUTOMATIC
             if self._write_plan(plan, initiative, out):
-                self._sent = target
+                self._sent = self._told(target)
                 self._seen = [(NO_ANTENNA,) * 3 for _ in STATIONS]
 
     def _tr_changed(self, station: int, transmitting: bool, out: list[Action]) -> None:
@@ -781,6 +803,10 @@ class SwitchSession:
             return
         self._tr[station] = transmitting
         out.append(Transmit(station, transmitting))
+        if self._station0_waits and self.ready and self._sent is not None \
+                and self.keyed() == frozenset():
+            # everyone receives: the station-0 relays held back go out now
+            self._send_state(self._effective(self.desired), Initiative.AUTOMATIC, out)
 
     # ------------------------------------------------------------------ endings
 

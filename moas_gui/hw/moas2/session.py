@@ -406,7 +406,7 @@ class SwitchSession:
         if self.phase is Phase.RUNNING and self._next_ping is not None \
                 and now >= self._next_ping:
             if now - self._last_heard > self.timing.answer_timeout:
-                self._problem(logging.WARNING, f"{self.where} stopped answering (nothing for "
+                self.problem(logging.WARNING, f"{self.where} stopped answering (nothing for "
                               f"{self.timing.answer_timeout:.1f} s); will retry")
                 out += self._end_session(reached=True)
                 return out
@@ -504,13 +504,13 @@ class SwitchSession:
     def _confirm(self, now: float, out: list[Action]) -> None:
         unit, pong = self._step.answers["unit"], self._step.answers["ping"]
         if unit is None or pong is None:
-            self._problem(logging.WARNING, f"{self.where} does not answer; will retry")
+            self.problem(logging.WARNING, f"{self.where} does not answer; will retry")
             out += self._end_session()
             return
         self.unit = unit
         refusal = self._refusal(self._foreign or unit)
         if refusal:
-            self._problem(logging.ERROR, refusal)
+            self.problem(logging.ERROR, refusal)
             out += self._end_session()
             return
         self._confirmed = True
@@ -538,14 +538,14 @@ class SwitchSession:
                          "sent until it does)", self.where)
                 self._ask_survey(now, out)
                 return
-            self._problem(logging.WARNING, f"{self.where} did not answer every status "
+            self.problem(logging.WARNING, f"{self.where} did not answer every status "
                           f"request ({SURVEY_TRIES} tries): not driving it until it does; "
                           f"will retry")
             out += self._end_session()
             return
         box: BoxStatus = a["box"]
         if min(len(box.tx), len(box.rx), len(box.alt)) < len(STATIONS):
-            self._problem(logging.WARNING, f"{self.where} sent an incomplete box status; "
+            self.problem(logging.WARNING, f"{self.where} sent an incomplete box status; "
                           f"will retry")
             out += self._end_session()
             return
@@ -587,7 +587,7 @@ class SwitchSession:
 
     def _loaded(self, now: float, out: list[Action]) -> None:
         if self._step.answers["ping"] is None:
-            self._problem(logging.WARNING, f"{self.where} stopped answering while loading")
+            self.problem(logging.WARNING, f"{self.where} stopped answering while loading")
             out += self._end_session()
             return
         if not self._confirmed:  # another unit's id was heard meanwhile
@@ -703,7 +703,7 @@ class SwitchSession:
             return
         self._foreign = self._foreign or reply
         if self._confirmed:
-            self._problem(logging.ERROR, self._refusal(reply))
+            self.problem(logging.ERROR, self._refusal(reply))
             self._confirmed = False
             out += self._end_session(reached=self.phase is Phase.RUNNING)
 
@@ -741,8 +741,8 @@ class SwitchSession:
             self._tr_known = len(message.tr) >= len(STATIONS)
         elif isinstance(message, AntennaEvent):
             self._antenna_event(message)
-        if not isinstance(message, ErrorReply):
-            log.debug("%s: %s", self.where, describe(message))
+        if not isinstance(message, ErrorReply) and log.isEnabledFor(logging.DEBUG):
+            log.debug("%s: %s", self.where, describe(message))  # words only when wanted
 
     def _antenna_event(self, event: AntennaEvent) -> None:
         status = event.status
@@ -854,17 +854,15 @@ class SwitchSession:
         self._set_status(LinkStatus.UNRESPONSIVE, out)
         return out
 
-    def _problem(self, level: int, text: str) -> None:
+    def problem(self, level: int, text: str) -> None:
         """Log a problem once per outage: its first warning (and an error not said yet);
-        what the retries meet after it goes to the debug log, "answers again" ends it."""
+        what the retries meet after it goes to the debug log, "answers again" ends it.
+        The driver logs what it meets (a port that cannot be opened) here too."""
         quiet = text == self._last_problem or (
             level <= logging.WARNING and bool(self._last_problem))
         log.log(logging.DEBUG if quiet else level, "%s", text)
         self._last_problem = text
 
-    def problem(self, level: int, text: str) -> None:
-        """A problem the driver met (a port that cannot be opened), logged the same way."""
-        self._problem(level, text)
 
 
 def describe(message: object) -> str:

@@ -36,7 +36,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
 sys.path.insert(0, str(ROOT / "tests" / "faults"))
 
-from fault_harness import EXAMPLES, Station, free_port, until
+from fault_harness import Station
+from helpers import EXAMPLES, free_port, until
 from hostile_load import (
     Attack,
     Service,

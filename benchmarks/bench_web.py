@@ -145,7 +145,7 @@ async def main(args: argparse.Namespace) -> None:
               f"is a tap and not a long press; the finger was down {statistics.median(holds):.1f} "
               "ms before that")
 
-        # 2b. a tap on one page, seen on another (tests/test_web_browser.py checks that
+        # 2b. a tap on one page, seen on another (tests/net/test_web_browser.py checks that
         # the second page follows; how soon is this figure)
         first = driver.current_window_handle
         await asyncio.to_thread(driver.switch_to.new_window, "window")

@@ -19,7 +19,12 @@ from moas_gui.clock import FakeClock
 
 T = TypeVar("T")
 
-__all__ = ["FakeClock", "advance_until", "free_port", "run_on", "short_runtime_dir", "until",
+ROOT = Path(__file__).resolve().parent.parent
+"""The checkout: the package, docs/ and examples/ beside tests/."""
+EXAMPLES = ROOT / "examples"
+"""The example station files."""
+
+__all__ = ["EXAMPLES", "ROOT", "FakeClock", "advance_until", "free_port", "run_on", "short_runtime_dir", "until",
            "wait_for"]
 
 

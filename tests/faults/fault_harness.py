@@ -33,6 +33,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import free_port, until
 
 from moas_gui.config import load_config
 from moas_gui.engine import Engine
@@ -46,30 +47,12 @@ from moas_gui.hw.moas2.timing import ENVIRONMENT as SWITCH_TIMING_HOOK
 from moas_gui.hw.moas2.timing import LinkTiming
 from moas_gui.state_store import decode, fingerprint, state_path
 
-EXAMPLES = Path(__file__).resolve().parent.parent.parent / "examples"
-
 LEVELS = ("WARNING", "ERROR", "CRITICAL")
 
 SWITCH_TIMING = LinkTiming(ping_interval=0.1, answer_timeout=0.5, retry_first=0.1,
                            retry_max=0.4)
 """The switch links' clocks in the fault tests' servers: pings ten times a second,
 half a second of silence makes a switch unresponsive, retries after 0.1 s to 0.4 s."""
-
-
-def free_port(kind: int = socket.SOCK_STREAM) -> int:
-    with socket.socket(socket.AF_INET, kind) as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
-async def until(condition: Callable[[], object], timeout: float = 10.0,
-                what: str = "condition") -> None:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while not condition():
-        if loop.time() > end:
-            raise AssertionError(f"{what} not met in {timeout} s")
-        await asyncio.sleep(0.02)
 
 
 @dataclass

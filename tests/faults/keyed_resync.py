@@ -50,7 +50,6 @@ from pathlib import Path
 from typing import Any
 
 from fault_harness import (
-    EXAMPLES,
     SWITCH_TIMING,
     Client,
     FaultyPty,
@@ -60,8 +59,8 @@ from fault_harness import (
     holds_what_the_engine_says,
     reordered,
     truncated,
-    until,
 )
+from helpers import EXAMPLES, until
 
 from moas_gui.hw.moas2.emulator.record import Entry, Event
 from moas_gui.hw.moas2.emulator.serve import make_link

@@ -14,14 +14,13 @@ import struct
 from pathlib import Path
 
 from fault_harness import (
-    EXAMPLES,
     FAULT_MARKS,
     Client,
     ScriptedSwitch,
     Station,
     holds_what_the_engine_says,
-    until,
 )
+from helpers import EXAMPLES, until
 
 from moas_gui.sources.n1mm_packet import radio_info_packet
 

@@ -4,7 +4,7 @@ a write that cannot finish (the file-size limit, as a full disk does it, set in 
 child process only): the old file stays whole, the program says what failed.
 
 ``kill -9`` in the middle of the saved state's writes, and the restart from it, is
-``tests/test_restart_journey.py``; the saved state's writer is the one these use."""
+``tests/journeys/test_restart_journey.py``; the saved state's writer is the one these use."""
 
 from __future__ import annotations
 

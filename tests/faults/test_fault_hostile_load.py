@@ -14,7 +14,8 @@ import sys
 from pathlib import Path
 
 import pytest
-from fault_harness import EXAMPLES, FAULT_MARKS, Station, free_port, until
+from fault_harness import FAULT_MARKS, Station
+from helpers import EXAMPLES, free_port, until
 from hostile_load import attack, limit_files, open_files, trouble_kinds
 
 pytestmark = [*FAULT_MARKS[:3], pytest.mark.timeout(120),

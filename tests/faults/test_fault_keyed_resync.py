@@ -17,7 +17,8 @@ import contextlib
 from pathlib import Path
 
 import pytest
-from fault_harness import FAULT_MARKS, SWITCH_TIMING, until
+from fault_harness import FAULT_MARKS, SWITCH_TIMING
+from helpers import until
 from keyed_resync import STALL_S, STEPS, ModelRun, Rig, violations
 
 from moas_gui.hw.moas2.emulator.stepped import SteppedBox

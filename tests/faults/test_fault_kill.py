@@ -2,7 +2,7 @@
 real process with a scripted switch: nothing moves on the air, the clients see what
 they saw, the log says in one line that the box still held the saved state, and every
 file the server had written is whole.  (The same over six kills under heavy traffic is
-``tests/test_restart_journey.py``.)"""
+``tests/journeys/test_restart_journey.py``.)"""
 
 from __future__ import annotations
 
@@ -12,13 +12,13 @@ import signal
 from pathlib import Path
 
 from fault_harness import (
-    EXAMPLES,
     FAULT_MARKS,
     Client,
     ScriptedSwitch,
     Station,
     holds_what_the_engine_says,
 )
+from helpers import EXAMPLES
 
 from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.state_store import decode, fingerprint

@@ -19,7 +19,8 @@ import sys
 from pathlib import Path
 
 import pytest
-from fault_harness import EXAMPLES, Client, Process, Station, free_port, until
+from fault_harness import Client, Process, Station
+from helpers import EXAMPLES, free_port, until
 
 from moas_gui.hw.rotators.base import TIMING_HOOK
 

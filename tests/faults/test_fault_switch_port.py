@@ -17,7 +17,6 @@ from pathlib import Path
 
 import pytest
 from fault_harness import (
-    EXAMPLES,
     FAULT_MARKS,
     SWITCH_TIMING,
     Client,
@@ -31,8 +30,8 @@ from fault_harness import (
     holds_what_the_engine_says,
     reordered,
     truncated,
-    until,
 )
+from helpers import EXAMPLES, until
 
 from moas_gui.hw.moas2.emulator.serve import make_link, serve
 from moas_gui.hw.moas2.timing import REAL_TIMING, LinkTiming

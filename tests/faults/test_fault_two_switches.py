@@ -9,7 +9,6 @@ import json
 from pathlib import Path
 
 from fault_harness import (
-    EXAMPLES,
     FAULT_MARKS,
     SWITCH_TIMING,
     Client,
@@ -17,8 +16,8 @@ from fault_harness import (
     Station,
     changes,
     holds_what_the_engine_says,
-    until,
 )
+from helpers import EXAMPLES, until
 
 from moas_gui.sources.n1mm_packet import radio_info_packet
 

@@ -1,0 +1,243 @@
+"""The station plan (``moas-server --plan``): each example's plan is a reviewed golden file
+(text and JSON, under ``tests/plan/plans/``), the plan is the same every time, and each kind of
+finding is found, with its line, in a configuration made to show it.
+
+To write the golden files again after a reviewed change of the engine or of the plan:
+``.venv/bin/python tests/plan/test_station_plan.py --write``; then read the diff.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from moas_gui.config import parse_config
+from moas_gui.plan import FINDING_KINDS, Plan, build_plan, plan_file
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = sorted((ROOT / "examples").glob("*.moas"))
+GOLDEN = Path(__file__).resolve().parent / "plans"
+
+
+def run_server(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "moas_gui.cli.server", *args],
+                          capture_output=True, text=True, check=False, timeout=120, cwd=ROOT)
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=lambda p: p.stem)
+def test_each_example_plan_matches_its_golden_files(example: Path) -> None:
+    plan, error = plan_file(example)
+    assert plan is not None, error
+    assert plan.to_text() == (GOLDEN / f"{example.stem}.txt").read_text(encoding="utf-8")
+    assert plan.to_json() == (GOLDEN / f"{example.stem}.json").read_text(encoding="utf-8")
+
+
+def test_the_plan_is_the_same_every_time() -> None:
+    path = ROOT / "examples" / "two-op-shared-tx.moas"
+    first, _ = plan_file(path)
+    second, _ = plan_file(path)
+    assert first is not None and second is not None
+    assert first.to_json() == second.to_json() and first.to_text() == second.to_text()
+
+
+def test_the_command_prints_the_plan_and_its_json() -> None:
+    path = "examples/small-station.moas"
+    text = run_server("--plan", path)
+    assert text.returncode == 0, text.stderr
+    assert text.stdout == (GOLDEN / "small-station.txt").read_text(encoding="utf-8")
+    data = run_server("--plan", "--json", path)
+    assert data.returncode == 0, data.stderr
+    parsed = json.loads(data.stdout)
+    assert parsed == json.loads((GOLDEN / "small-station.json").read_text(encoding="utf-8"))
+    assert {o["why"]["rule"] for o in parsed["alone"]} == {"f4_lowest"}
+
+
+def test_check_ends_with_the_count_of_findings_and_points_at_the_plan() -> None:
+    done = run_server("--check", "examples/small-station.moas")
+    assert done.returncode == 0, done.stderr
+    last = done.stdout.splitlines()[-1]
+    plan, _ = plan_file(ROOT / "examples" / "small-station.moas")
+    assert plan is not None
+    assert last == (f"{len(plan.findings)} findings; the whole plan: moas-server --plan "
+                    "examples/small-station.moas")
+    for finding in plan.findings:
+        assert f"examples/small-station.moas:{finding.line}: {finding.text}" in done.stdout
+
+
+def test_plan_options_are_checked(tmp_path: Path) -> None:
+    assert run_server("--plan").returncode == 2
+    assert run_server("--json", "examples/small-station.moas").returncode == 2
+    broken = tmp_path / "broken.moas"
+    broken.write_text("{ \"Antennas\": [ }\n")
+    done = run_server("--plan", str(broken))
+    assert done.returncode == 1
+    assert f"{broken}:1:" in done.stderr and "Traceback" not in done.stderr
+
+
+# -- one configuration per kind of finding ------------------------------------------------------
+
+def ant(ident: int, name: str, ranges: list[tuple[float, float]],
+        relays: dict[tuple[int, int], int], **extra: Any) -> dict[str, Any]:
+    return {"ID": ident, "ShortName": name, "LongName": name, "Conflicts": [ident],
+            "Fast": [ident],
+            "Control": [{"LowerFrequency": lo, "UpperFrequency": hi,
+                         "Stations": [{"Station": s, "Radio": r, "Relays": [rel]}
+                                      for (s, r), rel in relays.items()]}
+                        for lo, hi in ranges],
+            **extra}
+
+
+def station(antennas: list[dict[str, Any]], radios: list[dict[str, Any]] | None = None,
+            **top: Any) -> tuple[Plan, str]:
+    """The plan of a configuration written as a file would be (one key a line)."""
+    data = {"Antennas": antennas,
+            "Radios": radios if radios is not None else [
+                {"Station": 1, "Radio": 1, "Switches": [{"Port": 1}]},
+                {"Station": 1, "Radio": 2, "Switches": [{"Port": 2}]}],
+            "Switches": [{"ID": 1, "Port": "emulator", "IndicateTR": True}], **top}
+    text = json.dumps(data, indent=2)
+    config = parse_config(text, "crafted.moas").unwrap()
+    return build_plan(config, "crafted.moas", text), text
+
+
+def line_of(text: str, needle: str, after: str = "") -> int:
+    start = text.index(after) if after else 0
+    return text[:text.index(needle, start)].count("\n") + 1
+
+
+def group_line(text: str, needle: str, after: str = "") -> int:
+    """The line of the ``{`` opening the group that holds ``needle``."""
+    start = text.index(after) if after else 0
+    return text[:text.rindex("{", 0, text.index(needle, start))].count("\n") + 1
+
+
+def kinds(plan: Plan) -> list[str]:
+    return [f.kind for f in plan.findings]
+
+
+TWENTY = [(14000, 14350)]
+FORTY = [(7000, 7300)]
+BOTH = {(1, 1): 0, (1, 2): 8}
+
+
+def test_an_antenna_no_radio_can_get_is_found_at_its_group() -> None:
+    plan, text = station([ant(0, "Tribander", TWENTY, BOTH),
+                          ant(1, "Spare", FORTY, {(1, 1): 1}, Enabled=False)])
+    found = [f for f in plan.findings if f.kind == "unreachable_antenna"]
+    assert len(found) == 1
+    finding = found[0]
+    assert finding.line == group_line(text, '"ID": 1')
+    assert "Spare" in finding.text and "not enabled" in finding.text
+
+
+def test_a_radio_without_an_antenna_others_have_on_a_band_is_found() -> None:
+    """The dipole covers 40 m for radio 1.1 and only 80 m for radio 1.2 (a relay list written
+    in the wrong range): radio 1.2 has no antenna on 40 m, radio 1.1 none on 80 m."""
+    plan, text = station([ant(0, "Tribander", TWENTY, BOTH),
+                          {**ant(1, "Dipole", FORTY, {(1, 1): 1}),
+                           "Control": [
+                               {"LowerFrequency": 7000, "UpperFrequency": 7300,
+                                "Stations": [{"Station": 1, "Radio": 1, "Relays": [1]}]},
+                               {"LowerFrequency": 3500, "UpperFrequency": 4000,
+                                "Stations": [{"Station": 1, "Radio": 2, "Relays": [9]}]}]}])
+    found = [f for f in plan.findings if f.kind == "radio_without_antenna"]
+    assert [f.bands for f in found] == [("80 m",), ("40 m",)]
+    assert found[1].line == group_line(text, '"Radio": 2', '"Radios"')
+    assert found[0].line == group_line(text, '"Radio": 1', '"Radios"')
+    assert "Dipole covers 7025 kHz for station 1 radio 1" in found[1].text
+
+
+def test_two_bands_two_radios_cannot_have_together_are_found_at_the_conflict() -> None:
+    plan, text = station([ant(0, "Tribander", TWENTY, BOTH, Conflicts=[0, 1]),
+                          ant(1, "Dipole", FORTY, BOTH)])
+    found = [f for f in plan.findings if f.kind == "band_pair_blocked"]
+    assert found and all(f.line == line_of(text, '"Conflicts"') for f in found)
+    assert "20 m + 40 m" in found[0].text and "lists Dipole in its Conflicts" in found[0].text
+
+
+def test_a_conflict_taking_a_whole_band_from_another_radio_is_found() -> None:
+    plan, text = station([ant(0, "Tribander", TWENTY, {(1, 1): 0}, Conflicts=[0, 1]),
+                          ant(1, "Vertical", TWENTY, {(1, 2): 9})])
+    found = [f for f in plan.findings if f.kind == "band_taken"]
+    assert len(found) == 1 and found[0].bands == ("20 m",)
+    assert found[0].line == line_of(text, '"Conflicts"')
+    assert "when both are on 20 m" in found[0].text
+
+
+def test_an_inhibit_on_every_shared_band_is_found_at_the_radio_setting() -> None:
+    radios = [{"Station": 1, "Radio": 1, "Switches": [{"Port": 1}],
+               "Always": [{"Station": 1, "Radio": 2}]},
+              {"Station": 1, "Radio": 2, "Switches": [{"Port": 2}]}]
+    plan, text = station([ant(0, "Tribander", TWENTY, BOTH), ant(1, "Vertical", TWENTY, BOTH)],
+                         radios)
+    found = [f for f in plan.findings if f.kind == "inhibit_every_same_band"]
+    assert len(found) == 1
+    assert found[0].line == line_of(text, '"Always"')
+
+
+def test_same_band_protection_on_every_shared_band_is_found_at_its_key() -> None:
+    radios = [{"Station": 1, "Radio": 1, "Switches": [{"Port": 1}]},
+              {"Station": 2, "Radio": 1, "Switches": [{"Port": 2}]}]
+    both = {(1, 1): 0, (2, 1): 8}
+    plan, text = station([ant(0, "Tribander", TWENTY, both), ant(1, "Vertical", TWENTY, both)],
+                         radios, ProtectSameBand=True)
+    found = [f for f in plan.findings if f.kind == "inhibit_every_same_band"]
+    assert len(found) == 1
+    assert found[0].line == line_of(text, '"ProtectSameBand"')
+
+
+def test_an_alternate_never_usable_is_found_at_its_rule() -> None:
+    radios = [{"Station": 1, "Radio": 1, "Switches": [{"Port": 1}],
+               "Alternate": [{"LowerFrequency": 14000, "UpperFrequency": 14350,
+                              "ThisAntennas": [0], "OtherAntennas": [1], "Antenna": 2}]},
+              {"Station": 1, "Radio": 2, "Switches": [{"Port": 2}]}]
+    plan, text = station([ant(0, "Tribander", TWENTY, BOTH), ant(1, "Vertical", TWENTY, BOTH),
+                          ant(2, "Beverage", [(1800, 2000)], {(1, 1): 2}, RXOnly=True)],
+                         radios)
+    found = [f for f in plan.findings if f.kind == "alternate_never_usable"]
+    assert len(found) == 1
+    assert found[0].line == line_of(text, '"Alternate"')
+    assert "covers no frequency of the rule's range" in found[0].text
+
+
+def test_every_kind_of_finding_is_tested_here() -> None:
+    source = Path(__file__).read_text(encoding="utf-8")
+    for kind in FINDING_KINDS:
+        assert f'"{kind}"' in source
+
+
+def write_golden() -> None:
+    GOLDEN.mkdir(exist_ok=True)
+    for example in EXAMPLES:
+        plan, error = plan_file(example)
+        assert plan is not None, error
+        (GOLDEN / f"{example.stem}.txt").write_text(plan.to_text(), encoding="utf-8")
+        (GOLDEN / f"{example.stem}.json").write_text(plan.to_json(), encoding="utf-8")
+
+
+if __name__ == "__main__":
+    if sys.argv[1:] == ["--write"]:
+        write_golden()
+
+
+def test_a_plan_out_of_time_stops_and_check_says_so_instead_of_waiting(
+        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    # --check of any file stays quick (issue 20); the plan of a huge station is for --plan
+    from moas_gui.cli import server
+    from moas_gui.plan import PlanTooLong, deadline_after
+
+    big = ROOT / "examples" / "big-station.moas"
+    config = parse_config(big.read_text()).unwrap()
+    with pytest.raises(PlanTooLong):
+        build_plan(config, in_time=deadline_after(0.0))
+    assert build_plan(config, in_time=deadline_after(None)).findings  # no limit: finished
+    monkeypatch.setattr(server, "CHECK_SECONDS", 0.0)
+    assert server.main(["--check", str(big)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[-1].startswith("findings: not counted (the station is too large to plan")
+    assert out[-1].endswith(f"moas-server --plan {big}")

@@ -1,0 +1,186 @@
+"""The allowed direction of imports between the packages of moas_gui (docs/architecture.md).
+
+Every ``import`` and ``from ... import`` of every module is read with :mod:`ast`
+(those inside functions too), so a cycle cannot hide behind a late import.
+"""
+
+from __future__ import annotations
+
+import ast
+import functools
+import subprocess
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[2] / "moas_gui"
+
+ALLOWED: dict[str, set[str]] = {
+    "errors": set(),
+    "addresses": set(),
+    "aio": set(),
+    "status": set(),
+    "files": set(),
+    "places": set(),
+    "clock": set(),
+    "retry": set(),
+    "log_repeats": set(),
+    "config": {"errors"},
+    "engine": {"config", "errors"},
+    "state_store": {"engine", "errors", "files", "places"},
+    "plan": {"config", "engine", "errors"},
+    "hw": {"addresses", "aio", "clock", "config", "engine", "errors", "files", "retry"},
+    "net": {"aio", "config", "errors", "hw"},
+    "rotator_program": {"clock", "errors", "hw", "retry"},
+    "engine_backend": {"engine", "errors", "hw", "net", "status"},
+    "running": {"clock", "config", "engine", "errors", "hw", "net", "sources", "state_store"},
+    "source_focus": {"engine", "running", "sources"},
+    "app": {"clock", "config", "engine", "engine_backend", "errors", "files", "hw", "running",
+            "source_focus", "sources", "state_store", "status"},
+    "client": {"addresses", "clock", "errors", "retry"},
+    "sources": {"addresses", "aio", "client", "clock", "config", "engine", "errors", "hw", "net",
+                "retry"},
+    "single_instance": {"errors"},
+    "desktop": {"files"},
+    "service": {"files"},
+    "ui": {"app", "client", "hw", "log_repeats", "plan", "sources", "status"},
+    "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
+            "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
+            "retry", "sources", "log_repeats", "places", "service", "plan"},
+}
+"""Which packages (or top-level modules) of moas_gui each one may import."""
+
+NET_MAY_USE_FROM_HW = {"moas_gui.hw.rotators.base", "moas_gui.hw.rotators.headings"}
+"""The rotctld listener speaks of rotators; nothing else of hw/ is the client side's business."""
+
+PURE = {"config", "engine"}
+FORBIDDEN_IN_PURE = {"PySide6", "qasync", "asyncio", "serial", "socket", "selectors",
+                     "threading", "subprocess"}
+"""The engine and the configuration model do no I/O and know no event loop."""
+
+
+def _modules() -> dict[str, tuple[str, Path]]:
+    found = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE).with_suffix("").parts
+        name = ".".join(("moas_gui", *parts))
+        found[name] = (parts[0], path)
+    return found
+
+
+def _imports(name: str, path: Path) -> set[str]:
+    is_package = path.name == "__init__.py"
+    package = name.split(".") if is_package else name.split(".")[:-1]
+    if is_package:
+        package = package[:-1]
+    out: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            out.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[:len(package) - node.level + 1]
+                module = ".".join(base + ([node.module] if node.module else []))
+            else:
+                module = node.module or ""
+            out.add(module)
+            out.update(f"{module}.{alias.name}" for alias in node.names)
+    return out
+
+
+@functools.cache
+def modules() -> dict[str, tuple[str, Path]]:
+    """Every module of the package, read once, when a test first asks (not at collection)."""
+    return _modules()
+
+
+@functools.cache
+def imports() -> dict[str, set[str]]:
+    return {name: _imports(name, path) for name, (_, path) in modules().items()}
+
+
+@functools.cache
+def _edges() -> dict[str, set[str]]:
+    edges: dict[str, set[str]] = defaultdict(set)
+    for name, (top, _) in modules().items():
+        for imported in imports()[name]:
+            parts = imported.split(".")
+            if parts[0] == "moas_gui" and len(parts) > 1 and parts[1] != top \
+                    and f"moas_gui.{parts[1]}" in modules() | _packages():
+                edges[top].add(parts[1])
+    return edges
+
+
+def _packages() -> dict[str, tuple[str, Path]]:
+    return {f"moas_gui.{p.name}": (p.name, p) for p in PACKAGE.iterdir() if p.is_dir()}
+
+
+def test_every_package_of_moas_gui_has_a_rule() -> None:
+    tops = {top for top, _ in modules().values()} - {"__init__", "manual", "resources", "examples"}
+    assert tops <= set(ALLOWED), f"add a rule for {sorted(tops - set(ALLOWED))}"
+
+
+@pytest.mark.parametrize("package", sorted(ALLOWED))
+def test_each_package_imports_only_what_it_may(package: str) -> None:
+    extra = _edges().get(package, set()) - ALLOWED[package]
+    assert not extra, f"moas_gui.{package} imports {sorted(extra)}, which it may not"
+
+
+def test_the_packages_import_each_other_without_a_cycle() -> None:
+    edges = _edges()
+    done: set[str] = set()
+
+    def visit(node: str, trail: tuple[str, ...]) -> None:
+        assert node not in trail, "import cycle: " + " -> ".join((*trail, node))
+        if node in done:
+            return
+        for nxt in sorted(edges.get(node, ())):
+            visit(nxt, (*trail, node))
+        done.add(node)
+
+    for node in sorted(edges):
+        visit(node, ())
+
+
+def test_hw_imports_nothing_from_net_and_net_only_rotator_types_from_hw() -> None:
+    for name, (top, _) in modules().items():
+        if top == "hw":
+            assert not {i for i in imports()[name] if i.startswith("moas_gui.net")}, name
+        if top == "net":
+            used = {i for i in imports()[name] if i.startswith("moas_gui.hw")}
+            taken = {i for i in used if i in modules()}
+            assert taken <= NET_MAY_USE_FROM_HW, f"{name} uses {sorted(taken)}"
+
+
+@pytest.mark.parametrize("package", sorted(PURE))
+def test_the_engine_and_the_configuration_import_no_qt_loop_serial_or_socket(
+        package: str) -> None:
+    for name, (top, _) in modules().items():
+        if top == package:
+            roots = {i.split(".")[0] for i in imports()[name]}
+            assert not roots & FORBIDDEN_IN_PURE, f"{name} imports {sorted(roots & FORBIDDEN_IN_PURE)}"
+
+
+def test_the_rules_see_late_imports_too(tmp_path: Path) -> None:
+    """A function-level import counts like any other (an import cycle cannot hide there)."""
+    module = tmp_path / "late.py"
+    module.write_text("def f():\n    from moas_gui.net import server\n    import asyncio\n")
+    assert {"moas_gui.net", "moas_gui.net.server", "asyncio"} <= _imports("moas_gui.hw.late",
+                                                                           module)
+
+
+@pytest.mark.parametrize("module", ["moas_gui.hw.moas2.messages", "moas_gui.hw.moas2.decoder",
+                                    "moas_gui.hw.moas2.sync", "moas_gui.engine",
+                                    "moas_gui.config"])
+def test_a_sans_io_codec_or_the_engine_loads_no_loop_and_no_serial_port(module: str) -> None:
+    """Importing the codec (or the engine) loads neither asyncio nor pyserial: the switch
+    package's ``__init__`` imports its link only when ``SwitchLink`` is asked for."""
+    probe = (f"import sys, {module}\n"
+             "print(sorted(m for m in ('asyncio', 'serial', 'PySide6', 'socket') "
+             "if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]", f"{module} loads {done.stdout.strip()}"

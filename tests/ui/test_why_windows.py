@@ -1,0 +1,103 @@
+"""Why, where people look: the built-in client's display line tooltip and its "Why?" action,
+the client model reading ``why``, and View > Station plan in the server window (a real
+server on the example file, its built-in switch, a real client connection)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+from client_support import run_on_qt
+from helpers import until
+from test_server_window import EXAMPLES, Harness
+
+from moas_gui.client.model import ProtocolError, WhyView, explain, parse_radio
+from moas_gui.status import ServerState
+
+
+@pytest.fixture
+def harness(tmp_path: Path) -> Harness:
+    return Harness(tmp_path)
+
+
+def test_the_client_model_reads_why_and_words_it() -> None:
+    radio = parse_radio({"station": 1, "radio": 2, "tx": 3, "rx": 3,
+                         "why": {"rule": "f4_lowest", "text": "lowest-numbered antenna "
+                                 "covering 7025 kHz",
+                                 "passed_over": [{"antenna": 0, "reason": "does not cover "
+                                                  "7025 kHz"}]}})
+    assert radio.why == WhyView("f4_lowest", "lowest-numbered antenna covering 7025 kHz",
+                                ((0, "does not cover 7025 kHz"),))
+    assert explain(radio, None) == ("Lowest-numbered antenna covering 7025 kHz\n"
+                                    "  Antenna 0: does not cover 7025 kHz")
+    assert parse_radio({"station": 1, "radio": 1}).why is None   # an older server
+    with pytest.raises(ProtocolError, match="passed_over"):
+        parse_radio({"station": 1, "radio": 1, "why": {"rule": "x", "text": "y",
+                                                        "passed_over": 3}})
+
+
+def test_the_client_shows_why_on_the_display_line_and_by_its_why_action(
+        qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = harness.make()
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        app = harness.app
+        assert app is not None
+        await until(lambda: app.status.state is ServerState.NORMAL)
+        window.action_client.trigger()
+        (client,) = window.client_windows
+        await until(lambda: client.snapshot is not None, timeout=10)
+        app.apply_changes(app.engine.set_frequency(1, 1, 7025))
+        await until(lambda: "covering 7025 kHz" in client.display.toolTip(),
+                    what="the reason on the display line")
+        tip = client.display.toolTip()
+        assert "Lowest-numbered antenna covering 7025 kHz" in tip
+        assert "Triband Yagi 20-15-10: does not cover 7025 kHz" in tip
+        assert client.why_action in client.grid.actions()
+        client.why_action.trigger()
+        assert "Lowest-numbered antenna covering 7025 kHz" in client.statusBar().currentMessage()
+        assert any("40 m dipole (also 15 m) \u2014 lowest-numbered antenna covering 7025 kHz"
+                   in line for line in window.log_view.shown_lines())
+        client.close()
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_view_station_plan_shows_the_plan_filtered_by_radio_and_band(
+        qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window = harness.make()
+        assert not window.action_plan.isEnabled()          # nothing open yet
+        window.open_file(str(EXAMPLES / "small-station.moas"))
+        await window.idle()
+        app = harness.app
+        assert app is not None
+        await until(lambda: app.status.state is ServerState.NORMAL)
+        box = app.emulators()[1]
+        relays_before = box.view().relays
+        window.action_plan.trigger()
+        await window.idle()
+        plan_window = window.plan_window
+        assert plan_window is not None and plan_window.isVisible()
+        plan = plan_window.plan
+        assert plan_window.table.rowCount() == len(plan.alone) + sum(
+            2 * len(s) for _a, _b, _m, s in plan.pairs)
+        assert plan_window.findings.rowCount() == len(plan.findings) > 0
+        band = plan_window.band_filter.findData("40 m")
+        plan_window.band_filter.setCurrentIndex(band)
+        rows = plan_window.visible_rows()
+        assert rows and all("40 m" in row[0] or row[1] == "40 m" for row in rows)
+        radio = next(i for i in range(plan_window.radio_filter.count())
+                     if plan_window.radio_filter.itemText(i) == "Station 1 radio 2")
+        plan_window.radio_filter.setCurrentIndex(radio)
+        alone = [row for row in plan_window.visible_rows() if row[0] == "alone"]
+        assert alone == [("alone", "40 m", "Station 1 radio 2", "40 m dipole (also 15 m)",
+                          "40 m dipole (also 15 m)", "f4_lowest",
+                          "lowest-numbered antenna covering 7025 kHz", "")]
+        assert box.view().relays == relays_before            # the switch was not touched
+        assert app.engine.radio_view(1, 2).khz is None
+        plan_window.close()
+        await harness.close()
+    run_on_qt(qapp, scenario())

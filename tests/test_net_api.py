@@ -27,7 +27,7 @@ PUBLIC = {
         "DEFAULT_ALLOW", "DEFAULT_ALLOW_TEXT", "IPAddress", "IPNetwork", "allowed_networks",
         "is_allowed", "parse_allow_list", "peer_address",
     ],
-    "moas_gui.net.framing": ["MAX_LINE", "Line", "LineSplitter", "LongLine"],
+    "moas_gui.net.framing": ["MAX_LINE", "Line", "LineFramer", "LongLine", "request_framer"],
     "moas_gui.net.requests": [
         "COMMANDS", "MAX_DEPTH", "Arg", "BadLine", "Command", "InvalidRequest", "Kind", "Request",
         "check_request", "describe", "parse_line", "too_deep",

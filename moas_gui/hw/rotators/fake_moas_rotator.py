@@ -31,7 +31,7 @@ from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.clock import LOOP_CLOCK, Clock
 
 from .moas_rotator_codec import (
-    BadLine,
+    BadRotatorLine,
     Command,
     CommandDecoder,
     Configure,
@@ -69,7 +69,7 @@ class FakeMoasRotator:
         self.controllers: dict[str, SimulatedController] = {}
         self.configured: dict[int, str] = {}
         """rotator number -> CommPort, as the last CONFIGUREs said."""
-        self.commands: list[Command | BadLine] = []
+        self.commands: list[Command | BadRotatorLine] = []
         self._server: asyncio.Server | None = None
         self._writers: set[asyncio.StreamWriter] = set()
         self._motion: asyncio.Task[None] | None = None
@@ -153,7 +153,7 @@ class FakeMoasRotator:
             with contextlib.suppress(OSError):
                 await writer.wait_closed()
 
-    def _handle(self, command: Command | BadLine, writer: asyncio.StreamWriter) -> None:
+    def _handle(self, command: Command | BadRotatorLine, writer: asyncio.StreamWriter) -> None:
         if isinstance(command, VersionRequest):
             writer.write(encode_version_reply(self.version))
         elif isinstance(command, Configure):

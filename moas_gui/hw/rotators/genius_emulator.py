@@ -24,9 +24,9 @@ from dataclasses import dataclass, field
 from moas_gui.clock import LOOP_CLOCK, Clock
 
 from .genius_codec import (
-    Command,
-    CommandDecoder,
-    Garbage,
+    GeniusCommand,
+    GeniusCommandDecoder,
+    GeniusGarbage,
     RotorBlock,
     Status,
     encode_reply,
@@ -104,7 +104,7 @@ class GeniusModel:
             name=rotor.name,
         )
 
-    def handle(self, command: Command, now: float) -> bytes:
+    def handle(self, command: GeniusCommand, now: float) -> bytes:
         """The controller's answer to one command."""
         self.advance(now)
         if command.kind == "h":
@@ -151,7 +151,7 @@ class GeniusServer:
         self.prefix = b""
         self.mute = False
         self.acknowledge_turns = acknowledge_turns
-        self.commands: list[Command | Garbage] = []
+        self.commands: list[GeniusCommand | GeniusGarbage] = []
         self._server: asyncio.Server | None = None
         self._writers: set[asyncio.StreamWriter] = set()
 
@@ -179,12 +179,12 @@ class GeniusServer:
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         self._writers.add(writer)
-        decoder = CommandDecoder()
+        decoder = GeniusCommandDecoder()
         try:
             while data := await reader.read(256):
                 for command in decoder.feed(data):
                     self.commands.append(command)
-                    if isinstance(command, Garbage):
+                    if isinstance(command, GeniusGarbage):
                         log.warning("Rotator Genius emulator: %r (%s)", command.data,
                                     command.reason)
                         continue

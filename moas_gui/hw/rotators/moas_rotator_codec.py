@@ -279,7 +279,8 @@ def parse_command(line: str) -> Command | BadRotatorLine:
             return Stop(rotator)
         degrees = _finite(fields[2])
         if degrees is None:
-            return BadRotatorLine(line, f"heading {fields[2]!r} is not a number of degrees", rotator)
+            return BadRotatorLine(line, f"heading {fields[2]!r} is not a number of degrees",
+                                  rotator)
         return Rotate(rotator, degrees)
     return BadRotatorLine(line, f"unknown command {fields[0]!r} (known: VERSION, CONFIGURE, "
                          "ROTATE, STOP)")

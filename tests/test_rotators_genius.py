@@ -17,8 +17,9 @@ from helpers import FakeClock, run_on
 from test_rotators_manager import Recorder
 
 from moas_gui.config.model import Rotator, RotatorControl
-from moas_gui.hw.rotators import GeniusModel, GeniusServer, RotatorError, RotatorManager, Timing
+from moas_gui.hw.rotators import RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.genius_codec import GeniusCommand
+from moas_gui.testing.genius_server import GeniusModel, GeniusServer
 
 FAST = Timing(reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.3, connect_timeout=0.5)
 

@@ -22,7 +22,7 @@ from moas_gui.hw.rotators.genius_codec import (
     encode_stop,
     encode_turn,
 )
-from moas_gui.hw.rotators.genius_emulator import GeniusModel
+from moas_gui.testing.genius_server import GeniusModel
 
 # A real unit's |h reply (rotator-protocols.md 8): rotor 1 without sensor, rotor 2 at 43.
 CAPTURED = (

@@ -51,6 +51,7 @@ ALLOWED: dict[str, set[str]] = {
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
             "retry", "sources", "log_repeats", "places", "service", "plan"},
+    "testing": {"aio", "clock", "hw", "net", "ui"},
 }
 """Which packages (or top-level modules) of moas_gui each one may import."""
 

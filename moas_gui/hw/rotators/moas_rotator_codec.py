@@ -2,7 +2,7 @@
 
 The one codec of this protocol: the server's link (``moas_rotator_link``), the
 MOAS Rotator program (``moas_gui.rotator_program``) and the test stand-in
-(``fake_moas_rotator``) all read and write through it.
+(``moas_gui.testing.fake_moas_rotator``) all read and write through it.
 
 Text lines of 8-bit ASCII, fields separated by spaces, ended by CR (LF and
 CR LF are accepted on input).  Server to program::

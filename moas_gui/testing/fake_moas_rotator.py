@@ -1,6 +1,6 @@
 """A stand-in for the MOAS Rotator program, on loopback, for tests and demos.
 
-It speaks appendix B exactly (through :mod:`.moas_rotator_codec`) and, behind
+It speaks appendix B exactly (through :mod:`moas_gui.hw.rotators.moas_rotator_codec`) and, behind
 it, simulates one controller per configured ``CommPort``: a ROTATE moves that
 controller's number towards the target at ``speed`` degrees a second (for the
 compass models DCU1 and RotorEZ, the shorter way round, wrapping at 360) and
@@ -14,7 +14,7 @@ controller moved by hand: reported at once), :meth:`send_raw` (garbage on the
 wire), :meth:`drop` (the program goes away), :meth:`restart`; ``clock``: the
 controllers turn on it (a fake clock makes a test's turns take no time).
 
-Run ``python -m moas_gui.hw.rotators.fake_moas_rotator --port 13020`` to serve
+Run ``python -m moas_gui.testing.fake_moas_rotator --port 13020`` to serve
 one until interrupted.
 """
 
@@ -29,8 +29,7 @@ from dataclasses import dataclass
 
 from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.clock import LOOP_CLOCK, Clock
-
-from .moas_rotator_codec import (
+from moas_gui.hw.rotators.moas_rotator_codec import (
     BadRotatorLine,
     Command,
     CommandDecoder,
@@ -42,7 +41,7 @@ from .moas_rotator_codec import (
     encode_version_reply,
 )
 
-log = logging.getLogger("moas_gui.hw.rotators.fake_moas_rotator")
+log = logging.getLogger("moas_gui.testing.fake_moas_rotator")
 
 COMPASS_NAMES = frozenset({"1", "2", "DCU1", "RotorEZ"})
 

@@ -22,8 +22,7 @@ import logging
 from dataclasses import dataclass, field
 
 from moas_gui.clock import LOOP_CLOCK, Clock
-
-from .genius_codec import (
+from moas_gui.hw.rotators.genius_codec import (
     GeniusCommand,
     GeniusCommandDecoder,
     GeniusGarbage,
@@ -32,9 +31,9 @@ from .genius_codec import (
     encode_reply,
     encode_status,
 )
-from .headings import Travel, Turn, plan_turn, whole_heading
+from moas_gui.hw.rotators.headings import Travel, Turn, plan_turn, whole_heading
 
-log = logging.getLogger("moas_gui.hw.rotators.genius_emulator")
+log = logging.getLogger("moas_gui.testing.genius_server")
 
 
 @dataclass(slots=True)

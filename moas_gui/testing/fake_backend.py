@@ -30,7 +30,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .backend import ErrorCode, EventSink, FocusKind, JSONObject, RequestError, Target
+from moas_gui.net.backend import ErrorCode, EventSink, FocusKind, JSONObject, RequestError, Target
+
 from .fake_station import DEMO_STATION, FakeAntenna, FakeLayout, FakeRelative, FakeStation
 
 

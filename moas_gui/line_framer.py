@@ -72,13 +72,14 @@ class LongLine:
 class LineFramer:
     """Bytes in, :class:`Line` and :class:`LongLine` out, in stream order."""
 
-    __slots__ = ("_after_cr", "_buffer", "_scanned", "_skipping", "ends", "limit")
+    __slots__ = ("_after_cr", "_buffer", "_lf_only", "_scanned", "_skipping", "ends", "limit")
 
     def __init__(self, limit: int, ends: LineEnd = LineEnd.LF) -> None:
         if limit < 0:
             raise ValueError(f"a line limit cannot be negative ({limit})")
         self.limit = limit
         self.ends = ends
+        self._lf_only = ends is LineEnd.LF
         self._buffer = bytearray()
         self._scanned = 0
         """Bytes of ``_buffer`` already known to hold no ending."""
@@ -96,6 +97,7 @@ class LineFramer:
     def feed(self, data: bytes) -> list[Line | LongLine]:
         """Everything ``data`` completes (or proves too long), in stream order."""
         out: list[Line | LongLine] = []
+        lf_only = self._lf_only
         if self._after_cr and data:
             self._after_cr = False
             if data[0] == _LF:
@@ -105,26 +107,32 @@ class LineFramer:
             if end < 0:
                 return out
             self._skipping = False
-            data = data[self._next_start(data, end):]
+            data = data[end + 1 if lf_only else self._next_start(data, end):]
         buffer = self._buffer
         buffer += data
+        limit = self.limit
         start = 0
-        lf_only = self.ends is LineEnd.LF
         while True:
-            end = self._find(buffer, max(start, self._scanned))
+            scan = start if start > self._scanned else self._scanned
+            end = buffer.find(b"\n", scan) if lf_only else self._find(buffer, scan)
             if end < 0:
                 break
-            stop = end - 1 if lf_only and end > start and buffer[end - 1] == _CR else end
-            if stop - start > self.limit:
+            if lf_only:
+                stop = end - 1 if end > start and buffer[end - 1] == _CR else end
+                following = end + 1
+            else:
+                stop = end
+                following = self._next_start(buffer, end)
+            if stop - start > limit:
                 out.append(LongLine(stop - start, bytes(buffer[start:start + HEAD])))
             else:
                 out.append(Line(bytes(buffer[start:stop])))
-            start = self._next_start(buffer, end)
+            start = following
         if start:
             del buffer[:start]
         self._scanned = len(buffer)
-        if len(buffer) > self.limit and not (
-                lf_only and len(buffer) == self.limit + 1 and buffer[-1] == _CR):
+        if len(buffer) > limit and not (
+                lf_only and len(buffer) == limit + 1 and buffer[-1] == _CR):
             # Certain now: even a CR LF next could not bring the content within the limit.
             out.append(LongLine(len(buffer), bytes(buffer[:HEAD])))
             buffer.clear()

@@ -103,6 +103,11 @@ class CommandParser:
     def __init__(self) -> None:
         self._lines = LineFramer(MAX_LINE, LineEnd.CR_OR_LF)
 
+    @property
+    def pending(self) -> int:
+        """Bytes held for a command not yet ended (never more than :data:`MAX_LINE`)."""
+        return self._lines.pending
+
     def feed(self, data: bytes) -> list[OtrspCommand | OtrspError]:
         """Every complete line's command, or the error that refused it, in order."""
         out: list[OtrspCommand | OtrspError] = []

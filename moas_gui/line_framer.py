@@ -113,7 +113,7 @@ class LineFramer:
         limit = self.limit
         start = 0
         while True:
-            scan = start if start > self._scanned else self._scanned
+            scan = max(self._scanned, start)
             end = buffer.find(b"\n", scan) if lf_only else self._find(buffer, scan)
             if end < 0:
                 break

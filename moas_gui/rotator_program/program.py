@@ -31,10 +31,10 @@ from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.moas_rotator_codec import (
     PORT,
     BadRotatorLine,
-    Command,
     CommandDecoder,
     Configure,
     Rotate,
+    RotatorCommand,
     Stop,
     VersionRequest,
     encode_heading,
@@ -154,7 +154,7 @@ class RotatorProgram:
 
     # -- commands --------------------------------------------------------------------------
 
-    async def _obey(self, command: Command | BadRotatorLine) -> None:
+    async def _obey(self, command: RotatorCommand | BadRotatorLine) -> None:
         if isinstance(command, BadRotatorLine):
             where = f"rotator {command.rotator}: " if command.rotator is not None else ""
             log.warning("%sbad command from the server %r: %s", where, command.line,

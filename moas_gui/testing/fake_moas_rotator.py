@@ -31,10 +31,10 @@ from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.clock import LOOP_CLOCK, Clock
 from moas_gui.hw.rotators.moas_rotator_codec import (
     BadRotatorLine,
-    Command,
     CommandDecoder,
     Configure,
     Rotate,
+    RotatorCommand,
     Stop,
     VersionRequest,
     encode_heading,
@@ -68,7 +68,7 @@ class FakeMoasRotator:
         self.controllers: dict[str, SimulatedController] = {}
         self.configured: dict[int, str] = {}
         """rotator number -> CommPort, as the last CONFIGUREs said."""
-        self.commands: list[Command | BadRotatorLine] = []
+        self.commands: list[RotatorCommand | BadRotatorLine] = []
         self._server: asyncio.Server | None = None
         self._writers: set[asyncio.StreamWriter] = set()
         self._motion: asyncio.Task[None] | None = None
@@ -152,7 +152,8 @@ class FakeMoasRotator:
             with contextlib.suppress(OSError):
                 await writer.wait_closed()
 
-    def _handle(self, command: Command | BadRotatorLine, writer: asyncio.StreamWriter) -> None:
+    def _handle(self, command: RotatorCommand | BadRotatorLine,
+                writer: asyncio.StreamWriter) -> None:
         if isinstance(command, VersionRequest):
             writer.write(encode_version_reply(self.version))
         elif isinstance(command, Configure):

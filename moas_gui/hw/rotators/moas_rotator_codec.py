@@ -165,7 +165,7 @@ class BadRotatorLine:
     rotator: int | None = None
 
 
-Command = VersionRequest | Configure | Rotate | Stop
+RotatorCommand = VersionRequest | Configure | Rotate | Stop
 Report = VersionReport | HeadingReport
 
 
@@ -255,7 +255,7 @@ def encode_heading(rotator: int, degrees: float) -> bytes:
     return f"{rotator} {round(degrees)}\r".encode("ascii")
 
 
-def parse_command(line: str) -> Command | BadRotatorLine:
+def parse_command(line: str) -> RotatorCommand | BadRotatorLine:
     """One line from the server, without its terminator."""
     fields = line.split()
     if not fields:
@@ -352,8 +352,8 @@ class CommandDecoder:
     def __init__(self) -> None:
         self._lines = RotatorLineReader(MAX_COMMAND_LINE)
 
-    def feed(self, data: bytes) -> list[Command | BadRotatorLine]:
-        out: list[Command | BadRotatorLine] = []
+    def feed(self, data: bytes) -> list[RotatorCommand | BadRotatorLine]:
+        out: list[RotatorCommand | BadRotatorLine] = []
         for item in self._lines.feed(data):
             if isinstance(item, BadRotatorLine):
                 out.append(item)
@@ -394,7 +394,6 @@ __all__ = [
     "PORT",
     "SCALES",
     "BadRotatorLine",
-    "Command",
     "CommandDecoder",
     "Configure",
     "HeadingReport",
@@ -402,6 +401,7 @@ __all__ = [
     "Report",
     "ReportDecoder",
     "Rotate",
+    "RotatorCommand",
     "RotatorLineReader",
     "Stop",
     "VersionReport",

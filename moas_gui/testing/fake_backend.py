@@ -1,6 +1,6 @@
 """An in-memory :class:`~moas_gui.net.backend.ClientBackend` for tests and demos.
 
-It runs a :class:`~moas_gui.net.fake_station.FakeStation` with simple rules
+It runs a :class:`~moas_gui.testing.fake_station.FakeStation` with simple rules
 that are nonetheless real:
 
 * an antenna in use by another radio (transmit or receive) is ``unavailable``,

@@ -8,6 +8,9 @@ calls an ending and what a too-long line yields.
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -162,3 +165,15 @@ def test_the_buffer_stays_bounded_whatever_arrives(data: bytes, ends: LineEnd,
                 if ends is LineEnd.CR_OR_LF:
                     assert b"\r" not in item.data
         assert framer.pending <= limit + 1
+
+
+def test_the_framer_loads_nothing_but_itself() -> None:
+    """Every line protocol imports it, so it must bring no loop, port, Qt or other part."""
+    probe = ("import sys, moas_gui.line_framer\n"
+             "print(sorted(m for m in sys.modules if m.split('.')[0] in "
+             "('asyncio', 'serial', 'PySide6', 'socket') or "
+             "(m.startswith('moas_gui.') and m != 'moas_gui.line_framer')))")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]", done.stdout

@@ -1,6 +1,6 @@
 """Benchmark of the client protocol server (prints figures; not a test).
 
-The server runs in its own process (``python -m moas_gui.net.fake_server``,
+The server runs in its own process (``python -m moas_gui.testing.fake_server``,
 the fake backend, which reports a ``radio`` event for every select that
 changes something) on 127.0.0.1; the clients run here, on one asyncio loop,
 with the lightest possible reading (a line is timed the moment its bytes
@@ -250,7 +250,7 @@ async def measure(args: argparse.Namespace, pid: int, port: int) -> None:
 
 def main(args: argparse.Namespace) -> None:
     server = subprocess.Popen(
-        [sys.executable, "-m", "moas_gui.net.fake_server", "--host", HOST, "--port", "0",
+        [sys.executable, "-m", "moas_gui.testing.fake_server", "--host", HOST, "--port", "0",
          "--log", "WARNING", "--max-per-address", "100000"],  # every client is on 127.0.0.1
         stdout=subprocess.PIPE, text=True,
     )

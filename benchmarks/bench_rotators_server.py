@@ -24,9 +24,11 @@ import time
 from collections.abc import Awaitable, Callable
 
 from moas_gui.config.model import Rotator, RotatorControl
-from moas_gui.hw.rotators import FakeMoasRotator, GeniusModel, GeniusServer, RotatorManager
+from moas_gui.hw.rotators import RotatorManager
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.net.rotctld_server import start_rotctld_servers
+from moas_gui.testing.fake_moas_rotator import FakeMoasRotator
+from moas_gui.testing.genius_server import GeniusModel, GeniusServer
 
 
 class Waiter:

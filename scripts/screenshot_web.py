@@ -24,9 +24,9 @@ from typing import Any
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.server import ClientServer
 from moas_gui.net.web import WebServer
+from moas_gui.testing.fake_backend import FakeBackend
 from tests.web_station import browser_missing, chrome
 
 

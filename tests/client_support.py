@@ -21,9 +21,9 @@ from typing import Any, Self, TypeVar
 import qasync  # type: ignore[import-untyped]
 
 from moas_gui.aio import cancel_and_wait
-from moas_gui.net.fake_backend import FakeBackend
-from moas_gui.net.fake_station import DEMO_STATION, FakeStation
 from moas_gui.net.server import ClientServer
+from moas_gui.testing.fake_backend import FakeBackend
+from moas_gui.testing.fake_station import DEMO_STATION, FakeStation
 
 T = TypeVar("T")
 

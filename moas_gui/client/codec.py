@@ -7,7 +7,8 @@ touches a socket::
     bytes from the server --feed()-->  Reply | Event | Garbled
     request(cmd, args)   --encode()--> one JSON line, and the id it carries
 
-Every server line is one JSON object ended by ``\\n`` (``\\r\\n`` accepted).  An
+Every server line is one JSON object ended by ``\\n`` (``\\r\\n`` accepted),
+cut out of the stream by :mod:`moas_gui.line_framer` as every line protocol is.  An
 object with ``"event"`` is an :class:`Event`; one with ``"ok"`` is a
 :class:`Reply`.  Anything else (not JSON, not an object, neither shape, a line
 longer than :data:`MAX_LINE`) becomes a :class:`Garbled` item that says what
@@ -20,6 +21,8 @@ import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
+
+from moas_gui.line_framer import LineEnd, LineFramer, LongLine
 
 __all__ = ["MAX_LINE", "ClientCodec", "Event", "Garbled", "Incoming", "Reply"]
 
@@ -61,9 +64,8 @@ class ClientCodec:
     """Splits the server's byte stream into messages and numbers the requests."""
 
     def __init__(self, max_line: int = MAX_LINE) -> None:
-        self._buffer = bytearray()
+        self._lines = LineFramer(max_line, LineEnd.LF)
         self._max_line = max_line
-        self._skipping = False
         self._next_id = 1
         self.line_number = 0
         """Lines received so far (for messages that say where)."""
@@ -81,32 +83,16 @@ class ClientCodec:
     def feed(self, data: bytes) -> list[Incoming]:
         """Everything the bytes in ``data`` complete (lines may arrive in pieces)."""
         out: list[Incoming] = []
-        self._buffer += data
-        while True:
-            end = self._buffer.find(b"\n")
-            if end < 0:
-                if len(self._buffer) > self._max_line:
-                    if not self._skipping:
-                        self.line_number += 1
-                        out.append(Garbled(
-                            f"line {self.line_number} is longer than {self._max_line} bytes; "
-                            "skipped"))
-                    self._skipping = True
-                    self._buffer.clear()
-                return out
-            line = bytes(self._buffer[:end])
-            del self._buffer[:end + 1]
-            if self._skipping:
-                self._skipping = False
-                continue
+        for line in self._lines.feed(data):
             self.line_number += 1
-            if len(line) > self._max_line:
+            if isinstance(line, LongLine):
                 out.append(Garbled(
                     f"line {self.line_number} is longer than {self._max_line} bytes; skipped"))
                 continue
-            item = self._decode(line.rstrip(b"\r"))
+            item = self._decode(line.data)
             if item is not None:
                 out.append(item)
+        return out
 
     def _decode(self, line: bytes) -> Incoming | None:
         if not line.strip():

@@ -18,8 +18,9 @@ saying what was wrong; any other exception becomes an ``internal`` error reply
 and a log line, and the connection carries on.
 
 Every call is synchronous and is made on the event loop's thread: the engine is
-pure and fast, so there is nothing to await.  :class:`moas_gui.net.fake_backend.FakeBackend`
-is a small, complete backend for tests and demos.
+pure and fast, so there is nothing to await.
+:class:`moas_gui.testing.fake_backend.FakeBackend` is a small, complete backend for
+tests and demos.
 """
 
 from __future__ import annotations

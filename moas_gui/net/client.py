@@ -27,7 +27,7 @@ from typing import Any
 from moas_gui.errors import MoasError
 
 from .backend import ErrorCode, JSONObject, RequestError
-from .framing import Line, LineSplitter
+from .framing import Line, request_framer
 from .messages import encode
 
 log = logging.getLogger("moas_gui.net.client")
@@ -96,7 +96,7 @@ class ProtocolClient:
                     return message
 
     async def _read(self) -> None:
-        splitter = LineSplitter(limit=1 << 24)
+        splitter = request_framer(limit=1 << 24)
         try:
             while True:
                 data = await self.reader.read(1 << 16)

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from .backend import ErrorCode
-from .framing import LineSplitter
+from .framing import request_framer
 from .log_limit import held_text
 from .messages import MessageEncodeError, reply_error, reply_ok
 
@@ -98,7 +98,7 @@ class Connection:
         self.address = address
         self.max_pending = max_pending
         self.max_layouts = max_layouts
-        self.splitter = LineSplitter()
+        self.splitter = request_framer()
         self.name: str | None = None
         self.station: int | None = None
         self.radio: int | None = None

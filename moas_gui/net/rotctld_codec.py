@@ -62,7 +62,7 @@ cannot take the other way round."""
 
 
 @dataclass(frozen=True, slots=True)
-class Request:
+class RotctldRequest:
     name: str
     """The long name (``get_pos``), or the text typed when it is not a command."""
     args: tuple[str, ...] = ()
@@ -72,15 +72,15 @@ class Request:
 
 
 class RequestParser:
-    """Bytes in, :class:`Request` values out."""
+    """Bytes in, :class:`RotctldRequest` values out."""
 
     def __init__(self) -> None:
         self._buffer = ""
         self.overflowed = False
 
-    def feed(self, data: bytes) -> list[Request]:
+    def feed(self, data: bytes) -> list[RotctldRequest]:
         self._buffer += data.decode("latin-1")
-        out: list[Request] = []
+        out: list[RotctldRequest] = []
         while True:
             found = self._next()
             if found is None:
@@ -94,7 +94,7 @@ class RequestParser:
             self.overflowed = True
         return out
 
-    def _next(self) -> tuple[int, Request | None] | None:
+    def _next(self) -> tuple[int, RotctldRequest | None] | None:
         """(characters used, request or None for a comment), or None: need more."""
         text = self._buffer
         i = _skip_space(text, 0)
@@ -121,12 +121,12 @@ class RequestParser:
             name, count = known if known else (letter, None)
             i += 1
         if count is None:
-            return i, Request(name, (), separator, known=False)
+            return i, RotctldRequest(name, (), separator, known=False)
         if count < 0:
             end = text.find("\n", i)
             if end < 0:
                 return None
-            return end + 1, Request(name, (text[i:end].strip(),), separator)
+            return end + 1, RotctldRequest(name, (text[i:end].strip(),), separator)
         args: list[str] = []
         for _ in range(count):
             start = _skip_space(text, i)
@@ -135,7 +135,7 @@ class RequestParser:
                 return None
             args.append(text[start:word_end])
             i = word_end
-        return i, Request(name, tuple(args), separator)
+        return i, RotctldRequest(name, tuple(args), separator)
 
 
 def _is_prefix(char: str) -> bool:
@@ -160,7 +160,8 @@ def _word_end(text: str, i: int) -> int | None:
 
 # ---- answers -------------------------------------------------------------------------
 
-def answer(request: Request, values: tuple[tuple[str, str], ...] = (), code: int = 0) -> bytes:
+def answer(request: RotctldRequest, values: tuple[tuple[str, str], ...] = (),
+           code: int = 0) -> bytes:
     """The answer to ``request``: ``values`` as (label, text) when it succeeded,
     else ``code`` (positive Hamlib error number)."""
     if request.separator is None:
@@ -176,7 +177,7 @@ def answer(request: Request, values: tuple[tuple[str, str], ...] = (), code: int
 
 
 @dataclass(frozen=True, slots=True)
-class Scale:
+class AzimuthScale:
     """The azimuth scale offered to clients."""
 
     min_az: float
@@ -186,16 +187,16 @@ class Scale:
     bounded: bool = True
 
 
-def scale_for(travel: Travel) -> Scale:
+def scale_for(travel: Travel) -> AzimuthScale:
     if not travel.bounded:
-        return Scale(-180.0, 540.0, 0.0, bounded=False)
+        return AzimuthScale(-180.0, 540.0, 0.0, bounded=False)
     stop = normalize(travel.ccw_limit)
     low = min(stop - FULL_TURN if stop >= 180.0 else stop, 0.0)
     base = window_base(travel, low)
-    return Scale(low, max(base + travel.rotation, FULL_TURN), base)
+    return AzimuthScale(low, max(base + travel.rotation, FULL_TURN), base)
 
 
-def azimuth_for(scale: Scale, heading: float) -> float:
+def azimuth_for(scale: AzimuthScale, heading: float) -> float:
     """A compass heading written on the offered scale (0..360 for unbounded)."""
     if not scale.bounded:
         return normalize(heading)
@@ -239,7 +240,7 @@ def move_target(travel: Travel, heading: float, position: float | None,
     return travel.heading_at(travel.clamp(position + sign * MOVE_STEP))
 
 
-def dump_caps(request: Request, info: str, scale: Scale, can_park: bool) -> bytes:
+def dump_caps(request: RotctldRequest, info: str, scale: AzimuthScale, can_park: bool) -> bytes:
     """``dump_caps``: what this listener does, in rotctld's layout (every line
     well under 64 bytes); ends with ``RPRT 0`` in both forms, as rotctld's."""
     yes = {True: "Y", False: "N"}
@@ -269,7 +270,7 @@ def dump_caps(request: Request, info: str, scale: Scale, can_park: bool) -> byte
     return (sep.join(lines) + sep + "RPRT 0\n").encode("latin-1")
 
 
-def dump_state(request: Request, scale: Scale) -> bytes:
+def dump_state(request: RotctldRequest, scale: AzimuthScale) -> bytes:
     """``\\dump_state``, protocol 1 (the layout Hamlib 4.5.1 and later read)."""
     numbers = [
         ("rotctld Protocol Ver", "", str(PROTOCOL_VERSION)),
@@ -290,8 +291,27 @@ def dump_state(request: Request, scale: Scale) -> bytes:
 
 
 __all__ = [
-    "CLOCKWISE", "COMMANDS", "COUNTERCLOCKWISE", "DIRECTIONS", "EINVAL", "EIO", "ENAVAIL",
-    "ENIMPL", "ERJCTED", "ETIMEOUT", "LONG_NAMES", "MOVE_STEP", "Request", "RequestParser",
-    "Scale", "answer", "azimuth_for", "dump_caps", "dump_state", "move_target",
-    "parse_direction", "parse_number", "scale_for",
+    "CLOCKWISE",
+    "COMMANDS",
+    "COUNTERCLOCKWISE",
+    "DIRECTIONS",
+    "EINVAL",
+    "EIO",
+    "ENAVAIL",
+    "ENIMPL",
+    "ERJCTED",
+    "ETIMEOUT",
+    "LONG_NAMES",
+    "MOVE_STEP",
+    "AzimuthScale",
+    "RequestParser",
+    "RotctldRequest",
+    "answer",
+    "azimuth_for",
+    "dump_caps",
+    "dump_state",
+    "move_target",
+    "parse_direction",
+    "parse_number",
+    "scale_for",
 ]

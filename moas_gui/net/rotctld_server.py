@@ -44,9 +44,9 @@ from .rotctld_codec import (
     ENIMPL,
     ERJCTED,
     ETIMEOUT,
-    Request,
+    AzimuthScale,
     RequestParser,
-    Scale,
+    RotctldRequest,
     answer,
     azimuth_for,
     dump_caps,
@@ -84,7 +84,7 @@ class RotctldServer:
         except ValueError:
             travel = Travel()
         self.travel = travel
-        self.scale: Scale = scale_for(travel)
+        self.scale: AzimuthScale = scale_for(travel)
         self._server: asyncio.Server | None = None
         self._sessions: set[asyncio.Task[None]] = set()
         self._writers: set[asyncio.StreamWriter] = set()
@@ -145,7 +145,7 @@ class RotctldServer:
             with contextlib.suppress(OSError):
                 await writer.wait_closed()
 
-    async def _handle(self, request: Request, peer: object) -> bytes:
+    async def _handle(self, request: RotctldRequest, peer: object) -> bytes:
         if not request.known:
             log.warning("%s: %s sent %r, which is not a rotctld command; no answer (as rotctld)",
                         self.where, peer, request.name)
@@ -179,7 +179,7 @@ class RotctldServer:
     def _info(self) -> str:
         return f"MOAS {self.rotator.label}"[:48]
 
-    async def _park(self, request: Request) -> bytes:
+    async def _park(self, request: RotctldRequest) -> bytes:
         heading = self.rotator.park_heading
         if heading is None:
             log.info("%s: park asked for, but %s has no ParkHeading", self.where,
@@ -187,7 +187,7 @@ class RotctldServer:
             return answer(request, code=ENAVAIL)
         return await self._call(request, self.service.rotate(self.rotator.id, float(heading)))
 
-    async def _move(self, request: Request, peer: object) -> bytes:
+    async def _move(self, request: RotctldRequest, peer: object) -> bytes:
         direction = parse_direction(request.args[0])
         if direction is None or parse_number(request.args[1]) is None:
             log.warning("%s: %s sent move with %r: not a direction and a speed", self.where,
@@ -205,7 +205,7 @@ class RotctldServer:
                              clockwise=direction == CLOCKWISE)
         return await self._call(request, self.service.rotate(self.rotator.id, target))
 
-    async def _set_pos(self, request: Request, peer: object) -> bytes:
+    async def _set_pos(self, request: RotctldRequest, peer: object) -> bytes:
         azimuth = parse_number(request.args[0])
         elevation = parse_number(request.args[1])
         if azimuth is None or elevation is None:
@@ -214,7 +214,7 @@ class RotctldServer:
             return answer(request, code=EINVAL)
         return await self._call(request, self.service.rotate(self.rotator.id, normalize(azimuth)))
 
-    async def _call(self, request: Request, action: Awaitable[None]) -> bytes:
+    async def _call(self, request: RotctldRequest, action: Awaitable[None]) -> bytes:
         try:
             await action
         except RotatorError as exc:

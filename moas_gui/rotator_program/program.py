@@ -30,11 +30,11 @@ from moas_gui.hw.rotators.controllers.base import ControllerError
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.moas_rotator_codec import (
     PORT,
-    BadLine,
-    Command,
+    BadRotatorLine,
     CommandDecoder,
     Configure,
     Rotate,
+    RotatorCommand,
     Stop,
     VersionRequest,
     encode_heading,
@@ -154,8 +154,8 @@ class RotatorProgram:
 
     # -- commands --------------------------------------------------------------------------
 
-    async def _obey(self, command: Command | BadLine) -> None:
-        if isinstance(command, BadLine):
+    async def _obey(self, command: RotatorCommand | BadRotatorLine) -> None:
+        if isinstance(command, BadRotatorLine):
             where = f"rotator {command.rotator}: " if command.rotator is not None else ""
             log.warning("%sbad command from the server %r: %s", where, command.line,
                         command.reason)

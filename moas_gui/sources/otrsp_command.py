@@ -28,6 +28,7 @@ from dataclasses import dataclass
 from typing import Final, Literal, TypeAlias
 
 from moas_gui.errors import ProtocolError
+from moas_gui.line_framer import LineEnd, LineFramer, LongLine
 
 MAX_LINE: Final = 32
 """Longer than any OTRSP command; a longer line is dropped."""
@@ -93,43 +94,36 @@ def parse_command(line: str) -> OtrspCommand:
 
 
 class CommandParser:
-    """Bytes from the logger in, commands out (see :func:`parse_command`)."""
+    """Bytes from the logger in, commands out (see :func:`parse_command`); lines are cut
+    by :class:`~moas_gui.line_framer.LineFramer` (CR, LF or CR LF; over
+    :data:`MAX_LINE` bytes refused once, the rest of that line skipped)."""
+
+    __slots__ = ("_lines",)
 
     def __init__(self) -> None:
-        self._buffer = b""
-        self._skipping = False
-        """Inside an over-long line: drop bytes until its end."""
+        self._lines = LineFramer(MAX_LINE, LineEnd.CR_OR_LF)
+
+    @property
+    def pending(self) -> int:
+        """Bytes held for a command not yet ended (never more than :data:`MAX_LINE`)."""
+        return self._lines.pending
 
     def feed(self, data: bytes) -> list[OtrspCommand | OtrspError]:
         """Every complete line's command, or the error that refused it, in order."""
         out: list[OtrspCommand | OtrspError] = []
-        self._buffer += data
-        while True:
-            ends = [i for i in (self._buffer.find(b"\r"), self._buffer.find(b"\n")) if i >= 0]
-            if not ends:
-                if len(self._buffer) > MAX_LINE:
-                    if not self._skipping:
-                        out.append(OtrspError("too_long", f"a line longer than {MAX_LINE} "
-                                              "bytes"))
-                    self._skipping = True
-                    self._buffer = b""
-                return out
-            end = min(ends)
-            raw, self._buffer = self._buffer[:end], self._buffer[end + 1:]
-            if self._skipping:
-                self._skipping = False
-                continue
-            if not raw.strip():
-                continue
-            if len(raw) > MAX_LINE:
+        for line in self._lines.feed(data):
+            if isinstance(line, LongLine):
                 out.append(OtrspError("too_long", f"a line longer than {MAX_LINE} bytes"))
                 continue
+            if not line.data.strip():
+                continue
             try:
-                out.append(parse_command(raw.decode("ascii")))
+                out.append(parse_command(line.data.decode("ascii")))
             except UnicodeDecodeError:
                 out.append(OtrspError("not_ascii", "a line that is not ASCII"))
             except OtrspError as exc:
                 out.append(exc)
+        return out
 
 
 __all__ = ["MAX_LINE", "Aux", "CommandParser", "OtrspCommand", "OtrspError", "Query", "RxFocus",

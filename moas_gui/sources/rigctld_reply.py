@@ -36,6 +36,7 @@ from typing import Final
 
 from moas_gui.config.rigs import RIGCTLD_PORT
 from moas_gui.errors import ProtocolError
+from moas_gui.line_framer import LineEnd, LineFramer, LongLine
 
 DEFAULT_PORT: Final = RIGCTLD_PORT
 POLL: Final = b"+f\n+s\n+i\n+t\n"
@@ -102,7 +103,7 @@ class ReplyParser:
     """Bytes from rigctld in, one :class:`RigReading` per completed poll out."""
 
     def __init__(self) -> None:
-        self._buffer = b""
+        self._lines = LineFramer(MAX_LINE, LineEnd.LF)
         self._index = 0
         """Which of :data:`COMMANDS` the next reply answers."""
         self._in_reply = False
@@ -114,23 +115,15 @@ class ReplyParser:
         self.__init__()  # type: ignore[misc]
 
     def feed(self, data: bytes) -> list[RigReading]:
-        self._buffer += data
         readings: list[RigReading] = []
-        while True:
-            end = self._buffer.find(b"\n")
-            if end < 0:
-                if len(self._buffer) > MAX_LINE:
-                    self._buffer = b""
-                    raise RigctldReplyError("too_long", f"a reply line is longer than "
-                                            f"{MAX_LINE} bytes")
-                return readings
-            raw, self._buffer = self._buffer[:end], self._buffer[end + 1:]
-            if len(raw) > MAX_LINE:
+        for line in self._lines.feed(data):
+            if isinstance(line, LongLine):
                 raise RigctldReplyError("too_long", f"a reply line is longer than {MAX_LINE} "
                                         "bytes")
-            reading = self._line(raw.rstrip(b"\r").decode("ascii", errors="replace"))
+            reading = self._line(line.data.decode("ascii", errors="replace"))
             if reading is not None:
                 readings.append(reading)
+        return readings
 
     def _line(self, line: str) -> RigReading | None:
         command = COMMANDS[self._index]

@@ -22,9 +22,9 @@ import pytest_asyncio
 from helpers import free_port, until
 from rig_support import Pty, rigctl, start_rigctld
 
-from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.server import ClientServer
 from moas_gui.sources.spec import SourceSpec, parse_spec
+from moas_gui.testing.fake_backend import FakeBackend
 
 needs_hamlib = pytest.mark.skipif(shutil.which("rigctld") is None, reason="Hamlib's rigctld")
 posix_only = pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals, signals")

@@ -6,7 +6,7 @@ from __future__ import annotations
 import asyncio
 import sys
 
-from moas_gui.hw.rotators.genius_emulator import GeniusModel, GeniusServer
+from moas_gui.testing.genius_server import GeniusModel, GeniusServer
 
 
 async def serve(port: int) -> None:

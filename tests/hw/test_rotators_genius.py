@@ -17,8 +17,9 @@ from helpers import FakeClock, run_on
 from test_rotators_manager import Recorder
 
 from moas_gui.config.model import Rotator, RotatorControl
-from moas_gui.hw.rotators import GeniusModel, GeniusServer, RotatorError, RotatorManager, Timing
-from moas_gui.hw.rotators.genius_codec import Command
+from moas_gui.hw.rotators import RotatorError, RotatorManager, Timing
+from moas_gui.hw.rotators.genius_codec import GeniusCommand
+from moas_gui.testing.genius_server import GeniusModel, GeniusServer
 
 FAST = Timing(reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.3, connect_timeout=0.5)
 
@@ -58,7 +59,7 @@ async def test_polls_heading_and_turns_with_a_three_digit_azimuth(genius: Genius
     try:
         await recorder.wait_for(lambda v: v.online and v.heading == 20)
         await manager.rotate(1, 45)
-        assert Command("A", 1, 45, b"|A1045") in genius.commands
+        assert GeniusCommand("A", 1, 45, b"|A1045") in genius.commands
         assert manager.view(1).target == 45 and manager.view(1).moving
         done = await recorder.wait_for(lambda v: v.heading == 45 and not v.moving)
         assert done.target is None
@@ -98,7 +99,7 @@ async def test_stop_stops_the_controller(genius: GeniusServer) -> None:
         await manager.rotate(1, 90)
         await recorder.wait_for(lambda v: v.heading is not None and v.heading >= 2)
         await manager.stop(1)
-        assert Command("S", raw=b"|S") in genius.commands
+        assert GeniusCommand("S", raw=b"|S") in genius.commands
         assert not manager.view(1).moving
         await recorder.clock.advance(0.3)
         assert genius.model.rotors[0].turn is None
@@ -181,7 +182,7 @@ async def test_heading_outside_the_configured_travel_is_clamped_before_sending(
     try:
         await recorder.wait_for(lambda v: v.online)
         await manager.rotate(1, 320)
-        assert Command("A", 1, 300, b"|A1300") in genius.commands
+        assert GeniusCommand("A", 1, 300, b"|A1300") in genius.commands
     finally:
         await manager.close()
 
@@ -236,7 +237,7 @@ async def test_a_unit_that_never_answers_a_turn_is_believed_when_the_heading_mov
     try:
         await recorder.wait_for(lambda v: v.online and v.heading == 20)
         await run_on(clock, manager.rotate(1, 60))
-        assert Command("A", 1, 60, b"|A1060") in server.commands
+        assert GeniusCommand("A", 1, 60, b"|A1060") in server.commands
         assert manager.view(1).target == 60 and manager.view(1).moving
         await recorder.wait_for(lambda v: v.heading == 60 and not v.moving)
         assert all(v.online for v in recorder.views[1:])

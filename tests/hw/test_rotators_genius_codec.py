@@ -8,10 +8,10 @@ from hypothesis import strategies as st
 
 from moas_gui.hw.rotators.genius_codec import (
     STATUS_LENGTH,
-    Command,
-    CommandDecoder,
-    Garbage,
-    Reply,
+    GeniusCommand,
+    GeniusCommandDecoder,
+    GeniusGarbage,
+    GeniusReply,
     ReplyDecoder,
     RotorBlock,
     Status,
@@ -22,7 +22,7 @@ from moas_gui.hw.rotators.genius_codec import (
     encode_stop,
     encode_turn,
 )
-from moas_gui.hw.rotators.genius_emulator import GeniusModel
+from moas_gui.testing.genius_server import GeniusModel
 
 # A real unit's |h reply (rotator-protocols.md 8): rotor 1 without sensor, rotor 2 at 43.
 CAPTURED = (
@@ -71,9 +71,9 @@ def test_replies_split_by_header_and_length_even_in_pieces() -> None:
     events = []
     for i in range(0, len(stream), 5):
         events += decoder.feed(stream[i:i + 5])
-    assert events[0] == Reply("A", True)
+    assert events[0] == GeniusReply("A", True)
     assert isinstance(events[1], Status)
-    assert events[2:] == [Reply("A", False, 158), Reply("S", True)]
+    assert events[2:] == [GeniusReply("A", False, 158), GeniusReply("S", True)]
 
 
 def test_garbage_is_reported_and_the_decoder_resynchronises_on_the_next_header() -> None:
@@ -82,9 +82,9 @@ def test_garbage_is_reported_and_the_decoder_resynchronises_on_the_next_header()
     broken[4 + 9] = ord("X")  # configuration byte of rotor 1
     events = decoder.feed(b"\xff\x00junk" + bytes(broken) + CAPTURED + b"|Zq|SK")
     kinds = [type(e).__name__ for e in events]
-    assert kinds == ["Garbage", "Garbage", "Status", "Garbage", "Reply"]
-    assert isinstance(events[1], Garbage) and "configuration byte is 'X'" in events[1].reason
-    assert isinstance(events[3], Garbage) and "unknown reply header |Z" in events[3].reason
+    assert kinds == ["GeniusGarbage", "GeniusGarbage", "Status", "GeniusGarbage", "GeniusReply"]
+    assert isinstance(events[1], GeniusGarbage) and "configuration byte is 'X'" in events[1].reason
+    assert isinstance(events[3], GeniusGarbage) and "unknown reply header |Z" in events[3].reason
 
 
 @given(st.binary(max_size=200))
@@ -96,26 +96,26 @@ def test_the_decoder_survives_any_bytes(data: bytes) -> None:
 
 
 def test_the_controller_side_reads_commands_by_length() -> None:
-    decoder = CommandDecoder()
+    decoder = GeniusCommandDecoder()
     out = decoder.feed(b"|h|A1") + decoder.feed(b"270|S|P2|x")
-    assert out[:4] == [Command("h", raw=b"|h"), Command("A", 1, 270, b"|A1270"),
-                       Command("S", raw=b"|S"), Command("P", 2, raw=b"|P2")]
-    assert isinstance(out[4], Garbage)
+    assert out[:4] == [GeniusCommand("h", raw=b"|h"), GeniusCommand("A", 1, 270, b"|A1270"),
+                       GeniusCommand("S", raw=b"|S"), GeniusCommand("P", 2, raw=b"|P2")]
+    assert isinstance(out[4], GeniusGarbage)
 
 
 @given(st.binary(max_size=200))
 def test_the_controller_side_survives_any_bytes(data: bytes) -> None:
-    decoder = CommandDecoder()
+    decoder = GeniusCommandDecoder()
     decoder.feed(data)
     out = decoder.feed(b"h" * 22 + b"|h")  # 22 bytes complete any command left pending
-    assert out[-1] == Command("h", raw=b"|h")
+    assert out[-1] == GeniusCommand("h", raw=b"|h")
 
 
 # ---- the emulator's model ------------------------------------------------------------------
 
 def test_model_turns_at_its_speed_and_reports_target_and_direction() -> None:
     model = GeniusModel(speed=10.0)
-    assert model.handle(Command("A", 1, 30), now=0.0) == b"|AK"
+    assert model.handle(GeniusCommand("A", 1, 30), now=0.0) == b"|AK"
     first = model.status(now=1.0).rotors[0]
     assert (first.azimuth, first.moving, first.target, first.start) == (10, 1, 30, 0)
     done = model.status(now=5.0).rotors[0]
@@ -126,24 +126,24 @@ def test_model_never_turns_through_its_stop() -> None:
     model = GeniusModel(speed=100.0)
     model.rotors[0].limit_ccw, model.rotors[0].limit_cw = 180, 180  # stop at south
     model.set_azimuth(1, 170, now=0.0)
-    model.handle(Command("A", 1, 190), now=0.0)
+    model.handle(GeniusCommand("A", 1, 190), now=0.0)
     assert model.status(now=0.1).rotors[0].moving == 2  # counterclockwise, the long way
 
 
 def test_model_refuses_targets_outside_its_limits_and_moves_without_sensor() -> None:
     model = GeniusModel()
     model.rotors[1].limit_ccw, model.rotors[1].limit_cw = 0, 300
-    assert model.handle(Command("A", 2, 330), now=0.0) == b"|AF"
+    assert model.handle(GeniusCommand("A", 2, 330), now=0.0) == b"|AF"
     model.rotors[0].sensor = False
-    assert model.handle(Command("A", 1, 10), now=0.0) == b"|AF"
+    assert model.handle(GeniusCommand("A", 1, 10), now=0.0) == b"|AF"
     assert model.status(now=0.0).rotors[0].azimuth is None
 
 
 def test_stop_stops_both_rotors() -> None:
     model = GeniusModel(speed=1.0)
-    model.handle(Command("A", 1, 90), now=0.0)
-    model.handle(Command("P", 2), now=0.0)
-    assert model.handle(Command("S"), now=1.0) == b"|SK"
+    model.handle(GeniusCommand("A", 1, 90), now=0.0)
+    model.handle(GeniusCommand("P", 2), now=0.0)
+    assert model.handle(GeniusCommand("S"), now=1.0) == b"|SK"
     rotors = model.status(now=5.0).rotors
     assert [r.moving for r in rotors] == [0, 0]
     assert [r.azimuth for r in rotors] == [1, 1]

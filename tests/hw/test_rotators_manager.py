@@ -371,7 +371,7 @@ async def test_from_config_takes_rotators_antennas_and_start_moas_rotator() -> N
 
 def test_the_public_names_are_frozen() -> None:
     assert sorted(rotators_package.__all__) == sorted([
-        "FakeMoasRotator", "GeniusModel", "GeniusServer", "RotatorError", "RotatorManager",
+        "RotatorError", "RotatorManager",
         "RotatorStatus", "RotatorView", "Timing", "Travel", "Turn", "angular_distance",
         "antenna_heading", "closest_direction", "normalize", "plan_turn", "rotator_heading_for",
     ])

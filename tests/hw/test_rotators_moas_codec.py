@@ -9,14 +9,14 @@ from hypothesis import strategies as st
 
 from moas_gui.hw.rotators.moas_rotator_codec import (
     MAX_COMMAND_LINE,
-    BadLine,
+    BadRotatorLine,
     CommandDecoder,
     Configure,
     HeadingReport,
-    LineSplitter,
+    HeadingScale,
     ReportDecoder,
     Rotate,
-    Scale,
+    RotatorLineReader,
     Stop,
     VersionReport,
     VersionRequest,
@@ -39,14 +39,14 @@ def test_commands_end_with_cr_and_put_the_model_before_the_port() -> None:
 
 
 @pytest.mark.parametrize(("name", "field", "scale"), [
-    ("DCU1", "1", Scale.COMPASS), ("RotorEZ", "2", Scale.COMPASS),
-    ("Yaesu", "4", Scale.FROM_CCW_STOP), ("Alfaspid", "5", Scale.FROM_CCW_STOP),
-    ("RC2800P-A", "8", Scale.FROM_CCW_STOP), ("RC2800P-X", "9", Scale.FROM_CCW_STOP),
-    ("Prosistel D", "10", Scale.FROM_CCW_STOP), ("prosistel-d", "10", Scale.FROM_CCW_STOP),
-    ("rotor ez", "2", Scale.COMPASS), ("4", "4", Scale.FROM_CCW_STOP),
-    ("GS-232A", "GS-232A", Scale.FROM_CCW_STOP),
+    ("DCU1", "1", HeadingScale.COMPASS), ("RotorEZ", "2", HeadingScale.COMPASS),
+    ("Yaesu", "4", HeadingScale.FROM_CCW_STOP), ("Alfaspid", "5", HeadingScale.FROM_CCW_STOP),
+    ("RC2800P-A", "8", HeadingScale.FROM_CCW_STOP), ("RC2800P-X", "9", HeadingScale.FROM_CCW_STOP),
+    ("Prosistel D", "10", HeadingScale.FROM_CCW_STOP), ("prosistel-d", "10", HeadingScale.FROM_CCW_STOP),
+    ("rotor ez", "2", HeadingScale.COMPASS), ("4", "4", HeadingScale.FROM_CCW_STOP),
+    ("GS-232A", "GS-232A", HeadingScale.FROM_CCW_STOP),
 ])
-def test_model_names_become_the_numbers_of_appendix_b(name: str, field: str, scale: Scale) -> None:
+def test_model_names_become_the_numbers_of_appendix_b(name: str, field: str, scale: HeadingScale) -> None:
     assert model_field(name) == (field, scale)
 
 
@@ -71,16 +71,16 @@ def test_reports_are_split_on_cr_lf_or_both() -> None:
 def test_malformed_reports_say_what_and_name_the_rotator_when_they_can() -> None:
     events = ReportDecoder().feed(b"3 north\r3 1 2\rhello world\r")
     assert events == [
-        BadLine("3 north", "heading 'north' is not a number", 3),
-        BadLine("3 1 2", "a heading report has exactly two fields", 3),
-        BadLine("hello world", "neither a VERSION line nor '<rotator> <degrees>'"),
+        BadRotatorLine("3 north", "heading 'north' is not a number", 3),
+        BadRotatorLine("3 1 2", "a heading report has exactly two fields", 3),
+        BadRotatorLine("hello world", "neither a VERSION line nor '<rotator> <degrees>'"),
     ]
 
 
 def test_an_endless_line_is_dropped_once_and_the_stream_recovers() -> None:
-    splitter = LineSplitter(max_line=16)
+    splitter = RotatorLineReader(max_line=16)
     out = splitter.feed(b"x" * 40 + b"\r1 5\r")
-    assert isinstance(out[0], BadLine) and "longer than 16" in out[0].reason
+    assert isinstance(out[0], BadRotatorLine) and "longer than 16" in out[0].reason
     assert out[1:] == ["1 5"]
 
 
@@ -109,7 +109,7 @@ def test_the_program_side_reports_headings_as_whole_degrees() -> None:
 
 @pytest.mark.parametrize("line", ["ROTATE x 5", "ROTATE 1", "STOP", "CONFIGURE 1 2 COM1"])
 def test_the_program_side_refuses_malformed_commands(line: str) -> None:
-    assert isinstance(parse_command(line), BadLine)
+    assert isinstance(parse_command(line), BadRotatorLine)
 
 
 # ---- the program side, as the MOAS Rotator program reads it ----------------------------
@@ -157,7 +157,7 @@ def test_commands_are_read_in_every_accepted_form(line: str, command: object) ->
 def test_bad_commands_say_why_and_which_rotator(line: str, reason: str,
                                                 rotator: int | None) -> None:
     bad = parse_command(line)
-    assert isinstance(bad, BadLine)
+    assert isinstance(bad, BadRotatorLine)
     assert bad.line == line and reason in bad.reason and bad.rotator == rotator
 
 
@@ -171,7 +171,7 @@ def test_lines_end_with_cr_lf_or_crlf_and_may_arrive_in_pieces() -> None:
 def test_a_line_too_long_is_refused_once_and_the_next_line_is_read() -> None:
     reader = CommandDecoder()
     out = reader.feed(b"X" * (MAX_COMMAND_LINE + 1))
-    assert len(out) == 1 and isinstance(out[0], BadLine)
+    assert len(out) == 1 and isinstance(out[0], BadRotatorLine)
     assert "longer than 512 bytes" in out[0].reason
     assert reader.feed(b"X" * 1000) == []
     assert reader.feed(b"XX\rSTOP 2\r") == [Stop(2)]
@@ -179,7 +179,7 @@ def test_a_line_too_long_is_refused_once_and_the_next_line_is_read() -> None:
 
 def test_eight_bit_bytes_do_not_break_the_reader() -> None:
     out = CommandDecoder().feed(b"ROT\xe9TE 1 5\r\x00\xff\rSTOP 1\r")
-    assert isinstance(out[0], BadLine) and isinstance(out[1], BadLine)
+    assert isinstance(out[0], BadRotatorLine) and isinstance(out[1], BadRotatorLine)
     assert out[2] == Stop(1)
 
 
@@ -193,9 +193,9 @@ def test_messages_end_with_cr() -> None:
                                   "CONFIGURE 1 4 COM1 \u00b2"])
 def test_digits_other_than_ascii_are_refused_not_a_crash(line: str) -> None:
     bad = parse_command(line)
-    assert isinstance(bad, BadLine) and "whole number" in bad.reason
+    assert isinstance(bad, BadRotatorLine) and "whole number" in bad.reason
 
 
 @given(st.text(max_size=60))
 def test_the_program_side_reads_any_text_without_raising(line: str) -> None:
-    assert isinstance(parse_command(line), BadLine | VersionRequest | Configure | Rotate | Stop)
+    assert isinstance(parse_command(line), BadRotatorLine | VersionRequest | Configure | Rotate | Stop)

@@ -20,8 +20,8 @@ from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.hw.rotators import RotatorManager, Timing
 from moas_gui.hw.rotators.headings import Travel
 from moas_gui.net.rotctld_codec import (
-    Request,
     RequestParser,
+    RotctldRequest,
     answer,
     azimuth_for,
     move_target,
@@ -36,44 +36,46 @@ ROTCTL = shutil.which("rotctl")
 
 # ---- the codec ---------------------------------------------------------------------------
 
-def parse(*chunks: bytes) -> list[Request]:
+def parse(*chunks: bytes) -> list[RotctldRequest]:
     parser = RequestParser()
-    out: list[Request] = []
+    out: list[RotctldRequest] = []
     for chunk in chunks:
         out += parser.feed(chunk)
     return out
 
 
 def test_commands_are_read_from_a_stream_not_from_lines() -> None:
-    assert parse(b"P 10 20 p\n") == [Request("set_pos", ("10", "20")), Request("get_pos")]
-    assert parse(b"P\n10\n", b"20\n") == [Request("set_pos", ("10", "20"))]
+    assert parse(b"P 10 20 p\n") == [RotctldRequest("set_pos", ("10", "20")),
+                                     RotctldRequest("get_pos")]
+    assert parse(b"P\n10\n", b"20\n") == [RotctldRequest("set_pos", ("10", "20"))]
     assert parse(b"p\r\n\\get_pos\n\\dump_state\n") == [
-        Request("get_pos"), Request("get_pos"), Request("dump_state")]
+        RotctldRequest("get_pos"), RotctldRequest("get_pos"), RotctldRequest("dump_state")]
 
 
 def test_an_argument_is_complete_only_when_whitespace_follows() -> None:
     parser = RequestParser()
     assert parser.feed(b"P 12") == []
     assert parser.feed(b"3.5 4") == []
-    assert parser.feed(b"5\n") == [Request("set_pos", ("123.5", "45"))]
+    assert parser.feed(b"5\n") == [RotctldRequest("set_pos", ("123.5", "45"))]
 
 
 def test_extended_prefixes_choose_the_record_separator() -> None:
     assert parse(b"+p\n;p\n|\\set_pos 1 2\n") == [
-        Request("get_pos", separator="\n"), Request("get_pos", separator=";"),
-        Request("set_pos", ("1", "2"), separator="|")]
+        RotctldRequest("get_pos", separator="\n"), RotctldRequest("get_pos", separator=";"),
+        RotctldRequest("set_pos", ("1", "2"), separator="|")]
 
 
 def test_comments_blank_lines_unknown_commands_and_quit() -> None:
     assert parse(b"# hello\n\n\nZ\n\\bogus\nq\n") == [
-        Request("Z", known=False), Request("bogus", known=False), Request("quit")]
+        RotctldRequest("Z", known=False), RotctldRequest("bogus", known=False),
+        RotctldRequest("quit")]
 
 
 def test_a_flood_without_commands_is_dropped_and_flagged() -> None:
     parser = RequestParser()
     parser.feed(b"\\" + b"x" * 5000)
     assert parser.overflowed
-    assert parser.feed(b"\np\n") == [Request("get_pos")]
+    assert parser.feed(b"\np\n") == [RotctldRequest("get_pos")]
 
 
 @given(st.binary(max_size=300))
@@ -81,22 +83,22 @@ def test_the_parser_survives_any_bytes(data: bytes) -> None:
     parser = RequestParser()
     parser.feed(data)
     parser.feed(b"\n# resync\n")
-    assert parser.feed(b"\np\n")[-1] == Request("get_pos")
+    assert parser.feed(b"\np\n")[-1] == RotctldRequest("get_pos")
 
 
 def test_default_and_extended_answers_match_rotctld() -> None:
     values = (("Azimuth", "39.26"), ("Elevation", "0.00"))
-    assert answer(Request("get_pos"), values) == b"39.26\n0.00\n"
-    assert answer(Request("get_pos", separator="\n"), values) == \
+    assert answer(RotctldRequest("get_pos"), values) == b"39.26\n0.00\n"
+    assert answer(RotctldRequest("get_pos", separator="\n"), values) == \
         b"get_pos:\nAzimuth: 39.26\nElevation: 0.00\nRPRT 0\n"
-    assert answer(Request("get_pos", separator=";"), values) == \
+    assert answer(RotctldRequest("get_pos", separator=";"), values) == \
         b"get_pos:;Azimuth: 39.26;Elevation: 0.00;RPRT 0\n"
-    assert answer(Request("set_pos", ("135", "22.5"), separator="|")) == \
+    assert answer(RotctldRequest("set_pos", ("135", "22.5"), separator="|")) == \
         b"set_pos: 135 22.5|RPRT 0\n"
-    assert answer(Request("set_pos", ("500", "10"), separator="\n"), code=1) == \
+    assert answer(RotctldRequest("set_pos", ("500", "10"), separator="\n"), code=1) == \
         b"set_pos: 500 10\nRPRT -1\n"
-    assert answer(Request("stop")) == b"RPRT 0\n"
-    assert answer(Request("stop"), code=9) == b"RPRT -9\n"
+    assert answer(RotctldRequest("stop")) == b"RPRT 0\n"
+    assert answer(RotctldRequest("stop"), code=9) == b"RPRT -9\n"
 
 
 def test_the_offered_scale_starts_at_the_stop_and_always_covers_a_compass() -> None:

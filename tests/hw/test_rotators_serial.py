@@ -16,9 +16,10 @@ from helpers import FakeClock, advance_until, free_port
 from test_rotators_manager import Recorder
 
 from moas_gui.config.model import Rotator, RotatorControl
-from moas_gui.hw.rotators import FakeMoasRotator, RotatorError, RotatorManager, Timing
+from moas_gui.hw.rotators import RotatorError, RotatorManager, Timing
 from moas_gui.hw.rotators.moas_rotator_codec import Configure, Rotate, Stop, VersionRequest
 from moas_gui.hw.rotators.moas_rotator_process import default_command
+from moas_gui.testing.fake_moas_rotator import FakeMoasRotator
 
 FAST = Timing(reconnect_min=0.05, reconnect_max=0.2, reply_timeout=0.5, connect_timeout=0.5,
               stall_min=1.0)
@@ -293,7 +294,7 @@ async def test_no_program_at_the_address_keeps_the_rotator_offline_and_retrying(
 @pytest.mark.asyncio
 async def test_local_serial_rotator_starts_the_program_and_stops_it_on_exit() -> None:
     port = free_port()
-    command = [sys.executable, "-m", "moas_gui.hw.rotators.fake_moas_rotator", "--port", str(port)]
+    command = [sys.executable, "-m", "moas_gui.testing.fake_moas_rotator", "--port", str(port)]
     recorder = Recorder()
     manager = RotatorManager([serial(1, address="localhost")], on_change=recorder,
                              moas_rotator_port=port, moas_rotator_command=command, timing=FAST)

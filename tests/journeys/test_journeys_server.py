@@ -3,8 +3,8 @@ driven as a person drives it (menus, tray menu, question dialogs, a second launc
 and checked as a person checks it: the client port answers, the switch shows the
 right relays, the title, status bar and tray say the truth.
 
-The clicks go through the process's control hook (``moas_gui/ui/control_hook.py``,
-on only when the test sets ``MOAS_GUI_CONTROL_SOCKET``): it triggers the real
+The clicks go through the process's control hook (``moas_gui/testing/control_hook.py``,
+loaded only when the test names it in ``MOAS_GUI_CONTROL_HOOK``): it triggers the real
 QActions and clicks the real dialog buttons from the Qt event loop.  The window
 runs under ``QT_QPA_PLATFORM=offscreen`` (no system tray there, so the tray's
 menu is triggered directly).
@@ -44,6 +44,7 @@ class Server:
         self.env = dict(os.environ, QT_QPA_PLATFORM="offscreen", PYTHONUNBUFFERED="1",
                         XDG_RUNTIME_DIR=str(self.runtime),
                         XDG_CONFIG_HOME=str(tmp_path / "config"),
+                        MOAS_GUI_CONTROL_HOOK="moas_gui.testing.control_hook",
                         MOAS_GUI_CONTROL_SOCKET=str(self.control))
         self.new_instance = new_instance
         self.process: subprocess.Popen[str] | None = None

@@ -8,11 +8,12 @@ import importlib
 import pytest
 
 import moas_gui.net
+from moas_gui.testing.fake_backend import FakeBackend
 
 PUBLIC = {
     "moas_gui.net": [
         "DEFAULT_ALLOW", "DEFAULT_PORT", "ClientBackend", "ClientInfo", "ClientLogHandler",
-        "ClientServer", "ConnectionClosed", "ErrorCode", "EventSink", "FakeBackend",
+        "ClientServer", "ConnectionClosed", "ErrorCode", "EventSink",
         "ProtocolClient", "RequestError", "allowed_networks", "is_allowed", "parse_allow_list",
     ],
     "moas_gui.net.backend": [
@@ -27,7 +28,7 @@ PUBLIC = {
         "DEFAULT_ALLOW", "DEFAULT_ALLOW_TEXT", "IPAddress", "IPNetwork", "allowed_networks",
         "is_allowed", "parse_allow_list", "peer_address",
     ],
-    "moas_gui.net.framing": ["MAX_LINE", "Line", "LineSplitter", "LongLine"],
+    "moas_gui.net.framing": ["MAX_LINE", "Line", "LineFramer", "LongLine", "request_framer"],
     "moas_gui.net.requests": [
         "COMMANDS", "MAX_DEPTH", "Arg", "BadLine", "Command", "InvalidRequest", "Kind", "Request",
         "check_request", "describe", "parse_line", "too_deep",
@@ -45,7 +46,7 @@ PUBLIC = {
     "moas_gui.net.web_socket": ["MAX_MESSAGE", "WebSocketOutlet", "converse"],
     "moas_gui.net.web_guard": ["host_allowed", "local_names", "origin_complaint", "split_host"],
     "moas_gui.net.dispatch": ["HANDLERS", "MAX_BAD_LINES", "answer"],
-    "moas_gui.net.fake_backend": ["FakeBackend"],
+    "moas_gui.testing.fake_backend": ["FakeBackend"],
     "moas_gui.net.log_events": ["ClientLogHandler", "client_level"],
 }
 
@@ -70,7 +71,7 @@ def test_the_server_is_an_event_sink_and_the_fake_a_backend() -> None:
 
     for name in ("snapshot", "frequency", "select", "function", "relative", "layout",
                  "rotate", "stop"):
-        assert name in ClientBackend.__dict__ and callable(getattr(moas_gui.net.FakeBackend, name))
+        assert name in ClientBackend.__dict__ and callable(getattr(FakeBackend, name))
     for name in ("publish_state", "publish_radio", "publish_rotator", "publish_switch",
                  "layouts_may_have_changed", "publish_log"):
         assert name in EventSink.__dict__ and callable(getattr(moas_gui.net.ClientServer, name))
@@ -79,6 +80,6 @@ def test_the_server_is_an_event_sink_and_the_fake_a_backend() -> None:
 def test_the_fake_and_the_server_satisfy_the_protocols_for_the_type_checker() -> None:
     from moas_gui.net.backend import ClientBackend, EventSink
 
-    backend: ClientBackend = moas_gui.net.FakeBackend()
+    backend: ClientBackend = FakeBackend()
     sink: EventSink = moas_gui.net.ClientServer(backend, host="127.0.0.1", port=0)
     assert sink.client_count == 0  # type: ignore[attr-defined]

@@ -13,10 +13,10 @@ import pytest
 
 from moas_gui import __version__
 from moas_gui.net.backend import ErrorCode
-from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.messages import EVENTS
 from moas_gui.net.requests import COMMANDS
 from moas_gui.net.server import ClientServer
+from moas_gui.testing.fake_backend import FakeBackend
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "client-protocol.md"
 TEXT = DOC.read_text(encoding="utf-8")

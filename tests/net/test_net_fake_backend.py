@@ -1,4 +1,4 @@
-"""The fake backend's rules (moas_gui.net.fake_backend), called directly."""
+"""The fake backend's rules (moas_gui.testing.fake_backend), called directly."""
 
 from __future__ import annotations
 
@@ -11,8 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from moas_gui.net.backend import ErrorCode, LogLevel, RequestError
-from moas_gui.net.fake_backend import FakeBackend
-from moas_gui.net.fake_station import (
+from moas_gui.testing.fake_backend import FakeBackend
+from moas_gui.testing.fake_station import (
     DEMO_STATION,
     FakeAntenna,
     FakeLayout,

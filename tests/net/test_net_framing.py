@@ -5,10 +5,10 @@ from __future__ import annotations
 from hypothesis import given
 from hypothesis import strategies as st
 
-from moas_gui.net.framing import MAX_LINE, Line, LineSplitter, LongLine
+from moas_gui.net.framing import MAX_LINE, Line, LineFramer, LongLine, request_framer
 
 
-def feed_all(splitter: LineSplitter, *chunks: bytes) -> list[Line | LongLine]:
+def feed_all(splitter: LineFramer, *chunks: bytes) -> list[Line | LongLine]:
     out: list[Line | LongLine] = []
     for chunk in chunks:
         out += splitter.feed(chunk)
@@ -16,13 +16,13 @@ def feed_all(splitter: LineSplitter, *chunks: bytes) -> list[Line | LongLine]:
 
 
 def test_lines_end_with_newline_and_a_carriage_return_before_it_is_dropped() -> None:
-    assert feed_all(LineSplitter(), b'{"a":1}\n{"b":2}\r\n') == [
+    assert feed_all(request_framer(), b'{"a":1}\n{"b":2}\r\n') == [
         Line(b'{"a":1}'), Line(b'{"b":2}')
     ]
 
 
 def test_a_line_without_its_newline_waits_for_the_rest() -> None:
-    splitter = LineSplitter()
+    splitter = request_framer()
     assert splitter.feed(b'{"cmd":') == []
     assert splitter.pending == 7
     assert splitter.feed(b'"state"}\n') == [Line(b'{"cmd":"state"}')]
@@ -30,30 +30,30 @@ def test_a_line_without_its_newline_waits_for_the_rest() -> None:
 
 
 def test_a_carriage_return_split_from_its_newline_is_still_dropped() -> None:
-    assert feed_all(LineSplitter(), b"abc\r", b"\n") == [Line(b"abc")]
+    assert feed_all(request_framer(), b"abc\r", b"\n") == [Line(b"abc")]
 
 
 def test_a_carriage_return_inside_a_line_is_kept() -> None:
-    assert feed_all(LineSplitter(), b"a\rb\n") == [Line(b"a\rb")]
+    assert feed_all(request_framer(), b"a\rb\n") == [Line(b"a\rb")]
 
 
 def test_empty_lines_are_returned_empty() -> None:
-    assert feed_all(LineSplitter(), b"\n\r\n") == [Line(b""), Line(b"")]
+    assert feed_all(request_framer(), b"\n\r\n") == [Line(b""), Line(b"")]
 
 
 def test_a_line_of_exactly_the_limit_is_accepted_even_with_crlf() -> None:
     body = b"x" * MAX_LINE
-    assert feed_all(LineSplitter(), body + b"\r\n") == [Line(body)]
-    assert feed_all(LineSplitter(), body[:1000], body[1000:], b"\r", b"\n") == [Line(body)]
+    assert feed_all(request_framer(), body + b"\r\n") == [Line(body)]
+    assert feed_all(request_framer(), body[:1000], body[1000:], b"\r", b"\n") == [Line(body)]
 
 
 def test_a_line_one_byte_over_the_limit_is_long() -> None:
-    out = feed_all(LineSplitter(), b"x" * (MAX_LINE + 1) + b"\n")
+    out = feed_all(request_framer(), b"x" * (MAX_LINE + 1) + b"\n")
     assert out == [LongLine(MAX_LINE + 1)]
 
 
 def test_a_long_line_is_reported_before_its_end_arrives_and_only_once() -> None:
-    splitter = LineSplitter()
+    splitter = request_framer()
     first = splitter.feed(b"[" * (MAX_LINE + 2))
     assert len(first) == 1 and isinstance(first[0], LongLine)
     assert splitter.pending == 0
@@ -64,12 +64,12 @@ def test_a_long_line_is_reported_before_its_end_arrives_and_only_once() -> None:
 
 
 def test_the_line_after_a_long_one_is_served_normally() -> None:
-    out = feed_all(LineSplitter(), b"y" * 200_000 + b'\n{"cmd":"state"}\n')
+    out = feed_all(request_framer(), b"y" * 200_000 + b'\n{"cmd":"state"}\n')
     assert out == [LongLine(200_000), Line(b'{"cmd":"state"}')]
 
 
 def test_a_smaller_limit_can_be_chosen() -> None:
-    assert feed_all(LineSplitter(limit=4), b"abcd\nabcde\n") == [Line(b"abcd"), LongLine(5)]
+    assert feed_all(request_framer(limit=4), b"abcd\nabcde\n") == [Line(b"abcd"), LongLine(5)]
 
 
 @given(
@@ -80,8 +80,8 @@ def test_how_the_bytes_are_cut_into_chunks_never_changes_the_lines(
     lines: list[bytes], cuts: list[int]
 ) -> None:
     stream = b"".join(line + b"\n" for line in lines)
-    whole = LineSplitter(limit=200).feed(stream)
-    splitter = LineSplitter(limit=200)
+    whole = request_framer(limit=200).feed(stream)
+    splitter = request_framer(limit=200)
     pieces: list[Line | LongLine] = []
     position, i = 0, 0
     while position < len(stream):

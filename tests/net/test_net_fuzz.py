@@ -21,10 +21,10 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.framing import MAX_LINE
 from moas_gui.net.requests import COMMANDS, MAX_DEPTH, MAX_ID, Kind
 from moas_gui.net.server import ClientServer
+from moas_gui.testing.fake_backend import FakeBackend
 
 HOST = "127.0.0.1"
 TIMEOUT = 10.0

@@ -224,7 +224,7 @@ async def test_running_out_of_file_handles_writes_one_line_and_the_server_recove
 
 
 def test_max_clients_must_be_positive() -> None:
-    from moas_gui.net.fake_backend import FakeBackend
+    from moas_gui.testing.fake_backend import FakeBackend
 
     with pytest.raises(ValueError, match="at least 1"):
         ClientServer(FakeBackend(), max_clients=0)

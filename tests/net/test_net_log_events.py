@@ -10,9 +10,9 @@ import pytest
 
 from moas_gui.net.backend import LogLevel
 from moas_gui.net.client import ProtocolClient
-from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.log_events import ClientLogHandler, client_level
 from moas_gui.net.server import ClientServer
+from moas_gui.testing.fake_backend import FakeBackend
 
 
 @pytest.mark.parametrize(

@@ -18,8 +18,8 @@ from moas_gui import __version__
 from moas_gui.errors import HardwareError
 from moas_gui.net.backend import RequestError
 from moas_gui.net.client import ProtocolClient
-from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.server import ClientServer
+from moas_gui.testing.fake_backend import FakeBackend
 
 HOST = "127.0.0.1"
 

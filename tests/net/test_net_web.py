@@ -16,11 +16,11 @@ import pytest_asyncio
 
 from moas_gui.config import load_config
 from moas_gui.net.client import ProtocolClient
-from moas_gui.net.fake_backend import FakeBackend
 from moas_gui.net.framing import MAX_LINE
 from moas_gui.net.server import ClientServer
 from moas_gui.net.web import WebServer, page_files, start_web
 from moas_gui.net.web_guard import host_allowed, local_names, origin_complaint, split_host
+from moas_gui.testing.fake_backend import FakeBackend
 
 HOST = "127.0.0.1"
 

@@ -262,9 +262,9 @@ async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
 @pytest.mark.timeout(120)
 async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         browser: Any) -> None:
-    from moas_gui.net.fake_backend import FakeBackend
     from moas_gui.net.server import ClientServer
     from moas_gui.net.web import WebServer
+    from moas_gui.testing.fake_backend import FakeBackend
 
     backend = FakeBackend()
     clients = ClientServer(backend, host="127.0.0.1", port=0)

@@ -15,11 +15,11 @@ from pty_bench import PtyBench
 
 from moas_gui.hw.rotators.controllers.base import OutOfRange
 from moas_gui.hw.rotators.controllers.dcu1 import DCU1Codec
-from moas_gui.hw.rotators.controllers.faulty import FaultyController
 from moas_gui.hw.rotators.controllers.models import MODELS, find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
 from moas_gui.rotator_program.driver import ControllerDriver
 from moas_gui.rotator_program.serial_link import PortError, split_port
+from moas_gui.testing.faulty_controller import FaultyController
 
 SPEED = 200.0
 TURN_SPEED = 100.0

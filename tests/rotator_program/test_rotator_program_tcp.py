@@ -13,10 +13,10 @@ import pytest
 import pytest_asyncio
 from pty_bench import PtyBench
 
-from moas_gui.hw.rotators.controllers.faulty import FaultyController
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
 from moas_gui.rotator_program.program import RotatorProgram
+from moas_gui.testing.faulty_controller import FaultyController
 
 SPEED = 200.0
 

@@ -407,8 +407,8 @@ def test_the_client_stops_on_sigterm(headless: bool, start: Any,
 
 @pytest.mark.realtime
 @pytest.mark.parametrize("args, ready", [
-    (["-m", "moas_gui.net.fake_server", "--port", "0"], "port "),
-    (["-m", "moas_gui.hw.rotators.fake_moas_rotator", "--port", "0"],
+    (["-m", "moas_gui.testing.fake_server", "--port", "0"], "port "),
+    (["-m", "moas_gui.testing.fake_moas_rotator", "--port", "0"],
      "fake MOAS Rotator listening on"),
 ], ids=["fake-server", "fake-moas-rotator"])
 def test_the_stand_ins_stop_on_sigterm(args: list[str], ready: str, start: Any) -> None:

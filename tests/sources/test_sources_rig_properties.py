@@ -72,4 +72,4 @@ def test_otrsp_parser_any_bytes(data: list[bytes]) -> None:
                 assert item.reason
             elif isinstance(item, Aux):
                 assert item.radio in (1, 2) and 0 <= item.value <= 255
-    assert len(parser._buffer) <= MAX_LINE + 300
+    assert parser.pending <= MAX_LINE + 300

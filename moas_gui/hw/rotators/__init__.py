@@ -3,12 +3,12 @@
 Hamlib rotctld) and the manager that serves them to clients.
 
 The serial controllers themselves and the MOAS Rotator program live in
-``controllers/`` and ``moas_gui.rotator_program``.  See ``docs/rotators.md``.
+``controllers/`` and ``moas_gui.rotator_program``; the stand-ins tests use for
+a MOAS Rotator program and a Rotator Genius are in :mod:`moas_gui.testing`.
+See ``docs/rotators.md``.
 """
 
 from .base import RotatorError, RotatorStatus, RotatorView, Timing
-from .fake_moas_rotator import FakeMoasRotator
-from .genius_emulator import GeniusModel, GeniusServer
 from .headings import (
     Travel,
     Turn,
@@ -22,7 +22,7 @@ from .headings import (
 from .manager import RotatorManager
 
 __all__ = [
-    "FakeMoasRotator", "GeniusModel", "GeniusServer", "RotatorError", "RotatorManager",
-    "RotatorStatus", "RotatorView", "Timing", "Travel", "Turn", "angular_distance",
-    "antenna_heading", "closest_direction", "normalize", "plan_turn", "rotator_heading_for",
+    "RotatorError", "RotatorManager", "RotatorStatus", "RotatorView", "Timing", "Travel", "Turn",
+    "angular_distance", "antenna_heading", "closest_direction", "normalize", "plan_turn",
+    "rotator_heading_for",
 ]

@@ -28,8 +28,8 @@ from moas_gui.config.model import Rotator
 from .base import Publish, RotatorDriver, RotatorStatus, Timing
 from .genius_codec import (
     Event,
-    Garbage,
-    Reply,
+    GeniusGarbage,
+    GeniusReply,
     ReplyDecoder,
     RotorBlock,
     Status,
@@ -79,7 +79,7 @@ class GeniusLink:
         if task is not None:
             await cancel_and_wait(task)
 
-    async def request(self, command: bytes, answer: str) -> Status | Reply:
+    async def request(self, command: bytes, answer: str) -> Status | GeniusReply:
         """Send one command and wait for its answer (``"h"`` or a command letter).
 
         Raises ``ConnectionError`` when not connected and ``TimeoutError``
@@ -98,7 +98,7 @@ class GeniusLink:
                 writer.close()
                 raise
 
-    async def turn(self, command: bytes, confirms: Callable[[Status], bool]) -> Reply | None:
+    async def turn(self, command: bytes, confirms: Callable[[Status], bool]) -> GeniusReply | None:
         """Send a turn (``|A``) and wait for whichever comes first: the
         controller's ``|AK``/``|AF``, or a status in which ``confirms`` sees
         the turn under way.  Returns the reply, or None when a status
@@ -127,7 +127,7 @@ class GeniusLink:
                         await writer.drain()
                         event = await self._answer(reader, "hA")
                         heard = True
-                        if isinstance(event, Reply):
+                        if isinstance(event, GeniusReply):
                             return event
                         self._hand_out(event)
                         if confirms(event):
@@ -145,26 +145,26 @@ class GeniusLink:
         """How long a turn waits for ``|AK`` before looking at the status."""
         return min(self.poll, self.timing.reply_timeout / 4)
 
-    async def _wait_for_reply(self, reader: asyncio.StreamReader) -> Reply:
+    async def _wait_for_reply(self, reader: asyncio.StreamReader) -> GeniusReply:
         event = await self._answer(reader, "A")
-        assert isinstance(event, Reply)
+        assert isinstance(event, GeniusReply)
         return event
 
     def _hand_out(self, status: Status) -> None:
         for driver in self.drivers:
             driver.on_status(status.rotors[driver.rotor - 1])
 
-    async def _answer(self, reader: asyncio.StreamReader, answers: str) -> Status | Reply:
+    async def _answer(self, reader: asyncio.StreamReader, answers: str) -> Status | GeniusReply:
         """Read until an answer to one of ``answers`` (``"h"`` for a status,
         command letters for replies) comes."""
         while True:
             data = await reader.read(512)
             if not data:
                 raise ConnectionResetError("it closed the connection")
-            found: Status | Reply | None = None
+            found: Status | GeniusReply | None = None
             for event in self._decoder.feed(data):
                 if found is None and _answers(event, answers):
-                    assert isinstance(event, Status | Reply)
+                    assert isinstance(event, Status | GeniusReply)
                     found = event
                 else:
                     self._unexpected(event)
@@ -173,7 +173,7 @@ class GeniusLink:
 
     def _unexpected(self, event: Event) -> None:
         names = ", ".join(d.name for d in self.drivers)
-        if isinstance(event, Garbage):
+        if isinstance(event, GeniusGarbage):
             log.warning("%s (%s) sent a malformed reply %r: %s; skipped",
                         self.where, names, event.data[:80], event.reason)
         else:
@@ -209,7 +209,7 @@ class GeniusLink:
 def _answers(event: Event, answers: str) -> bool:
     if isinstance(event, Status):
         return "h" in answers
-    return isinstance(event, Reply) and event.command in answers
+    return isinstance(event, GeniusReply) and event.command in answers
 
 
 class GeniusRotator(RotatorDriver):
@@ -294,13 +294,13 @@ class GeniusRotator(RotatorDriver):
             raise self._unavailable(f"could not be stopped: {self.link.where} answered F")
         self._set(RotatorStatus(heading=self._status.heading, online=True))
 
-    async def _ask(self, command: bytes, answer: str) -> Reply:
+    async def _ask(self, command: bytes, answer: str) -> GeniusReply:
         try:
             reply = await self.link.request(command, answer)
         except (OSError, TimeoutError) as exc:
             why = str(exc) or "no answer in time"
             raise self._unavailable(f"got no answer from {self.link.where}: {why}") from exc
-        assert isinstance(reply, Reply)
+        assert isinstance(reply, GeniusReply)
         return reply
 
 

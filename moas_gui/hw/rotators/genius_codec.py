@@ -59,7 +59,7 @@ class Status:
 
 
 @dataclass(frozen=True, slots=True)
-class Reply:
+class GeniusReply:
     """The K/F answer to ``command`` (``"A"``, ``"S"``, ``"P"``, ``"M"``, ``"c"``)."""
 
     command: str
@@ -68,12 +68,12 @@ class Reply:
 
 
 @dataclass(frozen=True, slots=True)
-class Garbage:
+class GeniusGarbage:
     data: bytes
     reason: str
 
 
-Event = Status | Reply | Garbage
+Event = Status | GeniusReply | GeniusGarbage
 
 
 # ---- client side: commands out -------------------------------------------------------
@@ -117,11 +117,11 @@ class ReplyDecoder:
         while self._buffer:
             start = self._buffer.find(b"|")
             if start < 0:
-                events.append(Garbage(bytes(self._buffer), "bytes outside any reply"))
+                events.append(GeniusGarbage(bytes(self._buffer), "bytes outside any reply"))
                 self._buffer.clear()
                 break
             if start > 0:
-                events.append(Garbage(bytes(self._buffer[:start]), "bytes outside any reply"))
+                events.append(GeniusGarbage(bytes(self._buffer[:start]), "bytes outside any reply"))
                 del self._buffer[:start]
             if len(self._buffer) < 3:
                 break
@@ -149,11 +149,11 @@ class ReplyDecoder:
                 return None
             digits, status = bytes(buf[2:5]).decode("latin-1"), buf[5]
             if status in STATUS_OK and is_digits(digits.strip()):
-                return 6, Reply("A", status == ord("K"), int(digits))
+                return 6, GeniusReply("A", status == ord("K"), int(digits))
             return self._skip("a |A reply must end in K or F")
         if kind in "ASPMc":
             if buf[2] in STATUS_OK:
-                return 3, Reply(kind, buf[2] == ord("K"))
+                return 3, GeniusReply(kind, buf[2] == ord("K"))
             return self._skip(f"a |{kind} reply must end in K or F")
         return self._skip(f"unknown reply header |{kind}")
 
@@ -161,7 +161,7 @@ class ReplyDecoder:
         """Throw away everything up to the next ``|``."""
         following = self._buffer.find(b"|", 1)
         used = len(self._buffer) if following < 0 else following
-        return used, Garbage(bytes(self._buffer[:used]), reason)
+        return used, GeniusGarbage(bytes(self._buffer[:used]), reason)
 
 
 def decode_status(data: bytes) -> Status:
@@ -208,7 +208,7 @@ def decode_block(block: bytes, rotor: int) -> RotorBlock:
 # ---- controller side (the emulator) --------------------------------------------------
 
 @dataclass(frozen=True, slots=True)
-class Command:
+class GeniusCommand:
     """A command as the controller sees it: ``kind`` is h, A, S, P, M or c."""
 
     kind: str
@@ -220,20 +220,20 @@ class Command:
 COMMAND_LENGTHS = {"h": 2, "S": 2, "A": 6, "P": 3, "M": 3, "c": 22}
 
 
-class CommandDecoder:
+class GeniusCommandDecoder:
     """Bytes from a client in, :class:`Command` or :class:`Garbage` out."""
 
     def __init__(self) -> None:
         self._buffer = bytearray()
 
-    def feed(self, data: bytes) -> list[Command | Garbage]:
+    def feed(self, data: bytes) -> list[GeniusCommand | GeniusGarbage]:
         self._buffer += data
-        out: list[Command | Garbage] = []
+        out: list[GeniusCommand | GeniusGarbage] = []
         while self._buffer:
             start = self._buffer.find(b"|")
             if start != 0:
                 cut = len(self._buffer) if start < 0 else start
-                out.append(Garbage(bytes(self._buffer[:cut]), "bytes outside any command"))
+                out.append(GeniusGarbage(bytes(self._buffer[:cut]), "bytes outside any command"))
                 del self._buffer[:cut]
                 continue
             if len(self._buffer) < 2:
@@ -241,7 +241,7 @@ class CommandDecoder:
             kind = chr(self._buffer[1])
             length = COMMAND_LENGTHS.get(kind)
             if length is None:
-                out.append(Garbage(bytes(self._buffer[:2]), f"unknown command |{kind}"))
+                out.append(GeniusGarbage(bytes(self._buffer[:2]), f"unknown command |{kind}"))
                 del self._buffer[:2]
                 continue
             if len(self._buffer) < length:
@@ -252,18 +252,18 @@ class CommandDecoder:
         return out
 
 
-def _command(kind: str, raw: bytes) -> Command | Garbage:
+def _command(kind: str, raw: bytes) -> GeniusCommand | GeniusGarbage:
     if kind in "hS":
-        return Command(kind, raw=raw)
+        return GeniusCommand(kind, raw=raw)
     rotor = raw[2] - ord("0")
     if rotor not in (1, 2):
-        return Garbage(raw, f"|{kind} names rotator {chr(raw[2])!r}, not 1 or 2")
+        return GeniusGarbage(raw, f"|{kind} names rotator {chr(raw[2])!r}, not 1 or 2")
     if kind == "A":
         digits = raw[3:6].decode("latin-1").strip()
         if not is_digits(digits):
-            return Garbage(raw, "|A needs a 3-digit azimuth")
-        return Command(kind, rotor, int(digits), raw)
-    return Command(kind, rotor, raw=raw)
+            return GeniusGarbage(raw, "|A needs a 3-digit azimuth")
+        return GeniusCommand(kind, rotor, int(digits), raw)
+    return GeniusCommand(kind, rotor, raw=raw)
 
 
 def encode_block(rotor: RotorBlock) -> bytes:
@@ -293,11 +293,11 @@ __all__ = [
     "COMMAND_LENGTHS",
     "NO_VALUE",
     "STATUS_LENGTH",
-    "Command",
-    "CommandDecoder",
     "Event",
-    "Garbage",
-    "Reply",
+    "GeniusCommand",
+    "GeniusCommandDecoder",
+    "GeniusGarbage",
+    "GeniusReply",
     "ReplyDecoder",
     "RotorBlock",
     "Status",

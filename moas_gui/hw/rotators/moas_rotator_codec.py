@@ -2,7 +2,7 @@
 
 The one codec of this protocol: the server's link (``moas_rotator_link``), the
 MOAS Rotator program (``moas_gui.rotator_program``) and the test stand-in
-(``fake_moas_rotator``) all read and write through it.
+(``moas_gui.testing.fake_moas_rotator``) all read and write through it.
 
 Text lines of 8-bit ASCII, fields separated by spaces, ended by CR (LF and
 CR LF are accepted on input).  Server to program::
@@ -21,7 +21,7 @@ Program to server::
 The two CONFIGURE orders are told apart by the port being the field that is
 not a number; a model may also be given by name ("Yaesu", "Prosistel D"),
 and then the field that names a known model is the model.  Every line that
-cannot be understood becomes a :class:`BadLine` saying why, with the rotator
+cannot be understood becomes a :class:`BadRotatorLine` saying why, with the rotator
 number when one could be read; no parser here raises.
 
 Model numbers (appendix B and ERRATA): DCU1=1, RotorEZ=2, Yaesu=4,
@@ -38,6 +38,8 @@ import math
 from dataclasses import dataclass
 from enum import Enum
 
+from moas_gui.line_framer import LineEnd, LineFramer, LongLine
+
 from .ascii import is_digits
 from .controllers.models import is_model_name
 
@@ -51,7 +53,7 @@ MAX_COMMAND_LINE = 512
 """A command longer than this is refused by the program without waiting for its end."""
 
 
-class Scale(Enum):
+class HeadingScale(Enum):
     """What the degrees of ROTATE and of a heading report mean for a model."""
 
     FROM_CCW_STOP = "degrees clockwise from the counterclockwise stop"
@@ -63,13 +65,13 @@ MODEL_NUMBERS: dict[str, int] = {
     "RC2800P-A": 8, "RC2800P-X": 9, "Prosistel D": 10,
 }
 COMPASS_MODELS = frozenset({1, 2})
-SCALES: dict[int, Scale] = {
-    number: Scale.COMPASS if number in COMPASS_MODELS else Scale.FROM_CCW_STOP
+SCALES: dict[int, HeadingScale] = {
+    number: HeadingScale.COMPASS if number in COMPASS_MODELS else HeadingScale.FROM_CCW_STOP
     for number in MODEL_NUMBERS.values()
 }
 
 
-def model_field(model: str) -> tuple[str, Scale]:
+def model_field(model: str) -> tuple[str, HeadingScale]:
     """The CONFIGURE model field for a configuration ``Model``, and its scale.
 
     Known names (any case, spaces and dashes optional) become their number; a
@@ -81,7 +83,7 @@ def model_field(model: str) -> tuple[str, Scale]:
         raise ValueError(f"Model is missing (one of {', '.join(MODEL_NUMBERS)})")
     if is_digits(text):
         number = int(text)
-        return str(number), SCALES.get(number, Scale.FROM_CCW_STOP)
+        return str(number), SCALES.get(number, HeadingScale.FROM_CCW_STOP)
     wanted = _squash(text)
     for name, number in MODEL_NUMBERS.items():
         if _squash(name) == wanted:
@@ -91,7 +93,7 @@ def model_field(model: str) -> tuple[str, Scale]:
             f"Model {model!r} is not one of {', '.join(MODEL_NUMBERS)} and, "
             "having a space, cannot be sent in CONFIGURE"
         )
-    return text, Scale.FROM_CCW_STOP
+    return text, HeadingScale.FROM_CCW_STOP
 
 
 def _squash(name: str) -> str:
@@ -154,7 +156,7 @@ class HeadingReport:
 
 
 @dataclass(frozen=True, slots=True)
-class BadLine:
+class BadRotatorLine:
     """A line, either way, that means nothing; ``reason`` says why, ``rotator`` when
     one is named."""
 
@@ -163,7 +165,7 @@ class BadLine:
     rotator: int | None = None
 
 
-Command = VersionRequest | Configure | Rotate | Stop
+RotatorCommand = VersionRequest | Configure | Rotate | Stop
 Report = VersionReport | HeadingReport
 
 
@@ -187,37 +189,30 @@ def encode_stop(rotator: int) -> bytes:
     return f"STOP {rotator}\r".encode("ascii")
 
 
-class LineSplitter:
-    """Bytes in, complete lines out (CR, LF or CR LF; empty lines dropped); a line
-    longer than ``max_line`` becomes one :class:`BadLine` and is skipped to its end."""
+class RotatorLineReader:
+    """Bytes in, complete lines out as text (CR, LF or CR LF end a line; empty lines
+    dropped); a line longer than ``max_line`` becomes one :class:`BadRotatorLine` as
+    soon as that is certain, and the rest of it is skipped to its end.  The cutting is
+    :class:`~moas_gui.line_framer.LineFramer`'s."""
+
+    __slots__ = ("_framer", "max_line")
 
     def __init__(self, max_line: int = MAX_REPORT_LINE) -> None:
         self.max_line = max_line
-        self._buffer = bytearray()
-        self._discarding = False
+        self._framer = LineFramer(max_line, LineEnd.CR_OR_LF)
 
-    def feed(self, data: bytes) -> list[str | BadLine]:
-        out: list[str | BadLine] = []
-        for byte in data:
-            if byte in (0x0D, 0x0A):
-                if self._discarding:
-                    self._discarding = False
-                elif self._buffer:
-                    out.append(self._buffer.decode("latin-1"))
-                self._buffer.clear()
-            elif self._discarding:
-                continue
-            elif len(self._buffer) >= self.max_line:
-                head = self._buffer[:40].decode("latin-1")
-                out.append(BadLine(head + "...", f"line longer than {self.max_line} bytes"))
-                self._buffer.clear()
-                self._discarding = True
-            else:
-                self._buffer.append(byte)
+    def feed(self, data: bytes) -> list[str | BadRotatorLine]:
+        out: list[str | BadRotatorLine] = []
+        for item in self._framer.feed(data):
+            if isinstance(item, LongLine):
+                out.append(BadRotatorLine(item.head.decode("latin-1") + "...",
+                                          f"line longer than {self.max_line} bytes; ignored"))
+            elif item.data:
+                out.append(item.data.decode("latin-1"))
         return out
 
 
-def parse_report(line: str) -> Report | BadLine:
+def parse_report(line: str) -> Report | BadRotatorLine:
     """One line from the program."""
     fields = line.split()
     if len(fields) == 2 and fields[0] == "VERSION":
@@ -226,22 +221,22 @@ def parse_report(line: str) -> Report | BadLine:
         rotator = int(fields[0])
         degrees = _finite(fields[1])
         if degrees is None:
-            return BadLine(line, f"heading {fields[1]!r} is not a number", rotator)
+            return BadRotatorLine(line, f"heading {fields[1]!r} is not a number", rotator)
         return HeadingReport(rotator, degrees)
     if fields and _is_int(fields[0]):
-        return BadLine(line, "a heading report has exactly two fields", int(fields[0]))
-    return BadLine(line, "neither a VERSION line nor '<rotator> <degrees>'")
+        return BadRotatorLine(line, "a heading report has exactly two fields", int(fields[0]))
+    return BadRotatorLine(line, "neither a VERSION line nor '<rotator> <degrees>'")
 
 
 class ReportDecoder:
-    """Bytes from the program in, reports (or :class:`BadLine`) out."""
+    """Bytes from the program in, reports (or :class:`BadRotatorLine`) out."""
 
     def __init__(self) -> None:
-        self._lines = LineSplitter()
+        self._lines = RotatorLineReader(MAX_REPORT_LINE)
 
-    def feed(self, data: bytes) -> list[Report | BadLine]:
+    def feed(self, data: bytes) -> list[Report | BadRotatorLine]:
         return [
-            item if isinstance(item, BadLine) else parse_report(item)
+            item if isinstance(item, BadRotatorLine) else parse_report(item)
             for item in self._lines.feed(data)
         ]
 
@@ -260,15 +255,15 @@ def encode_heading(rotator: int, degrees: float) -> bytes:
     return f"{rotator} {round(degrees)}\r".encode("ascii")
 
 
-def parse_command(line: str) -> Command | BadLine:
+def parse_command(line: str) -> RotatorCommand | BadRotatorLine:
     """One line from the server, without its terminator."""
     fields = line.split()
     if not fields:
-        return BadLine(line, "empty command")
+        return BadRotatorLine(line, "empty command")
     word = fields[0].upper()
     if word == "VERSION":
         if len(fields) != 1:
-            return BadLine(line, "VERSION takes no fields")
+            return BadRotatorLine(line, "VERSION takes no fields")
         return VersionRequest()
     if word == "CONFIGURE":
         return _configure(line, fields)
@@ -277,33 +272,34 @@ def parse_command(line: str) -> Command | BadLine:
         rotator = _rotator(fields[1]) if len(fields) > 1 else None
         usage = "ROTATE needs <rotator> <degrees>" if word == "ROTATE" else "STOP needs <rotator>"
         if len(fields) != wanted:
-            return BadLine(line, usage, rotator)
+            return BadRotatorLine(line, usage, rotator)
         if rotator is None:
-            return BadLine(line, f"rotator number {fields[1]!r} is not a whole number >= 0")
+            return BadRotatorLine(line, f"rotator number {fields[1]!r} is not a whole number >= 0")
         if word == "STOP":
             return Stop(rotator)
         degrees = _finite(fields[2])
         if degrees is None:
-            return BadLine(line, f"heading {fields[2]!r} is not a number of degrees", rotator)
+            return BadRotatorLine(line, f"heading {fields[2]!r} is not a number of degrees",
+                                  rotator)
         return Rotate(rotator, degrees)
-    return BadLine(line, f"unknown command {fields[0]!r} (known: VERSION, CONFIGURE, "
+    return BadRotatorLine(line, f"unknown command {fields[0]!r} (known: VERSION, CONFIGURE, "
                          "ROTATE, STOP)")
 
 
-def _configure(line: str, fields: list[str]) -> Configure | BadLine:
+def _configure(line: str, fields: list[str]) -> Configure | BadRotatorLine:
     usage = "CONFIGURE needs <rotator> <model> <port> <poll>"
     if len(fields) < 5:
-        return BadLine(line, usage, _rotator(fields[1]) if len(fields) > 1 else None)
+        return BadRotatorLine(line, usage, _rotator(fields[1]) if len(fields) > 1 else None)
     rotator = _rotator(fields[1])
     if rotator is None:
-        return BadLine(line, f"rotator number {fields[1]!r} is not a whole number >= 0")
+        return BadRotatorLine(line, f"rotator number {fields[1]!r} is not a whole number >= 0")
     poll = fields[-1]
     if not is_digits(poll):
-        return BadLine(line, f"poll time {poll!r} is not a whole number of milliseconds",
+        return BadRotatorLine(line, f"poll time {poll!r} is not a whole number of milliseconds",
                        rotator)
     split = _model_and_port(fields[2:-1])
     if isinstance(split, str):
-        return BadLine(line, split, rotator)
+        return BadRotatorLine(line, split, rotator)
     model, port = split
     return Configure(rotator, model, port, int(poll))
 
@@ -349,38 +345,20 @@ def _looks_like_port(text: str) -> bool:
 
 
 class CommandDecoder:
-    """Bytes from the server in, commands (or :class:`BadLine`) out."""
+    """Bytes from the server in, commands (or :class:`BadRotatorLine`) out."""
 
-    __slots__ = ("_buffer", "_skipping")
+    __slots__ = ("_lines",)
 
     def __init__(self) -> None:
-        self._buffer = b""
-        self._skipping = False
+        self._lines = RotatorLineReader(MAX_COMMAND_LINE)
 
-    def feed(self, data: bytes) -> list[Command | BadLine]:
-        out: list[Command | BadLine] = []
-        buffer = self._buffer + data
-        start = 0
-        for i, byte in enumerate(buffer):
-            if byte not in (0x0D, 0x0A):
-                continue
-            chunk = buffer[start:i]
-            start = i + 1
-            if self._skipping:
-                self._skipping = False
-                continue
-            text = chunk.decode("latin-1").strip()
-            if text:
+    def feed(self, data: bytes) -> list[RotatorCommand | BadRotatorLine]:
+        out: list[RotatorCommand | BadRotatorLine] = []
+        for item in self._lines.feed(data):
+            if isinstance(item, BadRotatorLine):
+                out.append(item)
+            elif text := item.strip():
                 out.append(parse_command(text))
-        rest = buffer[start:]
-        if len(rest) > MAX_COMMAND_LINE:
-            if not self._skipping:
-                shown = rest[:40].decode("latin-1")
-                out.append(BadLine(shown + "...", f"line longer than {MAX_COMMAND_LINE} "
-                                                  "bytes without CR; ignored"))
-            self._skipping = True
-            rest = b""
-        self._buffer = rest
         return out
 
 
@@ -415,16 +393,16 @@ __all__ = [
     "MODEL_NUMBERS",
     "PORT",
     "SCALES",
-    "BadLine",
-    "Command",
+    "BadRotatorLine",
     "CommandDecoder",
     "Configure",
     "HeadingReport",
-    "LineSplitter",
+    "HeadingScale",
     "Report",
     "ReportDecoder",
     "Rotate",
-    "Scale",
+    "RotatorCommand",
+    "RotatorLineReader",
     "Stop",
     "VersionReport",
     "VersionRequest",

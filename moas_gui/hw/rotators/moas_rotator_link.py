@@ -21,10 +21,10 @@ from .base import Publish, RotatorDriver, RotatorStatus, Timing
 from .headings import Travel, angular_distance, normalize
 from .moas_rotator_codec import (
     PORT,
-    BadLine,
+    BadRotatorLine,
     HeadingReport,
+    HeadingScale,
     ReportDecoder,
-    Scale,
     VersionReport,
     encode_configure,
     encode_rotate,
@@ -102,7 +102,7 @@ class MoasRotatorLink:
             with contextlib.suppress(OSError):
                 await writer.wait_closed()
 
-    def _dispatch(self, report: HeadingReport | VersionReport | BadLine) -> None:
+    def _dispatch(self, report: HeadingReport | VersionReport | BadRotatorLine) -> None:
         if isinstance(report, VersionReport):
             self.version = report.version
             log.info("%s: program version %s", self.where, report.version)
@@ -125,7 +125,7 @@ class SerialRotator(RotatorDriver):
 
     def __init__(
         self, rotator: Rotator, travel: Travel, publish: Publish, timing: Timing,
-        link: MoasRotatorLink, model_field: str, scale: Scale,
+        link: MoasRotatorLink, model_field: str, scale: HeadingScale,
     ) -> None:
         super().__init__(rotator, travel, publish)
         self.link, self.model_field, self.scale, self.timing = link, model_field, scale, timing
@@ -172,7 +172,7 @@ class SerialRotator(RotatorDriver):
         self._publish_now()
 
     def on_report(self, degrees: float) -> None:
-        if self.scale is Scale.COMPASS:
+        if self.scale is HeadingScale.COMPASS:
             position = self.travel.nearest_position(degrees, near=self.tracker.position)
         elif self.travel.bounded:
             position = degrees
@@ -215,7 +215,7 @@ class SerialRotator(RotatorDriver):
     # ---- helpers ---------------------------------------------------------------------
 
     def _wire_degrees(self, position: float) -> float:
-        if self.scale is Scale.COMPASS:
+        if self.scale is HeadingScale.COMPASS:
             return round(self.travel.heading_at(position)) % 360
         return position if self.travel.bounded else normalize(position)
 

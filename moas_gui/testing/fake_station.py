@@ -1,10 +1,10 @@
-"""The station a :class:`~moas_gui.net.fake_backend.FakeBackend` pretends to run.
+"""The station a :class:`~moas_gui.testing.fake_backend.FakeBackend` pretends to run.
 
 Plain frozen values, much smaller than a ``.moas`` configuration: antennas
 with one frequency range each, radios with a starting frequency, a few
 functions, layouts and relative lists, rotators and switches.
 :data:`DEMO_STATION` is a two-station contest station that the tests, the
-benchmark and ``python -m moas_gui.net.fake_server`` use.
+benchmark and ``python -m moas_gui.testing.fake_server`` use.
 """
 
 from __future__ import annotations

@@ -22,19 +22,18 @@ import logging
 from dataclasses import dataclass, field
 
 from moas_gui.clock import LOOP_CLOCK, Clock
-
-from .genius_codec import (
-    Command,
-    CommandDecoder,
-    Garbage,
+from moas_gui.hw.rotators.genius_codec import (
+    GeniusCommand,
+    GeniusCommandDecoder,
+    GeniusGarbage,
     RotorBlock,
     Status,
     encode_reply,
     encode_status,
 )
-from .headings import Travel, Turn, plan_turn, whole_heading
+from moas_gui.hw.rotators.headings import Travel, Turn, plan_turn, whole_heading
 
-log = logging.getLogger("moas_gui.hw.rotators.genius_emulator")
+log = logging.getLogger("moas_gui.testing.genius_server")
 
 
 @dataclass(slots=True)
@@ -104,7 +103,7 @@ class GeniusModel:
             name=rotor.name,
         )
 
-    def handle(self, command: Command, now: float) -> bytes:
+    def handle(self, command: GeniusCommand, now: float) -> bytes:
         """The controller's answer to one command."""
         self.advance(now)
         if command.kind == "h":
@@ -151,7 +150,7 @@ class GeniusServer:
         self.prefix = b""
         self.mute = False
         self.acknowledge_turns = acknowledge_turns
-        self.commands: list[Command | Garbage] = []
+        self.commands: list[GeniusCommand | GeniusGarbage] = []
         self._server: asyncio.Server | None = None
         self._writers: set[asyncio.StreamWriter] = set()
 
@@ -179,12 +178,12 @@ class GeniusServer:
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         self._writers.add(writer)
-        decoder = CommandDecoder()
+        decoder = GeniusCommandDecoder()
         try:
             while data := await reader.read(256):
                 for command in decoder.feed(data):
                     self.commands.append(command)
-                    if isinstance(command, Garbage):
+                    if isinstance(command, GeniusGarbage):
                         log.warning("Rotator Genius emulator: %r (%s)", command.data,
                                     command.reason)
                         continue

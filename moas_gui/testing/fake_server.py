@@ -1,8 +1,8 @@
 """Serve the client protocol over the fake backend, for client authors and benchmarks.
 
-``python -m moas_gui.net.fake_server [--host 127.0.0.1] [--port 12059] [--max-per-address N]``
+``python -m moas_gui.testing.fake_server [--host 127.0.0.1] [--port 12059] [--max-per-address N]``
 prints ``port N`` on its first line once it listens, then serves the
-demonstration station of :mod:`moas_gui.net.fake_station` until interrupted.
+demonstration station of :mod:`moas_gui.testing.fake_station` until interrupted.
 No switch, engine or configuration file is involved.
 """
 
@@ -13,10 +13,11 @@ import asyncio
 import logging
 import sys
 
-from ..aio import CleanStop, run_until_stopped
-from .admission import DEFAULT_PER_ADDRESS
+from moas_gui.aio import CleanStop, run_until_stopped
+from moas_gui.net.admission import DEFAULT_PER_ADDRESS
+from moas_gui.net.server import DEFAULT_PORT, ClientServer
+
 from .fake_backend import FakeBackend
-from .server import DEFAULT_PORT, ClientServer
 
 
 async def serve(host: str, port: int, per_address: int = DEFAULT_PER_ADDRESS) -> None:

@@ -1,6 +1,6 @@
 """An in-memory :class:`~moas_gui.net.backend.ClientBackend` for tests and demos.
 
-It runs a :class:`~moas_gui.net.fake_station.FakeStation` with simple rules
+It runs a :class:`~moas_gui.testing.fake_station.FakeStation` with simple rules
 that are nonetheless real:
 
 * an antenna in use by another radio (transmit or receive) is ``unavailable``,
@@ -30,7 +30,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .backend import ErrorCode, EventSink, FocusKind, JSONObject, RequestError, Target
+from moas_gui.net.backend import ErrorCode, EventSink, FocusKind, JSONObject, RequestError, Target
+
 from .fake_station import DEMO_STATION, FakeAntenna, FakeLayout, FakeRelative, FakeStation
 
 

@@ -1,6 +1,6 @@
 """A stand-in for the MOAS Rotator program, on loopback, for tests and demos.
 
-It speaks appendix B exactly (through :mod:`.moas_rotator_codec`) and, behind
+It speaks appendix B exactly (through :mod:`moas_gui.hw.rotators.moas_rotator_codec`) and, behind
 it, simulates one controller per configured ``CommPort``: a ROTATE moves that
 controller's number towards the target at ``speed`` degrees a second (for the
 compass models DCU1 and RotorEZ, the shorter way round, wrapping at 360) and
@@ -14,7 +14,7 @@ controller moved by hand: reported at once), :meth:`send_raw` (garbage on the
 wire), :meth:`drop` (the program goes away), :meth:`restart`; ``clock``: the
 controllers turn on it (a fake clock makes a test's turns take no time).
 
-Run ``python -m moas_gui.hw.rotators.fake_moas_rotator --port 13020`` to serve
+Run ``python -m moas_gui.testing.fake_moas_rotator --port 13020`` to serve
 one until interrupted.
 """
 
@@ -29,20 +29,19 @@ from dataclasses import dataclass
 
 from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.clock import LOOP_CLOCK, Clock
-
-from .moas_rotator_codec import (
-    BadLine,
-    Command,
+from moas_gui.hw.rotators.moas_rotator_codec import (
+    BadRotatorLine,
     CommandDecoder,
     Configure,
     Rotate,
+    RotatorCommand,
     Stop,
     VersionRequest,
     encode_heading,
     encode_version_reply,
 )
 
-log = logging.getLogger("moas_gui.hw.rotators.fake_moas_rotator")
+log = logging.getLogger("moas_gui.testing.fake_moas_rotator")
 
 COMPASS_NAMES = frozenset({"1", "2", "DCU1", "RotorEZ"})
 
@@ -69,7 +68,7 @@ class FakeMoasRotator:
         self.controllers: dict[str, SimulatedController] = {}
         self.configured: dict[int, str] = {}
         """rotator number -> CommPort, as the last CONFIGUREs said."""
-        self.commands: list[Command | BadLine] = []
+        self.commands: list[RotatorCommand | BadRotatorLine] = []
         self._server: asyncio.Server | None = None
         self._writers: set[asyncio.StreamWriter] = set()
         self._motion: asyncio.Task[None] | None = None
@@ -153,7 +152,8 @@ class FakeMoasRotator:
             with contextlib.suppress(OSError):
                 await writer.wait_closed()
 
-    def _handle(self, command: Command | BadLine, writer: asyncio.StreamWriter) -> None:
+    def _handle(self, command: RotatorCommand | BadRotatorLine,
+                writer: asyncio.StreamWriter) -> None:
         if isinstance(command, VersionRequest):
             writer.write(encode_version_reply(self.version))
         elif isinstance(command, Configure):

@@ -11,7 +11,7 @@ For trying out how a driver copes, the way a station's wiring would test it:
 
 from __future__ import annotations
 
-from .base import ControllerEmulator
+from moas_gui.hw.rotators.controllers.base import ControllerEmulator
 
 
 class FaultyController:

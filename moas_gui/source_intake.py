@@ -1,14 +1,18 @@
 """What the frequency sources say, on its way into the engine through ``ServerApp.act``.
 
 The server's sources (loggers, rig daemons, an SO2R logger's OTRSP port; see
-docs/sources.md) hand their events to :meth:`SourceFocus.event`.  What arrives
+docs/sources.md) hand their events to :meth:`SourceIntake.event`.  What arrives
 in one turn of the event loop (an SO2R logger's packets for both radios) is
 decided together: transmit and receive focus first, then frequencies with each
 station's active radio first (docs/engine.md, "Transmit focus"), then the
 antennas a logger chose by its AUX numbers.  Every change of the engine goes
-through the one door the app gives (``act``); the focus itself is kept in the
-running configuration's :class:`~moas_gui.engine.focus.FocusTable` and shown
-in the radio entries clients get (``active``, ``focus``).
+through the one door the app gives (``act``, which returns the radios whose
+entries it published); the focus itself is kept here, in the intake's
+:class:`~moas_gui.engine.focus.FocusTable`, and shown in the radio entries
+clients get (``active``, ``focus``).
+
+One intake serves one running configuration: it is made when the configuration
+starts and closed with it, so a batch still waiting when it closes is dropped.
 
 A logger never stops the server: an operation the engine refuses is logged
 (Debug for frequencies and focus, which repeat, Info for an antenna a logger
@@ -19,67 +23,78 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
-from moas_gui.engine import NotRunning
-from moas_gui.engine.focus import FocusKind, active_first
+from moas_gui.engine import Engine
+from moas_gui.engine.focus import FocusKind, FocusTable, active_first
 from moas_gui.engine.operations import Operation, Select, SetFrequency
-from moas_gui.running import Running
 from moas_gui.sources.base import (
     ActiveRadio,
     FocusRadio,
     FrequencyReport,
+    RunOrSearch,
     SourceEvent,
     event_key,
 )
-from moas_gui.sources.base import Running as LoggerRunning
 from moas_gui.sources.otrsp import AuxAntenna
 
-log = logging.getLogger("moas_gui.app")
+log = logging.getLogger(__name__)
 
 ServerEvent = SourceEvent | AuxAntenna
 """What a server source may hand on: a source event, or an antenna an OTRSP port chose."""
 
+RadioKey = tuple[int, int]
+"""A radio as ``(station, radio)``."""
 
-class SourceFocus:
-    """The sources' way into the engine, and each station's transmit and receive focus.
+Act = Callable[[Operation], set[RadioKey]]
+"""The app's one door into the engine: applies an operation, returns the radios whose
+entries it published to clients."""
 
-    ``current`` gives the running configuration (None when none runs); ``act`` is
-    the app's one door into the engine.
+
+class SourceIntake:
+    """The sources' way into the engine while one configuration runs, and what they told.
+
+    It owns each station's transmit and receive focus (a :class:`FocusTable`), the
+    latest focus and run-or-search reports of the loggers, and the batch of events of
+    the current loop turn.  ``act`` is the app's one door into the engine;
+    ``publish`` sends a radio entry to the clients (when any are served).
     """
 
-    def __init__(self, current: Callable[[], Running | None],
-                 act: Callable[[Operation], None]) -> None:
-        self._current = current
+    def __init__(self, engine: Engine, act: Act,
+                 publish: Callable[[dict[str, object]], None]) -> None:
+        self._engine = engine
         self._act = act
+        self._publish = publish
+        self._focus = FocusTable()
+        self._reports: dict[tuple[object, ...], SourceEvent] = {}
+        self._batch: list[ServerEvent] = []
+        self._closed = False
 
-    def _run(self) -> Running:
-        run = self._current()
-        if run is None:
-            raise NotRunning("No configuration is open")
-        return run
+    def close(self) -> None:
+        """The configuration stops: later events and a waiting batch are dropped."""
+        self._closed = True
+        self._batch = []
 
     # -- the sink of every server source --------------------------------------------------
     def event(self, event: ServerEvent) -> None:
         """One event of a source; decided with the rest of this loop turn's events."""
-        run = self._current()
-        if run is None:
+        if self._closed:
             return
-        if isinstance(event, LoggerRunning):
+        if isinstance(event, RunOrSearch):
             self._remember(event)
             return
-        if not run.pending:
-            asyncio.get_running_loop().call_soon(self._decide, run)
-        run.pending.append(event)
+        if not self._batch:
+            asyncio.get_running_loop().call_soon(self._decide)
+        self._batch.append(event)
 
-    def _decide(self, run: Running) -> None:
+    def _decide(self) -> None:
         """Focus first, then frequencies with each station's active radio first, then
         antennas a logger chose; a radio whose focus changed and that no decision
         published is published once at the end."""
-        events, run.pending = run.pending, []
-        if run is not self._current():
+        events, self._batch = self._batch, []
+        if self._closed:
             return
-        focused: set[tuple[int, int]] = set()
+        focused: set[RadioKey] = set()
         for event in events:
             if isinstance(event, ActiveRadio | FocusRadio):
                 kind: FocusKind = "active" if isinstance(event, ActiveRadio) else "focus"
@@ -90,74 +105,86 @@ class SourceFocus:
                     log.debug("Logger %s for station %d radio %d ignored: %s", kind,
                               event.station, event.radio, exc)
                 self._remember(event)
-        run.published = set()
+        published: set[RadioKey] = set()
         reports = [e for e in events if isinstance(e, FrequencyReport)]
-        for r in active_first(reports, lambda r: (r.station, r.radio), run.focus_table):
-            self.frequency(r.station, r.radio, r.rx_khz, r.tx_khz)
+        for r in active_first(reports, lambda r: (r.station, r.radio), self._focus):
+            published |= self.frequency(r.station, r.radio, r.rx_khz, r.tx_khz)
         for event in events:
             if isinstance(event, AuxAntenna):
-                self._aux_antenna(event)
-        published, run.published = run.published, None
-        if run.clients is not None:
-            for station, radio in sorted(focused - (published or set())):
-                run.clients.publish_radio(self.radio_entry(station, radio))
+                published |= self._aux_antenna(event)
+        for station, radio in sorted(focused - published):
+            self._publish(self.radio_entry(station, radio))
 
-    def frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
-        """A logger's frequency for a radio; refused ones are a Debug line."""
-        if self._current() is None:
-            return
+    def frequency(self, station: int, radio: int, khz: float,
+                  tx_khz: float | None) -> set[RadioKey]:
+        """A logger's frequency for a radio; refused ones are a Debug line.  Returns the
+        radios whose entries were published."""
+        if self._closed:
+            return set()
         try:
-            self._act(SetFrequency(station, radio, khz, tx_khz))
+            return self._act(SetFrequency(station, radio, khz, tx_khz))
         except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
             log.debug("Logger frequency for station %d radio %d ignored: %s",
                       station, radio, exc)
+            return set()
 
-    def _aux_antenna(self, event: AuxAntenna) -> None:
+    def _aux_antenna(self, event: AuxAntenna) -> set[RadioKey]:
         try:
-            self._act(Select(event.station, event.radio, event.antenna, "both", True))
+            return self._act(Select(event.station, event.radio, event.antenna, "both", True))
         except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
             log.info("%s asked for antenna %d on station %d radio %d: %s",
                      event.origin, event.antenna, event.station, event.radio, exc)
+            return set()
 
-    # -- focus -------------------------------------------------------------------------------
+    # -- transmit and receive focus ----------------------------------------------------------
     def set_focus(self, station: int, radio: int, kind: FocusKind, *,
-                  origin: str = "a client", publish: bool = True) -> set[tuple[int, int]]:
+                  origin: str = "a client", publish: bool = True) -> set[RadioKey]:
         """The station's transmit focus (``"active"``) or receive focus (``"focus"``) is
         on ``radio``; the radio entries of the station say so to clients (at once when
         ``publish``).  Returns the radios whose entry changed.  Raises the engine's
         not-found error for a radio that does not exist."""
-        run = self._run()
-        run.engine.radio_view(station, radio)
-        before = run.focus_table.set(station, kind, radio)
+        self._engine.radio_view(station, radio)
+        before = self._focus.set(station, kind, radio)
         if before == radio:
             return set()
         if kind == "active":
             log.info("Station %d: transmit focus on radio %d (%s)", station, radio, origin)
         changed = {(station, number) for number in (before, radio) if number is not None}
-        if publish and run.clients is not None:
+        if publish:
             for _, number in sorted(changed):
-                run.clients.publish_radio(self.radio_entry(station, number))
+                self._publish(self.radio_entry(station, number))
         return changed
 
     def radio_entry(self, station: int, radio: int) -> dict[str, object]:
         """A radio's entry for clients: the engine's view plus ``active`` and ``focus``."""
-        run = self._run()
-        entry: dict[str, object] = run.engine.radio_view(station, radio).to_dict()
-        entry.update(run.focus_table.fields(station, radio))
+        entry: dict[str, object] = self._engine.radio_view(station, radio).to_dict()
+        entry.update(self._focus.fields(station, radio))
         return entry
 
+    def restore_focus(self, saved: Mapping[int, tuple[int | None, int | None]]) -> None:
+        """Each station's ``(active, focus)`` radios from a saved state."""
+        for station, (active, focus) in saved.items():
+            if active is not None:
+                self._focus.set(station, "active", active)
+            if focus is not None:
+                self._focus.set(station, "focus", focus)
+
+    def focus_items(self) -> dict[int, tuple[int | None, int | None]]:
+        """Every station's ``(active, focus)`` radios, for the saved state."""
+        return self._focus.items()
+
+    # -- what the loggers told ----------------------------------------------------------------
     def _remember(self, event: SourceEvent) -> None:
-        """Transmit focus, receive focus and run state of a station, from its logger."""
-        run = self._current()
-        if run is not None:
-            run.focus[event_key(event)] = event
+        """Transmit focus, receive focus and run-or-search state of a station, from its
+        logger."""
+        if not self._closed:
+            self._reports[event_key(event)] = event
             log.debug("Logger says: %s", event)
 
-    def latest(self) -> dict[tuple[object, ...], SourceEvent]:
-        """The latest focus and run-state events: ``("ActiveRadio", station)``,
+    def latest_reports(self) -> dict[tuple[object, ...], SourceEvent]:
+        """The latest focus and run-or-search reports: ``("ActiveRadio", station)``,
         ``("FocusRadio", station)``, ``("running", station, radio)``."""
-        run = self._current()
-        return dict(run.focus) if run is not None else {}
+        return dict(self._reports)
 
 
-__all__ = ["ServerEvent", "SourceFocus"]
+__all__ = ["Act", "RadioKey", "ServerEvent", "SourceIntake"]

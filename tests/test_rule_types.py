@@ -1,4 +1,4 @@
-"""``mypy --strict`` holds for the server core: app.py, running.py, source_focus.py, its client
+"""``mypy --strict`` holds for the server core: app.py, running.py, source_intake.py, its client
 backend, net/, engine/, config/."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-STRICT = ["moas_gui/app.py", "moas_gui/running.py", "moas_gui/source_focus.py", "moas_gui/engine_backend.py", "moas_gui/net",
+STRICT = ["moas_gui/app.py", "moas_gui/running.py", "moas_gui/source_intake.py", "moas_gui/engine_backend.py", "moas_gui/net",
           "moas_gui/engine", "moas_gui/config", "moas_gui/errors.py"]
 
 
@@ -23,7 +23,7 @@ def test_the_server_core_is_mypy_strict_clean(tmp_path: Path) -> None:
 
 
 def test_the_server_core_has_no_any_on_its_fields() -> None:
-    for name in ("moas_gui/app.py", "moas_gui/running.py", "moas_gui/source_focus.py",
+    for name in ("moas_gui/app.py", "moas_gui/running.py", "moas_gui/source_intake.py",
                  "moas_gui/engine_backend.py"):
         text = (ROOT / name).read_text(encoding="utf-8")
         assert "Any" not in text.replace("Anything", ""), f"{name} names Any"

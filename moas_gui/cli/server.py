@@ -425,6 +425,7 @@ def _run_window(args: argparse.Namespace, instance: InstanceServer | None) -> in
             await window.idle()
             await app.close()
             window.shutdown()
+            await window.idle()  # the client windows' connections end
         return 0
 
     with loop:

@@ -94,12 +94,12 @@ class SourceIntake:
         events, self._batch = self._batch, []
         if self._closed:
             return
-        focused: set[RadioKey] = set()
+        refocused: set[RadioKey] = set()
         for event in events:
             if isinstance(event, ActiveRadio | FocusRadio):
                 kind: FocusKind = "active" if isinstance(event, ActiveRadio) else "focus"
                 try:
-                    focused |= self.set_focus(event.station, event.radio, kind,
+                    refocused |= self.set_focus(event.station, event.radio, kind,
                                               origin=event.origin, publish=False)
                 except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
                     log.debug("Logger %s for station %d radio %d ignored: %s", kind,
@@ -112,7 +112,7 @@ class SourceIntake:
         for event in events:
             if isinstance(event, AuxAntenna):
                 published |= self._aux_antenna(event)
-        for station, radio in sorted(focused - published):
+        for station, radio in sorted(refocused - published):
             self._publish(self.radio_entry(station, radio))
 
     def frequency(self, station: int, radio: int, khz: float,

@@ -30,6 +30,50 @@ async def cancel_and_wait(task: asyncio.Task[Any], poll: float = 0.2) -> None:
         task.exception()
 
 
+class BackgroundTasks:
+    """The background tasks of one owner (a window's menu actions, a manager's turns).
+
+    Each task is kept until it ends; what it ended with is handed to ``failed`` (an
+    error is never lost, a cancellation is not an error); :meth:`idle` waits for all
+    of them, :meth:`close` cancels what still runs and returns once it has ended.
+    Nothing started here outlives its owner's close.
+    """
+
+    def __init__(self, failed: Callable[[str, BaseException], None]) -> None:
+        self._failed = failed
+        self._tasks: dict[asyncio.Task[Any], str] = {}
+
+    def spawn(self, work: Coroutine[Any, Any, Any], what: str) -> asyncio.Task[Any]:
+        """Run ``work`` as a task of this owner; ``what`` names it in messages."""
+        task = asyncio.ensure_future(work)
+        task.set_name(what)
+        self._tasks[task] = what
+        task.add_done_callback(self._done)
+        return task
+
+    def _done(self, task: asyncio.Task[Any]) -> None:
+        what = self._tasks.pop(task, "a background task")
+        if not task.cancelled() and (error := task.exception()) is not None:
+            self._failed(what, error)
+
+    def __len__(self) -> int:
+        return len(self._tasks)
+
+    async def idle(self) -> None:
+        """Wait until every task has ended, those started meanwhile too."""
+        while self._tasks:
+            await asyncio.wait(list(self._tasks))
+
+    def cancel(self) -> None:
+        """Ask every task to end (where the owner cannot wait: :meth:`close` also waits)."""
+        for task in list(self._tasks):
+            task.cancel()
+
+    async def close(self) -> None:
+        """Cancel every task and wait until each has really ended."""
+        while self._tasks:
+            for task in list(self._tasks):
+                await cancel_and_wait(task)
 
 
 # -- stopping cleanly ----------------------------------------------------------------------
@@ -234,4 +278,4 @@ def run_until_stopped(main: Coroutine[Any, Any, int | None]) -> int:
         return 0
 
 
-__all__ = ["CleanStop", "cancel_and_wait", "run_until_stopped", "stop_signals"]
+__all__ = ["BackgroundTasks", "CleanStop", "cancel_and_wait", "run_until_stopped", "stop_signals"]

@@ -62,7 +62,7 @@ from moas_gui.running import (
     start_sources,
     start_switches,
 )
-from moas_gui.source_focus import ServerEvent, SourceFocus
+from moas_gui.source_intake import RadioKey, ServerEvent, SourceIntake
 from moas_gui.sources.base import SourceEvent
 from moas_gui.sources.server import ServerSources
 from moas_gui.state_store import SavedState, StateKeeper
@@ -82,7 +82,6 @@ class ServerApp:
         self._alert_listeners: list[Callable[[str, str], None]] = []
         self._status = ServerStatus()
         self._lock = asyncio.Lock()
-        self._focus = SourceFocus(lambda: self._run, self.act)
 
     # -- what the window and tests read ---------------------------------------------
     @property
@@ -185,7 +184,9 @@ class ServerApp:
 
     async def _start(self, config: Config) -> None:
         loop = asyncio.get_running_loop()
-        self._run = run = Running(config=config, engine=Engine(config, now=loop.time()))
+        engine = Engine(config, now=loop.time())
+        intake = SourceIntake(engine, self.act, self._publish_radio)
+        self._run = run = Running(config=config, engine=engine, intake=intake)
         saved = self._restore(run)
         start_switches(run, self.options, saved or SavedState(""),
                        self._link_status, self._switch_tr, self._switch_antennas)
@@ -207,8 +208,9 @@ class ServerApp:
         run, self._run = self._run, None
         if run is None:
             return
+        run.intake.close()  # a batch of the sources still waiting is dropped
         if run.ticker is not None:
-            run.ticker.cancel()
+            run.ticker.cancel()  # and awaited by close_parts
         if run.keeper is not None:
             try:
                 await run.keeper.flush()
@@ -230,11 +232,7 @@ class ServerApp:
         if saved is not None and not run.engine.running:
             run.stopped = True
         if saved is not None:
-            for station, (active, focus) in saved.focus.items():
-                if active is not None:
-                    run.focus_table.set(station, "active", active)
-                if focus is not None:
-                    run.focus_table.set(station, "focus", focus)
+            run.intake.restore_focus(saved.focus)
         return saved
 
     def _collect_state(self, run: Running) -> SavedState:
@@ -243,7 +241,7 @@ class ServerApp:
         held = {i: s for i, link in run.links.items() if (s := link.holds) is not None}
         seen = {i: v for i, link in run.links.items() if (v := link.seen) is not None}
         return SavedState(run.fingerprint, export_selections(run.engine), held, seen,
-                          run.focus_table.items())
+                          run.intake.focus_items())
 
     def _state_changed(self) -> None:
         run = self._run
@@ -331,8 +329,9 @@ class ServerApp:
         return target
 
     # -- the one door into the engine ------------------------------------------------------
-    def act(self, op: Operation) -> None:
-        """Apply ``op`` now and send the decision out (:meth:`apply_changes`).
+    def act(self, op: Operation) -> set[RadioKey]:
+        """Apply ``op`` now and send the decision out (:meth:`apply_changes`); returns
+        the radios whose entries were published to clients.
 
         Raises :class:`~moas_gui.engine.EngineError` when the rules refuse (nothing
         changes then), :class:`~moas_gui.engine.NotRunning` when no configuration
@@ -342,13 +341,16 @@ class ServerApp:
         run = self._run
         if run is None:
             raise NotRunning("No configuration is open")
-        self.apply_changes(perform(run.engine, op, now=asyncio.get_running_loop().time()))
+        return self.apply_changes(perform(run.engine, op, now=asyncio.get_running_loop().time()))
 
-    def apply_changes(self, changes: Changes) -> None:
-        """Send an engine decision out: switch states to links, news to clients, lines to the log."""
+    def apply_changes(self, changes: Changes) -> set[RadioKey]:
+        """Send an engine decision out: switch states to links, news to clients, lines to
+        the log.  Returns the radios ``(station, radio)`` whose entries were published to
+        clients (none while no client server runs)."""
+        published: set[RadioKey] = set()
         run = self._run
         if run is None:
-            return
+            return published
         if run.keeper is not None:
             run.keeper.changed()
         for switch_id, state in changes.switches.items():
@@ -370,32 +372,43 @@ class ServerApp:
         if run.clients is not None:
             for ref in changes.radios:
                 run.clients.publish_radio(self.radio_entry(ref.station, ref.radio))
-                if run.published is not None:
-                    run.published.add((ref.station, ref.radio))
+                published.add((ref.station, ref.radio))
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
+        return published
 
-    # -- frequency sources (loggers, rig daemons, OTRSP): moas_gui/source_focus.py ----------
+    def _publish_radio(self, entry: dict[str, object]) -> None:
+        """A radio entry to the clients of the running configuration, when any are served."""
+        if self._run is not None and self._run.clients is not None:
+            self._run.clients.publish_radio(entry)
+
+    # -- frequency sources (loggers, rig daemons, OTRSP): moas_gui/source_intake.py --------
+    def _running(self) -> Running:
+        run = self._run
+        if run is None:
+            raise NotRunning("No configuration is open")
+        return run
+
     def _source_event(self, event: ServerEvent) -> None:
         """The sink of every server source (docs/sources.md)."""
-        self._focus.event(event)
-
-    def _logger_frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
-        self._focus.frequency(station, radio, khz, tx_khz)
+        if self._run is not None:
+            self._run.intake.event(event)
 
     def set_focus(self, station: int, radio: int, kind: FocusKind, *,
-                  origin: str = "a client", publish: bool = True) -> set[tuple[int, int]]:
+                  origin: str = "a client", publish: bool = True) -> set[RadioKey]:
         """The station's transmit (``"active"``) or receive (``"focus"``) focus is on
-        ``radio`` (:meth:`SourceFocus.set_focus`); returns the radios whose entry changed."""
-        return self._focus.set_focus(station, radio, kind, origin=origin, publish=publish)
+        ``radio`` (:meth:`SourceIntake.set_focus`); returns the radios whose entry changed."""
+        return self._running().intake.set_focus(station, radio, kind, origin=origin,
+                                                publish=publish)
 
     def radio_entry(self, station: int, radio: int) -> dict[str, object]:
         """A radio's entry for clients: the engine's view plus ``active`` and ``focus``."""
-        return self._focus.radio_entry(station, radio)
+        return self._running().intake.radio_entry(station, radio)
 
-    def source_focus(self) -> dict[tuple[object, ...], SourceEvent]:
-        """The latest focus and run-state events the loggers told (:meth:`SourceFocus.latest`)."""
-        return self._focus.latest()
+    def latest_reports(self) -> dict[tuple[object, ...], SourceEvent]:
+        """The latest focus and run-or-search reports the loggers told
+        (:meth:`SourceIntake.latest_reports`); empty while no configuration runs."""
+        return self._run.intake.latest_reports() if self._run is not None else {}
 
     @property
     def sources(self) -> ServerSources | None:

@@ -373,7 +373,7 @@ def _install_windows(values: Sequence[RegistryValue]) -> list[str]:  # pragma: n
     import ctypes
     import winreg
 
-    done = write_registry(values, winreg)  # type: ignore[arg-type]
+    done = write_registry(values, winreg)  # type: ignore[arg-type, unused-ignore]
     ctypes.windll.shell32.SHChangeNotify(0x08000000, 0, None, None)  # SHCNE_ASSOCCHANGED
     return done
 
@@ -384,7 +384,7 @@ def _uninstall_windows() -> list[str]:  # pragma: no cover
     import ctypes
     import winreg
 
-    done = erase_registry(winreg)  # type: ignore[arg-type]
+    done = erase_registry(winreg)  # type: ignore[arg-type, unused-ignore]
     ctypes.windll.shell32.SHChangeNotify(0x08000000, 0, None, None)
     return done
 

@@ -41,8 +41,9 @@ class ServerCore(Protocol):
         """The file that runs and each switch's status."""
         ...
 
-    def act(self, op: Operation) -> None:
-        """Apply one engine input now; raises :class:`EngineError` when refused."""
+    def act(self, op: Operation) -> set[tuple[int, int]]:
+        """Apply one engine input now; raises :class:`EngineError` when refused.  Returns
+        the radios whose entries were published to clients."""
         ...
 
     def radio_entry(self, station: int, radio: int) -> JSONObject:

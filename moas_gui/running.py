@@ -7,6 +7,10 @@ rig daemons and OTRSP ports, N1MM's rotor window), the rotators and their
 rotctld-compatible listeners, the client server and the browser client's web
 server.  Each part that cannot
 start (a port in use) is logged and left out; the others run.
+
+What the sources told (each station's transmit and receive focus, the batch of
+one loop turn) is not kept here but in the configuration's
+:class:`~moas_gui.source_intake.SourceIntake`, the part that uses it.
 """
 
 from __future__ import annotations
@@ -21,7 +25,6 @@ from typing import TYPE_CHECKING
 from moas_gui.config import Config
 from moas_gui.config.model import Antenna, Rotator, RotatorControl
 from moas_gui.engine import Engine
-from moas_gui.engine.focus import FocusTable
 from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.rotators.base import (
@@ -39,9 +42,9 @@ from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
-from moas_gui.sources.base import EventSink, SourceEvent
+from moas_gui.source_intake import SourceIntake
+from moas_gui.sources.base import SourceSink
 from moas_gui.sources.n1mm import N1MMListener
-from moas_gui.sources.otrsp import AuxAntenna
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 from moas_gui.sources.spec import SourceSpec
 from moas_gui.state_store import SavedState, StateKeeper
@@ -49,7 +52,7 @@ from moas_gui.state_store import SavedState, StateKeeper
 if TYPE_CHECKING:  # the web server (aiohttp) is loaded only when a station asks for it
     from moas_gui.net.web import WebServer
 
-log = logging.getLogger("moas_gui.app")
+log = logging.getLogger(__name__)
 
 ROTCTLD_HOST = "127.0.0.1"
 """Where the rotctld-compatible listeners of rotators with a ``RotctldPort`` listen."""
@@ -98,29 +101,28 @@ class ServerOptions:
 
 @dataclass
 class Running:
-    """Everything that exists while one configuration runs."""
+    """The parts one configuration runs, from the moment it opens until it closes.
+
+    :class:`~moas_gui.app.ServerApp` makes one per opened configuration and drops it
+    on close (:func:`close_parts`); each part keeps its own state.
+    """
 
     config: Config
     engine: Engine
+    intake: SourceIntake
+    """The sources' way into the engine, with each station's focus (source_intake.py)."""
     links: dict[int, SwitchLink] = field(default_factory=dict)
     switch_status: dict[int, str] = field(default_factory=dict)
     clients: ClientServer | None = None
     web: WebServer | None = None
     n1mm: N1MMListener | None = None
     sources: ServerSources | None = None
-    focus: dict[tuple[object, ...], SourceEvent] = field(default_factory=dict)
-    """The latest transmit focus, receive focus and run state the loggers told."""
-    focus_table: FocusTable = field(default_factory=FocusTable)
-    """Each station's transmit and receive focus (moas_gui/engine/focus.py)."""
-    pending: list[SourceEvent | AuxAntenna] = field(default_factory=list)
-    """What the sources said in this turn of the event loop, decided together."""
-    published: set[tuple[int, int]] | None = None
-    """While a batch is decided: the radios whose entries were published."""
     rotators: RotatorManager | None = None
     rotctld: list[RotctldServer] = field(default_factory=list)
     log_handler: logging.Handler | None = None
     stopped: bool = False
     ticker: asyncio.Task[None] | None = None
+    """The status refresh; :func:`close_parts` cancels it and waits for its end."""
     keeper: StateKeeper | None = None
     fingerprint: str = ""
 
@@ -151,7 +153,7 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
         link.connect()
 
 
-async def start_sources(run: Running, options: ServerOptions, sink: EventSink) -> None:
+async def start_sources(run: Running, options: ServerOptions, sink: SourceSink) -> None:
     """Every frequency source the configuration turns on, and N1MM's rotor window
     (after the rotators, whose manager it turns them with); see docs/sources.md."""
     settings = SourceSettings(
@@ -248,7 +250,11 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
 
 
 async def close_parts(run: Running) -> None:
-    """Close every listener, the rotators and the links; the relays stay as they are."""
+    """Close every listener, the rotators and the links; the relays stay as they are.
+    The status refresh (``run.ticker``) is cancelled and awaited first."""
+    if run.ticker is not None:
+        run.ticker.cancel()
+        await asyncio.wait({run.ticker})
     if run.log_handler is not None:
         logging.getLogger("moas_gui").removeHandler(run.log_handler)
     parts: list[ServerSources | WebServer | ClientServer | RotctldServer | RotatorManager

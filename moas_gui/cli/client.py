@@ -103,7 +103,7 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
         print(f"moas-client: {problem}; on a computer without a screen, read a logger "
               "with moas-client --headless --station N --source KIND HOST", file=sys.stderr)
         return 1
-    import qasync  # type: ignore[import-untyped]
+    import qasync
 
     from moas_gui.client.connection import ClientConnection
     from moas_gui.ui.client_sources import ClientSources

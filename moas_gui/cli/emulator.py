@@ -50,7 +50,7 @@ from ..hw.moas2.emulator.control import (
     serve_stdin,
 )
 from ..hw.moas2.emulator.model import EmulatorModel
-from ..hw.moas2.emulator.record import Event
+from ..hw.moas2.emulator.record import EntryCause
 from ..hw.moas2.emulator.serve import (
     Endpoint,
     PtyEndpoint,
@@ -189,7 +189,7 @@ def _log_relays(box: EmulatedBox) -> None:
             return
         for entry in box.model.record.after(read[0]):
             read[0] = entry.seq
-            if entry.event is Event.RESET:
+            if entry.event is EntryCause.RESET:
                 keyed = " ".join(str(n) for n in sorted(entry.keyed))
                 log.info("reset (%s) received%s", entry.cause,
                          f" while station {keyed} was keyed" if len(entry.keyed) == 1
@@ -225,7 +225,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"moas-emulator: {problem}; run it without a window with --headless",
               file=sys.stderr)
         return 1
-    import qasync  # type: ignore[import-untyped]
+    import qasync
     from PySide6.QtWidgets import QApplication
 
     from moas_gui.ui.main_thread_gc import MainThreadCollector

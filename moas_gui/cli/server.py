@@ -13,15 +13,36 @@ import asyncio
 import logging
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Protocol
 
 from moas_gui import __version__
 from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
+if TYPE_CHECKING:  # loaded only by the commands that serve (--check and --plan stay quick)
+    from moas_gui.app import ServerOptions
+    from moas_gui.single_instance import InstanceServer
+    from moas_gui.sources.spec import SourceSpec
+    from moas_gui.status import ServerStatus
+
 log = logging.getLogger("moas_gui.server")
 INSTANCE_NAME = "moas-server"
+
+
+class RunningServer(Protocol):
+    """What :func:`vet_launch` reads of the server that runs (a ``ServerApp``)."""
+
+    @property
+    def status(self) -> ServerStatus: ...
+
+    @property
+    def options(self) -> ServerOptions: ...
+
+    @property
+    def client_address(self) -> tuple[str, int] | None: ...
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -97,7 +118,7 @@ def _positive(text: str) -> int:
     return value
 
 
-def _source(text: str) -> object:
+def _source(text: str) -> SourceSpec:
     from moas_gui.sources.spec import server_spec
 
     try:
@@ -106,9 +127,9 @@ def _source(text: str) -> object:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
-def _source_text(specs: list[object] | tuple[object, ...] | None) -> str | None:
+def _source_text(specs: Sequence[SourceSpec] | None) -> str | None:
     """The --source options as one text (None without any), to compare two launches."""
-    return " ".join(spec.text() for spec in specs) if specs else None  # type: ignore[attr-defined]
+    return " ".join(spec.text() for spec in specs) if specs else None
 
 
 CHECK_SECONDS = 1.2
@@ -170,7 +191,7 @@ def plan(path: str, as_json: bool) -> int:
     return 0
 
 
-def _options(args: argparse.Namespace) -> object:
+def _options(args: argparse.Namespace) -> ServerOptions:
     from moas_gui.app import ServerOptions
     from moas_gui.hw.moas2.timing import ENVIRONMENT
     from moas_gui.hw.rotators.base import TIMING_HOOK
@@ -195,7 +216,7 @@ def _options(args: argparse.Namespace) -> object:
                          rotator_timing=args.rotator_timing)
 
 
-def _become_instance(args: argparse.Namespace) -> tuple[object | None, int | None]:
+def _become_instance(args: argparse.Namespace) -> tuple[InstanceServer | None, int | None]:
     """Become the one running server, or hand FILE to the one that runs.
 
     Returns ``(instance, None)`` to go on serving (``instance`` is None with
@@ -278,17 +299,17 @@ def _refuse_unusable(args: argparse.Namespace) -> int | None:
                    "open it again", detail=shown)
 
 
-def vet_launch(app: object, launch: dict[str, object], *, headless: bool) -> str | None:
+def vet_launch(app: RunningServer, launch: dict[str, object], *, headless: bool) -> str | None:
     """Why the running server (``app``, headless or not) refuses a second launch, or None."""
     if headless:
-        status = app.status  # type: ignore[attr-defined]
+        status = app.status
         return (f"it runs {status.file or 'a configuration'} headless and takes no hand-over; "
                 "stop it first (or use --new-instance with other ports)")
     if launch.get("headless"):
         return ("it runs with a window; a --headless server cannot start beside it "
                 "(stop it first, or use --new-instance with other ports)")
-    options = app.options  # type: ignore[attr-defined]
-    address = app.client_address  # type: ignore[attr-defined]
+    options = app.options
+    address = app.client_address
     running = {"bind": options.bind, "udp_bind": options.udp_bind,
                "tcp_port": options.tcp_port if options.tcp_port is not None
                else (address[1] if address else None),
@@ -304,17 +325,17 @@ def vet_launch(app: object, launch: dict[str, object], *, headless: bool) -> str
     return None
 
 
-async def _serve_headless(args: argparse.Namespace, instance: object | None) -> int:
+async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | None) -> int:
     from moas_gui.app import ServerApp
 
-    app = ServerApp(_options(args))  # type: ignore[arg-type]
+    app = ServerApp(_options(args))
     result = await app.open(args.file)
     if result.config is None:
         return 1
     stop = asyncio.Event()
     with CleanStop(stop.set):
         if instance is not None:
-            await instance.start(  # type: ignore[attr-defined]
+            await instance.start(
                 lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True))
         log.info("Serving %s; stop with Ctrl+C", args.file)
         await stop.wait()
@@ -344,7 +365,7 @@ def run_headless(args: argparse.Namespace) -> int:
         return run_until_stopped(_serve_headless(args, instance))
     finally:
         if instance is not None:
-            instance.close()  # type: ignore[attr-defined]
+            instance.close()
 
 
 def run_window(args: argparse.Namespace) -> int:
@@ -361,11 +382,11 @@ def run_window(args: argparse.Namespace) -> int:
         return _run_window(args, instance)
     finally:
         if instance is not None:
-            instance.close()  # type: ignore[attr-defined]
+            instance.close()
 
 
-def _run_window(args: argparse.Namespace, instance: object | None) -> int:
-    import qasync  # type: ignore[import-untyped]
+def _run_window(args: argparse.Namespace, instance: InstanceServer | None) -> int:
+    import qasync
 
     from moas_gui.app import ServerApp
     from moas_gui.ui.main_thread_gc import MainThreadCollector
@@ -383,14 +404,14 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
     quit_event = asyncio.Event()
 
     async def serve() -> int:
-        app = ServerApp(_options(args))  # type: ignore[arg-type]
+        app = ServerApp(_options(args))
         settings = QSettings()
         window = ServerWindow(app, settings, quit_event.set)
         window.show()
         # SIGINT, SIGTERM (and Ctrl+Break, a closed console) end it as Exit does
         with CleanStop(quit_event.set):
             if instance is not None:
-                await instance.start(  # type: ignore[attr-defined]
+                await instance.start(
                     window.take_hand_over,
                     lambda path, launch: vet_launch(app, launch, headless=False))
             from moas_gui.ui.control_hook import start_if_asked
@@ -405,10 +426,12 @@ def _run_window(args: argparse.Namespace, instance: object | None) -> int:
             await window.idle()
             await app.close()
             window.shutdown()
+            await window.idle()  # the client windows' connections end
         return 0
 
     with loop:
-        return loop.run_until_complete(serve())
+        status: int = loop.run_until_complete(serve())  # qasync is untyped
+        return status
 
 
 def _install_service(args: argparse.Namespace, arguments: list[str]) -> int:

@@ -255,8 +255,10 @@ class ClientConnection:
             if keeping is not None:
                 keeping.cancel()
             reading.cancel()
-            with contextlib.suppress(asyncio.CancelledError, Exception):
-                await reading
+            for task in (keeping, reading):  # both end before the connection is closed
+                if task is not None:
+                    with contextlib.suppress(asyncio.CancelledError, Exception):
+                        await task
             writer.close()
             with contextlib.suppress(Exception):
                 await writer.wait_closed()

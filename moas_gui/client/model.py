@@ -22,6 +22,11 @@ to grow them; without them the views fall back to plain defaults:
     the offsets of the antennas that use it.
 ``radios[].relative``
     the radio's relative antenna list for its frequency, as antenna IDs.
+
+The view classes copy the server's (``engine/views.py``, ``engine/why.py``'s
+``Why``, ``hw/rotators/base.py``'s ``RotatorView``) on purpose: the client never
+imports the engine.  ``tests/client/test_client_views_in_step.py`` fails when an
+engine view gains a field this copy lacks, unless its ``LEFT_OUT`` list says why.
 """
 
 from __future__ import annotations

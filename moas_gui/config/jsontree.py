@@ -185,7 +185,9 @@ class _Lines:
         return line, offset - start + 1
 
 
-class _Reader:
+class _Parser:
+    """Reads one configuration text into a tree, collecting every problem on the way."""
+
     def __init__(self, text: str, filename: str) -> None:
         self.text = text
         self.filename = filename
@@ -529,7 +531,7 @@ class _Reader:
 
 def parse(text: str, filename: str = "") -> tuple[Node | None, list[Problem]]:
     """Read ``text``; return the tree (None when unreadable) and the problems found."""
-    reader = _Reader(text, filename)
+    reader = _Parser(text, filename)
     try:
         reader.skip()
         if reader.pos >= len(text):

@@ -88,6 +88,13 @@ class WebSocketOutlet:
         self._closing = True
         self._wake.set()
 
+    async def aborted(self) -> None:
+        """Waits for the sender's end after :meth:`abort` (whatever it ended with is
+        retrieved, never raised)."""
+        await asyncio.wait({self._sender})
+        if not self._sender.cancelled():
+            self._sender.exception()
+
     async def finished(self) -> None:
         """Waits for the sender to end (call after :meth:`close` or :meth:`abort`)."""
         self.close()
@@ -167,6 +174,7 @@ async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: st
                 await outlet.finished()
         except TimeoutError:
             outlet.abort()
+            await outlet.aborted()
 
 
 __all__ = ["MAX_MESSAGE", "WebSocketOutlet", "converse"]

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from moas_gui.config.jsontree import JArray, JObject, JScalar, Node, parse
+from moas_gui.config.jsontree import JArray, JObject, JScalar, Member, Node, parse
 from moas_gui.config.model import Config, RadioRef
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.index import ConfigIndex, Kind
@@ -312,7 +312,7 @@ class Lines:
         return group.line
 
 
-def _member(group: JObject | None, key: str) -> Any:
+def _member(group: JObject | None, key: str) -> Member | None:
     if group is None:
         return None
     wanted = key.lower()

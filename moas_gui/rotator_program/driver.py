@@ -126,9 +126,12 @@ class ControllerDriver:
 
     async def close(self) -> None:
         task, self._task = self._task, None
-        if task is not None:
+        while task is not None and not task.done():  # a lost cancellation is sent again
             task.cancel()
-            await asyncio.wait({task}, timeout=2.0)
+            await asyncio.wait({task}, timeout=0.2)
+        if task is not None and not task.cancelled() and task.exception() is not None:
+            log.error("rotator %d: its loop had ended on an error", self.rotator,
+                      exc_info=task.exception())
         self._close_link()
 
     def rotate(self, degrees: float) -> None:

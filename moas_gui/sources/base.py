@@ -8,7 +8,7 @@ broadcasts (N1MM Logger+, DXLog.net, Win-Test), a rig daemon polled over TCP
   out, no sockets and no clock, so every bad input can be tested directly;
 - a thin **asyncio part** that owns the socket or port, maps what the logger
   calls a radio to this server's station and radio numbers, and hands
-  :data:`SourceEvent` values to one callback (:data:`EventSink`).
+  :data:`SourceEvent` values to one callback (:data:`SourceSink`).
 
 The same sources run inside the server (the app turns their events into
 engine operations) and inside ``moas-client`` on an operating computer (which
@@ -84,7 +84,7 @@ class FocusRadio:
 
 
 @dataclass(frozen=True, slots=True)
-class Running:
+class RunOrSearch:
     """Whether ``radio`` of ``station`` is running (calling CQ) or searching and pouncing."""
 
     station: int
@@ -93,8 +93,8 @@ class Running:
     origin: str
 
 
-SourceEvent: TypeAlias = FrequencyReport | ActiveRadio | FocusRadio | Running
-EventSink: TypeAlias = Callable[[SourceEvent], object]
+SourceEvent: TypeAlias = FrequencyReport | ActiveRadio | FocusRadio | RunOrSearch
+SourceSink: TypeAlias = Callable[[SourceEvent], object]
 """Where a source hands its events (the app's entry into the engine, or the client link)."""
 
 
@@ -102,7 +102,7 @@ def event_key(event: SourceEvent) -> tuple[object, ...]:
     """What a newer event of the same key replaces: a radio's frequency, a station's focus..."""
     if isinstance(event, FrequencyReport):
         return ("frequency", event.station, event.radio)
-    if isinstance(event, Running):
+    if isinstance(event, RunOrSearch):
         return ("running", event.station, event.radio)
     return (type(event).__name__, event.station)
 
@@ -232,7 +232,7 @@ class SourceHub:
 
     def __init__(
         self,
-        sink: EventSink,
+        sink: SourceSink,
         logger: logging.Logger | None = None,
         *,
         clock: Callable[[], float] = time.monotonic,
@@ -257,7 +257,7 @@ class SourceHub:
                 self._log.info(
                     "Station %d %sis reported by two sources, %s and %s: the newest wins",
                     event.station,
-                    f"radio {event.radio} " if isinstance(event, (FrequencyReport, Running))
+                    f"radio {event.radio} " if isinstance(event, (FrequencyReport, RunOrSearch))
                     else "", before, event.origin)
         self._origin[key] = event.origin
         try:
@@ -276,7 +276,20 @@ class SourceHub:
 
 
 __all__ = [
-    "DEFAULT_RETRY", "LOG_INTERVAL", "MAX_KHZ", "RETRY_LIMIT",
-    "ActiveRadio", "BadInputLog", "ConnectionLog", "EventSink", "FocusRadio",
-    "FrequencyReport", "Running", "Source", "SourceEvent", "SourceHub", "check_khz", "event_key",
+    "DEFAULT_RETRY",
+    "LOG_INTERVAL",
+    "MAX_KHZ",
+    "RETRY_LIMIT",
+    "ActiveRadio",
+    "BadInputLog",
+    "ConnectionLog",
+    "FocusRadio",
+    "FrequencyReport",
+    "RunOrSearch",
+    "Source",
+    "SourceEvent",
+    "SourceHub",
+    "SourceSink",
+    "check_khz",
+    "event_key",
 ]

@@ -14,7 +14,7 @@ import asyncio
 import time
 from typing import Final
 
-from moas_gui.sources.base import DEFAULT_RETRY, EventSink
+from moas_gui.sources.base import DEFAULT_RETRY, SourceSink
 from moas_gui.sources.flrig_rpc import (
     DEFAULT_PORT,
     FlrigReplyError,
@@ -42,7 +42,7 @@ class FlrigSource(PolledRig):
 
     default_port = DEFAULT_PORT
 
-    def __init__(self, station: int, radio: int, on_event: EventSink, *,
+    def __init__(self, station: int, radio: int, on_event: SourceSink, *,
                  host: str = "127.0.0.1", port: int | None = None,
                  interval: float = DEFAULT_INTERVAL, timeout: float = DEFAULT_TIMEOUT,
                  retry: float = DEFAULT_RETRY) -> None:

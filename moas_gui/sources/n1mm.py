@@ -19,7 +19,7 @@ docs/sources.md).  The listener
 - hands ``on_event`` an :class:`~moas_gui.sources.base.ActiveRadio` when the
   station's ``ActiveRadioNr`` (transmit focus) changes, a
   :class:`~moas_gui.sources.base.FocusRadio` when ``FocusRadioNr`` does and a
-  :class:`~moas_gui.sources.base.Running` when a radio's ``IsRunning`` does;
+  :class:`~moas_gui.sources.base.RunOrSearch` when a radio's ``IsRunning`` does;
 - calls the optional ``on_update(update)`` for every RadioInfo from a known
   station, changed or not (transmit state, staleness, a status display);
 - ignores packets from senders it cannot map (a debug line, at most one per
@@ -49,11 +49,11 @@ from moas_gui.config.model import Config, N1MMStation
 from moas_gui.net.log_limit import LogLimiter, held_text
 from moas_gui.sources.base import (
     ActiveRadio,
-    EventSink,
     FocusRadio,
     FrequencyReport,
-    Running,
+    RunOrSearch,
     SourceEvent,
+    SourceSink,
 )
 from moas_gui.sources.n1mm_packet import (
     REASONS,
@@ -177,7 +177,7 @@ class N1MMListener(DatagramSource):
         on_frequency: FrequencyCallback | None = None,
         *,
         on_update: UpdateCallback | None = None,
-        on_event: EventSink | None = None,
+        on_event: SourceSink | None = None,
         names: Mapping[str, int] | None = None,
         every_sender: int | None = None,
         port: int = DEFAULT_PORT,
@@ -214,7 +214,7 @@ class N1MMListener(DatagramSource):
         on_frequency: FrequencyCallback | None = None,
         *,
         on_update: UpdateCallback | None = None,
-        on_event: EventSink | None = None,
+        on_event: SourceSink | None = None,
     ) -> N1MMListener:
         """A listener for the configuration's ``N1MMLogger`` list (bind it on ``config.udp_port``)."""
         return cls(config.n1mm_logger, on_frequency, on_update=on_update, on_event=on_event,
@@ -308,7 +308,7 @@ class N1MMListener(DatagramSource):
             radio_key = (station, info.radio_nr)
             if self._running.get(radio_key) != info.is_running:
                 self._running[radio_key] = info.is_running
-                self._emit(Running(station, info.radio_nr, info.is_running, origin))
+                self._emit(RunOrSearch(station, info.radio_nr, info.is_running, origin))
 
     def _deliver(self, report: FrequencyReport) -> None:
         self._delivered += 1

@@ -38,8 +38,8 @@ from moas_gui.sources.base import (
     ActiveRadio,
     BadInputLog,
     ConnectionLog,
-    EventSink,
     FocusRadio,
+    SourceSink,
 )
 from moas_gui.sources.otrsp_command import (
     Aux,
@@ -89,7 +89,7 @@ class OtrspSource:
         self,
         port: str,
         mapping: OtrspMap,
-        on_event: EventSink,
+        on_event: SourceSink,
         *,
         transport_factory: Callable[[str], Any] | None = None,
         clock: Callable[[], float] = time.monotonic,

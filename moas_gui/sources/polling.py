@@ -33,8 +33,8 @@ from moas_gui.sources.base import (
     RETRY_LIMIT,
     BadInputLog,
     ConnectionLog,
-    EventSink,
     FrequencyReport,
+    SourceSink,
     check_khz,
 )
 
@@ -73,7 +73,7 @@ class PolledRig:
         self,
         station: int,
         radio: int,
-        on_event: EventSink,
+        on_event: SourceSink,
         *,
         host: str = "127.0.0.1",
         port: int | None = None,

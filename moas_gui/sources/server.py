@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import TypeVar
 
 from moas_gui.config.model import Config
-from moas_gui.sources.base import EventSink, SourceHub
+from moas_gui.sources.base import SourceHub, SourceSink
 from moas_gui.sources.dxlog import DXLogListener
 from moas_gui.sources.n1mm import N1MMListener
 from moas_gui.sources.n1mm_rotor import N1MMRotorServer, parse_destination
@@ -67,7 +67,7 @@ class ServerSources:
     def __init__(
         self,
         config: Config,
-        sink: EventSink,
+        sink: SourceSink,
         *,
         settings: SourceSettings | None = None,
         rotators: RotatorHooks | None = None,

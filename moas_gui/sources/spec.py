@@ -46,7 +46,7 @@ from moas_gui.config.rigs import (
     RIGCTLD_PORT,
     split_address,
 )
-from moas_gui.sources.base import DEFAULT_RETRY, EventSink, Source
+from moas_gui.sources.base import DEFAULT_RETRY, Source, SourceSink
 
 KINDS: Final = ("rigctld", "flrig", "otrsp", "n1mm", "dxlog", "wintest")
 SERVER_KINDS: Final = ("rigctld", "flrig", "otrsp")
@@ -189,7 +189,7 @@ def config_specs(config: Config) -> list[SourceSpec]:
     return specs
 
 
-def make_source(spec: SourceSpec, station: int, sink: EventSink) -> Source:
+def make_source(spec: SourceSpec, station: int, sink: SourceSink) -> Source:
     """The running-to-be source of ``spec`` for ``station`` (unless the spec names its own),
     handing its events to ``sink``."""
     o = spec.options

@@ -22,7 +22,7 @@ from collections.abc import Callable, Mapping
 from typing import Final
 
 from moas_gui.net.log_limit import LogLimiter
-from moas_gui.sources.base import BadInputLog, EventSink, FrequencyReport
+from moas_gui.sources.base import BadInputLog, FrequencyReport, SourceSink
 from moas_gui.sources.udp import DatagramSource
 from moas_gui.sources.wintest_frame import (
     DEFAULT_PORT,
@@ -49,7 +49,7 @@ class WinTestListener(DatagramSource):
     def __init__(
         self,
         stations: Mapping[str, tuple[int, int]],
-        on_event: EventSink,
+        on_event: SourceSink,
         *,
         port: int = DEFAULT_PORT,
         host: str = "0.0.0.0",

@@ -120,8 +120,14 @@ class ClientSources:
 
     async def _run_again(self, previous: asyncio.Task[None] | None) -> None:
         if previous is not None:
-            with contextlib.suppress(asyncio.CancelledError, Exception):
-                await previous
+            try:
+                await asyncio.wait({previous})  # the restart before this one ends first
+            except asyncio.CancelledError:
+                previous.cancel()  # closing: the chain ends with this one (aclose waits)
+                await asyncio.wait({previous})
+                raise
+            if not previous.cancelled():
+                previous.exception()  # retrieved; its failure was its own to report
         await self._stop_running()
         self.station = self.window.station
         if self.station is None or not self.specs:

@@ -297,11 +297,15 @@ class ClientWindow(QMainWindow):
         self.connection.start()
 
     async def aclose(self) -> None:
-        """Closes the window's connection and waits for its requests to end."""
+        """Closes the window's connection and waits for its requests to end (also after
+        the window was closed, whose close only asks them to end)."""
         self._closed = True
         self._unsubscribe()
-        for task in list(self._tasks):
+        tasks = list(self._tasks)
+        for task in tasks:
             task.cancel()
+        if tasks:
+            await asyncio.wait(tasks)
         await self.connection.aclose()
 
     def closeEvent(self, event: QCloseEvent) -> None:

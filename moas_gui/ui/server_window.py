@@ -46,6 +46,8 @@ from .screen_fit import fit_to_screen
 if TYPE_CHECKING:
     from moas_gui.app import ServerApp
 
+    from .client_window import ClientWindow
+
 log = logging.getLogger("moas_gui.ui")
 
 RECENT_MAX = 4
@@ -61,8 +63,10 @@ class ServerWindow(QMainWindow):
         self.settings = settings
         self._quit_requested = quit_requested
         self._tasks: set[asyncio.Task[object]] = set()
+        """The menu actions that run (open, restart, save switch data, the plan) and the
+        ends of client windows' connections; :meth:`idle` waits for them."""
         self._state: ServerState | None = None
-        self.client_windows: list[QWidget] = []
+        self.client_windows: list[ClientWindow] = []
         self.emulator_windows: dict[int, QWidget] = {}
         self.plan_window: QWidget | None = None
         """View > Station plan, while open."""
@@ -299,7 +303,7 @@ class ServerWindow(QMainWindow):
                  if getattr(getattr(w, "connection", None), "port", address[1]) != address[1]]
         for window in stale:
             self.client_windows.remove(window)
-            window.close()
+            self._close_client(window)
             self.open_client()
 
     def _remember_recent(self, path: str) -> None:
@@ -502,12 +506,20 @@ class ServerWindow(QMainWindow):
     def shutdown(self) -> None:
         logging.getLogger("moas_gui").removeHandler(self.log_handler)
         self.tray.hide()
-        for window in [*self.client_windows, *self.emulator_windows.values()]:
+        for client in self.client_windows:
+            self._close_client(client)
+        for window in self.emulator_windows.values():
             window.close()
         if self.plan_window is not None:
             self.plan_window.close()
 
     # -- helpers ---------------------------------------------------------------------
+    def _close_client(self, window: ClientWindow) -> None:
+        """Close a View > Client window; the end of its connection and its requests is
+        one of this window's tasks (:meth:`idle` waits for it)."""
+        window.close()
+        self._spawn(window.aclose())
+
     def _spawn(self, coroutine: Coroutine[Any, Any, object]) -> None:
         task = asyncio.ensure_future(coroutine)
         self._tasks.add(task)
@@ -519,7 +531,9 @@ class ServerWindow(QMainWindow):
             log.error("Internal error: %s", task.exception(), exc_info=task.exception())
 
     async def idle(self) -> None:
-        """Wait for every menu action started so far (for tests and orderly exit)."""
+        """Wait for every menu action started so far, and for the end of the client
+        windows' connections closed so far (for tests and orderly exit: once before the
+        server closes, once after :meth:`shutdown`)."""
         while self._tasks:
             await asyncio.gather(*list(self._tasks), return_exceptions=True)
 

@@ -62,7 +62,7 @@ from fault_harness import (
 )
 from helpers import EXAMPLES, until
 
-from moas_gui.hw.moas2.emulator.record import Entry, Event
+from moas_gui.hw.moas2.emulator.record import Entry, EntryCause
 from moas_gui.hw.moas2.emulator.serve import make_link
 from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.state_store import decode, fingerprint
@@ -100,7 +100,7 @@ def violations(entries: list[Entry], before: Entry | None = None) -> list[str]:
     found: list[str] = []
     previous = before
     for entry in entries:
-        if entry.event is Event.RESET and entry.keyed:
+        if entry.event is EntryCause.RESET and entry.keyed:
             who = (f"station {_numbers(entry.keyed)} was" if len(entry.keyed) == 1
                    else f"stations {_numbers(entry.keyed)} were")
             found.append(f"record #{entry.seq}: {entry.cause} reached the box while {who} "
@@ -193,7 +193,7 @@ class Box:
         return self.entries[-1].station_relays(station) if self.entries else frozenset()
 
     def resets(self, start: int = 0) -> list[Entry]:
-        return [e for e in self.entries[start:] if e.event is Event.RESET]
+        return [e for e in self.entries[start:] if e.event is EntryCause.RESET]
 
     async def close(self) -> None:
         for _, writer in (self.asking, self.watching):

@@ -20,7 +20,6 @@ from moas_gui.hw.moas2.commands import (
 )
 from moas_gui.hw.moas2.errors import CommandRejected, CommandTooLong, EncodeError, RelayListTooLong
 from moas_gui.hw.moas2.messages import (
-    Antenna,
     AntennaKind,
     ConflictOp,
     ConflictTable,
@@ -36,6 +35,7 @@ from moas_gui.hw.moas2.messages import (
     PolarityOp,
     ReceiveDelay,
     RelayStatusRequest,
+    SetAntenna,
     SetState,
     StateOp,
     StationMode,
@@ -108,10 +108,10 @@ def test_relay_map_with_bits_beyond_relay_63_is_refused() -> None:
 # --------------------------------------------------------------------------- the manual's examples
 
 MANUAL_EXAMPLES = [
-    ("!1B1123;", Antenna(1, AntennaKind.BOTH, 1, (1, 2, 3))),
-    ("!4TAF;", Antenna(4, AntennaKind.TX, 10, (15,))),
+    ("!1B1123;", SetAntenna(1, AntennaKind.BOTH, 1, (1, 2, 3))),
+    ("!4TAF;", SetAntenna(4, AntennaKind.TX, 10, (15,))),
     # ERRATA: the manual says "station 4"; it is station 2's extra relays 61 and 63.
-    ("!2X0z};", Antenna(2, AntennaKind.EXTRA, 0, (61, 63))),
+    ("!2X0z};", SetAntenna(2, AntennaKind.EXTRA, 0, (61, 63))),
     ("%0;", ConflictTable(ConflictOp.NONE)),
     (
         "%C00112233445566778899AABBCCDDEEFF;",
@@ -175,12 +175,12 @@ def test_every_command_of_the_manual_has_a_table_row() -> None:
 
 
 def test_antenna_with_35_relays_is_exactly_40_bytes() -> None:
-    command = Antenna(1, AntennaKind.BOTH, 5, tuple(range(MAX_RELAYS)))
+    command = SetAntenna(1, AntennaKind.BOTH, 5, tuple(range(MAX_RELAYS)))
     assert len(encode(command)) == MAX_COMMAND == 40
 
 
 def test_antenna_with_36_relays_is_refused_naming_station_and_count() -> None:
-    command = Antenna(3, AntennaKind.TX, 5, tuple(range(36)))
+    command = SetAntenna(3, AntennaKind.TX, 5, tuple(range(36)))
     with pytest.raises(RelayListTooLong, match=r"station 3 TX antenna 5 needs 36 relays"):
         encode(command)
     assert isinstance(RelayListTooLong("x"), CommandTooLong)
@@ -214,10 +214,10 @@ def test_split_table_loads_never_exceed_40_bytes(op: ConflictOp, pairs: list) ->
 @pytest.mark.parametrize(
     ("command", "message"),
     [
-        (Antenna(7, AntennaKind.TX, 1), "station 7"),
-        (Antenna(0, AntennaKind.TX, 1), "station 0 takes only extra relays"),
-        (Antenna(1, AntennaKind.TX, 64), "antenna 64"),
-        (Antenna(1, AntennaKind.TX, 1, (64,)), "relay"),
+        (SetAntenna(7, AntennaKind.TX, 1), "station 7"),
+        (SetAntenna(0, AntennaKind.TX, 1), "station 0 takes only extra relays"),
+        (SetAntenna(1, AntennaKind.TX, 64), "antenna 64"),
+        (SetAntenna(1, AntennaKind.TX, 1, (64,)), "relay"),
         (InhibitTime(0), "inhibit time of 0 ms"),
         (InhibitTime(10000), "outside 1-9999"),
         (InterruptDelay(100), "interrupt delay of 100 ms"),
@@ -278,7 +278,7 @@ _stations = st.frozensets(st.integers(1, 6))
 _pairs = st.lists(st.tuples(st.integers(0, 63), st.integers(0, 63)), max_size=18).map(tuple)
 _commands = st.one_of(
     st.builds(
-        Antenna, st.integers(1, 6), st.sampled_from(list(AntennaKind)), st.integers(0, 63),
+        SetAntenna, st.integers(1, 6), st.sampled_from(list(AntennaKind)), st.integers(0, 63),
         st.lists(st.integers(0, 63), max_size=MAX_RELAYS).map(tuple),
     ),
     st.builds(ConflictTable, st.sampled_from([ConflictOp.SET, ConflictOp.CLEAR]), _pairs),

@@ -11,8 +11,8 @@ from __future__ import annotations
 import pytest
 
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
-from moas_gui.hw.moas2.emulator.record import Entry, Event, Record
-from moas_gui.hw.moas2.emulator.station import Phase
+from moas_gui.hw.moas2.emulator.record import Entry, EntryCause, Record
+from moas_gui.hw.moas2.emulator.station import StationPhase
 from moas_gui.hw.moas2.emulator.stepped import SteppedBox
 
 LOAD = "&1;!1B112;!2B234;"
@@ -68,16 +68,16 @@ def test_after_a_reload_a_keyed_station_in_interrupt_mode_is_inhibited_then_swit
     assert box.station(1).mode.name == "INTERRUPT"
     box.send("*1;", at=30)
     assert box.relays == {3, 4}
-    assert box.inhibited(1) and box.station(1).phase is Phase.INTERRUPT
+    assert box.inhibited(1) and box.station(1).phase is StationPhase.INTERRUPT
     box.wait(34)
     assert box.relays == {3, 4}
     assert box.wait(35) == "!1F1;"  # the relays move after the interrupt delay ...
     assert box.relays == {1, 2, 3, 4}
-    assert box.inhibited(1) and box.station(1).phase is Phase.SLOW  # ... the slow way
+    assert box.inhibited(1) and box.station(1).phase is StationPhase.SLOW  # ... the slow way
     box.wait(54)
     assert box.inhibited(1)
     box.wait(55)
-    assert not box.inhibited(1) and box.station(1).phase is Phase.TRANSMIT
+    assert not box.inhibited(1) and box.station(1).phase is StationPhase.TRANSMIT
 
 
 def test_a_station_keyed_while_the_box_is_inactive_transmits_once_it_is_active() -> None:
@@ -112,7 +112,7 @@ def test_the_record_shows_each_relay_change_with_the_key_states() -> None:
     box.key(1, False, at=30)
     entries = box.model.record.after(start)
     assert [(e.event, e.cause) for e in entries] == [
-        (Event.KEY, "key 1"), (Event.RELAYS, "!2B156;"), (Event.KEY, "unkey 1")]
+        (EntryCause.KEY, "key 1"), (EntryCause.RELAYS, "!2B156;"), (EntryCause.KEY, "unkey 1")]
     moved = entries[1]
     assert moved.keyed == {1}
     assert moved.station_relays(1) == {1, 2} and moved.station_relays(2) == {5, 6}
@@ -126,9 +126,9 @@ def test_the_record_shows_a_reset_with_the_key_states_of_that_moment() -> None:
     start = box.model.record.written
     box.send("*0;", at=20)
     reset, opened = box.model.record.after(start)
-    assert (reset.event, reset.cause, reset.keyed) == (Event.RESET, "*0;", {2})
+    assert (reset.event, reset.cause, reset.keyed) == (EntryCause.RESET, "*0;", {2})
     assert reset.relays == {1, 2, 3, 4}  # what the reset met
-    assert (opened.event, opened.relays, opened.active) == (Event.RELAYS, frozenset(), False)
+    assert (opened.event, opened.relays, opened.active) == (EntryCause.RELAYS, frozenset(), False)
     assert opened.station_relays(2) == frozenset() and opened.keyed == {2}
     assert box.model.record.resets == 1
 
@@ -143,13 +143,13 @@ def test_the_record_shows_relays_moved_by_a_timer() -> None:
     box.key(1, False, at=10)
     box.wait(200)
     causes = [(e.event, e.cause, sorted(e.relays)) for e in box.model.record.after(start)]
-    assert causes == [(Event.KEY, "unkey 1", [1, 2]), (Event.RELAYS, "timer", [3, 4])]
+    assert causes == [(EntryCause.KEY, "unkey 1", [1, 2]), (EntryCause.RELAYS, "timer", [3, 4])]
 
 
 def test_the_record_is_bounded_and_numbered() -> None:
     record = Record(size=3)
     for seq in range(1, 6):
-        record.add(Entry(seq, 0.0, Event.KEY, "key 1", True, frozenset(), frozenset({1}),
+        record.add(Entry(seq, 0.0, EntryCause.KEY, "key 1", True, frozenset(), frozenset({1}),
                          (frozenset(),) * 6, frozenset()))
     assert [e.seq for e in record] == [3, 4, 5]
     assert [e.seq for e in record.after(1)] == [3, 4, 5]  # 2 is gone: the reader can tell
@@ -165,6 +165,6 @@ async def test_the_real_time_box_keeps_the_same_record() -> None:
     box.receive(b"*1;&1;!1B112;")
     box.set_tr(1, True)
     assert [(e.event, e.cause) for e in box.record] == [
-        (Event.RELAYS, "!1B112;"), (Event.KEY, "key 1")]
+        (EntryCause.RELAYS, "!1B112;"), (EntryCause.KEY, "key 1")]
     assert box.record.last is not None and box.record.last.keyed == {1}
     box.close()

@@ -4,7 +4,7 @@ replies, errors, the input buffer, antennas and the conflict resolver."""
 from __future__ import annotations
 
 from moas_gui.hw.moas2.emulator.model import INPUT_BUFFER
-from moas_gui.hw.moas2.emulator.station import Phase
+from moas_gui.hw.moas2.emulator.station import StationPhase
 from moas_gui.hw.moas2.emulator.stepped import SteppedBox
 
 
@@ -286,4 +286,4 @@ def test_vendor_extension_answers_with_its_name() -> None:
 
 def test_phase_is_receive_for_every_station_at_rest() -> None:
     box = active_box()
-    assert all(st.phase is Phase.RECEIVE for st in box.model.view().stations)
+    assert all(st.phase is StationPhase.RECEIVE for st in box.model.view().stations)

@@ -20,7 +20,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
-from moas_gui.hw.moas2.emulator.station import Kind
+from moas_gui.hw.moas2.emulator.station import SlotRole
 from moas_gui.hw.moas2.emulator.view import BoxView
 from moas_gui.hw.moas2.sixbit import to_char
 
@@ -122,9 +122,9 @@ class Watcher:
     def check_conflicts(self, view: BoxView) -> None:
         claims = {}
         for n, station in self.model.stations.items():
-            held = {station.current[Kind.TX].antenna, station.current[Kind.RX].antenna}
-            if Kind.TX in station.incoming:
-                held.add(station.incoming[Kind.TX].antenna)
+            held = {station.current[SlotRole.TX].antenna, station.current[SlotRole.RX].antenna}
+            if SlotRole.TX in station.incoming:
+                held.add(station.incoming[SlotRole.TX].antenna)
             claims[n] = held
         table = self.model.conflicts
         for a in STATIONS:
@@ -219,7 +219,7 @@ def test_with_everyone_receiving_no_request_waits_except_for_a_conflict(
     watcher.run(("wait", 80))
     for n, station in watcher.model.stations.items():
         for kind, request in station.pending.items():
-            assert kind in (Kind.TX, Kind.RX), f"station {n} {kind} waits with nobody on the air"
+            assert kind in (SlotRole.TX, SlotRole.RX), f"station {n} {kind} waits with nobody on the air"
             assert request.conflict_reported, f"station {n} {kind} waits but not for a conflict"
 
 
@@ -229,7 +229,7 @@ def test_an_antenna_left_by_an_interrupt_goes_to_the_waiting_station_when_the_re
     for op in ops:
         watcher.run(op)
     one, two = watcher.model.stations[1], watcher.model.stations[2]
-    assert one.current[Kind.TX].antenna == 0 and two.current[Kind.TX].antenna == 63
+    assert one.current[SlotRole.TX].antenna == 0 and two.current[SlotRole.TX].antenna == 63
     watcher.run(("wait", 1))  # the interrupt delay runs out: station 1's relays move
-    assert one.current[Kind.TX].antenna == 1
-    assert two.current[Kind.TX].antenna == 0 and two.current[Kind.RX].antenna == 0
+    assert one.current[SlotRole.TX].antenna == 1
+    assert two.current[SlotRole.TX].antenna == 0 and two.current[SlotRole.RX].antenna == 0

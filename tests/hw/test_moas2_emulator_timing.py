@@ -9,7 +9,7 @@ from helpers import FakeClock
 
 from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
-from moas_gui.hw.moas2.emulator.station import Phase
+from moas_gui.hw.moas2.emulator.station import StationPhase
 from moas_gui.hw.moas2.emulator.stepped import SteppedBox
 
 
@@ -27,11 +27,11 @@ def test_slow_transmit_change_while_receiving_inhibits_for_the_inhibit_time() ->
     box = box_with("[30;!1B112;")  # all pairs slow: station 1 receives on its TX relays
     box.send("!1B234;", at=100)
     assert box.relays == {3, 4}
-    assert box.inhibited(1) and box.station(1).phase is Phase.SLOW
+    assert box.inhibited(1) and box.station(1).phase is StationPhase.SLOW
     box.wait(129)
     assert box.inhibited(1)
     box.wait(130)
-    assert not box.inhibited(1) and box.station(1).phase is Phase.RECEIVE
+    assert not box.inhibited(1) and box.station(1).phase is StationPhase.RECEIVE
 
 
 def test_fast_transmit_change_does_not_inhibit() -> None:
@@ -53,7 +53,7 @@ def test_the_same_antenna_and_relays_again_changes_nothing_and_never_inhibits() 
     box = box_with("/I1;!1B112;")
     box.key(1, True, at=1)
     box.send("!1B112;", at=2)
-    assert not box.inhibited(1) and box.station(1).phase is Phase.TRANSMIT
+    assert not box.inhibited(1) and box.station(1).phase is StationPhase.TRANSMIT
 
 
 def test_receive_antenna_changes_are_always_fast() -> None:
@@ -77,9 +77,9 @@ def test_keying_from_an_alternate_on_a_slow_pair_inhibits() -> None:
     assert box.relays == {5, 6, 9}
     box.key(1, True, at=10)
     assert box.relays == {1, 2, 9}
-    assert box.inhibited(1) and box.station(1).phase is Phase.SLOW
+    assert box.inhibited(1) and box.station(1).phase is StationPhase.SLOW
     box.wait(30)
-    assert not box.inhibited(1) and box.station(1).phase is Phase.TRANSMIT
+    assert not box.inhibited(1) and box.station(1).phase is StationPhase.TRANSMIT
 
 
 def test_activating_with_a_station_keyed_leaves_its_relays_open_until_it_receives() -> None:
@@ -127,17 +127,17 @@ def test_interrupt_mode_inhibits_waits_the_delay_switches_then_releases() -> Non
     box.key(1, True, at=0)
     out = box.send("!1B234;", at=100)
     assert out == "!1f2;"  # the receive side changes at once; transmit waits
-    assert box.inhibited(1) and box.station(1).phase is Phase.INTERRUPT
+    assert box.inhibited(1) and box.station(1).phase is StationPhase.INTERRUPT
     assert box.relays == {1, 2}
     box.wait(104)
     assert box.relays == {1, 2} and box.inhibited(1)
     assert box.wait(105) == "!1F2;"
     assert box.relays == {3, 4} and box.inhibited(1)
-    assert box.station(1).phase is Phase.SLOW
+    assert box.station(1).phase is StationPhase.SLOW
     box.wait(124)
     assert box.inhibited(1)
     box.wait(125)
-    assert not box.inhibited(1) and box.station(1).phase is Phase.TRANSMIT
+    assert not box.inhibited(1) and box.station(1).phase is StationPhase.TRANSMIT
 
 
 def test_interrupt_with_zero_delay_switches_at_once_under_inhibit() -> None:
@@ -168,7 +168,7 @@ def test_key_released_during_an_interrupt_still_finishes_it() -> None:
     box.wait(15)
     assert box.relays == {3, 4} and box.inhibited(1)
     assert box.wait(35) == ""
-    assert box.station(1).phase is Phase.RELEASE
+    assert box.station(1).phase is StationPhase.RELEASE
     assert box.wait(57) == ">12;"
 
 
@@ -179,7 +179,7 @@ def test_receive_delay_keeps_the_transmit_relays_after_the_key_drops() -> None:
     box = box_with("&F12;!1T112;!1R234;\\1200;", events="T")
     assert box.key(1, True, at=0) == "<11;"
     assert box.key(1, False, at=100) == ""
-    assert box.relays == {1, 2} and box.station(1).phase is Phase.RELEASE
+    assert box.relays == {1, 2} and box.station(1).phase is StationPhase.RELEASE
     assert box.wait(299) == ""
     assert box.wait(300) == ">12;"
     assert box.relays == {3, 4}
@@ -318,6 +318,6 @@ async def test_the_running_box_times_out_on_the_clock_it_is_given() -> None:
     assert box.model.inhibited(1)
     changes.clear()
     await clock.advance(0.001)
-    assert not box.model.inhibited(1) and box.view().station(1).phase is Phase.RECEIVE
+    assert not box.model.inhibited(1) and box.view().station(1).phase is StationPhase.RECEIVE
     assert Traffic.CHANGED in changes, "the timer ran by itself and told its listeners"
     box.close()

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.commands import MAX_COMMAND
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
-from moas_gui.hw.moas2.emulator.station import Kind
+from moas_gui.hw.moas2.emulator.station import SlotRole
 from moas_gui.hw.moas2.sync import POWER_ON, count_bytes, difference, initialise, stopped
 
 IDLE = StationAntennas()
@@ -222,7 +222,7 @@ def holding(model: EmulatorModel) -> dict[str, object]:
     view = model.view()
     wanted = [
         # A change the box still remembers counts as what it holds (inactive box).
-        tuple(st.pending[k].slot if k in st.pending else st.current[k] for k in Kind)
+        tuple(st.pending[k].slot if k in st.pending else st.current[k] for k in SlotRole)
         for st in model.stations.values()
     ]
     return {
@@ -259,8 +259,8 @@ def test_difference_on_a_loaded_box_ends_where_a_fresh_load_does(
     if new.active:
         for n, wanted in enumerate(new.stations, start=1):
             got = fresh.stations[n]
-            assert got.current[Kind.TX].antenna == wanted.tx
-            assert got.current[Kind.RX].relays == wanted.rx_relays
+            assert got.current[SlotRole.TX].antenna == wanted.tx
+            assert got.current[SlotRole.RX].relays == wanted.rx_relays
 
 
 # These states give commands of at most 27 bytes (as 80 examples did): the splitting

@@ -411,9 +411,9 @@ def test_moas_server_takes_the_timing_test_hook_from_its_environment(
     timing = rotator_timing_from_environment({TIMING_HOOK: "restart_min=0.1"})
     assert timing == Timing(restart_min=0.1)
     args = server._parser().parse_args(["--headless", "station.moas"])
-    assert server._options(args).rotator_timing is None  # type: ignore[attr-defined]
+    assert server._options(args).rotator_timing is None
     args.rotator_timing = timing
-    assert server._options(args).rotator_timing == timing  # type: ignore[attr-defined]
+    assert server._options(args).rotator_timing == timing
     with pytest.raises(ValueError, match=f"^{TIMING_HOOK}: 'restart=0.1': 'restart' is not"):
         rotator_timing_from_environment({TIMING_HOOK: "restart=0.1"})
 

@@ -26,6 +26,7 @@ from moas_gui.engine.switchstate import StationAntennas
 from moas_gui.hw.moas2.link import LinkTiming
 from moas_gui.hw.moas2.messages import BoxStatus, PolarityStatus, Pong, RelayStatus, TRState
 from moas_gui.hw.moas2.sync import UNSURE, Survey, reconcile
+from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.state_store import (
     SavedState,
     StateKeeper,
@@ -48,6 +49,17 @@ def options() -> ServerOptions:
                          start_rotator_program=False, switch_timing=FAST)
 
 
+async def _logger_tunes(app: ServerApp, radio: int, khz: float) -> None:
+    """An N1MM Logger packet for station 1's ``radio``, through the app's real listener,
+    and the wait until the engine has its frequency."""
+    address = app.n1mm_address
+    assert address is not None
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as udp:
+        udp.sendto(radio_info_packet(radio, khz), address)
+    await until(lambda: app.engine is not None and app.engine.radio_view(1, radio).khz == khz,
+                what=f"radio {radio} on {khz} kHz")
+
+
 @pytest_asyncio.fixture
 async def app() -> AsyncIterator[ServerApp]:
     server = ServerApp(options())
@@ -66,7 +78,7 @@ async def _saved_station(station: Path) -> tuple[Path, dict[tuple[int, int], obj
     """Run ``station`` once, tune both radios, close: the state file and the views."""
     app = ServerApp(options())
     await app.open(station)
-    app._logger_frequency(1, 1, 14025.0, None)
+    await _logger_tunes(app, 1, 14025.0)
     app.apply_changes(app.engine.set_frequency(1, 2, 7020.0))
     await until(lambda: all(link.ready for link in app._run.links.values()))  # type: ignore[union-attr]
     views = {(v.station, v.radio): v for v in app.engine.radios()}
@@ -149,7 +161,7 @@ async def test_a_bad_state_file_is_ignored_with_one_line_and_the_server_starts(
     assert "ignored" in lines[0].getMessage() and "Traceback" not in caplog.text
     assert all(v.tx is None for v in app.engine.radios())
     # ... and the server carries on: a logger packet still selects, and is saved again
-    app._logger_frequency(1, 1, 14025.0, None)
+    await _logger_tunes(app, 1, 14025.0)
     assert app.engine.radio_view(1, 1).tx is not None
     await app._run.keeper.flush()  # type: ignore[union-attr]
     saved = load(where, fingerprint(station.read_bytes()))
@@ -366,7 +378,7 @@ def test_slots_given_out_as_needed_come_back_the_same() -> None:
 async def test_stopped_switches_stay_stopped_after_a_restart(station: Path, app: ServerApp) -> None:
     first = ServerApp(options())
     await first.open(station)
-    first._logger_frequency(1, 1, 14025.0, None)
+    await _logger_tunes(first, 1, 14025.0)
     await until(lambda: first._run.links[1].ready)  # type: ignore[union-attr]
     first.stop_switches()
     assert first.switches_stopped

@@ -13,7 +13,7 @@ from moas_gui.sources.base import (
     ConnectionLog,
     FocusRadio,
     FrequencyReport,
-    Running,
+    RunOrSearch,
     SourceEvent,
     SourceHub,
     check_khz,
@@ -48,7 +48,7 @@ def test_different_radios_and_event_kinds_are_not_overlaps() -> None:
     hub(report(7000.0, "B", radio=2))
     hub(ActiveRadio(1, 2, "C"))
     hub(FocusRadio(1, 1, "D"))
-    hub(Running(1, 1, True, "E"))
+    hub(RunOrSearch(1, 1, True, "E"))
     assert hub.overlaps == 0
 
 

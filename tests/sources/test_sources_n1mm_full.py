@@ -24,7 +24,7 @@ from moas_gui.sources.base import (
     ActiveRadio,
     FocusRadio,
     FrequencyReport,
-    Running,
+    RunOrSearch,
     SourceEvent,
     SourceHub,
 )
@@ -97,7 +97,7 @@ async def test_the_so2r_sample_gives_split_tx_transmit_focus_receive_focus_and_r
     assert events == [
         ActiveRadio(4, 2, origin),
         FocusRadio(4, 1, origin),
-        Running(4, 2, True, origin),
+        RunOrSearch(4, 2, True, origin),
         FrequencyReport(4, 2, 21025.0, 21028.0, origin, mode="CW", transmitting=True),
     ], "the heartbeat repeat changes nothing and says nothing"
 
@@ -121,10 +121,10 @@ async def test_focus_changes_are_told_once_each() -> None:
     focus = [e for e in events if not isinstance(e, FrequencyReport)]
     origin = "N1MM STATION1 (127.0.0.1)"
     assert focus == [
-        ActiveRadio(1, 1, origin), FocusRadio(1, 1, origin), Running(1, 1, False, origin),
-        Running(1, 2, False, origin),
+        ActiveRadio(1, 1, origin), FocusRadio(1, 1, origin), RunOrSearch(1, 1, False, origin),
+        RunOrSearch(1, 2, False, origin),
         ActiveRadio(1, 2, origin),
-        FocusRadio(1, 2, origin), Running(1, 2, True, origin),
+        FocusRadio(1, 2, origin), RunOrSearch(1, 2, True, origin),
     ]
 
 
@@ -176,7 +176,7 @@ async def test_not1mm_packets_are_read_like_n1mms() -> None:
         sender.sock.close()
         await listener.close()
     assert frequencies(events) == [(3, 1, 14032.5, 14032.5)]
-    assert Running(3, 1, True, "NOT1MM fedora-shack (127.0.0.1)") in events
+    assert RunOrSearch(3, 1, True, "NOT1MM fedora-shack (127.0.0.1)") in events
 
 
 @pytest.mark.asyncio

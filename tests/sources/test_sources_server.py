@@ -81,7 +81,7 @@ async def test_dxlog_by_station_name_sets_the_radio_and_its_transmit_focus(app: 
                                      active_radio_nr=2),
                    ("127.0.0.1", app.sources.dxlog.port))
     await until(lambda: app.engine.radio_view(1, 1).khz == 14025.0)
-    focus = app.source_focus()
+    focus = app.latest_reports()
     assert isinstance(focus[("ActiveRadio", 1)], ActiveRadio)
     assert focus[("ActiveRadio", 1)].radio == 2
 

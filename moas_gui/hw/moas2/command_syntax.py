@@ -10,7 +10,6 @@ from typing import TypeVar
 
 from .errors import CommandRejected, EncodeError, RelayListTooLong
 from .messages import (
-    Antenna,
     AntennaKind,
     ConflictOp,
     ConflictTable,
@@ -26,6 +25,7 @@ from .messages import (
     PolarityOp,
     ReceiveDelay,
     RelayStatusRequest,
+    SetAntenna,
     SetState,
     StateOp,
     StationMode,
@@ -138,7 +138,7 @@ def _require_empty(body: str, what: str) -> None:
 # --------------------------------------------------------------------------- each command
 
 
-def write_antenna(c: Antenna) -> str:
+def write_antenna(c: SetAntenna) -> str:
     if c.station == 0 and c.kind is not AntennaKind.EXTRA:
         raise EncodeError("station 0 takes only extra relays (kind X)")
     if len(c.relays) > MAX_RELAYS:
@@ -161,7 +161,7 @@ def _relay_chars(relays: Iterable[int]) -> str:
         raise EncodeError(f"relay out of range: {exc}") from None
 
 
-def read_antenna(body: str) -> Antenna:
+def read_antenna(body: str) -> SetAntenna:
     if len(body) < 3:
         raise _reject(f"an antenna command needs station, kind and antenna, got {body!r}")
     station = read_station(body[0], zero=True)
@@ -170,7 +170,7 @@ def read_antenna(body: str) -> Antenna:
         raise _reject("station 0 takes only extra relays (kind X)")
     antenna = read_sixbits(body[2], "antenna")[0]
     relays = read_sixbits(body[3:], "relay")
-    return Antenna(station, kind, antenna, relays)
+    return SetAntenna(station, kind, antenna, relays)
 
 
 def write_conflict(c: ConflictTable) -> str:

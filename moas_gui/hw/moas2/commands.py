@@ -70,7 +70,6 @@ from .command_syntax import (
 )
 from .errors import CommandRejected, CommandTooLong, EncodeError
 from .messages import (
-    Antenna,
     Command,
     ConflictTable,
     FastTable,
@@ -83,6 +82,7 @@ from .messages import (
     Ping,
     ReceiveDelay,
     RelayStatusRequest,
+    SetAntenna,
     SetState,
     StatusRequest,
     SystemTable,
@@ -109,7 +109,7 @@ class CommandRule:
 COMMANDS: dict[str, CommandRule] = {
     rule.char: rule
     for rule in (
-        CommandRule("!", "Antenna", Antenna, read_antenna, write_antenna),
+        CommandRule("!", "Antenna", SetAntenna, read_antenna, write_antenna),
         CommandRule("%", "Conflict table", ConflictTable, read_conflict, write_conflict),
         CommandRule("&", "Fast table", FastTable, read_fast, write_fast),
         CommandRule("(", "Inhibit", Inhibit, read_inhibit, write_inhibit),

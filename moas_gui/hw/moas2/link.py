@@ -62,7 +62,7 @@ from .session import (
     End,
     LinkStatus,
     Reconcile,
-    Status,
+    StatusChanged,
     SwitchSession,
     Transmit,
     Write,
@@ -323,7 +323,7 @@ class SwitchLink:
         for action in actions:
             if isinstance(action, Write):
                 self._write(action.data)
-            elif isinstance(action, Status):
+            elif isinstance(action, StatusChanged):
                 log.info("%s is %s", self.where, action.status.value)
                 if self._on_status is not None:
                     self._call(self._on_status, action.status)

@@ -124,7 +124,7 @@ ERROR_MEANINGS: dict[str, str] = {
 
 
 @dataclass(frozen=True, slots=True)
-class Antenna:
+class SetAntenna:
     """``!``: set a station's antenna and the relays that select it.
 
     Station 0 with kind ``EXTRA`` sets relays held regardless of any station.
@@ -270,7 +270,7 @@ class VendorExtension:
 
 
 Command = (
-    Antenna
+    SetAntenna
     | ConflictTable
     | FastTable
     | Inhibit
@@ -423,7 +423,6 @@ BoxMessage = (
 
 __all__ = [
     "ERROR_MEANINGS",
-    "Antenna",
     "AntennaEvent",
     "AntennaKind",
     "AntennaStatus",
@@ -452,6 +451,7 @@ __all__ = [
     "ReceiveEvent",
     "RelayStatus",
     "RelayStatusRequest",
+    "SetAntenna",
     "SetState",
     "StateOp",
     "StationMode",

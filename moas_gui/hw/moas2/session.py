@@ -13,7 +13,7 @@ Inputs: :meth:`~SwitchSession.opened` (a port is open), :meth:`~SwitchSession.fe
 (the engine's wanted state), :meth:`~SwitchSession.stop`, :meth:`~SwitchSession.start`,
 :meth:`~SwitchSession.reset` (the operator) and :meth:`~SwitchSession.ask` (a
 question of the driver's own).  Each returns a list of actions:
-:class:`Write`, :class:`Status`, :class:`Transmit`, :class:`BoxError`,
+:class:`Write`, :class:`StatusChanged`, :class:`Transmit`, :class:`BoxError`,
 :class:`Adopt`, :class:`Reconcile`, :class:`Answered` and :class:`End`.
 
 A session's life:
@@ -54,7 +54,6 @@ from .commands import encode, split
 from .decoder import SwitchDecoder
 from .diagnostics import Batch, blame
 from .messages import (
-    Antenna,
     AntennaEvent,
     AntennaStatus,
     BoxStatus,
@@ -67,6 +66,7 @@ from .messages import (
     ReceiveEvent,
     RelayStatus,
     RelayStatusRequest,
+    SetAntenna,
     SetState,
     StateOp,
     StatusKind,
@@ -124,7 +124,7 @@ class Write:
 
 
 @dataclass(frozen=True, slots=True)
-class Status:
+class StatusChanged:
     """The link's status changed."""
 
     status: LinkStatus
@@ -177,7 +177,7 @@ class End:
     reached: bool
 
 
-Action = Write | Status | Transmit | BoxError | Adopt | Reconcile | Answered | End
+Action = Write | StatusChanged | Transmit | BoxError | Adopt | Reconcile | Answered | End
 
 
 # ---------------------------------------------------------------------------- the rule
@@ -213,7 +213,7 @@ def guard(plan: CommandPlan, keyed: frozenset[int] | None, initiative: Initiativ
     if not _resets(plan):
         if initiative is Initiative.AUTOMATIC and (keyed is None or keyed):
             kept = tuple(c for c in plan.commands
-                         if not (isinstance(c, Antenna) and c.station == 0))
+                         if not (isinstance(c, SetAntenna) and c.station == 0))
             if len(kept) != len(plan.commands):
                 return Verdict(CommandPlan(kept, plan.problems), held_back=True)
         return Verdict(plan)
@@ -846,7 +846,7 @@ class SwitchSession:
     def _set_status(self, status: LinkStatus, out: list[Action]) -> None:
         if status is not self.status:
             self.status = status
-            out.append(Status(status))
+            out.append(StatusChanged(status))
 
     def closed(self) -> list[Action]:
         """The driver closed the port after an :class:`End` (or to stop): unresponsive."""
@@ -895,7 +895,7 @@ __all__ = [
     "LinkStatus",
     "Phase",
     "Reconcile",
-    "Status",
+    "StatusChanged",
     "SwitchSession",
     "Transmit",
     "Verdict",

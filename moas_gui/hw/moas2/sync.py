@@ -32,7 +32,6 @@ from types import MappingProxyType
 from ...engine.switchstate import NO_ANTENNA, STATIONS, StationAntennas, SwitchState
 from .commands import MAX_RELAYS, encode_all
 from .messages import (
-    Antenna,
     AntennaKind,
     BoxStatus,
     Command,
@@ -51,6 +50,7 @@ from .messages import (
     Pong,
     ReceiveDelay,
     RelayStatus,
+    SetAntenna,
     SetState,
     StateOp,
     StationMode,
@@ -246,8 +246,8 @@ class _Planner:
             commands += self._station(n, old.station(n), new.station(n))
         if old.station0 != new.station0:
             relays = self._relays(new.station0, "station 0 relays")
-            commands.append(Antenna(0, AntennaKind.EXTRA, 0, relays))
-        station_commands = sum(1 for c in commands if isinstance(c, Antenna) and c.station)
+            commands.append(SetAntenna(0, AntennaKind.EXTRA, 0, relays))
+        station_commands = sum(1 for c in commands if isinstance(c, SetAntenna) and c.station)
         if bracket and station_commands >= 2:
             commands = [
                 SetState((StateOp.RESOLVER_OFF,)),
@@ -263,20 +263,20 @@ class _Planner:
         what = f"station {n}"
         if tx_changed and rx_changed and (new.tx, new.tx_relays) == (new.rx, new.rx_relays):
             relays = self._relays(new.tx_relays, f"{what} antenna {new.tx}")
-            out.append(Antenna(n, AntennaKind.BOTH, self._slot(new.tx, what), relays))
+            out.append(SetAntenna(n, AntennaKind.BOTH, self._slot(new.tx, what), relays))
         else:
             if tx_changed:
                 relays = self._relays(new.tx_relays, f"{what} TX antenna {new.tx}")
-                out.append(Antenna(n, AntennaKind.TX, self._slot(new.tx, what), relays))
+                out.append(SetAntenna(n, AntennaKind.TX, self._slot(new.tx, what), relays))
             if rx_changed:
                 relays = self._relays(new.rx_relays, f"{what} RX antenna {new.rx}")
-                out.append(Antenna(n, AntennaKind.RX, self._slot(new.rx, what), relays))
+                out.append(SetAntenna(n, AntennaKind.RX, self._slot(new.rx, what), relays))
         if (old.alt, old.alt_relays) != (new.alt, new.alt_relays):
             relays = self._relays(new.alt_relays, f"{what} alternate antenna {new.alt}")
-            out.append(Antenna(n, AntennaKind.ALT, self._slot(new.alt, what), relays))
+            out.append(SetAntenna(n, AntennaKind.ALT, self._slot(new.alt, what), relays))
         if old.extra != new.extra:
             relays = self._relays(new.extra, f"{what} extra relays")
-            out.append(Antenna(n, AntennaKind.EXTRA, 0, relays))
+            out.append(SetAntenna(n, AntennaKind.EXTRA, 0, relays))
         return out
 
     def _slot(self, slot: int, what: str) -> int:

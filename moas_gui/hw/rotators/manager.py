@@ -25,11 +25,11 @@ them this manager.
 
 from __future__ import annotations
 
-import asyncio
 import logging
 import math
 from collections.abc import Callable, Coroutine, Iterable, Sequence
 
+from moas_gui.aio import BackgroundTasks
 from moas_gui.config.model import Antenna, Config, Rotator, RotatorControl
 
 from .addresses import is_local, split_address
@@ -90,7 +90,8 @@ class RotatorManager:
             self.local_program = LocalMoasRotator(
                 command, local[0], restart_min=self.timing.restart_min,
                 restart_max=self.timing.restart_max, clock=self.timing.clock)
-        self._tasks: set[asyncio.Task[None]] = set()
+        self._tasks = BackgroundTasks(self._failed)
+        """Turns and stops started for callers that cannot wait (:meth:`start_rotate`)."""
 
     @classmethod
     def from_config(cls, config: Config, **options: object) -> RotatorManager:
@@ -170,10 +171,7 @@ class RotatorManager:
             await link.start()
 
     async def close(self) -> None:
-        for task in list(self._tasks):
-            task.cancel()
-        if self._tasks:
-            await asyncio.wait(self._tasks)
+        await self._tasks.close()
         for link in self._links():
             await link.close()
         for driver in self.drivers.values():
@@ -243,18 +241,13 @@ class RotatorManager:
         return self.drivers[rotator.id], normalize(float(heading))
 
     def _background(self, work: Coroutine[object, object, None], what: str) -> None:
-        task = asyncio.create_task(work, name=what)
-        self._tasks.add(task)
-        task.add_done_callback(lambda done: self._finished(done, what))
+        self._tasks.spawn(work, what)
 
-    def _finished(self, task: asyncio.Task[None], what: str) -> None:
-        self._tasks.discard(task)
-        if task.cancelled():
-            return
-        error = task.exception()
+    @staticmethod
+    def _failed(what: str, error: BaseException) -> None:
         if isinstance(error, RotatorError):
             log.warning("%s failed: %s", what, error.message)
-        elif error is not None:
+        else:
             log.error("%s failed unexpectedly", what, exc_info=error)
 
     def note_direction(self, rotator_id: int, heading: float) -> None:

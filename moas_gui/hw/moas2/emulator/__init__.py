@@ -5,7 +5,12 @@ serial port to serve it on (:mod:`.serve`)."""
 from __future__ import annotations
 
 from .model import INPUT_BUFFER, EmulatorModel
-from .station import Kind, Phase, Slot
+from .station import Slot, SlotRole, StationPhase
 from .view import BoxView, StationView
+
+Kind = SlotRole
+"""The package's public name (frozen by tests/hw/test_moas2_api.py) for :class:`SlotRole`."""
+Phase = StationPhase
+"""The package's public name (frozen by tests/hw/test_moas2_api.py) for :class:`StationPhase`."""
 
 __all__ = ["INPUT_BUFFER", "BoxView", "EmulatorModel", "Kind", "Phase", "Slot", "StationView"]

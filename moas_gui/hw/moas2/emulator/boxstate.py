@@ -11,7 +11,7 @@ from ..messages import (
 )
 from .pairs import PairTable
 from .record import Record
-from .station import Kind, Station
+from .station import SlotRole, Station
 
 STATIONS = (1, 2, 3, 4, 5, 6)
 
@@ -23,12 +23,12 @@ VENDOR_TEXT = "moas-gui-emulator"
 _SLACK = 1e-9
 """Seconds a timer may be early and still count as run out (float rounding)."""
 
-_KIND_OF: dict[AntennaKind, tuple[Kind, ...]] = {
-    AntennaKind.TX: (Kind.TX,),
-    AntennaKind.RX: (Kind.RX,),
-    AntennaKind.BOTH: (Kind.TX, Kind.RX),
-    AntennaKind.ALT: (Kind.ALT,),
-    AntennaKind.EXTRA: (Kind.EXTRA,),
+_KIND_OF: dict[AntennaKind, tuple[SlotRole, ...]] = {
+    AntennaKind.TX: (SlotRole.TX,),
+    AntennaKind.RX: (SlotRole.RX,),
+    AntennaKind.BOTH: (SlotRole.TX, SlotRole.RX),
+    AntennaKind.ALT: (SlotRole.ALT,),
+    AntennaKind.EXTRA: (SlotRole.EXTRA,),
 }
 
 _EVENT_FLAGS: dict[StateOp, tuple[str, bool]] = {
@@ -43,10 +43,10 @@ _EVENT_FLAGS: dict[StateOp, tuple[str, bool]] = {
 }
 
 
-class Connection(NamedTuple):
+class StationConnection(NamedTuple):
     """What a receiving station is connected to."""
 
-    role: Kind
+    role: SlotRole
     antenna: int | None
     relays: frozenset[int]
 
@@ -90,4 +90,4 @@ class BoxState:
         self._out.append(message)
 
 
-__all__ = ["INPUT_BUFFER", "STATIONS", "BoxState", "Connection"]
+__all__ = ["INPUT_BUFFER", "STATIONS", "BoxState", "StationConnection"]

@@ -7,7 +7,6 @@ from collections.abc import Callable
 from typing import Any
 
 from ..messages import (
-    Antenna,
     AntennaKind,
     BoxStatus,
     ConflictOp,
@@ -29,6 +28,7 @@ from ..messages import (
     ReceiveDelay,
     RelayStatus,
     RelayStatusRequest,
+    SetAntenna,
     SetState,
     StateOp,
     StatusKind,
@@ -44,15 +44,15 @@ from ..messages import (
     VendorReply,
 )
 from .boxstate import _EVENT_FLAGS, _KIND_OF, STATIONS, VENDOR_TEXT
-from .record import Event
-from .station import Kind, Request, Slot
+from .record import EntryCause
+from .station import PendingCommand, Slot, SlotRole
 from .switching import Switching
 
 
 class CommandHandlers(Switching):
     """The commands of the manual."""
 
-    def _antenna(self, c: Antenna) -> None:
+    def _antenna(self, c: SetAntenna) -> None:
         if c.station == 0:
             self.station0 = frozenset(c.relays)
             if self.active and "X" in self.events:
@@ -64,7 +64,7 @@ class CommandHandlers(Switching):
         antenna = 63 if c.kind is AntennaKind.EXTRA else c.antenna
         slot = Slot(antenna, frozenset(c.relays))
         for kind in _KIND_OF[c.kind]:
-            st.pending[kind] = Request(slot, self._seq)
+            st.pending[kind] = PendingCommand(slot, self._seq)
 
     def _conflict_table(self, c: ConflictTable) -> None:
         if c.op in (ConflictOp.NONE, ConflictOp.ALL):
@@ -126,7 +126,7 @@ class CommandHandlers(Switching):
     def _set_state(self, c: SetState) -> None:
         for op in c.ops:
             if op is StateOp.RESET:
-                self._write(Event.RESET, self._command)
+                self._write(EntryCause.RESET, self._command)
                 self._power_on()
             elif op is StateOp.ACTIVATE:
                 self._activate()
@@ -156,9 +156,9 @@ class CommandHandlers(Switching):
                     else TRState.RECEIVE
                     for st in sts
                 ),
-                tuple(st.current[Kind.TX].antenna for st in sts),
-                tuple(st.current[Kind.RX].antenna for st in sts),
-                tuple(st.current[Kind.ALT].antenna for st in sts),
+                tuple(st.current[SlotRole.TX].antenna for st in sts),
+                tuple(st.current[SlotRole.RX].antenna for st in sts),
+                tuple(st.current[SlotRole.ALT].antenna for st in sts),
             )
         )
 
@@ -178,7 +178,7 @@ class CommandHandlers(Switching):
 
 
 HANDLERS: dict[type, Callable[[CommandHandlers, Any], None]] = {
-    Antenna: CommandHandlers._antenna,
+    SetAntenna: CommandHandlers._antenna,
     ConflictTable: CommandHandlers._conflict_table,
     FastTable: CommandHandlers._fast_table,
     Inhibit: CommandHandlers._inhibit,

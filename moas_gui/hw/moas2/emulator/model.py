@@ -55,10 +55,10 @@ from ..messages import (
     ErrorReply,
 )
 from ..replies import encode_reply
-from .boxstate import INPUT_BUFFER, STATIONS, Connection
+from .boxstate import INPUT_BUFFER, STATIONS, StationConnection
 from .handlers import HANDLERS, CommandHandlers
-from .record import Event
-from .station import NO_SLOT, Kind, Station, Trigger
+from .record import EntryCause
+from .station import NO_SLOT, SlotRole, Station, Trigger
 from .view import BoxView, StationView
 
 
@@ -102,7 +102,7 @@ class EmulatorModel(CommandHandlers):
                 else:
                     self._fire(st, Trigger.KEY_UP)
                 self._settle()
-            self._write(Event.KEY, f"{'key' if transmitting else 'unkey'} {station}")
+            self._write(EntryCause.KEY, f"{'key' if transmitting else 'unkey'} {station}")
         return self._flush()
 
     def view(self) -> BoxView:
@@ -168,10 +168,10 @@ class EmulatorModel(CommandHandlers):
             phase=st.phase,
             transmitting=st.tx_side,
             on_alternate=self._alternate_selected(st),
-            tx=st.current[Kind.TX],
-            rx=st.current[Kind.RX],
-            alt=st.current[Kind.ALT],
-            extra=st.current[Kind.EXTRA].relays,
+            tx=st.current[SlotRole.TX],
+            rx=st.current[SlotRole.RX],
+            alt=st.current[SlotRole.ALT],
+            extra=st.current[SlotRole.EXTRA].relays,
             pending=tuple((k.value, r.slot.antenna) for k, r in st.pending.items()),
             mode=st.mode,
             receive_delay_ms=st.receive_delay_ms,
@@ -184,4 +184,4 @@ class EmulatorModel(CommandHandlers):
         )
 
 
-__all__ = ["INPUT_BUFFER", "NO_SLOT", "STATIONS", "Connection", "EmulatorModel"]
+__all__ = ["INPUT_BUFFER", "NO_SLOT", "STATIONS", "EmulatorModel", "StationConnection"]

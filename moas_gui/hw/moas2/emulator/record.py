@@ -26,7 +26,7 @@ RECORD_SIZE = 4096
 see every entry follows the record as it is written (``watch``)."""
 
 
-class Event(str, Enum):
+class EntryCause(str, Enum):
     """Why an entry was written."""
 
     RELAYS = "relays"
@@ -45,7 +45,7 @@ class Entry:
     """Numbered from 1, one more for each entry ever written."""
     at: float
     """The model's time (seconds)."""
-    event: Event
+    event: EntryCause
     cause: str
     """The command (``!1B112;``), ``timer``, ``key 1`` or ``unkey 1``."""
     active: bool
@@ -79,7 +79,7 @@ class Entry:
         return cls(
             seq=int(data["seq"]),
             at=float(data["at"]),
-            event=Event(data["event"]),
+            event=EntryCause(data["event"]),
             cause=str(data["cause"]),
             active=bool(data["active"]),
             relays=frozenset(data["relays"]),
@@ -102,7 +102,7 @@ class Record:
     def add(self, entry: Entry) -> None:
         self._entries.append(entry)
         self.written = entry.seq
-        if entry.event is Event.RESET:
+        if entry.event is EntryCause.RESET:
             self.resets += 1
 
     def after(self, seq: int) -> list[Entry]:
@@ -124,4 +124,4 @@ class Record:
         return self._entries[-1] if self._entries else None
 
 
-__all__ = ["RECORD_SIZE", "Entry", "Event", "Record"]
+__all__ = ["RECORD_SIZE", "Entry", "EntryCause", "Record"]

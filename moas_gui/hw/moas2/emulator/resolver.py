@@ -25,19 +25,19 @@ from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 
 from .pairs import PairTable
-from .station import Kind, Slot
+from .station import Slot, SlotRole
 
-CLAIMING = (Kind.TX, Kind.RX)
+CLAIMING = (SlotRole.TX, SlotRole.RX)
 """The kinds of antenna that conflict with other stations'."""
 
-KIND_ORDER = {Kind.TX: 0, Kind.RX: 1, Kind.ALT: 2, Kind.EXTRA: 3}
+KIND_ORDER = {SlotRole.TX: 0, SlotRole.RX: 1, SlotRole.ALT: 2, SlotRole.EXTRA: 3}
 """Order of one command's requests (``B`` gives TX then RX)."""
 
 
 @dataclass(frozen=True, slots=True)
 class Candidate:
     station: int
-    kind: Kind
+    kind: SlotRole
     slot: Slot
     seq: int
 
@@ -58,10 +58,10 @@ def _mask(antennas: Iterable[int]) -> int:
 
 def choose(
     candidates: Iterable[Candidate],
-    claims: Mapping[int, Mapping[Kind, int]],
+    claims: Mapping[int, Mapping[SlotRole, int]],
     reserved: Mapping[int, Iterable[int]],
     conflicts: PairTable,
-    allowed: Callable[[int, dict[Kind, Slot]], bool],
+    allowed: Callable[[int, dict[SlotRole, Slot]], bool],
 ) -> Choice:
     """Decide which ``candidates`` go ahead.
 
@@ -74,7 +74,7 @@ def choose(
     conflicted: list[Candidate] = []
     waiting: list[Candidate] = []
     while chosen:
-        by_station: dict[int, dict[Kind, Slot]] = {}
+        by_station: dict[int, dict[SlotRole, Slot]] = {}
         for c in chosen:
             by_station.setdefault(c.station, {})[c.kind] = c.slot
         refused = [s for s, changes in by_station.items() if not allowed(s, changes)]

@@ -34,7 +34,7 @@ from enum import Enum
 from ..messages import StationMode
 
 
-class Phase(str, Enum):
+class StationPhase(str, Enum):
     RECEIVE = "receive"
     TRANSMIT = "transmit"
     RELEASE = "release"
@@ -55,7 +55,7 @@ class Trigger(str, Enum):
     DEADLINE_RELEASED = "timer ran out, key up, transmit side"
 
 
-class Timer(str, Enum):
+class TimerChange(str, Enum):
     """What the phase's timer becomes on a transition."""
 
     NONE = "none"
@@ -66,9 +66,9 @@ class Timer(str, Enum):
     RECEIVE_DELAY_REST = "rest of the receive delay"
 
 
-P, T, M = Phase, Trigger, Timer
+P, T, M = StationPhase, Trigger, TimerChange
 
-TRANSITIONS: dict[tuple[Phase, Trigger], tuple[Phase, Timer]] = {
+TRANSITIONS: dict[tuple[StationPhase, Trigger], tuple[StationPhase, TimerChange]] = {
     (P.RECEIVE, T.KEY_DOWN): (P.TRANSMIT, M.NONE),
     (P.RECEIVE, T.KEY_DOWN_SLOW): (P.SLOW, M.INHIBIT),
     (P.RECEIVE, T.SWITCH): (P.RECEIVE, M.NONE),
@@ -94,7 +94,7 @@ TRANSITIONS: dict[tuple[Phase, Trigger], tuple[Phase, Timer]] = {
 
 del P, T, M
 
-INHIBITING_PHASES = frozenset({Phase.SLOW, Phase.INTERRUPT})
+INHIBITING_PHASES = frozenset({StationPhase.SLOW, StationPhase.INTERRUPT})
 """Phases in which the station's inhibit is asserted by the transition."""
 
 
@@ -109,7 +109,7 @@ class Slot:
 NO_SLOT = Slot()
 
 
-class Kind(str, Enum):
+class SlotRole(str, Enum):
     """The four things an antenna command can ask for a station."""
 
     TX = "T"
@@ -119,7 +119,7 @@ class Kind(str, Enum):
 
 
 @dataclass(slots=True)
-class Request:
+class PendingCommand:
     """An antenna command not yet carried out."""
 
     slot: Slot
@@ -133,7 +133,7 @@ class Station:
 
     number: int
     key: bool = False
-    phase: Phase = Phase.RECEIVE
+    phase: StationPhase = StationPhase.RECEIVE
     tx_side: bool = False
     """True while the transmit relays (and extra relays) are the closed ones."""
     deadline: float | None = None
@@ -141,9 +141,9 @@ class Station:
     """When the key line was last released (for the receive delay)."""
     mode: StationMode = StationMode.WAIT
     receive_delay_ms: int = 0
-    current: dict[Kind, Slot] = field(default_factory=lambda: {k: NO_SLOT for k in Kind})
-    pending: dict[Kind, Request] = field(default_factory=dict)
-    incoming: dict[Kind, Slot] = field(default_factory=dict)
+    current: dict[SlotRole, Slot] = field(default_factory=lambda: {k: NO_SLOT for k in SlotRole})
+    pending: dict[SlotRole, PendingCommand] = field(default_factory=dict)
+    incoming: dict[SlotRole, Slot] = field(default_factory=dict)
     """Granted transmit-side changes waiting for the interrupt delay."""
     reported_tx: bool = False
     """A ``<`` event was sent and no ``>`` yet."""
@@ -157,7 +157,7 @@ class Station:
         return self.phase in INHIBITING_PHASES
 
 
-def next_phase(phase: Phase, trigger: Trigger) -> tuple[Phase, Timer] | None:
+def next_phase(phase: StationPhase, trigger: Trigger) -> tuple[StationPhase, TimerChange] | None:
     """The table's answer, or None when the trigger must wait."""
     return TRANSITIONS.get((phase, trigger))
 
@@ -166,12 +166,12 @@ __all__ = [
     "INHIBITING_PHASES",
     "NO_SLOT",
     "TRANSITIONS",
-    "Kind",
-    "Phase",
-    "Request",
+    "PendingCommand",
     "Slot",
+    "SlotRole",
     "Station",
-    "Timer",
+    "StationPhase",
+    "TimerChange",
     "Trigger",
     "next_phase",
 ]

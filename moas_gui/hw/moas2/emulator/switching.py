@@ -15,10 +15,10 @@ from ..messages import (
     StationMode,
     TransmitEvent,
 )
-from .boxstate import _SLACK, BoxState, Connection
-from .record import Entry, Event
+from .boxstate import _SLACK, BoxState, StationConnection
+from .record import Entry, EntryCause
 from .resolver import CLAIMING, KIND_ORDER, Candidate, choose
-from .station import Kind, Phase, Slot, Station, Timer, Trigger, next_phase
+from .station import Slot, SlotRole, Station, StationPhase, TimerChange, Trigger, next_phase
 
 
 class Switching(BoxState):
@@ -73,7 +73,7 @@ class Switching(BoxState):
             return tuple(frozenset() for _ in self.stations)
         return tuple(self._closed(st) for st in self.stations.values())
 
-    def _write(self, event: Event, cause: str) -> None:
+    def _write(self, event: EntryCause, cause: str) -> None:
         """Add an entry to the record: the box as it is now."""
         relays, closed = self.relays(), self._closed_now()
         keyed = frozenset(n for n, st in self.stations.items() if st.key)
@@ -105,7 +105,7 @@ class Switching(BoxState):
     def _note(self, cause: str) -> None:
         """Add an entry if the closed relays changed since the last one."""
         if (self.relays(), self._closed_now()) != self._recorded:
-            self._write(Event.RELAYS, cause)
+            self._write(EntryCause.RELAYS, cause)
 
     def _settle(self) -> None:
         """Run timers that are due and the resolver until nothing moves."""
@@ -130,9 +130,9 @@ class Switching(BoxState):
 
     def _timeout(self, st: Station) -> None:
         before = st.phase
-        if before is Phase.RELEASE:
+        if before is StationPhase.RELEASE:
             trigger = Trigger.DEADLINE
-        elif before in (Phase.SLOW, Phase.INTERRUPT):
+        elif before in (StationPhase.SLOW, StationPhase.INTERRUPT):
             trigger = (
                 Trigger.DEADLINE_KEYED
                 if st.key
@@ -146,13 +146,13 @@ class Switching(BoxState):
         if not self._fire(st, trigger):
             st.deadline = None
             return
-        if before is Phase.INTERRUPT:
+        if before is StationPhase.INTERRUPT:
             switched = dict(st.incoming)
             st.current.update(switched)
             st.incoming.clear()
             for kind, slot in switched.items():
                 self._announce(st, kind, slot)
-        if st.phase is Phase.RECEIVE and st.tx_side:
+        if st.phase is StationPhase.RECEIVE and st.tx_side:
             st.tx_side = False
             if st.reported_tx:
                 st.reported_tx = False
@@ -168,17 +168,17 @@ class Switching(BoxState):
         before = st.phase
         st.phase, timer = entry
         now = self._now
-        if timer is Timer.NONE:
+        if timer is TimerChange.NONE:
             st.deadline = None
-        elif timer is Timer.INHIBIT:
+        elif timer is TimerChange.INHIBIT:
             end = now + self.inhibit_ms / 1000
-            keep = before is Phase.SLOW and st.deadline is not None
+            keep = before is StationPhase.SLOW and st.deadline is not None
             st.deadline = max(st.deadline, end) if keep and st.deadline is not None else end
-        elif timer is Timer.INTERRUPT_DELAY:
+        elif timer is TimerChange.INTERRUPT_DELAY:
             st.deadline = now + self.interrupt_ms / 1000
-        elif timer is Timer.RECEIVE_DELAY:
+        elif timer is TimerChange.RECEIVE_DELAY:
             st.deadline = now + st.receive_delay_ms / 1000
-        elif timer is Timer.RECEIVE_DELAY_REST:
+        elif timer is TimerChange.RECEIVE_DELAY_REST:
             st.deadline = max(now, st.released_at + st.receive_delay_ms / 1000)
         return True
 
@@ -187,7 +187,7 @@ class Switching(BoxState):
             self._fire(st, Trigger.KEY_DOWN)
         else:
             old = self._receive_connection(st, st.current)
-            tx = st.current[Kind.TX]
+            tx = st.current[SlotRole.TX]
             fast = old.relays == tx.relays or (
                 old.antenna is not None and self.fast.get(old.antenna, tx.antenna)
             )
@@ -199,7 +199,7 @@ class Switching(BoxState):
         if not st.reported_tx:
             st.reported_tx = True
             if "T" in self.events:
-                self._emit(TransmitEvent(st.number, st.current[Kind.TX].antenna))
+                self._emit(TransmitEvent(st.number, st.current[SlotRole.TX].antenna))
 
     def _alternate_selected(self, st: Station) -> bool:
         return not st.tx_side and any(
@@ -212,29 +212,29 @@ class Switching(BoxState):
         for other in self.stations.values():
             if other is st:
                 continue
-            held = [other.current[Kind.TX].antenna, other.current[Kind.RX].antenna]
-            if Kind.TX in other.incoming:
-                held.append(other.incoming[Kind.TX].antenna)
+            held = [other.current[SlotRole.TX].antenna, other.current[SlotRole.RX].antenna]
+            if SlotRole.TX in other.incoming:
+                held.append(other.incoming[SlotRole.TX].antenna)
             if any(row >> a & 1 for a in held):
                 return True
         return False
 
     def _receive_connection(
-        self, st: Station, slots: Mapping[Kind, Slot], *, alternates: bool = True
-    ) -> Connection:
+        self, st: Station, slots: Mapping[SlotRole, Slot], *, alternates: bool = True
+    ) -> StationConnection:
         if alternates and self._alternate_selected(st):
-            alt = slots[Kind.ALT]
+            alt = slots[SlotRole.ALT]
             if self._alternate_blocked(st, alt.antenna):
-                return Connection(Kind.ALT, None, frozenset())
-            return Connection(Kind.ALT, alt.antenna, alt.relays)
-        tx, rx = slots[Kind.TX], slots[Kind.RX]
+                return StationConnection(SlotRole.ALT, None, frozenset())
+            return StationConnection(SlotRole.ALT, alt.antenna, alt.relays)
+        tx, rx = slots[SlotRole.TX], slots[SlotRole.RX]
         if self.fast.get(tx.antenna, rx.antenna):
-            return Connection(Kind.RX, rx.antenna, rx.relays)
-        return Connection(Kind.TX, tx.antenna, tx.relays)
+            return StationConnection(SlotRole.RX, rx.antenna, rx.relays)
+        return StationConnection(SlotRole.TX, tx.antenna, tx.relays)
 
     def _closed(self, st: Station) -> frozenset[int]:
         if st.tx_side:
-            return st.current[Kind.TX].relays | st.current[Kind.EXTRA].relays
+            return st.current[SlotRole.TX].relays | st.current[SlotRole.EXTRA].relays
         return self._receive_connection(st, st.current).relays
 
     def _inhibited_by(self, st: Station) -> frozenset[int]:
@@ -244,12 +244,12 @@ class Switching(BoxState):
             if other.tx_side and st.number in self.inhibit_others[other.number]
         )
 
-    def _classify(self, st: Station, changes: Mapping[Kind, Slot]) -> Trigger | None:
+    def _classify(self, st: Station, changes: Mapping[SlotRole, Slot]) -> Trigger | None:
         """The trigger that carrying out ``changes`` would be for ``st``."""
         after = {**st.current, **changes}
         if st.tx_side:
-            before_relays = st.current[Kind.TX].relays | st.current[Kind.EXTRA].relays
-            if before_relays == after[Kind.TX].relays | after[Kind.EXTRA].relays:
+            before_relays = st.current[SlotRole.TX].relays | st.current[SlotRole.EXTRA].relays
+            if before_relays == after[SlotRole.TX].relays | after[SlotRole.EXTRA].relays:
                 return None
             if st.mode is StationMode.INTERRUPT:
                 return Trigger.ON_AIR_INTERRUPT
@@ -258,7 +258,7 @@ class Switching(BoxState):
         new = self._receive_connection(st, after)
         if old.relays == new.relays:
             return None
-        if old.role is not Kind.TX and new.role is not Kind.TX:
+        if old.role is not SlotRole.TX and new.role is not SlotRole.TX:
             return Trigger.SWITCH
         if (
             old.antenna is not None
@@ -268,14 +268,14 @@ class Switching(BoxState):
             return Trigger.SWITCH
         return Trigger.SWITCH_SLOW
 
-    def _allowed(self, number: int, changes: dict[Kind, Slot]) -> bool:
+    def _allowed(self, number: int, changes: dict[SlotRole, Slot]) -> bool:
         st = self.stations[number]
-        if st.phase is Phase.INTERRUPT and (Kind.TX in changes or Kind.EXTRA in changes):
+        if st.phase is StationPhase.INTERRUPT and (SlotRole.TX in changes or SlotRole.EXTRA in changes):
             return False
         trigger = self._classify(st, changes)
         return trigger is None or next_phase(st.phase, trigger) is not None
 
-    def _system_free(self, st: Station, kind: Kind, slot: Slot) -> bool:
+    def _system_free(self, st: Station, kind: SlotRole, slot: Slot) -> bool:
         """Antenna-system rule: changes touching a system wait until the
         station is receiving and nobody transmits on that system."""
         touched = {self.systems[slot.antenna], self.systems[st.current[kind].antenna]} - {0}
@@ -284,7 +284,7 @@ class Switching(BoxState):
         if st.tx_side:
             return False
         return not any(
-            other.tx_side and self.systems[other.current[Kind.TX].antenna] in touched
+            other.tx_side and self.systems[other.current[SlotRole.TX].antenna] in touched
             for other in self.stations.values()
         )
 
@@ -297,7 +297,7 @@ class Switching(BoxState):
             for kind, request in list(st.pending.items()):
                 if request.slot == st.incoming.get(kind, st.current[kind]):
                     del st.pending[kind]
-                    if kind is not Kind.EXTRA:
+                    if kind is not SlotRole.EXTRA:
                         self._announce(st, kind, request.slot)
                     moved = True
                 elif kind not in CLAIMING or self._system_free(st, kind, request.slot):
@@ -307,7 +307,7 @@ class Switching(BoxState):
         choice = choose(
             candidates,
             {
-                n: {Kind.TX: st.current[Kind.TX].antenna, Kind.RX: st.current[Kind.RX].antenna}
+                n: {SlotRole.TX: st.current[SlotRole.TX].antenna, SlotRole.RX: st.current[SlotRole.RX].antenna}
                 for n, st in self.stations.items()
             },
             {n: self._reserved(st) for n, st in self.stations.items()},
@@ -321,11 +321,11 @@ class Switching(BoxState):
                 if "A" in self.events:
                     status = (
                         AntennaStatus.TX_CONFLICT
-                        if c.kind is Kind.TX
+                        if c.kind is SlotRole.TX
                         else AntennaStatus.RX_CONFLICT
                     )
                     self._emit(AntennaEvent(c.station, status, c.slot.antenna))
-        grouped: dict[int, dict[Kind, Slot]] = {}
+        grouped: dict[int, dict[SlotRole, Slot]] = {}
         for c in choice.granted:
             grouped.setdefault(c.station, {})[c.kind] = c.slot
         for number, changes in grouped.items():
@@ -340,20 +340,20 @@ class Switching(BoxState):
         (its relays stay there through the interrupt delay, so another
         station may not take that antenna in the same step)."""
         held = []
-        if Kind.TX in st.incoming:
-            held.append(st.incoming[Kind.TX].antenna)
+        if SlotRole.TX in st.incoming:
+            held.append(st.incoming[SlotRole.TX].antenna)
         if st.tx_side and st.mode is StationMode.INTERRUPT:
-            held.append(st.current[Kind.TX].antenna)
+            held.append(st.current[SlotRole.TX].antenna)
         return held
 
-    def _carry_out(self, st: Station, changes: dict[Kind, Slot]) -> None:
+    def _carry_out(self, st: Station, changes: dict[SlotRole, Slot]) -> None:
         trigger = self._classify(st, changes)
         for kind in changes:
             del st.pending[kind]
         if trigger is Trigger.ON_AIR_INTERRUPT:
             self._fire(st, trigger)
             for kind, slot in changes.items():
-                if kind in (Kind.TX, Kind.EXTRA):
+                if kind in (SlotRole.TX, SlotRole.EXTRA):
                     st.incoming[kind] = slot
                 else:
                     st.current[kind] = slot
@@ -365,19 +365,19 @@ class Switching(BoxState):
         for kind, slot in changes.items():
             self._announce(st, kind, slot)
 
-    def _announce(self, st: Station, kind: Kind, slot: Slot) -> None:
-        if kind is Kind.EXTRA:
+    def _announce(self, st: Station, kind: SlotRole, slot: Slot) -> None:
+        if kind is SlotRole.EXTRA:
             if "X" in self.events:
                 self._emit(ExtraRelaysEvent(st.number))
             return
         if "A" not in self.events:
             return
-        tx, rx = st.current[Kind.TX].antenna, st.current[Kind.RX].antenna
-        if kind is Kind.TX:
+        tx, rx = st.current[SlotRole.TX].antenna, st.current[SlotRole.RX].antenna
+        if kind is SlotRole.TX:
             status = (
                 AntennaStatus.TX_FAST if self.fast.get(slot.antenna, rx) else AntennaStatus.TX_SLOW
             )
-        elif kind is Kind.RX:
+        elif kind is SlotRole.RX:
             status = (
                 AntennaStatus.RX_FAST if self.fast.get(tx, slot.antenna) else AntennaStatus.RX_SLOW
             )

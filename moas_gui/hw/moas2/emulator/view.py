@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..messages import StationMode
-from .station import Phase, Slot
+from .station import Slot, StationPhase
 
 
 @dataclass(frozen=True, slots=True)
@@ -15,7 +15,7 @@ class StationView:
     number: int
     key: bool
     """The station's T/R input (amplifier key line)."""
-    phase: Phase
+    phase: StationPhase
     transmitting: bool
     """Its transmit relays (and extra relays) are the closed ones."""
     on_alternate: bool

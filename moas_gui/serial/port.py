@@ -51,6 +51,9 @@ MAX_EMPTY_READS = 100
 
 READ_SIZE = 4096
 
+HUNG_UP = "the port was closed at the other end"
+"""What ``on_lost`` is told when the system says the port hung up."""
+
 
 def reason(exc: BaseException) -> str:
     """The useful part of a pyserial or system error."""
@@ -262,7 +265,7 @@ class SerialPort:
             # loop woke it with nothing to read: only the first is a lost port.
             self._empty_reads += 1
             if hung_up(fd) or self._empty_reads > MAX_EMPTY_READS:
-                self._lost("the port was closed at the other end")
+                self._lost(HUNG_UP)
             return
         self._empty_reads = 0
         if self._on_data is not None:
@@ -275,9 +278,9 @@ class SerialPort:
                 data = handle.read(max(1, handle.in_waiting))
             except Exception as exc:  # noqa: BLE001 - whatever it is, this port is done
                 if not self._stop.is_set():
+                    why = _lost_reason(handle, exc)
                     with contextlib.suppress(RuntimeError):  # the loop is closed
-                        loop.call_soon_threadsafe(self._lost_in, generation,
-                                                  f"reading failed: {reason(exc)}")
+                        loop.call_soon_threadsafe(self._lost_in, generation, why)
                 return
             if data:
                 with contextlib.suppress(RuntimeError):
@@ -355,6 +358,16 @@ class SerialPort:
         self._loop = None
 
 
+def _lost_reason(handle: Any, exc: BaseException) -> str:
+    """Why a reader thread's read failed: a hang-up if the system says so (the same
+    words as when the loop watches the port), else the error."""
+    fd = _descriptor(handle)
+    with contextlib.suppress(OSError, ValueError):
+        if fd is not None and hung_up(fd):
+            return HUNG_UP
+    return f"reading failed: {reason(exc)}"
+
+
 def _descriptor(handle: Any) -> int | None:
     """The system descriptor of an open pyserial port (POSIX devices), else None."""
     if sys.platform == "win32":
@@ -364,6 +377,7 @@ def _descriptor(handle: Any) -> int | None:
 
 
 __all__ = [
+    "HUNG_UP",
     "MAX_EMPTY_READS",
     "SERIAL_ERRORS",
     "DataCallback",

@@ -229,6 +229,14 @@ def proc_status(pid: int) -> dict[str, int]:
     return found
 
 
+def minor_faults(pid: int) -> int:
+    """Minor page faults of ``pid`` so far (memory the system had to hand it afresh)."""
+    try:
+        return int(Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[7])
+    except (OSError, IndexError, ValueError):
+        return 0
+
+
 def cpu_seconds(pid: int) -> float:
     """User + system CPU time of ``pid`` so far."""
     try:
@@ -556,6 +564,8 @@ class FloodResult:
     rss_before_kb: int
     rss_after_kb: int
     wall: float
+    faults: int = 0
+    """Minor page faults of the server during the flood."""
     sent_at: list[int] = field(default_factory=list)
     """Each packet's ``sendto`` (monotonic ns)."""
     stamps: Path | None = None
@@ -642,6 +652,7 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
     rss_before = proc_status(process.pid).get("VmRSS", 0)
     before = {"server": cpu_seconds(process.pid), "emulators": own_cpu(),
               "machine": machine_busy()}
+    faults_before = minor_faults(process.pid)
     sender = await asyncio.create_subprocess_exec(
         sys.executable, __file__, "--send", str(port),
         json.dumps({"flood": name, "rate": rate, "count": count}),
@@ -660,6 +671,7 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
            "emulators": own_cpu() - before["emulators"], "sender": sender_cpu,
            "machine": machine_busy() - before["machine"]}
     rss_after = proc_status(process.pid).get("VmRSS", 0)
+    faults = minor_faults(process.pid) - faults_before
     sent: list[int] = json.loads(stdout)
 
     packets = flood_packets(flood, count)
@@ -677,7 +689,8 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
         latencies=latencies, per_second=per_second,
         bytes_per_change={s: b / max(1, len(latencies)) for s, b in antenna_bytes.items()},
         udp_queue_max=queue_max, udp_drops=drops, cpu=cpu, rss_before_kb=rss_before,
-        rss_after_kb=rss_after, wall=(sent[-1] - sent[0]) / 1e9, sent_at=sent)
+        rss_after_kb=rss_after, wall=(sent[-1] - sent[0]) / 1e9, sent_at=sent,
+        faults=faults)
 
 
 def flood_rows(result: FloodResult) -> list[Row]:
@@ -717,6 +730,8 @@ def flood_rows(result: FloodResult) -> list[Row]:
                  "", ""))
     rows.append(("  server CPU per packet",
                  f"{1000 * cpu['server'] / result.sent:.2f} ms", "", ""))
+    rows.append(("  server minor page faults per packet",
+                 f"{result.faults / result.sent:.1f}", "", ""))
     rows.append(("  server RSS before / after",
                  f"{result.rss_before_kb / 1024:.0f} MB / {result.rss_after_kb / 1024:.0f} MB",
                  "< 150 MB", _verdict(result.rss_after_kb / 1024 < 150)))

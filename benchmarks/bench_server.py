@@ -878,6 +878,9 @@ def main() -> int:
     if len(sys.argv) > 1 and sys.argv[1] == "--relay":
         quiet_path.relay(sys.argv[2])
         return 0
+    if len(sys.argv) > 1 and sys.argv[1] == "--floor-send":
+        quiet_path.send_numbers(*(int(x) for x in sys.argv[2:5]))
+        return 0
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=3,
                         help="start-ups of each kind (default 3; 0 skips them)")

@@ -159,10 +159,10 @@ def relay(slave: str) -> None:
 
         def readable() -> None:
             try:
-                sock.recv(4096)
+                data = sock.recv(4096)
             except BlockingIOError:
                 return
-            port.write(b"!1011;")
+            port.write(b"!" + data + b";")
 
         loop.add_reader(sock.fileno(), readable)
         print(sock.getsockname()[1], flush=True)
@@ -177,7 +177,8 @@ async def floor(bench: Path, root: Path, rate: int, seconds: float) -> list[floa
     tty.setraw(slave)
     os.set_blocking(master, False)
     loop = asyncio.get_running_loop()
-    arrivals: list[int] = []
+    arrivals: dict[int, int] = {}
+    pending = bytearray()
 
     def readable() -> None:
         try:
@@ -185,7 +186,11 @@ async def floor(bench: Path, root: Path, rate: int, seconds: float) -> list[floa
         except OSError:
             return
         now = time.monotonic_ns()
-        arrivals.extend([now] * data.count(b";"))
+        pending.extend(data)
+        *done, rest = bytes(pending).split(b";")
+        pending[:] = rest
+        for command in done:
+            arrivals.setdefault(int(command.lstrip(b"!")), now)
 
     relay_process = await asyncio.create_subprocess_exec(
         sys.executable, str(bench), "--relay", os.ttyname(slave), stdin=subprocess.PIPE,
@@ -196,8 +201,7 @@ async def floor(bench: Path, root: Path, rate: int, seconds: float) -> list[floa
         loop.add_reader(master, readable)
         count = int(rate * seconds)
         sender = await asyncio.create_subprocess_exec(
-            sys.executable, str(bench), "--send", str(port),
-            json.dumps({"flood": "big", "rate": rate, "count": count}),
+            sys.executable, str(bench), "--floor-send", str(port), str(rate), str(count),
             stdout=subprocess.PIPE, cwd=str(root))
         stdout, _ = await sender.communicate()
         await asyncio.sleep(0.5)
@@ -213,7 +217,24 @@ async def floor(bench: Path, root: Path, rate: int, seconds: float) -> list[floa
             await relay_process.wait()
         os.close(master)
         os.close(slave)
-    return [(got - at) / 1e6 for at, got in zip(sent, arrivals, strict=False)]
+    return [(arrivals[seq] - at) / 1e6 for seq, at in enumerate(sent) if seq in arrivals]
 
 
-__all__ = ["STAGES", "TRACE_ENV", "floor", "install_stamps", "relay", "stage_rows"]
+def send_numbers(port: int, rate: int, count: int) -> None:
+    """The floor's sender: datagrams holding their own number, paced as the floods are."""
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    sock.bind(("127.0.0.1", 0))
+    sent = [0] * count
+    start = time.monotonic() + 0.1
+    for seq in range(count):
+        delay = start + seq / rate - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+        sent[seq] = time.monotonic_ns()
+        sock.sendto(str(seq).encode(), ("127.0.0.1", port))
+    sock.close()
+    print(json.dumps(sent))
+
+
+__all__ = ["STAGES", "TRACE_ENV", "floor", "install_stamps", "relay", "send_numbers",
+           "stage_rows"]

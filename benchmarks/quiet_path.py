@@ -21,6 +21,7 @@ from __future__ import annotations
 import asyncio
 import atexit
 import functools
+import gc
 import json
 import os
 import pty
@@ -85,8 +86,20 @@ def install_stamps(path: str) -> None:
     app.perform = around("decide", "decided", app.perform)  # type: ignore[attr-defined]
     SerialPort.write = around("write", "written", SerialPort.write)  # type: ignore[method-assign]
 
+    collections: list[tuple[int, int, int]] = []
+    """(generation, start, end) of each cyclic garbage collection."""
+    began = [0]
+
+    def collected(phase: str, info: dict[str, int]) -> None:
+        if phase == "start":
+            began[0] = clock()
+        else:
+            collections.append((info["generation"], began[0], clock()))
+
+    gc.callbacks.append(collected)
+
     def dump() -> None:
-        Path(path).write_text(json.dumps(stamps))
+        Path(path).write_text(json.dumps({**stamps, "gc": collections}))
 
     atexit.register(dump)
 
@@ -105,7 +118,7 @@ def _first_at_or_after(values: Sequence[int], moment: int, start: int = 0) -> tu
 def stage_rows(path: Path, sent: Sequence[int], latencies: dict[int, float],
                rate: int) -> list[tuple[str, str, str, str]]:
     """The median and p99 of each stage, over the packets that were alone in their turn."""
-    stamps: dict[str, list[int]] = json.loads(path.read_text())
+    stamps: dict[str, Any] = json.loads(path.read_text())
     spans: dict[str, list[float]] = {name: [] for name in (
         "sendto -> the server reads the datagram", "parse RadioInfo",
         "to the decision (the loop's next turn)", "engine decision",
@@ -127,12 +140,20 @@ def stage_rows(path: Path, sent: Sequence[int], latencies: dict[int, float],
                                       arrival - write), strict=True):
             spans[name].append(span / 1000)
     counted = len(spans[names[0]])
+    first, last = sent[0], sent[-1]
+    during = [(gen, (end - start) / 1e6) for gen, start, end in stamps.get("gc", [])
+              if first <= start <= last]
     rows = [(f"  where the time goes at {rate}/s ({counted} packets alone in their turn)",
              "median / p99 in microseconds", "", "")]
     for name, values in spans.items():
         if values:
             rows.append((f"    {name}", (f"{statistics.median(values):.0f} / "
                                              f"{_pct(values, 99):.0f} us"), "", ""))
+    by_generation = [sum(1 for gen, _ in during if gen == g) for g in range(3)]
+    longest = max((ms for _, ms in during), default=0.0)
+    rows.append(("    cyclic garbage collections during the flood",
+                 (f"{len(during)} (generation 0/1/2: {'/'.join(map(str, by_generation))}), "
+                  f"longest {longest:.2f} ms"), "", ""))
     return rows
 
 

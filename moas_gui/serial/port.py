@@ -176,12 +176,13 @@ class SerialPort:
                 done.set_result(None)
 
         def run() -> None:
+            error: BaseException | None = None
             try:
                 self.open_device(loop)
-            except BaseException as error:  # noqa: BLE001 - handed to the waiting coroutine
+            except BaseException as failed:  # noqa: BLE001 - handed to the waiting coroutine
+                error = failed
+            with contextlib.suppress(RuntimeError):  # the loop is closed: the program ends
                 loop.call_soon_threadsafe(settle, error)
-            else:
-                loop.call_soon_threadsafe(settle, None)
 
         threading.Thread(target=run, daemon=True, name=f"open {self.name}").start()
         await done

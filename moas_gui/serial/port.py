@@ -85,6 +85,10 @@ def reads_by_thread(device: str, loop: asyncio.AbstractEventLoop) -> bool:
     return sys.platform == "darwin" and isinstance(selector, selectors.PollSelector)
 
 
+POLL_SEES_HANG_UPS = sys.platform not in ("win32", "darwin") and hasattr(select, "poll")
+"""Whether this system's ``poll()`` tells a hung-up device (see :func:`hung_up`)."""
+
+
 def hung_up(fd: int) -> bool:
     """Whether the port behind ``fd`` hung up, as far as the system can tell at once.
 
@@ -380,6 +384,7 @@ def _descriptor(handle: Any) -> int | None:
 __all__ = [
     "HUNG_UP",
     "MAX_EMPTY_READS",
+    "POLL_SEES_HANG_UPS",
     "SERIAL_ERRORS",
     "DataCallback",
     "LostCallback",

@@ -47,7 +47,7 @@ from moas_gui.hw.rotators.controllers.base import (
 )
 from moas_gui.hw.rotators.controllers.models import Model
 
-from .serial_link import Link, Opener, PortError, open_serial
+from .serial_link import ControllerPort, Opener, PortError, open_serial
 
 log = logging.getLogger(__name__)
 
@@ -83,7 +83,7 @@ class ControllerDriver:
         interval = max(poll_ms / 1000.0, MIN_POLL)
         self.poll_interval = max(interval, ALIVE_CHECK) if info.unsolicited else interval
         self._task: asyncio.Task[None] | None = None
-        self._link: Link | None = None
+        self._link: ControllerPort | None = None
         self._lost: Exception | None = None
         self._wake = asyncio.Event()
         self._answered = asyncio.Event()

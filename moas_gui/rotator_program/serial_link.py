@@ -1,12 +1,13 @@
 """The one seam between a rotator driver and a serial port.
 
-:func:`open_serial` opens a port with pyserial (``COM14``, ``/dev/ttyUSB0``,
-or any pyserial URL such as ``socket://host:port`` for a serial device
-server) and hands every byte it receives to a callback on the event loop.
-Where the port has a file descriptor and the loop can watch it (Linux, macOS)
-no thread is used; otherwise (Windows, URLs) one reader thread per port does
-the waiting.  A port that fails (unplugged adapter, closed pseudo-terminal)
-is reported once through ``on_lost``.
+:func:`open_serial` opens a port through the program's serial layer
+(:mod:`moas_gui.serial`): ``COM14``, ``/dev/ttyUSB0``, or any pyserial URL such
+as ``socket://host:port`` for a serial device server.  Every byte it receives
+goes to a callback on the event loop (the layer decides, per system, whether
+the loop watches the port or a reader thread waits on it).  The system's open
+runs in a thread of its own, so that one that hangs cannot block the program.
+A port that fails (unplugged adapter, closed pseudo-terminal) is reported once
+through ``on_lost``.
 
 A port name may end in ``@<baud>`` (``COM14@4800``) to override the model's
 usual speed, for units whose speed is set by DIP switches or a menu.
@@ -14,33 +15,19 @@ usual speed, for units whose speed is set by DIP switches or a menu.
 
 from __future__ import annotations
 
-import asyncio
-import contextlib
-import logging
-import sys
-import threading
 from collections.abc import Awaitable, Callable
-from typing import Protocol, TypeVar
+from typing import Protocol
 
-import serial  # type: ignore[import-untyped]
-
-from moas_gui.errors import HardwareError
 from moas_gui.hw.rotators.controllers.base import SerialSettings
-
-log = logging.getLogger(__name__)
-
-T = TypeVar("T")
+from moas_gui.serial import PortError
+from moas_gui.serial.port import PortSettings, SerialPort
 
 WRITE_TIMEOUT = 0.5
 """Seconds a write may take before the port counts as failed."""
 
 
-class PortError(HardwareError):
-    """A serial port could not be opened, read or written."""
-
-
-class Link(Protocol):
-    """What a driver needs from an open port."""
+class ControllerPort(Protocol):
+    """What a rotator driver needs from an open controller port."""
 
     name: str
 
@@ -54,7 +41,7 @@ class Link(Protocol):
 
 
 Opener = Callable[[str, SerialSettings, Callable[[bytes], None], Callable[[Exception], None]],
-                  Awaitable[Link]]
+                  Awaitable[ControllerPort]]
 """``await opener(port, settings, on_data, on_lost)``: the seam drivers are given."""
 
 
@@ -66,156 +53,33 @@ def split_port(port: str) -> tuple[str, int | None]:
     return port, None
 
 
-class SerialLink:
-    """An open pyserial port delivering bytes to ``on_data`` on the event loop."""
-
-    def __init__(self, name: str, port: serial.SerialBase, on_data: Callable[[bytes], None],
-                 on_lost: Callable[[Exception], None], use_thread: bool) -> None:
-        self.name = name
-        self._port = port
-        self._on_data = on_data
-        self._on_lost = on_lost
-        self._loop = asyncio.get_running_loop()
-        self._closed = False
-        self._lost = False
-        self._fd: int | None = None
-        self._thread: threading.Thread | None = None
-        if use_thread:
-            self._thread = threading.Thread(target=self._read_in_thread, daemon=True,
-                                            name=f"serial-{name}")
-            self._thread.start()
-        else:
-            self._fd = port.fileno()
-            self._loop.add_reader(self._fd, self._read_ready)
-
-    def write(self, data: bytes) -> None:
-        if self._closed or self._lost:
-            raise PortError(f"port {self.name} is closed")
-        try:
-            self._port.write(data)
-        except (serial.SerialException, OSError, ValueError) as error:
-            self._fail(error)
-            raise PortError(f"cannot write to {self.name}: {error}") from error
-
-    def close(self) -> None:
-        if self._closed:
-            return
-        self._closed = True
-        if self._fd is not None:
-            with contextlib.suppress(Exception):
-                self._loop.remove_reader(self._fd)
-        if self._thread is not None:
-            with contextlib.suppress(Exception):
-                self._port.cancel_read()
-        with contextlib.suppress(Exception):
-            self._port.close()
-        if self._thread is not None and self._thread is not threading.current_thread():
-            self._thread.join(timeout=2)
-
-    # -- reading ---------------------------------------------------------------------------
-
-    def _read_ready(self) -> None:
-        try:
-            data = self._port.read(self._port.in_waiting or 1)
-        except (serial.SerialException, OSError, TypeError, ValueError) as error:
-            self._fail(error)
-            return
-        if data:
-            self._on_data(bytes(data))
-
-    def _read_in_thread(self) -> None:
-        while not self._closed:
-            try:
-                data = self._port.read(self._port.in_waiting or 1)
-            except Exception as error:  # noqa: BLE001 - any failure ends this port
-                if not self._closed:
-                    self._loop.call_soon_threadsafe(self._fail, error)
-                return
-            if data and not self._closed:
-                self._loop.call_soon_threadsafe(self._deliver, bytes(data))
-
-    def _deliver(self, data: bytes) -> None:
-        if not self._closed:
-            self._on_data(data)
-
-    def _fail(self, error: Exception) -> None:
-        if self._lost or self._closed:
-            return
-        self._lost = True
-        if self._fd is not None:
-            with contextlib.suppress(Exception):
-                self._loop.remove_reader(self._fd)
-        self._on_lost(error)
+def controller_settings(settings: SerialSettings, speed: int | None = None) -> PortSettings:
+    """How a controller's port is opened: the model's speed (or ``speed``), no lock (the
+    program itself refuses a second rotator on one port), nothing flushed, URLs allowed."""
+    return PortSettings(baudrate=speed or settings.baudrate, bytesize=settings.bytesize,
+                        parity=settings.parity, stopbits=settings.stopbits,
+                        write_timeout=WRITE_TIMEOUT, exclusive=False, flush_on_open=False,
+                        urls=True)
 
 
 async def open_serial(port: str, settings: SerialSettings, on_data: Callable[[bytes], None],
                       on_lost: Callable[[Exception], None], *,
-                      use_thread: bool | None = None) -> SerialLink:
-    """Opens ``port`` (see the module docstring); raises :class:`PortError` saying why not."""
+                      use_thread: bool | None = None) -> SerialPort:
+    """Opens ``port`` (see the module docstring); raises :class:`PortError` saying why not.
+    ``on_lost`` is given a :class:`PortError` saying what happened."""
     name, speed = split_port(port)
+    opened = SerialPort(port, controller_settings(settings, speed), device=name,
+                        use_thread=use_thread)
 
-    def _open() -> serial.SerialBase:
-        return serial.serial_for_url(
-            name,
-            baudrate=speed or settings.baudrate,
-            bytesize=settings.bytesize,
-            parity=settings.parity,
-            stopbits=settings.stopbits,
-            timeout=0.2 if thread else 0,
-            write_timeout=WRITE_TIMEOUT,
-            xonxoff=False,
-            rtscts=False,
-            dsrdtr=False,
-        )
+    def lost(why: str) -> None:
+        on_lost(PortError(why))
 
-    loop = asyncio.get_running_loop()
-    thread = use_thread if use_thread is not None else not _watchable(name, loop)
     try:
-        handle = await _in_daemon_thread(_open)
-    except (serial.SerialException, OSError, ValueError) as error:
+        await opened.open_off_loop(on_data, lost)
+    except PortError as error:
         raise PortError(f"cannot open {name}: {error}") from error
-    try:
-        return SerialLink(port, handle, on_data, on_lost, thread)
-    except Exception as error:
-        handle.close()
-        raise PortError(f"cannot watch {name}: {error}") from error
+    return opened
 
 
-async def _in_daemon_thread(work: Callable[[], T]) -> T:
-    """Runs ``work`` in a thread of its own, so that an open that hangs (a confused USB
-    driver) can neither block the event loop nor hold up the program's exit."""
-    loop = asyncio.get_running_loop()
-    future: asyncio.Future[T] = loop.create_future()
-
-    def settle(result: T | None, error: BaseException | None) -> None:
-        if future.done():
-            close = getattr(result, "close", None)
-            if callable(close):
-                close()  # nobody waits for it any more
-            return
-        if error is not None:
-            future.set_exception(error)
-        else:
-            future.set_result(result)  # type: ignore[arg-type]
-
-    def run() -> None:
-        try:
-            result = work()
-        except BaseException as error:  # noqa: BLE001 - handed to the waiting coroutine
-            loop.call_soon_threadsafe(settle, None, error)
-        else:
-            loop.call_soon_threadsafe(settle, result, None)
-
-    threading.Thread(target=run, daemon=True, name="serial-open").start()
-    return await future
-
-
-def _watchable(name: str, loop: asyncio.AbstractEventLoop) -> bool:
-    """True when a port of this name gives a descriptor this loop can watch."""
-    if "://" in name or sys.platform == "win32":
-        return False
-    return hasattr(loop, "add_reader") and not isinstance(
-        loop, getattr(asyncio, "ProactorEventLoop", ()))
-
-
-__all__ = ["Link", "Opener", "PortError", "SerialLink", "open_serial", "split_port"]
+__all__ = ["ControllerPort", "Opener", "PortError", "controller_settings", "open_serial",
+           "split_port"]

@@ -17,7 +17,8 @@ serial pair, a serial splitter, or a pseudo-terminal on Linux -- this source
   any other query is echoed, as the reference device does).
 
 Only changes are passed on.  OTRSP radio 1 and 2 become this station's radios
-by the ``radios`` map.  A port that is missing or goes away is retried with a
+by the ``radios`` map.  The port is opened through the program's serial layer
+(:mod:`moas_gui.serial`) with :data:`OTRSP_PORT`.  A port that is missing or goes away is retried with a
 growing pause, with one warning and one "back" line (docs/sources.md).
 """
 
@@ -32,6 +33,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from moas_gui.retry import Backoff, Pauses
+from moas_gui.serial import PortSettings
 from moas_gui.sources.base import (
     DEFAULT_RETRY,
     RETRY_LIMIT,
@@ -227,10 +229,14 @@ def _setter(event: asyncio.Event, reasons: list[str]) -> Callable[[str], None]:
     return lost
 
 
+OTRSP_PORT = PortSettings(baudrate=9600, write_timeout=2.0, exclusive=True, flush_on_open=True)
+"""A logger's OTRSP port: 9600 baud 8N1, for this source alone, old bytes dropped."""
+
+
 def _serial_transport(port: str) -> Any:
-    from moas_gui.hw.moas2.transport import SerialTransport
+    from moas_gui.serial.port import SerialPort
 
-    return SerialTransport(port)
+    return SerialPort(port, OTRSP_PORT)
 
 
-__all__ = ["DEVICE_NAME", "AuxAntenna", "OtrspMap", "OtrspSource"]
+__all__ = ["DEVICE_NAME", "OTRSP_PORT", "AuxAntenna", "OtrspMap", "OtrspSource"]

@@ -111,9 +111,10 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
             for antenna, rotator in moves:
                 assert server.client({"cmd": "select", "station": 1, "radio": 1,
                                       "antenna": antenna, "exclusive": True})["ok"]
-                await until(lambda a=antenna: shown_selected(window) == [a]  # type: ignore[misc]
-                            and window.compass_panel.current is not None,
+                await until(lambda a=antenna: shown_selected(window) == [a],  # type: ignore[misc]
                             timeout=PATIENCE, what=f"antenna {antenna} selected (desktop)")
+                await until(lambda: window.compass_panel.current is not None, timeout=PATIENCE,
+                            what=f"the compass on antenna {antenna}'s rotator (desktop)")
                 assert window.relative_box.currentText().startswith("\u2714 "), \
                     window.relative_box.currentText()
                 assert window.compass_panel.current.rotator.id == rotator

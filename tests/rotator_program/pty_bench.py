@@ -20,7 +20,7 @@ from helpers import FakeClock
 
 from moas_gui.hw.rotators.controllers.base import ControllerEmulator, SerialSettings
 from moas_gui.hw.rotators.controllers.pty_host import EmulatorHost, ServedPort
-from moas_gui.rotator_program.serial_link import Link, open_serial, split_port
+from moas_gui.rotator_program.serial_link import ControllerPort, open_serial, split_port
 
 STEP = 0.02
 """Seconds the clock moves at a time: shorter than any poll, quiet time or timeout."""
@@ -31,7 +31,7 @@ SETTLE_LIMIT = 5.0
 class CountedLink:
     """A port a driver opened on the bench, counting what goes each way."""
 
-    def __init__(self, inner: Link, port: ServedPort | None, sent_before: int) -> None:
+    def __init__(self, inner: ControllerPort, port: ServedPort | None, sent_before: int) -> None:
         self.name = inner.name
         self.port = port
         """The emulator's port it reaches (None: nothing served there)."""
@@ -72,7 +72,7 @@ class PtyBench:
 
     async def open(self, port: str, settings: SerialSettings, on_data: Callable[[bytes], None],
                    on_lost: Callable[[Exception], None], *,
-                   use_thread: bool | None = None) -> Link:
+                   use_thread: bool | None = None) -> ControllerPort:
         """The drivers' opener (:data:`~moas_gui.rotator_program.serial_link.Opener`)."""
         counted: list[CountedLink] = []
 

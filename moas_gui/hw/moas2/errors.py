@@ -7,14 +7,19 @@ under the project's :mod:`moas_gui.errors`::
           |    +-- CommandTooLong           it would exceed the 40-byte limit
           |         +-- RelayListTooLong    more relays than one antenna command holds
           +-- CommandRejected (ProtocolError)  what the box answers ``?U``/``?A``/``?T``
-          +-- PortError (HardwareError, OSError)  a port that cannot be opened or vanished
+
+A port that cannot be opened or vanished raises the serial layer's one
+:class:`~moas_gui.serial.PortError` (a ``HardwareError`` and an ``OSError``),
+the same class for every port of the program; it is named here too because
+the switch package has always offered it.
 
 Each error's message says what was wrong and where.
 """
 
 from __future__ import annotations
 
-from ...errors import HardwareError, MoasError, ProtocolError
+from ...errors import MoasError, ProtocolError
+from ...serial.errors import PortError
 
 
 class Moas2Error(MoasError):
@@ -40,10 +45,6 @@ class CommandRejected(Moas2Error, ProtocolError):
         super().__init__(reason)
         self.code = code
         self.reason = reason
-
-
-class PortError(Moas2Error, HardwareError, OSError):
-    """A serial port that cannot be opened, or that vanished."""
 
 
 __all__ = [

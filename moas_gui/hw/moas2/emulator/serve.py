@@ -5,7 +5,7 @@ works the master side, the server opens the slave side (``path``) like any
 serial port.  The emulator keeps the slave open itself too, so the server
 may close and reopen the port as often as it likes.  On Windows (or for any
 real serial port, such as one end of a null-modem pair) :class:`SerialEndpoint`
-works a port by name through pyserial.
+works a port by name through the program's serial layer.
 
 :func:`make_link` gives the port a stable name (a symbolic link) that a
 configuration can name.
@@ -18,12 +18,11 @@ import contextlib
 import logging
 import os
 import sys
-import threading
 from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
 
-from ..errors import PortError
+from ....serial import PortError, PortSettings
 from .box import EmulatedBox
 
 log = logging.getLogger("moas_gui.hw.moas2.emulator")
@@ -33,6 +32,10 @@ MAX_BACKLOG = 64 * 1024
 as the real box drops status messages when its queue is full."""
 
 DataCallback = Callable[[bytes], None]
+
+EMULATED_BOX_PORT = PortSettings(baudrate=9600, write_timeout=1.0, exclusive=False,
+                                 flush_on_open=False)
+"""The box's end of a real port: 9600 baud 8N1, opened as it is."""
 
 
 class Endpoint(Protocol):
@@ -127,47 +130,37 @@ class PtyEndpoint:
 
 
 class SerialEndpoint:
-    """A serial port by name (``COM7``, ``/dev/ttyUSB1``), read by a thread."""
+    """A serial port by name (``COM7``, ``/dev/ttyUSB1``), through the program's serial
+    layer (:mod:`moas_gui.serial`), which reads it the way this system allows."""
 
     def __init__(self, port: str) -> None:
-        import serial  # type: ignore[import-untyped]
+        from ....serial.port import SerialPort  # pyserial only for a real port
 
-        self._errors: tuple[type[BaseException], ...] = (serial.SerialException, OSError)
-        try:
-            self._serial = serial.Serial(port, 9600, timeout=0.1, write_timeout=1)
-        except (serial.SerialException, OSError, ValueError) as exc:
-            raise PortError(f"cannot open serial port {port}: {exc}") from exc
         self.path = port
-        self._stop = threading.Event()
-        self._thread: threading.Thread | None = None
+        self._port = SerialPort(port, EMULATED_BOX_PORT)
+        try:
+            self._port.open_device(_running_loop())
+        except PortError as exc:
+            raise PortError(f"cannot open serial port {port}: {exc}") from exc
 
     def start(self, loop: asyncio.AbstractEventLoop, on_data: DataCallback) -> None:
-        def pump() -> None:
-            while not self._stop.is_set():
-                try:
-                    data = self._serial.read(max(1, self._serial.in_waiting))
-                except self._errors as exc:
-                    if not self._stop.is_set():
-                        log.warning("emulator: reading %s failed: %s", self.path, exc)
-                    return
-                if data:
-                    loop.call_soon_threadsafe(on_data, data)
+        self._port.start(loop, on_data, self._lost)
 
-        self._thread = threading.Thread(target=pump, name=f"emulator {self.path}", daemon=True)
-        self._thread.start()
+    def _lost(self, why: str) -> None:
+        log.warning("emulator: %s: %s", self.path, why)
 
     def write(self, data: bytes) -> None:
-        try:
-            self._serial.write(data)
-        except self._errors as exc:
-            raise PortError(f"writing {self.path} failed: {exc}") from exc
+        self._port.write(data)
 
     def close(self) -> None:
-        self._stop.set()
-        with contextlib.suppress(*self._errors):
-            self._serial.close()
-        if self._thread is not None:
-            self._thread.join(timeout=1)
+        self._port.close()
+
+
+def _running_loop() -> asyncio.AbstractEventLoop | None:
+    try:
+        return asyncio.get_running_loop()
+    except RuntimeError:
+        return None
 
 
 def serve(box: EmulatedBox, endpoint: Endpoint, loop: asyncio.AbstractEventLoop) -> None:

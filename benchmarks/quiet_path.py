@@ -1,0 +1,289 @@
+"""Where a logger packet's time goes on its way to the switch, for bench_server.py.
+
+Two measures, both printed by ``bench_server.py`` in the same run as the floods:
+
+* **The stages** (``--trace``): the server child stamps the monotonic clock at
+  each stage of the path -- the datagram read, the RadioInfo parsed, the engine
+  asked and answering, the switch port's write called and returned -- and
+  writes the stamps to a file when it ends.  Nothing else changes in the
+  server: the stamps are wrappers around the same calls.  For each packet of
+  a quiet flood (each packet alone in its loop turn) the stamps after its
+  ``sendto`` are lined up with its first byte at the switch.
+* **The machine's floor**: the same hops with no work between them -- a
+  sender process's UDP packet into an asyncio process, which writes a
+  command to a pseudo-terminal through the program's serial layer, read by
+  the event loop of this process -- at the same rates.  What the server adds
+  is its latency minus the floor.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import atexit
+import functools
+import gc
+import json
+import os
+import pty
+import socket
+import statistics
+import subprocess
+import sys
+import time
+import tty
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+TRACE_ENV = "BENCH_SERVER_TRACE"
+"""The file the server child writes its stamps to (set: stamp; unset: nothing changes)."""
+
+STAGES = ("received", "parsed", "decide", "decided", "write", "written", "turned", "saving")
+
+
+# --------------------------------------------------------------------------- in the server
+
+
+def install_stamps(path: str) -> None:
+    """In the server child: stamp each stage of the path; write them to ``path`` at exit."""
+    from moas_gui import app
+    from moas_gui.serial.port import SerialPort
+    from moas_gui.sources.n1mm import N1MMListener
+    from moas_gui.sources.udp import DatagramSource
+
+    stamps: dict[str, list[int]] = {name: [] for name in STAGES}
+    clock = time.monotonic_ns
+
+    def before(name: str, call: Callable[..., Any]) -> Callable[..., Any]:
+        @functools.wraps(call)
+        def stamped(*args: Any, **kwargs: Any) -> Any:
+            stamps[name].append(clock())
+            return call(*args, **kwargs)
+        return stamped
+
+    def around(first: str, then: str, call: Callable[..., Any]) -> Callable[..., Any]:
+        @functools.wraps(call)
+        def stamped(*args: Any, **kwargs: Any) -> Any:
+            stamps[first].append(clock())
+            try:
+                return call(*args, **kwargs)
+            finally:
+                stamps[then].append(clock())
+        return stamped
+
+    def after(name: str, call: Callable[..., Any]) -> Callable[..., Any]:
+        @functools.wraps(call)
+        def stamped(*args: Any, **kwargs: Any) -> Any:
+            try:
+                return call(*args, **kwargs)
+            finally:
+                stamps[name].append(clock())
+        return stamped
+
+    DatagramSource.datagram_received = before(  # type: ignore[method-assign]
+        "received", DatagramSource.datagram_received)
+    N1MMListener.handle = after("parsed", N1MMListener.handle)  # type: ignore[method-assign]
+    app.perform = around("decide", "decided", app.perform)  # type: ignore[attr-defined]
+    SerialPort.write = around("write", "written", SerialPort.write)  # type: ignore[method-assign]
+    # the end of the loop turn that decided, and the saved state's writes (each optional:
+    # a renamed class leaves its stamp out, the rest still counts)
+    from moas_gui import source_focus, state_store
+
+    focus = getattr(source_focus, "SourceFocus", None)
+    if focus is not None and hasattr(focus, "_decide"):
+        focus._decide = after("turned", focus._decide)
+    keeper = getattr(state_store, "StateKeeper", None)
+    if keeper is not None and hasattr(keeper, "_start"):
+        keeper._start = before("saving", keeper._start)
+
+    collections: list[tuple[int, int, int]] = []
+    """(generation, start, end) of each cyclic garbage collection."""
+    began = [0]
+
+    def collected(phase: str, info: dict[str, int]) -> None:
+        if phase == "start":
+            began[0] = clock()
+        else:
+            collections.append((info["generation"], began[0], clock()))
+
+    gc.callbacks.append(collected)
+
+    def dump() -> None:
+        Path(path).write_text(json.dumps({**stamps, "gc": collections}))
+
+    atexit.register(dump)
+
+
+# --------------------------------------------------------------------------- in the bench
+
+
+def _first_at_or_after(values: Sequence[int], moment: int, start: int = 0) -> tuple[int, int]:
+    """(index, value) of the first of the sorted ``values`` at or after ``moment``."""
+    for index in range(start, len(values)):
+        if values[index] >= moment:
+            return index, values[index]
+    return -1, -1
+
+
+def stage_rows(path: Path, sent: Sequence[int], latencies: dict[int, float],
+               rate: int) -> list[tuple[str, str, str, str]]:
+    """The median and p99 of each stage, over the packets that were alone in their turn."""
+    stamps: dict[str, Any] = json.loads(path.read_text())
+    spans: dict[str, list[float]] = {name: [] for name in (
+        "sendto -> the server reads the datagram", "parse RadioInfo",
+        "to the decision (the loop's next turn)", "engine decision",
+        "switch plan -> write called", "the write itself", "write called -> first byte read")}
+    names = list(spans)
+    for seq, latency in sorted(latencies.items()):
+        start = sent[seq]
+        arrival = start + int(latency * 1e6)
+        _, received = _first_at_or_after(stamps["received"], start)
+        _, parsed = _first_at_or_after(stamps["parsed"], received)
+        _, decide = _first_at_or_after(stamps["decide"], parsed)
+        _, decided = _first_at_or_after(stamps["decided"], decide)
+        write_index, write = _first_at_or_after(stamps["write"], decided)
+        if min(received, parsed, decide, decided, write) < 0 or write > arrival:
+            continue  # merged with another packet's turn, or stamps missing
+        written = stamps["written"][write_index]
+        for name, span in zip(names, (received - start, parsed - received, decide - parsed,
+                                      decided - decide, write - decided, written - write,
+                                      arrival - write), strict=True):
+            spans[name].append(span / 1000)
+    after_write: list[float] = []
+    """Microseconds the server's turn went on after the packet's first write."""
+    saves = 0
+    """Packets whose first byte waited while the saved state was being collected."""
+    for seq, latency in sorted(latencies.items()):
+        start = sent[seq]
+        arrival = start + int(latency * 1e6)
+        _, write = _first_at_or_after(stamps["write"], start)
+        _, turned = _first_at_or_after(stamps.get("turned", []), write)
+        if 0 <= write <= arrival and turned >= 0:
+            after_write.append((turned - write) / 1000)
+            _, saving = _first_at_or_after(stamps.get("saving", []), write)
+            saves += 0 <= saving <= arrival
+    counted = len(spans[names[0]])
+    first, last = sent[0], sent[-1]
+    during = [(gen, (end - start) / 1e6) for gen, start, end in stamps.get("gc", [])
+              if first <= start <= last]
+    rows = [(f"  where the time goes at {rate}/s ({counted} packets alone in their turn)",
+             "median / p99 in microseconds", "", "")]
+    for name, values in spans.items():
+        if values:
+            rows.append((f"    {name}", (f"{statistics.median(values):.0f} / "
+                                             f"{_pct(values, 99):.0f} us"), "", ""))
+    if after_write:
+        rows.append(("    the server's turn after the first write",
+                     (f"{statistics.median(after_write):.0f} / {_pct(after_write, 99):.0f} us; "
+                      f"the saved state started before the first byte arrived for {saves} "
+                      f"of {len(after_write)} packets"), "", ""))
+    by_generation = [sum(1 for gen, _ in during if gen == g) for g in range(3)]
+    longest = max((ms for _, ms in during), default=0.0)
+    rows.append(("    cyclic garbage collections during the flood",
+                 (f"{len(during)} (generation 0/1/2: {'/'.join(map(str, by_generation))}), "
+                  f"longest {longest:.2f} ms"), "", ""))
+    return rows
+
+
+def _pct(values: Sequence[float], p: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(p / 100 * len(ordered)))]
+
+
+# --------------------------------------------------------------------------- the floor
+
+
+def relay(slave: str) -> None:
+    """The floor's middle process: each UDP datagram becomes a write to ``slave``."""
+    from moas_gui.serial import PortSettings
+    from moas_gui.serial.port import SerialPort
+
+    async def main() -> None:
+        loop = asyncio.get_running_loop()
+        port = SerialPort(slave, PortSettings(exclusive=False))
+        port.open(lambda data: None, lambda why: None)
+        sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        sock.bind(("127.0.0.1", 0))
+        sock.setblocking(False)
+
+        def readable() -> None:
+            try:
+                data = sock.recv(4096)
+            except BlockingIOError:
+                return
+            port.write(b"!" + data + b";")
+
+        loop.add_reader(sock.fileno(), readable)
+        print(sock.getsockname()[1], flush=True)
+        await loop.run_in_executor(None, sys.stdin.read)  # until the bench closes stdin
+
+    asyncio.run(main())
+
+
+async def floor(bench: Path, root: Path, rate: int, seconds: float) -> list[float]:
+    """Milliseconds from each ``sendto`` to its byte read from the pseudo-terminal."""
+    master, slave = pty.openpty()
+    tty.setraw(slave)
+    os.set_blocking(master, False)
+    loop = asyncio.get_running_loop()
+    arrivals: dict[int, int] = {}
+    pending = bytearray()
+
+    def readable() -> None:
+        try:
+            data = os.read(master, 4096)
+        except OSError:
+            return
+        now = time.monotonic_ns()
+        pending.extend(data)
+        *done, rest = bytes(pending).split(b";")
+        pending[:] = rest
+        for command in done:
+            arrivals.setdefault(int(command.lstrip(b"!")), now)
+
+    relay_process = await asyncio.create_subprocess_exec(
+        sys.executable, str(bench), "--relay", os.ttyname(slave), stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE, cwd=str(root))
+    try:
+        assert relay_process.stdout is not None
+        port = int((await relay_process.stdout.readline()).decode())
+        loop.add_reader(master, readable)
+        count = int(rate * seconds)
+        sender = await asyncio.create_subprocess_exec(
+            sys.executable, str(bench), "--floor-send", str(port), str(rate), str(count),
+            stdout=subprocess.PIPE, cwd=str(root))
+        stdout, _ = await sender.communicate()
+        await asyncio.sleep(0.5)
+        sent: list[int] = json.loads(stdout)
+    finally:
+        loop.remove_reader(master)
+        if relay_process.stdin is not None:
+            relay_process.stdin.close()
+        try:
+            await asyncio.wait_for(relay_process.wait(), 5)
+        except TimeoutError:
+            relay_process.kill()
+            await relay_process.wait()
+        os.close(master)
+        os.close(slave)
+    return [(arrivals[seq] - at) / 1e6 for seq, at in enumerate(sent) if seq in arrivals]
+
+
+def send_numbers(port: int, rate: int, count: int) -> None:
+    """The floor's sender: datagrams holding their own number, paced as the floods are."""
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    sock.bind(("127.0.0.1", 0))
+    sent = [0] * count
+    start = time.monotonic() + 0.1
+    for seq in range(count):
+        delay = start + seq / rate - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+        sent[seq] = time.monotonic_ns()
+        sock.sendto(str(seq).encode(), ("127.0.0.1", port))
+    sock.close()
+    print(json.dumps(sent))
+
+
+__all__ = ["STAGES", "TRACE_ENV", "floor", "install_stamps", "relay", "send_numbers",
+           "stage_rows"]

@@ -26,8 +26,8 @@ from moas_gui.hw.rotators.genius_codec import (
     GeniusCommand,
     GeniusCommandDecoder,
     GeniusGarbage,
+    GeniusStatus,
     RotorBlock,
-    Status,
     encode_reply,
     encode_status,
 )
@@ -84,10 +84,10 @@ class GeniusModel:
         rotor.turn = None
         rotor.position = rotor.travel.nearest_position(azimuth)
 
-    def status(self, now: float) -> Status:
+    def status(self, now: float) -> GeniusStatus:
         self.advance(now)
         blocks = tuple(self._block(rotor, now) for rotor in self.rotors)
-        return Status((blocks[0], blocks[1]), active="2")
+        return GeniusStatus((blocks[0], blocks[1]), active="2")
 
     def _block(self, rotor: EmulatedRotor, now: float) -> RotorBlock:
         travel = rotor.travel

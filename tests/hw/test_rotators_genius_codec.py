@@ -12,9 +12,9 @@ from moas_gui.hw.rotators.genius_codec import (
     GeniusCommandDecoder,
     GeniusGarbage,
     GeniusReply,
+    GeniusStatus,
     ReplyDecoder,
     RotorBlock,
-    Status,
     decode_status,
     encode_move,
     encode_read,
@@ -44,7 +44,7 @@ def test_the_captured_reply_of_a_real_unit_decodes() -> None:
 
 
 def test_status_round_trips_through_the_encoder() -> None:
-    status = Status((
+    status = GeniusStatus((
         RotorBlock(azimuth=100, limit_cw=5, limit_ccw=350, moving=1, target=200, start=90,
                    name="TOW1"),
         RotorBlock(azimuth=None, limit_cw=10, limit_ccw=60, configuration="E", offset=-12,
@@ -72,7 +72,7 @@ def test_replies_split_by_header_and_length_even_in_pieces() -> None:
     for i in range(0, len(stream), 5):
         events += decoder.feed(stream[i:i + 5])
     assert events[0] == GeniusReply("A", True)
-    assert isinstance(events[1], Status)
+    assert isinstance(events[1], GeniusStatus)
     assert events[2:] == [GeniusReply("A", False, 158), GeniusReply("S", True)]
 
 
@@ -82,7 +82,7 @@ def test_garbage_is_reported_and_the_decoder_resynchronises_on_the_next_header()
     broken[4 + 9] = ord("X")  # configuration byte of rotor 1
     events = decoder.feed(b"\xff\x00junk" + bytes(broken) + CAPTURED + b"|Zq|SK")
     kinds = [type(e).__name__ for e in events]
-    assert kinds == ["GeniusGarbage", "GeniusGarbage", "Status", "GeniusGarbage", "GeniusReply"]
+    assert kinds == ["GeniusGarbage", "GeniusGarbage", "GeniusStatus", "GeniusGarbage", "GeniusReply"]
     assert isinstance(events[1], GeniusGarbage) and "configuration byte is 'X'" in events[1].reason
     assert isinstance(events[3], GeniusGarbage) and "unknown reply header |Z" in events[3].reason
 
@@ -92,7 +92,7 @@ def test_the_decoder_survives_any_bytes(data: bytes) -> None:
     decoder = ReplyDecoder()
     decoder.feed(data)
     events = decoder.feed(b"|" * 0 + CAPTURED + CAPTURED)
-    assert any(isinstance(e, Status) for e in events)
+    assert any(isinstance(e, GeniusStatus) for e in events)
 
 
 def test_the_controller_side_reads_commands_by_length() -> None:

@@ -30,9 +30,9 @@ from .genius_codec import (
     Event,
     GeniusGarbage,
     GeniusReply,
+    GeniusStatus,
     ReplyDecoder,
     RotorBlock,
-    Status,
     encode_move,
     encode_read,
     encode_stop,
@@ -79,7 +79,7 @@ class GeniusLink:
         if task is not None:
             await cancel_and_wait(task)
 
-    async def request(self, command: bytes, answer: str) -> Status | GeniusReply:
+    async def request(self, command: bytes, answer: str) -> GeniusStatus | GeniusReply:
         """Send one command and wait for its answer (``"h"`` or a command letter).
 
         Raises ``ConnectionError`` when not connected and ``TimeoutError``
@@ -98,7 +98,7 @@ class GeniusLink:
                 writer.close()
                 raise
 
-    async def turn(self, command: bytes, confirms: Callable[[Status], bool]) -> GeniusReply | None:
+    async def turn(self, command: bytes, confirms: Callable[[GeniusStatus], bool]) -> GeniusReply | None:
         """Send a turn (``|A``) and wait for whichever comes first: the
         controller's ``|AK``/``|AF``, or a status in which ``confirms`` sees
         the turn under way.  Returns the reply, or None when a status
@@ -150,21 +150,21 @@ class GeniusLink:
         assert isinstance(event, GeniusReply)
         return event
 
-    def _hand_out(self, status: Status) -> None:
+    def _hand_out(self, status: GeniusStatus) -> None:
         for driver in self.drivers:
             driver.on_status(status.rotors[driver.rotor - 1])
 
-    async def _answer(self, reader: asyncio.StreamReader, answers: str) -> Status | GeniusReply:
+    async def _answer(self, reader: asyncio.StreamReader, answers: str) -> GeniusStatus | GeniusReply:
         """Read until an answer to one of ``answers`` (``"h"`` for a status,
         command letters for replies) comes."""
         while True:
             data = await reader.read(512)
             if not data:
                 raise ConnectionResetError("it closed the connection")
-            found: Status | GeniusReply | None = None
+            found: GeniusStatus | GeniusReply | None = None
             for event in self._decoder.feed(data):
                 if found is None and _answers(event, answers):
-                    assert isinstance(event, Status | GeniusReply)
+                    assert isinstance(event, GeniusStatus | GeniusReply)
                     found = event
                 else:
                     self._unexpected(event)
@@ -189,7 +189,7 @@ class GeniusLink:
         try:
             while True:
                 status = await self.request(encode_read(), "h")
-                assert isinstance(status, Status)
+                assert isinstance(status, GeniusStatus)
                 self._hand_out(status)
                 await self.timing.clock.sleep(self.poll)
         except TimeoutError:
@@ -207,7 +207,7 @@ class GeniusLink:
 
 
 def _answers(event: Event, answers: str) -> bool:
-    if isinstance(event, Status):
+    if isinstance(event, GeniusStatus):
         return "h" in answers
     return isinstance(event, GeniusReply) and event.command in answers
 

@@ -52,7 +52,7 @@ class RotorBlock:
 
 
 @dataclass(frozen=True, slots=True)
-class Status:
+class GeniusStatus:
     rotors: tuple[RotorBlock, RotorBlock]
     active: str = "0"
     panic: int = 0
@@ -73,7 +73,7 @@ class GeniusGarbage:
     reason: str
 
 
-Event = Status | GeniusReply | GeniusGarbage
+Event = GeniusStatus | GeniusReply | GeniusGarbage
 
 
 # ---- client side: commands out -------------------------------------------------------
@@ -164,13 +164,13 @@ class ReplyDecoder:
         return used, GeniusGarbage(bytes(self._buffer[:used]), reason)
 
 
-def decode_status(data: bytes) -> Status:
+def decode_status(data: bytes) -> GeniusStatus:
     """A whole 72-byte ``|h`` reply; ``ValueError`` says what is wrong."""
     if len(data) != STATUS_LENGTH or data[:2] != b"|h":
         raise ValueError(f"a |h reply has {STATUS_LENGTH} bytes starting with |h")
     first = decode_block(data[4:4 + BLOCK], 1)
     second = decode_block(data[4 + BLOCK:], 2)
-    return Status((first, second), chr(data[2]), data[3])
+    return GeniusStatus((first, second), chr(data[2]), data[3])
 
 
 def decode_block(block: bytes, rotor: int) -> RotorBlock:
@@ -279,7 +279,7 @@ def encode_block(rotor: RotorBlock) -> bytes:
     return text.encode("latin-1")
 
 
-def encode_status(status: Status) -> bytes:
+def encode_status(status: GeniusStatus) -> bytes:
     return (b"|h" + status.active.encode("latin-1")[:1] + bytes([status.panic])
             + encode_block(status.rotors[0]) + encode_block(status.rotors[1]))
 
@@ -298,9 +298,9 @@ __all__ = [
     "GeniusCommandDecoder",
     "GeniusGarbage",
     "GeniusReply",
+    "GeniusStatus",
     "ReplyDecoder",
     "RotorBlock",
-    "Status",
     "decode_block",
     "decode_status",
     "encode_block",

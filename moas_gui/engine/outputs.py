@@ -25,7 +25,7 @@ from moas_gui.config.relays import local_relay, local_relays, relay_exists, swit
 from .functions import relay_contributions
 from .index import ConfigIndex, IndexedRadio, Kind
 from .ranges import RangeRelays, nearest_range_relays, range_relays_at
-from .rules import permitted, related
+from .rules import inhibits, permitted, related
 from .slots import SlotClasses, SlotKey, SlotMap
 from .state import RadioState, State
 from .switchstate import NO_ANTENNA, STATIONS, StationAntennas, SwitchState
@@ -188,7 +188,6 @@ class Inputs:
 
 
 def inhibit_pairs(ix: ConfigIndex, st: State) -> frozenset[tuple[RadioRef, RadioRef]]:
-    from .rules import inhibits
     return frozenset((t, r) for t in ix.mains for r in ix.mains
                      if t != r and inhibits(ix, st, t, r))
 
@@ -317,8 +316,8 @@ def _radio_pairs(inputs: Inputs, port_of: Mapping[RadioRef, list[int]]
     """Per station of one switch: the other stations its radio inhibits while it
     transmits (radio-to-radio inhibits), and those that move to their alternate antenna
     while it transmits."""
-    inhibit_others = [set[int]() for _ in STATIONS]
-    use_alt = [set[int]() for _ in STATIONS]
+    inhibit_others: list[set[int]] = [set() for _ in STATIONS]
+    use_alt: list[set[int]] = [set() for _ in STATIONS]
     for t, r in inputs.inhibit_pairs:
         if t in port_of and r in port_of:
             for tp in port_of[t]:
@@ -361,8 +360,9 @@ def _waivers(ix: ConfigIndex, st: State, classes: SlotClasses, m: SlotMap,
         for b in refs[i + 1:]:
             pb = ports[b]
             fam = related(ix, a, b)
+            theirs = _antennas_used(pb)
             for x, x_is_alt in _antennas_used(pa):
-                for y, y_is_alt in _antennas_used(pb):
+                for y, y_is_alt in theirs:
                     if not ix.conflict(x, y):
                         continue
                     if fam or _conflict_allowed(ix, st, a, b, pa, pb, x, x_is_alt,

@@ -2,10 +2,11 @@
 
 A function with more branches than that holds several rules of the manual at once; it is
 cut into steps that each read as one rule, with its docstring (docs/engine.md).  The
-score is radon's (every ``if``, loop, ``except``, boolean operator, comprehension ``if``
-and ``case`` adds one), read in process; a function defined inside another is held to
-the same limit under its own name.  ``ruff check`` holds the same limit with mccabe (C901 in pyproject.toml), which
-counts a little less (no boolean operators), so radon's is the one that decides.
+score is radon's (every ``if``, loop, ``except``, boolean operator, comprehension and
+``case`` adds one), read in process; a function defined inside another is held to the
+same limit under its own name.  ``ruff check`` holds the same limit with mccabe (C901 in
+pyproject.toml), which counts a little less (no boolean operators), so radon's is the
+one that decides.
 """
 
 from __future__ import annotations

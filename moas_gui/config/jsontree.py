@@ -277,20 +277,25 @@ class _Parser:
         word = _WORD.match(self.text, self.pos)
         if word:
             self.pos = word.end()
-            name = word.group()
-            if name in ("true", "false", "null"):
-                return JScalar(line, column, None if name == "null" else name == "true")
-            if name.lower() in ("true", "false"):
-                self.error(start, f"write {name.lower()} in lowercase, not {name}")
-                return JScalar(line, column, name.lower() == "true")
-            if name.lower() in ("none", "null"):
-                self.error(start, f"write null in lowercase, not {name}")
-                return JScalar(line, column, None)
-            self.error(start, f'text must be in double quotes: write "{name}"')
-            return JScalar(line, column, name)
+            return self.bare_word(start, line, column, word.group())
         if not char:
             raise self.stop(start, "the file ends where a value was expected")
         raise self.stop(start, f"expected a value but found {self.shown(start)}")
+
+    def bare_word(self, start: int, line: int, column: int, name: str) -> JScalar:
+        """A word without quotes: true, false or null as they are; the same in other
+        letter cases (and None) read as meant, with a mistake; any other word read as
+        the text it is, with a mistake asking for quotes."""
+        if name in ("true", "false", "null"):
+            return JScalar(line, column, None if name == "null" else name == "true")
+        if name.lower() in ("true", "false"):
+            self.error(start, f"write {name.lower()} in lowercase, not {name}")
+            return JScalar(line, column, name.lower() == "true")
+        if name.lower() in ("none", "null"):
+            self.error(start, f"write null in lowercase, not {name}")
+            return JScalar(line, column, None)
+        self.error(start, f'text must be in double quotes: write "{name}"')
+        return JScalar(line, column, name)
 
     # -- plain JSON, read at once -------------------------------------------
     def whole(self, start: int) -> Node | None:

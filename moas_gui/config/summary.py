@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .model import Config, RotatorControl
+from .model import Config, Radio, Rotator, RotatorControl
 from .relays import relay_span
 from .rigs import DEFAULT_RETRY, FLRIG_PORT, RIGCTLD_PORT, split_address
 
@@ -40,45 +40,71 @@ def summarize(config: Config) -> str:
     for r in config.radios:
         ports = ", ".join(f"switch {p.switch or single} port {p.port}" for p in r.switches)
         mode = "interrupt" if r.interrupt else "wait"
-        extra = []
-        if r.always:
-            extra.append("inhibited by " + ", ".join(str(x) for x in r.always))
-        if r.sub_receiver is not None:
-            sub = config.radio(r.station, r.sub_receiver)
-            how = [text for on, text in (
-                (r.use_main_freq or bool(sub and sub.use_main_freq), "on this radio's frequency"),
-                (r.persist_sub_receiver or bool(sub and sub.persist_sub_receiver),
-                 "relays kept during transmit")) if on]
-            extra.append(f"sub receiver radio {r.sub_receiver}"
-                         + (f" ({', '.join(how)})" if how else ""))
-        if r.partner:
-            extra.append("partner " + ", ".join(str(x) for x in r.partner))
-        if r.alternate:
-            extra.append(f"{len(r.alternate)} alternate rule{'s' if len(r.alternate) > 1 else ''}"
-                         + (" (AltActive " + ", ".join(str(x) for x in r.alt_active) + ")"
-                            if r.alt_active else ""))
+        extra = _radio_extras(config, r)
         tail = f"; {'; '.join(extra)}" if extra else ""
         lines.append(f"  station {r.station} radio {r.radio}: {ports}, {mode} mode{tail}")
     lines.append("Antennas per band:")
+    lines.extend(_band_lines(config))
+    if config.rotators:
+        lines.append("Rotators:")
+        lines.extend(_rotator_line(rot) for rot in config.rotators)
+    lines.extend(_logger_lines(config))
+    lines.extend(_rig_lines(config))
+    return "\n".join(lines)
+
+
+def _radio_extras(config: Config, r: Radio) -> list[str]:
+    """What a radio's line adds after its mode: who inhibits it, its sub receiver and how
+    that follows it, its partners, its alternate rules."""
+    extra = []
+    if r.always:
+        extra.append("inhibited by " + ", ".join(str(x) for x in r.always))
+    if r.sub_receiver is not None:
+        sub = config.radio(r.station, r.sub_receiver)
+        how = [text for on, text in (
+            (r.use_main_freq or bool(sub and sub.use_main_freq), "on this radio's frequency"),
+            (r.persist_sub_receiver or bool(sub and sub.persist_sub_receiver),
+             "relays kept during transmit")) if on]
+        extra.append(f"sub receiver radio {r.sub_receiver}"
+                     + (f" ({', '.join(how)})" if how else ""))
+    if r.partner:
+        extra.append("partner " + ", ".join(str(x) for x in r.partner))
+    if r.alternate:
+        extra.append(f"{len(r.alternate)} alternate rule{'s' if len(r.alternate) > 1 else ''}"
+                     + (" (AltActive " + ", ".join(str(x) for x in r.alt_active) + ")"
+                        if r.alt_active else ""))
+    return extra
+
+
+def _band_lines(config: Config) -> list[str]:
+    """Per band some antenna covers: how many do and the first eight's labels."""
+    lines = []
     for name, low, high in BANDS:
         ids = [a.id for a in config.antennas if _covers(config, a.id, low, high)]
         if ids:
             labels = ", ".join(config.antenna(i).label for i in ids[:8])  # type: ignore[union-attr]
             more = f" and {len(ids) - 8} more" if len(ids) > 8 else ""
             lines.append(f"  {name:>5}: {len(ids):3d}  {labels}{more}")
-    if config.rotators:
-        lines.append("Rotators:")
-        for rot in config.rotators:
-            where = ""
-            if rot.control is RotatorControl.SERIAL:
-                where = f" {rot.model} on {rot.comm_port} via {rot.address}"
-            elif rot.control in (RotatorControl.ROTATOR_GENIUS, RotatorControl.HAMLIB):
-                where = f" at {rot.address}"
-            lines.append(f"  {rot.id}: {rot.label} ({rot.control.value}{where}), "
-                         f"{rot.rotation} degrees from {rot.ccw_limit}"
-                         f"{', with a stop' if rot.has_stop else ''}")
+    return lines
+
+
+def _rotator_line(rot: Rotator) -> str:
+    """A rotator: its label, how it is driven and where, its rotation and stop."""
+    where = ""
+    if rot.control is RotatorControl.SERIAL:
+        where = f" {rot.model} on {rot.comm_port} via {rot.address}"
+    elif rot.control in (RotatorControl.ROTATOR_GENIUS, RotatorControl.HAMLIB):
+        where = f" at {rot.address}"
+    return (f"  {rot.id}: {rot.label} ({rot.control.value}{where}), "
+            f"{rot.rotation} degrees from {rot.ccw_limit}"
+            f"{', with a stop' if rot.has_stop else ''}")
+
+
+def _logger_lines(config: Config) -> list[str]:
+    """The client port and the loggers listened to: N1MM Logger, DXLog.net, Win-Test and
+    N1MM's rotor window."""
     n1mm = "on" if config.use_n1mm_logger else "off"
-    lines.append(f"Clients on TCP {config.tcp_port}; N1MM Logger on UDP {config.udp_port}: {n1mm}")
+    lines = [f"Clients on TCP {config.tcp_port}; N1MM Logger on UDP {config.udp_port}: {n1mm}"]
     if config.use_dxlog:
         lines.append(f"DXLog.net on UDP {config.dxlog_port}")
     if config.use_wintest:
@@ -89,8 +115,7 @@ def summarize(config: Config) -> str:
         where = ", ".join(config.n1mm_rotor_headings) or "nowhere"
         lines.append(f"N1MM rotor window: commands on UDP {config.n1mm_rotor_port}, "
                      f"headings to {where}")
-    lines.extend(_rig_lines(config))
-    return "\n".join(lines)
+    return lines
 
 
 def _rig_lines(config: Config) -> list[str]:

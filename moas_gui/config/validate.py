@@ -14,6 +14,7 @@ from . import model as m
 from .allow import allow_problems
 from .circles import chain, circles
 from .counted import MAX_RELAYS_PER_COMMAND, listed, missing_problems, relay_problems
+from .jsontree import JObject
 from .reading import Reading
 
 SERIAL_MODELS = {
@@ -194,62 +195,96 @@ class _Checker:
             self._function(f)
 
     def _function(self, f: m.Function) -> None:
-        label = f"function {f.id} ({f.name})"
-        p = f.int_params
-        where = self.r.at(f, "IntParams")
-
-        def need(count: int, text: str, exact: bool = True) -> bool:
-            if (len(p) != count) if exact else (len(p) < count):
-                self.r.error(where, f"{label} needs {text} in \"IntParams\" "
-                             f"but has {len(p)} number{'s' if len(p) != 1 else ''}")
-                return False
-            return True
-
-        def radio(i: int) -> None:
-            self.radio_ref(f, "IntParams", p[i], p[i + 1], label, value=p[i])
-
         name = f.name
         if name in ("AntennaSwap", "Partner"):
-            if need(4, "four numbers: station and radio, station and radio"):
-                radio(0)
-                radio(2)
+            if self._need(f, 4, "four numbers: station and radio, station and radio"):
+                self._param_radio(f, 0)
+                self._param_radio(f, 2)
         elif name == "Share":
-            if need(1, "the system number first, then any preferred antennas", exact=False):
-                if p[0] not in self.systems:
-                    self.r.error(where, f"{label} names system {p[0]}, which is not in \"Systems\"")
-                self.antenna_refs(f, "IntParams", p[1:], label)
+            self._share_params(f)
         elif name == "Relay":
-            if need(1, "the relay number, then optionally station, radio and antennas", exact=False):
-                self.relays(f, "IntParams", p[:1], label)
-                if len(p) == 2:
-                    self.r.error(where, f"{label} gives a station without a radio")
-                if len(p) >= 3:
-                    radio(1)
-                    self.antenna_refs(f, "IntParams", p[3:], label)
-                for s in f.string_params:
-                    if s not in ("T", "R", "S"):
-                        self.r.error(self.r.at(f, "StringParams", s),
-                                     f"{label}: \"{s}\" is not one of \"T\", \"R\", \"S\"")
+            self._relay_params(f)
         elif name == "Inhibit":
-            if need(3, "three numbers: station, radio and inhibit buss"):
-                radio(0)
+            if self._need(f, 3, "three numbers: station, radio and inhibit buss"):
+                self._param_radio(f, 0)
         elif name == "Extra":
-            if "Transfer" in f.string_params:
-                if need(5, "five numbers with \"Transfer\": station, radio, other station, "
-                           "other radio, relay"):
-                    radio(0)
-                    radio(2)
-                    self.relays(f, "IntParams", p[4:], label)
-            elif need(3, "three numbers: station, radio and relay"):
-                radio(0)
-                self.relays(f, "IntParams", p[2:], label)
-        elif name == "AltActive" and need(
-                4, "at least four numbers: the radio, then radios that move it", exact=False):
-            if len(p) % 2:
-                self.r.error(where, f"{label} needs station and radio pairs, but has an odd "
-                             "count of numbers")
-            for i in range(0, len(p) - 1, 2):
-                radio(i)
+            self._extra_params(f)
+        elif name == "AltActive":
+            self._alt_active_params(f)
+
+    @staticmethod
+    def _function_label(f: m.Function) -> str:
+        return f"function {f.id} ({f.name})"
+
+    def _need(self, f: m.Function, count: int, text: str, exact: bool = True) -> bool:
+        """Whether a function has the count of ``IntParams`` its kind needs (exactly, or at
+        least); if not, says so."""
+        p = f.int_params
+        if (len(p) != count) if exact else (len(p) < count):
+            self.r.error(self.r.at(f, "IntParams"), f"{self._function_label(f)} needs {text} "
+                         f"in \"IntParams\" but has {len(p)} number{'s' if len(p) != 1 else ''}")
+            return False
+        return True
+
+    def _param_radio(self, f: m.Function, i: int) -> None:
+        """The station and radio at ``IntParams[i]`` and ``[i + 1]`` name a radio."""
+        p = f.int_params
+        self.radio_ref(f, "IntParams", p[i], p[i + 1], self._function_label(f), value=p[i])
+
+    def _share_params(self, f: m.Function) -> None:
+        """Share: a system of the file, then antennas of the file."""
+        p = f.int_params
+        label = self._function_label(f)
+        if self._need(f, 1, "the system number first, then any preferred antennas", exact=False):
+            if p[0] not in self.systems:
+                self.r.error(self.r.at(f, "IntParams"),
+                             f"{label} names system {p[0]}, which is not in \"Systems\"")
+            self.antenna_refs(f, "IntParams", p[1:], label)
+
+    def _relay_params(self, f: m.Function) -> None:
+        """Relay: a relay, optionally a station with its radio and antennas; string
+        parameters among T, R and S."""
+        p = f.int_params
+        label = self._function_label(f)
+        if self._need(f, 1, "the relay number, then optionally station, radio and antennas",
+                      exact=False):
+            self.relays(f, "IntParams", p[:1], label)
+            if len(p) == 2:
+                self.r.error(self.r.at(f, "IntParams"), f"{label} gives a station without a radio")
+            if len(p) >= 3:
+                self._param_radio(f, 1)
+                self.antenna_refs(f, "IntParams", p[3:], label)
+            for s in f.string_params:
+                if s not in ("T", "R", "S"):
+                    self.r.error(self.r.at(f, "StringParams", s),
+                                 f"{label}: \"{s}\" is not one of \"T\", \"R\", \"S\"")
+
+    def _extra_params(self, f: m.Function) -> None:
+        """Extra: a radio and a relay; with "Transfer" two radios and a relay."""
+        p = f.int_params
+        label = self._function_label(f)
+        if "Transfer" in f.string_params:
+            if self._need(f, 5, "five numbers with \"Transfer\": station, radio, other station, "
+                                "other radio, relay"):
+                self._param_radio(f, 0)
+                self._param_radio(f, 2)
+                self.relays(f, "IntParams", p[4:], label)
+        elif self._need(f, 3, "three numbers: station, radio and relay"):
+            self._param_radio(f, 0)
+            self.relays(f, "IntParams", p[2:], label)
+
+    def _alt_active_params(self, f: m.Function) -> None:
+        """AltActive: station and radio pairs, the radio first, then the radios that move
+        it to its alternate."""
+        p = f.int_params
+        if not self._need(f, 4, "at least four numbers: the radio, then radios that move it",
+                          exact=False):
+            return
+        if len(p) % 2:
+            self.r.error(self.r.at(f, "IntParams"), f"{self._function_label(f)} needs station "
+                         "and radio pairs, but has an odd count of numbers")
+        for i in range(0, len(p) - 1, 2):
+            self._param_radio(f, i)
 
     def check_layouts(self) -> None:
         for layout in self.c.layouts:
@@ -299,36 +334,47 @@ class _Checker:
             label = f"rotator {rot.id}"
             node = self.r.node_of(rot)
             if rot.control is m.RotatorControl.SERIAL:
-                if not rot.comm_port:
-                    self.r.error(node, f"{label} is Serial and needs \"CommPort\", the serial "
-                                 "port on the computer running MOAS Rotator")
-                if not rot.model:
-                    self.r.error(node, f"{label} is Serial and needs \"Model\", one of "
-                                 + ", ".join(f'"{k}"' for k in SERIAL_MODELS))
-                elif rot.model not in SERIAL_MODELS and not rot.model.isdigit():
-                    self.r.error(self.r.at(rot, "Model"), f"{label} has model \"{rot.model}\"; "
-                                 "known models are " + ", ".join(f'"{k}"' for k in SERIAL_MODELS))
+                self._serial_rotator(rot, label, node)
             elif rot.control in (m.RotatorControl.ROTATOR_GENIUS, m.RotatorControl.HAMLIB):
                 if node is not None and node.get("Address") is None:
                     self.r.error(node, f"{label} is {rot.control.value} and needs \"Address\", "
                                  "the controller's host (and :port)")
             elif rot.control is m.RotatorControl.ELECTRICAL:
-                checked: set[int] = set()
-                for a in users.get(rot.id, []):
-                    system = home.get(a.id)
-                    if system is None:
-                        self.r.error(self.r.at(a, "Rotator"), f"antenna {a.id} uses electrical "
-                                     f"{label}, so it must be part of an antenna system")
-                        continue
-                    if id(system) in checked:
-                        continue
-                    checked.add(id(system))
-                    for other in system.member_antennas:
-                        other_antenna = self.c.antenna(other)
-                        if other_antenna is not None and other_antenna.rotator != rot.id:
-                            self.r.error(self.r.at(other_antenna), f"antenna {other} is in "
-                                         f"system {system.id} with antennas of electrical {label}, "
-                                         f"so it must also say \"Rotator\": {rot.id}")
+                self._electrical_rotator(rot, label, users.get(rot.id, []), home)
+
+    def _serial_rotator(self, rot: m.Rotator, label: str, node: JObject | None) -> None:
+        """A Serial rotator names the serial port on the MOAS Rotator computer and a known
+        model (or a model number)."""
+        if not rot.comm_port:
+            self.r.error(node, f"{label} is Serial and needs \"CommPort\", the serial "
+                         "port on the computer running MOAS Rotator")
+        if not rot.model:
+            self.r.error(node, f"{label} is Serial and needs \"Model\", one of "
+                         + ", ".join(f'"{k}"' for k in SERIAL_MODELS))
+        elif rot.model not in SERIAL_MODELS and not rot.model.isdigit():
+            self.r.error(self.r.at(rot, "Model"), f"{label} has model \"{rot.model}\"; "
+                         "known models are " + ", ".join(f'"{k}"' for k in SERIAL_MODELS))
+
+    def _electrical_rotator(self, rot: m.Rotator, label: str, antennas: list[m.Antenna],
+                            home: dict[int, m.System]) -> None:
+        """Each antenna on an electrical rotator is part of a system, and every antenna of
+        that system says it is on the same rotator."""
+        checked: set[int] = set()
+        for a in antennas:
+            system = home.get(a.id)
+            if system is None:
+                self.r.error(self.r.at(a, "Rotator"), f"antenna {a.id} uses electrical "
+                             f"{label}, so it must be part of an antenna system")
+                continue
+            if id(system) in checked:
+                continue
+            checked.add(id(system))
+            for other in system.member_antennas:
+                other_antenna = self.c.antenna(other)
+                if other_antenna is not None and other_antenna.rotator != rot.id:
+                    self.r.error(self.r.at(other_antenna), f"antenna {other} is in "
+                                 f"system {system.id} with antennas of electrical {label}, "
+                                 f"so it must also say \"Rotator\": {rot.id}")
 
     def check_radios(self) -> None:
         used_ports: dict[tuple[int, int], m.Radio] = {}
@@ -337,38 +383,8 @@ class _Checker:
                    if r.sub_receiver is not None and r.sub_receiver != r.radio}
         for radio in self.c.radios:
             label = f"station {radio.station} radio {radio.radio}"
-            for sp in radio.switches:
-                switch_id = sp.switch or single
-                if sp.switch == 0 and single is None:
-                    self.r.error(self.r.at(radio, "Switches"), f"{label} must say which "
-                                 "\"Switch\" its port is on, because there is "
-                                 f"{'no switch' if not self.switches else 'more than one switch'}")
-                    continue
-                if switch_id not in self.switches:
-                    self.r.error(self.r.at(radio, "Switches"), f"{label} is wired to switch "
-                                 f"{switch_id}, which is not in \"Switches\"")
-                    continue
-                assert switch_id is not None
-                other = used_ports.get((switch_id, sp.port))
-                if other is not None:
-                    self.r.error(self.r.at(radio, "Switches"), f"{label} and station "
-                                 f"{other.station} radio {other.radio} are both on port {sp.port} "
-                                 f"of switch {switch_id}")
-                used_ports[(switch_id, sp.port)] = radio
-            for key, refs in (("Always", radio.always), ("SameBand", radio.same_band),
-                              ("Partner", radio.partner), ("AltActive", radio.alt_active)):
-                for ref in refs:
-                    self.radio_ref(ref, "Radio", ref.station, ref.radio, f"{label}'s \"{key}\"")
-                    if ref == radio.ref and key != "Partner":
-                        self.r.error(self.r.at(ref), f"{label} lists itself in \"{key}\"")
-            if len(radio.partner) > 1:
-                self.r.error(self.r.at(radio, "Partner"), f"{label} has {len(radio.partner)} "
-                             "partners; only one is allowed")
-            for key, number in (("SubReceiver", radio.sub_receiver),
-                                ("AltReceiver", radio.alt_receiver)):
-                if number is not None and m.RadioRef(radio.station, number) not in self.radios:
-                    self.r.error(self.r.at(radio, key), f"{label}'s \"{key}\" is radio {number}, "
-                                 f"but station {radio.station} has no radio {number} in \"Radios\"")
+            self._radio_ports(radio, label, single, used_ports)
+            self._radio_relations(radio, label)
             self._sub_flags(radio, label, subs_of)
             for rule in radio.alternate:
                 self.antenna_refs(rule, "ThisAntennas", rule.this_antennas, f"{label}'s Alternate")
@@ -379,6 +395,48 @@ class _Checker:
                 for key, relays in (("Extra", entry.extra), ("Set", entry.set),
                                     ("Reset", entry.reset)):
                     self.relays(entry, key, relays, f"{label}'s Relays")
+
+    def _radio_ports(self, radio: m.Radio, label: str, single: int | None,
+                     used_ports: dict[tuple[int, int], m.Radio]) -> None:
+        """Each port of a radio is on a switch of the file (which one may go unsaid only
+        when there is one switch) and no other radio's."""
+        for sp in radio.switches:
+            switch_id = sp.switch or single
+            if sp.switch == 0 and single is None:
+                self.r.error(self.r.at(radio, "Switches"), f"{label} must say which "
+                             "\"Switch\" its port is on, because there is "
+                             f"{'no switch' if not self.switches else 'more than one switch'}")
+                continue
+            if switch_id not in self.switches:
+                self.r.error(self.r.at(radio, "Switches"), f"{label} is wired to switch "
+                             f"{switch_id}, which is not in \"Switches\"")
+                continue
+            assert switch_id is not None
+            other = used_ports.get((switch_id, sp.port))
+            if other is not None:
+                self.r.error(self.r.at(radio, "Switches"), f"{label} and station "
+                             f"{other.station} radio {other.radio} are both on port {sp.port} "
+                             f"of switch {switch_id}")
+            used_ports[(switch_id, sp.port)] = radio
+
+    def _radio_relations(self, radio: m.Radio, label: str) -> None:
+        """The radios a radio names (Always, SameBand, Partner, AltActive) exist and are not
+        itself (but for Partner); one partner at most; its sub and alternate receivers
+        have entries of their own."""
+        for key, refs in (("Always", radio.always), ("SameBand", radio.same_band),
+                          ("Partner", radio.partner), ("AltActive", radio.alt_active)):
+            for ref in refs:
+                self.radio_ref(ref, "Radio", ref.station, ref.radio, f"{label}'s \"{key}\"")
+                if ref == radio.ref and key != "Partner":
+                    self.r.error(self.r.at(ref), f"{label} lists itself in \"{key}\"")
+        if len(radio.partner) > 1:
+            self.r.error(self.r.at(radio, "Partner"), f"{label} has {len(radio.partner)} "
+                         "partners; only one is allowed")
+        for key, number in (("SubReceiver", radio.sub_receiver),
+                            ("AltReceiver", radio.alt_receiver)):
+            if number is not None and m.RadioRef(radio.station, number) not in self.radios:
+                self.r.error(self.r.at(radio, key), f"{label}'s \"{key}\" is radio {number}, "
+                             f"but station {radio.station} has no radio {number} in \"Radios\"")
 
     def _sub_flags(self, radio: m.Radio, label: str, subs_of: dict[m.RadioRef, m.Radio]
                    ) -> None:
@@ -405,7 +463,29 @@ class _Checker:
             self.r.warning(self.r.at(c, "Switches"), "there are no \"Switches\": the server will not control any relays")
         if not c.radios:
             self.r.warning(self.r.at(c, "Radios"), "there are no \"Radios\": no antenna can be selected")
-        for entry in c.n1mm_logger:
+        self._n1mm_entries()
+        for station in c.wintest:
+            self.radio_ref(station, "Station", station.station, station.radio,
+                           "this WinTest entry")
+        if c.use_wintest and not c.wintest:
+            self.r.warning(self.r.at(c, "UseWinTest"), "UseWinTest is true but \"WinTest\" "
+                           "lists no station names; every broadcast will be ignored")
+        if c.use_dxlog and not c.n1mm_logger:
+            self.r.warning(self.r.at(c, "UseDXLog"), "UseDXLog is true but \"N1MMLogger\" "
+                           "lists no computers; every packet will be ignored")
+        self._rotor_headings()
+        if c.use_n1mm_rotor and not c.rotators:
+            self.r.warning(self.r.at(c, "UseN1MMRotor"), "UseN1MMRotor is true but there are "
+                           "no \"Rotators\" to turn")
+        if c.use_n1mm_logger and not c.n1mm_logger:
+            self.r.warning(self.r.at(c, "UseN1MMLogger"), "UseN1MMLogger is true but \"N1MMLogger\" lists no computers; "
+                           "every packet will be ignored")
+        allow_problems(c, self.r)
+
+    def _n1mm_entries(self) -> None:
+        """Each N1MMLogger entry names a station of the file and an IP address or a station
+        name."""
+        for entry in self.c.n1mm_logger:
             self.radio_ref(entry, "Station", entry.station, None, "this N1MMLogger entry")
             if not entry.address and not entry.station_name:
                 self.r.error(self.r.at(entry, "Address"), "this N1MMLogger entry needs an "
@@ -418,29 +498,16 @@ class _Checker:
             except ValueError:
                 self.r.error(self.r.at(entry, "Address"), f"\"{entry.address}\" is not an IP "
                              "address such as 192.168.1.20")
-        for station in c.wintest:
-            self.radio_ref(station, "Station", station.station, station.radio,
-                           "this WinTest entry")
-        if c.use_wintest and not c.wintest:
-            self.r.warning(self.r.at(c, "UseWinTest"), "UseWinTest is true but \"WinTest\" "
-                           "lists no station names; every broadcast will be ignored")
-        if c.use_dxlog and not c.n1mm_logger:
-            self.r.warning(self.r.at(c, "UseDXLog"), "UseDXLog is true but \"N1MMLogger\" "
-                           "lists no computers; every packet will be ignored")
-        for text in c.n1mm_rotor_headings:
+
+    def _rotor_headings(self) -> None:
+        """Each N1MMRotorHeadings entry is host:port (the port 13010 when left out)."""
+        for text in self.c.n1mm_rotor_headings:
             host, colon, port = text.strip().rpartition(":")
             if not colon:
                 host, port = text.strip(), "13010"
             if not host or not port.isdigit() or not 1 <= int(port) <= 65535:
-                self.r.error(self.r.at(c, "N1MMRotorHeadings", text), f"\"{text}\" is not "
+                self.r.error(self.r.at(self.c, "N1MMRotorHeadings", text), f"\"{text}\" is not "
                              "host:port, such as 192.168.1.20:13010")
-        if c.use_n1mm_rotor and not c.rotators:
-            self.r.warning(self.r.at(c, "UseN1MMRotor"), "UseN1MMRotor is true but there are "
-                           "no \"Rotators\" to turn")
-        if c.use_n1mm_logger and not c.n1mm_logger:
-            self.r.warning(self.r.at(c, "UseN1MMLogger"), "UseN1MMLogger is true but \"N1MMLogger\" lists no computers; "
-                           "every packet will be ignored")
-        allow_problems(c, self.r)
 
 
 def check(config: m.Config, reading: Reading) -> None:

@@ -34,12 +34,12 @@ partner transmits (5.13), which is why that radio gets it.
 
 from __future__ import annotations
 
-from moas_gui.config.model import RadioRef
+from moas_gui.config.model import AlternateRule, RadioRef
 
-from .index import ConfigIndex, Kind
+from .index import ConfigIndex, IndexedRadio, Kind
 from .ranges import describe_khz
 from .rules import permitted, related, unusable, users
-from .state import State
+from .state import RadioState, State
 
 
 def inhibit_reason(ix: ConfigIndex, st: State, ref: RadioRef) -> str:
@@ -104,6 +104,10 @@ def available(ix: ConfigIndex, st: State, ref: RadioRef, want: int | None,
     return want
 
 
+Wanted = list[tuple[RadioRef, int | None]]
+"""Trigger radios, each with the alternate it asks for (None: no antenna)."""
+
+
 def alternates(ix: ConfigIndex, st: State
                ) -> dict[RadioRef, tuple[int | None, frozenset[RadioRef]]]:
     """Per main radio: its alternate receive antenna and the radios that switch it there."""
@@ -113,59 +117,92 @@ def alternates(ix: ConfigIndex, st: State
         rs = st.radios[ref]
         alt_radio = st.radios.get(info.alt) if info.alt is not None else None
         manual = alt_radio.rx if alt_radio is not None else None
-        safety: list[tuple[RadioRef, int | None]] = []
-        others: list[tuple[RadioRef, int | None]] = []
+        safety: Wanted = []
+        others: Wanted = []
         if rs.rx is not None:
-            for t in ix.mains:
-                if related(ix, ref, t):
-                    continue
-                ts = st.radios[t]
-                if ts.tx is not None and ix.conflict(rs.rx, ts.tx) and permitted(
-                        ix, st, ref, t, rs.rx, ts.tx):
-                    want = partner_alternate(ix, st, ref, t)
-                    if want is not None:
-                        want = available(ix, st, ref, want, partner=t)
-                    else:
-                        want = available(ix, st, ref, manual)
-                    safety.append((t, want))
+            safety = _shared_tx_alternates(ix, st, ref, rs.rx, manual)
             allowed = st.alt_active.get(ref)
             for rule in info.radio.alternate:
-                if rule.this_antennas and ix.canon[rs.rx] not in {
-                        ix.canon.get(a, a) for a in rule.this_antennas}:
-                    continue
-                if rs.khz is None or not rule.range.contains(rs.khz):
-                    continue
-                want = rule.antenna
-                if want is not None and (want not in ix.antennas or unusable(
-                        ix, st, info, want, rs.khz, "rx") is not None):
-                    want = None
-                want = available(ix, st, ref, want)
-                for t in ix.mains:
-                    if related(ix, ref, t) or (allowed is not None and t not in allowed):
-                        continue
-                    ts = st.radios[t]
-                    if ts.tx is None or ts.tx_freq is None or not rule.range.contains(ts.tx_freq):
-                        continue
-                    if rule.other_antennas and ix.canon[ts.tx] not in {
-                            ix.canon.get(a, a) for a in rule.other_antennas}:
-                        continue
-                    others.append((t, want))
+                others.extend(_rule_alternates(ix, st, ref, info, rs, rs.rx, rule, allowed))
             if allowed is not None and manual is not None:
                 free = available(ix, st, ref, manual)
                 others.extend((t, free) for t in sorted(allowed) if t in ix.radios
                               and not related(ix, ref, t))
-        if safety:
-            wants = {want for _, want in safety}
-            alt = wants.pop() if len(wants) == 1 else None
-        elif others:
-            alt = others[0][1]
-        else:
+        if not safety and not others:
             out[ref] = (available(ix, st, ref, manual), frozenset())
-            continue
-        triggers = {t for t, _want in safety}
-        triggers |= {t for t, want in others if want == alt and t not in triggers}
-        out[ref] = (alt, frozenset(triggers))
+        else:
+            out[ref] = _first_source_wins(safety, others)
     return out
+
+
+def _shared_tx_alternates(ix: ConfigIndex, st: State, ref: RadioRef, rx: int,
+                          manual: int | None) -> Wanted:
+    """Source 1 (5.12, 5.13): each unrelated radio transmitting on an antenna that
+    conflicts with ``rx`` by permission sends ``ref`` to its partner's receive antenna
+    when the partner conditions hold, else to the alternate receiver's antenna, each
+    only when available."""
+    safety: Wanted = []
+    for t in ix.mains:
+        if related(ix, ref, t):
+            continue
+        ts = st.radios[t]
+        if ts.tx is not None and ix.conflict(rx, ts.tx) and permitted(
+                ix, st, ref, t, rx, ts.tx):
+            want = partner_alternate(ix, st, ref, t)
+            if want is not None:
+                want = available(ix, st, ref, want, partner=t)
+            else:
+                want = available(ix, st, ref, manual)
+            safety.append((t, want))
+    return safety
+
+
+def _rule_alternates(ix: ConfigIndex, st: State, ref: RadioRef, info: IndexedRadio,
+                     rs: RadioState, rx: int, rule: AlternateRule,
+                     allowed: frozenset[RadioRef] | None) -> Wanted:
+    """Source 2 (6.10.2): an ``Alternate`` rule of ``ref`` that matches its receive
+    antenna ``rx`` and frequency asks for its antenna (None when unusable or not available)
+    for every unrelated radio transmitting in the rule's range on one of its other
+    antennas (only the ``AltActive`` radios when ``allowed`` names them)."""
+    if rule.this_antennas and ix.canon[rx] not in {
+            ix.canon.get(a, a) for a in rule.this_antennas}:
+        return []
+    if rs.khz is None or not rule.range.contains(rs.khz):
+        return []
+    want = rule.antenna
+    if want is not None and (want not in ix.antennas or unusable(
+            ix, st, info, want, rs.khz, "rx") is not None):
+        want = None
+    want = available(ix, st, ref, want)
+    return [(t, want) for t in ix.mains if _rule_triggers(ix, st, ref, rule, allowed, t)]
+
+
+def _rule_triggers(ix: ConfigIndex, st: State, ref: RadioRef, rule: AlternateRule,
+                   allowed: frozenset[RadioRef] | None, t: RadioRef) -> bool:
+    """Whether radio ``t`` transmitting sets off ``ref``'s ``Alternate`` rule: it is
+    unrelated, allowed, transmits in the rule's range and on one of its other antennas."""
+    if related(ix, ref, t) or (allowed is not None and t not in allowed):
+        return False
+    ts = st.radios[t]
+    if ts.tx is None or ts.tx_freq is None or not rule.range.contains(ts.tx_freq):
+        return False
+    return not (rule.other_antennas and ix.canon[ts.tx] not in {
+        ix.canon.get(a, a) for a in rule.other_antennas})
+
+
+def _first_source_wins(safety: Wanted, others: Wanted
+                       ) -> tuple[int | None, frozenset[RadioRef]]:
+    """One alternate per station: the shared-transmit source decides when it speaks
+    (disagreeing triggers give none), else the first rule's; the triggers are every
+    shared-transmit trigger and the others that want the same antenna."""
+    if safety:
+        wants = {want for _, want in safety}
+        alt = wants.pop() if len(wants) == 1 else None
+    else:
+        alt = others[0][1]
+    triggers = {t for t, _want in safety}
+    triggers |= {t for t, want in others if want == alt and t not in triggers}
+    return alt, frozenset(triggers)
 
 
 __all__ = ["alternates", "available", "inhibit_reason", "partner_alternate"]

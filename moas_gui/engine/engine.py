@@ -12,7 +12,7 @@ and leaves the engine exactly as it was.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from types import MappingProxyType
 
 from moas_gui.config.model import Config, RadioRef
@@ -397,7 +397,36 @@ class Engine:
     def _commit(self, w: Work, force: bool = False) -> Changes:
         ix, st = self._ix, w.st
         alts = alternates(ix, st)
-        extras = extra_relays(ix, st)
+        ports = self._port_antennas(st, alts, extra_relays(ix, st))
+        maps = self._allocate_slots(st, ports)
+        transmitting = frozenset(ref for ref in ix.mains if st.radios[ref].transmitting)
+        inputs = Inputs(ports, alts, {ref: inhibit_reason(ix, st, ref) for ref in ix.mains},
+                        inhibit_pairs(ix, st), transmitting)
+        built = build(ix, st, self._classes, maps, inputs, self._switch_states, self._owners,
+                      self._station_cache)
+        views = {ref: self._view(st, ref, inputs) for ref in ix.order}
+        changed_radios = {ref for ref, v in views.items() if self._views.get(ref) != v}
+        changed_switches = {sw: s for sw, s in built.states.items()
+                            if force or self._switch_states.get(sw) is not s}
+        layouts = bool(changed_radios) or force or _layout_inputs_changed(self._state, st)
+        self._state = st
+        self._ports = ports
+        self._maps = maps
+        self._switch_states = built.states
+        self._owners = built.station0_owner
+        self._views = views
+        if not (changed_radios or changed_switches or layouts or w.log):
+            return NO_CHANGES
+        return Changes(frozenset(changed_radios), MappingProxyType(changed_switches), layouts,
+                       tuple(w.log), tuple(w.details))
+
+    def _port_antennas(self, st: State,
+                       alts: Mapping[RadioRef, tuple[int | None, frozenset[RadioRef]]],
+                       extras: Mapping[RadioRef, frozenset[int]]
+                       ) -> dict[RadioRef, PortAntennas]:
+        """What every radio but the alternate receivers puts on its ports; a radio whose
+        inputs did not change (and has no sub receiver) keeps the answer found before."""
+        ix = self._ix
         ports = {}
         for ref in ix.order:
             if ix.radios[ref].kind is Kind.ALT:
@@ -411,6 +440,13 @@ class Engine:
             else:
                 ports[ref] = radio_relays(ix, st, ref, alts.get(ref), extras)
                 self._port_cache[ref] = (key, ports[ref])
+        return ports
+
+    def _allocate_slots(self, st: State, ports: Mapping[RadioRef, PortAntennas]
+                        ) -> dict[int, SlotMap]:
+        """Each switch's antenna slots for what its ports need now (:func:`allocate`, told
+        which ports transmit and how long the switch takes to settle)."""
+        ix = self._ix
         needed = slot_needs(ix, self._classes, ports)
         maps = {}
         for sw in ix.switch_ids:
@@ -419,30 +455,7 @@ class Engine:
             settle = SETTLE_MARGIN_S + (switch.inhibit_time + switch.interrupt_mode_delay) / 1000
             maps[sw] = allocate(self._classes, self._maps[sw], needed[sw], st.now, busy, unknown,
                                 settle)
-        transmitting = frozenset(ref for ref in ix.mains if st.radios[ref].transmitting)
-        inputs = Inputs(ports, alts, {ref: inhibit_reason(ix, st, ref) for ref in ix.mains},
-                        inhibit_pairs(ix, st), transmitting)
-        built = build(ix, st, self._classes, maps, inputs, self._switch_states, self._owners,
-                      self._station_cache)
-        views = {ref: self._view(st, ref, inputs) for ref in ix.order}
-        changed_radios = {ref for ref, v in views.items() if self._views.get(ref) != v}
-        changed_switches = {sw: s for sw, s in built.states.items()
-                            if force or self._switch_states.get(sw) is not s}
-        old = self._state
-        layouts = bool(changed_radios) or force or (
-            old.shared != st.shared or old.busses != st.busses or old.partners != st.partners
-            or old.alt_active != st.alt_active or old.relay_on != st.relay_on
-            or old.extra_on != st.extra_on or old.stored != st.stored)
-        self._state = st
-        self._ports = ports
-        self._maps = maps
-        self._switch_states = built.states
-        self._owners = built.station0_owner
-        self._views = views
-        if not (changed_radios or changed_switches or layouts or w.log):
-            return NO_CHANGES
-        return Changes(frozenset(changed_radios), MappingProxyType(changed_switches), layouts,
-                       tuple(w.log), tuple(w.details))
+        return maps
 
     def _busy(self, st: State, switch: int) -> tuple[frozenset[int], bool]:
         indicate = self._ix.switches[switch].indicate_tr
@@ -481,6 +494,15 @@ class Engine:
                          path is not None and path.radio_rx_antenna, st.why.get(ref))
         old = self._views.get(ref)
         return old if old == view else view
+
+
+def _layout_inputs_changed(old: State, st: State) -> bool:
+    """Whether anything the button layouts show besides the radios changed: shared
+    systems, inhibit busses, partners, AltActive, relay and extra states, stored
+    antennas."""
+    return (old.shared != st.shared or old.busses != st.busses or old.partners != st.partners
+            or old.alt_active != st.alt_active or old.relay_on != st.relay_on
+            or old.extra_on != st.extra_on or old.stored != st.stored)
 
 
 def _frequency(name: str, value: float) -> float:

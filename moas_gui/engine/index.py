@@ -275,31 +275,7 @@ class ConfigIndex:
 
     # -- radios ---------------------------------------------------------------------------
     def _build_radios(self, config: Config) -> None:
-        single = self.switch_ids[0] if len(self.switch_ids) == 1 else None
-        configured = {r.ref: r for r in config.radios}
-        subs: dict[RadioRef, RadioRef] = {}
-        alts: dict[RadioRef, RadioRef] = {}
-        for r in config.radios:
-            if r.sub_receiver is not None and r.sub_receiver != r.radio:
-                subs[RadioRef(r.station, r.sub_receiver)] = r.ref
-            if r.alt_receiver is not None and r.alt_receiver != r.radio:
-                alts[RadioRef(r.station, r.alt_receiver)] = r.ref
-        infos: dict[RadioRef, IndexedRadio] = {}
-        mains = [r for r in config.radios if r.ref not in subs and r.ref not in alts]
-        for r in mains:
-            sub = (RadioRef(r.station, r.sub_receiver)
-                   if r.sub_receiver is not None and r.sub_receiver != r.radio else None)
-            alt = (RadioRef(r.station, r.alt_receiver)
-                   if r.alt_receiver is not None and r.alt_receiver != r.radio else None)
-            infos[r.ref] = self._radio_info(r, Kind.MAIN, None, sub, alt, single)
-        for ref, main in sorted(subs.items()):
-            if main in infos and ref not in infos:
-                radio = configured.get(ref, Radio(ref.station, ref.radio))
-                infos[ref] = self._radio_info(radio, Kind.SUB, main, None, None, single)
-        for ref, main in sorted(alts.items()):
-            if main in infos and ref not in infos:
-                radio = configured.get(ref, Radio(ref.station, ref.radio))
-                infos[ref] = self._radio_info(radio, Kind.ALT, main, None, None, single)
+        infos = self._index_radios(config)
         self.radios: dict[RadioRef, IndexedRadio] = infos
         self.mains: tuple[RadioRef, ...] = tuple(sorted(r for r in infos
                                                         if infos[r].kind is Kind.MAIN))
@@ -307,6 +283,45 @@ class ConfigIndex:
             self.mains
             + tuple(sorted(r for r in infos if infos[r].kind is Kind.SUB))
             + tuple(sorted(r for r in infos if infos[r].kind is Kind.ALT)))
+        self._build_radio_ports(infos)
+        self.all_switches = frozenset(self.switch_ids)
+        self.any_shared_tx = any(a.shared_tx for a in self.antennas.values())
+        """Whether conflicts may be permitted by an interlock (5.12), which can change."""
+        self.radio_rx_inputs = any(p.radio_rx_antenna for info in infos.values()
+                                   for paths in info.paths.values() for p in paths)
+        """Whether any antenna is wired to a radio's RX-antenna input (6.4)."""
+        self._build_interrupt_ports(infos)
+
+    def _index_radios(self, config: Config) -> dict[RadioRef, IndexedRadio]:
+        """Every radio the file names, as a main radio or as the sub or alternate receiver
+        of one (6.10): a receiver named by a main radio's ``SubReceiver`` or
+        ``AltReceiver`` is that radio's receiver, whether or not it has an entry of its
+        own; one whose main radio is not indexed is left out."""
+        single = self.switch_ids[0] if len(self.switch_ids) == 1 else None
+        configured = {r.ref: r for r in config.radios}
+        subs: dict[RadioRef, RadioRef] = {}
+        alts: dict[RadioRef, RadioRef] = {}
+        for r in config.radios:
+            sub, alt = _receivers(r)
+            if sub is not None:
+                subs[sub] = r.ref
+            if alt is not None:
+                alts[alt] = r.ref
+        infos: dict[RadioRef, IndexedRadio] = {}
+        mains = [r for r in config.radios if r.ref not in subs and r.ref not in alts]
+        for r in mains:
+            sub, alt = _receivers(r)
+            infos[r.ref] = self._radio_info(r, Kind.MAIN, None, sub, alt, single)
+        for kind, receivers in ((Kind.SUB, subs), (Kind.ALT, alts)):
+            for ref, main in sorted(receivers.items()):
+                if main in infos and ref not in infos:
+                    radio = configured.get(ref, Radio(ref.station, ref.radio))
+                    infos[ref] = self._radio_info(radio, kind, main, None, None, single)
+        return infos
+
+    def _build_radio_ports(self, infos: dict[RadioRef, IndexedRadio]) -> None:
+        """Which radio each switch port belongs to (the first in radio order), the radios
+        on each switch, each radio's ports on a switch and the switches it is on."""
         self.port_radio: dict[tuple[int, int], RadioRef] = {}
         for ref in self.order:
             for sp in infos[ref].ports:
@@ -319,15 +334,13 @@ class ConfigIndex:
             (ref, switch_id): tuple(p for sw, p in infos[ref].ports if sw == switch_id)
             for switch_id in self.switch_ids for ref in self.switch_radios[switch_id]
         }
-        self.all_switches = frozenset(self.switch_ids)
-        self.any_shared_tx = any(a.shared_tx for a in self.antennas.values())
-        """Whether conflicts may be permitted by an interlock (5.12), which can change."""
-        self.radio_rx_inputs = any(p.radio_rx_antenna for info in infos.values()
-                                   for paths in info.paths.values() for p in paths)
-        """Whether any antenna is wired to a radio's RX-antenna input (6.4)."""
         self.radio_switches: dict[RadioRef, frozenset[int]] = {
             ref: frozenset(switch_id for switch_id, _p in infos[ref].ports) for ref in self.order
         }
+
+    def _build_interrupt_ports(self, infos: dict[RadioRef, IndexedRadio]) -> None:
+        """Interrupt mode per switch: the ports of its main radios marked ``Interrupt`` and
+        the longest delay among the switch's own and those radios' (5.14)."""
         self.interrupt: dict[int, tuple[frozenset[int], int]] = {}
         for switch_id in self.switch_ids:
             ports: set[int] = set()
@@ -376,6 +389,16 @@ class ConfigIndex:
 
     def radio_info(self, ref: RadioRef) -> IndexedRadio | None:
         return self.radios.get(ref)
+
+
+def _receivers(radio: Radio) -> tuple[RadioRef | None, RadioRef | None]:
+    """The sub and alternate receivers a radio's entry names (6.10); naming the radio
+    itself names none."""
+    sub = (RadioRef(radio.station, radio.sub_receiver)
+           if radio.sub_receiver is not None and radio.sub_receiver != radio.radio else None)
+    alt = (RadioRef(radio.station, radio.alt_receiver)
+           if radio.alt_receiver is not None and radio.alt_receiver != radio.radio else None)
+    return sub, alt
 
 
 __all__ = ["ConfigIndex", "IndexedRadio", "Kind"]

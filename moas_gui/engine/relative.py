@@ -64,24 +64,11 @@ def relative(w: Work, ref: RadioRef, step: int | None, index: int | None) -> Non
     n = len(entry.ids)
     if n == 0:
         raise Unavailable(f"The relative antenna list for {ref} is empty")
-    pos = rs.rel_pos if rs.rel_key == key else None
     if index is not None:
-        if not 0 <= index < n:
-            raise NotFound(f"There is no relative antenna {index} for {ref}: the list has {n}")
-        tx, rx = _pair(entry, index)
-        if tx not in ix.antennas or not place(w, ref, tx, rx, why=_why(entry, index, rs.khz)):
-            raise Unavailable(f"Relative antenna {index} ({ix.name(tx)}) cannot be used by "
-                              f"{ref} now")
-        _mark(w, ref, key, index)
+        _by_position(w, ref, key, entry, index)
         return
     assert step is not None
-    if rs.tx is not None:
-        start = pos if pos is not None else 0
-        for k in range(n):
-            j = (start + k * step) % n
-            if entry.ids[j] in ix.antennas and ix.canon[entry.ids[j]] == ix.canon[rs.tx]:
-                pos = j
-                break
+    pos = _position(w, ref, key, entry, step)
     order = [0] + [(k * step) % n for k in range(1, n)] if pos is None else [
         (pos + k * step) % n for k in range(1, n + 1)]
     for j in order:
@@ -91,6 +78,39 @@ def relative(w: Work, ref: RadioRef, step: int | None, index: int | None) -> Non
             _mark(w, ref, key, j)
             return
     raise Unavailable(f"No other relative antenna can be used by {ref} now")
+
+
+def _by_position(w: Work, ref: RadioRef, key: tuple[int, int], entry: RelativeRange,
+                 index: int) -> None:
+    """The entry at ``index`` of the list, or a refusal saying why not."""
+    ix = w.ix
+    n = len(entry.ids)
+    if not 0 <= index < n:
+        raise NotFound(f"There is no relative antenna {index} for {ref}: the list has {n}")
+    tx, rx = _pair(entry, index)
+    if tx not in ix.antennas or not place(w, ref, tx, rx,
+                                          why=_why(entry, index, w.st.radios[ref].khz)):
+        raise Unavailable(f"Relative antenna {index} ({ix.name(tx)}) cannot be used by "
+                          f"{ref} now")
+    _mark(w, ref, key, index)
+
+
+def _position(w: Work, ref: RadioRef, key: tuple[int, int], entry: RelativeRange,
+              step: int) -> int | None:
+    """Where the radio is in the list: its transmit antenna's entry, scanning from the
+    last relative position in the direction asked; the last position when the transmit
+    antenna is not in the list; None with no position in this list."""
+    ix = w.ix
+    rs = w.st.radios[ref]
+    n = len(entry.ids)
+    pos = rs.rel_pos if rs.rel_key == key else None
+    if rs.tx is not None:
+        start = pos if pos is not None else 0
+        for k in range(n):
+            j = (start + k * step) % n
+            if entry.ids[j] in ix.antennas and ix.canon[entry.ids[j]] == ix.canon[rs.tx]:
+                return j
+    return pos
 
 
 def _why(entry: RelativeRange, i: int, khz: float | None) -> Why:

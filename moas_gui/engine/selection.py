@@ -103,18 +103,35 @@ def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = ""
     if info.kind is not Kind.MAIN:
         tx = None
     if tx is not None and rx is not None and ix.canon[tx] == ix.canon[rx]:
-        choices = _choices(w, info, tx, "both")
-        if not choices:
-            w.refusal = unusable(ix, w.st, info, tx, w.st.radios[ref].khz, "both") or ""
-        for repath in (False, True):
-            for a in choices:
-                p, reason = plan(ix, w.st, ref, a, takeover=takeover, repath=repath)
-                if p is not None:
-                    w.apply_plan(p)
-                    w.set_pair(ref, a, a, note, _took(w, ref, p.takeovers, why))
-                    return True
-                w.refusal = reason
-        return False
+        return _place_one(w, ref, info, tx, note, takeover, why)
+    return _place_two(w, ref, info, tx, rx, note, takeover, why)
+
+
+def _place_one(w: Work, ref: RadioRef, info: IndexedRadio, antenna: int, note: str,
+               takeover: bool, why: Reason) -> bool:
+    """One antenna for both transmit and receive: the first of its paths that can be
+    planned, those that move nobody first."""
+    ix = w.ix
+    choices = _choices(w, info, antenna, "both")
+    if not choices:
+        w.refusal = unusable(ix, w.st, info, antenna, w.st.radios[ref].khz, "both") or ""
+    for repath in (False, True):
+        for a in choices:
+            p, reason = plan(ix, w.st, ref, a, takeover=takeover, repath=repath)
+            if p is not None:
+                w.apply_plan(p)
+                w.set_pair(ref, a, a, note, _took(w, ref, p.takeovers, why))
+                return True
+            w.refusal = reason
+    return False
+
+
+def _place_two(w: Work, ref: RadioRef, info: IndexedRadio, tx: int | None, rx: int | None,
+               note: str, takeover: bool, why: Reason) -> bool:
+    """A transmit and a receive antenna (either may be none): the first pair of their
+    paths that are fast with each other and can be planned together, those that move
+    nobody first."""
+    ix = w.ix
     tx_choices = _choices(w, info, tx, "tx") if tx is not None else [None]
     rx_choices = _choices(w, info, rx, "rx") if rx is not None else [None]
     for repath in (False, True):
@@ -253,34 +270,54 @@ def _reason(w: Work, info: IndexedRadio, khz: float | None, chosen: int,
 
 def _suitable_steps(w: Work, ref: RadioRef) -> bool:
     """Steps 3, 4 and 5."""
-    ix, st = w.ix, w.st
-    info = ix.radios[ref]
-    rs = st.radios[ref]
-    khz = rs.khz
+    info = w.ix.radios[ref]
+    khz = w.st.radios[ref].khz
     main = info.kind is Kind.MAIN
-    band = info.band(khz)
-    remembered = st.history.get(ref, {}).get(band) if band is not None else None
-    if remembered is not None:
-        htx, hrx = remembered
-        def why() -> Why:
-            return Why(STEP_HISTORY, f"used last by this radio on this band "
-                                     f"({describe_khz(khz)})")
-
-        if main and htx is not None and hrx is not None and place(w, ref, htx, hrx, why=why):
-            return True
-        for a in (htx, hrx):
-            if a is None:
-                continue
-            if main and ix.can_transmit(a) and ix.can_receive(a) and place(w, ref, a, a,
-                                                                             why=why):
-                return True
-            if not main and ix.can_receive(a) and place(w, ref, None, a, why=why):
-                return True
-    covering = info.covering(khz)
+    if _history_step(w, ref, info, khz, main):
+        return True
     failed: dict[int, str] = {}
     w.failed = failed
-    for a in covering:
-        ant = ix.antennas[a]
+    if _lowest_step(w, ref, info, khz, main, failed):
+        return True
+    if not main:
+        return _receive_only_step(w, ref, info, khz, failed)
+    return _pair_step(w, ref, info, khz, failed)
+
+
+def _history_step(w: Work, ref: RadioRef, info: IndexedRadio, khz: float | None,
+                  main: bool) -> bool:
+    """Step 3: the antennas this radio used last on this band, as a pair; if the pair is
+    not free, either one alone when it can do both jobs (a receiver: receive)."""
+    ix = w.ix
+    band = info.band(khz)
+    remembered = w.st.history.get(ref, {}).get(band) if band is not None else None
+    if remembered is None:
+        return False
+    htx, hrx = remembered
+    def why() -> Why:
+        return Why(STEP_HISTORY, f"used last by this radio on this band "
+                                 f"({describe_khz(khz)})")
+
+    if main and htx is not None and hrx is not None and place(w, ref, htx, hrx, why=why):
+        return True
+    for a in (htx, hrx):
+        if a is None:
+            continue
+        if main and ix.can_transmit(a) and ix.can_receive(a) and place(w, ref, a, a,
+                                                                         why=why):
+            return True
+        if not main and ix.can_receive(a) and place(w, ref, None, a, why=why):
+            return True
+    return False
+
+
+def _lowest_step(w: Work, ref: RadioRef, info: IndexedRadio, khz: float | None,
+                 main: bool, failed: dict[int, str]) -> bool:
+    """Step 4: the lowest-numbered free antenna covering the frequency, skipping
+    transmit-only, receive-only, ``NoSelect`` and disabled ones (``failed`` collects why
+    each tried one was refused)."""
+    for a in info.covering(khz):
+        ant = w.ix.antennas[a]
         if ant.no_select or ant.tx_only or ant.rx_only or not ant.enabled:
             continue
         if place(w, ref, a if main else None, a, why=_reason(
@@ -288,15 +325,28 @@ def _suitable_steps(w: Work, ref: RadioRef) -> bool:
                 "lowest-numbered antenna covering {khz}")):
             return True
         failed[a] = w.refusal
-    if not main:
-        for a in _rx_only(w, info, khz):
-            if place(w, ref, None, a, why=_reason(
-                    w, info, khz, a, failed, STEP_LOWEST,
-                    "lowest-numbered receive antenna covering {khz}")):
-                return True
-            failed[a] = w.refusal
-        return False
-    for t in covering:
+    return False
+
+
+def _receive_only_step(w: Work, ref: RadioRef, info: IndexedRadio, khz: float | None,
+                       failed: dict[int, str]) -> bool:
+    """Step 4 for a sub or alternate receiver, after the others: the lowest-numbered
+    free receive-only antenna covering the frequency."""
+    for a in _rx_only(w, info, khz):
+        if place(w, ref, None, a, why=_reason(
+                w, info, khz, a, failed, STEP_LOWEST,
+                "lowest-numbered receive antenna covering {khz}")):
+            return True
+        failed[a] = w.refusal
+    return False
+
+
+def _pair_step(w: Work, ref: RadioRef, info: IndexedRadio, khz: float | None,
+               failed: dict[int, str]) -> bool:
+    """Step 5: the lowest-numbered free transmit-only antenna covering the frequency with
+    the lowest-numbered free receive-only antenna that is fast with it."""
+    ix = w.ix
+    for t in info.covering(khz):
         ant = ix.antennas[t]
         if not ant.tx_only or ant.no_select or not ant.enabled:
             continue
@@ -314,34 +364,13 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
     """Step 6."""
     ix, st = w.ix, w.st
     info = ix.radios[ref]
-    rs = st.radios[ref]
-    khz = rs.khz
+    khz = st.radios[ref].khz
     if khz is None:
         return False
-    best: int | None = None
-    best_joined = False
-    best_d = float("inf")
-    current = rs.tx if rs.tx is not None else rs.rx
-    order = ([current] if current is not None else []) + [a for a in info.antennas
-                                                          if a != current]
-    for a in order:
-        ant = ix.antennas[a]
-        if not ant.enabled or ant.tx_only or (ant.no_select and a != current):
-            continue
-        joined = join_shared(ix, st, ref, a)
-        was, a = a, joined
-        if a not in info.paths:
-            continue
-        d = distance(info.paths[a], khz)
-        if d >= best_d:
-            continue
-        if unusable(ix, st, info, a, khz, "rx", nearest=True) is not None:
-            continue
-        if plan(ix, st, ref, a, takeover=False, repath=False)[0] is None:
-            continue
-        best, best_d, best_joined = a, d, joined != was
-    if best is None:
+    found = _nearest_free(w, ref, info, khz)
+    if found is None:
         return False
+    best, best_d, best_joined = found
     covered = best_d == 0
     note = "" if covered else f"no free antenna covers {describe_khz(khz)}; nearest used"
     tx = best if info.kind is Kind.MAIN and ix.can_transmit(best) else None
@@ -356,6 +385,39 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
         why = Why(STEP_NEAREST, text, passed_over(w, info, khz, None, w.failed))
     w.set_pair(ref, tx, best, note, why)
     return True
+
+
+def _nearest_free(w: Work, ref: RadioRef, info: IndexedRadio, khz: float
+                  ) -> tuple[int, float, bool] | None:
+    """The usable antenna whose range is nearest ``khz``, the current one first (so a
+    tie keeps it), as joined to a shared system the others use; with its distance and
+    whether it was so joined.  None when no antenna can be had."""
+    ix, st = w.ix, w.st
+    rs = st.radios[ref]
+    best: int | None = None
+    best_joined = False
+    best_d = float("inf")
+    current = rs.tx if rs.tx is not None else rs.rx
+    order = ([current] if current is not None else []) + [a for a in info.antennas
+                                                          if a != current]
+    for a in order:
+        ant = ix.antennas[a]
+        if not ant.enabled or ant.tx_only or (ant.no_select and a != current):
+            continue
+        joined = join_shared(ix, st, ref, a)
+        if joined not in info.paths:
+            continue
+        d = distance(info.paths[joined], khz)
+        if d >= best_d:
+            continue
+        if unusable(ix, st, info, joined, khz, "rx", nearest=True) is not None:
+            continue
+        if plan(ix, st, ref, joined, takeover=False, repath=False)[0] is None:
+            continue
+        best, best_d, best_joined = joined, d, joined != a
+    if best is None:
+        return None
+    return best, best_d, best_joined
 
 
 def select_by_frequency(w: Work, ref: RadioRef, old_khz: float | None,

@@ -84,6 +84,28 @@ def build_system_index(
     canon: Mapping[int, int],
     comps: Mapping[int, frozenset[int]],
 ) -> SystemIndex:
+    antenna_parent, system_parent = _parents(systems, canon)
+    leaves = _leaves(systems, comps)
+    top = {a: _outermost(system_parent, m.system) for a, m in antenna_parent.items()}
+    shared_capable = frozenset(s.id for s in systems if s.shared_antennas)
+    return SystemIndex(
+        antenna_parent=antenna_parent,
+        system_parent=system_parent,
+        leaves=leaves,
+        top=top,
+        shared_capable=shared_capable,
+        has_plain_members={s.id: bool(s.additive_antennas or s.exclusive_antennas
+                                      or s.additive_systems or s.exclusive_systems)
+                           for s in systems if s.id in shared_capable},
+        initial_shared={s.id: s.shared for s in systems if s.id in shared_capable},
+    )
+
+
+def _parents(systems: tuple[System, ...], canon: Mapping[int, int]
+             ) -> tuple[dict[int, Membership], dict[int, Membership]]:
+    """The system each antenna and each system belongs to, and how (additive, exclusive,
+    shared); the first system naming one keeps it.  A system inside a shared system is
+    one of its exclusive members; a system naming itself or an unknown one is ignored."""
     antenna_parent: dict[int, Membership] = {}
     system_parent: dict[int, Membership] = {}
     known = {s.id for s in systems}
@@ -100,6 +122,13 @@ def build_system_index(
             for sub in ids:
                 if sub in known and sub != s.id:
                     system_parent.setdefault(sub, Membership(s.id, link))
+    return antenna_parent, system_parent
+
+
+def _leaves(systems: tuple[System, ...], comps: Mapping[int, frozenset[int]]
+            ) -> dict[int, frozenset[int]]:
+    """Per system, the single antennas (components) of all its members, through the
+    systems inside it (a loop of systems is followed once)."""
     by_id = {s.id: s for s in systems}
     leaves: dict[int, frozenset[int]] = {}
 
@@ -119,27 +148,16 @@ def build_system_index(
 
     for s in systems:
         collect(s.id, frozenset({s.id}))
+    return leaves
 
-    def outermost(sid: int) -> int:
-        seen = {sid}
-        while sid in system_parent and system_parent[sid].system not in seen:
-            sid = system_parent[sid].system
-            seen.add(sid)
-        return sid
 
-    top = {a: outermost(m.system) for a, m in antenna_parent.items()}
-    shared_capable = frozenset(s.id for s in systems if s.shared_antennas)
-    return SystemIndex(
-        antenna_parent=antenna_parent,
-        system_parent=system_parent,
-        leaves=leaves,
-        top=top,
-        shared_capable=shared_capable,
-        has_plain_members={s.id: bool(s.additive_antennas or s.exclusive_antennas
-                                      or s.additive_systems or s.exclusive_systems)
-                           for s in systems if s.id in shared_capable},
-        initial_shared={s.id: s.shared for s in systems if s.id in shared_capable},
-    )
+def _outermost(system_parent: Mapping[int, Membership], sid: int) -> int:
+    """The outermost system holding system ``sid`` (itself when none does)."""
+    seen = {sid}
+    while sid in system_parent and system_parent[sid].system not in seen:
+        sid = system_parent[sid].system
+        seen.add(sid)
+    return sid
 
 
 def _has_additive_ancestor(sx: SystemIndex, system: int) -> bool:

@@ -242,12 +242,8 @@ def _whole(value: Any, low: int, high: int) -> bool:
 def _convert(kind: Kind, value: Any) -> tuple[bool, Any]:
     """``(True, typed value)`` when ``value`` is of ``kind``, else ``(False, None)``."""
     match kind:
-        case Kind.NUMBER_ID | Kind.INDEX:
-            return (True, value) if _whole(value, 0, MAX_ID) else (False, None)
-        case Kind.COUNT:
-            return (True, value) if _whole(value, 1, MAX_GRID) else (False, None)
-        case Kind.STEP:
-            return (True, value) if _whole(value, -1, 1) and value != 0 else (False, None)
+        case Kind.NUMBER_ID | Kind.INDEX | Kind.COUNT | Kind.STEP:
+            return (True, value) if _whole_of(kind, value) else (False, None)
         case Kind.BOOL:
             return (True, value) if isinstance(value, bool) else (False, None)
         case Kind.TEXT:
@@ -255,15 +251,30 @@ def _convert(kind: Kind, value: Any) -> tuple[bool, Any]:
             return (True, value) if ok else (False, None)
         case Kind.TARGET:
             return (True, value) if value in ("both", "tx", "rx") else (False, None)
-        case Kind.KHZ:
-            number = _number(value)
-            ok = number is not None and 0.0 <= number <= MAX_KHZ
-            return (True, number) if ok else (False, None)
-        case Kind.HEADING:
-            number = _number(value)
-            ok = number is not None and -360.0 <= number <= 720.0
-            return (True, number) if ok else (False, None)
+        case Kind.KHZ | Kind.HEADING:
+            number = _number_of(kind, value)
+            return (True, number) if number is not None else (False, None)
     return False, None  # pragma: no cover - every kind is matched above
+
+
+def _whole_of(kind: Kind, value: Any) -> bool:
+    """Whether ``value`` is a whole number a whole-number kind allows: an ID or index
+    from 0, a count from 1 to the largest grid, a step of -1 or +1."""
+    if kind is Kind.COUNT:
+        return _whole(value, 1, MAX_GRID)
+    if kind is Kind.STEP:
+        return _whole(value, -1, 1) and value != 0
+    return _whole(value, 0, MAX_ID)
+
+
+def _number_of(kind: Kind, value: Any) -> float | None:
+    """``value`` as a number a numeric kind allows (None when it is not): a frequency
+    from 0 to the highest kHz, a heading from -360 to 720 degrees."""
+    number = _number(value)
+    if number is None:
+        return None
+    low, high = (0.0, MAX_KHZ) if kind is Kind.KHZ else (-360.0, 720.0)
+    return number if low <= number <= high else None
 
 
 def _needs(command: Command) -> str:

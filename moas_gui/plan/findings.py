@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from moas_gui.config.model import RadioRef
+from moas_gui.config.model import AlternateRule, RadioRef
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.index import ConfigIndex
 from moas_gui.engine.why import STEP_SAME_BAND_TAKEN
@@ -200,14 +200,7 @@ def _every_same_band(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]
             text = (f"{_radio(b)} gets no antenna whenever it joins {_radio(a)}'s band "
                     "(ProtectSameBand): the two can never share a band")
         elif inhibited:
-            ra, rb = ix.radios[a].radio, ix.radios[b].radio
-            line = 0
-            for ref, cfg, other in ((b, rb, a), (a, ra, b)):
-                for key, refs in (("Always", cfg.always), ("SameBand", cfg.same_band)):
-                    if other in refs and not line:
-                        line = lines.radio(ref, key)
-                if cfg.inhibit_buss and not line:
-                    line = lines.radio(ref, "InhibitBuss")
+            line = _inhibit_line(ix, lines, a, b)
             text = (f"on every band they share, one of {_radio(a)} and {_radio(b)} is "
                     "inhibited while the other transmits")
         else:
@@ -215,6 +208,21 @@ def _every_same_band(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]
         out.append(_finding("inhibit_every_same_band", line, text, (a, b),
                             tuple(s.first.band for s in same)))
     return out
+
+
+def _inhibit_line(ix: ConfigIndex, lines: Lines, a: RadioRef, b: RadioRef) -> int:
+    """The line that makes two radios inhibit each other: ``b``'s entry first, then
+    ``a``'s; in each, its Always or SameBand naming the other, else its InhibitBuss
+    (0 when none is found)."""
+    ra, rb = ix.radios[a].radio, ix.radios[b].radio
+    line = 0
+    for ref, cfg, other in ((b, rb, a), (a, ra, b)):
+        for key, refs in (("Always", cfg.always), ("SameBand", cfg.same_band)):
+            if other in refs and not line:
+                line = lines.radio(ref, key)
+        if cfg.inhibit_buss and not line:
+            line = lines.radio(ref, "InhibitBuss")
+    return line
 
 
 def _alternates(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
@@ -229,28 +237,35 @@ def _alternates(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
                     f"the alternate path {ix.name(alt)} (antenna {alt}) of {ix.name(a)} is never "
                     "usable: no radio has relays for it"))
     for ref in plan.radios:
-        info = ix.radios[ref]
-        for rule in info.radio.alternate:
-            named = rule.antenna
-            why = ""
-            if named is None or named not in ix.antennas:
-                why = "it names no antenna of the configuration"
-            elif ix.antennas[named].tx_only:
-                why = f"{ix.name(named)} is transmit only"
-            elif not any((rule.range.upper is None or seg[0] <= rule.range.upper)
-                         and (rule.range.lower is None or seg[1] >= rule.range.lower)
-                         for seg in info.segments.get(named, ())):
-                why = (f"{ix.name(named)} covers no frequency of the rule's range for "
-                       f"{_radio(ref)}")
-            elif rule.other_antennas and all(
-                    o in ix.antennas and ix.conflict(named, o) for o in rule.other_antennas):
-                why = (f"{ix.name(named)} conflicts with every antenna the rule waits for another "
-                       "radio to transmit on")
+        for rule in ix.radios[ref].radio.alternate:
+            why = _rule_never_usable(ix, ref, rule)
             if why:
                 out.append(_finding("alternate_never_usable", lines.radio(ref, "Alternate"),
                                     f"an Alternate rule of {_radio(ref)} is never usable: {why}",
                                     (ref,)))
     return out
+
+
+def _rule_never_usable(ix: ConfigIndex, ref: RadioRef, rule: AlternateRule) -> str:
+    """Why a radio's ``Alternate`` rule can never act (empty when it can): it names no
+    antenna, a transmit-only one, one that covers nothing of the rule's range for this
+    radio, or one that conflicts with every antenna the rule waits for."""
+    info = ix.radios[ref]
+    named = rule.antenna
+    if named is None or named not in ix.antennas:
+        return "it names no antenna of the configuration"
+    if ix.antennas[named].tx_only:
+        return f"{ix.name(named)} is transmit only"
+    if not any((rule.range.upper is None or seg[0] <= rule.range.upper)
+               and (rule.range.lower is None or seg[1] >= rule.range.lower)
+               for seg in info.segments.get(named, ())):
+        return (f"{ix.name(named)} covers no frequency of the rule's range for "
+                f"{_radio(ref)}")
+    if rule.other_antennas and all(
+            o in ix.antennas and ix.conflict(named, o) for o in rule.other_antennas):
+        return (f"{ix.name(named)} conflicts with every antenna the rule waits for another "
+                "radio to transmit on")
+    return ""
 
 
 __all__ = ["find"]

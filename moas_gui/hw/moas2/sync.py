@@ -470,13 +470,27 @@ def reconcile(
     if not survey.pong.active:
         return Reconciliation(keyed, None, why="it is inactive (reset or powered off since)",
                               inactive=True)
-    adopt: dict[int, Slots] = {}
     if held is None or not held.active:
-        for n in sorted(keyed):
-            if survey.slots(n) != (NO_ANTENNA,) * 3:
-                adopt[n] = survey.slots(n)
+        adopt = {n: survey.slots(n) for n in sorted(keyed)
+                 if survey.slots(n) != (NO_ANTENNA,) * 3}
         why = "there is no saved state" if held is None else "the saved state is stopped"
         return Reconciliation(keyed, None, MappingProxyType(adopt), why=why)
+    adopt, waiting = _compare_stations(held, seen, survey, keyed)
+    why = _unexplained(held, survey, keyed, adopt)
+    believed: SwitchState | None = None
+    if not why:
+        believed = _resend_antennas(held, keyed)
+    if adopt and not why:
+        why = "; ".join(f"station {n} holds other antennas" for n in sorted(adopt))
+    return Reconciliation(keyed, believed, MappingProxyType(adopt), frozenset(waiting), why)
+
+
+def _compare_stations(held: SwitchState, seen: Sequence[Slots] | None, survey: Survey,
+                      keyed: frozenset[int]) -> tuple[dict[int, Slots], set[int]]:
+    """Station by station: the stations whose antennas on the box win (a change the
+    saved state does not know), and the transmitting ones whose change waits for them
+    to receive (each antenna is the one told, or still the one seen before)."""
+    adopt: dict[int, Slots] = {}
     waiting = set()
     for n, station in zip(STATIONS, held.stations, strict=True):
         found = survey.slots(n)
@@ -488,29 +502,36 @@ def reconcile(
             waiting.add(n)  # each antenna is the one told, or still the one seen before
         else:
             adopt[n] = found
-    why = ""
+    return adopt, waiting
+
+
+def _unexplained(held: SwitchState, survey: Survey, keyed: frozenset[int],
+                 adopt: Mapping[int, Slots]) -> str:
+    """What cannot be judged station by station, so the box is loaded as values: another
+    inhibit polarity, or (while nobody transmits and every station is consistent) closed
+    relays the saved state cannot explain.  Empty when there is none."""
     if survey.polarity.enable_low != held.enable_low:
-        why = "its inhibit polarity differs"
-    elif not keyed and not adopt:
-        possible = set(held.station0)
-        for station in held.stations:
-            possible |= station.tx_relays | station.rx_relays | station.alt_relays
-        if not survey.relays.relays <= possible | _extras(held) \
-                or not held.station0 <= survey.relays.relays:
-            why = "its closed relays differ"
-    believed: SwitchState | None = None
-    if not why:
-        # The box reports antennas (slots), not the relays behind them: a command lost on
-        # the line leaves the right slot with other relays, which no status shows.  So
-        # every station's antenna commands go again; the box takes the same antenna and
-        # relays as no change, and anything else under its hot-switch rules.  A keyed
-        # station's extra relays (closed while it transmits, at once) are not resent.
-        believed = replace(held, stations=tuple(
-            replace(UNSURE, extra=s.extra) if n in keyed else UNSURE
-            for n, s in zip(STATIONS, held.stations, strict=True)))
-    if adopt and not why:
-        why = "; ".join(f"station {n} holds other antennas" for n in sorted(adopt))
-    return Reconciliation(keyed, believed, MappingProxyType(adopt), frozenset(waiting), why)
+        return "its inhibit polarity differs"
+    if keyed or adopt:
+        return ""
+    possible = set(held.station0)
+    for station in held.stations:
+        possible |= station.tx_relays | station.rx_relays | station.alt_relays
+    if not survey.relays.relays <= possible | _extras(held) \
+            or not held.station0 <= survey.relays.relays:
+        return "its closed relays differ"
+    return ""
+
+
+def _resend_antennas(held: SwitchState, keyed: frozenset[int]) -> SwitchState:
+    """The box reports antennas (slots), not the relays behind them: a command lost on
+    the line leaves the right slot with other relays, which no status shows.  So every
+    station's antenna commands go again; the box takes the same antenna and relays as no
+    change, and anything else under its hot-switch rules.  A keyed station's extra relays
+    (closed while it transmits, at once) are not resent."""
+    return replace(held, stations=tuple(
+        replace(UNSURE, extra=s.extra) if n in keyed else UNSURE
+        for n, s in zip(STATIONS, held.stations, strict=True)))
 
 
 def _extras(state: SwitchState) -> set[int]:

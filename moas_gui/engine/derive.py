@@ -36,7 +36,7 @@ from __future__ import annotations
 
 from moas_gui.config.model import AlternateRule, RadioRef
 
-from .index import ConfigIndex, IndexedRadio, Kind
+from .index import ConfigIndex, IndexedRadio, RadioKind
 from .ranges import describe_khz
 from .rules import permitted, related, unusable, users
 from .state import RadioState, State
@@ -45,7 +45,7 @@ from .state import RadioState, State
 def inhibit_reason(ix: ConfigIndex, st: State, ref: RadioRef) -> str:
     """Why the server inhibits ``ref`` now (empty when it does not)."""
     info = ix.radios[ref]
-    if info.kind is not Kind.MAIN:
+    if info.kind is not RadioKind.MAIN:
         return ""
     rs = st.radios[ref]
     if rs.khz is None and rs.tx is None:

@@ -22,7 +22,7 @@ from .derive import alternates, inhibit_reason
 from .errors import BadRequest, NotFound, NotRunning
 from .functions import extra_relays, function, is_on, refresh_relays, run, status
 from .guards import interlock_guard, same_band_guard
-from .index import ConfigIndex, Kind
+from .index import ConfigIndex, RadioKind
 from .layouts import layout_view
 from .manual import select_antenna, select_direction
 from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, slot_needs
@@ -200,7 +200,7 @@ class Engine:
         khz = _frequency("khz", khz)
         tx = None if tx_khz is None else _frequency("tx_khz", tx_khz)
         info = self._ix.radios[ref]
-        if info.kind is Kind.ALT:
+        if info.kind is RadioKind.ALT:
             raise BadRequest(f"{radio_name(ref)} is the alternate receiver of {info.main} and "
                              "follows its frequency")
 
@@ -228,7 +228,7 @@ class Engine:
             info = ix.radios[ref]
             was = st.radios[ref].transmitting
             now_tx = any(st.ports_tr.get(p, False) for p in info.ports)
-            if info.kind is not Kind.MAIN:
+            if info.kind is not RadioKind.MAIN:
                 now_tx = False
             if was == now_tx:
                 return
@@ -352,13 +352,13 @@ class Engine:
         w.takeover = True
         w.reported = ref
         select_by_frequency(w, ref, old)
-        if info.kind is not Kind.MAIN:
+        if info.kind is not RadioKind.MAIN:
             return
         for extra in (info.sub, info.alt):
             if extra is None or extra not in ix.radios:
                 continue
             einfo = ix.radios[extra]
-            follows = einfo.kind is Kind.ALT or ix.sub_flag(extra, "use_main_freq")
+            follows = einfo.kind is RadioKind.ALT or ix.sub_flag(extra, "use_main_freq")
             if follows:
                 eold = st.radios[extra].khz
                 st.radios[extra] = st.radios[extra].with_(khz=khz)
@@ -429,7 +429,7 @@ class Engine:
         ix = self._ix
         ports = {}
         for ref in ix.order:
-            if ix.radios[ref].kind is Kind.ALT:
+            if ix.radios[ref].kind is RadioKind.ALT:
                 continue
             partner = st.partners.get(ref)
             key = (st.radios[ref], alts.get(ref), extras.get(ref), partner,
@@ -474,7 +474,7 @@ class Engine:
         ix = self._ix
         rs = st.radios[ref]
         info = ix.radios[ref]
-        main = info.kind is Kind.MAIN
+        main = info.kind is RadioKind.MAIN
         reason = inputs.reasons.get(ref, "") if main else ""
         note = reason or rs.note
         inhibited = bool(reason)

@@ -17,7 +17,7 @@ from types import MappingProxyType
 from moas_gui.config.model import FUNCTION_NAMES, Function, RadioRef
 
 from .errors import Unavailable
-from .index import ConfigIndex, Kind
+from .index import ConfigIndex, RadioKind
 from .rules import interlocked, unusable
 from .selection import place
 from .sharing import toggle_share
@@ -69,7 +69,7 @@ def _missing(f: Function, what: str) -> Status:
 def _main(ix: ConfigIndex, f: Function, ref: RadioRef | None, what: str) -> Status | None:
     if ref is None:
         return _missing(f, f"names {what} that does not exist")
-    if ix.radios[ref].kind is not Kind.MAIN:
+    if ix.radios[ref].kind is not RadioKind.MAIN:
         return _missing(f, f"names {ref}, which is a receiver only")
     return None
 
@@ -136,7 +136,7 @@ def _swap_run(w: Work, ref: RadioRef, f: Function) -> None:
 
 def _rxtx_status(ix: ConfigIndex, st: State, ref: RadioRef, f: Function) -> Status:
     rs = st.radios[ref]
-    if ix.radios[ref].kind is not Kind.MAIN or rs.tx is None:
+    if ix.radios[ref].kind is not RadioKind.MAIN or rs.tx is None:
         return Status(False, f"{ref} has no transmit antenna")
     if rs.rx == rs.tx:
         return Status(False, f"{ref} already receives on its transmit antenna")

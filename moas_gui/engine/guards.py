@@ -4,7 +4,7 @@ reporting radio): rules that hold between radios rather than for one selection."
 from __future__ import annotations
 
 from .errors import Unavailable
-from .index import Kind
+from .index import RadioKind
 from .rules import unpermitted
 from .selection import band_neighbour, select_by_frequency
 from .work import Work, radio_name
@@ -19,7 +19,7 @@ def same_band_guard(w: Work) -> None:
         return
     for ref in sorted(w.touched):
         rs = w.st.radios[ref]
-        if ix.radios[ref].kind is not Kind.MAIN or (rs.tx is None and rs.rx is None):
+        if ix.radios[ref].kind is not RadioKind.MAIN or (rs.tx is None and rs.rx is None):
             continue
         other = band_neighbour(w, ref)
         if other is not None:

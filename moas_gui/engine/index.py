@@ -28,7 +28,10 @@ from .ranges import INF, RangeRelays, Segment, bound, merge_segments, range_rela
 from .systems import Link, SystemIndex, build_system_index
 
 
-class Kind(str, Enum):
+class RadioKind(str, Enum):
+    """What a configured radio is: a main radio, the sub receiver of one, or the other path
+    (Alternate) of one."""
+
     MAIN = "main"
     SUB = "sub"
     ALT = "alt"
@@ -37,7 +40,7 @@ class Kind(str, Enum):
 @dataclass(frozen=True, slots=True)
 class IndexedRadio:
     ref: RadioRef
-    kind: Kind
+    kind: RadioKind
     radio: Radio
     main: RadioRef | None
     """For SUB and ALT radios: the radio they belong to."""
@@ -71,7 +74,7 @@ class IndexedRadio:
 
     @property
     def receive_only(self) -> bool:
-        return self.kind is not Kind.MAIN
+        return self.kind is not RadioKind.MAIN
 
     def path(self, antenna: int, khz: float | None) -> RangeRelays | None:
         return range_relays_at(self.paths.get(antenna, ()), khz)
@@ -278,11 +281,11 @@ class ConfigIndex:
         infos = self._index_radios(config)
         self.radios: dict[RadioRef, IndexedRadio] = infos
         self.mains: tuple[RadioRef, ...] = tuple(sorted(r for r in infos
-                                                        if infos[r].kind is Kind.MAIN))
+                                                        if infos[r].kind is RadioKind.MAIN))
         self.order: tuple[RadioRef, ...] = (
             self.mains
-            + tuple(sorted(r for r in infos if infos[r].kind is Kind.SUB))
-            + tuple(sorted(r for r in infos if infos[r].kind is Kind.ALT)))
+            + tuple(sorted(r for r in infos if infos[r].kind is RadioKind.SUB))
+            + tuple(sorted(r for r in infos if infos[r].kind is RadioKind.ALT)))
         self._build_radio_ports(infos)
         self.all_switches = frozenset(self.switch_ids)
         self.any_shared_tx = any(a.shared_tx for a in self.antennas.values())
@@ -311,8 +314,8 @@ class ConfigIndex:
         mains = [r for r in config.radios if r.ref not in subs and r.ref not in alts]
         for r in mains:
             sub, alt = _receivers(r)
-            infos[r.ref] = self._radio_info(r, Kind.MAIN, None, sub, alt, single)
-        for kind, receivers in ((Kind.SUB, subs), (Kind.ALT, alts)):
+            infos[r.ref] = self._radio_info(r, RadioKind.MAIN, None, sub, alt, single)
+        for kind, receivers in ((RadioKind.SUB, subs), (RadioKind.ALT, alts)):
             for ref, main in sorted(receivers.items()):
                 if main in infos and ref not in infos:
                     radio = configured.get(ref, Radio(ref.station, ref.radio))
@@ -347,22 +350,22 @@ class ConfigIndex:
             delay = self.switches[switch_id].interrupt_mode_delay
             for ref in self.switch_radios[switch_id]:
                 info = infos[ref]
-                if info.kind is Kind.MAIN and info.radio.interrupt:
+                if info.kind is RadioKind.MAIN and info.radio.interrupt:
                     ports.update(self.switch_ports[(ref, switch_id)])
                     if info.radio.interrupt_mode_delay is not None:
                         delay = max(delay, info.radio.interrupt_mode_delay)
             self.interrupt[switch_id] = (frozenset(ports), delay)
 
-    def _radio_info(self, radio: Radio, kind: Kind, main: RadioRef | None,
+    def _radio_info(self, radio: Radio, kind: RadioKind, main: RadioRef | None,
                     sub: RadioRef | None, alt: RadioRef | None, single: int | None
                     ) -> IndexedRadio:
         ports: list[tuple[int, int]] = []
-        if kind is not Kind.ALT:
+        if kind is not RadioKind.ALT:
             for sp in radio.switches:
                 switch_id = sp.switch or single
                 if switch_id is not None and switch_id in self.switches and 1 <= sp.port <= 6:
                     ports.append((switch_id, sp.port))
-        fallback = main.radio if kind is Kind.ALT and main is not None else None
+        fallback = main.radio if kind is RadioKind.ALT and main is not None else None
         paths: dict[int, tuple[RangeRelays, ...]] = {}
         segments: dict[int, tuple[Segment, ...]] = {}
         for a in self.ids:
@@ -382,7 +385,7 @@ class ConfigIndex:
         main radio's entry; a file that puts them on the sub receiver's own entry is honoured
         too (``--check`` says where they belong)."""
         info = self.radios.get(sub)
-        if info is None or info.kind is not Kind.SUB or info.main is None:
+        if info is None or info.kind is not RadioKind.SUB or info.main is None:
             return False
         main = self.radios[info.main].radio
         return bool(getattr(main, name) or getattr(info.radio, name))
@@ -401,4 +404,4 @@ def _receivers(radio: Radio) -> tuple[RadioRef | None, RadioRef | None]:
     return sub, alt
 
 
-__all__ = ["ConfigIndex", "IndexedRadio", "Kind"]
+__all__ = ["ConfigIndex", "IndexedRadio", "RadioKind"]

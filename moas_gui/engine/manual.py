@@ -17,7 +17,7 @@ from __future__ import annotations
 from moas_gui.config.model import RadioRef
 
 from .errors import BadRequest, NotFound, Unavailable
-from .index import Kind
+from .index import RadioKind
 from .rules import plan, shared_member, shared_users, unusable
 from .selection import place
 from .systems import press
@@ -89,7 +89,7 @@ def _press_role(w: Work, ref: RadioRef, antenna: int, target: str) -> str:
     antenna.  A role the antenna cannot play is refused."""
     ix = w.ix
     ant = ix.antennas[antenna]
-    if ix.radios[ref].kind is not Kind.MAIN:
+    if ix.radios[ref].kind is not RadioKind.MAIN:
         if target == "tx":
             raise BadRequest(f"{radio_name(ref)} only receives; it has no transmit antenna")
         target = "rx"

@@ -23,7 +23,7 @@ from moas_gui.config.model import RadioRef
 from moas_gui.config.relays import local_relay, local_relays, relay_exists, switch_of_relay
 
 from .functions import relay_contributions
-from .index import ConfigIndex, IndexedRadio, Kind
+from .index import ConfigIndex, IndexedRadio, RadioKind
 from .ranges import RangeRelays, nearest_range_relays, range_relays_at
 from .rules import inhibits, permitted, related
 from .slots import SlotClasses, SlotKey, SlotMap
@@ -61,7 +61,7 @@ def radio_relays(ix: ConfigIndex, st: State, ref: RadioRef,
     info = ix.radios[ref]
     rs = st.radios[ref]
     tx_relays, rx_relays = _own_relays(ix, info, rs)
-    if info.kind is Kind.SUB and info.ports:
+    if info.kind is RadioKind.SUB and info.ports:
         if not ix.sub_flag(ref, "persist_sub_receiver"):
             return PortAntennas(None, frozenset(), rs.rx, rx_relays, None, frozenset(),
                                 frozenset())

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 from moas_gui.config.model import RadioRef
 
-from .index import ConfigIndex, IndexedRadio, Kind
+from .index import ConfigIndex, IndexedRadio, RadioKind
 from .ranges import describe_khz, in_segment
 from .state import RadioState, State
 from .systems import Link
@@ -45,7 +45,7 @@ def users(ix: ConfigIndex, st: State, ref: RadioRef) -> Iterator[tuple[RadioRef,
         if rs.tx is None and rs.rx is None:
             continue
         info = ix.radios[other]
-        if info.kind is Kind.ALT or related(ix, ref, other):
+        if info.kind is RadioKind.ALT or related(ix, ref, other):
             continue
         if rs.tx is not None:
             yield other, "tx", rs.tx
@@ -79,7 +79,7 @@ def inhibits(ix: ConfigIndex, st: State, transmitter: RadioRef, receiver: RadioR
     if transmitter == receiver:
         return False
     info = ix.radios.get(receiver)
-    if info is None or info.kind is not Kind.MAIN:
+    if info is None or info.kind is not RadioKind.MAIN:
         return False
     cfg = info.radio
     related = (transmitter in cfg.always
@@ -121,7 +121,7 @@ def shared_users(ix: ConfigIndex, st: State, system: int, ref: RadioRef
     (it is "an additional radio", 1.1.12, on the same coax)."""
     out = []
     for other, rs in st.radios.items():
-        if other == ref or ix.radios[other].kind is Kind.ALT:
+        if other == ref or ix.radios[other].kind is RadioKind.ALT:
             continue
         for a in (rs.tx, rs.rx):
             if a is not None and shared_member(ix, st, a) == system:
@@ -143,7 +143,7 @@ def join_shared(ix: ConfigIndex, st: State, ref: RadioRef, antenna: int) -> int:
 def unpermitted(ix: ConfigIndex, st: State) -> list[tuple[RadioRef, RadioRef, int, int]]:
     """Radios holding conflicting antennas the rules do not permit now (after an inhibit
     relation changed under two radios sharing a ``SharedTX`` antenna)."""
-    held = [(ref, a) for ref in ix.order if ix.radios[ref].kind is not Kind.ALT
+    held = [(ref, a) for ref in ix.order if ix.radios[ref].kind is not RadioKind.ALT
             for a in {st.radios[ref].tx, st.radios[ref].rx} if a is not None]
     out = []
     for i, (ra, x) in enumerate(held):

@@ -29,7 +29,7 @@ from collections.abc import Callable, Iterable
 
 from moas_gui.config.model import RadioRef
 
-from .index import IndexedRadio, Kind
+from .index import IndexedRadio, RadioKind
 from .ranges import describe_khz, distance, in_segment
 from .rules import (
     join_shared,
@@ -100,7 +100,7 @@ def place(w: Work, ref: RadioRef, tx: int | None, rx: int | None, note: str = ""
     info = ix.radios[ref]
     if takeover is None:
         takeover = w.takeover
-    if info.kind is not Kind.MAIN:
+    if info.kind is not RadioKind.MAIN:
         tx = None
     if tx is not None and rx is not None and ix.canon[tx] == ix.canon[rx]:
         return _place_one(w, ref, info, tx, note, takeover, why)
@@ -190,11 +190,11 @@ def _keep_current(w: Work, ref: RadioRef, old_khz: float | None) -> bool:
     info = ix.radios[ref]
     rs = w.st.radios[ref]
     khz = rs.khz
-    cur = rs.tx if info.kind is Kind.MAIN else rs.rx
+    cur = rs.tx if info.kind is RadioKind.MAIN else rs.rx
     if cur is None or not in_segment(info.used_segment(cur, old_khz), khz):
         return False
     why = Why(STEP_KEPT, f"kept: it covers {describe_khz(khz)} in the range it was used in")
-    if info.kind is not Kind.MAIN:
+    if info.kind is not RadioKind.MAIN:
         w.set_pair(ref, None, cur, why=why)
         return True
     rx = rs.rx
@@ -272,7 +272,7 @@ def _suitable_steps(w: Work, ref: RadioRef) -> bool:
     """Steps 3, 4 and 5."""
     info = w.ix.radios[ref]
     khz = w.st.radios[ref].khz
-    main = info.kind is Kind.MAIN
+    main = info.kind is RadioKind.MAIN
     if _history_step(w, ref, info, khz, main):
         return True
     failed: dict[int, str] = {}
@@ -373,7 +373,7 @@ def _nearest(w: Work, ref: RadioRef) -> bool:
     best, best_d, best_joined = found
     covered = best_d == 0
     note = "" if covered else f"no free antenna covers {describe_khz(khz)}; nearest used"
-    tx = best if info.kind is Kind.MAIN and ix.can_transmit(best) else None
+    tx = best if info.kind is RadioKind.MAIN and ix.can_transmit(best) else None
     text = (f"free antenna covering {describe_khz(khz)} (found by nearest range)" if covered
             else f"no free antenna covers {describe_khz(khz)}; the nearest range")
     if best_joined:
@@ -428,7 +428,7 @@ def select_by_frequency(w: Work, ref: RadioRef, old_khz: float | None,
     before = st.radios[ref]
     if before.khz is None:
         return False
-    if info.kind is Kind.MAIN and ix.config.protect_same_band:
+    if info.kind is RadioKind.MAIN and ix.config.protect_same_band:
         other = band_neighbour(w, ref)
         if other is not None:
             if suitable_only:
@@ -470,7 +470,7 @@ def unsuitable(w: Work, ref: RadioRef) -> bool:
     rs = w.st.radios[ref]
     if rs.khz is None:
         return False
-    if info.kind is Kind.MAIN:
+    if info.kind is RadioKind.MAIN:
         return (rs.tx is None or not info.covers(rs.tx, rs.khz)
                 or (rs.rx is not None and not info.covers(rs.rx, rs.khz)) or rs.rx is None)
     return rs.rx is None or not info.covers(rs.rx, rs.khz)

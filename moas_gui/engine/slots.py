@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 from moas_gui.config.model import RadioRef
 
 from .errors import Unavailable
-from .index import ConfigIndex, Kind
+from .index import ConfigIndex, RadioKind
 from .switchstate import NO_ANTENNA
 
 SlotKey = tuple[int, RadioRef | None, bool]
@@ -59,7 +59,7 @@ class SlotClasses:
         shared_system_number = {s: n + 1 for n, s in enumerate(sorted(ix.systems.shared_capable))}
         self.system_number: dict[int, int] = {}
         needs_owner_everywhere = any(
-            info.kind is Kind.SUB and info.ports for info in ix.radios.values()
+            info.kind is RadioKind.SUB and info.ports for info in ix.radios.values()
         ) or any(info.radio.partner for info in ix.radios.values()) or any(
             f.name == "Partner" for f in ix.functions.values())
         self.per_radio: dict[int, bool] = {}
@@ -113,7 +113,7 @@ class SlotClasses:
             if not any(p[0] == switch for p in info.ports):
                 continue
             antennas = set(info.antennas)
-            if info.kind is Kind.MAIN:
+            if info.kind is RadioKind.MAIN:
                 for extra in (info.sub, info.alt):
                     if extra is not None and extra in ix.radios and not ix.radios[extra].ports:
                         antennas |= set(ix.radios[extra].antennas)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from moas_gui.config.model import RadioRef
 
-from .index import ConfigIndex, Kind
+from .index import ConfigIndex, RadioKind
 from .rules import UsePlan
 from .state import State
 from .why import HANDOVER, MOVED, RESTART, Why
@@ -49,7 +49,7 @@ class Work:
         """Give ``ref`` these antennas for the reason ``why``; True when anything changed."""
         rs = self.st.radios[ref]
         info = self.ix.radios[ref]
-        if info.kind is not Kind.MAIN:
+        if info.kind is not RadioKind.MAIN:
             tx = None
         if why is None:
             why = self.default_why
@@ -80,7 +80,7 @@ class Work:
         band = info.band(rs.khz)
         if band is None:
             return
-        if info.kind is Kind.MAIN:
+        if info.kind is RadioKind.MAIN:
             if rs.tx is None or not info.covers(rs.tx, rs.khz):
                 return
             if rs.rx is not None and not info.covers(rs.rx, rs.khz):
@@ -93,7 +93,7 @@ class Work:
         """One line for the log: the radio, its antennas, and why."""
         rs = self.st.radios[ref]
         ix = self.ix
-        if self.ix.radios[ref].kind is not Kind.MAIN:
+        if self.ix.radios[ref].kind is not RadioKind.MAIN:
             text = f"{radio_name(ref)}: RX {ix.name(rs.rx)}"
         elif rs.tx == rs.rx:
             text = f"{radio_name(ref)}: {ix.name(rs.tx) if rs.tx is not None else 'no antenna'}"

@@ -30,7 +30,7 @@ from typing import Any
 from moas_gui.config.jsontree import JArray, JObject, JScalar, Member, Node, parse
 from moas_gui.config.model import Config, RadioRef
 from moas_gui.engine import Engine, EngineError
-from moas_gui.engine.index import ConfigIndex, Kind
+from moas_gui.engine.index import ConfigIndex, RadioKind
 from moas_gui.engine.views import RadioView
 from moas_gui.errors import MoasError
 
@@ -420,7 +420,7 @@ def build_plan(config: Config, file: str = "", text: str | None = None,
     in_time()
     ix: ConfigIndex = template._ix
     bands = bands_of(ix)
-    radios = tuple(ref for ref in ix.order if ix.radios[ref].kind is Kind.MAIN)
+    radios = tuple(ref for ref in ix.order if ix.radios[ref].kind is RadioKind.MAIN)
     antennas = {a: ix.antennas[a].title for a in ix.ids}
     plan = Plan(file or (config.path.name if config.path else "configuration"), bands, radios,
                 antennas)

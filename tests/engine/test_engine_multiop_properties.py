@@ -26,7 +26,7 @@ import moas_gui.engine.engine as engine_module
 from moas_gui.config import parse_config
 from moas_gui.config.model import Config, RadioRef
 from moas_gui.engine import Engine, derive
-from moas_gui.engine.index import ConfigIndex, Kind
+from moas_gui.engine.index import ConfigIndex, RadioKind
 
 CASES = Path(__file__).parent / "engine_cases"
 EXAMPLES = int(os.environ.get("MOAS_ENGINE_EXAMPLES", "12"))
@@ -143,7 +143,7 @@ def test_a_sub_receiver_dropping_its_relays_is_caught(monkeypatch: pytest.Monkey
     """The engine before: PersistSubReceiver read from the sub receiver's own entry only."""
     def own_entry_only(self: ConfigIndex, sub: RadioRef, name: str) -> bool:
         info = self.radios.get(sub)
-        return info is not None and info.kind is Kind.SUB and bool(getattr(info.radio, name))
+        return info is not None and info.kind is RadioKind.SUB and bool(getattr(info.radio, name))
     monkeypatch.setattr(ConfigIndex, "sub_flag", own_entry_only)
     e, facts = _replay("sub-persist.json")
     assert _fired(e, facts, "sub receiver relays", "with PersistSubReceiver: port 5")

@@ -87,9 +87,9 @@ def install_stamps(path: str) -> None:
     SerialPort.write = around("write", "written", SerialPort.write)  # type: ignore[method-assign]
     # the end of the loop turn that decided, and the saved state's writes (each optional:
     # a renamed class leaves its stamp out, the rest still counts)
-    from moas_gui import source_focus, state_store
+    from moas_gui import source_intake, state_store
 
-    focus = getattr(source_focus, "SourceFocus", None)
+    focus = getattr(source_intake, "SourceIntake", None)
     if focus is not None and hasattr(focus, "_decide"):
         focus._decide = after("turned", focus._decide)
     keeper = getattr(state_store, "StateKeeper", None)

@@ -11,7 +11,7 @@ import threading
 from collections.abc import Callable, Coroutine
 from typing import Any, Final, Self
 
-log = logging.getLogger("moas_gui.aio")
+log = logging.getLogger(__name__)
 
 
 async def cancel_and_wait(task: asyncio.Task[Any], poll: float = 0.2) -> None:

@@ -68,7 +68,7 @@ from moas_gui.sources.server import ServerSources
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
 
-log = logging.getLogger("moas_gui.app")
+log = logging.getLogger(__name__)
 
 
 class ServerApp:

@@ -61,7 +61,7 @@ from typing import Final, Literal
 
 from moas_gui.errors import MoasError
 
-log = logging.getLogger("moas_gui.single_instance")
+log = logging.getLogger(__name__)
 
 DEFAULT_NAME: Final = "moas-server"
 MAX_REQUEST: Final = 64 * 1024

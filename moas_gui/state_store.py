@@ -38,7 +38,7 @@ from moas_gui.errors import MoasError
 from . import files, places
 from .engine.switchstate import STATIONS, StationAntennas, SwitchState
 
-log = logging.getLogger("moas_gui.state")
+log = logging.getLogger(__name__)
 
 FORMAT = 1
 SAVE_DELAY_S = 0.2

@@ -63,7 +63,7 @@ from ..hw.moas2.errors import PortError
 from ..places import output_without_console
 from .options import add_log_level, log_level_number
 
-log = logging.getLogger("moas_gui.hw.moas2.emulator")
+log = logging.getLogger("moas_gui.cli.emulator")
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -26,7 +26,7 @@ from moas_gui.hw.rotators.controllers.models import find_model, known_models
 from moas_gui.hw.rotators.moas_rotator_codec import PORT
 from moas_gui.rotator_program.program import RotatorProgram
 
-log = logging.getLogger("moas_gui.rotator_program")
+log = logging.getLogger("moas_gui.cli.rotator")
 
 
 def _arguments(argv: list[str] | None) -> argparse.Namespace:

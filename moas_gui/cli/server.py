@@ -28,7 +28,7 @@ if TYPE_CHECKING:  # loaded only by the commands that serve (--check and --plan 
     from moas_gui.sources.spec import SourceSpec
     from moas_gui.status import ServerStatus
 
-log = logging.getLogger("moas_gui.server")
+log = logging.getLogger("moas_gui.cli.server")
 INSTANCE_NAME = "moas-server"
 
 

@@ -72,7 +72,7 @@ __all__ = [
     "Target",
 ]
 
-log = logging.getLogger("moas_gui.client")
+log = logging.getLogger(__name__)
 
 Target = Literal["both", "tx", "rx"]
 Listener = Callable[[ClientEvent], None]

@@ -30,7 +30,7 @@ from .backend import ErrorCode, JSONObject, RequestError
 from .framing import Line, request_framer
 from .messages import encode
 
-log = logging.getLogger("moas_gui.net.client")
+log = logging.getLogger(__name__)
 
 
 class ConnectionClosed(MoasError, ConnectionError):

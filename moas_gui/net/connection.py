@@ -22,7 +22,7 @@ from .framing import request_framer
 from .log_limit import held_text
 from .messages import MessageEncodeError, reply_error, reply_ok
 
-log = logging.getLogger("moas_gui.net")
+log = logging.getLogger(__name__)
 
 LayoutKey = tuple[int, int, int, int]
 """``(station, radio, rows, columns)`` as a client asked for a layout."""

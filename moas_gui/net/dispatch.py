@@ -19,7 +19,7 @@ from .framing import MAX_LINE, Line, LongLine
 from .messages import event, hello_result
 from .requests import BadLine, InvalidRequest, Request, parse_line
 
-log = logging.getLogger("moas_gui.net")
+log = logging.getLogger(__name__)
 
 MAX_BAD_LINES = 3
 """Bad lines in a row after which a connection is closed."""

@@ -13,7 +13,7 @@ import logging
 import sys
 from typing import Final
 
-log = logging.getLogger("moas_gui.net")
+log = logging.getLogger(__name__)
 
 WANTED: Final = 65_536
 """Handles asked for at start: far more than any station needs, and not unlimited."""

@@ -17,7 +17,7 @@ from typing import Any
 
 from .log_limit import LogLimiter, held_text
 
-log = logging.getLogger("moas_gui.net")
+log = logging.getLogger(__name__)
 
 
 def guard_loop_faults(loop: asyncio.AbstractEventLoop, limiter: LogLimiter) -> Callable[[], None]:

@@ -14,7 +14,7 @@ import logging
 import sys
 from collections.abc import Callable
 
-log = logging.getLogger("moas_gui.net")
+log = logging.getLogger(__name__)
 
 
 def _find_trim() -> Callable[[int], int] | None:

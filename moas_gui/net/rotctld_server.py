@@ -57,7 +57,7 @@ from .rotctld_codec import (
     scale_for,
 )
 
-log = logging.getLogger("moas_gui.hw.rotators.rotctld_listener")
+log = logging.getLogger(__name__)
 
 SERVED = frozenset({"get_pos", "set_pos", "stop", "park", "move", "reset", "get_info",
                     "dump_caps", "dump_state", "quit"})

@@ -72,7 +72,7 @@ from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
 from .messages import MessageEncodeError, event, reply_error
 
-log = logging.getLogger("moas_gui.net")
+log = logging.getLogger(__name__)
 
 DEFAULT_PORT = 12059
 LOG_LEVELS: tuple[LogLevel, ...] = ("error", "info", "debug")

@@ -43,7 +43,7 @@ from .web_guard import host_allowed, local_names, origin_complaint
 from .web_limits import GuardedConnection, QuietAiohttp
 from .web_socket import MAX_MESSAGE, converse
 
-log = logging.getLogger("moas_gui.net")
+log = logging.getLogger(__name__)
 
 _TYPES = {
     ".html": "text/html; charset=utf-8",

@@ -27,7 +27,7 @@ from .connection import format_peer
 from .log_limit import LogLimiter, held_text
 from .server import ClientServer
 
-log = logging.getLogger("moas_gui.net")
+log = logging.getLogger(__name__)
 
 AIOHTTP_LOGGERS = ("aiohttp.server", "aiohttp.web", "aiohttp.websocket", "aiohttp.access",
                    "aiohttp.internal")

@@ -34,7 +34,7 @@ from .framing import MAX_LINE
 from .messages import reply_error
 from .server import ClientServer
 
-log = logging.getLogger("moas_gui.net")
+log = logging.getLogger(__name__)
 
 MAX_MESSAGE = 4 * MAX_LINE
 """Bigger messages close the WebSocket (1009); up to this size a line over

@@ -28,7 +28,7 @@ from moas_gui.client.events import LinkChanged, LinkState
 from moas_gui.net.log_limit import LogLimiter, held_text
 from moas_gui.sources.base import ActiveRadio, FocusRadio, FrequencyReport, event_key
 
-log = logging.getLogger("moas_gui.sources.forwarder")
+log = logging.getLogger(__name__)
 
 
 def _key(event: Any) -> tuple[object, ...]:

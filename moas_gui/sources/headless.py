@@ -21,7 +21,7 @@ from moas_gui.sources.base import Source, SourceHub
 from moas_gui.sources.forwarder import Forwarder
 from moas_gui.sources.spec import SourceSpec, make_source
 
-log = logging.getLogger("moas_gui.sources.headless")
+log = logging.getLogger(__name__)
 
 EXIT_NEVER_CONNECTED = 3
 

@@ -64,7 +64,7 @@ from moas_gui.sources.n1mm_packet import (
 )
 from moas_gui.sources.udp import DatagramSource
 
-log = logging.getLogger("moas_gui.sources.n1mm")
+log = logging.getLogger(__name__)
 
 DEFAULT_PORT: Final = 12060
 LOG_INTERVAL: Final = 60.0

@@ -37,7 +37,7 @@ from moas_gui.sources.n1mm_rotor_packet import (
 )
 from moas_gui.sources.udp import DatagramSource
 
-log = logging.getLogger("moas_gui.sources.n1mm_rotor")
+log = logging.getLogger(__name__)
 
 INTERVAL: Final = 1.5
 """Seconds between two rounds of heading reports (compatible rotor programs use 1.5 s)."""

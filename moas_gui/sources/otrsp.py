@@ -53,7 +53,7 @@ from moas_gui.sources.otrsp_command import (
     TxFocus,
 )
 
-log = logging.getLogger("moas_gui.sources.otrsp")
+log = logging.getLogger(__name__)
 
 DEVICE_NAME = "moas-gui"
 

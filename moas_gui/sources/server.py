@@ -31,7 +31,7 @@ from moas_gui.sources.spec import SourceSpec, config_specs, make_source
 from moas_gui.sources.udp import DatagramSource
 from moas_gui.sources.wintest import WinTestListener
 
-log = logging.getLogger("moas_gui.sources")
+log = logging.getLogger(__name__)
 
 _D = TypeVar("_D", bound=DatagramSource)
 

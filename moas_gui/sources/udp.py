@@ -21,7 +21,7 @@ MAX_BURST: Final = 1000
 """Datagrams taken at once behind the one the event loop delivered."""
 MAX_DATAGRAM: Final = 65536
 
-log = logging.getLogger("moas_gui.sources.udp")
+log = logging.getLogger(__name__)
 
 
 class DatagramSource(asyncio.DatagramProtocol):

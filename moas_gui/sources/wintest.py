@@ -30,7 +30,7 @@ from moas_gui.sources.wintest_frame import (
     parse_status,
 )
 
-log = logging.getLogger("moas_gui.sources.wintest")
+log = logging.getLogger(__name__)
 
 IGNORED_REASONS: Final = frozenset({"not_status"})
 """Frames that are simply not ours (QSOs, gab...): counted, never logged."""

@@ -41,7 +41,7 @@ from moas_gui.hw.rotators.moas_rotator_codec import (
     encode_version_reply,
 )
 
-log = logging.getLogger("moas_gui.testing.fake_moas_rotator")
+log = logging.getLogger(__name__)
 
 COMPASS_NAMES = frozenset({"1", "2", "DCU1", "RotorEZ"})
 

@@ -33,7 +33,7 @@ from moas_gui.hw.rotators.genius_codec import (
 )
 from moas_gui.hw.rotators.headings import Travel, Turn, plan_turn, whole_heading
 
-log = logging.getLogger("moas_gui.testing.genius_server")
+log = logging.getLogger(__name__)
 
 
 @dataclass(slots=True)

@@ -22,7 +22,7 @@ from moas_gui.sources.forwarder import Forwarder
 from moas_gui.sources.spec import SourceSpec, make_source, parse_spec
 from moas_gui.ui.qt import QAction, QInputDialog, QSettings
 
-log = logging.getLogger("moas_gui.ui.client_sources")
+log = logging.getLogger(__name__)
 
 SETTINGS_KEY = "sources/list"
 

@@ -79,7 +79,7 @@ from .screen_fit import fit_to_screen
 
 __all__ = ["ClientWindow", "open_builtin_client"]
 
-log = logging.getLogger("moas_gui.ui")
+log = logging.getLogger(__name__)
 
 TARGETS: tuple[tuple[Target, str, str], ...] = (
     ("both", "TX + RX", "A press selects the antenna for transmit and receive"),

@@ -48,7 +48,7 @@ if TYPE_CHECKING:
 
     from .client_window import ClientWindow
 
-log = logging.getLogger("moas_gui.ui")
+log = logging.getLogger(__name__)
 
 RECENT_MAX = 4
 

@@ -195,7 +195,7 @@ async def test_position_turn_and_stop_over_a_socket(
 async def test_bad_input_gets_rotctlds_answers_and_a_log_line(
     served: tuple[RotatorManager, int, Recorder], caplog: pytest.LogCaptureFixture
 ) -> None:
-    caplog.set_level(logging.INFO, "moas_gui.hw.rotators")
+    caplog.set_level(logging.INFO, "moas_gui")
     manager, port, _ = served
     assert await exchange(port, b"P abc 10\n", 1) == ["RPRT -1\n"]
     assert await exchange(port, b"Z\nV SPEED 2\n", 1) == ["RPRT -4\n"]  # Z: no answer at all
@@ -222,7 +222,7 @@ async def test_an_offline_rotator_answers_get_pos_and_turns_with_errors(
 async def test_park_turns_to_the_park_heading_or_says_it_cannot(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
-    caplog.set_level(logging.INFO, "moas_gui.hw.rotators")
+    caplog.set_level(logging.INFO, "moas_gui")
     parking, plain = free_port(), free_port()
     recorder = Recorder(FakeClock())
     manager = RotatorManager(

@@ -72,7 +72,7 @@ from .sync import DEFAULT_EVENTS, Slots, stopped
 from .timing import REAL_TIMING, LinkTiming
 from .transport import EmulatorTransport, SerialTransport, Transport
 
-log = logging.getLogger("moas_gui.hw.moas2.link")
+log = logging.getLogger(__name__)
 
 EMULATOR_PORT = "emulator"
 """The port name that means "the built-in emulator"."""

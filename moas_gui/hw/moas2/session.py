@@ -89,7 +89,7 @@ from .sync import (
 )
 from .timing import REAL_TIMING, LinkTiming
 
-log = logging.getLogger("moas_gui.hw.moas2.session")
+log = logging.getLogger(__name__)
 
 SURVEY_TRIES = 3
 """How many times a session asks what the box holds before it gives up (and the

@@ -37,7 +37,7 @@ from moas_gui.retry import Backoff
 
 from .headings import Travel, whole_heading
 
-log = logging.getLogger("moas_gui.hw.rotators")
+log = logging.getLogger(__name__)
 
 ERROR_CODES = ("not_found", "unavailable", "bad_request")
 

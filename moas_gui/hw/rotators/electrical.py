@@ -20,7 +20,7 @@ from moas_gui.config.model import Rotator
 from .base import Publish, RotatorDriver, RotatorError, RotatorStatus
 from .headings import Travel, closest_direction, normalize, whole_heading
 
-log = logging.getLogger("moas_gui.hw.rotators.electrical")
+log = logging.getLogger(__name__)
 
 SelectDirection = Callable[[int, int], object]
 """``(rotator_id, heading) -> anything``; raising refuses the request."""

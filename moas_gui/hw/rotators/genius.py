@@ -40,7 +40,7 @@ from .genius_codec import (
 from .headings import Travel, whole_heading
 from .tcp_peer import keep_connected
 
-log = logging.getLogger("moas_gui.hw.rotators.genius")
+log = logging.getLogger(__name__)
 
 GENIUS_PORT = 9006
 

@@ -41,7 +41,7 @@ from .headings import Travel, angular_distance, azimuth_of, position_of
 from .tcp_peer import keep_connected
 from .tracking import TurnTracker, linear_distance
 
-log = logging.getLogger("moas_gui.hw.rotators.hamlib")
+log = logging.getLogger(__name__)
 
 MAX_LINE = 4096
 

@@ -52,7 +52,7 @@ from .moas_rotator_link import MOAS_ROTATOR_PORT, MoasRotatorLink, SerialRotator
 from .moas_rotator_process import LocalMoasRotator, default_command
 from .simulated import SimulatedRotator
 
-log = logging.getLogger("moas_gui.hw.rotators.manager")
+log = logging.getLogger(__name__)
 
 OnChange = Callable[[RotatorView], None]
 

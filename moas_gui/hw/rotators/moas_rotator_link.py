@@ -34,7 +34,7 @@ from .moas_rotator_codec import (
 from .tcp_peer import keep_connected
 from .tracking import TurnTracker, linear_distance
 
-log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_link")
+log = logging.getLogger(__name__)
 
 MOAS_ROTATOR_PORT = PORT
 

@@ -24,7 +24,7 @@ from collections.abc import Sequence
 from moas_gui.clock import LOOP_CLOCK, Clock
 from moas_gui.retry import Backoff, Pauses
 
-log = logging.getLogger("moas_gui.hw.rotators.moas_rotator_process")
+log = logging.getLogger(__name__)
 
 
 def default_command(port: int) -> list[str]:

@@ -16,7 +16,7 @@ from moas_gui.config.model import Rotator
 from .base import Publish, RotatorDriver, RotatorStatus, Timing
 from .headings import Travel, Turn, plan_turn
 
-log = logging.getLogger("moas_gui.hw.rotators.simulated")
+log = logging.getLogger(__name__)
 
 
 class SimulatedRotator(RotatorDriver):

@@ -21,7 +21,7 @@ from .model import EmulatorModel
 from .record import Record
 from .view import BoxView
 
-log = logging.getLogger("moas_gui.hw.moas2.emulator")
+log = logging.getLogger(__name__)
 
 
 class Traffic(str, Enum):

@@ -44,7 +44,7 @@ from .boxstate import STATIONS
 from .record import Entry
 from .view import BoxView
 
-log = logging.getLogger("moas_gui.hw.moas2.emulator")
+log = logging.getLogger(__name__)
 
 HELP = ("commands: key N, unkey N (N = 1-6), relays, status, record [N], watch [N], help")
 

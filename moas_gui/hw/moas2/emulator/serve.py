@@ -25,7 +25,7 @@ from typing import Protocol
 from ....serial import PortError, PortSettings
 from .box import EmulatedBox
 
-log = logging.getLogger("moas_gui.hw.moas2.emulator")
+log = logging.getLogger(__name__)
 
 MAX_BACKLOG = 64 * 1024
 """Bytes kept for a reader that is not reading; beyond that output is dropped,

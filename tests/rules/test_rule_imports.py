@@ -6,7 +6,6 @@ Every ``import`` and ``from ... import`` of every module is read with :mod:`ast`
 
 from __future__ import annotations
 
-import ast
 import functools
 import subprocess
 import sys
@@ -14,6 +13,7 @@ from collections import defaultdict
 from pathlib import Path
 
 import pytest
+from import_reader import imported_names, module_name
 
 PACKAGE = Path(__file__).resolve().parents[2] / "moas_gui"
 
@@ -69,30 +69,13 @@ FORBIDDEN_IN_PURE = {"PySide6", "qasync", "asyncio", "serial", "socket", "select
 def _modules() -> dict[str, tuple[str, Path]]:
     found = {}
     for path in PACKAGE.rglob("*.py"):
-        parts = path.relative_to(PACKAGE).with_suffix("").parts
-        name = ".".join(("moas_gui", *parts))
-        found[name] = (parts[0], path)
+        found[module_name(path, PACKAGE)] = (path.relative_to(PACKAGE).parts[0].removesuffix(".py"),
+                                              path)
     return found
 
 
 def _imports(name: str, path: Path) -> set[str]:
-    is_package = path.name == "__init__.py"
-    package = name.split(".") if is_package else name.split(".")[:-1]
-    if is_package:
-        package = package[:-1]
-    out: set[str] = set()
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-        if isinstance(node, ast.Import):
-            out.update(alias.name for alias in node.names)
-        elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = package[:len(package) - node.level + 1]
-                module = ".".join(base + ([node.module] if node.module else []))
-            else:
-                module = node.module or ""
-            out.add(module)
-            out.update(f"{module}.{alias.name}" for alias in node.names)
-    return out
+    return imported_names(path, name)
 
 
 @functools.cache

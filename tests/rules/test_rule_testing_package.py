@@ -10,49 +10,15 @@ looks at what was loaded.
 
 from __future__ import annotations
 
-import ast
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from import_reader import imported_names, module_name
 
 PACKAGE = Path(__file__).resolve().parents[2] / "moas_gui"
 TESTING = "moas_gui.testing"
-DYNAMIC = {"import_module", "__import__"}
-
-
-def module_name(path: Path, root: Path = PACKAGE) -> str:
-    parts = path.relative_to(root).with_suffix("").parts
-    if parts[-1] == "__init__":
-        parts = parts[:-1]
-    return ".".join((root.name, *parts))
-
-
-def imported_names(path: Path, name: str) -> set[str]:
-    """Every module name ``path`` (the module ``name``) imports or asks for by a literal."""
-    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
-    found: set[str] = set()
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-        if isinstance(node, ast.Import):
-            found.update(alias.name for alias in node.names)
-        elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = package[:len(package) - node.level + 1]
-                module = ".".join(base + ([node.module] if node.module else []))
-            else:
-                module = node.module or ""
-            found.add(module)
-            found.update(f"{module}.{alias.name}" for alias in node.names)
-        elif isinstance(node, ast.Call) and node.args:
-            func = node.func
-            called = func.attr if isinstance(func, ast.Attribute) else \
-                func.id if isinstance(func, ast.Name) else ""
-            first = node.args[0]
-            if called in DYNAMIC and isinstance(first, ast.Constant) \
-                    and isinstance(first.value, str):
-                found.add(first.value)
-    return found
 
 
 def reaches_testing(names: set[str]) -> list[str]:

@@ -65,16 +65,25 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     """The slow tests (real processes, real clocks) are shared out among the workers and
     run first: xdist's ``worksteal`` hands each worker one contiguous share of the list,
     so each share starts with its part of the slow tests and the quick ones fill the
-    rest, instead of one worker ending the run alone on a long test picked up last."""
+    rest, instead of one worker ending the run alone on a long test picked up last.
+    The slow tests of a module marked ``shared`` (they share a process a module-scoped
+    fixture started) stay together, one after another on one worker."""
     slow = [item for item in items if item.get_closest_marker("realtime") is not None]
     quick = [item for item in items if item.get_closest_marker("realtime") is None]
     workers = getattr(config, "workerinput", {}).get("workercount", 1)
+    groups: dict[object, list[pytest.Item]] = {}
+    for item in slow:
+        shared = item.get_closest_marker("shared") is not None
+        groups.setdefault(item.module if shared else item, []).append(item)
+    dealt: list[list[pytest.Item]] = [[] for _ in range(workers)]
+    for group in groups.values():  # each to the worker with the fewest so far
+        min(dealt, key=len).extend(group)
     ordered: list[pytest.Item] = []
     left = len(items)
     for worker in range(workers):  # the sizes worksteal's first split gives each worker
         share = left // (workers - worker)
         left -= share
-        part = slow[worker::workers]
+        part = dealt[worker]
         take = max(0, share - len(part))
         ordered += part + quick[:take]
         quick = quick[take:]

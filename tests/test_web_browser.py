@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import asyncio
 import sys
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator, Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +20,7 @@ from tests.web_station import Protocol, Station, browser_missing, chrome, until,
 MISSING = browser_missing()
 pytestmark = [
     pytest.mark.realtime,
+    pytest.mark.shared,
     pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
     pytest.mark.skipif(MISSING is not None, reason=f"no browser to test with: {MISSING}"),
 ]
@@ -87,13 +88,49 @@ async def station(tmp_path: Path) -> AsyncIterator[Station]:
         print("the server's log:\n" + "".join(made.log))  # shown when a test fails
 
 
-@pytest_asyncio.fixture
-async def browser(tmp_path: Path) -> AsyncIterator[Any]:
-    driver = await run(chrome, tmp_path / "chromium")
+@pytest.fixture(scope="module")
+def chromium(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
+    """One Chromium for the module's tests on a worker (starting one costs seconds of
+    processor time); :func:`browser` hands each test a clean one."""
+    driver = chrome(tmp_path_factory.mktemp("chromium"))
     try:
         yield driver
     finally:
-        await run(driver.quit)
+        driver.quit()
+
+
+def blank(driver: Any) -> None:
+    """The browser as :func:`chrome` starts it: one window on a blank page at the first
+    size, and nothing a page stored (localStorage, cookies, cache) for any server it saw."""
+    handles = driver.window_handles
+    origins: set[str] = set()
+    for handle in handles:
+        driver.switch_to.window(handle)
+        history = driver.execute_cdp_cmd("Page.getNavigationHistory", {})
+        for entry in history["entries"]:
+            url = entry["url"]
+            if url.startswith(("http://", "https://")):
+                origins.add("/".join(url.split("/", 3)[:3]))
+        if handle != handles[0]:
+            driver.close()
+    driver.switch_to.window(handles[0])
+    driver.get("about:blank")
+    for origin in origins:
+        driver.execute_cdp_cmd("Storage.clearDataForOrigin",
+                               {"origin": origin, "storageTypes": "all"})
+    driver.execute_cdp_cmd("Network.clearBrowserCookies", {})
+    driver.execute_cdp_cmd("Network.clearBrowserCache", {})
+    driver.execute_cdp_cmd("Page.resetNavigationHistory", {})
+    viewport(driver, 1024, 600)
+
+
+@pytest_asyncio.fixture
+async def browser(chromium: Any) -> AsyncIterator[Any]:
+    await run(blank, chromium)
+    try:
+        yield chromium
+    finally:
+        await run(blank, chromium)  # the page leaves, so its server sees it go
 
 
 @pytest.mark.asyncio

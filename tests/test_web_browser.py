@@ -8,19 +8,19 @@ from __future__ import annotations
 
 import asyncio
 import sys
-from collections.abc import AsyncIterator, Callable, Iterator
+from collections.abc import AsyncIterator, Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 import pytest_asyncio
 
-from tests.web_station import Protocol, Station, browser_missing, chrome, until, viewport
+from tests.web_station import Protocol, Station, blank, browser_missing, until, viewport
 
 MISSING = browser_missing()
 pytestmark = [
     pytest.mark.realtime,
-    pytest.mark.shared,
+    pytest.mark.shared("chromium"),
     pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
     pytest.mark.skipif(MISSING is not None, reason=f"no browser to test with: {MISSING}"),
 ]
@@ -88,44 +88,9 @@ async def station(tmp_path: Path) -> AsyncIterator[Station]:
         print("the server's log:\n" + "".join(made.log))  # shown when a test fails
 
 
-@pytest.fixture(scope="module")
-def chromium(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
-    """One Chromium for the module's tests on a worker (starting one costs seconds of
-    processor time); :func:`browser` hands each test a clean one."""
-    driver = chrome(tmp_path_factory.mktemp("chromium"))
-    try:
-        yield driver
-    finally:
-        driver.quit()
-
-
-def blank(driver: Any) -> None:
-    """The browser as :func:`chrome` starts it: one window on a blank page at the first
-    size, and nothing a page stored (localStorage, cookies, cache) for any server it saw."""
-    handles = driver.window_handles
-    origins: set[str] = set()
-    for handle in handles:
-        driver.switch_to.window(handle)
-        history = driver.execute_cdp_cmd("Page.getNavigationHistory", {})
-        for entry in history["entries"]:
-            url = entry["url"]
-            if url.startswith(("http://", "https://")):
-                origins.add("/".join(url.split("/", 3)[:3]))
-        if handle != handles[0]:
-            driver.close()
-    driver.switch_to.window(handles[0])
-    driver.get("about:blank")
-    for origin in origins:
-        driver.execute_cdp_cmd("Storage.clearDataForOrigin",
-                               {"origin": origin, "storageTypes": "all"})
-    driver.execute_cdp_cmd("Network.clearBrowserCookies", {})
-    driver.execute_cdp_cmd("Network.clearBrowserCache", {})
-    driver.execute_cdp_cmd("Page.resetNavigationHistory", {})
-    viewport(driver, 1024, 600)
-
-
 @pytest_asyncio.fixture
 async def browser(chromium: Any) -> AsyncIterator[Any]:
+    """The worker's Chromium (tests/conftest.py), clean, at the first size."""
     await run(blank, chromium)
     try:
         yield chromium

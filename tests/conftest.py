@@ -65,21 +65,46 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     """The slow tests (real processes, real clocks) are shared out among the workers and
     run first: xdist's ``worksteal`` hands each worker one contiguous share of the list,
     so each share starts with its part of the slow tests and the quick ones fill the
-    rest, instead of one worker ending the run alone on a long test picked up last."""
+    rest, instead of one worker ending the run alone on a long test picked up last.
+    The slow tests marked ``shared`` stay together, one after another on one worker:
+    those of one module (they share what a module-scoped fixture started), or with
+    ``shared(NAME)`` all those of that name (the worker's Chromium: :func:`chromium`)."""
     slow = [item for item in items if item.get_closest_marker("realtime") is not None]
     quick = [item for item in items if item.get_closest_marker("realtime") is None]
     workers = getattr(config, "workerinput", {}).get("workercount", 1)
+    groups: dict[object, list[pytest.Item]] = {}
+    for item in slow:
+        shared = item.get_closest_marker("shared")
+        key = item if shared is None else shared.args[0] if shared.args else item.module
+        groups.setdefault(key, []).append(item)
+    dealt: list[list[pytest.Item]] = [[] for _ in range(workers)]
+    for group in groups.values():  # each to the worker with the fewest so far
+        min(dealt, key=len).extend(group)
     ordered: list[pytest.Item] = []
     left = len(items)
     for worker in range(workers):  # the sizes worksteal's first split gives each worker
         share = left // (workers - worker)
         left -= share
-        part = slow[worker::workers]
+        part = dealt[worker]
         take = max(0, share - len(part))
         ordered += part + quick[:take]
         quick = quick[take:]
     items[:] = ordered + quick
 
+
+
+@pytest.fixture(scope="session")
+def chromium(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
+    """One headless Chromium for a worker's browser tests (starting one costs seconds of
+    processor time); they are marked ``shared("chromium")`` so that one worker runs them
+    one after another, and each cleans it first (``tests/web_station.py``'s ``blank``)."""
+    from web_station import chrome
+
+    driver = chrome(tmp_path_factory.mktemp("chromium"))
+    try:
+        yield driver
+    finally:
+        driver.quit()
 
 
 # -- what some test modules need of the system -------------------------------------------

@@ -195,6 +195,32 @@ def chrome(profile: Path, width: int = 1024, height: int = 600) -> Any:
     return driver
 
 
+def blank(driver: Any, width: int = 1024, height: int = 600) -> None:
+    """The browser as :func:`chrome` starts it: one window on a blank page at the size
+    given, and nothing a page stored (localStorage, cookies, cache) for any server it saw
+    (the suite shares one Chromium among the tests of a worker: tests/conftest.py)."""
+    handles = driver.window_handles
+    origins: set[str] = set()
+    for handle in handles:
+        driver.switch_to.window(handle)
+        history = driver.execute_cdp_cmd("Page.getNavigationHistory", {})
+        for entry in history["entries"]:
+            url = entry["url"]
+            if url.startswith(("http://", "https://")):
+                origins.add("/".join(url.split("/", 3)[:3]))
+        if handle != handles[0]:
+            driver.close()
+    driver.switch_to.window(handles[0])
+    driver.get("about:blank")
+    for origin in origins:
+        driver.execute_cdp_cmd("Storage.clearDataForOrigin",
+                               {"origin": origin, "storageTypes": "all"})
+    driver.execute_cdp_cmd("Network.clearBrowserCookies", {})
+    driver.execute_cdp_cmd("Network.clearBrowserCache", {})
+    driver.execute_cdp_cmd("Page.resetNavigationHistory", {})
+    viewport(driver, width, height)
+
+
 def viewport(driver: Any, width: int, height: int, mobile: bool = True) -> None:
     driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride", {
         "width": width, "height": height, "deviceScaleFactor": 1, "mobile": mobile})

@@ -95,9 +95,11 @@ def test_the_engine_selects_as_appendix_f_says(seed: int) -> None:
 
 def test_the_reference_and_the_engine_agree_on_every_appendix_f_rule() -> None:
     """Over a fixed set of generated stations every step of appendix F, the hand-over and
-    the restart rule are each reported, and the engine and the reference agree each time."""
+    the restart rule are each reported, and the engine and the reference agree each time.
+    (The first five stations already reach every rule; the wide run is
+    ``benchmarks/bench_engine_properties.py``.)"""
     reached: set[str] = set()
-    for seed in range(120):
+    for seed in range(24):
         compare(seed, 60, reached)
     assert {"f1_same_band", "f2_kept", "f3_history", "f4_lowest", "f5_tx_rx_pair",
             "f6_nearest", "f7_none", "handover", "restart"} <= reached

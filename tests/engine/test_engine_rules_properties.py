@@ -16,7 +16,9 @@ from hypothesis import strategies as st
 
 EXAMPLES = ["2x6", "small-station", "big-station", "tribander-stack", "multi-multi-20",
             "triplexer", "ms-one-amp", "two-op-shared-tx"]
-RUNS = int(os.environ.get("MOAS_ENGINE_EXAMPLES", "4"))
+RUNS = int(os.environ.get("MOAS_ENGINE_EXAMPLES", "2"))
+"""Evenings per station here (two on each of eight examples, 300 events each); the
+benchmark-sized run is ``benchmarks/bench_engine_properties.py``."""
 EVENTS = 300
 
 FAST = settings(max_examples=RUNS, deadline=None, derandomize=True, database=None,

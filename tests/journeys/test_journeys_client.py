@@ -20,7 +20,7 @@ import pytest
 from client_support import LOOPBACK, run_on_qt
 from helpers import free_port, until
 from test_journeys_server import Server, normal
-from web_station import browser_missing, chrome
+from web_station import blank, browser_missing
 
 from moas_gui.client import Backoff, ButtonState, ButtonType, ClientConnection, LinkState
 from moas_gui.ui.client_window import ClientWindow
@@ -29,6 +29,7 @@ from moas_gui.ui.qt import QApplication, Qt
 MISSING = browser_missing()
 pytestmark = [
     pytest.mark.realtime,
+    pytest.mark.shared("chromium"),
     pytest.mark.skipif(sys.platform == "win32", reason="the journeys run on POSIX"),
     pytest.mark.skipif(MISSING is not None, reason=f"no browser to test with: {MISSING}"),
 ]
@@ -88,11 +89,12 @@ def an_antenna_button(window: ClientWindow) -> Any:
 
 
 def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
-        qapp: QApplication, qtbot: Any, tmp_path: Path) -> None:
+        qapp: QApplication, qtbot: Any, tmp_path: Path, chromium: Any) -> None:
     web_port = free_port()
     server = Server(tmp_path)
     server.start("big-station.moas", "--web-port", str(web_port))
-    driver = chrome(tmp_path / "chromium", 1280, 800)
+    driver = chromium  # the worker's (tests/conftest.py), clean, at 1280 x 800
+    blank(driver, 1280, 800)
     page = Page(driver)
 
     async def scenario() -> None:
@@ -185,5 +187,7 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
     try:
         run_on_qt(qapp, scenario(), timeout=240)
     finally:
-        driver.quit()
-        server.stop()
+        try:
+            blank(driver)  # the page leaves, and the next test finds the browser clean
+        finally:
+            server.stop()

@@ -322,7 +322,7 @@ CALLS = st.one_of(
 )
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=100, deadline=None)  # the wide search: benchmarks/bench_properties.py
 @given(st.lists(CALLS, max_size=40))
 def test_any_sequence_of_well_typed_calls_is_served_or_refused_with_a_code(
     calls: list[tuple[Any, ...]],

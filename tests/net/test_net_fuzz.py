@@ -273,7 +273,7 @@ WELL_TYPED = st.sampled_from(sorted(COMMANDS)).flatmap(
 REQUESTS = st.one_of(ANY_SHAPE, WELL_TYPED, WELL_TYPED)
 
 
-@fuzz(120)
+@fuzz(60)  # the wide random search: benchmarks/bench_properties.py
 @given(st.lists(REQUESTS, min_size=1, max_size=30))
 def test_random_requests_get_exactly_one_reply_each_and_never_fail_the_server(
     fuzzed: tuple[ThreadedServer, LineSocket], requests: list[dict[str, Any]]

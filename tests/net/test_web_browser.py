@@ -14,11 +14,12 @@ from typing import Any
 
 import pytest
 import pytest_asyncio
-from web_station import Protocol, Station, browser_missing, chrome, until, viewport
+from web_station import Protocol, Station, blank, browser_missing, until, viewport
 
 MISSING = browser_missing()
 pytestmark = [
     pytest.mark.realtime,
+    pytest.mark.shared("chromium"),
     pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
     pytest.mark.skipif(MISSING is not None, reason=f"no browser to test with: {MISSING}"),
 ]
@@ -87,12 +88,13 @@ async def station(tmp_path: Path) -> AsyncIterator[Station]:
 
 
 @pytest_asyncio.fixture
-async def browser(tmp_path: Path) -> AsyncIterator[Any]:
-    driver = await run(chrome, tmp_path / "chromium")
+async def browser(chromium: Any) -> AsyncIterator[Any]:
+    """The worker's Chromium (tests/conftest.py), clean, at the first size."""
+    await run(blank, chromium)
     try:
-        yield driver
+        yield chromium
     finally:
-        await run(driver.quit)
+        await run(blank, chromium)  # the page leaves, so its server sees it go
 
 
 @pytest.mark.asyncio

@@ -195,6 +195,7 @@ class ServerApp:
         await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
         await start_sources(run, self.options, self._source_event)
         await start_clients(run, self.options, EngineBackend(self))
+        run.serving = True
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
 
@@ -433,6 +434,8 @@ class ServerApp:
     # -- status ----------------------------------------------------------------------------
     def _update_status(self) -> None:
         run = self._run
+        if run is not None and not run.serving:
+            return  # still starting: nothing shown runs before its ports listen
         if run is None:
             status = ServerStatus()
         else:

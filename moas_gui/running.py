@@ -121,6 +121,9 @@ class Running:
     rotctld: list[RotctldServer] = field(default_factory=list)
     log_handler: logging.Handler | None = None
     stopped: bool = False
+    serving: bool = False
+    """Every part has started and the client and web ports listen: until then the
+    title, status bar and tray do not say the configuration runs."""
     ticker: asyncio.Task[None] | None = None
     """The status refresh; :func:`close_parts` cancels it and waits for its end."""
     keeper: StateKeeper | None = None

@@ -30,8 +30,8 @@ ROTCTL = shutil.which("rotctl")
 START = 123.0
 FAST = 2000.0
 """Degrees per second of the 'fast' rotator: any turn is over before rotctl reads again."""
-SLOW = 100.0
-"""Degrees per second of the rotator that is stopped half-way (rotctl waits its
+SLOW = 25.0
+"""Degrees per second of the rotator that is stopped on its way (rotctl waits its
 post-write delay, :data:`QUIET` ms, between the set and the stop)."""
 QUIET = 20
 """Milliseconds rotctl waits after each command (its ``post_write_delay``).
@@ -130,7 +130,8 @@ def test_rotctl_reads_sets_and_stops_the_emulator(host: EmulatorHost, model: str
 
     code, numbers, err = finish(slow_run)
     assert code == 0, err[-800:]
-    # rotctl has sent the stop; its turn would need 1.8 s more to end by itself
+    # rotctl has sent the stop; its turn would need about 7 s more to end by itself (slow
+    # enough that a loaded machine delaying rotctl cannot let it end first)
     wait_for(lambda: not state(host, slow)[1], timeout=1.0,
              what="the stop to stop the emulator")
     azimuth, busy = state(host, slow)

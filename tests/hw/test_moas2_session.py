@@ -9,10 +9,18 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import pytest
+
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.messages import (
+    AntennaKind,
     Pong,
+    RelayStatus,
+    RelayStatusRequest,
+    SetAntenna,
+    SetState,
+    StateOp,
     UnitIdReply,
 )
 from moas_gui.hw.moas2.replies import encode_reply
@@ -211,3 +219,14 @@ def test_station_0_relays_wait_while_a_station_transmits_on_a_reconnection() -> 
         is False
     played.key(2, False)
     assert b"!0X" in played.wire and played.model.view().station0 == {61}
+
+
+def test_ask_sends_questions_only_and_refuses_what_could_move_a_relay() -> None:
+    played = connected(EmulatorModel())
+    before = played.wire
+    ticket, actions = played.session.ask(RelayStatusRequest(), RelayStatus, played.now)
+    assert ticket > 0 and written(actions) == b"|;"
+    for command in (SetState((StateOp.RESET,)), SetAntenna(1, AntennaKind.BOTH, 2, (3,))):
+        with pytest.raises(TypeError, match="not a question"):
+            played.session.ask(command, Pong, played.now)
+    assert played.wire == before

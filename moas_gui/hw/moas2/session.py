@@ -265,6 +265,10 @@ class _Step:
 
 # ---------------------------------------------------------------------------- the session
 
+QUESTIONS = (Ping, UnitId, StatusRequest, RelayStatusRequest)
+"""What :meth:`SwitchSession.ask` may send: questions, which change nothing in the box."""
+
+
 class SwitchSession:
     """Every decision about one MOAS II, with no I/O (see the module docstring)."""
 
@@ -453,7 +457,13 @@ class SwitchSession:
 
     def ask(self, command: Command, reply_type: type, now: float) -> tuple[int, list[Action]]:
         """Ask the box ``command``; the answer comes as :class:`Answered` with the ticket
-        (None when the session is not open or no answer came in time)."""
+        (None when the session is not open or no answer came in time).
+
+        Only questions are asked this way (a ping, the unit id, the status and relay
+        reports), which move no relay: anything that could goes through :func:`guard`."""
+        if not isinstance(command, QUESTIONS):
+            raise TypeError(f"{self.where}: {type(command).__name__} is not a question; "
+                             "commands that move relays go through the safety rule")
         out: list[Action] = []
         if self.phase is Phase.CLOSED:
             self._tickets += 1

@@ -322,16 +322,14 @@ class SerialPort:
             if fd is not None:
                 # Straight to the system: a few dozen bytes fit the driver's buffer at once;
                 # only what does not (a full buffer) waits, in pyserial, up to write_timeout.
-                written = os.write(fd, data)
+                try:
+                    written = os.write(fd, data)
+                except BlockingIOError:
+                    written = 0
                 if written == len(data):
                     return
                 data = data[written:]
             handle.write(data)
-        except BlockingIOError:
-            try:
-                handle.write(data)
-            except SERIAL_ERRORS as exc:
-                raise PortError(f"writing to {self.name} failed: {reason(exc)}") from exc
         except SERIAL_ERRORS as exc:
             raise PortError(f"writing to {self.name} failed: {reason(exc)}") from exc
 

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from moas_gui import __version__
+from moas_gui.aio import BackgroundTasks
 from moas_gui.log_repeats import fold_repeats
 from moas_gui.status import ServerState, ServerStatus
 
@@ -62,7 +63,8 @@ class ServerWindow(QMainWindow):
         self.app = app
         self.settings = settings
         self._quit_requested = quit_requested
-        self._tasks: set[asyncio.Task[object]] = set()
+        self._tasks = BackgroundTasks(self._task_failed)
+        """The menu actions and the ends of closed client windows: :meth:`idle` waits."""
         """The menu actions that run (open, restart, save switch data, the plan) and the
         ends of client windows' connections; :meth:`idle` waits for them."""
         self._state: ServerState | None = None
@@ -521,21 +523,17 @@ class ServerWindow(QMainWindow):
         self._spawn(window.aclose())
 
     def _spawn(self, coroutine: Coroutine[Any, Any, object]) -> None:
-        task = asyncio.ensure_future(coroutine)
-        self._tasks.add(task)
-        task.add_done_callback(self._task_done)
+        self._tasks.spawn(coroutine, getattr(coroutine, "__qualname__", "a menu action"))
 
-    def _task_done(self, task: asyncio.Task[object]) -> None:
-        self._tasks.discard(task)
-        if not task.cancelled() and task.exception() is not None:
-            log.error("Internal error: %s", task.exception(), exc_info=task.exception())
+    @staticmethod
+    def _task_failed(what: str, error: BaseException) -> None:
+        log.error("Internal error in %s: %s", what, error, exc_info=error)
 
     async def idle(self) -> None:
         """Wait for every menu action started so far, and for the end of the client
         windows' connections closed so far (for tests and orderly exit: once before the
         server closes, once after :meth:`shutdown`)."""
-        while self._tasks:
-            await asyncio.gather(*list(self._tasks), return_exceptions=True)
+        await self._tasks.idle()
 
     def _message(self, icon: QMessageBox.Icon, title: str, text: str) -> None:
         self.last_dialog = show_message(self, icon, title, text)

@@ -49,7 +49,7 @@ ALLOWED: dict[str, set[str]] = {
     "single_instance": {"errors"},
     "desktop": {"files"},
     "service": {"files"},
-    "ui": {"app", "client", "hw", "log_repeats", "plan", "sources", "status"},
+    "ui": {"aio", "app", "client", "hw", "log_repeats", "plan", "sources", "status"},
     "cli": {"app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
             "retry", "sources", "log_repeats", "places", "service", "plan"},

@@ -60,7 +60,7 @@ def test_a_hand_over_inside_a_task_asks_without_stopping_the_loop(qapp: Any, har
         before = ticks
         await until(lambda: ticks > before + 5, what="the loop running while the question waits")
         box.button(QMessageBox.StandardButton.Yes).click()
-        await until(lambda: window._tasks == set() and harness.app is not None
+        await until(lambda: len(window._tasks) == 0 and harness.app is not None
                     and harness.app.status.file == "2x6.moas", timeout=10)
         beat.cancel()
         await harness.close()
@@ -101,7 +101,7 @@ def test_a_newer_question_replaces_the_open_one_and_only_its_answer_counts(
         await window.idle()
         assert harness.app is not None and harness.app.status.file == "small-station.moas"
         newer.button(QMessageBox.StandardButton.Yes).click()
-        await until(lambda: window._tasks == set() and harness.app is not None
+        await until(lambda: len(window._tasks) == 0 and harness.app is not None
                     and harness.app.status.file == "2x6.moas", timeout=10)
         await harness.close()
     run_on_qt(qapp, scenario())

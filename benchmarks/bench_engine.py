@@ -164,17 +164,23 @@ print(json.dumps(out))
 COMPARED = ("small-station", "big-station", "multi-multi-20")
 
 
+def tree_at(rev: str, work: Path) -> Path:
+    """The files of git revision ``rev``, extracted into ``work/base`` (for a comparison
+    of this tree with an older one in the same run)."""
+    base = work / "base"
+    base.mkdir()
+    tar = work / "base.tar"
+    tar.write_bytes(subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", rev],
+                                   check=True, capture_output=True).stdout)
+    with tarfile.open(tar) as t:
+        t.extractall(base, filter="data")
+    return base
+
+
 def compare(rev: str, rounds: int, ops: int) -> None:
     """Band changes of this tree against revision ``rev``, taking turns (see the docstring)."""
     with tempfile.TemporaryDirectory(prefix="moas-bench-") as tmp:
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", rev],
-                                 check=True, capture_output=True).stdout
-        base = Path(tmp) / "base"
-        base.mkdir()
-        tar = Path(tmp) / "base.tar"
-        tar.write_bytes(archive)
-        with tarfile.open(tar) as t:
-            t.extractall(base, filter="data")
+        base = tree_at(rev, Path(tmp))
         best: dict[str, dict[str, float]] = {"before": {}, "after": {}}
         ratios: dict[str, list[float]] = {name: [] for name in COMPARED}
         for turn in range(rounds):

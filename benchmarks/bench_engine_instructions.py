@@ -20,9 +20,10 @@ import re
 import shutil
 import subprocess
 import sys
-import tarfile
 import tempfile
 from pathlib import Path
+
+from bench_engine import tree_at  # the same extraction of an older revision
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ("small-station", "ms-one-amp", "triplexer", "big-station", "multi-multi-20")
@@ -95,14 +96,7 @@ def main() -> None:
     if shutil.which("valgrind") is None:
         raise SystemExit("valgrind is not installed")
     with tempfile.TemporaryDirectory(prefix="moas-instructions-") as tmp:
-        base = Path(tmp) / "base"
-        base.mkdir()
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar",
-                                  args.compare], check=True, capture_output=True).stdout
-        tar = Path(tmp) / "base.tar"
-        tar.write_bytes(archive)
-        with tarfile.open(tar) as t:
-            t.extractall(base, filter="data")
+        base = tree_at(args.compare, Path(tmp))
         before = per_operation(base, args.ops, Path(tmp))
         after = per_operation(ROOT, args.ops, Path(tmp))
     print(f"instructions per engine operation ({args.ops} per example on "

@@ -163,7 +163,7 @@ def check(path: str) -> int:
     except PlanTooLong:
         print()
         print(f"findings: not counted (the station is too large to plan within "
-              f"{CHECK_SECONDS:g} s); the whole plan and its findings: "
+              f"{CHECK_SECONDS:g} s of processor time); the whole plan and its findings: "
               f"moas-server --plan {path}")
         return 0
     if plan is None:

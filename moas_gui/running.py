@@ -27,6 +27,8 @@ from moas_gui.config.model import Antenna, Rotator, RotatorControl
 from moas_gui.engine import Engine
 from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.recording import SerialRecorder
+from moas_gui.hw.moas2.transport import switch_port
 from moas_gui.hw.rotators.base import (
     RotatorDriver,
     RotatorStatus,
@@ -47,7 +49,7 @@ from moas_gui.sources.base import SourceSink
 from moas_gui.sources.n1mm import N1MMListener
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 from moas_gui.sources.spec import SourceSpec
-from moas_gui.state_store import SavedState, StateKeeper
+from moas_gui.state_store import SavedState, StateKeeper, switch_to_data
 
 if TYPE_CHECKING:  # the web server (aiohttp) is loaded only when a station asks for it
     from moas_gui.net.web import WebServer
@@ -97,6 +99,14 @@ class ServerOptions:
     rotator_timing: Timing | None = None
     """Delays and clock of the rotators (reconnects, restarts, a Test rotator's speed);
     None for the real defaults."""
+    record_serial: str | None = None
+    """``--record-serial FILE``: every switch session's calls and both directions' bytes
+    are added to FILE (:mod:`moas_gui.hw.moas2.recording`)."""
+    switch_dtr: bool | None = None
+    """``--switch-dtr``: the switches' DTR line once their port is open (None: as the
+    system's open leaves it, never pulsed)."""
+    switch_rts: bool | None = None
+    """``--switch-rts``: the switches' RTS line, as ``switch_dtr``."""
 
 
 @dataclass
@@ -128,6 +138,8 @@ class Running:
     """The status refresh; :func:`close_parts` cancels it and waits for its end."""
     keeper: StateKeeper | None = None
     fingerprint: str = ""
+    recorder: SerialRecorder | None = None
+    """Where the switch sessions are recorded (``--record-serial``), or None."""
 
 
 def start_switches(run: Running, options: ServerOptions, saved: SavedState,
@@ -137,6 +149,9 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
     """A link per configured switch, told what the engine wants and connecting: each
     checks what its box holds against the saved state (``saved``) before it writes."""
     states = run.engine.switch_states()
+    if options.record_serial is not None and run.recorder is None:
+        run.recorder = open_recorder(options.record_serial)
+    settings = switch_port(dtr=options.switch_dtr, rts=options.switch_rts)
     for switch in run.config.switches:
         run.switch_status[switch.id] = "connecting"
         link = SwitchLink(
@@ -148,6 +163,8 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
             held=saved.switches.get(switch.id),
             seen=saved.seen.get(switch.id),
             timing=options.switch_timing or LinkTiming(),
+            recorder=run.recorder,
+            port_settings=settings,
         )
         run.links[switch.id] = link
         if run.stopped:
@@ -273,6 +290,21 @@ async def close_parts(run: Running) -> None:
             await link.close()
         except Exception:
             log.exception("while closing switch link")
+    if run.recorder is not None:
+        run.recorder.close()
+
+
+def open_recorder(path: str) -> SerialRecorder | None:
+    """The recording ``--record-serial`` asked for, or None (said once) when its file
+    cannot be opened: the switches are driven all the same."""
+    try:
+        recorder = SerialRecorder(path, encode_state=switch_to_data)
+    except OSError as exc:
+        log.error("Cannot record the switch sessions to %s: %s; the switches run "
+                  "unrecorded", path, exc.strerror or exc)
+        return None
+    log.info("Recording every switch session to %s", path)
+    return recorder
 
 
 __all__ = [

@@ -102,6 +102,18 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--install-service", action="store_true",
                         help="Linux: write a systemd user service that runs FILE headless "
                              "(with the other options given), print how to start it, and exit")
+    parser.add_argument("--probe", metavar="PORT",
+                        help="ask the MOAS II on serial port PORT only questions that move no "
+                             "relay (ping, unit id, firmware, status, relays), print a report "
+                             "and exit (docs/switch.md: first contact with a real box)")
+    parser.add_argument("--record-serial", metavar="FILE",
+                        help="add every switch session's bytes, both directions, with "
+                             "times, to FILE (with --probe: that exchange)")
+    parser.add_argument("--switch-dtr", type=_line_level, metavar="on|off",
+                        help="set the switches' DTR line to this level before their port "
+                             "opens (default: as the system's open leaves it, never pulsed)")
+    parser.add_argument("--switch-rts", type=_line_level, metavar="on|off",
+                        help="set the switches' RTS line likewise")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     # no options: only the test hooks set these (main)
     parser.set_defaults(switch_timing=None, rotator_timing=None)
@@ -116,6 +128,38 @@ def _positive(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"{value} is not a number of connections (1 or more)")
     return value
+
+
+def _line_level(text: str) -> bool:
+    levels = {"on": True, "off": False, "1": True, "0": False}
+    if text.lower() not in levels:
+        raise argparse.ArgumentTypeError(f"{text!r} is not on or off")
+    return levels[text.lower()]
+
+
+def probe(args: argparse.Namespace) -> int:
+    """``--probe PORT``: print what the box on PORT answers; 0 when it answered, 1 when
+    the port cannot be opened, 3 when nothing answered."""
+    from moas_gui.hw.moas2.probe import ProbeRefused
+    from moas_gui.hw.moas2.probe import probe as ask_box
+    from moas_gui.hw.moas2.recording import SerialRecorder
+
+    recorder = SerialRecorder(args.record_serial) if args.record_serial else None
+    try:
+        report = asyncio.run(ask_box(args.probe, recorder=recorder,
+                                     settings=_switch_lines(args)))
+    except ProbeRefused as exc:
+        print(f"moas-server: {exc}", file=sys.stderr)
+        return 1
+    finally:
+        if recorder is not None:
+            recorder.close()
+    sys.stdout.write(report.text())
+    return 0 if report.answered else 3
+
+
+def _switch_lines(args: argparse.Namespace) -> tuple[bool | None, bool | None]:
+    return args.switch_dtr, args.switch_rts
 
 
 def _source(text: str) -> SourceSpec:
@@ -213,6 +257,8 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          start_rotator_program=False if args.no_rotator_program else None,
                          use_rotator_program=not args.no_rotator_program,
                          switch_timing=args.switch_timing,
+                         record_serial=args.record_serial,
+                         switch_dtr=args.switch_dtr, switch_rts=args.switch_rts,
                          rotator_timing=args.rotator_timing)
 
 
@@ -474,6 +520,8 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if args.install_service:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
+    if args.probe:
+        return probe(args)
     if args.json and not args.plan:
         print("moas-server: --json goes with --plan", file=sys.stderr)
         return 2

@@ -210,10 +210,7 @@ class SerialPort:
         }
         handle = None
         try:
-            if s.urls:
-                handle = serial.serial_for_url(self.device, **options)
-            else:
-                handle = serial.Serial(self.device, **options)
+            handle = _opened(self.device, s, options)
             if s.flush_on_open:
                 handle.reset_input_buffer()
         except SERIAL_ERRORS as exc:
@@ -359,6 +356,32 @@ class SerialPort:
             with contextlib.suppress(*SERIAL_ERRORS):
                 handle.close()
         self._loop = None
+
+
+def _opened(device: str, s: PortSettings, options: dict[str, Any]) -> Any:
+    """The pyserial port of ``device``, open, with its DTR and RTS lines as ``s`` says
+    (set before the open when asked, so they never change once it is open)."""
+    lines = s.dtr is not None or s.rts is not None
+    if s.urls:
+        handle = serial.serial_for_url(device, do_not_open=lines, **options)
+    elif lines:
+        handle = serial.Serial(None, **options)
+        handle.port = device
+    else:
+        return serial.Serial(device, **options)
+    if not lines:
+        return handle
+    try:
+        if s.dtr is not None:
+            handle.dtr = s.dtr
+        if s.rts is not None:
+            handle.rts = s.rts
+        handle.open()
+    except BaseException:
+        with contextlib.suppress(*SERIAL_ERRORS):
+            handle.close()
+        raise
+    return handle
 
 
 def _lost_reason(handle: Any, exc: BaseException) -> str:

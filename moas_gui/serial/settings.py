@@ -22,6 +22,14 @@ class PortSettings:
     """Drop whatever the port held before it was opened."""
     urls: bool = False
     """Also accept pyserial URLs (``socket://host:port`` for a serial device server)."""
+    dtr: bool | None = None
+    """The DTR line once the port is open.  None: as the system's open leaves it (raised on
+    POSIX and Windows alike; the program never drops and raises it again, so a device
+    that resets on a DTR pulse is not reset by an open).  True or False: set before the
+    port opens (on POSIX the system's open still raises it for an instant before it is
+    dropped).  A pseudo-terminal has no such line and ignores it."""
+    rts: bool | None = None
+    """The RTS line once the port is open, as :attr:`dtr`."""
 
 
 __all__ = ["PortSettings"]

@@ -248,3 +248,37 @@ def test_a_hang_up_is_seen_where_poll_tells_and_a_live_port_never_is(terminal: T
     os.close(terminal.master)
     terminal.open_fds.remove(terminal.master)
     assert hung_up(terminal.slave) is POLL_SEES_HANG_UPS
+
+
+@pytest.mark.asyncio
+@pytest.mark.parametrize(("dtr", "rts"), [(False, None), (True, False), (None, True)])
+async def test_the_dtr_and_rts_levels_asked_for_are_handed_to_the_port(
+        terminal: Terminal, dtr: bool | None, rts: bool | None) -> None:
+    """The levels are set on pyserial's port before it opens (a pseudo-terminal has no
+    such lines and ignores them: the port still carries bytes both ways)."""
+    port = SerialPort(terminal.path, PortSettings(dtr=dtr, rts=rts))
+    heard = Heard()
+    port.open(heard.on_data, heard.on_lost)
+    try:
+        handle = port._serial
+        assert handle.dtr is (True if dtr is None else dtr)  # pyserial's default: raised
+        assert handle.rts is (True if rts is None else rts)
+        os.write(terminal.master, b"!;")
+        await until(lambda: bytes(heard.data) == b"!;", what="the bytes read")
+        port.write(b"';")
+        assert terminal.read_master() == b"';"
+    finally:
+        port.close()
+
+
+@pytest.mark.asyncio
+async def test_a_port_with_line_levels_set_is_still_opened_for_one_program(
+        terminal: Terminal) -> None:
+    first = SerialPort(terminal.path, PortSettings(dtr=False))
+    first.open(Heard().on_data, Heard().on_lost)
+    try:
+        with pytest.raises(PortError, match="lock"):
+            SerialPort(terminal.path, PortSettings(dtr=False)).open(Heard().on_data,
+                                                                     Heard().on_lost)
+    finally:
+        first.close()

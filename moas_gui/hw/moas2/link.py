@@ -36,6 +36,7 @@ from ...clock import LOOP_CLOCK, Clock, timeout
 from ...engine.switchstate import SwitchState
 from ...files import write_text_atomic
 from ...retry import Backoff, keep_trying
+from ...serial.settings import PortSettings
 from .diagnostics import switch_data
 from .emulator.box import EmulatedBox
 from .emulator.model import EmulatorModel
@@ -54,6 +55,7 @@ from .messages import (
     UnitId,
     UnitIdReply,
 )
+from .recording import SerialRecorder, command_text
 from .session import (
     Action,
     Adopt,
@@ -70,7 +72,7 @@ from .session import (
 )
 from .sync import DEFAULT_EVENTS, Slots, stopped
 from .timing import REAL_TIMING, LinkTiming
-from .transport import EmulatorTransport, SerialTransport, Transport
+from .transport import SWITCH_PORT, EmulatorTransport, SerialTransport, Transport
 
 log = logging.getLogger(__name__)
 
@@ -99,6 +101,8 @@ class SwitchLink:
         held: SwitchState | None = None,
         seen: Sequence[Slots] | None = None,
         clock: Clock = LOOP_CLOCK,
+        recorder: SerialRecorder | None = None,
+        port_settings: PortSettings = SWITCH_PORT,
     ) -> None:
         self.switch_id = switch_id
         self.port = port
@@ -118,12 +122,18 @@ class SwitchLink:
                 self.emulator = EmulatedBox(EmulatorModel(unit_id=echo or 0), clock=clock)
                 transport = EmulatorTransport(self.emulator)
             else:
-                transport = SerialTransport(port)
+                transport = SerialTransport(port, settings=port_settings)
         elif isinstance(transport, EmulatorTransport):
             self.emulator = transport.box
         self._transport = transport
         self.session = SwitchSession(switch_id, echo, events=events, timing=timing, held=held,
                                      seen=seen, where=self.where)
+        self._recorder = recorder
+        """Where every session call and both directions' bytes are written
+        (``--record-serial``), or None."""
+        if recorder is not None:
+            recorder.session(switch_id, port=port, echo=echo, events=events, timing=timing,
+                             held=held, seen=seen)
         self._open = False
         self._ended: asyncio.Event | None = None
         self._wake: asyncio.Event | None = None
@@ -189,19 +199,23 @@ class SwitchLink:
     def apply(self, state: SwitchState) -> int:
         """Make the box hold ``state``; returns the bytes written now."""
         before = self.session.bytes_written
+        self._record("want", state=state)
         self._do(self.session.apply(state))
         return self.session.bytes_written - before
 
     def stop(self) -> None:
         """Stop Switches: all relays off (reset, and load without activating)."""
+        self._record("stop")
         self._do(self.session.stop())
 
     def start(self) -> None:
         """Start Switches: activate a stopped switch again."""
+        self._record("start")
         self._do(self.session.start())
 
     def reset(self) -> None:
         """Reset Switches: reset the box and load it again from the latest state."""
+        self._record("reset")
         self._do(self.session.reset())
 
     async def ask_relays(self) -> frozenset[int] | None:
@@ -253,6 +267,7 @@ class SwitchLink:
             log.exception("%s: the session failed; will retry", self.where)
             with contextlib.suppress(Exception):
                 self._close_port()
+                self._record("closed")
                 self._do(self.session.closed())
             return False
 
@@ -271,17 +286,18 @@ class SwitchLink:
         except PortError as exc:
             self.session.problem(logging.WARNING,
                                  f"{self.where}: cannot open the port: {exc}; will retry")
+            self._record("closed")
             self._do(self.session.closed())
             return False
         self._open = True
         try:
-            self._do(self.session.opened(self.clock.now()))
+            self._do(self.session.opened(self._record("opened")))
             while not self._ended.is_set():
                 self._wake.clear()
                 deadline = self.session.next_deadline()
                 wait = None if deadline is None else deadline - self.clock.now()
                 if wait is not None and wait <= 0:  # due: however busy the port is
-                    self._do(self.session.tick(self.clock.now()))
+                    self._do(self.session.tick(self._record("tick")))
                     await asyncio.sleep(0)
                     continue
                 if wait is None:
@@ -291,9 +307,10 @@ class SwitchLink:
                     async with timeout(self.clock, wait):
                         await self._wake.wait()
                 if not self._wake.is_set() and not self._ended.is_set():
-                    self._do(self.session.tick(self.clock.now()))
+                    self._do(self.session.tick(self._record("tick")))
         finally:
             self._close_port()
+        self._record("closed")
         self._do(self.session.closed())
         return self._reached
 
@@ -301,6 +318,7 @@ class SwitchLink:
         self._session_no += 1  # whatever the port still delivers belongs to no session
         if self._open:
             self._open = False
+            self._record("lost", reason="closed")
             self._do(self.session.lost("closed"))
         self._transport.close()
 
@@ -308,13 +326,14 @@ class SwitchLink:
         if session != self._session_no:
             return
         self.session.problem(logging.WARNING, f"{self.where}: the port went away: {reason}")
+        self._record("lost", reason=reason)
         self._do(self.session.lost(reason))
 
     def _on_data(self, session: int, data: bytes) -> None:
         if session != self._session_no or not self._open:
             log.debug("%s: dropped %r, which came after its session ended", self.where, data)
             return
-        self._do(self.session.feed(data, self.clock.now()))
+        self._do(self.session.feed(data, self._record("in", data=data)))
 
     # ------------------------------------------------------------------ actions
 
@@ -339,7 +358,7 @@ class SwitchLink:
                     self._call(self._on_adopt, action.station, action.slots,
                                action.transmitting)
             elif isinstance(action, Reconcile):
-                self._do(self.session.reconcile(self.clock.now()))
+                self._do(self.session.reconcile(self._record("reconcile")))
             elif isinstance(action, Answered):
                 future = self._answers.pop(action.ticket, None)
                 if future is not None and not future.done():
@@ -354,6 +373,7 @@ class SwitchLink:
     def _write(self, data: bytes) -> None:
         if not self._open:
             return
+        self._record("out", data=data)
         try:
             self._transport.write(data)
         except PortError as exc:
@@ -364,7 +384,8 @@ class SwitchLink:
         if not self._open:
             return None
         future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
-        ticket, actions = self.session.ask(command, reply_type, self.clock.now())
+        now = self._record("ask", command=command_text(command))
+        ticket, actions = self.session.ask(command, reply_type, now)
         self._answers[ticket] = future
         self._do(actions)
         try:
@@ -372,6 +393,14 @@ class SwitchLink:
         finally:
             self._answers.pop(ticket, None)
         return result if isinstance(result, reply_type) else None
+
+    def _record(self, kind: str, **fields: object) -> float:
+        """The time now, after writing the session call ``kind`` to the recording (if
+        any): the session is handed the same time the recording says."""
+        now = self.clock.now()
+        if self._recorder is not None:
+            self._recorder.note(self.switch_id, kind, now, **fields)
+        return now
 
     def _call(self, callback: Callable[..., None], *args: object) -> None:
         """Call the server back; a failing callback is logged, the link carries on."""

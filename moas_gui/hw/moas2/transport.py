@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Protocol
 
 from ...serial import PortError
@@ -27,6 +28,11 @@ LostCallback = Callable[[str], None]
 SWITCH_PORT = PortSettings(baudrate=9600, write_timeout=2.0, exclusive=True, flush_on_open=True)
 """A MOAS II's port: 9600 baud 8N1, for one link alone (a second opener would take half
 the box's answers and drive it unchecked), what it held before the open dropped."""
+
+
+def switch_port(*, dtr: bool | None = None, rts: bool | None = None) -> PortSettings:
+    """:data:`SWITCH_PORT` with its DTR and RTS lines set as asked (None: untouched)."""
+    return replace(SWITCH_PORT, dtr=dtr, rts=rts)
 
 
 class Transport(Protocol):
@@ -45,10 +51,12 @@ class Transport(Protocol):
 
 
 class SerialTransport(SerialPort):
-    """A serial port by name, at 9600 baud 8N1 (:data:`SWITCH_PORT`)."""
+    """A serial port by name, at 9600 baud 8N1 (:data:`SWITCH_PORT`; ``settings`` may set
+    its DTR and RTS lines, :func:`switch_port`)."""
 
-    def __init__(self, port: str, *, use_thread: bool | None = None) -> None:
-        super().__init__(port, SWITCH_PORT, use_thread=use_thread)
+    def __init__(self, port: str, *, use_thread: bool | None = None,
+                 settings: PortSettings = SWITCH_PORT) -> None:
+        super().__init__(port, settings, use_thread=use_thread)
         self.port = port
 
 
@@ -80,4 +88,4 @@ class EmulatorTransport:
         self._open = False
 
 
-__all__ = ["EmulatorTransport", "SerialTransport", "Transport"]
+__all__ = ["SWITCH_PORT", "EmulatorTransport", "SerialTransport", "Transport", "switch_port"]

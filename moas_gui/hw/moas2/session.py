@@ -31,12 +31,16 @@ A session's life:
    session (the driver retries); a box that says it is inactive when it should be
    active lost its state and is loaded again as values.
 
-**The safety rule** is :func:`guard`, the one gate every write of a plan goes
-through: the session never sends a reset (``*0``) on its own initiative; an
-operator's Reset or Stop Switches may, and the log then names the stations that
-were transmitting (or whose state was unknown) at that moment.  Everything else
-the session sends changes a station's relays only through the box's own
-hot-switch rules (wait or interrupt mode).
+**The safety rule** is :func:`guard` (a function, not a method), the one gate
+every write of a plan goes through.  Its whole scope: the session never sends a
+reset (``*0``) on its own initiative (an operator's Reset or Stop Switches may,
+and the log then names the stations that were transmitting, or whose state was
+unknown, at that moment); and on its own initiative it holds back the
+station-0 relays (``!0X``, set by the box at once) while any station transmits
+or may.  Everything else the session sends changes a station's relays only
+through the box's own hot-switch rules (wait or interrupt mode) and the tables
+the engine loads; the only other bytes it writes are questions
+(:data:`QUESTIONS`).  The session does no I/O and reads no clock, but it logs.
 """
 
 from __future__ import annotations

@@ -570,10 +570,17 @@ class FloodResult:
     """Each packet's ``sendto`` (monotonic ns)."""
     stamps: Path | None = None
     """The server's stage stamps (``--trace``)."""
+    dwell_ms: int = 0
+    """The server's ``--relay-dwell``: 0 for the latency floods (each packet's command is
+    matched), the default for the relay-wear run."""
+    relay_changes: int = 0
+    """Changes of the closed relays on the emulated boxes during the flood."""
+    line_bytes: int = 0
+    """Bytes the server wrote to the boxes during the flood (pings included)."""
 
 
 async def bench_flood(name: str, rate: int, seconds: float, work: Path,
-                      trace: bool = False) -> FloodResult:
+                      trace: bool = False, dwell_ms: int = 0) -> FloodResult:
     from moas_gui.config import load_config
     from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
     from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
@@ -601,8 +608,8 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
     if trace:
         env[quiet_path.TRACE_ENV] = str(stamps)
     process, _ = await spawn_server(
-        server_args(flood_config(name, work, links), True) + ["--log-level", "info"],
-        env, stderr)
+        server_args(flood_config(name, work, links), True)
+        + ["--log-level", "info", "--relay-dwell", str(dwell_ms)], env, stderr)
     try:
         await read_marks(process, {"opened"}, timeout=30)
         found = None
@@ -620,7 +627,7 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
         else:
             raise RuntimeError("the switches were never loaded:\n" + stderr.read_text()[-3000:])
         result = await _flood(name, rate, seconds, int(found.group(1)), process, terminals,
-                              config)
+                              config, dwell_ms)
     finally:
         await stop(process)
         for terminal in terminals.values():
@@ -635,7 +642,8 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
 
 async def _flood(name: str, rate: int, seconds: float, port: int,
                  process: asyncio.subprocess.Process, terminals: dict[int, Terminal],
-                 config: Any) -> FloodResult:
+                 config: Any, dwell_ms: int = 0) -> FloodResult:
+    from moas_gui.hw.moas2.emulator.record import EntryCause
     from moas_gui.sources.n1mm_packet import radio_info_packet
 
     flood = FLOODS[name]
@@ -647,6 +655,7 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
     await asyncio.sleep(1.0)
     for terminal in terminals.values():
         terminal.reads.clear()
+    record_before = {i: t.box.record.written for i, t in terminals.items()}
 
     count = int(rate * seconds)
     rss_before = proc_status(process.pid).get("VmRSS", 0)
@@ -673,10 +682,15 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
     rss_after = proc_status(process.pid).get("VmRSS", 0)
     faults = minor_faults(process.pid) - faults_before
     sent: list[int] = json.loads(stdout)
+    relay_changes = sum(1 for i, t in terminals.items()
+                        for entry in t.box.record.after(record_before[i])
+                        if entry.event is EntryCause.RELAYS)
+    line_bytes = sum(len(data) for t in terminals.values() for _, data in t.reads)
 
     packets = flood_packets(flood, count)
     expected = expected_commands(flood, packets)
-    latencies = match(sent, packets, expected, terminals, config)
+    # with a dwell, packets in a dwell cause no command of their own: nothing to match
+    latencies = {} if dwell_ms else match(sent, packets, expected, terminals, config)
     per_second = []
     for second in range(int(seconds)):
         numbers = range(second * rate, min((second + 1) * rate, count))
@@ -690,7 +704,34 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
         bytes_per_change={s: b / max(1, len(latencies)) for s, b in antenna_bytes.items()},
         udp_queue_max=queue_max, udp_drops=drops, cpu=cpu, rss_before_kb=rss_before,
         rss_after_kb=rss_after, wall=(sent[-1] - sent[0]) / 1e9, sent_at=sent,
-        faults=faults)
+        faults=faults, dwell_ms=dwell_ms, relay_changes=relay_changes, line_bytes=line_bytes)
+
+
+LINE_BYTES_PER_SECOND = 960
+"""9600 baud, 8N1: ten bits a byte."""
+
+
+def wear_rows(result: FloodResult, without: FloodResult | None) -> list[Row]:
+    """Relay operations and line use under a flood, with the relay dwell (and, from the
+    latency run of the same flood and rate, without it)."""
+    wall = max(result.wall, 1e-9)
+    # each switch's relays move at most once a dwell for each flooded radio's station
+    radios = max(1, len(FLOODS[result.name].cycles))
+    bound = 1000 / result.dwell_ms * radios * max(1, len(result.bytes_per_change))
+    rows: list[Row] = [(
+        f"Relay wear, N1MM flood {result.rate}/s: {FLOODS[result.name].title}",
+        f"relay dwell {result.dwell_ms} ms (the server's default)", "", "")]
+    ops = result.relay_changes / wall
+    rows.append(("  relay-state changes a second", f"{ops:.1f}",
+                 f"<= {bound:.0f} (once a dwell a radio a switch)", _verdict(ops <= bound * 1.05)))
+    rows.append(("  line use (9600 baud)",
+                 f"{100 * result.line_bytes / wall / LINE_BYTES_PER_SECOND:.0f} %", "", ""))
+    if without is not None:
+        w = max(without.wall, 1e-9)
+        rows.append(("  the same flood without the dwell",
+                     (f"{without.relay_changes / w:.1f} relay-state changes a second, line "
+                      f"{100 * without.line_bytes / w / LINE_BYTES_PER_SECOND:.0f} %"), "", ""))
+    return rows
 
 
 def flood_rows(result: FloodResult) -> list[Row]:
@@ -848,6 +889,10 @@ async def run(args: argparse.Namespace) -> None:
             for rate in args.rate:
                 result = await bench_flood(name, rate, args.seconds, work, args.trace)
                 rows += flood_rows(result)
+                if rate == max(args.rate) and args.dwell:
+                    worn = await bench_flood(name, rate, args.seconds, work,
+                                             dwell_ms=args.dwell)
+                    rows += wear_rows(worn, result)
                 if result.stamps is not None and rate <= QUIET_RATE:
                     rows += quiet_path.stage_rows(result.stamps, result.sent_at,
                                                   result.latencies, rate)
@@ -897,6 +942,11 @@ def main() -> int:
     parser.add_argument("--flood", type=_names, default=list(FLOODS),
                         help=f"floods to run, of {','.join(FLOODS)} (default all)")
     parser.add_argument("--no-window", action="store_true", help="skip the window start-ups")
+    parser.add_argument("--dwell", type=int, default=100, metavar="MS",
+                        help="the relay dwell of the relay-wear run, at the highest rate of "
+                             "each flood (default 100, the server's; 0 skips it); the latency "
+                             "floods run with --relay-dwell 0, so that every packet's command "
+                             "can be matched")
     asyncio.run(run(parser.parse_args()))
     return 0
 

@@ -40,6 +40,7 @@ from moas_gui.engine.operations import (
     KeepSwitchAntennas,
     Operation,
     SelectDirection,
+    SetFrequency,
     SetTransmitting,
     StartSwitches,
     StopSwitches,
@@ -342,12 +343,15 @@ class ServerApp:
         run = self._run
         if run is None:
             raise NotRunning("No configuration is open")
-        return self.apply_changes(perform(run.engine, op, now=asyncio.get_running_loop().time()))
+        changes = perform(run.engine, op, now=asyncio.get_running_loop().time())
+        return self.apply_changes(changes, automatic=isinstance(op, SetFrequency))
 
-    def apply_changes(self, changes: Changes) -> set[RadioKey]:
+    def apply_changes(self, changes: Changes, *, automatic: bool = False) -> set[RadioKey]:
         """Send an engine decision out: switch states to links, news to clients, lines to
         the log.  Returns the radios ``(station, radio)`` whose entries were published to
-        clients (none while no client server runs)."""
+        clients (none while no client server runs).  ``automatic``: a frequency (a
+        logger's, a client's ``frequency``) decided it, so its relay changes keep the
+        switches' relay dwell; anything else is an operator's and goes out at once."""
         published: set[RadioKey] = set()
         run = self._run
         if run is None:
@@ -357,7 +361,7 @@ class ServerApp:
         for switch_id, state in changes.switches.items():
             link = run.links.get(switch_id)
             if link is not None:
-                link.apply(state)
+                link.apply(state, automatic=automatic)
         for line in changes.log:
             log.info("%s", line)
         for line in changes.details:

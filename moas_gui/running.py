@@ -19,7 +19,7 @@ import asyncio
 import functools
 import logging
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from moas_gui.config import Config
@@ -107,6 +107,9 @@ class ServerOptions:
     system's open leaves it, never pulsed)."""
     switch_rts: bool | None = None
     """``--switch-rts``: the switches' RTS line, as ``switch_dtr``."""
+    relay_dwell: float | None = None
+    """``--relay-dwell MS``, in seconds: automatic updates move a switch's relays at most
+    once in this long (0: every update at once); None for the link's default (0.1 s)."""
 
 
 @dataclass
@@ -152,6 +155,9 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
     if options.record_serial is not None and run.recorder is None:
         run.recorder = open_recorder(options.record_serial)
     settings = switch_port(dtr=options.switch_dtr, rts=options.switch_rts)
+    timing = options.switch_timing or LinkTiming()
+    if options.relay_dwell is not None:
+        timing = replace(timing, relay_dwell=options.relay_dwell)
     for switch in run.config.switches:
         run.switch_status[switch.id] = "connecting"
         link = SwitchLink(
@@ -162,7 +168,7 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
             indicate_tr=switch.indicate_tr,
             held=saved.switches.get(switch.id),
             seen=saved.seen.get(switch.id),
-            timing=options.switch_timing or LinkTiming(),
+            timing=timing,
             recorder=run.recorder,
             port_settings=settings,
         )

@@ -114,6 +114,11 @@ def _parser() -> argparse.ArgumentParser:
                              "opens (default: as the system's open leaves it, never pulsed)")
     parser.add_argument("--switch-rts", type=_line_level, metavar="on|off",
                         help="set the switches' RTS line likewise")
+    parser.add_argument("--relay-dwell", type=_milliseconds, metavar="MS",
+                        help="automatic updates (loggers' frequencies) move a switch's relays "
+                             "at most once in MS milliseconds; the latest lands at its end "
+                             "(default 100; 0 sends every update at once); presses are never "
+                             "delayed")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     # no options: only the test hooks set these (main)
     parser.set_defaults(switch_timing=None, rotator_timing=None)
@@ -128,6 +133,17 @@ def _positive(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"{value} is not a number of connections (1 or more)")
     return value
+
+
+def _milliseconds(text: str) -> float:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of milliseconds") \
+            from None
+    if not 0 <= value <= 10000:
+        raise argparse.ArgumentTypeError(f"{value} ms is not 0-10000 ms")
+    return value / 1000
 
 
 def _line_level(text: str) -> bool:
@@ -259,6 +275,7 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          switch_timing=args.switch_timing,
                          record_serial=args.record_serial,
                          switch_dtr=args.switch_dtr, switch_rts=args.switch_rts,
+                         relay_dwell=args.relay_dwell,
                          rotator_timing=args.rotator_timing)
 
 

@@ -8,6 +8,7 @@ checked on its own and on every path that loads a box.
 from __future__ import annotations
 
 from dataclasses import replace
+from itertools import pairwise
 
 import pytest
 
@@ -230,3 +231,129 @@ def test_ask_sends_questions_only_and_refuses_what_could_move_a_relay() -> None:
         with pytest.raises(TypeError, match="not a question"):
             played.session.ask(command, Pong, played.now)
     assert played.wire == before
+
+
+# ---------------------------------------------------------------------------- the relay dwell
+
+C = StationAntennas(tx=2, tx_relays=frozenset({7}), rx=2, rx_relays=frozenset({7}))
+D = StationAntennas(tx=4, tx_relays=frozenset({9}), rx=4, rx_relays=frozenset({9}))
+STATE_C = replace(STATE_A, stations=(C,) + (StationAntennas(),) * 5)
+STATE_D = replace(STATE_A, stations=(D,) + (StationAntennas(),) * 5)
+DWELL = TIMING.relay_dwell
+
+
+def automatic(played: Played, state: SwitchState, at: float) -> None:
+    played.now = at
+    played.run(played.session.apply(state, at, automatic=True))
+
+
+def tick_to(played: Played, at: float) -> None:
+    played.now = at
+    played.run(played.session.tick(at))
+
+
+def test_a_single_automatic_change_is_not_delayed_at_all() -> None:
+    played = connected(EmulatorModel())
+    automatic(played, STATE_B, 1.0)
+    assert played.model.view().relays == {5}
+    assert not played.model.view().station(1).inhibited_by_command
+
+
+def test_automatic_changes_in_a_dwell_wait_and_only_the_latest_lands_at_its_end() -> None:
+    played = connected(EmulatorModel())
+    automatic(played, STATE_B, 1.0)
+    automatic(played, STATE_C, 1.0 + DWELL / 4)
+    automatic(played, STATE_D, 1.0 + DWELL / 2)
+    view = played.model.view()
+    assert view.relays == {5}  # still B's: no relay moved twice within the dwell
+    assert view.station(1).inhibited_by_command  # its relays wait: no transmitting meanwhile
+    deadline = played.session.next_deadline()
+    assert deadline is not None and deadline <= 1.0 + DWELL
+    tick_to(played, 1.0 + DWELL * 0.9)
+    assert played.model.view().relays == {5}
+    before = len(played.wire)
+    tick_to(played, 1.0 + DWELL)
+    assert played.model.view().relays == {9}  # D, never C
+    assert not played.model.view().station(1).inhibited_by_command
+    assert b"!1B27;" not in played.wire[before:]  # C's antenna was never sent
+
+
+def test_a_flood_moves_the_relays_at_most_once_per_dwell() -> None:
+    played = connected(EmulatorModel())
+    changes = []
+    relays = played.model.view().relays
+    t = 1.0
+    states = [STATE_B, STATE_C, STATE_D, STATE_A]
+    for i in range(200):  # 1,000 a second for 0.2 s
+        t = 1.0 + i * 0.001
+        for deadline in [played.session.next_deadline()]:
+            if deadline is not None and deadline <= t:
+                tick_to(played, deadline)
+                if played.model.view().relays != relays:
+                    relays = played.model.view().relays
+                    changes.append(played.now)
+        automatic(played, states[i % 4], t)
+        if played.model.view().relays != relays:
+            relays = played.model.view().relays
+            changes.append(t)
+    tick_to(played, t + DWELL)
+    assert played.model.view().relays == {1, 2}  # the latest wanted state (A) landed
+    assert len(changes) >= 2
+    gaps = [b - a for a, b in pairwise(changes)]
+    assert min(gaps) >= DWELL - 1e-9
+
+
+def test_a_press_is_never_delayed_and_takes_what_waits_with_it() -> None:
+    played = connected(EmulatorModel())
+    automatic(played, STATE_B, 1.0)
+    automatic(played, STATE_C, 1.01)
+    assert played.model.view().relays == {5}
+    played.now = 1.02
+    played.run(played.session.apply(STATE_D, 1.02))  # the operator's press
+    assert played.model.view().relays == {9}
+    assert not played.model.view().station(1).inhibited_by_command
+    before = len(played.wire)
+    tick_to(played, 1.0 + DWELL)
+    assert played.wire[before:].replace(b"';", b"") == b""  # nothing waited any more
+
+
+def test_tables_that_tighten_go_out_while_the_relays_wait() -> None:
+    played = connected(EmulatorModel())
+    automatic(played, STATE_B, 1.0)
+    stricter = replace(STATE_C, conflicts=STATE_C.conflicts | {(2, 3)})
+    automatic(played, stricter, 1.01)
+    assert b"%C" in played.wire.split(b"!1B35;")[-1]  # the conflict table went out now
+    assert played.model.view().relays == {5}
+    tick_to(played, 1.0 + DWELL)
+    assert played.model.view().relays == {7}
+
+
+def test_a_change_back_within_a_dwell_moves_no_relay_and_lifts_the_inhibit_at_its_end() -> None:
+    """A flood that comes back to the band in place: the inhibit is not toggled with every
+    packet; it stays until the dwell ends, and then nothing but the inhibit changes."""
+    played = connected(EmulatorModel())
+    automatic(played, STATE_B, 1.0)
+    automatic(played, STATE_C, 1.01)
+    assert played.model.view().station(1).inhibited_by_command
+    before = len(played.wire)
+    automatic(played, STATE_B, 1.02)
+    assert played.wire[before:] == b""  # nothing to say: the inhibit stays
+    assert played.model.view().station(1).inhibited_by_command
+    tick_to(played, 1.0 + DWELL)
+    assert played.model.view().relays == {5}
+    assert not played.model.view().station(1).inhibited_by_command
+    assert b"!1" not in played.wire[before:]  # no relay moved
+
+
+def test_a_session_that_ends_drops_what_waits_and_the_next_plans_the_latest() -> None:
+    model = EmulatorModel()
+    played = connected(model)
+    automatic(played, STATE_B, 1.0)
+    automatic(played, STATE_C, 1.01)
+    played.run(played.session.lost("pulled"))
+    assert played.session.next_deadline() is None
+    played.now = 2.0
+    played.run(played.session.opened(2.0))
+    assert played.session.phase is Phase.RUNNING
+    assert model.view().relays == {7}
+    assert not model.view().station(1).inhibited_by_command

@@ -35,7 +35,7 @@ def test_names_not_given_keep_their_real_values() -> None:
     ("", "no name=seconds given"),
     ("ping_interval", "'ping_interval' is not name=seconds"),
     ("ping=0.1", ("unknown name 'ping' (known: ping_interval, answer_timeout, retry_first, "
-                  "retry_max)")),
+                  "retry_max, relay_dwell)")),
     ("answer_timeout=0.5 answer_timeout=0.6", "answer_timeout is given twice"),
     ("answer_timeout=half", "answer_timeout='half' is not a number of seconds"),
     ("answer_timeout=0", "answer_timeout=0 is not a positive number of seconds"),

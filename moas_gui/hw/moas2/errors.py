@@ -7,6 +7,8 @@ under the project's :mod:`moas_gui.errors`::
           |    +-- CommandTooLong           it would exceed the 40-byte limit
           |         +-- RelayListTooLong    more relays than one antenna command holds
           +-- CommandRejected (ProtocolError)  what the box answers ``?U``/``?A``/``?T``
+          +-- ProbeRefused (HardwareError)     ``--probe``: a port missing, busy or held
+          +-- RecordingError (ValueError)      a ``--record-serial`` file that cannot be read
 
 A port that cannot be opened or vanished raises the serial layer's one
 :class:`~moas_gui.serial.PortError` (a ``HardwareError`` and an ``OSError``),
@@ -18,7 +20,7 @@ Each error's message says what was wrong and where.
 
 from __future__ import annotations
 
-from ...errors import MoasError, ProtocolError
+from ...errors import HardwareError, MoasError, ProtocolError
 from ...serial.errors import PortError
 
 
@@ -47,11 +49,22 @@ class CommandRejected(Moas2Error, ProtocolError):
         self.reason = reason
 
 
+class ProbeRefused(Moas2Error, HardwareError):
+    """``moas-server --probe``: the port cannot be opened (missing, busy, held by a
+    running server); the message says which and why."""
+
+
+class RecordingError(Moas2Error, ValueError):
+    """A recording (``--record-serial``) that cannot be read: names the line and why."""
+
+
 __all__ = [
     "CommandRejected",
     "CommandTooLong",
     "EncodeError",
     "Moas2Error",
     "PortError",
+    "ProbeRefused",
+    "RecordingError",
     "RelayListTooLong",
 ]

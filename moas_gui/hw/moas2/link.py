@@ -196,11 +196,12 @@ class SwitchLink:
             await cancel_and_wait(task)
         self._close_port()
 
-    def apply(self, state: SwitchState) -> int:
-        """Make the box hold ``state``; returns the bytes written now."""
+    def apply(self, state: SwitchState, *, automatic: bool = False) -> int:
+        """Make the box hold ``state``; returns the bytes written now.  ``automatic``: a
+        frequency decided it, and its relay changes keep the relay dwell (:mod:`.dwell`)."""
         before = self.session.bytes_written
-        self._record("want", state=state)
-        self._do(self.session.apply(state))
+        now = self._record("want", state=state, automatic=automatic)
+        self._do(self.session.apply(state, now, automatic=automatic))
         return self.session.bytes_written - before
 
     def stop(self) -> None:

@@ -25,6 +25,7 @@ from ...engine.switchstate import NO_ANTENNA
 from ...serial import PortError
 from .commands import encode
 from .decoder import SwitchDecoder
+from .errors import ProbeRefused
 from .messages import (
     BoxMessage,
     BoxStatus,
@@ -62,10 +63,6 @@ TRIES = 2
 
 _TR_WORDS = {TRState.TRANSMIT: "TRANSMITTING", TRState.RECEIVE: "receiving",
              TRState.INHIBITED: "inhibited by command"}
-
-
-class ProbeRefused(Exception):
-    """The port could not be opened (missing, busy, held by a running server)."""
 
 
 @dataclass(slots=True)

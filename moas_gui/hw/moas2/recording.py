@@ -37,6 +37,7 @@ from typing import IO, Any
 
 from ...engine.switchstate import SwitchState
 from .commands import encode, parse_command
+from .errors import RecordingError
 from .messages import (
     BoxStatus,
     Command,
@@ -166,10 +167,6 @@ def _plain(value: object) -> bool:
 # -- reading and replaying ---------------------------------------------------------------------
 
 
-class RecordingError(ValueError):
-    """A recording that cannot be read: says which line and why."""
-
-
 def read_recording(path: str | Path) -> list[dict[str, Any]]:
     """The lines of a recording; :class:`RecordingError` names a line that is not one."""
     lines = []
@@ -267,7 +264,8 @@ def _call(session: SwitchSession, line: dict[str, Any],
     if kind == "in":
         return session.feed(text_bytes(line["data"]), now)
     if kind == "want":
-        return session.apply(decode_state(line["state"], f"line {line['line']}"))
+        return session.apply(decode_state(line["state"], f"line {line['line']}"), now,
+                             automatic=bool(line.get("automatic")))
     if kind == "ask":
         command = parse_command(line["command"].removesuffix(";"))
         return session.ask(command, answer_type(command), now)[1]

@@ -57,6 +57,7 @@ from ...engine.switchstate import NO_ANTENNA, STATIONS, SwitchState
 from .commands import encode, split
 from .decoder import SwitchDecoder
 from .diagnostics import Batch, blame
+from .dwell import RelayDwell, interim, moves_relays
 from .messages import (
     AntennaEvent,
     AntennaStatus,
@@ -320,6 +321,8 @@ class SwitchSession:
         self._station0_waits = False
         """The last plan's station-0 relays were held back (see :func:`guard`)."""
         self._last_problem = ""
+        self._dwell = RelayDwell(timing.relay_dwell)
+        """Automatic relay changes wait for the running dwell's end (:mod:`.dwell`)."""
         self.unit: UnitIdReply | None = None
         self.bytes_written = 0
         self.refusals: list[str] = []
@@ -358,6 +361,8 @@ class SwitchSession:
     def next_deadline(self) -> float | None:
         """When :meth:`tick` must be called next (None: only input moves it)."""
         times = [q.expires for q in self._questions if not q.gave_up]
+        if self.ready and (landing := self._dwell.deadline()) is not None:
+            times.append(landing)
         times += [q.forget_at for q in self._questions if q.gave_up]
         if self.phase is Phase.RUNNING and self._next_ping is not None:
             times.append(self._next_ping)
@@ -411,6 +416,9 @@ class SwitchSession:
                 q.gave_up = True
                 q.forget_at = q.expires + self.timing.answer_timeout
                 self._answer(q.ticket, None, out)
+        if self.ready and self._dwell.due(now):
+            self._dwell.started(now)  # the latest wanted state lands, through guard
+            self._send_state(self._effective(self.desired), Initiative.OPERATOR, out)
         if self.phase is Phase.RUNNING and self._next_ping is not None \
                 and now >= self._next_ping:
             if now - self._last_heard > self.timing.answer_timeout:
@@ -423,12 +431,29 @@ class SwitchSession:
         self._progress(now, out)
         return out
 
-    def apply(self, state: SwitchState) -> list[Action]:
-        """The engine wants the box to hold ``state``."""
+    def apply(self, state: SwitchState, now: float | None = None, *,
+              automatic: bool = False) -> list[Action]:
+        """The engine wants the box to hold ``state``; ``automatic`` when a frequency
+        (a logger's, a client's) decided it, whose relay changes keep the dwell
+        (:mod:`.dwell`): then, while a dwell runs, what moves relays waits for its end
+        and only what makes the box stricter goes out now."""
         self.desired = state
         out: list[Action] = []
-        if self.ready and self._sent is not None:
-            self._send_state(self._effective(state), Initiative.OPERATOR, out)
+        if not (self.ready and self._sent is not None):
+            return out
+        target = self._effective(state)
+        if automatic and self._dwell.holds(now):
+            # the latest lands at the dwell's end; until then the relays stay, the waiting
+            # stations stay inhibited (also when this state happens to need no relay
+            # change: no inhibit goes on and off with every packet of a flood)
+            self._dwell.waiting = True
+            self._send_state(interim(self._sent, target), Initiative.OPERATOR, out)
+            return out
+        if moves_relays(self._sent, target):
+            self._dwell.started(now)
+        elif not automatic:
+            self._dwell.waiting = False  # a press sends everything: nothing waits
+        self._send_state(target, Initiative.OPERATOR, out)
         return out
 
     def stop(self) -> list[Action]:
@@ -452,6 +477,7 @@ class SwitchSession:
         out: list[Action] = []
         if self.ready:
             log.info("%s: resetting and loading it again", self.where)
+            self._dwell.drop()  # the whole wanted state goes out now
             target = self._effective(self.desired)
             if self._write_plan(initialise(target, events=self._events), Initiative.OPERATOR,
                                 out):
@@ -850,6 +876,7 @@ class SwitchSession:
         if self._sent is not None:
             self._held = self._sent  # a cable pulled and plugged back must not reset a box
         self._sent = None
+        self._dwell.drop()  # the next session plans from the latest wanted state
         self.phase = Phase.CLOSED
         self._confirmed = False
         self._pings.clear()

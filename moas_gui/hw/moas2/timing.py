@@ -30,7 +30,8 @@ ENVIRONMENT = "MOAS_GUI_SWITCH_TIMING"
 
 @dataclass(frozen=True, slots=True)
 class LinkTiming:
-    """The link's clocks, in seconds (tests shorten them)."""
+    """The link's clocks, in seconds (tests shorten them; ``--relay-dwell`` sets the
+    dwell)."""
 
     ping_interval: float = 1.0
     """How often the link pings a box that is ready."""
@@ -41,6 +42,9 @@ class LinkTiming:
     """The pause before the first new attempt after a session ended."""
     retry_max: float = 8.0
     """The longest pause between attempts (they double up to it)."""
+    relay_dwell: float = 0.1
+    """Automatic updates (loggers' frequencies) move a station's relays at most once in
+    this long; the latest wanted state lands at its end (:mod:`.dwell`)."""
 
     def problems(self) -> list[str]:
         """What makes these clocks unusable together (empty when nothing does)."""

@@ -5,6 +5,7 @@ and the switch's USB cable pulled and plugged back in."""
 from __future__ import annotations
 
 import asyncio
+import itertools
 import json
 import os
 import signal
@@ -145,3 +146,58 @@ async def test_headless_server_follows_the_logger_survives_a_pulled_cable_and_st
             process.kill()
             await process.wait()
         await collector
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(90)
+async def test_a_logger_flood_moves_the_relays_once_a_dwell_and_the_latest_band_lands(
+        station: tuple[Cable, Path], tmp_path: Path) -> None:
+    """The relay dwell end to end: N1MM packets as fast as a socket sends them, every one
+    another band, into the real server; the box's own record shows its relays moved at
+    most once a dwell, and the last packet's antenna is what it holds at the end."""
+    cable, config_path = station
+    tcp, udp = free_port(socket.SOCK_STREAM), free_port(socket.SOCK_DGRAM)
+    dwell = 0.25
+    process = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "moas_gui.cli.server", "--headless", str(config_path),
+        "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", str(udp),
+        "--no-rotator-program", "--new-instance", "--log-level", "info",
+        "--relay-dwell", str(int(dwell * 1000)),
+        stderr=asyncio.subprocess.DEVNULL, env=dict(os.environ, PYTHONUNBUFFERED="1"))
+    try:
+        box = cable.box
+        assert box is not None
+        await until(lambda: box.view().active, timeout=30, what="the box loaded")
+        config = load_config(config_path).unwrap()
+        bands = (14025.0, 7025.0, 28025.0, 21025.0)
+
+        def relays_for(khz: float) -> frozenset[int]:
+            antenna = next(a for a in config.antennas if any(
+                c.range.contains(khz) and any(e.applies_to(1, 1) for e in c.stations)
+                for c in a.control))
+            return next(e.relays for c in antenna.control if c.range.contains(khz)
+                        for e in c.stations if e.applies_to(1, 1))
+
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sender:
+            sender.sendto(radio_info_packet(1, 3525.0), ("127.0.0.1", udp))
+            await until(lambda: box.view().relays == relays_for(3525.0))
+            await asyncio.sleep(dwell)  # that change's dwell is over: the flood starts afresh
+            first = box.record.written
+            started = asyncio.get_running_loop().time()
+            for i in range(402):
+                sender.sendto(radio_info_packet(1, bands[i % 4]), ("127.0.0.1", udp))
+                if i % 20 == 19:
+                    await asyncio.sleep(0.01)
+            flood = asyncio.get_running_loop().time() - started
+        await until(lambda: box.view().relays == relays_for(bands[401 % 4]),
+                    what="the last packet's band on the box")
+        await asyncio.sleep(2 * dwell)  # nothing else lands after the latest
+        assert box.view().relays == relays_for(bands[401 % 4])
+        moves = [e.at for e in box.record.after(first) if e.cause.startswith("!1")]
+        assert moves, "the flood moved no relay at all"
+        # at most one move a dwell: never two closer together, however slow the machine
+        assert all(b - a >= dwell * 0.95 for a, b in itertools.pairwise(moves)), moves
+        assert len(moves) <= flood / dwell + 2, (len(moves), flood)
+    finally:
+        process.send_signal(signal.SIGTERM)
+        assert await asyncio.wait_for(process.wait(), 15) == 0

@@ -123,6 +123,23 @@ class ServerApp:
         host = self.options.udp_bind
         return ("127.0.0.1" if host in ("0.0.0.0", "", "::") else host), int(self._run.n1mm.port)
 
+    def keyed_radios(self) -> list[str]:
+        """Who transmits now, as each switch last said ("station 1 radio 1 (switch 1 port
+        1)"): what Stop and Reset Switches name before they open relays under a key.  A
+        switch that has not said yet (it does not answer) names nobody: the switches
+        that answer are the ones a Stop or a Reset reaches."""
+        run = self._run
+        if run is None:
+            return []
+        names = []
+        for switch_id, link in sorted(run.links.items()):
+            for port in sorted(link.session.keyed() or ()):
+                radio = run.engine.radio_on_port(switch_id, port)
+                where = f"switch {switch_id} port {port}"
+                names.append(f"station {radio[0]} radio {radio[1]} ({where})"
+                             if radio is not None else where)
+        return names
+
     def emulators(self) -> dict[int, EmulatedBox]:
         """The in-process emulators of switches whose port is ``"emulator"``."""
         if self._run is None:

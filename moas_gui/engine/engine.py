@@ -208,6 +208,12 @@ class Engine:
             self._frequency(w, ref, khz, None if tx == khz else tx)
         return self._run(op, now, need_running=False)
 
+    def radio_on_port(self, switch_id: int, port: int) -> tuple[int, int] | None:
+        """``(station, radio)`` of the radio whose switch port this is (the configured
+        ports, or each station's own port by default); None for a port of no radio."""
+        ref = self._ix.port_radio.get((switch_id, port))
+        return None if ref is None else (ref.station, ref.radio)
+
     def set_transmitting(self, switch_id: int, port: int, transmitting: bool,
                          now: float | None = None) -> Changes:
         """A switch port's T/R line changed (the switch's ``<`` / ``>`` events)."""

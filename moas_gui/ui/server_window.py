@@ -12,7 +12,7 @@ import contextlib
 import functools
 import logging
 import sys
-from collections.abc import Callable, Coroutine
+from collections.abc import Callable, Coroutine, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -123,7 +123,7 @@ class ServerWindow(QMainWindow):
         self.action_open.setShortcut("Ctrl+O")
         self.recent_menu = file_menu.addMenu("Recent &Files")
         file_menu.addSeparator()
-        self.action_reset = file_menu.addAction("&Reset Switches", self.app.reset_switches)
+        self.action_reset = file_menu.addAction("&Reset Switches", self.reset_switches)
         self.action_save_data = file_menu.addAction("&Save Switch Data...", self.save_switch_data)
         self.action_stop_start = file_menu.addAction("S&top Switches", self.toggle_switches)
         file_menu.addSeparator()
@@ -345,7 +345,31 @@ class ServerWindow(QMainWindow):
         if self.app.switches_stopped:
             self.app.start_switches()
         else:
-            self.app.stop_switches()
+            self.ask_first("Stop Switches", "opens every relay of every switch at once",
+                           self.app.stop_switches)
+
+    def reset_switches(self) -> None:
+        self.ask_first("Reset Switches", "resets every switch: every relay opens at once, "
+                       "then the antennas in use are set again", self.app.reset_switches)
+
+    def ask_first(self, what: str, effect: str, act: Callable[[], None],
+                  named: Sequence[str] = ()) -> None:
+        """Do ``act`` (Stop or Reset Switches) at once while nobody transmits; else ask
+        first, naming who does.  Confirmed, it looks again: a station keyed since the
+        question was put is asked about too, before anything happens."""
+        keyed = self.app.keyed_radios()
+        if not keyed or set(keyed) <= set(named):
+            if keyed:
+                log.warning("%s while %s transmit%s, confirmed by the operator", what,
+                            ", ".join(keyed), "s" if len(keyed) == 1 else "")
+            act()
+            return
+        who = "\n".join(f"  {name}" for name in keyed)
+        self.ask(f"{what} while transmitting?",
+                 f"{what} {effect}.\n\nTransmitting now:\n{who}\n\n"
+                 "Their relays would open under the key (hot switching): unkey first, or "
+                 f"{what.lower()} anyway?",
+                 lambda yes: self.ask_first(what, effect, act, keyed) if yes else None)
 
     def restart(self) -> None:
         self._spawn(self.app.restart())

@@ -395,3 +395,75 @@ def test_built_in_clients_follow_a_new_client_port(qapp: Any, harness: Harness) 
         second.close()
         await harness.close()
     run_on_qt(qapp, scenario())
+
+
+def test_stop_switches_while_a_station_transmits_asks_first_naming_it(
+        qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window, box = await running_with_an_antenna(harness, 14025.0)
+        app = harness.app
+        assert app is not None
+        held = box.view().relays
+        box.set_tr(1, True)
+        await until(lambda: app.keyed_radios() == ["station 1 radio 1 (switch 1 port 1)"])
+        harness.answers.append(False)
+        window.action_stop_start.trigger()
+        assert "Transmitting now:\n  station 1 radio 1 (switch 1 port 1)" in harness.questions[-1]
+        assert not app.switches_stopped and box.view().relays == held  # cancelled: nothing
+        harness.answers.append(True)
+        window.tray_stop_start.trigger()  # the tray asks the same
+        assert len(harness.questions) == 2
+        assert app.switches_stopped
+        await until(lambda: box.view().relays == frozenset())
+        assert any("Stop Switches while station 1 radio 1 (switch 1 port 1) transmits, "
+                   "confirmed by the operator" in line for line in window.log_view.shown_lines())
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_reset_switches_while_a_station_transmits_asks_first_and_a_no_resets_nothing(
+        qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window, box = await running_with_an_antenna(harness, 14025.0)
+        app = harness.app
+        assert app is not None
+        box.set_tr(1, True)
+        await until(lambda: bool(app.keyed_radios()))
+        resets = box.record.written
+        harness.answers.append(False)
+        window.action_reset.trigger()
+        assert "Reset Switches resets every switch" in harness.questions[-1]
+        await window.idle()
+        assert not any(e.event.value == "reset" for e in box.record.after(resets))
+        box.set_tr(1, False)
+        await until(lambda: app.keyed_radios() == [])
+        window.action_reset.trigger()  # nobody transmits: no question, the reset goes
+        assert len(harness.questions) == 1
+        await until(lambda: any(e.event.value == "reset" for e in box.record.after(resets)))
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_a_station_keyed_while_the_question_is_open_is_asked_about_before_anything_happens(
+        qapp: Any, harness: Harness) -> None:
+    async def scenario() -> None:
+        window, box = await running_with_an_antenna(harness, 14025.0)
+        app = harness.app
+        assert app is not None
+        pending: list[tuple[str, Callable[[bool], None]]] = []
+        window.ask = lambda title, text, answered: pending.append((text, answered))
+        box.set_tr(1, True)
+        await until(lambda: len(app.keyed_radios()) == 1)
+        window.action_stop_start.trigger()
+        text, answered = pending.pop()
+        assert "station 1 radio 1" in text and "station 2" not in text
+        box.set_tr(2, True)  # the second radio keys while the operator reads
+        await until(lambda: len(app.keyed_radios()) == 2)
+        answered(True)
+        assert not app.switches_stopped  # asked again first
+        text, answered = pending.pop()
+        assert "station 1 radio 2 (switch 1 port 2)" in text
+        answered(True)
+        assert app.switches_stopped
+        await harness.close()
+    run_on_qt(qapp, scenario())

@@ -81,6 +81,7 @@ from .messages import (
     UnitId,
     UnitIdReply,
 )
+from .phases import Phase, PhaseEvent, next_phase
 from .sync import (
     CommandPlan,
     Reconciliation,
@@ -249,14 +250,6 @@ class _Question:
     forget_at: float = 0.0
 
 
-class Phase(Enum):
-    CLOSED = "closed"
-    CONFIRM = "confirm"
-    SURVEY = "survey"
-    LOADING = "loading"
-    RUNNING = "running"
-
-
 @dataclass(slots=True)
 class _Step:
     """The questions the current phase waits for, by name, and their answers."""
@@ -373,7 +366,9 @@ class SwitchSession:
     def opened(self, now: float) -> list[Action]:
         """A port is open to (maybe) the box: confirm it is ours."""
         self._reset_session()
-        self.phase = Phase.CONFIRM
+        if self.phase is not Phase.CLOSED:  # a driver that reopens without closing first
+            self._move(PhaseEvent.ENDED)
+        self._move(PhaseEvent.OPENED)
         self._last_heard = now
         out: list[Action] = []
         self._step = _Step()
@@ -525,7 +520,7 @@ class SwitchSession:
             return out
         self._sent = self._told(target)
         self._held = None
-        self.phase = Phase.LOADING
+        self._move(PhaseEvent.SURVEYED)
         self._step = _Step()
         self._step.asked["ping"] = self._ping_question(now, out)
         return out
@@ -557,10 +552,10 @@ class SwitchSession:
         if self.echo is None and self._first_unit is None:
             self._first_unit = unit.unit
         self._survey_tries = 0
-        self._ask_survey(now, out)
+        self._ask_survey(now, out, PhaseEvent.CONFIRMED)
 
-    def _ask_survey(self, now: float, out: list[Action]) -> None:
-        self.phase = Phase.SURVEY
+    def _ask_survey(self, now: float, out: list[Action], event: PhaseEvent) -> None:
+        self._move(event)
         self._survey_tries += 1
         self._step = _Step()
         self._step.asked["ping"] = self._ping_question(now, out)
@@ -576,7 +571,7 @@ class SwitchSession:
             if self._survey_tries < SURVEY_TRIES:
                 log.info("%s did not answer every status request; asking again (nothing is "
                          "sent until it does)", self.where)
-                self._ask_survey(now, out)
+                self._ask_survey(now, out, PhaseEvent.UNANSWERED)
                 return
             self.problem(logging.WARNING, f"{self.where} did not answer every status "
                           f"request ({SURVEY_TRIES} tries): not driving it until it does; "
@@ -636,7 +631,7 @@ class SwitchSession:
         if self._last_problem:
             log.info("%s answers again", self.where)
         self._last_problem = ""
-        self.phase = Phase.RUNNING
+        self._move(PhaseEvent.LOADED)
         self._next_ping = now + self.timing.ping_interval
         self._set_status(LinkStatus.STOPPED if self.stopped else LinkStatus.OK, out)
 
@@ -854,6 +849,10 @@ class SwitchSession:
         """The session ended (while it read what came in)."""
         return self.phase is Phase.CLOSED
 
+    def _move(self, event: PhaseEvent) -> None:
+        """The one place the phase changes: by the table of :mod:`.phases`."""
+        self.phase = next_phase(self.phase, event)
+
     def _reset_session(self) -> None:
         self._decoder.reset()
         self._questions.clear()
@@ -877,7 +876,8 @@ class SwitchSession:
             self._held = self._sent  # a cable pulled and plugged back must not reset a box
         self._sent = None
         self._dwell.drop()  # the next session plans from the latest wanted state
-        self.phase = Phase.CLOSED
+        if self.phase is not Phase.CLOSED:
+            self._move(PhaseEvent.ENDED)
         self._confirmed = False
         self._pings.clear()
         self._step = _Step()

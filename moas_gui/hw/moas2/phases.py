@@ -1,0 +1,83 @@
+"""The switch session's phases and every move between them, in one table.
+
+Everything that changes a session's phase lives in :data:`TRANSITIONS`; the session
+(:mod:`.session`) moves only through :func:`next_phase`, which refuses a move the
+table does not hold.  In words:
+
+* **closed** -- no port, or the session ended.  *opened* (a port is open) leads to
+  **confirm**.
+* **confirm** -- the unit id (``:;``) and a ping (``';``) are asked; nothing that
+  could move a relay is written.  *confirmed* (both answered, the unit is ours) leads
+  to **survey**.
+* **survey** -- ping, box status, inhibit polarity and relays are asked; still
+  nothing that could move a relay.  *unanswered* (a question went unanswered, fewer
+  than three tries) stays in **survey**, asking again; *surveyed* (every answer in,
+  the reconciling plan written through the safety rule) leads to **loading**.
+* **loading** -- the plan is out; a ping checks that the box took it.  *loaded*
+  (answered) leads to **running**.
+* **running** -- pings once a second; wanted states go out as they come (through
+  the safety rule and the relay dwell).
+* *ended* -- silence past the answer timeout, a lost port, another unit's id, an
+  unanswered survey, a refused plan -- leads from every phase but closed to
+  **closed**; the driver opens the port again later, and a new session starts over
+  at confirm.
+
+A session writes what could move a relay only in loading and running
+(:attr:`WRITES_PLANS`); ``docs/switch.md`` draws the same table.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+
+from .errors import Moas2Error
+
+
+class Phase(Enum):
+    CLOSED = "closed"
+    CONFIRM = "confirm"
+    SURVEY = "survey"
+    LOADING = "loading"
+    RUNNING = "running"
+
+
+class PhaseEvent(Enum):
+    OPENED = "opened"
+    CONFIRMED = "confirmed"
+    UNANSWERED = "unanswered"
+    SURVEYED = "surveyed"
+    LOADED = "loaded"
+    ENDED = "ended"
+
+
+TRANSITIONS: dict[tuple[Phase, PhaseEvent], Phase] = {
+    (Phase.CLOSED, PhaseEvent.OPENED): Phase.CONFIRM,
+    (Phase.CONFIRM, PhaseEvent.CONFIRMED): Phase.SURVEY,
+    (Phase.SURVEY, PhaseEvent.UNANSWERED): Phase.SURVEY,
+    (Phase.SURVEY, PhaseEvent.SURVEYED): Phase.LOADING,
+    (Phase.LOADING, PhaseEvent.LOADED): Phase.RUNNING,
+    (Phase.CONFIRM, PhaseEvent.ENDED): Phase.CLOSED,
+    (Phase.SURVEY, PhaseEvent.ENDED): Phase.CLOSED,
+    (Phase.LOADING, PhaseEvent.ENDED): Phase.CLOSED,
+    (Phase.RUNNING, PhaseEvent.ENDED): Phase.CLOSED,
+}
+"""(phase, event) -> the next phase: every move a session makes."""
+
+WRITES_PLANS = frozenset({Phase.LOADING, Phase.RUNNING})
+"""The phases in which a session writes commands that could move a relay (through
+the safety rule); before them it only asks questions."""
+
+
+class PhaseError(Moas2Error, RuntimeError):
+    """A move the table does not hold: a bug in the session, never the box's doing."""
+
+
+def next_phase(phase: Phase, event: PhaseEvent) -> Phase:
+    """The phase ``event`` leads to from ``phase``; :class:`PhaseError` if none."""
+    try:
+        return TRANSITIONS[(phase, event)]
+    except KeyError:
+        raise PhaseError(f"no move from {phase.value} on {event.value}") from None
+
+
+__all__ = ["TRANSITIONS", "WRITES_PLANS", "Phase", "PhaseError", "PhaseEvent", "next_phase"]

@@ -248,8 +248,6 @@ class ServerApp:
         if run.fingerprint:
             run.keeper = StateKeeper(state_store.state_path(self._path),
                                      functools.partial(self._collect_state, run))
-        if saved is not None and not run.engine.running:
-            run.stopped = True
         if saved is not None:
             run.intake.restore_focus(saved.focus)
         return saved
@@ -314,20 +312,14 @@ class ServerApp:
         run = self._run
         if run is None or run.stopped:
             return
-        run.stopped = True  # the engine logs "Switches stopped: all relays off"
-        self.act(StopSwitches())
-        for link in run.links.values():
-            link.stop()
+        self.act(StopSwitches())  # logs "Switches stopped: all relays off"; the links follow
         self._update_status()
 
     def start_switches(self) -> None:
         run = self._run
         if run is None or not run.stopped:
             return
-        run.stopped = False  # the engine logs "Switches started"
-        self.act(StartSwitches())
-        for link in run.links.values():
-            link.start()
+        self.act(StartSwitches())  # logs "Switches started"; the links follow
         self._update_status()
 
     async def save_switch_data(self, path: str | Path) -> Path:

@@ -133,7 +133,6 @@ class Running:
     rotators: RotatorManager | None = None
     rotctld: list[RotctldServer] = field(default_factory=list)
     log_handler: logging.Handler | None = None
-    stopped: bool = False
     serving: bool = False
     """Every part has started and the client and web ports listen: until then the
     title, status bar and tray do not say the configuration runs."""
@@ -143,6 +142,12 @@ class Running:
     fingerprint: str = ""
     recorder: SerialRecorder | None = None
     """Where the switch sessions are recorded (``--record-serial``), or None."""
+
+    @property
+    def stopped(self) -> bool:
+        """Stop Switches is in force: the engine's word (its wanted states are inactive
+        then, and each switch session follows them), never a flag of its own here."""
+        return not self.engine.running
 
 
 def start_switches(run: Running, options: ServerOptions, saved: SavedState,
@@ -173,9 +178,7 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
             port_settings=settings,
         )
         run.links[switch.id] = link
-        if run.stopped:
-            link.stop()
-        link.apply(states[switch.id])
+        link.apply(states[switch.id])  # inactive while the engine says the switches stop
         link.connect()
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import logging
 from collections.abc import Callable
+from dataclasses import replace
 
 import pytest
 from helpers import FakeClock, advance_until, until
@@ -195,7 +196,7 @@ async def test_stop_turns_every_relay_off_and_start_restores_the_latest() -> Non
         assert link.status is LinkStatus.STOPPED
         await advance_until(clock, lambda: port.relays == frozenset())
         await advance_until(clock, lambda: not port.box.view().active)
-        link.apply(STATE_B)
+        link.apply(replace(STATE_B, active=False))  # what the engine wants while stopped
         await clock.advance(REAL.answer_timeout * 1.5)  # pings answered "inactive" meanwhile
         assert port.relays == frozenset()
         assert link.status is LinkStatus.STOPPED, "an inactive box is what a stopped link wants"

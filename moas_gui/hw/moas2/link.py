@@ -70,7 +70,7 @@ from .session import (
     Write,
     describe,
 )
-from .sync import DEFAULT_EVENTS, Slots, stopped
+from .sync import DEFAULT_EVENTS, Slots
 from .timing import REAL_TIMING, LinkTiming
 from .transport import SWITCH_PORT, EmulatorTransport, SerialTransport, Transport
 
@@ -243,8 +243,7 @@ class SwitchLink:
             f"port: {self.port} ({self._transport.description})",
             f"status: {self.status.value}",
         ]
-        state = self.session.sent if self.session.sent is not None \
-            else stopped(self.session.desired) if self.session.stopped else self.session.desired
+        state = self.session.sent if self.session.sent is not None else self.session.desired
         write_text_atomic(path, switch_data(header, answers, state, self.errors))
         return path
 

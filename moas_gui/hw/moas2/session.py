@@ -293,7 +293,6 @@ class SwitchSession:
         """What the box was last told (a saved state, or an earlier session's): a new
         session checks what the box holds against it instead of loading it blindly."""
         self._seen: list[Slots] | None = [tuple(s) for s in seen] if seen else None  # type: ignore[misc]
-        self.stopped = False
         self.status = LinkStatus.CONNECTING
         self.phase = Phase.CLOSED
         self._step = _Step()
@@ -413,7 +412,7 @@ class SwitchSession:
                 self._answer(q.ticket, None, out)
         if self.ready and self._dwell.due(now):
             self._dwell.started(now)  # the latest wanted state lands, through guard
-            self._send_state(self._effective(self.desired), Initiative.OPERATOR, out)
+            self._send_state(self.desired, Initiative.OPERATOR, out)
         if self.phase is Phase.RUNNING and self._next_ping is not None \
                 and now >= self._next_ping:
             if now - self._last_heard > self.timing.answer_timeout:
@@ -426,6 +425,13 @@ class SwitchSession:
         self._progress(now, out)
         return out
 
+    @property
+    def stopped(self) -> bool:
+        """Stop Switches is in force: the wanted state says so (``active`` False).  In the
+        server the engine owns it; :meth:`stop` and :meth:`start` set it for a driver
+        without one."""
+        return not self.desired.active
+
     def apply(self, state: SwitchState, now: float | None = None, *,
               automatic: bool = False) -> list[Action]:
         """The engine wants the box to hold ``state``; ``automatic`` when a frequency
@@ -436,36 +442,35 @@ class SwitchSession:
         out: list[Action] = []
         if not (self.ready and self._sent is not None):
             return out
-        target = self._effective(state)
+        self._apply(state, now, automatic, out)
+        if self.phase is Phase.RUNNING:  # loading ends with its own status (_loaded)
+            self._set_status(LinkStatus.STOPPED if self.stopped else LinkStatus.OK, out)
+        return out
+
+    def _apply(self, target: SwitchState, now: float | None, automatic: bool,
+               out: list[Action]) -> None:
         if automatic and self._dwell.holds(now):
             # the latest lands at the dwell's end; until then the relays stay, the waiting
             # stations stay inhibited (also when this state happens to need no relay
             # change: no inhibit goes on and off with every packet of a flood)
             self._dwell.waiting = True
             self._send_state(interim(self._sent, target), Initiative.OPERATOR, out)
-            return out
+            return
+        assert self._sent is not None
         if moves_relays(self._sent, target):
             self._dwell.started(now)
         elif not automatic:
             self._dwell.waiting = False  # a press sends everything: nothing waits
         self._send_state(target, Initiative.OPERATOR, out)
-        return out
 
     def stop(self) -> list[Action]:
-        """Stop Switches: all relays off (a reset, and a load without activation)."""
-        self.stopped = True
-        out = self.apply(self.desired)
-        if self.ready:
-            self._set_status(LinkStatus.STOPPED, out)
-        return out
+        """Stop Switches: all relays off (a reset, and a load without activation): the
+        wanted state, inactive (what the engine's own state says after its Stop)."""
+        return self.apply(stopped(self.desired))
 
     def start(self) -> list[Action]:
-        """Start Switches: activate a stopped switch again."""
-        self.stopped = False
-        out = self.apply(self.desired)
-        if self.ready:
-            self._set_status(LinkStatus.OK, out)
-        return out
+        """Start Switches: activate a stopped switch again (the wanted state, active)."""
+        return self.apply(replace(self.desired, active=True))
 
     def reset(self) -> list[Action]:
         """Reset Switches: the operator resets the box and it is loaded again."""
@@ -473,7 +478,7 @@ class SwitchSession:
         if self.ready:
             log.info("%s: resetting and loading it again", self.where)
             self._dwell.drop()  # the whole wanted state goes out now
-            target = self._effective(self.desired)
+            target = self.desired
             if self._write_plan(initialise(target, events=self._events), Initiative.OPERATOR,
                                 out):
                 self._sent = self._told(target)
@@ -505,7 +510,7 @@ class SwitchSession:
         r, self._reconciliation = self._reconciliation, None
         if r is None or self.phase is not Phase.SURVEY:
             return out
-        target = self._effective(self.desired)
+        target = self.desired
         if self.stopped and not r.inactive:
             # Stop Switches stands: only a reset deactivates a box (the operator's order)
             plan, initiative = initialise(target, events=self._events), Initiative.OPERATOR
@@ -636,9 +641,6 @@ class SwitchSession:
         self._set_status(LinkStatus.STOPPED if self.stopped else LinkStatus.OK, out)
 
     # ------------------------------------------------------------------ writing
-
-    def _effective(self, state: SwitchState) -> SwitchState:
-        return stopped(state) if self.stopped else state
 
     def _send_state(self, target: SwitchState, initiative: Initiative,
                     out: list[Action]) -> None:
@@ -821,7 +823,7 @@ class SwitchSession:
             )
             for earlier, _ in self._pings:  # asked before the load: not to be judged
                 earlier.expect_active = None
-            target = self._effective(self.desired)
+            target = self.desired
             if pong.active:
                 # active while it should be stopped: only a reset stops it (Stop Switches)
                 plan, initiative = initialise(target, events=self._events), Initiative.OPERATOR
@@ -841,7 +843,7 @@ class SwitchSession:
         if self._station0_waits and self.ready and self._sent is not None \
                 and self.keyed() == frozenset():
             # everyone receives: the station-0 relays held back go out now
-            self._send_state(self._effective(self.desired), Initiative.AUTOMATIC, out)
+            self._send_state(self.desired, Initiative.AUTOMATIC, out)
 
     # ------------------------------------------------------------------ endings
 

@@ -449,15 +449,16 @@ class SwitchSession:
 
     def _apply(self, target: SwitchState, now: float | None, automatic: bool,
                out: list[Action]) -> None:
+        sent = self._sent
+        assert sent is not None  # apply() checked it
         if automatic and self._dwell.holds(now):
             # the latest lands at the dwell's end; until then the relays stay, the waiting
             # stations stay inhibited (also when this state happens to need no relay
             # change: no inhibit goes on and off with every packet of a flood)
             self._dwell.waiting = True
-            self._send_state(interim(self._sent, target), Initiative.OPERATOR, out)
+            self._send_state(interim(sent, target), Initiative.OPERATOR, out)
             return
-        assert self._sent is not None
-        if moves_relays(self._sent, target):
+        if moves_relays(sent, target):
             self._dwell.started(now)
         elif not automatic:
             self._dwell.waiting = False  # a press sends everything: nothing waits

@@ -67,7 +67,9 @@ def inhibit_reason(ix: ConfigIndex, st: State, ref: RadioRef) -> str:
 
 
 def partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef) -> int | None:
-    """5.13: the partner's receive antenna, when every condition of the manual holds."""
+    """5.13: the partner's receive antenna, when every condition of the manual holds (the
+    caller then asks :func:`available`: an antenna the partner's own sub receiver listens on
+    is in use by another station, 1.1.4 and 1.1.12, so it is not "one which can be used")."""
     if st.partners.get(ref) != other:
         return None
     me, them = st.radios[ref], st.radios[other]

@@ -19,10 +19,9 @@ from typing import Any
 import pytest
 from engine_invariants import Facts, violations
 
-import moas_gui.engine.derive as derive
 from moas_gui.config import parse_config
 from moas_gui.config.model import Config
-from moas_gui.engine import Engine
+from moas_gui.engine import Engine, derive
 from moas_gui.engine.rules import permitted, users
 from moas_gui.hw.moas2.emulator import EmulatorModel
 from moas_gui.hw.moas2.sync import initialise
@@ -200,4 +199,31 @@ def test_the_alternate_is_given_when_nobody_else_holds_the_antenna() -> None:
     assert two.alt == 0, two
     state = e.switch_states()[1]
     assert 2 in state.use_alternate[0] and state.station(2).alt_relays == frozenset({2})
+    assert violations(e, Facts.of(cfg)) == []
+
+
+def test_the_partners_receive_antenna_is_no_alternate_while_its_sub_receiver_uses_it() -> None:
+    """5.13: "The other partner has an antenna which can be used"; 1.1.12: "A sub receiver
+    can be configured as an additional radio. The MOAS will select antennas for the sub
+    receiver"; 1.1.4: "if a station is using an antenna then other stations cannot use that
+    antenna".  On the two-operator example, operator 1's sub receiver (its own port 3)
+    listening on operator 1's receive antenna RX US takes it from operator 2's 5.13
+    alternate; listening elsewhere, it leaves it."""
+    from engine_builders import example
+
+    cfg = example("two-op-shared-tx")
+    e = Engine(cfg, now=0.0)
+    e.set_frequency(1, 1, 14025, now=1.0)
+    e.set_frequency(2, 1, 14200, now=2.0)
+    e.select(2, 1, 0, "both", now=3.0)
+    e.select(1, 1, 0, "both", now=4.0)
+    e.select(1, 1, 2, "rx", now=5.0)              # operator 1 listens on RX US
+    op1, sub, op2 = e.radio_view(1, 1), e.radio_view(1, 2), e.radio_view(2, 1)
+    assert (op1.tx, op1.rx) == (0, 2) and sub.rx != 2 and op2.tx == op2.rx == 0
+    assert op2.alt == 2                            # 5.13: the partner's receive antenna
+    e.select(1, 2, 2, "rx", now=6.0)              # the sub receiver listens there too
+    assert e.radio_view(1, 2).rx == 2
+    assert e.radio_view(2, 1).alt is None
+    state = e.switch_states()[1]
+    assert state.station(2).alt == 63 and state.station(2).alt_relays == frozenset()
     assert violations(e, Facts.of(cfg)) == []

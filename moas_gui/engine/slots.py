@@ -87,10 +87,7 @@ class SlotClasses:
             self.klass[a] = k
             self.members.setdefault(k, []).append(a)
         self.rep: dict[int, int] = {k: v[0] for k, v in self.members.items()}
-        shared_tx = [b for b in ix.ids if ix.antennas[b].shared_tx]
-        self.own_alt: dict[int, bool] = {
-            a: self.per_radio[a] and (a in self.system_number or any(
-                ix.conflict(a, b) for b in shared_tx)) for a in ix.ids}
+        self.own_alt: dict[int, bool] = _own_alternates(ix, self.per_radio, self.system_number)
         """Antennas two radios may hold together with permission (a ``SharedTX`` antenna or
         one conflicting with it, a shared-capable system's member): as an alternate they
         have a slot of their own, so a waiver for the radio's own use never covers it."""
@@ -168,6 +165,15 @@ class SlotClasses:
         if info.alt is not None and info.alt in ix.radios:
             out |= set(ix.radios[info.alt].antennas)
         return {a for a in out if not ix.antennas[a].tx_only}
+
+
+def _own_alternates(ix: ConfigIndex, per_radio: Mapping[int, bool],
+                    system_number: Mapping[int, int]) -> dict[int, bool]:
+    """Per antenna: whether as an alternate it has a slot of its own (keyed per radio, and a
+    shared-capable system's member or conflicting with a ``SharedTX`` antenna)."""
+    shared_tx = [b for b in ix.ids if ix.antennas[b].shared_tx]
+    return {a: per_radio[a] and (a in system_number or any(ix.conflict(a, b) for b in shared_tx))
+            for a in ix.ids}
 
 
 def _order(classes: SlotClasses) -> Callable[[SlotKey], tuple[int, RadioRef, bool]]:

@@ -258,27 +258,7 @@ def _alternate_transmitted_on(plan: Plan, ix: ConfigIndex, lines: Lines, ref: Ra
     not (5.12 lets radios take turns transmitting, never listen while another transmits)."""
     named = rule.antenna
     assert named is not None
-    others = {ix.canon.get(a, a) for a in rule.other_antennas}
-
-    def transmits(other: RadioRef, y: int) -> bool:
-        info = ix.radios[other]
-        return not ix.antennas[y].rx_only and any(
-            (rule.range.upper is None or seg[0] <= rule.range.upper)
-            and (rule.range.lower is None or seg[1] >= rule.range.lower)
-            for seg in info.segments.get(y, ()))
-
-    candidates = [o for o in plan.radios if not related(ix, ref, o)]
-    triggers = {o for o in candidates if any(
-        transmits(o, y) and (not others or ix.canon[y] in others) for y in ix.radios[o].paths)}
-    takers: list[tuple[RadioRef, int]] = []
-    for other in candidates:
-        for y in sorted(ix.radios[other].paths):
-            if not ix.conflict(named, y) or not transmits(other, y):
-                continue
-            self_trigger = other in triggers and (not others or ix.canon[y] in others)
-            if self_trigger or triggers - {other}:
-                takers.append((other, y))
-                break
+    takers = _takers(ix, [o for o in plan.radios if not related(ix, ref, o)], named, rule)
     if not takers:
         return []
     who = _list([_radio(o) + (f" (on {ix.name(y)}, which conflicts with it)" if y != named
@@ -289,6 +269,37 @@ def _alternate_transmitted_on(plan: Plan, ix: ConfigIndex, lines: Lines, ref: Ra
         f"(antenna {named}), but {who} can be transmitting on that antenna when the rule "
         f"acts: then {_radio(ref)} receives on no antenna instead",
         (ref, *(o for o, _y in takers)))]
+
+
+def _takers(ix: ConfigIndex, candidates: list[RadioRef], named: int,
+            rule: AlternateRule) -> list[tuple[RadioRef, int]]:
+    """The radios (each with an antenna) that can be transmitting on ``named`` or on an
+    antenna conflicting with it while ``rule`` acts."""
+    others = {ix.canon.get(a, a) for a in rule.other_antennas}
+
+    def awaited(y: int) -> bool:
+        return not others or ix.canon[y] in others
+
+    triggers = {o for o in candidates
+                if any(_transmits(ix, o, y, rule) and awaited(y) for y in ix.radios[o].paths)}
+    takers: list[tuple[RadioRef, int]] = []
+    for other in candidates:
+        for y in sorted(ix.radios[other].paths):
+            if not ix.conflict(named, y) or not _transmits(ix, other, y, rule):
+                continue
+            if (other in triggers and awaited(y)) or triggers - {other}:
+                takers.append((other, y))
+                break
+    return takers
+
+
+def _transmits(ix: ConfigIndex, radio: RadioRef, antenna: int, rule: AlternateRule) -> bool:
+    """Whether ``radio`` can transmit on ``antenna`` somewhere in ``rule``'s range."""
+    if ix.antennas[antenna].rx_only:
+        return False
+    return any((rule.range.upper is None or seg[0] <= rule.range.upper)
+               and (rule.range.lower is None or seg[1] >= rule.range.lower)
+               for seg in ix.radios[radio].segments.get(antenna, ()))
 
 
 def _rule_never_usable(ix: ConfigIndex, ref: RadioRef, rule: AlternateRule) -> str:

@@ -378,7 +378,9 @@ def _basic_violations(e: Engine, facts: Facts) -> list[str]:
 
 
 MULTIOP_RULES = ("one physical antenna", "alternate not held", "shared TX listener",
-                 "sub receiver relays", "switch conflict table", "RadioRXAntenna")
+                 "sub receiver relays", "switch conflict table", "RadioRXAntenna",
+                 "receiver off transmit antenna", "alternate slot table",
+                 "shared alternate armed")
 """The rules :func:`multiop_violations` checks, by the name their counts go under."""
 
 
@@ -558,6 +560,8 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
                             problems.append(f"switch {w}: {ra} holds {x} (slot {sa}); the table "
                                             f"would let {rb} take conflicting {y} (slot {sb})")
 
+    problems += _receivers_off_transmit_antennas(e, facts, holders, states, counts)
+
     # 6.4: "The radio RX antenna is designed to handle switching of receive antennas that are
     # connected to the radio's RX antenna. The information is passed to the client".
     for ref, v in views.items():
@@ -571,6 +575,76 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
             problems.append(f"{ref} on {v.rx} at {v.khz}: radio_rx_antenna is "
                             f"{v.radio_rx_antenna}, the configuration says "
                             f"{entry.radio_rx_antenna}")
+    return problems
+
+
+def _shared(facts: Facts, a: int) -> bool:
+    """An antenna radios may share: ``SharedTX``, one conflicting with a ``SharedTX`` antenna,
+    or a shared-capable system's member."""
+    return a in facts.shared_capable or any(
+        facts.ants[b].shared_tx and facts.conflict(a, b) for b in facts.ants)
+
+
+def _receivers_off_transmit_antennas(e: Engine, facts: Facts,
+                                     holders: list[tuple[RadioRef, RadioView]],
+                                     states: dict[int, Any], counts: Counter[str]) -> list[str]:
+    """5.9: the alternate antenna exists for "cases where there might be a problem, such as a
+    damaged receiver front end, if a station transmits on an antenna while another station
+    is listening"; 5.13: "Normally if a radio is receiving on a transmit antenna it will be
+    disconnected when another radio transmits on it"; 5.12's permission is that "only one
+    can transmit at a time", not that one listens while the other transmits.
+
+    No receiver is switched onto an antenna another radio transmits on: per switch, for
+    every port of a radio transmitting now and every port of another radio receiving there,
+    what the box connects the receiver to (its alternate while the transmitter is listed for
+    it, else its receive antenna) does not conflict with the transmit antenna -- the 5.13
+    partner receive antenna included, which its conditions keep apart from the partner's
+    transmit antenna.  And the table is a safety layer of its own: every alternate slot a
+    port holds conflicts with the transmit slot of every other radio on that switch whose
+    transmit antenna conflicts with the alternate."""
+    problems: list[str] = []
+    for w, state in states.items():
+        on_w = [(ref, v, facts.switches_of(ref)[w]) for ref, v in holders
+                if w in facts.switches_of(ref)]
+        for rr, vr, r_ports in on_w:
+            for p in r_ports:
+                alt_slot = state.station(p).alt
+                if alt_slot == 63 or vr.alt is None:
+                    continue
+                for rt, vt, _t_ports in on_w:
+                    if facts.family[rt] == facts.family[rr] or vt.tx is None:
+                        continue
+                    counts["alternate slot table"] += 1
+                    if not facts.conflict(vr.alt, vt.tx):
+                        continue
+                    st = e.slot_of(w, vt.tx, rt.station, rt.radio, as_partner_alt=False)
+                    if st is not None and (min(alt_slot, st), max(alt_slot, st)) \
+                            not in state.conflicts:
+                        problems.append(f"switch {w}: port {p}'s alternate {vr.alt} (slot "
+                                        f"{alt_slot}) is not forbidden with {rt}'s transmit "
+                                        f"{vt.tx} (slot {st})")
+        for rt, vt, t_ports in on_w:
+            if not vt.transmitting or vt.tx is None:
+                continue
+            for rr, vr, r_ports in on_w:
+                if facts.family[rr] == facts.family[rt] or vr.transmitting:
+                    continue
+                for p in r_ports:
+                    moved = any(p in state.use_alternate[tp - 1] for tp in t_ports)
+                    if moved:
+                        port = state.station(p)
+                        listening = vr.alt if port.alt != 63 and port.alt_relays else None
+                        wanted = [rule.antenna for rule in _radio(facts.cfg, rr).alternate
+                                  if rule.antenna is not None and rule.antenna in facts.ants]
+                        if any(_shared(facts, a) for a in wanted) or (
+                                vr.alt is not None and _shared(facts, vr.alt)):
+                            counts["shared alternate armed"] += 1
+                    else:
+                        listening = vr.rx
+                    counts["receiver off transmit antenna"] += 1
+                    if listening is not None and facts.conflict(listening, vt.tx):
+                        problems.append(f"switch {w}: {rr} (port {p}) listens on {listening} "
+                                        f"while {rt} transmits on {vt.tx} (5.9, 5.13)")
     return problems
 
 
@@ -591,8 +665,9 @@ def _may_share_band(cfg: Config, facts: Facts, a: RadioRef, b: RadioRef) -> bool
 # -- random evenings -----------------------------------------------------------------------
 
 def operations(cfg: Config, rng: random.Random, count: int,
-               frequencies: Sequence[float] = FREQUENCIES) -> Iterator[Op]:
-    """``count`` random operator events for ``cfg``, frequencies from ``frequencies``."""
+               frequencies: Sequence[float] = FREQUENCIES, keyed: float = 0.5) -> Iterator[Op]:
+    """``count`` random operator events for ``cfg``, frequencies from ``frequencies``; a
+    T/R event is a key-down with probability ``keyed``."""
     e = Engine(cfg)
     radios = [(v.station, v.radio) for v in e.radios()]
     mains = [(r.station, r.radio) for r in cfg.radios]
@@ -614,7 +689,7 @@ def operations(cfg: Config, rng: random.Random, count: int,
                    rng.choice(("both", "both", "tx", "rx")), rng.random() < 0.2)
         elif x < 0.80:
             yield ("tr", rng.choice(radio_ports if rng.random() < 0.9 else ports),
-                   rng.random() < 0.5)
+                   rng.random() < keyed)
         elif x < 0.87:
             yield ("relative", rng.choice(radios), rng.choice((1, -1)))
         elif x < 0.97 and functions:
@@ -652,9 +727,10 @@ def snapshot(e: Engine) -> tuple[object, ...]:
 
 
 def run_evening(cfg: Config, ops: Sequence[Op], facts: Facts | None = None,
-                counts: Counter[str] | None = None) -> int:
+                counts: Counter[str] | None = None, applied: Counter[str] | None = None) -> int:
     """Apply ``ops``, checking every rule after each; raise AssertionError naming the first
-    broken one with the events that led there.  Returns the number of events refused."""
+    broken one with the events that led there.  Returns the number of events refused.
+    ``applied`` gets, per rule, how many events it ran at least one check after."""
     facts = facts or Facts.of(cfg)
     e = Engine(cfg)
     now = 0.0
@@ -669,8 +745,13 @@ def run_evening(cfg: Config, ops: Sequence[Op], facts: Facts | None = None,
             assert err.message
             assert snapshot(e) == before, f"refused {op} changed the state"
             continue
-        problems = violations(e, facts, counts)
+        here: Counter[str] = Counter()
+        problems = violations(e, facts, here)
         assert not problems, f"after {list(ops[:i + 1])[-8:]}: {problems}"
+        if counts is not None:
+            counts.update(here)
+        if applied is not None:
+            applied.update(here.keys())
     return refused
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import random
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 from engine_invariants import BANDS, FREQUENCIES
@@ -112,16 +113,22 @@ def generated_station(rng: random.Random) -> Config:
                   protect_same_band=rng.random() < 0.3)
 
 
-def multiop_station(rng: random.Random) -> Config:
+def multiop_station(rng: random.Random, shared_alternates: bool = False) -> Config:
     """A random multi-operator station using what big stations rely on (5.8, 5.9, 5.12,
     5.13, 6.10): shared transmit antennas (some transmit-only) with a receive antenna per
     radio (some wired to the radio's RX-antenna input), the interlock 5.12 asks for
     (``Always`` both ways, an inhibit buss or ``SameBand`` both ways; now and then none,
     which the engine must then refuse), partners by ``Partner`` lists or by the Partner
     function, an antenna reached by two paths on two feeds, ``Alternate`` rules with and
-    without ``AltActive`` (and the AltActive function), and sub receivers with and without a
-    port of their own, with ``UseMainFreq`` and ``PersistSubReceiver`` on the main radio's
-    entry or on the sub receiver's."""
+    without ``AltActive`` (and the AltActive function; half of the rules' alternates a
+    ``SharedTX`` antenna the interlocked radios transmit on), now and then every radio
+    interlocked with every other (three or more on one antenna), and sub receivers with and
+    without a port of their own, with ``UseMainFreq`` and ``PersistSubReceiver`` on the main radio's
+    entry or on the sub receiver's.
+
+    With ``shared_alternates`` every main radio has an ``Alternate`` rule for any radio
+    transmitting on a ``SharedTX`` antenna, at any frequency, whose alternate is a ``SharedTX``
+    antenna (none transmit-only), and the radios are interlocked (issue 29's stations)."""
     n = rng.randint(2, 4)
     mains = [RadioRef(1, i + 1) for i in range(n)]
     two_switches = rng.random() < 0.2
@@ -151,7 +158,8 @@ def multiop_station(rng: random.Random) -> Config:
     fast_rx = tuple(receive) + (path_a, path_b)
     for a in shared_tx:
         antennas.append(Antenna(
-            id=a, short_name=f"STX{a}", shared_tx=True, tx_only=rng.random() < 0.5,
+            id=a, short_name=f"STX{a}", shared_tx=True,
+            tx_only=rng.random() < 0.5 and not shared_alternates,
             control=control(bands, 10 * a), conflicts=tuple(shared_tx),
             fast=fast_rx + tuple(shared_tx)))
     for k, a in enumerate(receive):
@@ -180,6 +188,11 @@ def multiop_station(rng: random.Random) -> Config:
     partner_by = rng.choice(("list", "function", "none"))
     flags_on_sub = rng.random() < 0.3
     alt_rule_radio = mains[rng.randrange(n)]
+    everyone_locked = rng.random() < 0.4 or shared_alternates
+    shared_alternate = rng.random() < 0.5 or shared_alternates
+    if shared_alternates and interlock == "none":
+        interlock = "always"
+    """The Alternate rule's antenna is a SharedTX antenna another radio may hold (issue 29)."""
     functions = [
         Function(id=1, name="AltActive", int_params=(alt_rule_radio.station, alt_rule_radio.radio,
                                                      a.station, a.radio)),
@@ -194,7 +207,8 @@ def multiop_station(rng: random.Random) -> Config:
     next_port = n + 1
     for i, ref in enumerate(mains):
         pair = [o for o in (a, b) if o != ref] if ref in (a, b) else []
-        third = [o for o in mains if o != ref and rng.random() < 0.25]
+        # three or more radios on one shared antenna: now and then every radio interlocked
+        third = [o for o in mains if o != ref and (everyone_locked or rng.random() < 0.25)]
         always = tuple(pair if interlock == "always" else []) + tuple(
             o for o in third if o not in pair)
         same_band = tuple(pair) if interlock == "same_band" else ()
@@ -205,7 +219,7 @@ def multiop_station(rng: random.Random) -> Config:
         persist = sub is not None and rng.random() < 0.5
         main_freq = sub is not None and rng.random() < 0.5
         rules: tuple[AlternateRule, ...] = ()
-        if ref == alt_rule_radio:
+        if ref == alt_rule_radio or shared_alternates:
             lo, hi = rng.choice(bands)
             covering = receive + [ant.id for ant in antennas if ant.id in ordinary + [path_a]
                                   and any(c.range.contains(lo + 1) for c in ant.control)]
@@ -213,7 +227,10 @@ def multiop_station(rng: random.Random) -> Config:
                 range=FrequencyRange(lo, hi) if rng.random() < 0.7 else FrequencyRange(),
                 this_antennas=tuple(rng.sample(receive + shared_tx, rng.randint(0, 2))),
                 other_antennas=tuple(rng.sample(shared_tx + ordinary, rng.randint(0, 2))),
-                antenna=rng.choice(covering)),)
+                antenna=rng.choice(shared_tx if shared_alternate else covering)),)
+            if shared_alternates:
+                rules = (replace(rules[0], range=FrequencyRange(), this_antennas=(),
+                                 other_antennas=tuple(shared_tx)),)
         alt_active = tuple(o for o in mains if o != ref and rng.random() < 0.5) \
             if rules and rng.random() < 0.5 else ()
         switches = (SwitchPort(1, i + 1),) + ((SwitchPort(2, i + 1),) if two_switches else ())
@@ -238,17 +255,18 @@ def multiop_station(rng: random.Random) -> Config:
                   switches=tuple(switches), protect_same_band=rng.random() < 0.2)
 
 
-def frequencies_for(cfg: Config) -> tuple[float, ...]:
+def frequencies_for(cfg: Config, only_configured: bool = False) -> tuple[float, ...]:
     """The property suite's frequencies plus, per configured range, its edges and a frequency
     inside it: so that random evenings put radios on one band often (where shared transmit
-    antennas, partners and alternate rules matter)."""
+    antennas, partners and alternate rules matter).  With ``only_configured``, the latter
+    alone."""
     extra = set()
     for ant in cfg.antennas:
         for cr in ant.control:
             lo, hi = cr.range.lower, cr.range.upper
             if lo is not None and hi is not None:
                 extra.update((lo, hi, round(lo + (hi - lo) * 0.3, 1), round(lo + (hi - lo) * 0.6, 1)))
-    return FREQUENCIES + tuple(sorted(extra))
+    return (() if only_configured else FREQUENCIES) + tuple(sorted(extra))
 
 
 def features(cfg: Config) -> set[str]:

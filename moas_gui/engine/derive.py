@@ -27,9 +27,15 @@ disagreeing triggers all get "none").
 
 An alternate is never an antenna another radio holds (5.9: "If the alternate
 antenna is not available it will select no antenna for the receiving
-station"): one that conflicts with another radio's transmit or receive antenna
-becomes "none".  The one exception is the partner's receive antenna while the
-partner transmits (5.13), which is why that radio gets it.
+station"): one that conflicts with another radio's transmit antenna becomes
+"none" whatever the sharing rules permit (5.12 lets interlocked radios take
+turns transmitting on a ``SharedTX`` antenna, not listen on it while the other
+transmits), and one that conflicts with another radio's receive antenna
+becomes "none" unless the sharing rules permit the pair.  The one exception
+is the partner's receive antenna while the partner transmits (5.13), which is
+why that radio gets it; when the partner's sub receiver listens on that
+antenna too, it is in use by another station (1.1.4, 1.1.12) and the
+alternate is "none".
 """
 
 from __future__ import annotations
@@ -61,7 +67,9 @@ def inhibit_reason(ix: ConfigIndex, st: State, ref: RadioRef) -> str:
 
 
 def partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef) -> int | None:
-    """5.13: the partner's receive antenna, when every condition of the manual holds."""
+    """5.13: the partner's receive antenna, when every condition of the manual holds (the
+    caller then asks :func:`available`: an antenna the partner's own sub receiver listens on
+    is in use by another station, 1.1.4 and 1.1.12, so it is not "one which can be used")."""
     if st.partners.get(ref) != other:
         return None
     me, them = st.radios[ref], st.radios[other]
@@ -91,15 +99,28 @@ def partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef
 
 def available(ix: ConfigIndex, st: State, ref: RadioRef, want: int | None,
               partner: RadioRef | None = None) -> int | None:
-    """``want`` when no radio outside ``ref``'s family holds it (or anything conflicting
-    with it) without the manual's permission, else None.  The receive antenna of
-    ``partner`` is exempt: 5.13 gives it to ``ref`` while the partner transmits."""
+    """``want`` when no radio outside ``ref``'s family transmits on it or on anything
+    conflicting with it, and none receives on it (or on a conflicting antenna) without the
+    manual's permission, else None.
+
+    A transmit antenna of another radio is never available, shared or not: 5.12's
+    permission is for radios taking turns to transmit ("only one can transmit at a time"),
+    and an alternate is exactly what ``ref`` listens on while another radio transmits (5.9:
+    "if a station transmits on an antenna while another station is listening").  The
+    receive antenna of ``partner`` is exempt: 5.13 gives it to ``ref`` while the partner
+    transmits (:func:`partner_alternate` has judged it against the partner's transmit
+    antenna, and the switch's table forbids the pair).  The partner's sub receiver is not
+    exempt: listening there, it uses the antenna (1.1.4)."""
     if want is None:
         return None
     for other, role, y in users(ix, st, ref):
         if other == partner and role == "rx":
             continue
-        if ix.conflict(want, y) and not permitted(ix, st, ref, other, want, y):
+        if not ix.conflict(want, y):
+            continue
+        if role == "tx" and other != partner:
+            return None
+        if not permitted(ix, st, ref, other, want, y):
             return None
     return want
 

@@ -118,20 +118,24 @@ class Engine:
                 as_partner_alt: bool | None = None) -> int | None:
         """The switch slot standing for ``antenna`` on that radio's ports (None: none now).
 
-        A radio listening on its partner's receive antenna as its alternate (5.13) does so
-        through a slot of its own: with ``as_partner_alt`` None that slot is answered while
+        A radio listening on its partner's receive antenna as its alternate (5.13), or on an
+        antenna radios may share (``SharedTX`` and its conflicts, shared-capable systems), does
+        so through a slot of its own: with ``as_partner_alt`` None that slot is answered while
         it is in use (and the radio does not hold the antenna itself), with False always the
         radio's ordinary slot (the one it transmits or receives through), with True always
-        the partner-alternate slot.
+        the alternate slot.
         """
         if antenna not in self._ix.antennas or switch_id not in self._maps:
             return None
         ref = RadioRef(station, radio)
         if as_partner_alt is None:
             pa = self._ports.get(ref)
-            as_partner_alt = (pa is not None and pa.alt == antenna and pa.alt_partner
-                              and antenna not in (pa.tx, pa.rx))
-        key = self._classes.key(antenna, ref, as_partner_alt)
+            if pa is not None and pa.alt == antenna and antenna not in (pa.tx, pa.rx):
+                key = self._classes.alt_key(antenna, ref, pa.alt_partner)
+            else:
+                key = self._classes.key(antenna, ref)
+        else:
+            key = self._classes.key(antenna, ref, as_partner_alt)
         return self._maps[switch_id].key_slot.get(key)
 
     def may_share(self, a: RadioRef, antenna_a: int, b: RadioRef, antenna_b: int) -> bool:

@@ -80,8 +80,11 @@ def radio_relays(ix: ConfigIndex, st: State, ref: RadioRef,
     alt_antenna, alt_relays = _alternate_relays(ix, st, info, rs,
                                                 alt[0] if alt else None)
     partner = st.partners.get(ref)
+    # 5.13's partner receive antenna: only when the partner receives and transmits on
+    # different antennas (on its one antenna it transmits there: never a listener's)
     alt_partner = (alt_antenna is not None and partner is not None and partner in st.radios
-                   and st.radios[partner].rx == alt_antenna)
+                   and st.radios[partner].rx == alt_antenna
+                   and st.radios[partner].tx != alt_antenna)
     return PortAntennas(rs.tx, tx_relays, rx_antenna, rx_relays, alt_antenna, alt_relays,
                         extras.get(ref, frozenset()), alt_partner)
 
@@ -157,7 +160,7 @@ def slot_needs(ix: ConfigIndex, classes: SlotClasses, ports: Mapping[RadioRef, P
                 if a is not None:
                     needed[switch_id].add(classes.key(a, ref))
             if pa.alt is not None:
-                needed[switch_id].add(classes.key(pa.alt, ref, pa.alt_partner))
+                needed[switch_id].add(classes.alt_key(pa.alt, ref, pa.alt_partner))
     return needed
 
 
@@ -304,7 +307,7 @@ def _station(classes: SlotClasses, m: SlotMap, ref: RadioRef, pa: PortAntennas,
         _local_cached(pa.tx_relays, switch_id) if pa.tx is not None else frozenset(),
         m.slot(classes.key(pa.rx, ref)) if pa.rx is not None else NO_ANTENNA,
         _local_cached(pa.rx_relays, switch_id) if pa.rx is not None else frozenset(),
-        m.slot(classes.key(pa.alt, ref, pa.alt_partner))
+        m.slot(classes.alt_key(pa.alt, ref, pa.alt_partner))
         if pa.alt is not None else NO_ANTENNA,
         _local_cached(pa.alt_relays, switch_id) if pa.alt is not None else frozenset(),
         extra,
@@ -367,8 +370,10 @@ def _waivers(ix: ConfigIndex, st: State, classes: SlotClasses, m: SlotMap,
                         continue
                     if fam or _conflict_allowed(ix, st, a, b, pa, pb, x, x_is_alt,
                                                 y, y_is_alt):
-                        s1 = m.slot(classes.key(x, a, x_is_alt and pa.alt_partner))
-                        s2 = m.slot(classes.key(y, b, y_is_alt and pb.alt_partner))
+                        s1 = m.slot(classes.alt_key(x, a, pa.alt_partner) if x_is_alt
+                                    else classes.key(x, a))
+                        s2 = m.slot(classes.alt_key(y, b, pb.alt_partner) if y_is_alt
+                                    else classes.key(y, b))
                         out.add((s1, s2) if s1 <= s2 else (s2, s1))
     return frozenset(out)
 
@@ -383,15 +388,18 @@ def _conflict_allowed(ix: ConfigIndex, st: State, a: RadioRef, b: RadioRef,
                       pa: PortAntennas, pb: PortAntennas, x: int, x_is_alt: bool,
                       y: int, y_is_alt: bool) -> bool:
     """Whether two unrelated radios may hold the conflicting antennas ``x`` and ``y``:
-    their own antennas when the manual permits it (shared transmit antennas, 5.12), or
-    one radio's alternate that is the very antenna its partner receives on (5.13)."""
-    if not x_is_alt and not y_is_alt:
+    their own antennas when the manual permits it (shared transmit antennas, 5.12), one
+    radio's alternate that is the very antenna its partner receives on (5.13), or an
+    alternate and another radio's receive antenna (or alternate) the sharing rules permit
+    together.  Never an alternate and another radio's transmit antenna: that is a
+    receiver switched onto the antenna being transmitted on (5.9)."""
+    if x_is_alt == y_is_alt:
         return permitted(ix, st, a, b, x, y)
-    if x_is_alt and not y_is_alt:
-        return st.partners.get(a) == b and y == pb.rx and x == y
-    if y_is_alt and not x_is_alt:
-        return st.partners.get(b) == a and x == pa.rx and x == y
-    return False
+    if y_is_alt:
+        a, b, pa, pb, x, y = b, a, pb, pa, y, x
+    if st.partners.get(a) == b and y == pb.rx and x == y and pb.rx != pb.tx:
+        return True
+    return y != pb.tx and permitted(ix, st, a, b, x, y)
 
 
 __all__ = ["Built", "Inputs", "PortAntennas", "build", "inhibit_pairs", "radio_relays",

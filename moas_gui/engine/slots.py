@@ -18,6 +18,14 @@ server owns the mapping, per switch (ERRATA).  The rules:
   with the partner's slot is the one waived: the radio's ordinary slot for that
   antenna keeps every conflict, so the table never lets it take the antenna
   for transmit or receive while the partner holds it.
+* So does an alternate on an antenna radios may share (``SharedTX``, one that
+  conflicts with a ``SharedTX`` antenna, a shared-capable system's member):
+  the waiver that lets two interlocked radios hold a shared transmit antenna
+  is between their ordinary slots, and never covers the alternate's slot, so
+  the box refuses a receiver on an antenna another radio transmits on.  An
+  alternate slot is waived only against another radio's receive-only use of
+  the antenna with the sharing rules' permission, and the partner's receive
+  slot under 5.13.
 * When every key a switch could need fits in 63 slots, the mapping is fixed
   when the engine starts and the tables never change (apart from waivers).
 * Otherwise slots are given to keys when they come into use.  A slot given up
@@ -79,6 +87,10 @@ class SlotClasses:
             self.klass[a] = k
             self.members.setdefault(k, []).append(a)
         self.rep: dict[int, int] = {k: v[0] for k, v in self.members.items()}
+        self.own_alt: dict[int, bool] = _own_alternates(ix, self.per_radio, self.system_number)
+        """Antennas two radios may hold together with permission (a ``SharedTX`` antenna or
+        one conflicting with it, a shared-capable system's member): as an alternate they
+        have a slot of their own, so a waiver for the radio's own use never covers it."""
         self.any_owned = any(self.per_radio.values())
         """Whether any antenna is keyed per radio (only then can a conflict be waived)."""
         self.partners: dict[RadioRef, frozenset[RadioRef]] = _possible_partners(ix)
@@ -88,6 +100,12 @@ class SlotClasses:
         if not self.per_radio[antenna]:
             return (self.klass[antenna], None, False)
         return (self.klass[antenna], owner, as_partner_alt)
+
+    def alt_key(self, antenna: int, owner: RadioRef, partner_alt: bool = False) -> SlotKey:
+        """The key of ``owner``'s alternate ``antenna``: the alternate slot (the key's third
+        part) when it is the partner's receive antenna (5.13) or an antenna radios may share
+        (:attr:`own_alt`), else the radio's ordinary slot."""
+        return self.key(antenna, owner, partner_alt or self.own_alt[antenna])
 
     def conflict(self, k1: SlotKey, k2: SlotKey) -> bool:
         return self.ix.conflict(self.rep[k1[0]], self.rep[k2[0]])
@@ -122,6 +140,9 @@ class SlotClasses:
                         antennas.add(rule.antenna)
             for a in sorted(antennas):
                 keys.setdefault(self.key(a, ref), None)
+            for a in sorted(self._alternates(ref)):
+                if self.own_alt[a]:
+                    keys.setdefault(self.key(a, ref, True), None)
             for other in sorted(self.partners.get(ref, ())):
                 oinfo = ix.radios.get(other)
                 if oinfo is None:
@@ -130,6 +151,29 @@ class SlotClasses:
                     if self.per_radio[a] and not ix.antennas[a].tx_only:
                         keys.setdefault(self.key(a, ref, True), None)
         return sorted(keys, key=_order(self))
+
+
+    def _alternates(self, ref: RadioRef) -> set[int]:
+        """Antennas that can be ``ref``'s alternate other than its partner's (those come
+        with the partner keys): its ``Alternate`` rules' and its alternate receiver's."""
+        ix = self.ix
+        info = ix.radios[ref]
+        if info.kind is not RadioKind.MAIN:
+            return set()
+        out = {rule.antenna for rule in info.radio.alternate
+               if rule.antenna is not None and rule.antenna in ix.antennas}
+        if info.alt is not None and info.alt in ix.radios:
+            out |= set(ix.radios[info.alt].antennas)
+        return {a for a in out if not ix.antennas[a].tx_only}
+
+
+def _own_alternates(ix: ConfigIndex, per_radio: Mapping[int, bool],
+                    system_number: Mapping[int, int]) -> dict[int, bool]:
+    """Per antenna: whether as an alternate it has a slot of its own (keyed per radio, and a
+    shared-capable system's member or conflicting with a ``SharedTX`` antenna)."""
+    shared_tx = [b for b in ix.ids if ix.antennas[b].shared_tx]
+    return {a: per_radio[a] and (a in system_number or any(ix.conflict(a, b) for b in shared_tx))
+            for a in ix.ids}
 
 
 def _order(classes: SlotClasses) -> Callable[[SlotKey], tuple[int, RadioRef, bool]]:

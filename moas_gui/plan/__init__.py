@@ -52,6 +52,8 @@ FINDING_KINDS: dict[str, str] = {
     "band_taken": "a conflict or system that takes a whole band from another radio",
     "inhibit_every_same_band": "an inhibit that fires whenever two radios share a band",
     "alternate_never_usable": "an alternate that is never usable",
+    "alternate_can_be_transmitted_on": "an alternate receive antenna another radio can "
+                                       "transmit on",
 }
 """Every kind of finding, and what it means."""
 

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 from moas_gui.config.model import AlternateRule, RadioRef
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.index import ConfigIndex
+from moas_gui.engine.rules import related
 from moas_gui.engine.why import STEP_SAME_BAND_TAKEN
 
 if TYPE_CHECKING:
@@ -243,7 +244,62 @@ def _alternates(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
                 out.append(_finding("alternate_never_usable", lines.radio(ref, "Alternate"),
                                     f"an Alternate rule of {_radio(ref)} is never usable: {why}",
                                     (ref,)))
+            else:
+                out += _alternate_transmitted_on(plan, ix, lines, ref, rule)
     return out
+
+
+def _alternate_transmitted_on(plan: Plan, ix: ConfigIndex, lines: Lines, ref: RadioRef,
+                              rule: AlternateRule) -> list[Finding]:
+    """An ``Alternate`` rule whose alternate another radio can be transmitting on (the
+    antenna itself, or one conflicting with it, in the rule's range) while the rule is in
+    force: the radio setting it off, when it can transmit there, or any radio besides a
+    radio setting it off.  Then the rule gives no antenna (5.9), shared transmit antenna or
+    not (5.12 lets radios take turns transmitting, never listen while another transmits)."""
+    named = rule.antenna
+    assert named is not None
+    takers = _takers(ix, [o for o in plan.radios if not related(ix, ref, o)], named, rule)
+    if not takers:
+        return []
+    who = _list([_radio(o) + (f" (on {ix.name(y)}, which conflicts with it)" if y != named
+                              else "") for o, y in takers])
+    return [_finding(
+        "alternate_can_be_transmitted_on", lines.radio(ref, "Alternate"),
+        f"{_radio(ref)}'s Alternate rule switches it to receive on {ix.name(named)} "
+        f"(antenna {named}), but {who} can be transmitting on that antenna when the rule "
+        f"acts: then {_radio(ref)} receives on no antenna instead",
+        (ref, *(o for o, _y in takers)))]
+
+
+def _takers(ix: ConfigIndex, candidates: list[RadioRef], named: int,
+            rule: AlternateRule) -> list[tuple[RadioRef, int]]:
+    """The radios (each with an antenna) that can be transmitting on ``named`` or on an
+    antenna conflicting with it while ``rule`` acts."""
+    others = {ix.canon.get(a, a) for a in rule.other_antennas}
+
+    def awaited(y: int) -> bool:
+        return not others or ix.canon[y] in others
+
+    triggers = {o for o in candidates
+                if any(_transmits(ix, o, y, rule) and awaited(y) for y in ix.radios[o].paths)}
+    takers: list[tuple[RadioRef, int]] = []
+    for other in candidates:
+        for y in sorted(ix.radios[other].paths):
+            if not ix.conflict(named, y) or not _transmits(ix, other, y, rule):
+                continue
+            if (other in triggers and awaited(y)) or triggers - {other}:
+                takers.append((other, y))
+                break
+    return takers
+
+
+def _transmits(ix: ConfigIndex, radio: RadioRef, antenna: int, rule: AlternateRule) -> bool:
+    """Whether ``radio`` can transmit on ``antenna`` somewhere in ``rule``'s range."""
+    if ix.antennas[antenna].rx_only:
+        return False
+    return any((rule.range.upper is None or seg[0] <= rule.range.upper)
+               and (rule.range.lower is None or seg[1] >= rule.range.lower)
+               for seg in ix.radios[radio].segments.get(antenna, ()))
 
 
 def _rule_never_usable(ix: ConfigIndex, ref: RadioRef, rule: AlternateRule) -> str:

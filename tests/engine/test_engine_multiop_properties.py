@@ -25,8 +25,9 @@ from hypothesis import strategies as st
 import moas_gui.engine.engine as engine_module
 from moas_gui.config import parse_config
 from moas_gui.config.model import Config, RadioRef
-from moas_gui.engine import Engine, derive
+from moas_gui.engine import Engine, derive, rules
 from moas_gui.engine.index import ConfigIndex, RadioKind
+from moas_gui.engine.slots import SlotClasses
 
 CASES = Path(__file__).parent / "engine_cases"
 EXAMPLES = int(os.environ.get("MOAS_ENGINE_EXAMPLES", "12"))
@@ -82,12 +83,43 @@ def test_the_generated_stations_use_the_features_and_every_check_runs() -> None:
                     "RadioRXAntenna"):
         assert seen[feature] > 0, feature
     counts: Counter[str] = Counter()
-    for seed in range(4):  # the first evening already runs every check (the wide run:
+    for seed in range(4):  # the first evenings already run every check (the wide run:
         rng = random.Random(seed)  # benchmarks/bench_engine_properties.py)
-        cfg = multiop_station(rng)
+        cfg = multiop_station(rng, shared_alternates=seed % 2 == 1)
         run_evening(cfg, list(operations(cfg, rng, 200, frequencies_for(cfg))), counts=counts)
     for rule in MULTIOP_RULES:
         assert counts[rule] > 0, (rule, counts)
+
+
+def test_the_generated_stations_of_issue_29() -> None:
+    """Alternate rules whose alternate is a SharedTX antenna interlocked radios may hold,
+    partners on both sides, sub receivers with and without ports, three or more radios
+    sharing one antenna (all interlocked)."""
+    stations = [multiop_station(random.Random(seed)) for seed in range(200)]
+    shared_alt = [cfg for cfg in stations if any(
+        rule.antenna is not None and cfg.antenna(rule.antenna) is not None
+        and cfg.antenna(rule.antenna).shared_tx for r in cfg.radios for rule in r.alternate)]
+    assert len(shared_alt) >= 50
+    both_ways = [cfg for cfg in stations if any(
+        p in {q.ref for q in cfg.radios} and r.ref in cfg.radio(p.station, p.radio).partner
+        for r in cfg.radios for p in r.partner)]
+    assert both_ways
+    three = [cfg for cfg in stations if any(len(r.always) >= 2 for r in cfg.radios)]
+    assert three
+    seen: Counter[str] = Counter()
+    for cfg in shared_alt:
+        seen.update(features(cfg))
+    assert seen["sub receiver with port"] and seen["sub receiver without port"]
+
+
+@FAST
+@given(st.integers(0, 2**32 - 1))
+def test_no_receiver_on_a_transmit_antenna_on_issue_29s_stations(seed: int) -> None:
+    rng = random.Random(seed)
+    cfg = multiop_station(rng, shared_alternates=True)
+    counts: Counter[str] = Counter()
+    run_evening(cfg, list(operations(cfg, rng, 150, frequencies_for(cfg, only_configured=True))),
+                counts=counts)
 
 
 # -- each rule caught broken ------------------------------------------------------------------
@@ -174,3 +206,68 @@ def test_a_wrong_radio_rx_antenna_flag_is_caught(monkeypatch: pytest.MonkeyPatch
                   if (v.station, v.radio) == (1, 2) else v for v in e.radios())
     monkeypatch.setattr(e, "radios", lambda: views)
     assert _fired(e, facts, "RadioRXAntenna", "station 1 radio 2 on 39")
+
+
+# -- issue 29: no receiver on an antenna another radio transmits on ---------------------------
+
+def _replay_29(partners: bool = False) -> tuple[Engine, Facts]:
+    data = json.loads((CASES / "alternate-is-transmitting-antenna.json").read_text())
+    if partners:
+        data["moas"]["Radios"][0]["Partner"] = [{"Station": 2, "Radio": 1}]
+        data["moas"]["Radios"][1]["Partner"] = [{"Station": 1, "Radio": 1}]
+    cfg = parse_config(json.dumps(data["moas"]), "case").config
+    assert cfg is not None
+    e = Engine(cfg, now=0.0)
+    for i, ev in enumerate(data["events"]):
+        if ev["op"] == "frequency":
+            e.set_frequency(ev["station"], ev["radio"], ev["khz"], now=1.0 + i)
+        elif ev["op"] == "transmitting":
+            e.set_transmitting(ev["switch"], ev["port"], ev["on"], now=1.0 + i)
+        else:
+            e.select(*ev["args"], now=1.0 + i)
+    return e, Facts.of(cfg)
+
+
+def _old_available(ix: ConfigIndex, st: Any, ref: RadioRef, want: int | None,
+                   partner: RadioRef | None = None) -> int | None:
+    """A deliberately broken copy: the availability before issue 29 (the sharing rules'
+    permission let another radio's SharedTX transmit antenna be the alternate)."""
+    if want is None:
+        return None
+    for other, role, y in rules.users(ix, st, ref):
+        if other == partner and role == "rx":
+            continue
+        if ix.conflict(want, y) and not rules.permitted(ix, st, ref, other, want, y):
+            return None
+    return want
+
+
+def test_the_case_keeps_every_rule() -> None:
+    for partners in (False, True):
+        e, facts = _replay_29(partners)
+        counts: Counter[str] = Counter()
+        assert multiop_violations(e, facts, counts) == []
+        assert counts["receiver off transmit antenna"] > 0
+        assert counts["shared alternate armed"] == 1
+
+
+@pytest.mark.parametrize("partners", [False, True])
+def test_a_receiver_on_the_transmitting_antenna_is_caught(
+        partners: bool, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The engine patched back to the old availability: station 2 radio 1 listens on
+    antenna 0 while station 1 radio 1 transmits on it."""
+    monkeypatch.setattr(derive, "available", _old_available)
+    e, facts = _replay_29(partners)
+    assert _fired(e, facts, "receiver off transmit antenna",
+                  "station 2 radio 1 (port 2) listens on 0 while station 1 radio 1 transmits "
+                  "on 0")
+
+
+def test_a_loose_alternate_slot_is_caught(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The old engine, and the table before issue 29: the alternate used the radio's own
+    slot for the shared antenna, whose conflict with the other transmit slot was waived."""
+    monkeypatch.setattr(derive, "available", _old_available)
+    monkeypatch.setattr(SlotClasses, "alt_key",
+                        lambda self, a, owner, partner_alt=False: self.key(a, owner, partner_alt))
+    e, facts = _replay_29()
+    assert _fired(e, facts, "alternate slot table", "port 2's alternate 0")

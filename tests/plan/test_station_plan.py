@@ -17,6 +17,7 @@ from typing import Any
 import pytest
 
 from moas_gui.config import parse_config
+from moas_gui.config.model import RadioRef
 from moas_gui.plan import FINDING_KINDS, Plan, build_plan, plan_file
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -203,6 +204,61 @@ def test_an_alternate_never_usable_is_found_at_its_rule() -> None:
     assert len(found) == 1
     assert found[0].line == line_of(text, '"Alternate"')
     assert "covers no frequency of the rule's range" in found[0].text
+
+
+CASE_29 = ROOT / "tests" / "engine" / "engine_cases" / "alternate-is-transmitting-antenna.json"
+
+
+def test_an_alternate_another_radio_can_transmit_on_is_found_at_its_rule(
+        tmp_path: Path) -> None:
+    """Issue 29's station: station 2 radio 1's Alternate rule names the SharedTX antenna 0,
+    which station 1 radio 1 transmits on when it sets the rule off (5.9, 5.12).  As the case
+    has it (``OtherAntennas`` [0]) the rule is never usable; without ``OtherAntennas`` it
+    acts while station 1 radio 1 transmits anywhere, on antenna 0 too."""
+    moas = json.loads(CASE_29.read_text())["moas"]
+    text = json.dumps(moas, indent=2)
+    plan = build_plan(parse_config(text, "crafted.moas").unwrap(), "crafted.moas", text)
+    assert kinds(plan).count("alternate_never_usable") == 1
+    del moas["Radios"][1]["Alternate"][0]["OtherAntennas"]
+    text = json.dumps(moas, indent=2)
+    plan = build_plan(parse_config(text, "crafted.moas").unwrap(), "crafted.moas", text)
+    found = [f for f in plan.findings if f.kind == "alternate_can_be_transmitted_on"]
+    assert len(found) == 1, plan.findings
+    rule_line = line_of(text, '"Alternate"')
+    assert found[0].line == rule_line
+    assert found[0].text == (
+        "station 2 radio 1's Alternate rule switches it to receive on STX (antenna 0), but "
+        "station 1 radio 1 can be transmitting on that antenna when the rule acts: then "
+        "station 2 radio 1 receives on no antenna instead")
+    assert found[0].radios == (RadioRef(2, 1), RadioRef(1, 1))
+    # --check says it with the file's line, and the file stays usable (exit status 0)
+    path = tmp_path / "station.moas"
+    path.write_text(text)
+    done = run_server("--check", str(path))
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert f"{path}:{rule_line}: {found[0].text}" in done.stdout
+    # an alternate nobody can transmit on (a receive-only antenna) is no finding
+    moas["Radios"][1]["Alternate"][0]["Antenna"] = 1
+    text = json.dumps(moas, indent=2)
+    plan = build_plan(parse_config(text, "crafted.moas").unwrap(), "crafted.moas", text)
+    assert "alternate_can_be_transmitted_on" not in kinds(plan)
+
+
+def test_an_alternate_only_the_radio_setting_it_off_could_use_is_no_finding() -> None:
+    """Two radios: the rule acts while the other transmits on one of OtherAntennas, so the
+    other cannot be transmitting on the alternate then (ms-one-amp's rules)."""
+    radios = [{"Station": 1, "Radio": 1, "Switches": [{"Port": 1}],
+               "Alternate": [{"LowerFrequency": 14000, "UpperFrequency": 14350,
+                              "OtherAntennas": [0], "Antenna": 1}]},
+              {"Station": 1, "Radio": 2, "Switches": [{"Port": 2}]}]
+    both = {(1, 1): 1, (1, 2): 9}
+    plan, _text = station([ant(0, "Tribander", TWENTY, BOTH), ant(1, "Vertical", TWENTY, both)],
+                          radios)
+    assert "alternate_can_be_transmitted_on" not in kinds(plan)
+    radios[0]["Alternate"][0]["OtherAntennas"] = [0, 1]
+    plan, _text = station([ant(0, "Tribander", TWENTY, BOTH), ant(1, "Vertical", TWENTY, both)],
+                          radios)
+    assert kinds(plan).count("alternate_can_be_transmitted_on") == 1
 
 
 def test_every_kind_of_finding_is_tested_here() -> None:

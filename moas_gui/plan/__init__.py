@@ -261,7 +261,8 @@ class Plan:
         radio of a pair does while it transmits)."""
         text = f"{self.antennas_of(o)} \u2014 {o.text}"
         if o.inhibited and not o.inhibited_by:
-            plain = not o.note or o.note == f"{self.name(o.tx)} does not cover {o.khz:g} kHz"
+            plain = not o.note or o.tx is None or \
+                o.note == f"{self.name(o.tx)} does not cover {o.khz:g} kHz"
             text += "; cannot transmit" if plain else f"; cannot transmit: {o.note}"
         if o.inhibited_by and not alone:
             text += f"; {_cannot_transmit(o.inhibited_by)}"
@@ -279,38 +280,47 @@ class Plan:
         every = frozenset(x.name for x in self.bands)
         if len(set(summed.values())) == 1 and len(summed) == 2:
             notes.append(PairNote(summed[a], every, None, None,
-                                  "each cannot transmit while the other transmits "
-                                  "(it is inhibited)"))
+                                  "while one transmits, the other cannot (it is inhibited)"))
         else:
             for ref, where in summed.items():
                 other = b if ref == a else a
                 notes.append(PairNote(where, every, ref, None,
                                       f"{_radio(ref)} cannot transmit while "
                                       f"{_radio(other).lower()} transmits (it is inhibited)"))
-        heads = len(notes)
-        same: dict[str, list[list[PairNote]]] = {}
-        cross: dict[tuple[RadioRef | None, str], list[PairNote]] = {}
+        groups: dict[tuple[bool, RadioRef, str], list[tuple[PairScenario, Outcome, str]]] = {}
         for s in scenarios:
-            found = [n for o in (s.first, s.second)
-                     if (n := self._pair_note(s, o, o.radio in summed)) is not None]
-            if s.same_band:
-                same.setdefault(s.first.band, []).append(found)
-            for n in found if not s.same_band else ():
-                cross.setdefault((n.radio, n.text), []).append(n)
-        for group in cross.values():  # one radio getting the same on several pairs of bands
-            notes.append(PairNote(_or([n.where for n in group]),
-                                  frozenset().union(*(n.bands for n in group)),
-                                  group[0].radio, group[0].outcome, group[0].text))
-        merged: list[PairNote] = []
-        for band, per_khz in same.items():
-            generic = [[_generic(n.text, n.outcome.khz) for n in found if n.outcome]
-                       for found in per_khz]
-            if len(per_khz) > 1 and all(g == generic[0] for g in generic):
-                merged += [PairNote(f"both on {band}", n.bands, n.radio, n.outcome, text)
-                           for n, text in zip(per_khz[0], generic[0], strict=True)]
-            else:
-                merged += [n for found in per_khz for n in found]
-        return notes[:heads] + merged + notes[heads:]
+            for o in (s.first, s.second):
+                text = self._pair_text(o, o.radio in summed)
+                if text:
+                    key = (s.same_band, o.radio, _generic(text, o.khz))
+                    groups.setdefault(key, []).append((s, o, text))
+        ordered = sorted(groups.items(), key=lambda item: not item[0][0])
+        for (same, ref, generic), found in ordered:
+            where = (self._same_where([o for _s, o, _t in found]) if same
+                     else self._cross_where([s for s, _o, _t in found], scenarios))
+            bands = frozenset(b for s, _o, _t in found for b in (s.first.band, s.second.band))
+            text = found[0][2] if len(found) == 1 else generic
+            notes.append(PairNote(where, bands, ref, found[0][1], text))
+        return notes
+
+    def _same_where(self, outcomes: list[Outcome]) -> str:
+        """Where a pair on one band gives the same: whole bands by name, a frequency of a
+        band where the band's others differ, or "any band"."""
+        khz = {o.khz for o in outcomes}
+        whole = [b.name for b in self.bands if all(k in khz for k, _m in b.frequencies)]
+        parts = [b.name if b.name in whole else f"{b.name} at {b.at(k)}"
+                 for b in self.bands for k, _m in b.frequencies[:1 if b.name in whole else None]
+                 if k in khz]
+        if len(whole) == len(self.bands) > 1:
+            return "both on any band"
+        return "both on " + _or(parts)
+
+    @staticmethod
+    def _cross_where(found: list[PairScenario], scenarios: list[PairScenario]) -> str:
+        every = [s for s in scenarios if not s.same_band]
+        if len(found) == len(every) > 1:
+            return "any two bands"
+        return _or([f"{s.first.band} + {s.second.band}" for s in found])
 
     def _summed_inhibits(self, a: RadioRef, b: RadioRef,
                          scenarios: list[PairScenario]) -> dict[RadioRef, str]:
@@ -324,25 +334,23 @@ class Plan:
             others = [o for o in outs if o not in same]
             if any(o.inhibited_by for o in outs) and all(
                     o.inhibited_by or o.inhibited for o in outs):
-                summed[ref] = "every band and every two bands"
+                summed[ref] = "every band and every two bands" if others else "every band"
             elif any(o.inhibited_by for o in same) and all(
                     o.inhibited_by or o.inhibited for o in same) and not any(
                     o.inhibited_by for o in others):
                 summed[ref] = "every band they share"
         return summed
 
-    def _pair_note(self, s: PairScenario, o: Outcome, summed: bool) -> PairNote | None:
+    def _pair_text(self, o: Outcome, summed: bool) -> str:
+        """What a radio of a pair gets that differs from it alone (empty: nothing)."""
         alone = self.alone_at(o.radio, o.khz)
         moved = alone is None or not o.same_antennas(alone)
         if not moved and (not o.inhibited_by or summed):
-            return None
-        where = (f"both on {s.first.band} at {self.band(s.first.band).at(s.first.khz)}"
-                 if s.same_band else f"{s.first.band} + {s.second.band}")
-        text = (f"{_radio(o.radio)}: {self.describe(o, alone=summed)}"
-                if moved else f"{_radio(o.radio)}: {_cannot_transmit(o.inhibited_by)}")
-        if moved and alone is not None:
-            text += f" (alone: {self.antennas_of(alone)})"
-        return PairNote(where, frozenset({s.first.band, s.second.band}), o.radio, o, text)
+            return ""
+        if not moved:
+            return f"{_radio(o.radio)}: {_cannot_transmit(o.inhibited_by)}"
+        text = f"{_radio(o.radio)}: {self.describe(o, alone=summed)}"
+        return text + (f" (alone: {self.antennas_of(alone)})" if alone is not None else "")
 
     def to_text(self) -> str:
         """The plan as an operator reads it: the frequencies, what each radio gets alone,
@@ -374,11 +382,14 @@ class Plan:
                     where = n.where
                     out.append(f"  {where}:")
                 out.append(f"    {n.text}")
-            changed = {n.where for n in notes if n.outcome is not None}
-            if not notes:
-                out.append("  on every band and every two bands, each gets what it gets alone")
-            elif len(changed) < len(scenarios):
-                out.append("  on the other bands, each gets what it gets alone")
+            summed = self._summed_inhibits(a, b, scenarios)
+            quiet = [s for s in scenarios if not any(
+                self._pair_text(o, o.radio in summed) for o in (s.first, s.second))]
+            if len(quiet) == len(scenarios):
+                out.append("  each gets the antennas it gets alone, on every band"
+                           + (" and every two bands" if len(self.bands) > 1 else ""))
+            elif quiet:
+                out.append("  otherwise each gets the antennas it gets alone")
         out.append("")
         out.append(findings_text(self.findings, self.file))
         return "\n".join(out) + "\n"

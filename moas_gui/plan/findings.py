@@ -162,13 +162,13 @@ def _blocked_pairs(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
     out = []
     for (kind, line, cause, loss, a, b), bands in groups.items():
         what = "both transmit" if loss else "both have an antenna for their frequencies"
-        tail = f"; {loss}" if loss else ""
+        tail = f" ({loss})" if loss else ""
         if kind == "band_taken":
             text = (f"{_radio(a)} and {_radio(b)} cannot {what} when both are "
-                    f"on {_list(bands)}: {cause}{tail}")
+                    f"on {_list(bands)}{tail}: {cause}")
         else:
             text = (f"{_radio(a)} and {_radio(b)} cannot {what} on "
-                    f"{_list(bands)} (bands of {_radio(a)} + {_radio(b)}): {cause}{tail}")
+                    f"{_list(bands)} (bands of {_radio(a)} + {_radio(b)}){tail}: {cause}")
         out.append(_finding(kind, line, text, (a, b), tuple(bands)))
     return out
 

@@ -56,8 +56,10 @@ FREQUENCIES: dict[str, tuple[tuple[float, str], ...]] = {
 FINDING_KINDS: dict[str, str] = {
     "unreachable_antenna": "an antenna no radio can ever get",
     "radio_without_antenna": "a radio with no antenna on a band its antennas cover for others",
-    "band_pair_blocked": "two bands on which two radios cannot both have an antenna",
-    "band_taken": "a conflict or system that takes a whole band from another radio",
+    "band_pair_blocked": "two bands on which two radios cannot both have an antenna "
+                         "(or cannot both transmit)",
+    "band_taken": "a band on which two radios cannot both have an antenna "
+                  "(or cannot both transmit)",
     "inhibit_every_same_band": "an inhibit that fires whenever two radios share a band",
     "alternate_never_usable": "an alternate that is never usable",
 }
@@ -331,7 +333,8 @@ class Plan:
             outs = [o for s in scenarios for o in (s.first, s.second) if o.radio == ref]
             same = [o for s in scenarios if s.same_band
                     for o in (s.first, s.second) if o.radio == ref]
-            others = [o for o in outs if o not in same]
+            others = [o for s in scenarios if not s.same_band
+                      for o in (s.first, s.second) if o.radio == ref]
             if any(o.inhibited_by for o in outs) and all(
                     o.inhibited_by or o.inhibited for o in outs):
                 summed[ref] = "every band and every two bands" if others else "every band"

@@ -372,8 +372,8 @@ class Plan:
         for band in self.bands:
             out += self._alone_band(band)
         for a, b, meet, scenarios in self.pairs:
-            out += ["", f"{_radio(a)} and {_radio(b).lower()} ({meet}; "
-                        f"{_radio(a).lower()} tunes first)"]
+            out += ["", (f"{_radio(a)} and {_radio(b).lower()} ({meet}; "
+                         f"{_radio(a).lower()} tunes first)")]
             notes = self.pair_notes(a, b, scenarios)
             where = ""
             for n in notes:
@@ -409,8 +409,9 @@ class Plan:
                 == [(_generic(t, band.probe), _generic(p, band.probe), r)
                     for t, p, r in blocks[0]]
                 for block, (k, _m) in zip(blocks, band.frequencies, strict=True)):
-            heads = [(f"  {band.name} at " + " and ".join(
-                band.at(k) for k, _m in band.frequencies), band.probe, blocks[:1])]
+            heads: list[tuple[str, float | None, list[list[tuple[str, str, list[RadioRef]]]]]] \
+                = [(f"  {band.name} at " + " and ".join(
+                    band.at(k) for k, _m in band.frequencies), band.probe, blocks[:1])]
         else:
             heads = [(f"  {band.name} at {band.at(k)}", None, [block])
                      for (k, _m), block in zip(band.frequencies, blocks, strict=True)]

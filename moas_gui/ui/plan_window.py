@@ -103,7 +103,7 @@ class PlanWindow(QWidget):
         self.apply_filters()
         fit_to_screen(self, *SIZE)
 
-    def resizeEvent(self, event: QResizeEvent) -> None:  # noqa: N802 (Qt's name)
+    def resizeEvent(self, event: QResizeEvent) -> None:
         super().resizeEvent(event)
         self.findings.resizeRowsToContents()  # wrapped to the findings' new width
 
@@ -138,11 +138,11 @@ class PlanWindow(QWidget):
         other = b if o.radio == a else a
         text = note.text.split(": ", 1)[-1]
         why = text.split(" \u2014 ", 1)[-1]
-        single = not any(w in note.where for w in (",", " or ", "any"))
-        transmit = "cannot" if o.inhibited or o.inhibited_by else ""
+        transmit = "cannot" if o.inhibited else (
+            "cannot while the other transmits" if "cannot transmit while" in note.text else "")
         values = (f"{note.where}, with {_radio(other).lower()}",
                   ", ".join(sorted(note.bands, key=self._band_order)),
-                  f"{o.khz:g}" if single and len(note.bands) == 1 else "",
+                  f"{o.khz:g}" if f"{o.khz:g} kHz" in note.text else "",
                   _radio(o.radio), self.plan.name(o.tx), self.plan.name(o.rx), why, transmit)
         self._add_row(values, {6: note.text}, radios, note.bands)
 

@@ -168,7 +168,8 @@ def _blocked_pairs(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
                     f"on {_list(bands)}{tail}: {cause}")
         else:
             text = (f"{_radio(a)} and {_radio(b)} cannot {what} on "
-                    f"{_list(bands)} (bands of {_radio(a)} + {_radio(b)}){tail}: {cause}")
+                    f"{_list(bands)} (bands of {_radio(a)} + {_radio(b)}"
+                    f"{'; ' + loss if loss else ''}): {cause}")
         out.append(_finding(kind, line, text, (a, b), tuple(bands)))
     return out
 

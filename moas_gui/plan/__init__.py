@@ -5,13 +5,18 @@ Every answer comes from the real engine: each scenario runs on a fresh copy of a
 :class:`~moas_gui.engine.Engine` for the file (nothing is carried from one scenario to the
 next, and no switch is touched).  The scenarios:
 
-* each radio alone on each band (the bands its antennas cover, and always the contest
-  bands 160-10 m), tuned to the band's probe frequency (25 kHz above the band's lower
-  edge, or inside the first range an antenna covers there);
+* each radio alone on each band its station's antennas cover, at the band's CW and phone
+  frequencies (:data:`FREQUENCIES`, those an antenna covers) or at the frequencies the
+  operator names (``--plan-khz``);
 * each pair of radios that can meet (the same station, antennas or conflicts in common,
-  or an inhibit relation between them): both on the same band, and on every two different
-  bands; the lower-numbered radio tunes first.  Then each radio of the pair is keyed in
-  turn, to see whether the other is inhibited while it transmits.
+  or an inhibit relation between them): both on one band at each of its frequencies, and
+  on every two different bands at their first frequencies; the lower-numbered radio tunes
+  first.  Then each radio of the pair is keyed in turn, to see whether the other is
+  inhibited while it transmits.
+
+The text (:meth:`Plan.to_text`) and the window show an operator what matters: a pair only
+where it differs from each radio alone, no rule codes (``--json`` has every scenario with
+its rule, and each finding's kind).
 
 From the scenarios come *findings*: things a configuration author most likely did not
 mean, each with the line of the file to look at.  The plan is deterministic: the same

@@ -200,6 +200,23 @@ def plan(path: str, as_json: bool, khz: list[float] | None = None) -> int:
     return 0
 
 
+def _plan_command(args: argparse.Namespace) -> int:
+    """``--plan`` with its options (``--json``, ``--plan-khz``): 2 for options that do not go
+    together, else :func:`plan`'s status."""
+    if not args.plan:
+        what = "--json" if args.json else "--plan-khz"
+        print(f"moas-server: {what} goes with --plan", file=sys.stderr)
+        return 2
+    if not args.file:
+        print("moas-server: --plan needs a configuration file", file=sys.stderr)
+        return 2
+    khz, error = _plan_khz(args.plan_khz)
+    if error:
+        print(f"moas-server: --plan-khz: {error}", file=sys.stderr)
+        return 2
+    return plan(args.file, args.json, khz)
+
+
 def _plan_khz(values: list[str] | None) -> tuple[list[float] | None, str]:
     """The frequencies of ``--plan-khz`` (None: not given), or why they are not frequencies."""
     if not values:
@@ -499,19 +516,8 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if args.install_service:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
-    if (args.json or args.plan_khz) and not args.plan:
-        what = "--json" if args.json else "--plan-khz"
-        print(f"moas-server: {what} goes with --plan", file=sys.stderr)
-        return 2
-    if args.plan:
-        if not args.file:
-            print("moas-server: --plan needs a configuration file", file=sys.stderr)
-            return 2
-        khz, error = _plan_khz(args.plan_khz)
-        if error:
-            print(f"moas-server: --plan-khz: {error}", file=sys.stderr)
-            return 2
-        return plan(args.file, args.json, khz)
+    if args.plan or args.json or args.plan_khz:
+        return _plan_command(args)
     if args.check:
         if not args.file:
             print("moas-server: --check needs a configuration file", file=sys.stderr)

@@ -335,17 +335,13 @@ class Plan:
         they are not inhibited anyway (or in every same-band one, and no other), and where."""
         summed: dict[RadioRef, str] = {}
         for ref in (a, b):
-            outs = [o for s in scenarios for o in (s.first, s.second) if o.radio == ref]
-            same = [o for s in scenarios if s.same_band
-                    for o in (s.first, s.second) if o.radio == ref]
-            others = [o for s in scenarios if not s.same_band
-                      for o in (s.first, s.second) if o.radio == ref]
-            if any(o.inhibited_by for o in outs) and all(
-                    o.inhibited_by or o.inhibited for o in outs):
+            same = [o for s in scenarios if s.same_band for o in (s.first, s.second)
+                    if o.radio == ref]
+            others = [o for s in scenarios if not s.same_band for o in (s.first, s.second)
+                      if o.radio == ref]
+            if _always_inhibited(same + others):
                 summed[ref] = "every band and every two bands" if others else "every band"
-            elif any(o.inhibited_by for o in same) and all(
-                    o.inhibited_by or o.inhibited for o in same) and not any(
-                    o.inhibited_by for o in others):
+            elif _always_inhibited(same) and not any(o.inhibited_by for o in others):
                 summed[ref] = "every band they share"
         return summed
 
@@ -440,6 +436,13 @@ class Plan:
         for o in outcomes:
             groups.setdefault((self.describe(o), self.passed_over(o)), []).append(o.radio)
         return [(t, p, refs) for (t, p), refs in groups.items()]
+
+
+def _always_inhibited(outcomes: list[Outcome]) -> bool:
+    """Whether the other radio's transmit inhibits this one in some of ``outcomes`` and in
+    every one where it is not inhibited anyway."""
+    return any(o.inhibited_by for o in outcomes) and all(
+        o.inhibited_by or o.inhibited for o in outcomes)
 
 
 def _generic(text: str, khz: float) -> str:

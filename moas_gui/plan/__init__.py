@@ -356,6 +356,11 @@ class Plan:
         text = f"{_radio(o.radio)}: {self.describe(o, alone=summed)}"
         return text + (f" (alone: {self.antennas_of(alone)})" if alone is not None else "")
 
+    def not_planned(self) -> str:
+        """The bands' usual frequencies no antenna covers, in words (empty: none)."""
+        gaps = [f"{b.name} {k:g} kHz {m}".rstrip() for b in self.bands for k, m in b.uncovered]
+        return "Not planned (no antenna covers them): " + ", ".join(gaps) if gaps else ""
+
     def to_text(self) -> str:
         """The plan as an operator reads it: the frequencies, what each radio gets alone,
         what each pair of radios changes, and the findings."""
@@ -364,9 +369,8 @@ class Plan:
                "Bands: " + ", ".join(b.name for b in self.bands)
                + (" (at the frequencies below)" if named
                   else " (the bands the antennas cover, at their CW and phone frequencies)")]
-        gaps = [f"{b.name} {k:g} kHz {m}".rstrip() for b in self.bands for k, m in b.uncovered]
-        if gaps:
-            out.append("Not planned (no antenna covers them): " + ", ".join(gaps))
+        if self.not_planned():
+            out.append(self.not_planned())
         if not self.bands:
             out.append("  none: no antenna of the station covers a band the plan knows")
         out += ["", "Each radio alone"]

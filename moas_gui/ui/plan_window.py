@@ -58,6 +58,8 @@ class PlanWindow(QWidget):
         self.count_label = QLabel(self)
         filters.addWidget(self.count_label)
         layout.addLayout(filters)
+        if plan.not_planned():
+            layout.addWidget(QLabel(plan.not_planned(), self))
 
         self.table = QTableWidget(0, len(COLUMNS), self)
         self.table.setHorizontalHeaderLabels(COLUMNS)

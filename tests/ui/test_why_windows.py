@@ -4,6 +4,7 @@ server on the example file, its built-in switch, a real client connection)."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Any
 
@@ -117,3 +118,32 @@ def test_view_station_plan_shows_the_plan_filtered_by_radio_and_band(
         plan_window.close()
         await harness.close()
     run_on_qt(qapp, scenario())
+
+
+def test_the_plan_window_names_what_it_does_not_plan_and_fits_its_screen(qapp: Any) -> None:
+    """An 80 m dipole cut for CW: the window says 3800 kHz phone is not planned; the window
+    opens within the screen (tests/ui/test_screen_fit.py runs it at 1024x600)."""
+    from moas_gui.config import parse_config
+    from moas_gui.plan import build_plan
+    from moas_gui.ui.plan_window import PlanWindow
+    from moas_gui.ui.qt import QLabel
+
+    def ant(ident: int, name: str, low: int, high: int) -> dict[str, Any]:
+        return {"ID": ident, "ShortName": name, "LongName": name, "Conflicts": [ident],
+                "Control": [{"LowerFrequency": low, "UpperFrequency": high,
+                             "Stations": [{"Station": 1, "Radio": 1, "Relays": [ident]}]}]}
+
+    text = json.dumps({"Antennas": [ant(0, "Tribander", 14000, 14350),
+                                    ant(1, "CW dipole", 3500, 3600)],
+                       "Radios": [{"Station": 1, "Radio": 1, "Switches": [{"Port": 1}]}],
+                       "Switches": [{"ID": 1, "Port": "emulator"}]})
+    plan = build_plan(parse_config(text, "cw.moas").unwrap(), "cw.moas", text)
+    window = PlanWindow(plan)
+    window.show()
+    labels = [label.text() for label in window.findChildren(QLabel)]
+    assert "Not planned (no antenna covers them): 80 m 3800 kHz phone" in labels
+    assert [window.band_filter.itemData(i) for i in range(window.band_filter.count())] == [
+        None, "80 m", "20 m"]
+    area = window.screen().availableGeometry()
+    assert area.contains(window.frameGeometry())
+    window.close()

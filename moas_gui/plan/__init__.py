@@ -372,11 +372,11 @@ class Plan:
         if self.not_planned():
             out.append(self.not_planned())
         if not self.bands:
-            out.append("  none: no antenna of the station covers a band the plan knows")
-        out += ["", "Each radio alone"]
+            out[1] = "Bands: none (no antenna of the station covers a band the plan knows)"
+        out += ["", "Each radio alone"] if self.bands else []
         for band in self.bands:
             out += self._alone_band(band)
-        for a, b, meet, scenarios in self.pairs:
+        for a, b, meet, scenarios in self.pairs if self.bands else ():
             out += ["", (f"{_radio(a)} and {_radio(b).lower()} ({meet}; "
                          f"{_radio(a).lower()} tunes first)")]
             notes = self.pair_notes(a, b, scenarios)

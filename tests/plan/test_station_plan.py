@@ -104,6 +104,14 @@ def test_a_frequency_no_antenna_covers_is_named_not_planned() -> None:
     assert "Not planned (no antenna covers them): 80 m 3800 kHz phone" in plan.to_text()
 
 
+def test_a_station_covering_no_band_says_so() -> None:
+    plan, _ = station([ant(0, "Marine whip", [(8000, 9000)], BOTH)])
+    assert plan.bands == () and plan.alone == []
+    assert plan.to_text().splitlines()[:3] == [
+        "Station plan of crafted.moas",
+        "Bands: none (no antenna of the station covers a band the plan knows)", ""]
+
+
 def test_plan_khz_plans_the_frequencies_the_operator_names() -> None:
     done = run_server("--plan", "--plan-khz", "14010,14200", "--plan-khz", "1830",
                       "examples/two-op-shared-tx.moas")

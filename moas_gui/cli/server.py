@@ -54,11 +54,15 @@ def _parser() -> argparse.ArgumentParser:
                         help="check FILE, print every problem (or a summary) and exit; "
                              "exit status 0 only when the file is usable")
     parser.add_argument("--plan", action="store_true",
-                        help="print FILE's station plan: for every band and every pair of "
-                             "radios, which antennas each radio gets and why, then the "
+                        help="print FILE's station plan: on every band the antennas cover "
+                             "(at its CW and phone frequencies), which antennas each radio "
+                             "gets and why, what each pair of radios changes, then the "
                              "findings; exit status 0 when the file is usable")
     parser.add_argument("--json", action="store_true",
                         help="with --plan: print the plan as JSON")
+    parser.add_argument("--plan-khz", metavar="KHZ[,KHZ...]", action="append",
+                        help="with --plan: plan these frequencies (kHz, comma-separated) "
+                             "instead of each covered band's CW and phone frequencies")
     parser.add_argument("--headless", action="store_true",
                         help="run without a window, logging to standard error")
     add_log_level(parser, "info", "what the headless server logs")
@@ -239,16 +243,54 @@ def check(path: str) -> int:
     return 0
 
 
-def plan(path: str, as_json: bool) -> int:
-    """Print the station plan of ``path``; 0 when the file is usable."""
+def plan(path: str, as_json: bool, khz: list[float] | None = None) -> int:
+    """Print the station plan of ``path`` (at ``khz``, when given); 0 when the file is
+    usable."""
     from moas_gui.plan import plan_file
 
-    found, error = plan_file(path)
+    try:
+        found, error = plan_file(path, khz)
+    except ValueError as exc:  # a frequency in no band
+        print(f"moas-server: --plan-khz: {exc}", file=sys.stderr)
+        return 2
     if found is None:
         print(error, file=sys.stderr)
         return 1
     sys.stdout.write(found.to_json() if as_json else found.to_text())
     return 0
+
+
+def _plan_command(args: argparse.Namespace) -> int:
+    """``--plan`` with its options (``--json``, ``--plan-khz``): 2 for options that do not go
+    together, else :func:`plan`'s status."""
+    if not args.plan:
+        what = "--json" if args.json else "--plan-khz"
+        print(f"moas-server: {what} goes with --plan", file=sys.stderr)
+        return 2
+    if not args.file:
+        print("moas-server: --plan needs a configuration file", file=sys.stderr)
+        return 2
+    khz, error = _plan_khz(args.plan_khz)
+    if error:
+        print(f"moas-server: --plan-khz: {error}", file=sys.stderr)
+        return 2
+    return plan(args.file, args.json, khz)
+
+
+def _plan_khz(values: list[str] | None) -> tuple[list[float] | None, str]:
+    """The frequencies of ``--plan-khz`` (None: not given), or why they are not frequencies."""
+    if not values:
+        return None, ""
+    out = []
+    for word in (w.strip() for v in values for w in v.split(",")):
+        try:
+            khz = float(word)
+        except ValueError:
+            return None, f"{word!r} is not a frequency in kHz (for example 14025,14250)"
+        if not khz > 0:
+            return None, f"{word!r} is not a frequency in kHz above 0"
+        out.append(khz)
+    return out, ""
 
 
 def _options(args: argparse.Namespace) -> ServerOptions:
@@ -539,14 +581,8 @@ def main(argv: list[str] | None = None) -> int:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
     if args.probe:
         return probe(args)
-    if args.json and not args.plan:
-        print("moas-server: --json goes with --plan", file=sys.stderr)
-        return 2
-    if args.plan:
-        if not args.file:
-            print("moas-server: --plan needs a configuration file", file=sys.stderr)
-            return 2
-        return plan(args.file, args.json)
+    if args.plan or args.json or args.plan_khz:
+        return _plan_command(args)
     if args.check:
         if not args.file:
             print("moas-server: --check needs a configuration file", file=sys.stderr)

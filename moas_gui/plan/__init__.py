@@ -5,13 +5,18 @@ Every answer comes from the real engine: each scenario runs on a fresh copy of a
 :class:`~moas_gui.engine.Engine` for the file (nothing is carried from one scenario to the
 next, and no switch is touched).  The scenarios:
 
-* each radio alone on each band (the bands its antennas cover, and always the contest
-  bands 160-10 m), tuned to the band's probe frequency (25 kHz above the band's lower
-  edge, or inside the first range an antenna covers there);
+* each radio alone on each band its station's antennas cover, at the band's CW and phone
+  frequencies (:data:`FREQUENCIES`, those an antenna covers) or at the frequencies the
+  operator names (``--plan-khz``);
 * each pair of radios that can meet (the same station, antennas or conflicts in common,
-  or an inhibit relation between them): both on the same band, and on every two different
-  bands; the lower-numbered radio tunes first.  Then each radio of the pair is keyed in
-  turn, to see whether the other is inhibited while it transmits.
+  or an inhibit relation between them): both on one band at each of its frequencies, and
+  on every two different bands at their first frequencies; the lower-numbered radio tunes
+  first.  Then each radio of the pair is keyed in turn, to see whether the other is
+  inhibited while it transmits.
+
+The text (:meth:`Plan.to_text`) and the window show an operator what matters: a pair only
+where it differs from each radio alone, no rule codes (``--json`` has every scenario with
+its rule, and each finding's kind).
 
 From the scenarios come *findings*: things a configuration author most likely did not
 mean, each with the line of the file to look at.  The plan is deterministic: the same
@@ -42,14 +47,24 @@ BANDS: tuple[tuple[str, float, float], ...] = (
     ("70 cm", 420000, 450000),
 )
 """Amateur bands the plan knows (name, lower and upper edge in kHz)."""
-CONTEST_BANDS = frozenset({"160 m", "80 m", "40 m", "20 m", "15 m", "10 m"})
-"""Always in the plan, covered or not."""
+FREQUENCIES: dict[str, tuple[tuple[float, str], ...]] = {
+    "160 m": ((1825, "CW"), (1850, "phone")), "80 m": ((3525, "CW"), (3800, "phone")),
+    "60 m": ((5370, ""),), "40 m": ((7025, "CW"), (7200, "phone")),
+    "30 m": ((10125, "CW"),), "20 m": ((14025, "CW"), (14250, "phone")),
+    "17 m": ((18080, "CW"), (18130, "phone")), "15 m": ((21025, "CW"), (21300, "phone")),
+    "12 m": ((24900, "CW"), (24950, "phone")), "10 m": ((28025, "CW"), (28400, "phone")),
+    "6 m": ((50090, "CW"), (50150, "phone")), "4 m": ((70250, ""),),
+    "2 m": ((144050, "CW"), (144300, "phone")), "70 cm": ((432050, "CW"), (432200, "phone")),
+}
+"""The frequencies a band is planned on (kHz, mode), where the station's antennas cover them."""
 
 FINDING_KINDS: dict[str, str] = {
     "unreachable_antenna": "an antenna no radio can ever get",
     "radio_without_antenna": "a radio with no antenna on a band its antennas cover for others",
-    "band_pair_blocked": "two bands on which two radios cannot both have an antenna",
-    "band_taken": "a conflict or system that takes a whole band from another radio",
+    "band_pair_blocked": "two bands on which two radios cannot both have an antenna "
+                         "(or cannot both transmit)",
+    "band_taken": "a band on which two radios cannot both have an antenna "
+                  "(or cannot both transmit)",
     "inhibit_every_same_band": "an inhibit that fires whenever two radios share a band",
     "alternate_never_usable": "an alternate that is never usable",
     "alternate_can_be_transmitted_on": "an alternate receive antenna another radio can "
@@ -64,10 +79,22 @@ class Band:
     low: float
     high: float
     probe: float
-    """The frequency the scenarios tune to."""
+    """The band's first planned frequency (the one the pairs of radios on two bands use)."""
+    frequencies: tuple[tuple[float, str], ...] = ()
+    """Every planned frequency (kHz, mode: "CW", "phone" or "" for one the operator named
+    or one inside the only range an antenna covers)."""
+    uncovered: tuple[tuple[float, str], ...] = ()
+    """The band's usual frequencies no antenna of the station covers (left out)."""
 
     def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "low": self.low, "high": self.high, "probe_khz": self.probe}
+        return {"name": self.name, "low": self.low, "high": self.high, "probe_khz": self.probe,
+                "frequencies": [{"khz": k, "mode": m} for k, m in self.frequencies],
+                "uncovered": [{"khz": k, "mode": m} for k, m in self.uncovered]}
+
+    def at(self, khz: float) -> str:
+        """``"14025 kHz CW"``: a planned frequency in words."""
+        mode = dict(self.frequencies).get(khz, "")
+        return f"{khz:g} kHz {mode}".rstrip()
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,15 +115,21 @@ class Outcome:
     """The radio has antennas covering its frequency (not merely the nearest ones)."""
     inhibited_by: str = ""
     """In a pair: why this radio is inhibited while the other transmits (empty: it is not)."""
+    receives: bool = False
+    """The radio has a receive antenna covering its frequency (whether or not it can transmit)."""
 
     @property
     def has_antenna(self) -> bool:
         """The radio has an antenna that covers its frequency."""
         return self.suitable
 
+    def same_antennas(self, other: Outcome) -> bool:
+        return (self.tx, self.rx, self.inhibited) == (other.tx, other.rx, other.inhibited)
+
     def to_dict(self) -> dict[str, Any]:
         return {"station": self.radio.station, "radio": self.radio.radio, "band": self.band,
                 "khz": self.khz, "tx": self.tx, "rx": self.rx, "suitable": self.suitable,
+                "receives": self.receives,
                 "inhibited": self.inhibited,
                 "note": self.note,
                 "why": {"rule": self.rule, "text": self.text,
@@ -120,8 +153,23 @@ class PairScenario:
 
 
 @dataclass(frozen=True, slots=True)
+class PairNote:
+    """One thing a pair of radios changes from each radio alone (what the plan's text and
+    window show of a pair)."""
+
+    where: str
+    """``"both on 20 m at 14025 kHz CW"``, ``"160 m + 80 m"``, or ``"every band"``."""
+    bands: frozenset[str]
+    radio: RadioRef | None
+    outcome: Outcome | None
+    """The radio's outcome (None: a note on both radios)."""
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
 class Finding:
     kind: str
+    """The finding's rule code (one of :data:`FINDING_KINDS`): shown in ``--json`` only."""
     line: int
     """The line of the file to look at (0: the file as a whole)."""
     text: str
@@ -148,6 +196,13 @@ class Plan:
 
     def name(self, antenna: int | None) -> str:
         return "none" if antenna is None else self.antennas.get(antenna, f"Antenna {antenna}")
+
+    def band(self, name: str) -> Band:
+        return next(b for b in self.bands if b.name == name)
+
+    def alone_at(self, ref: RadioRef, khz: float) -> Outcome | None:
+        """What ``ref`` gets alone at ``khz`` (None: not planned there)."""
+        return next((o for o in self.alone if o.radio == ref and o.khz == khz), None)
 
     # -- output -----------------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
@@ -190,51 +245,216 @@ class Plan:
         return "{\n" + ",\n".join(parts) + "\n}\n"
 
     def passed_over(self, o: Outcome) -> str:
-        """The antennas ``o`` passed over, grouped by reason, lowest first."""
+        """The antennas ``o`` passed over for a reason other than not covering its frequency
+        (those are many and say nothing), grouped by reason, lowest first."""
         groups: dict[str, list[str]] = {}
         for a, reason in o.passed_over:
-            groups.setdefault(reason, []).append(self.name(a))
+            if not reason.startswith("does not cover"):
+                groups.setdefault(reason, []).append(self.name(a))
         return "; ".join(f"{', '.join(names)}: {reason}" for reason, names in groups.items())
 
-    def _antennas(self, o: Outcome) -> str:
+    def antennas_of(self, o: Outcome) -> str:
+        """The antennas of ``o`` in words, transmit and receive told apart."""
         if o.tx is None and o.rx is None:
             return "no antenna"
         if o.tx == o.rx:
             return self.name(o.tx)
-        return f"TX {self.name(o.tx)}, RX {self.name(o.rx)}"
+        if o.tx is None:
+            return f"no transmit antenna, receives on {self.name(o.rx)}"
+        if o.rx is None:
+            return f"transmits on {self.name(o.tx)}, no receive antenna"
+        return f"transmits on {self.name(o.tx)}, receives on {self.name(o.rx)}"
 
-    def _line(self, o: Outcome) -> str:
-        text = f"{_radio(o.radio)}: {self._antennas(o)} \u2014 {o.text} [{o.rule}]"
+    def describe(self, o: Outcome, alone: bool = True) -> str:
+        """What ``o`` got and why, without the radio (``alone``: leave out what the other
+        radio of a pair does while it transmits)."""
+        text = f"{self.antennas_of(o)} \u2014 {o.text}"
         if o.inhibited and not o.inhibited_by:
-            text += f"; inhibited: {o.note}" if o.note else "; inhibited"
-        if o.inhibited_by:
-            text += f"; {o.inhibited_by}"
+            plain = not o.note or o.tx is None or \
+                o.note == f"{self.name(o.tx)} does not cover {o.khz:g} kHz"
+            text += "; cannot transmit" if plain else f"; cannot transmit: {o.note}"
+        if o.inhibited_by and not alone:
+            text += f"; {_cannot_transmit(o.inhibited_by)}"
         return text
 
+    def pair_notes(self, a: RadioRef, b: RadioRef,
+                   scenarios: list[PairScenario]) -> list[PairNote]:
+        """What the pair ``a``, ``b`` changes from each radio alone: a note per radio that
+        gets other antennas than alone, and one for an inhibit while the other transmits
+        (once for the pair when it holds wherever the radio is not inhibited anyway, on every
+        band or on every band they share).  Where a band's frequencies give the same notes,
+        they are one note for the band."""
+        summed = self._summed_inhibits(a, b, scenarios)
+        notes: list[PairNote] = []
+        every = frozenset(x.name for x in self.bands)
+        if len(set(summed.values())) == 1 and len(summed) == 2:
+            notes.append(PairNote(summed[a], every, None, None,
+                                  "while one transmits, the other cannot (it is inhibited)"))
+        else:
+            for ref, where in summed.items():
+                other = b if ref == a else a
+                notes.append(PairNote(where, every, ref, None,
+                                      f"{_radio(ref)} cannot transmit while "
+                                      f"{_radio(other).lower()} transmits (it is inhibited)"))
+        groups: dict[tuple[bool, RadioRef, str], list[tuple[PairScenario, Outcome, str]]] = {}
+        for s in scenarios:
+            for o in (s.first, s.second):
+                text = self._pair_text(o, o.radio in summed)
+                if text:
+                    key = (s.same_band, o.radio, _generic(text, o.khz))
+                    groups.setdefault(key, []).append((s, o, text))
+        ordered = sorted(groups.items(), key=lambda item: not item[0][0])
+        for (same, ref, generic), found in ordered:
+            where = (self._same_where([o for _s, o, _t in found]) if same
+                     else self._cross_where([s for s, _o, _t in found], scenarios))
+            bands = frozenset(b for s, _o, _t in found for b in (s.first.band, s.second.band))
+            text = found[0][2] if len(found) == 1 else generic
+            notes.append(PairNote(where, bands, ref, found[0][1], text))
+        return notes
+
+    def _same_where(self, outcomes: list[Outcome]) -> str:
+        """Where a pair on one band gives the same: whole bands by name, a frequency of a
+        band where the band's others differ, or "any band"."""
+        khz = {o.khz for o in outcomes}
+        whole = [b.name for b in self.bands if all(k in khz for k, _m in b.frequencies)]
+        parts = [b.name if b.name in whole else f"{b.name} at {b.at(k)}"
+                 for b in self.bands for k, _m in b.frequencies[:1 if b.name in whole else None]
+                 if k in khz]
+        if len(whole) == len(self.bands) > 1:
+            return "both on any band"
+        return "both on " + _or(parts)
+
+    @staticmethod
+    def _cross_where(found: list[PairScenario], scenarios: list[PairScenario]) -> str:
+        every = [s for s in scenarios if not s.same_band]
+        if len(found) == len(every) > 1:
+            return "any two bands"
+        return _or([f"{s.first.band} + {s.second.band}" for s in found])
+
+    def _summed_inhibits(self, a: RadioRef, b: RadioRef,
+                         scenarios: list[PairScenario]) -> dict[RadioRef, str]:
+        """The radios of a pair inhibited while the other transmits in every scenario where
+        they are not inhibited anyway (or in every same-band one, and no other), and where."""
+        summed: dict[RadioRef, str] = {}
+        for ref in (a, b):
+            same = [o for s in scenarios if s.same_band for o in (s.first, s.second)
+                    if o.radio == ref]
+            others = [o for s in scenarios if not s.same_band for o in (s.first, s.second)
+                      if o.radio == ref]
+            if _always_inhibited(same + others):
+                summed[ref] = "every band and every two bands" if others else "every band"
+            elif _always_inhibited(same) and not any(o.inhibited_by for o in others):
+                summed[ref] = "every band they share"
+        return summed
+
+    def _pair_text(self, o: Outcome, summed: bool) -> str:
+        """What a radio of a pair gets that differs from it alone (empty: nothing)."""
+        alone = self.alone_at(o.radio, o.khz)
+        moved = alone is None or not o.same_antennas(alone)
+        if not moved and (not o.inhibited_by or summed):
+            return ""
+        if not moved:
+            return f"{_radio(o.radio)}: {_cannot_transmit(o.inhibited_by)}"
+        text = f"{_radio(o.radio)}: {self.describe(o, alone=summed)}"
+        return text + (f" (alone: {self.antennas_of(alone)})" if alone is not None else "")
+
+    def not_planned(self) -> str:
+        """The bands' usual frequencies no antenna covers, in words (empty: none)."""
+        gaps = [f"{b.name} {k:g} kHz {m}".rstrip() for b in self.bands for k, m in b.uncovered]
+        return "Not planned (no antenna covers them): " + ", ".join(gaps) if gaps else ""
+
     def to_text(self) -> str:
+        """The plan as an operator reads it: the frequencies, what each radio gets alone,
+        what each pair of radios changes, and the findings."""
+        named = any(m == "" for b in self.bands for _k, m in b.frequencies)
         out = [f"Station plan of {self.file}",
-               "Bands: " + ", ".join(f"{b.name} ({b.probe:g} kHz)" for b in self.bands), ""]
-        out.append("Each radio alone")
+               "Bands: " + ", ".join(b.name for b in self.bands)
+               + (" (at the frequencies below)" if named
+                  else " (the bands the antennas cover, at their CW and phone frequencies)")]
+        if self.not_planned():
+            out.append(self.not_planned())
+        if not self.bands:
+            out[1] = "Bands: none (no antenna of the station covers a band the plan knows)"
+        out += ["", "Each radio alone"] if self.bands else []
         for band in self.bands:
-            out.append(f"  {band.name} at {band.probe:g} kHz")
-            for o in self.alone:
-                if o.band != band.name:
+            out += self._alone_band(band)
+        for a, b, meet, scenarios in self.pairs if self.bands else ():
+            out += ["", (f"{_radio(a)} and {_radio(b).lower()} ({meet}; "
+                         f"{_radio(a).lower()} tunes first)")]
+            notes = self.pair_notes(a, b, scenarios)
+            where = ""
+            for n in notes:
+                if n.outcome is None:
+                    out.append(f"  on {n.where}: {n.text}")
+                    where = ""
                     continue
-                out.append(f"    {self._line(o)}")
-                if o.passed_over:
-                    out.append(f"      passed over: {self.passed_over(o)}")
-        for a, b, meet, scenarios in self.pairs:
-            out.append("")
-            out.append(f"{_radio(a)} and {_radio(b)} ({meet}; {_radio(a)} tunes first)")
-            for s in scenarios:
-                where = (f"both on {s.first.band}" if s.same_band
-                         else f"{s.first.band} + {s.second.band}")
-                out.append(f"  {where}:")
-                out.append(f"    {self._line(s.first)}")
-                out.append(f"    {self._line(s.second)}")
+                if n.where != where:
+                    where = n.where
+                    out.append(f"  {where}:")
+                out.append(f"    {n.text}")
+            summed = self._summed_inhibits(a, b, scenarios)
+            quiet = [s for s in scenarios if not any(
+                self._pair_text(o, o.radio in summed) for o in (s.first, s.second))]
+            if len(quiet) == len(scenarios):
+                out.append("  each gets the antennas it gets alone, on every band"
+                           + (" and every two bands" if len(self.bands) > 1 else ""))
+            elif quiet:
+                out.append("  otherwise each gets the antennas it gets alone")
         out.append("")
         out.append(findings_text(self.findings, self.file))
         return "\n".join(out) + "\n"
+
+    def _alone_band(self, band: Band) -> list[str]:
+        """A band's lines of the radios alone: one block for the band when its frequencies
+        read the same (the frequency said as "its frequency"), else a block per frequency."""
+        blocks = [self._alone_groups([o for o in self.alone if o.khz == k], k)
+                  for k, _m in band.frequencies]
+        if not blocks:
+            return []
+        if len(blocks) > 1 and all(
+                [(_generic(t, k), _generic(p, k), r) for t, p, r in block]
+                == [(_generic(t, band.probe), _generic(p, band.probe), r)
+                    for t, p, r in blocks[0]]
+                for block, (k, _m) in zip(blocks, band.frequencies, strict=True)):
+            heads: list[tuple[str, float | None, list[list[tuple[str, str, list[RadioRef]]]]]] \
+                = [(f"  {band.name} at " + " and ".join(
+                    band.at(k) for k, _m in band.frequencies), band.probe, blocks[:1])]
+        else:
+            heads = [(f"  {band.name} at {band.at(k)}", None, [block])
+                     for (k, _m), block in zip(band.frequencies, blocks, strict=True)]
+        out = []
+        for head, generic, (block,) in heads:
+            out.append(head)
+            for text, passed, refs in block:
+                if generic is not None:
+                    text, passed = _generic(text, generic), _generic(passed, generic)
+                out.append(f"    {_radios(refs)}: {text}")
+                if passed:
+                    out.append(f"      passed over: {passed}")
+        return out
+
+    def _alone_groups(self, outcomes: list[Outcome],
+                      khz: float) -> list[tuple[str, str, list[RadioRef]]]:
+        """The radios at one frequency, those that get the same for the same reason as one
+        group: (what they get, what they passed over, the radios)."""
+        del khz
+        groups: dict[tuple[str, str], list[RadioRef]] = {}
+        for o in outcomes:
+            groups.setdefault((self.describe(o), self.passed_over(o)), []).append(o.radio)
+        return [(t, p, refs) for (t, p), refs in groups.items()]
+
+
+def _always_inhibited(outcomes: list[Outcome]) -> bool:
+    """Whether the other radio's transmit inhibits this one in some of ``outcomes`` and in
+    every one where it is not inhibited anyway."""
+    return any(o.inhibited_by for o in outcomes) and all(
+        o.inhibited_by or o.inhibited for o in outcomes)
+
+
+def _generic(text: str, khz: float) -> str:
+    """``text`` with ``khz`` said as "its frequency" (to tell whether two frequencies of a
+    band read the same)."""
+    return text.replace(f"{khz:g} kHz", "its frequency")
 
 
 def findings_text(findings: Iterable[Finding], file: str) -> str:
@@ -243,7 +463,7 @@ def findings_text(findings: Iterable[Finding], file: str) -> str:
     lines = [f"Findings ({len(items)})"]
     for f in items:
         where = f"{file}:{f.line}" if f.line else file
-        lines.append(f"  {where}: {f.text} [{f.kind}]")
+        lines.append(f"  {where}: {f.text}")
     if not items:
         lines.append("  none")
     return "\n".join(lines)
@@ -251,6 +471,36 @@ def findings_text(findings: Iterable[Finding], file: str) -> str:
 
 def _radio(ref: RadioRef) -> str:
     return f"Station {ref.station} radio {ref.radio}"
+
+
+def _radios(refs: list[RadioRef]) -> str:
+    """``"Station 1 radios 1 and 2, station 2 radio 1"``."""
+    by: dict[int, list[int]] = {}
+    for ref in refs:
+        by.setdefault(ref.station, []).append(ref.radio)
+    parts = []
+    for st, numbers in by.items():
+        if len(numbers) == 1:
+            parts.append(f"station {st} radio {numbers[0]}")
+        else:
+            parts.append(f"station {st} radios {_and([str(n) for n in numbers])}")
+    text = _and(parts)
+    return text[:1].upper() + text[1:]
+
+
+def _and(items: list[str]) -> str:
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+
+
+def _or(items: list[str]) -> str:
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " or " + items[-1]
+
+
+def _cannot_transmit(reason: str) -> str:
+    """An inhibit while another radio transmits, in words that say it is about transmit."""
+    if reason.startswith("inhibited while "):
+        return f"cannot transmit while {reason.removeprefix('inhibited while ')}"
+    return f"cannot transmit: {reason}"
 
 
 # -- where things are in the file ---------------------------------------------------------------
@@ -333,31 +583,55 @@ def _scalar(group: JObject, key: str) -> object:
 
 # -- the scenarios ------------------------------------------------------------------------------
 
-def bands_of(ix: ConfigIndex) -> tuple[Band, ...]:
-    """The contest bands and every other band some radio's antenna covers part of."""
+def bands_of(ix: ConfigIndex, khz: Iterable[float] | None = None) -> tuple[Band, ...]:
+    """The bands the station's antennas cover, each with its CW and phone frequencies
+    (:data:`FREQUENCIES`) that some antenna covers; or, for ``khz``, the bands of those
+    frequencies, each planned at the ones named (:class:`ValueError` for a frequency in no
+    band the plan knows)."""
+    if khz is not None:
+        return _named_bands(sorted(set(khz)))
     segments = [seg for ref in ix.mains for seg in ix.radios[ref].bands]
     out = []
     for name, low, high in BANDS:
         touching = sorted(s for s in segments if s[0] <= high and s[1] >= low)
-        if not touching and name not in CONTEST_BANDS:
+        if not touching:
             continue
-        probe = low + 25 if high - low > 50 else (low + high) / 2
-        if touching and not any(s[0] <= probe <= s[1] for s in touching):
+        usual = FREQUENCIES[name]
+        covered = tuple(f for f in usual if any(s[0] <= f[0] <= s[1] for s in touching))
+        uncovered = tuple(f for f in usual if f not in covered)
+        if not covered:
             first = touching[0]
-            probe = (max(first[0], low) + min(first[1], high)) / 2
-        out.append(Band(name, float(low), float(high), float(probe)))
+            covered = (((max(first[0], low) + min(first[1], high)) / 2, ""),)
+        out.append(Band(name, float(low), float(high), float(covered[0][0]),
+                        tuple((float(k), m) for k, m in covered),
+                        tuple((float(k), m) for k, m in uncovered)))
     return tuple(out)
 
 
-def _outcome(e: Engine, ix: ConfigIndex, ref: RadioRef, band: Band) -> Outcome:
+def _named_bands(khz: list[float]) -> tuple[Band, ...]:
+    out = []
+    for k in khz:
+        if not any(low <= k <= high for _n, low, high in BANDS):
+            raise ValueError(f"{k:g} kHz is in no amateur band the plan knows "
+                             "(160 m to 70 cm)")
+    for name, low, high in BANDS:
+        here = tuple((float(k), "") for k in khz if low <= k <= high)
+        if here:
+            out.append(Band(name, float(low), float(high), here[0][0], here))
+    return tuple(out)
+
+
+def _outcome(e: Engine, ix: ConfigIndex, ref: RadioRef, band: Band, khz: float) -> Outcome:
     v: RadioView = e.radio_view(ref.station, ref.radio)
     why = v.why
     info = ix.radios[ref]
-    suitable = v.tx is not None and info.covers(v.tx, band.probe) and (
-        v.rx is None or info.covers(v.rx, band.probe))
-    return Outcome(ref, band.name, band.probe, v.tx, v.rx, v.inhibited, v.note,
+    suitable = v.tx is not None and info.covers(v.tx, khz) and (
+        v.rx is None or info.covers(v.rx, khz))
+    heard = v.rx if v.rx is not None else v.tx
+    receives = heard is not None and info.covers(heard, khz)
+    return Outcome(ref, band.name, khz, v.tx, v.rx, v.inhibited, v.note,
                    why.rule if why is not None else "", why.text if why is not None else "",
-                   why.passed_over if why is not None else (), suitable)
+                   why.passed_over if why is not None else (), suitable, "", receives)
 
 
 def _keyed(e: Engine, ix: ConfigIndex, talker: RadioRef, listener: RadioRef) -> str:
@@ -415,42 +689,45 @@ def deadline_after(seconds: float | None) -> Callable[[], None]:
 
 
 def build_plan(config: Config, file: str = "", text: str | None = None,
-               in_time: Callable[[], None] = lambda: None) -> Plan:
+               in_time: Callable[[], None] = lambda: None,
+               khz: Iterable[float] | None = None) -> Plan:
     """The station plan of ``config`` (``text``: the file's text, for the findings' lines;
-    ``in_time``: called as the plan goes, it may stop it by raising :class:`PlanTooLong`)."""
+    ``in_time``: called as the plan goes, it may stop it by raising :class:`PlanTooLong`;
+    ``khz``: the frequencies to plan instead of each covered band's CW and phone ones)."""
     template = Engine(config)
     in_time()
     ix: ConfigIndex = template._ix
-    bands = bands_of(ix)
+    bands = bands_of(ix, khz)
     radios = tuple(ref for ref in ix.order if ix.radios[ref].kind is RadioKind.MAIN)
     antennas = {a: ix.antennas[a].title for a in ix.ids}
     plan = Plan(file or (config.path.name if config.path else "configuration"), bands, radios,
                 antennas)
     for band in bands:
-        for ref in radios:
-            in_time()
-            e = template.clone()
-            e.set_frequency(ref.station, ref.radio, band.probe)
-            plan.alone.append(_outcome(e, ix, ref, band))
+        for k, _mode in band.frequencies:
+            for ref in radios:
+                in_time()
+                e = template.clone()
+                e.set_frequency(ref.station, ref.radio, k)
+                plan.alone.append(_outcome(e, ix, ref, band, k))
+    # a pair on one band: at each of its frequencies; on two bands: at their first ones
+    tries = [(ba, k, ba, k) for ba in bands for k, _m in ba.frequencies]
+    tries += [(ba, ba.probe, bb, bb.probe) for ba in bands for bb in bands if ba is not bb]
     for i, a in enumerate(radios):
         for b in radios[i + 1:]:
             meet = meeting(ix, a, b)
             if not meet:
                 continue
             scenarios = []
-            for ba in bands:
-                for bb in bands:
-                    in_time()
-                    e = template.clone()
-                    e.set_frequency(a.station, a.radio, ba.probe)
-                    e.set_frequency(b.station, b.radio, bb.probe)
-                    first = _outcome(e, ix, a, ba)
-                    second = _outcome(e, ix, b, bb)
-                    first = _with_inhibit(first, _keyed(e, ix, b, a))
-                    second = _with_inhibit(second, _keyed(e, ix, a, b))
-                    scenarios.append(PairScenario(first, second))
-            scenarios.sort(key=lambda s: (not s.same_band, _order(bands, s.first.band),
-                                          _order(bands, s.second.band)))
+            for ba, ka, bb, kb in tries:
+                in_time()
+                e = template.clone()
+                e.set_frequency(a.station, a.radio, ka)
+                e.set_frequency(b.station, b.radio, kb)
+                first = _outcome(e, ix, a, ba, ka)
+                second = _outcome(e, ix, b, bb, kb)
+                first = _with_inhibit(first, _keyed(e, ix, b, a))
+                second = _with_inhibit(second, _keyed(e, ix, a, b))
+                scenarios.append(PairScenario(first, second))
             plan.pairs.append((a, b, meet, scenarios))
     from .findings import find
 
@@ -458,30 +735,29 @@ def build_plan(config: Config, file: str = "", text: str | None = None,
     return plan
 
 
-def _order(bands: tuple[Band, ...], name: str) -> int:
-    return next(i for i, b in enumerate(bands) if b.name == name)
-
-
 def _with_inhibit(o: Outcome, reason: str) -> Outcome:
     if not reason:
         return o
     return Outcome(o.radio, o.band, o.khz, o.tx, o.rx, o.inhibited, o.note, o.rule, o.text,
-                   o.passed_over, o.suitable, reason)
+                   o.passed_over, o.suitable, reason, o.receives)
 
 
-def plan_file(path: str | Path) -> tuple[Plan | None, str]:
-    """The plan of the file at ``path``, or None and every problem in words."""
+def plan_file(path: str | Path,
+              khz: Iterable[float] | None = None) -> tuple[Plan | None, str]:
+    """The plan of the file at ``path`` (``khz``: see :func:`build_plan`), or None and every
+    problem in words."""
     from moas_gui.config import load_config
 
     path = Path(path)
     result = load_config(path)
     if result.config is None:
         return None, "\n".join(str(p) for p in result.problems)
-    return plan_of(result.config, path)
+    return plan_of(result.config, path, khz=khz)
 
 
 def plan_of(config: Config, path: Path | None,
-            in_time: Callable[[], None] = lambda: None) -> tuple[Plan | None, str]:
+            in_time: Callable[[], None] = lambda: None,
+            khz: Iterable[float] | None = None) -> tuple[Plan | None, str]:
     """The plan of a loaded configuration (``path``: its file, read again for the findings'
     lines), or None and why it could not be made.  :class:`PlanTooLong` from ``in_time``
     goes through to the caller."""
@@ -492,19 +768,21 @@ def plan_of(config: Config, path: Path | None,
         except (OSError, UnicodeDecodeError):
             text = None
     try:
-        return build_plan(config, path.name if path is not None else "", text, in_time), ""
+        return build_plan(config, path.name if path is not None else "", text, in_time,
+                          khz), ""
     except EngineError as exc:  # a scenario the engine refuses is a bug, said plainly
         return None, f"{path or 'the configuration'}: the plan could not be made: {exc}"
 
 
 __all__ = [
     "BANDS",
-    "CONTEST_BANDS",
     "FINDING_KINDS",
+    "FREQUENCIES",
     "Band",
     "Finding",
     "Lines",
     "Outcome",
+    "PairNote",
     "PairScenario",
     "Plan",
     "PlanTooLong",

@@ -100,39 +100,52 @@ def _pressable(template: Engine, ix: ConfigIndex, ref: RadioRef, a: int) -> bool
 
 def _without_antenna(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
     out = []
+    done: set[tuple[RadioRef, str]] = set()
     for band in plan.bands:
-        here = [o for o in plan.alone if o.band == band.name]
-        for o in here:
-            if o.has_antenna:
-                continue
-            mine = {ix.canon[x] for x in ix.radios[o.radio].antennas}
-            for other in here:
-                got = other.tx if other.tx is not None else other.rx
-                if other is o or not other.has_antenna or got is None \
-                        or ix.canon[got] not in mine:
+        for khz, _mode in band.frequencies:
+            here = [o for o in plan.alone if o.khz == khz]
+            for o in here:
+                if o.has_antenna or (o.radio, band.name) in done:
                     continue
+                found = _other_has_mine(ix, o, here)
+                if found is None:
+                    continue
+                other, got = found
+                done.add((o.radio, band.name))
+                what = ("can transmit on no antenna" if o.receives else "gets no antenna")
                 out.append(_finding(
                     "radio_without_antenna", lines.radio(o.radio),
-                    f"{_radio(o.radio).capitalize()} gets no antenna on {band.name} "
-                    f"({o.text}), though {ix.name(got)} covers {band.probe:g} kHz for "
+                    f"{_radio(o.radio).capitalize()} {what} on {band.name} at {khz:g} kHz "
+                    f"({o.text}), though {ix.name(got)} covers {khz:g} kHz for "
                     f"{_radio(other.radio)} and this radio has relays for it on other bands",
                     (o.radio,), (band.name,)))
-                break
     return out
 
 
-def _alone(plan: Plan, ref: RadioRef, band: str) -> Outcome | None:
-    return next((o for o in plan.alone if o.radio == ref and o.band == band), None)
+def _other_has_mine(ix: ConfigIndex, o: Outcome,
+                    here: list[Outcome]) -> tuple[Outcome, int] | None:
+    """Another radio at ``o``'s frequency that got an antenna ``o``'s radio has relays for."""
+    mine = {ix.canon[x] for x in ix.radios[o.radio].antennas}
+    for other in here:
+        got = other.tx if other.tx is not None else other.rx
+        if other is not o and other.has_antenna and got is not None \
+                and ix.canon[got] in mine:
+            return other, got
+    return None
+
+
+def _alone(plan: Plan, ref: RadioRef, khz: float) -> Outcome | None:
+    return plan.alone_at(ref, khz)
 
 
 def _blocked_pairs(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
-    """Pairs of bands (or one band) on which two radios cannot both have an antenna, one
-    finding per pair of radios and cause, listing the bands."""
-    groups: dict[tuple[str, int, str, RadioRef, RadioRef], list[str]] = {}
+    """Pairs of bands (or one band) on which two radios cannot both have an antenna (or
+    both transmit), one finding per pair of radios, cause and loss, listing the bands."""
+    groups: dict[tuple[str, int, str, str, RadioRef, RadioRef], list[str]] = {}
     for a, b, _meet, scenarios in plan.pairs:
         for s in scenarios:
             for loser, winner in ((s.second, s.first), (s.first, s.second)):
-                alone = _alone(plan, loser.radio, loser.band)
+                alone = _alone(plan, loser.radio, loser.khz)
                 if loser.has_antenna or alone is None or not alone.has_antenna:
                     continue
                 if loser.rule == STEP_SAME_BAND_TAKEN:
@@ -142,17 +155,22 @@ def _blocked_pairs(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]:
                 kind = "band_taken" if s.same_band else "band_pair_blocked"
                 where = (s.first.band if s.same_band
                          else f"{s.first.band} + {s.second.band}")
-                found = groups.setdefault((kind, line, cause, a, b), [])
+                loss = (f"{_radio(loser.radio)} keeps only a receive antenna"
+                        if loser.receives else "")
+                found = groups.setdefault((kind, line, cause, loss, a, b), [])
                 if where not in found:
                     found.append(where)
     out = []
-    for (kind, line, cause, a, b), bands in groups.items():
+    for (kind, line, cause, loss, a, b), bands in groups.items():
+        what = "both transmit" if loss else "both have an antenna for their frequencies"
+        tail = f" ({loss})" if loss else ""
         if kind == "band_taken":
-            text = (f"{_radio(a)} and {_radio(b)} cannot both have an antenna when both are "
-                    f"on {_list(bands)}: {cause}")
+            text = (f"{_radio(a)} and {_radio(b)} cannot {what} when both are "
+                    f"on {_list(bands)}{tail}: {cause}")
         else:
-            text = (f"{_radio(a)} and {_radio(b)} cannot both have an antenna on "
-                    f"{_list(bands)} (bands of {_radio(a)} + {_radio(b)}): {cause}")
+            text = (f"{_radio(a)} and {_radio(b)} cannot {what} on "
+                    f"{_list(bands)} (bands of {_radio(a)} + {_radio(b)}"
+                    f"{'; ' + loss if loss else ''}): {cause}")
         out.append(_finding(kind, line, text, (a, b), tuple(bands)))
     return out
 
@@ -189,7 +207,7 @@ def _every_same_band(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]
     out = []
     for a, b, _meet, scenarios in plan.pairs:
         same = [s for s in scenarios if s.same_band and all(
-            (x := _alone(plan, o.radio, o.band)) is not None and x.has_antenna
+            (x := _alone(plan, o.radio, o.khz)) is not None and x.has_antenna
             for o in (s.first, s.second))]
         if not same:
             continue
@@ -207,7 +225,7 @@ def _every_same_band(plan: Plan, ix: ConfigIndex, lines: Lines) -> list[Finding]
         else:
             continue
         out.append(_finding("inhibit_every_same_band", line, text, (a, b),
-                            tuple(s.first.band for s in same)))
+                            tuple(dict.fromkeys(s.first.band for s in same))))
     return out
 
 

@@ -7,20 +7,26 @@ concern them; the findings below name the line of the file to look at.
 
 from __future__ import annotations
 
-from moas_gui.plan import FINDING_KINDS, Outcome, Plan, RadioRef
+from moas_gui.plan import FINDING_KINDS, Outcome, PairNote, Plan, RadioRef
 
 from .qt import (
     QComboBox,
     QHBoxLayout,
     QLabel,
+    QResizeEvent,
     QTableWidget,
     QTableWidgetItem,
     QVBoxLayout,
     QWidget,
 )
+from .screen_fit import fit_to_screen
 
-COLUMNS = ("Scenario", "Band", "Radio", "TX", "RX", "Rule", "Why", "Inhibited")
+COLUMNS = ("Scenario", "Band", "kHz", "Radio", "TX", "RX", "Why", "Transmit")
 FINDING_COLUMNS = ("Line", "Finding", "What to look at")
+WIDEST = (190, 70, 55, 115, 130, 130, 330, 200)
+"""The widest each column opens (the whole text is in each cell's tooltip)."""
+SIZE = (1000, 540)
+"""The size the window asks for: within a 1024x600 screen, less its frame and a panel."""
 
 
 def _radio(ref: RadioRef) -> str:
@@ -34,7 +40,6 @@ class PlanWindow(QWidget):
         super().__init__(parent)
         self.plan = plan
         self.setWindowTitle(f"Station plan - {plan.file}")
-        self.resize(1100, 640)
         layout = QVBoxLayout(self)
         filters = QHBoxLayout()
         self.radio_filter = QComboBox(self)
@@ -44,7 +49,7 @@ class PlanWindow(QWidget):
         self.band_filter = QComboBox(self)
         self.band_filter.addItem("All bands", None)
         for band in plan.bands:
-            self.band_filter.addItem(f"{band.name} ({band.probe:g} kHz)", band.name)
+            self.band_filter.addItem(band.name, band.name)
         filters.addWidget(QLabel("Radio", self))
         filters.addWidget(self.radio_filter)
         filters.addWidget(QLabel("Band", self))
@@ -53,22 +58,25 @@ class PlanWindow(QWidget):
         self.count_label = QLabel(self)
         filters.addWidget(self.count_label)
         layout.addLayout(filters)
+        if plan.not_planned():
+            layout.addWidget(QLabel(plan.not_planned(), self))
 
         self.table = QTableWidget(0, len(COLUMNS), self)
         self.table.setHorizontalHeaderLabels(COLUMNS)
         self.table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
         self.table.verticalHeader().hide()
+        self.table.horizontalHeader().setStretchLastSection(True)
         self._rows: list[tuple[frozenset[RadioRef], frozenset[str]]] = []
         for o in plan.alone:
-            self._add("alone", o, frozenset({o.radio}))
+            self._add_alone(o)
         for a, b, _meet, scenarios in plan.pairs:
-            for s in scenarios:
-                where = (f"{_radio(a)} + {_radio(b)}, both on {s.first.band}" if s.same_band
-                         else f"{_radio(a)} on {s.first.band} + {_radio(b)} on {s.second.band}")
-                bands = frozenset({s.first.band, s.second.band})
-                for o in (s.first, s.second):
-                    self._add(where, o, frozenset({a, b}), bands)
+            for note in plan.pair_notes(a, b, scenarios):
+                self._add_note(a, b, note)
+        self.table.setWordWrap(False)
+        self.table.verticalHeader().setDefaultSectionSize(self.fontMetrics().height() + 8)
         self.table.resizeColumnsToContents()
+        for column, widest in enumerate(WIDEST):  # long texts: cut, whole in the tooltip
+            self.table.setColumnWidth(column, min(self.table.columnWidth(column), widest))
         layout.addWidget(self.table, 3)
 
         layout.addWidget(QLabel(f"Findings ({len(plan.findings)})", self))
@@ -76,6 +84,8 @@ class PlanWindow(QWidget):
         self.findings.setHorizontalHeaderLabels(FINDING_COLUMNS)
         self.findings.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
         self.findings.verticalHeader().hide()
+        self.findings.setWordWrap(True)
+        self.findings.horizontalHeader().setStretchLastSection(True)
         self._finding_rows: list[tuple[frozenset[RadioRef], frozenset[str]]] = []
         for row, f in enumerate(plan.findings):
             values = (str(f.line) if f.line else "", FINDING_KINDS.get(f.kind, f.kind), f.text)
@@ -86,25 +96,60 @@ class PlanWindow(QWidget):
             self._finding_rows.append((frozenset(f.radios), frozenset(
                 b for where in f.bands for b in where.split(" + "))))
         self.findings.resizeColumnsToContents()
-        layout.addWidget(self.findings, 1)
+        self.findings.setColumnWidth(1, min(self.findings.columnWidth(1), 170))
+        self.findings.resizeRowsToContents()
+        layout.addWidget(self.findings, 2)
 
         self.radio_filter.currentIndexChanged.connect(lambda _i: self.apply_filters())
         self.band_filter.currentIndexChanged.connect(lambda _i: self.apply_filters())
         self.apply_filters()
+        fit_to_screen(self, *SIZE)
 
-    def _add(self, scenario: str, o: Outcome, radios: frozenset[RadioRef],
-             bands: frozenset[str] | None = None) -> None:
+    def resizeEvent(self, event: QResizeEvent) -> None:
+        super().resizeEvent(event)
+        self.findings.resizeRowsToContents()  # wrapped to the findings' new width
+
+    def _add_row(self, values: tuple[str, ...], tips: dict[int, str],
+                 radios: frozenset[RadioRef], bands: frozenset[str]) -> None:
         row = self.table.rowCount()
         self.table.insertRow(row)
-        inhibited = o.inhibited_by or (o.note if o.inhibited else "")
-        why = o.text + ("".join(f"\n{self.plan.name(a)} {r}" for a, r in o.passed_over))
-        values = (scenario, o.band, _radio(o.radio), self.plan.name(o.tx), self.plan.name(o.rx),
-                  o.rule, o.text, inhibited)
         for column, value in enumerate(values):
             item = QTableWidgetItem(value)
-            item.setToolTip(why if column == 6 else value)
+            item.setToolTip(tips.get(column, value))
             self.table.setItem(row, column, item)
-        self._rows.append((radios, bands if bands is not None else frozenset({o.band})))
+        self._rows.append((radios, bands))
+
+    def _add_alone(self, o: Outcome) -> None:
+        passed = self.plan.passed_over(o)
+        why = o.text + (f"\npassed over: {passed}" if passed else "")
+        transmit = ("cannot: " + o.note) if o.inhibited and o.note else (
+            "cannot" if o.inhibited else "")
+        values = ("alone", o.band, f"{o.khz:g}", _radio(o.radio), self.plan.name(o.tx),
+                  self.plan.name(o.rx), o.text, transmit)
+        self._add_row(values, {6: why}, frozenset({o.radio}), frozenset({o.band}))
+
+    def _add_note(self, a: RadioRef, b: RadioRef, note: PairNote) -> None:
+        radios = frozenset({a, b})
+        o = note.outcome
+        if o is None:  # an inhibit on every band
+            who = _radio(note.radio) if note.radio is not None else "both"
+            self._add_row((f"{_radio(a)} + {_radio(b).lower()}: {note.where}", "all", "", who,
+                           "", "", note.text, "cannot while the other transmits"), {},
+                          radios, note.bands)
+            return
+        other = b if o.radio == a else a
+        text = note.text.split(": ", 1)[-1]
+        why = text.split(" \u2014 ", 1)[-1]
+        transmit = "cannot" if o.inhibited else (
+            "cannot while the other transmits" if "cannot transmit while" in note.text else "")
+        values = (f"{note.where}, with {_radio(other).lower()}",
+                  ", ".join(sorted(note.bands, key=self._band_order)),
+                  f"{o.khz:g}" if f"{o.khz:g} kHz" in note.text else "",
+                  _radio(o.radio), self.plan.name(o.tx), self.plan.name(o.rx), why, transmit)
+        self._add_row(values, {6: note.text}, radios, note.bands)
+
+    def _band_order(self, name: str) -> int:
+        return next((i for i, b in enumerate(self.plan.bands) if b.name == name), 0)
 
     def apply_filters(self) -> None:
         """Hide the rows the radio and band filters leave out."""

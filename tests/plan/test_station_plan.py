@@ -56,6 +56,139 @@ def test_the_command_prints_the_plan_and_its_json() -> None:
     parsed = json.loads(data.stdout)
     assert parsed == json.loads((GOLDEN / "small-station.json").read_text(encoding="utf-8"))
     assert {o["why"]["rule"] for o in parsed["alone"]} == {"f4_lowest"}
+    assert {f["kind"] for f in parsed["findings"]} <= set(FINDING_KINDS)
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=lambda p: p.stem)
+def test_rule_codes_and_antennas_that_merely_do_not_cover_stay_out_of_the_text(
+        example: Path) -> None:
+    plan, error = plan_file(example)
+    assert plan is not None, error
+    text = plan.to_text()
+    codes = {o.rule for o in plan.alone} | set(FINDING_KINDS)
+    assert not [c for c in codes if f"[{c}]" in text or f" {c}" in text]
+    assert "passed over" not in text or all(
+        "does not cover" not in line for line in text.splitlines() if "passed over" in line)
+    # ... while the JSON keeps them: every passed-over antenna, with its reason
+    dropped = [r for o in plan.alone for _a, r in o.passed_over if r.startswith("does not")]
+    assert dropped == [p["reason"] for o in json.loads(plan.to_json())["alone"]
+                       for p in o["why"]["passed_over"] if p["reason"].startswith("does not")]
+
+
+def test_a_station_is_planned_only_on_the_bands_its_antennas_cover() -> None:
+    plan, _ = plan_file(ROOT / "examples" / "multi-multi-20.moas")
+    assert plan is not None
+    assert [b.name for b in plan.bands] == ["20 m"]
+    assert {o.khz for o in plan.alone} == {14025, 14250}
+    text = plan.to_text()
+    assert "1825" not in text and "160 m" not in text and "no free antenna" not in text
+    assert all(o.has_antenna for o in plan.alone)
+
+
+def test_each_band_is_planned_at_its_cw_and_phone_frequencies() -> None:
+    plan, _ = plan_file(ROOT / "examples" / "small-station.moas")
+    assert plan is not None
+    twenty = plan.band("20 m")
+    assert twenty.frequencies == ((14025, "CW"), (14250, "phone"))
+    assert plan.band("30 m").frequencies == ((10125, "CW"),)  # no phone on 30 m
+    assert {(o.radio.radio, o.khz) for o in plan.alone if o.band == "20 m"} == {
+        (1, 14025), (2, 14025), (1, 14250), (2, 14250)}
+    assert "  20 m at 14025 kHz CW and 14250 kHz phone\n" in plan.to_text()
+
+
+def test_a_frequency_no_antenna_covers_is_named_not_planned() -> None:
+    """An 80 m dipole cut for CW: 3800 kHz phone is left out, and the plan says so."""
+    plan, _ = station([ant(0, "Tribander", TWENTY, BOTH),
+                       ant(1, "CW dipole", [(3500, 3600)], BOTH)])
+    assert plan.band("80 m").frequencies == ((3525, "CW"),)
+    assert plan.band("80 m").uncovered == ((3800, "phone"),)
+    assert "Not planned (no antenna covers them): 80 m 3800 kHz phone" in plan.to_text()
+
+
+def test_a_station_covering_no_band_says_so() -> None:
+    plan, _ = station([ant(0, "Marine whip", [(8000, 9000)], BOTH)])
+    assert plan.bands == () and plan.alone == []
+    assert plan.to_text().splitlines()[:3] == [
+        "Station plan of crafted.moas",
+        "Bands: none (no antenna of the station covers a band the plan knows)", ""]
+
+
+def test_plan_khz_plans_the_frequencies_the_operator_names() -> None:
+    done = run_server("--plan", "--plan-khz", "14010,14200", "--plan-khz", "1830",
+                      "examples/two-op-shared-tx.moas")
+    assert done.returncode == 0, done.stderr
+    assert "  160 m at 1830 kHz\n" in done.stdout
+    assert "  20 m at 14010 kHz and 14200 kHz\n" in done.stdout
+    assert "40 m" not in done.stdout and "14025" not in done.stdout
+    data = run_server("--plan", "--json", "--plan-khz", "7010", "examples/small-station.moas")
+    parsed = json.loads(data.stdout)
+    assert [b["frequencies"] for b in parsed["bands"]] == [[{"khz": 7010.0, "mode": ""}]]
+    assert {o["khz"] for o in parsed["alone"]} == {7010.0}
+    for bad, said in (("14o00", "'14o00' is not a frequency in kHz"),
+                      ("12345", "12345 kHz is in no amateur band"), ("-5", "above 0")):
+        done = run_server("--plan", "--plan-khz", bad, "examples/small-station.moas")
+        assert done.returncode == 2 and said in done.stderr and not done.stdout
+    assert run_server("--plan-khz", "14000", "examples/small-station.moas").returncode == 2
+
+
+def test_a_pair_shows_only_what_differs_from_each_radio_alone() -> None:
+    plan, _ = plan_file(ROOT / "examples" / "small-station.moas")
+    assert plan is not None
+    text = plan.to_text()
+    ((a, b, _meet, scenarios),) = plan.pairs
+    pair = text[text.index("Station 1 radio 1 and station 1 radio 2 ("):text.index("Findings")]
+    # 80 m + 40 m: each radio gets what it gets alone; in the JSON, not in the text
+    quiet = next(s for s in scenarios if (s.first.band, s.second.band) == ("80 m", "40 m"))
+    assert plan.alone_at(a, quiet.first.khz).same_antennas(quiet.first)  # type: ignore[union-attr]
+    assert plan.alone_at(b, quiet.second.khz).same_antennas(quiet.second)  # type: ignore[union-attr]
+    assert "80 m + 40 m" not in pair
+    # the inhibit that holds everywhere is said once, not on each of 88 scenarios
+    assert pair.count("cannot transmit while") + pair.count("the other cannot") == 1
+    assert "  on every band and every two bands: while one transmits, the other cannot" in pair
+    # both on 20 m: radio 2 gets the vertical, and the plan says what it had alone
+    assert ("  both on 20 m or 10 m:\n    Station 1 radio 2: All-band vertical \u2014 "
+            "lowest-numbered antenna covering its frequency (alone: Triband Yagi 20-15-10)"
+            in pair)
+    assert len(pair.splitlines()) < 40 < len(scenarios)
+
+
+def test_a_pair_on_separate_antennas_adds_one_line() -> None:
+    """Two stations with an inhibit between them and their own antennas on every band:
+    no scenario changes anything but the inhibit."""
+    radios = [{"Station": 1, "Radio": 1, "Switches": [{"Port": 1}],
+               "SameBand": [{"Station": 2, "Radio": 1}]},
+              {"Station": 2, "Radio": 1, "Switches": [{"Port": 2}]}]
+    plan, _ = station([ant(0, "Yagi A", TWENTY + FORTY, {(1, 1): 0}),
+                       ant(1, "Yagi B", TWENTY + FORTY, {(2, 1): 8})], radios)
+    text = plan.to_text()
+    pair = text[text.index("Station 1 radio 1 and station 2 radio 1"):text.index("Findings")]
+    assert pair.splitlines()[1:] == [
+        ("  on every band they share: Station 1 radio 1 cannot transmit while station 2 radio "
+         "1 transmits (it is inhibited)"),
+        "  each gets the antennas it gets alone, on every band and every two bands", ""]
+
+
+def test_a_finding_about_a_radio_left_with_a_receive_antenna_says_transmit() -> None:
+    plan, _ = plan_file(ROOT / "examples" / "two-op-shared-tx.moas")
+    assert plan is not None
+    text = plan.to_text()
+    taken = next(f for f in plan.findings if f.kind == "band_taken")
+    assert taken.text.startswith("station 1 radio 1 and station 2 radio 1 cannot both transmit "
+                                 "when both are on 160 m or 80 m (station 2 radio 1 keeps only "
+                                 "a receive antenna)")
+    assert "cannot both have an antenna" not in text
+    # ... as the line above it says
+    assert ("  both on 160 m or 80 m:\n    Station 2 radio 1: no transmit antenna, receives on "
+            "Beverage north-east" in text)
+
+
+def test_a_finding_about_a_radio_left_with_no_antenna_says_so() -> None:
+    plan, _ = station([ant(0, "Tribander", TWENTY, {(1, 1): 0}, Conflicts=[0, 1]),
+                       ant(1, "Vertical", TWENTY, {(1, 2): 9})])
+    (taken,) = [f for f in plan.findings if f.kind == "band_taken"]
+    assert "cannot both have an antenna for their frequencies when both are on 20 m" \
+        in taken.text
+    assert "receive" not in taken.text
 
 
 def test_check_ends_with_the_count_of_findings_and_points_at_the_plan() -> None:

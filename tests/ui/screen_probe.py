@@ -1,5 +1,5 @@
-"""Opens the server window (with its built-in client), the standalone client (with its
-Sources menu) and the emulator window as the programs do, on whatever screen Qt is
+"""Opens the server window (with its built-in client and its station plan window), the
+standalone client (with its Sources menu) and the emulator window as the programs do, on whatever screen Qt is
 given, and prints one JSON line: each window's frame and the screen's available
 area.  Run by tests/ui/test_screen_fit.py under Qt's offscreen platform with a screen
 size and scale of its choice."""
@@ -43,6 +43,10 @@ async def probe(settings_dir: str) -> dict[str, object]:
     await server.idle()
     server.action_client.trigger()
     (builtin,) = server.client_windows
+    server.action_plan.trigger()
+    await server.idle()
+    plan_window = server.plan_window
+    assert plan_window is not None
     standalone = ClientWindow(ClientConnection("127.0.0.1", port, name="probe"))
     sources = ClientSources(standalone, settings)
     standalone.show()
@@ -58,7 +62,8 @@ async def probe(settings_dir: str) -> dict[str, object]:
         "area": [area.x(), area.y(), area.width(), area.height()],
         "scale": screen.devicePixelRatio(),
         "windows": {"server": frame(server), "built-in client": frame(builtin),
-                    "standalone client": frame(standalone), "emulator": frame(emulator)},
+                    "standalone client": frame(standalone), "emulator": frame(emulator),
+                    "station plan": frame(plan_window)},
         "emulator relays hidden": bar.maximum(),
         "emulator relays width": emulator.scroll_area.widget().sizeHint().width(),
     }
@@ -67,6 +72,7 @@ async def probe(settings_dir: str) -> dict[str, object]:
         window.close()
         await window.aclose()
     emulator.close()
+    plan_window.close()
     await app.close()
     server.shutdown()
     return result

@@ -4,6 +4,7 @@ server on the example file, its built-in switch, a real client connection)."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Any
 
@@ -14,6 +15,7 @@ from test_server_window import EXAMPLES, Harness
 
 from moas_gui.client.model import ProtocolError, WhyView, explain, parse_radio
 from moas_gui.status import ServerState
+from moas_gui.ui.plan_window import COLUMNS
 
 
 @pytest.fixture
@@ -82,22 +84,66 @@ def test_view_station_plan_shows_the_plan_filtered_by_radio_and_band(
         plan_window = window.plan_window
         assert plan_window is not None and plan_window.isVisible()
         plan = plan_window.plan
-        assert plan_window.table.rowCount() == len(plan.alone) + sum(
-            2 * len(s) for _a, _b, _m, s in plan.pairs)
+        # each radio alone at each frequency, and of the pair only what differs
+        notes = [n for a, b, _m, s in plan.pairs for n in plan.pair_notes(a, b, s)]
+        assert plan_window.table.rowCount() == len(plan.alone) + len(notes)
+        assert len(notes) < sum(len(s) for _a, _b, _m, s in plan.pairs)
         assert plan_window.findings.rowCount() == len(plan.findings) > 0
+        assert "Rule" not in COLUMNS
         band = plan_window.band_filter.findData("40 m")
         plan_window.band_filter.setCurrentIndex(band)
         rows = plan_window.visible_rows()
-        assert rows and all("40 m" in row[0] or row[1] == "40 m" for row in rows)
+        assert rows and all("40 m" in row[1] or row[1] == "all" for row in rows)
         radio = next(i for i in range(plan_window.radio_filter.count())
                      if plan_window.radio_filter.itemText(i) == "Station 1 radio 2")
         plan_window.radio_filter.setCurrentIndex(radio)
         alone = [row for row in plan_window.visible_rows() if row[0] == "alone"]
-        assert alone == [("alone", "40 m", "Station 1 radio 2", "40 m dipole (also 15 m)",
-                          "40 m dipole (also 15 m)", "f4_lowest",
-                          "lowest-numbered antenna covering 7025 kHz", "")]
+        assert alone == [("alone", "40 m", khz, "Station 1 radio 2", "40 m dipole (also 15 m)",
+                          "40 m dipole (also 15 m)",
+                          f"lowest-numbered antenna covering {khz} kHz", "")
+                         for khz in ("7025", "7200")]
+        pair = [row for row in plan_window.visible_rows() if row[0] == "both on 40 m, with "
+                "station 1 radio 1"]
+        assert pair == [("both on 40 m, with station 1 radio 1", "40 m", "", "Station 1 radio 2",
+                         "All-band vertical", "All-band vertical",
+                         ("lowest-numbered antenna covering its frequency (alone: 40 m dipole "
+                          "(also 15 m))"), "")]
+        codes = {o.rule for o in plan.alone} | {f.kind for f in plan.findings}
+        for table in (plan_window.table, plan_window.findings):
+            texts = [table.item(r, c).text() for r in range(table.rowCount())
+                     for c in range(table.columnCount()) if table.item(r, c) is not None]
+            assert not [t for t in texts if any(code in t for code in codes)]
         assert box.view().relays == relays_before            # the switch was not touched
         assert app.engine.radio_view(1, 2).khz is None
         plan_window.close()
         await harness.close()
     run_on_qt(qapp, scenario())
+
+
+def test_the_plan_window_names_what_it_does_not_plan_and_fits_its_screen(qapp: Any) -> None:
+    """An 80 m dipole cut for CW: the window says 3800 kHz phone is not planned; the window
+    opens within the screen (tests/ui/test_screen_fit.py runs it at 1024x600)."""
+    from moas_gui.config import parse_config
+    from moas_gui.plan import build_plan
+    from moas_gui.ui.plan_window import PlanWindow
+    from moas_gui.ui.qt import QLabel
+
+    def ant(ident: int, name: str, low: int, high: int) -> dict[str, Any]:
+        return {"ID": ident, "ShortName": name, "LongName": name, "Conflicts": [ident],
+                "Control": [{"LowerFrequency": low, "UpperFrequency": high,
+                             "Stations": [{"Station": 1, "Radio": 1, "Relays": [ident]}]}]}
+
+    text = json.dumps({"Antennas": [ant(0, "Tribander", 14000, 14350),
+                                    ant(1, "CW dipole", 3500, 3600)],
+                       "Radios": [{"Station": 1, "Radio": 1, "Switches": [{"Port": 1}]}],
+                       "Switches": [{"ID": 1, "Port": "emulator"}]})
+    plan = build_plan(parse_config(text, "cw.moas").unwrap(), "cw.moas", text)
+    window = PlanWindow(plan)
+    window.show()
+    labels = [label.text() for label in window.findChildren(QLabel)]
+    assert "Not planned (no antenna covers them): 80 m 3800 kHz phone" in labels
+    assert [window.band_filter.itemData(i) for i in range(window.band_filter.count())] == [
+        None, "80 m", "20 m"]
+    area = window.screen().availableGeometry()
+    assert area.contains(window.frameGeometry())
+    window.close()

@@ -37,6 +37,7 @@ from moas_gui.config.model import RotatorControl
 from moas_gui.engine import Changes, Engine, NotRunning
 from moas_gui.engine.focus import FocusKind
 from moas_gui.engine.operations import (
+    Hold,
     KeepSwitchAntennas,
     Operation,
     SelectDirection,
@@ -53,6 +54,8 @@ from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.net.antenna_genius.access import SimpleAccess
+from moas_gui.net.antenna_genius.server import AgServer
 from moas_gui.running import (
     ROTCTLD_HOST,
     Running,
@@ -83,6 +86,9 @@ class ServerApp:
         self._alert_listeners: list[Callable[[str, str], None]] = []
         self._status = ServerStatus()
         self._lock = asyncio.Lock()
+        self._ag: AgServer | None = None
+        """The Antenna Genius front: it outlives a configuration (its clients are told
+        ``S0|antenna reload``), closed by :meth:`close`."""
 
     # -- what the window and tests read ---------------------------------------------
     @property
@@ -115,6 +121,12 @@ class ServerApp:
         if host in ("0.0.0.0", "", "::"):
             host = "127.0.0.1"
         return host, int(self._run.clients.port)
+
+    @property
+    def ag_ports(self) -> list[int]:
+        """The Antenna Genius devices' TCP ports (docs/antenna-genius.md), empty when
+        not served."""
+        return [] if self._ag is None else [d.port for d in self._ag.devices]
 
     @property
     def n1mm_address(self) -> tuple[str, int] | None:
@@ -197,6 +209,9 @@ class ServerApp:
         async with self._lock:
             if self._run is not None:
                 await self._close_running()
+            if self._ag is not None:
+                await self._ag.close()
+                self._ag = None
             self._path = None
             self._update_status()
 
@@ -213,9 +228,35 @@ class ServerApp:
         await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
         await start_sources(run, self.options, self._source_event)
         await start_clients(run, self.options, EngineBackend(self))
+        await self._start_ag(config)
         run.serving = True
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
+
+    async def _start_ag(self, config: Config) -> None:
+        """The Antenna Genius front (``--ag-port`` / ``AGPort``): started with the first
+        configuration that asks for it, told of each one opened after."""
+        port = self.options.ag_port if self.options.ag_port is not None else config.ag_port
+        ag = self._ag
+        if ag is not None and (port is None or (port and port != ag.port)):
+            await ag.close()
+            self._ag = ag = None
+        if port is None:
+            return
+        if ag is not None:
+            await ag.reload(config)
+            return
+        access = SimpleAccess(lambda: self.config.client_allow if self.config else None)
+        name = f"MOAS_{self._path.stem}" if self._path is not None else "MOAS"
+        ag = AgServer(self, self.options.bind, port, radios=self.options.ag_radios,
+                      access=access, name=name, discovery=self.options.ag_discovery)
+        try:
+            await ag.start(config)
+        except OSError as exc:
+            log.error("Antenna Genius clients cannot connect: TCP port %d: %s (AGPort in "
+                      "the configuration, or --ag-port, sets it)", port, exc.strerror or exc)
+            return
+        self._ag = ag
 
     async def _tick(self, run: Running) -> None:
         """Refresh the status (the number of clients) twice a second while ``run`` runs."""
@@ -361,7 +402,9 @@ class ServerApp:
         if run is None:
             raise NotRunning("No configuration is open")
         changes = perform(run.engine, op, now=asyncio.get_running_loop().time())
-        return self.apply_changes(changes, automatic=isinstance(op, SetFrequency))
+        # a frequency, or a hold released (the frequency chooses again), is automatic
+        automatic = isinstance(op, SetFrequency) or (isinstance(op, Hold) and op.by is None)
+        return self.apply_changes(changes, automatic=automatic)
 
     def apply_changes(self, changes: Changes, *, automatic: bool = False) -> set[RadioKey]:
         """Send an engine decision out: switch states to links, news to clients, lines to
@@ -397,6 +440,8 @@ class ServerApp:
                 published.add((ref.station, ref.radio))
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
+        if self._ag is not None and changes.radios:
+            self._ag.radios_changed({(ref.station, ref.radio) for ref in changes.radios})
         return published
 
     def _publish_radio(self, entry: dict[str, object]) -> None:

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from moas_gui.config import Config
-from moas_gui.config.model import Antenna, Rotator, RotatorControl
+from moas_gui.config.model import Antenna, RadioRef, Rotator, RotatorControl
 from moas_gui.engine import Engine
 from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
@@ -84,6 +84,14 @@ class ServerOptions:
     """Rig sources (rigctld, flrig, OTRSP) run beside the configuration's (``--source``)."""
     web_port: int | None = None
     """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
+    ag_port: int | None = None
+    """Overrides ``AGPort``, the Antenna Genius API's first port (0 picks free ports)."""
+    ag_radios: tuple[RadioRef, ...] | None = None
+    """``--ag-radios``: the main radios served as AG ports, two per device (None: the
+    first two)."""
+    ag_discovery: tuple[str, int] | None = None
+    """``--ag-discovery ADDR:PORT``: the AG discovery datagrams go there, not to the
+    interfaces' broadcast addresses."""
     max_clients: int | None = None
     """Client connections served at once; None for the client server's default."""
     max_per_address: int | None = None

@@ -39,7 +39,7 @@ class Band:
         return (self.low_khz + self.high_khz) / 2
 
     def contains(self, khz: float) -> bool:
-        return self.number != 0 and self.low_khz <= khz <= self.high_khz
+        return self.high_khz > 0 and self.low_khz <= khz <= self.high_khz
 
     def text(self) -> str:
         """``band N name=... freq_start=MHz freq_stop=MHz``, as ``band list`` says it."""

@@ -73,7 +73,7 @@ class AgCore(Protocol):
     def act(self, op: Operation) -> object: ...
 
 
-@dataclass
+@dataclass(eq=False)
 class _Session:
     device: _Device
     writer: asyncio.StreamWriter
@@ -143,6 +143,9 @@ class AgServer:
         self.devices: list[_Device] = []
         self._tasks: set[asyncio.Task[None]] = set()
         self._announcer: Announcer | None = None
+        self._deferred: set[tuple[int, int]] | None = None
+        """While one ``port set`` runs its operations: the radios they changed, pushed
+        once at its end (one line per port, not one per operation)."""
 
     # -- life ------------------------------------------------------------------------------
     def _layout(self, config: Config | None) -> tuple[Device, ...]:
@@ -239,6 +242,11 @@ class AgServer:
     def radios_changed(self, refs: set[tuple[int, int]] | None) -> None:
         """Radios ``(station, radio)`` changed (None: any may have): subscribers get the
         lines of the ports whose line is not what they were last sent."""
+        if self._deferred is not None:
+            if refs is not None:
+                self._deferred |= refs
+                return
+            self._deferred = None
         for served in self.devices:
             for port, ref in enumerate(served.device.radios, start=1):
                 if ref is None or (refs is not None and (ref.station, ref.radio) not in refs):
@@ -408,8 +416,13 @@ class AgServer:
         try:
             for op in ops:
                 perform(trial, op, now=now)
-            for op in ops:
-                self.core.act(op)
+            self._deferred = set()
+            try:
+                for op in ops:
+                    self.core.act(op)
+            finally:
+                changed, self._deferred = self._deferred, None
+                self.radios_changed(changed)
         except RequestRefused as exc:
             code = codec.NOT_RUNNING if exc.code == "not_running" else codec.REFUSED
             log.info("Antenna Genius: %s port set %d refused: %s", session.peer, port,

@@ -327,3 +327,24 @@ def test_ag_port_in_the_file_is_read_as_web_port_is(tmp_path: Path) -> None:
     path.write_text(json.dumps(data))
     result = load_config(path)
     assert result.config is None and any("AGPort" in str(e) for e in result.errors)
+
+
+@pytest.mark.asyncio
+async def test_transmit_and_inhibit_are_pushed(app: ServerApp, client: AgClient) -> None:
+    engine = app.engine
+    assert engine is not None
+    logger_band(app, 14025.0, radio=1)
+    await until(lambda: engine.radio_view(1, 1).khz == 14025.0)
+    logger_band(app, 7025.0, radio=2)
+    await until(lambda: engine.radio_view(1, 2).khz == 7025.0)
+    assert (await client.ask("sub port all")).code == 0
+    box = app.emulators()[1]
+    box.set_tr(1, True)  # station 1 radio 1's port keys
+    said = fields(await client.status("port 1 "))
+    assert said["tx"] == "1" and said["inhibit"] == "0"
+    await until(lambda: engine.radio_view(1, 2).inhibited)
+    said = fields(await client.status("port 2 "))
+    assert said["inhibit"] == "1" and said["tx"] == "0"
+    box.set_tr(1, False)
+    assert fields(await client.status("port 1 "))["tx"] == "0"
+    assert fields(await client.status("port 2 "))["inhibit"] == "0"

@@ -77,8 +77,8 @@ def parse_line(text: str) -> Command | Malformed:
     """One line without its ending, as a :class:`Command` or why it is not one."""
     match = _COMMAND.match(text.strip())
     if match is None:
-        seq = re.match(r"\s*C(\d{1,9})", text)
-        return Malformed(int(seq.group(1)) if seq else 0,
+        number = re.match(r"\s*C(\d{1,9})", text)
+        return Malformed(int(number.group(1)) if number else 0,
                          f"not a command line (C<seq>|<command>): {text[:40]!r}")
     seq, body = int(match.group(1)), match.group(2)
     words: list[str] = []

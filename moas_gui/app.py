@@ -48,16 +48,15 @@ from moas_gui.engine.operations import (
     perform,
 )
 from moas_gui.engine.snapshot import export_selections
-from moas_gui.engine_backend import EngineBackend
+from moas_gui.engine_backend import AgEngineBackend, EngineBackend
 from moas_gui.files import write_text_atomic
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
-from moas_gui.net.antenna_genius.access import SimpleAccess
-from moas_gui.net.antenna_genius.server import AgServer
 from moas_gui.running import (
     ROTCTLD_HOST,
+    AntennaGenius,
     Running,
     ServerOptions,
     close_parts,
@@ -86,9 +85,8 @@ class ServerApp:
         self._alert_listeners: list[Callable[[str, str], None]] = []
         self._status = ServerStatus()
         self._lock = asyncio.Lock()
-        self._ag: AgServer | None = None
-        """The Antenna Genius front: it outlives a configuration (its clients are told
-        ``S0|antenna reload``), closed by :meth:`close`."""
+        self._ag = AntennaGenius()
+        """The Antenna Genius front: it outlives a configuration, closed by :meth:`close`."""
 
     # -- what the window and tests read ---------------------------------------------
     @property
@@ -126,7 +124,7 @@ class ServerApp:
     def ag_ports(self) -> list[int]:
         """The Antenna Genius devices' TCP ports (docs/antenna-genius.md), empty when
         not served."""
-        return [] if self._ag is None else [d.port for d in self._ag.devices]
+        return self._ag.ports
 
     @property
     def n1mm_address(self) -> tuple[str, int] | None:
@@ -209,9 +207,7 @@ class ServerApp:
         async with self._lock:
             if self._run is not None:
                 await self._close_running()
-            if self._ag is not None:
-                await self._ag.close()
-                self._ag = None
+            await self._ag.close()
             self._path = None
             self._update_status()
 
@@ -228,35 +224,12 @@ class ServerApp:
         await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
         await start_sources(run, self.options, self._source_event)
         await start_clients(run, self.options, EngineBackend(self))
-        await self._start_ag(config)
+        await self._ag.sync(self.options, config, AgEngineBackend(self),
+                            f"MOAS_{self._path.stem}" if self._path is not None else "MOAS",
+                            lambda: self.config.client_allow if self.config else None)
         run.serving = True
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
-
-    async def _start_ag(self, config: Config) -> None:
-        """The Antenna Genius front (``--ag-port`` / ``AGPort``): started with the first
-        configuration that asks for it, told of each one opened after."""
-        port = self.options.ag_port if self.options.ag_port is not None else config.ag_port
-        ag = self._ag
-        if ag is not None and (port is None or (port and port != ag.port)):
-            await ag.close()
-            self._ag = ag = None
-        if port is None:
-            return
-        if ag is not None:
-            await ag.reload(config)
-            return
-        access = SimpleAccess(lambda: self.config.client_allow if self.config else None)
-        name = f"MOAS_{self._path.stem}" if self._path is not None else "MOAS"
-        ag = AgServer(self, self.options.bind, port, radios=self.options.ag_radios,
-                      access=access, name=name, discovery=self.options.ag_discovery)
-        try:
-            await ag.start(config)
-        except OSError as exc:
-            log.error("Antenna Genius clients cannot connect: TCP port %d: %s (AGPort in "
-                      "the configuration, or --ag-port, sets it)", port, exc.strerror or exc)
-            return
-        self._ag = ag
 
     async def _tick(self, run: Running) -> None:
         """Refresh the status (the number of clients) twice a second while ``run`` runs."""
@@ -440,7 +413,7 @@ class ServerApp:
                 published.add((ref.station, ref.radio))
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
-        if self._ag is not None and changes.radios:
+        if changes.radios:
             self._ag.radios_changed({(ref.station, ref.radio) for ref in changes.radios})
         return published
 

@@ -160,3 +160,18 @@ def test_discovery_line_and_targets() -> None:
         parse_target("127.0.0.1")
     with pytest.raises(ValueError, match="not an IP address"):
         parse_target("example:9007")
+
+
+def test_a_port_set_becomes_the_engines_operations_in_order() -> None:
+    from moas_gui.engine.operations import Hold, Select, SetFrequency
+    from moas_gui.engine_backend import operations
+    from moas_gui.net.antenna_genius.server import PortRequest
+
+    assert operations(PortRequest(1, 2, release=True, khz=14175.0, tx=3, rx=3,
+                                  hold_by="x")) == [
+        Hold(1, 2, None), SetFrequency(1, 2, 14175.0), Select(1, 2, 3, "both", True),
+        Hold(1, 2, "x")]
+    assert operations(PortRequest(1, 1, tx=0, rx=2)) == [Select(1, 1, 0, "tx", True),
+                                                        Select(1, 1, 2, "rx", True)]
+    assert operations(PortRequest(1, 1, rx=2)) == [Select(1, 1, 2, "rx", True)]
+    assert operations(PortRequest(1, 1)) == []

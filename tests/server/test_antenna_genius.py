@@ -17,6 +17,7 @@ from helpers import free_port, until
 
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.config.model import RadioRef
+from moas_gui.engine_backend import AgEngineBackend
 from moas_gui.hw.moas2.link import LinkTiming
 from moas_gui.net.antenna_genius.server import AgServer, AgTiming
 from moas_gui.sources.n1mm_packet import radio_info_packet
@@ -216,7 +217,7 @@ async def test_a_new_configuration_sends_antenna_reload(app: ServerApp,
 
 @pytest.mark.asyncio
 async def test_keepalive_drops_a_silent_client_and_a_pinging_one_stays() -> None:
-    core = ServerApp(options(ag_port=None))
+    core = AgEngineBackend(ServerApp(options(ag_port=None)))
     ag = AgServer(core, "127.0.0.1", 0, timing=AgTiming(first_command=0.5, keepalive=0.4,
                                                           idle=60))
     await ag.start(None)
@@ -243,7 +244,7 @@ async def test_auth_needed_wrong_code_gets_ff_and_too_many_lock_the_address_out(
         def needs_token(self, host: str) -> bool:  # as for a LAN peer with --require-token
             return True
 
-    core = ServerApp(options(ag_port=None))
+    core = AgEngineBackend(ServerApp(options(ag_port=None)))
     ag = AgServer(core, "127.0.0.1", 0, access=Lan(codes={"4711": "Ann"}))
     await ag.start(None)
     try:

@@ -6,11 +6,12 @@ engine's rules deciding (docs/antenna-genius.md).  One :class:`AgServer` serves 
 station: its first device on ``port`` (``--ag-port`` / ``AGPort``), each further pair
 of radios one more device on the next port.
 
-What a client asks becomes the engine's operations, through the server's one door
-(``core.act``): ``rxant``/``txant`` are the operator's press; ``band=`` is a frequency
-(the band's middle); ``auto=0`` holds the operator's choice (:class:`Hold`),
-``auto=1`` releases it.  Every operation of one ``port set`` is tried on a copy of the
-engine first, so a refused command changes nothing.  The app tells the front
+What a client asks becomes one :class:`PortRequest` to the :class:`AgBackend` (the
+real server's is :class:`moas_gui.engine_backend.AgEngineBackend`, which makes the
+engine's operations of it and hands them to the server's one door): ``rxant``/``txant``
+are the operator's press; ``band=`` is a frequency (the band's middle); ``auto=0``
+holds the operator's choice, ``auto=1`` releases it.  The backend tries all of one
+``port set`` first, so a refused command changes nothing.  The app tells the front
 what changed (:meth:`AgServer.radios_changed`, :meth:`AgServer.reload`); the front
 pushes ``S0|port ...`` to subscribers when a port's line changes and
 ``S0|antenna reload`` when a configuration opens.
@@ -31,8 +32,6 @@ from typing import Protocol
 
 from moas_gui.config import Config
 from moas_gui.config.model import RadioRef
-from moas_gui.engine import Engine
-from moas_gui.engine.operations import Hold, Operation, Select, SetFrequency, perform
 from moas_gui.errors import RequestRefused
 from moas_gui.net.connection import format_peer
 
@@ -64,13 +63,59 @@ class AgTiming:
     """Between two discovery datagrams."""
 
 
-class AgCore(Protocol):
-    """What the front needs from the server (:class:`~moas_gui.app.ServerApp` is one)."""
+class AgRadio(Protocol):
+    """What the front reads of a radio (the engine's radio view is one)."""
 
     @property
-    def engine(self) -> Engine | None: ...
+    def khz(self) -> float | None: ...
 
-    def act(self, op: Operation) -> object: ...
+    @property
+    def tx(self) -> int | None: ...
+
+    @property
+    def rx(self) -> int | None: ...
+
+    @property
+    def transmitting(self) -> bool: ...
+
+    @property
+    def inhibited(self) -> bool: ...
+
+    @property
+    def held_by(self) -> str | None: ...
+
+
+@dataclass(frozen=True, slots=True)
+class PortRequest:
+    """One ``port set`` for a radio, in the configuration's terms, done in this order:
+    release the hold, tune to ``khz``, press ``tx`` then ``rx`` (antenna IDs; the same
+    ID for both is one press for both), hold for ``hold_by``."""
+
+    station: int
+    radio: int
+    release: bool = False
+    khz: float | None = None
+    tx: int | None = None
+    rx: int | None = None
+    hold_by: str | None = None
+
+
+class AgBackend(Protocol):
+    """What the front needs from the server."""
+
+    @property
+    def running(self) -> bool:
+        """A configuration runs."""
+        ...
+
+    def radio(self, station: int, radio: int) -> AgRadio | None:
+        """The radio's state now; None when no configuration runs or it has no such radio."""
+        ...
+
+    def port_set(self, request: PortRequest) -> None:
+        """Do all of ``request`` or nothing: raises :class:`RequestRefused` (its ``code``
+        the client protocol's, ``message`` the reason) when anything of it is refused."""
+        ...
 
 
 @dataclass(eq=False)
@@ -126,11 +171,11 @@ class _Device:
 class AgServer:
     """Every AG device of one station (see the module docstring)."""
 
-    def __init__(self, core: AgCore, host: str, port: int, *,
+    def __init__(self, backend: AgBackend, host: str, port: int, *,
                  radios: Sequence[RadioRef] | None = None, access: AgAccess | None = None,
                  name: str = "MOAS", timing: AgTiming | None = None,
                  discovery: tuple[str, int] | None = None) -> None:
-        self.core = core
+        self.backend = backend
         self.host, self.port = host, port
         self.chosen = tuple(radios) if radios is not None else None
         self.access: AgAccess = access or SimpleAccess()
@@ -263,12 +308,8 @@ class AgServer:
     def port_status(self, device: Device, port: int) -> PortStatus:
         """What ``port get`` says of ``port``: the engine's view of its radio."""
         ref = device.radio(port)
-        engine = self.core.engine
-        if ref is None or engine is None:
-            return PortStatus(port)
-        try:
-            view = engine.radio_view(ref.station, ref.radio)
-        except RequestRefused:
+        view = None if ref is None else self.backend.radio(ref.station, ref.radio)
+        if ref is None or view is None:
             return PortStatus(port)
         numbers = {a.id: a.number for a in self.antennas}
         return PortStatus(
@@ -403,23 +444,18 @@ class AgServer:
         if isinstance(port, bytes):
             return port
         ref = session.device.device.radio(port)
-        engine = self.core.engine
-        if ref is None or engine is None:
+        running = self.backend.running
+        if ref is None or not running:
             return codec.reply(item.seq, codec.NOT_RUNNING,
-                               f"port {port} has no radio" if engine is not None
+                               f"port {port} has no radio" if running
                                else "no configuration is open")
-        ops = self._operations(session, item, ref)
-        if isinstance(ops, str):
-            return codec.reply(item.seq, codec.BAD_ARGUMENT, ops)
-        now = asyncio.get_running_loop().time()
-        trial = engine.clone()
+        request = self._request(session, item, ref)
+        if isinstance(request, str):
+            return codec.reply(item.seq, codec.BAD_ARGUMENT, request)
         try:
-            for op in ops:
-                perform(trial, op, now=now)
             self._deferred = set()
             try:
-                for op in ops:
-                    self.core.act(op)
+                self.backend.port_set(request)
             finally:
                 changed, self._deferred = self._deferred, None
                 self.radios_changed(changed)
@@ -430,9 +466,9 @@ class AgServer:
             return codec.reply(item.seq, code, exc.message)
         return codec.reply(item.seq)
 
-    def _operations(self, session: _Session, item: Command,
-                    ref: RadioRef) -> list[Operation] | str:
-        """The engine's operations for a ``port set``'s arguments, or what is wrong."""
+    def _request(self, session: _Session, item: Command,
+                 ref: RadioRef) -> PortRequest | str:
+        """The :class:`PortRequest` a ``port set``'s arguments ask for, or what is wrong."""
         args = item.args
         unknown = sorted(set(args) - {"auto", "source", "band", "rxant", "txant"})
         if unknown:
@@ -452,27 +488,14 @@ class AgServer:
         band = values.get("band")
         if band is not None and (band == 0 or not BANDS[band].high_khz):
             return f"band={band} is not a band of this station"
-        ops: list[Operation] = []
-        if values.get("auto") == 1:
-            ops.append(Hold(ref.station, ref.radio, None))
-        if band is not None:
-            ops.append(SetFrequency(ref.station, ref.radio, BANDS[band].middle_khz))
-        ops += self._presses(ref, values.get("rxant"), values.get("txant"))
-        if values.get("auto") == 0:
-            who = session.operator or "an Antenna Genius client"
-            ops.append(Hold(ref.station, ref.radio, f"{who} at {session.host}"))
-        return ops
-
-    def _presses(self, ref: RadioRef, rx: int | None, tx: int | None) -> list[Operation]:
         ids = {a.number: a.id for a in self.antennas}
-        if rx is not None and rx == tx:
-            return [Select(ref.station, ref.radio, ids[rx], "both", True)]
-        out: list[Operation] = []
-        if tx is not None:
-            out.append(Select(ref.station, ref.radio, ids[tx], "tx", True))
-        if rx is not None:
-            out.append(Select(ref.station, ref.radio, ids[rx], "rx", True))
-        return out
+        who = session.operator or "an Antenna Genius client"
+        return PortRequest(
+            ref.station, ref.radio, release=values.get("auto") == 1,
+            khz=None if band is None else BANDS[band].middle_khz,
+            tx=ids.get(values["txant"]) if "txant" in values else None,
+            rx=ids.get(values["rxant"]) if "rxant" in values else None,
+            hold_by=f"{who} at {session.host}" if values.get("auto") == 0 else None)
 
     def _sub(self, session: _Session, item: Command) -> bytes:
         what = item.words[1] if len(item.words) > 1 else ""
@@ -523,4 +546,4 @@ def _radios_text(device: Device) -> str:
                      for p, r in enumerate(device.radios, start=1))
 
 
-__all__ = ["UNSUPPORTED_VERBS", "AgCore", "AgServer", "AgTiming"]
+__all__ = ["UNSUPPORTED_VERBS", "AgBackend", "AgRadio", "AgServer", "AgTiming", "PortRequest"]

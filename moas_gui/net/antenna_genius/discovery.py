@@ -62,6 +62,17 @@ def _interface_addresses() -> list[tuple[str, str]]:
     return out
 
 
+def _source_address(target: tuple[str, int]) -> str:
+    """The address this computer reaches ``target`` from (a UDP socket's connect sends
+    nothing); loopback when that cannot be told."""
+    try:
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+            probe.connect(target)
+            return str(probe.getsockname()[0])
+    except OSError:
+        return "127.0.0.1"
+
+
 def broadcast_targets(bind: str) -> list[tuple[str, str]]:
     """``(our address, broadcast address)`` pairs for a server bound to ``bind``: every
     interface's for the wildcard, the one interface's for one address, none for
@@ -91,7 +102,9 @@ class Announcer:
     def destinations(self) -> list[tuple[str, tuple[str, int]]]:
         """``(ip said in the datagram, where it goes)`` pairs."""
         if self.target is not None:
-            host = self.bind if self.bind not in ("", "0.0.0.0", "::") else "127.0.0.1"
+            host = self.bind
+            if host in ("", "0.0.0.0", "::"):
+                host = _source_address(self.target)
             return [(host, self.target)]
         return [(ip, (bcast, DISCOVERY_PORT)) for ip, bcast in broadcast_targets(self.bind)]
 

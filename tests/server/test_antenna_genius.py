@@ -272,25 +272,36 @@ async def test_auth_needed_wrong_code_gets_ff_and_too_many_lock_the_address_out(
 @pytest.mark.asyncio
 async def test_more_radios_are_a_second_device_on_the_next_port(tmp_path: Path) -> None:
     base = free_port()
-    server = ServerApp(options(ag_port=base, ag_radios=(RadioRef(1, 2), RadioRef(1, 1),
-                                                         RadioRef(1, 2))))
-    # two devices: the same radio may be on two ports; each device has its own serial
-    assert (await server.open(EXAMPLES / "small-station.moas")).ok
-    try:
-        assert server.ag_ports == [base, base + 1]
-        first = await AgClient.connect(base)
-        second = await AgClient.connect(base + 1)
-        one = fields((await first.ask("info get")).message)
-        two = fields((await second.ask("info get")).message)
-        assert one["serial"] != two["serial"] and two["name"] == "MOAS_small-station_2"
-        assert (await second.ask("port set 2 band=6")).code == 0x21  # no radio on B
-        assert (await second.ask("port set 1 band=6")).code == 0
-        engine = server.engine
-        assert engine is not None and engine.radio_view(1, 2).khz == 14175.0
-        await first.close()
-        await second.close()
-    finally:
-        await server.close()
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as listener:
+        listener.bind(("127.0.0.1", 0))
+        listener.setblocking(False)
+        # two devices: the same radio may be on two ports; each has its own serial
+        server = ServerApp(options(ag_port=base, ag_discovery=listener.getsockname(),
+                                   ag_radios=(RadioRef(1, 2), RadioRef(1, 1), RadioRef(1, 2))))
+        assert (await server.open(EXAMPLES / "small-station.moas")).ok
+        try:
+            assert server.ag_ports == [base, base + 1]
+            first = await AgClient.connect(base)
+            second = await AgClient.connect(base + 1)
+            one = fields((await first.ask("info get")).message)
+            two = fields((await second.ask("info get")).message)
+            assert one["serial"] != two["serial"] and two["name"] == "MOAS_small-station_2"
+            assert (await second.ask("port set 2 band=6")).code == 0x21  # no radio on B
+            assert (await second.ask("port set 1 band=6")).code == 0
+            engine = server.engine
+            assert engine is not None and engine.radio_view(1, 2).khz == 14175.0
+            # a discovery line per device, each with its port and serial
+            loop = asyncio.get_running_loop()
+            heard: dict[str, str] = {}
+            while len(heard) < 2:
+                data = await asyncio.wait_for(loop.sock_recv(listener, 1024), 10)
+                said = fields(data.decode())
+                heard[said["port"]] = said["serial"]
+            assert heard == {str(base): one["serial"], str(base + 1): two["serial"]}
+            await first.close()
+            await second.close()
+        finally:
+            await server.close()
 
 
 @pytest.mark.asyncio
@@ -349,3 +360,68 @@ async def test_transmit_and_inhibit_are_pushed(app: ServerApp, client: AgClient)
     box.set_tr(1, False)
     assert fields(await client.status("port 1 "))["tx"] == "0"
     assert fields(await client.status("port 2 "))["inhibit"] == "0"
+
+
+@pytest.mark.asyncio
+async def test_the_other_commands_and_lines_that_are_not_commands(app: ServerApp,
+                                                                   client: AgClient) -> None:
+    for command in ("sub relay", "sub antenna", "sub port 1", "unsub relay", "unsub",
+                    "keepalive enable", "keepalive disable", "ping", "auth code=1"):
+        assert (await client.ask(command)).code == 0, command
+    assert (await client.ask("keepalive sometimes")).code == 0x12
+    assert (await client.ask("info")).code == 0x10
+    client.writer.write(b"hello there\r\n")
+    assert (await client.line()).startswith("R0|10|not a command line")
+    client.writer.write(b"C77|" + b"x" * 600 + b"\n")
+    assert (await client.line()).startswith("R77|10|a line of over 512 bytes")
+    assert (await client.ask("ping")).code == 0  # the connection carries on
+
+
+@pytest.mark.asyncio
+async def test_stopped_switches_answer_port_set_with_not_running(app: ServerApp,
+                                                                 client: AgClient) -> None:
+    app.stop_switches()
+    answer = await client.ask("port set 1 rxant=4 txant=4")
+    assert answer.code == 0x21 and "stopped" in answer.message
+    app.start_switches()
+    assert (await client.ask("port set 1 band=6")).code == 0
+
+
+@pytest.mark.asyncio
+async def test_a_quiet_client_without_keepalive_is_closed_after_the_idle_time() -> None:
+    core = AgEngineBackend(ServerApp(options(ag_port=None)))
+    ag = AgServer(core, "127.0.0.1", 0, timing=AgTiming(first_command=30, idle=0.5))
+    await ag.start(None)
+    try:
+        c = await AgClient.connect(ag.port)
+        assert (await c.ask("ping")).code == 0
+        assert await c.closed(), "idle past the limit: closed"
+        await c.close()
+    finally:
+        await ag.close()
+
+
+@pytest.mark.asyncio
+async def test_admission_is_one_call_at_accept_outside_client_allow_or_over_a_limit() -> None:
+    from moas_gui.net.antenna_genius.access import SimpleAccess
+
+    allow: list[str] = ["10.0.0.0/8"]
+    core = AgEngineBackend(ServerApp(options(ag_port=None)))
+    ag = AgServer(core, "127.0.0.1", 0, access=SimpleAccess(lambda: allow, per_address=1))
+    await ag.start(None)
+    try:
+        outside = await AgClient.connect(ag.port)
+        assert outside.greeting == "" and await outside.closed()
+        allow[:] = ["127.0.0.0/8"]
+        first = await AgClient.connect(ag.port)
+        assert first.greeting == "V4.1.0 AG"
+        second = await AgClient.connect(ag.port)  # one address may hold one here
+        assert second.greeting == "" and await second.closed()
+        await first.close()
+        await until(lambda: not ag.devices[0].sessions)
+        third = await AgClient.connect(ag.port)
+        assert third.greeting == "V4.1.0 AG"
+        for c in (outside, second, third):
+            await c.close()
+    finally:
+        await ag.close()

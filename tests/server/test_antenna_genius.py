@@ -50,6 +50,19 @@ async def client(app: ServerApp) -> AsyncIterator[AgClient]:
     await ag.close()
 
 
+def two_free_ports() -> int:
+    """A TCP port free on 127.0.0.1 whose next one is free too."""
+    for _ in range(50):
+        base = free_port()
+        with socket.socket() as probe:
+            try:
+                probe.bind(("127.0.0.1", base + 1))
+            except OSError:
+                continue
+            return base
+    raise AssertionError("no two free ports in a row")
+
+
 def logger_band(app: ServerApp, khz: float, radio: int = 1) -> None:
     address = app.n1mm_address
     assert address is not None
@@ -271,7 +284,7 @@ async def test_auth_needed_wrong_code_gets_ff_and_too_many_lock_the_address_out(
 
 @pytest.mark.asyncio
 async def test_more_radios_are_a_second_device_on_the_next_port(tmp_path: Path) -> None:
-    base = free_port()
+    base = two_free_ports()
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as listener:
         listener.bind(("127.0.0.1", 0))
         listener.setblocking(False)

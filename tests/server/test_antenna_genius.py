@@ -438,3 +438,23 @@ async def test_admission_is_one_call_at_accept_outside_client_allow_or_over_a_li
             await c.close()
     finally:
         await ag.close()
+
+
+@pytest.mark.asyncio
+async def test_a_moas_clients_press_is_pushed_to_antenna_genius_subscribers(
+        app: ServerApp, client: AgClient) -> None:
+    engine = app.engine
+    address = app.client_address
+    assert engine is not None and address is not None
+    logger_band(app, 14025.0)
+    await until(lambda: engine.radio_view(1, 1).khz == 14025.0)
+    assert (await client.ask("sub port all")).code == 0
+    _reader, writer = await asyncio.open_connection(*address)
+    try:
+        writer.write(b'{"id": 1, "cmd": "hello", "client": "test"}\n'
+                     b'{"id": 2, "cmd": "select", "station": 1, "radio": 1, "antenna": 3, '
+                     b'"exclusive": true}\n')
+        said = fields(await client.status("port 1 "))
+        assert said["txant"] == "4" and said["rxant"] == "4"
+    finally:
+        writer.close()

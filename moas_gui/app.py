@@ -37,6 +37,7 @@ from moas_gui.config.model import RotatorControl
 from moas_gui.engine import Changes, Engine, NotRunning
 from moas_gui.engine.focus import FocusKind
 from moas_gui.engine.operations import (
+    Hold,
     KeepSwitchAntennas,
     Operation,
     SelectDirection,
@@ -47,7 +48,7 @@ from moas_gui.engine.operations import (
     perform,
 )
 from moas_gui.engine.snapshot import export_selections
-from moas_gui.engine_backend import EngineBackend
+from moas_gui.engine_backend import AgEngineBackend, EngineBackend
 from moas_gui.files import write_text_atomic
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
@@ -55,6 +56,7 @@ from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.running import (
     ROTCTLD_HOST,
+    AntennaGenius,
     Running,
     ServerOptions,
     close_parts,
@@ -83,6 +85,8 @@ class ServerApp:
         self._alert_listeners: list[Callable[[str, str], None]] = []
         self._status = ServerStatus()
         self._lock = asyncio.Lock()
+        self._ag = AntennaGenius()
+        """The Antenna Genius front: it outlives a configuration, closed by :meth:`close`."""
 
     # -- what the window and tests read ---------------------------------------------
     @property
@@ -115,6 +119,12 @@ class ServerApp:
         if host in ("0.0.0.0", "", "::"):
             host = "127.0.0.1"
         return host, int(self._run.clients.port)
+
+    @property
+    def ag_ports(self) -> list[int]:
+        """The Antenna Genius devices' TCP ports (docs/antenna-genius.md), empty when
+        not served."""
+        return self._ag.ports
 
     @property
     def n1mm_address(self) -> tuple[str, int] | None:
@@ -197,6 +207,7 @@ class ServerApp:
         async with self._lock:
             if self._run is not None:
                 await self._close_running()
+            await self._ag.close()
             self._path = None
             self._update_status()
 
@@ -213,6 +224,9 @@ class ServerApp:
         await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
         await start_sources(run, self.options, self._source_event)
         await start_clients(run, self.options, EngineBackend(self))
+        await self._ag.sync(self.options, config, AgEngineBackend(self),
+                            f"MOAS_{self._path.stem}" if self._path is not None else "MOAS",
+                            lambda: self.config.client_allow if self.config else None)
         run.serving = True
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
@@ -353,7 +367,9 @@ class ServerApp:
         if run is None:
             raise NotRunning("No configuration is open")
         changes = perform(run.engine, op, now=asyncio.get_running_loop().time())
-        return self.apply_changes(changes, automatic=isinstance(op, SetFrequency))
+        # a frequency, or a hold released (the frequency chooses again), is automatic
+        automatic = isinstance(op, SetFrequency) or (isinstance(op, Hold) and op.by is None)
+        return self.apply_changes(changes, automatic=automatic)
 
     def apply_changes(self, changes: Changes, *, automatic: bool = False) -> set[RadioKey]:
         """Send an engine decision out: switch states to links, news to clients, lines to
@@ -389,6 +405,8 @@ class ServerApp:
                 published.add((ref.station, ref.radio))
             if changes.layouts:
                 run.clients.layouts_may_have_changed()
+        if changes.radios:
+            self._ag.radios_changed({(ref.station, ref.radio) for ref in changes.radios})
         return published
 
     def _publish_radio(self, entry: dict[str, object]) -> None:

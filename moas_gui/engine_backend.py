@@ -10,13 +10,24 @@ the engine's views.  Engine and rotator refusals keep their code and sentence.
 
 from __future__ import annotations
 
+import asyncio
 from collections.abc import Callable
 from typing import Protocol, TypeVar
 
 from moas_gui.engine import Engine
-from moas_gui.engine.operations import Operation, Relative, RunFunction, Select, SetFrequency
+from moas_gui.engine.operations import (
+    Hold,
+    Operation,
+    Relative,
+    RunFunction,
+    Select,
+    SetFrequency,
+    perform,
+)
+from moas_gui.engine.views import RadioView
 from moas_gui.errors import RequestRefused
 from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.net.antenna_genius.server import PortRequest
 from moas_gui.net.backend import ErrorCode, FocusKind, JSONObject, RequestError, Target
 from moas_gui.status import ServerStatus
 
@@ -141,4 +152,59 @@ class EngineBackend:
         _refused(lambda: manager.start_stop(rotator))
 
 
-__all__ = ["EngineBackend", "ServerCore"]
+class AgEngineBackend:
+    """The Antenna Genius front's backend (:class:`~moas_gui.net.antenna_genius.server.AgBackend`):
+    a ``port set`` becomes the engine's operations -- release (:class:`Hold` with no
+    one), a frequency, the presses, a hold -- tried together on a copy of the engine,
+    then handed one by one to ``act``, the server's one door."""
+
+    def __init__(self, core: ServerCore) -> None:
+        self.core = core
+
+    @property
+    def running(self) -> bool:
+        return self.core.engine is not None
+
+    def radio(self, station: int, radio: int) -> RadioView | None:
+        engine = self.core.engine
+        if engine is None:
+            return None
+        try:
+            return engine.radio_view(station, radio)
+        except RequestRefused:
+            return None
+
+    def port_set(self, request: PortRequest) -> None:
+        engine = self.core.engine
+        if engine is None:
+            raise RequestError(ErrorCode.NOT_RUNNING, "No configuration is open")
+        ops = operations(request)
+        trial = engine.clone()
+        now = asyncio.get_running_loop().time()  # the clock the server's door stamps with
+        for op in ops:
+            perform(trial, op, now=now)
+        for op in ops:
+            self.core.act(op)
+
+
+def operations(request: PortRequest) -> list[Operation]:
+    """The engine's operations for one ``port set``, in their order."""
+    station, radio = request.station, request.radio
+    ops: list[Operation] = []
+    if request.release:
+        ops.append(Hold(station, radio, None))
+    if request.khz is not None:
+        ops.append(SetFrequency(station, radio, request.khz))
+    if request.tx is not None and request.tx == request.rx:
+        ops.append(Select(station, radio, request.tx, "both", True))
+    else:
+        if request.tx is not None:
+            ops.append(Select(station, radio, request.tx, "tx", True))
+        if request.rx is not None:
+            ops.append(Select(station, radio, request.rx, "rx", True))
+    if request.hold_by is not None:
+        ops.append(Hold(station, radio, request.hold_by))
+    return ops
+
+
+__all__ = ["AgEngineBackend", "EngineBackend", "ServerCore", "operations"]

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from moas_gui.config import Config
-from moas_gui.config.model import Antenna, Rotator, RotatorControl
+from moas_gui.config.model import Antenna, RadioRef, Rotator, RotatorControl
 from moas_gui.engine import Engine
 from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
@@ -40,6 +40,8 @@ from moas_gui.hw.rotators.electrical import SelectDirection
 from moas_gui.hw.rotators.headings import Travel
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.net.admission import DEFAULT_PER_ADDRESS
+from moas_gui.net.antenna_genius.access import SimpleAccess
+from moas_gui.net.antenna_genius.server import AgBackend, AgServer
 from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
@@ -84,6 +86,14 @@ class ServerOptions:
     """Rig sources (rigctld, flrig, OTRSP) run beside the configuration's (``--source``)."""
     web_port: int | None = None
     """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
+    ag_port: int | None = None
+    """Overrides ``AGPort``, the Antenna Genius API's first port (0 picks free ports)."""
+    ag_radios: tuple[RadioRef, ...] | None = None
+    """``--ag-radios``: the main radios served as AG ports, two per device (None: the
+    first two)."""
+    ag_discovery: tuple[str, int] | None = None
+    """``--ag-discovery ADDR:PORT``: the AG discovery datagrams go there, not to the
+    interfaces' broadcast addresses."""
     max_clients: int | None = None
     """Client connections served at once; None for the client server's default."""
     max_per_address: int | None = None
@@ -303,6 +313,53 @@ async def close_parts(run: Running) -> None:
         run.recorder.close()
 
 
+class AntennaGenius:
+    """The Antenna Genius front (``--ag-port`` / ``AGPort``, docs/antenna-genius.md): it
+    outlives a configuration (its clients are told ``S0|antenna reload`` when the next
+    one opens) and is closed with the server."""
+
+    def __init__(self) -> None:
+        self.server: AgServer | None = None
+
+    @property
+    def ports(self) -> list[int]:
+        return [] if self.server is None else [d.port for d in self.server.devices]
+
+    async def sync(self, options: ServerOptions, config: Config, backend: AgBackend,
+                   name: str, allow: Callable[[], Sequence[str] | None]) -> None:
+        """Serve the API for ``config`` (started, told of the new configuration, moved
+        to another port, or closed when no port is set)."""
+        port = options.ag_port if options.ag_port is not None else config.ag_port
+        server = self.server
+        if server is not None and (port is None or (port and port != server.port)):
+            await self.close()
+            server = None
+        if port is None:
+            return
+        if server is not None:
+            await server.reload(config)
+            return
+        server = AgServer(backend, options.bind, port, radios=options.ag_radios,
+                          access=SimpleAccess(allow), name=name,
+                          discovery=options.ag_discovery)
+        try:
+            await server.start(config)
+        except OSError as exc:
+            log.error("Antenna Genius clients cannot connect: TCP port %d: %s (AGPort in "
+                      "the configuration, or --ag-port, sets it)", port, exc.strerror or exc)
+            return
+        self.server = server
+
+    def radios_changed(self, refs: set[tuple[int, int]]) -> None:
+        if self.server is not None:
+            self.server.radios_changed(refs)
+
+    async def close(self) -> None:
+        server, self.server = self.server, None
+        if server is not None:
+            await server.close()
+
+
 def open_recorder(path: str) -> SerialRecorder | None:
     """The recording ``--record-serial`` asked for, or None (said once) when its file
     cannot be opened: the switches are driven all the same."""
@@ -318,6 +375,7 @@ def open_recorder(path: str) -> SerialRecorder | None:
 
 __all__ = [
     "ROTCTLD_HOST",
+    "AntennaGenius",
     "Running",
     "ServerOptions",
     "close_parts",

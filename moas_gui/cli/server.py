@@ -72,6 +72,15 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--udp-port", type=int, help="N1MM Logger port instead of UDPPort")
     parser.add_argument("--web-port", type=int,
                         help="serve the browser client on this port (instead of WebPort)")
+    parser.add_argument("--ag-port", type=int, metavar="PORT",
+                        help="serve the 4O3A Antenna Genius API on this port (instead of "
+                             "AGPort; further devices on the next ports, docs/antenna-genius.md)")
+    parser.add_argument("--ag-radios", type=_ag_radios, metavar="S/R,S/R",
+                        help="the main radios served as Antenna Genius ports, two per device "
+                             "(default the first two, as 1/1,2/1)")
+    parser.add_argument("--ag-discovery", type=_ag_discovery, metavar="ADDR:PORT",
+                        help="send the Antenna Genius discovery datagrams to ADDR:PORT instead "
+                             "of the interfaces' broadcast addresses")
     parser.add_argument("--max-clients", type=_positive, default=None, metavar="N",
                         help="client connections served at once, browser connections "
                              "included (default 200)")
@@ -148,6 +157,24 @@ def _milliseconds(text: str) -> float:
     if not 0 <= value <= 10000:
         raise argparse.ArgumentTypeError(f"{value} ms is not 0-10000 ms")
     return value / 1000
+
+
+def _ag_radios(text: str) -> tuple[object, ...]:
+    from moas_gui.net.antenna_genius.mapping import parse_radios
+
+    try:
+        return parse_radios(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _ag_discovery(text: str) -> tuple[str, int]:
+    from moas_gui.net.antenna_genius.discovery import parse_target
+
+    try:
+        return parse_target(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def _line_level(text: str) -> bool:
@@ -309,6 +336,8 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          n1mm_rotor_headings=(None if args.n1mm_rotor_headings is None
                                               else tuple(args.n1mm_rotor_headings)),
                          web_port=args.web_port,
+                         ag_port=args.ag_port, ag_radios=args.ag_radios,
+                         ag_discovery=args.ag_discovery,
                          sources=tuple(args.source or ()),
                          max_clients=args.max_clients,
                          max_per_address=args.max_per_address,
@@ -376,7 +405,7 @@ def launch_request(args: argparse.Namespace) -> dict[str, object]:
     """What this command line asks of a server, for the running one to vet."""
     launch: dict[str, object] = {"headless": bool(args.headless)}
     for key in ("bind", "tcp_port", "udp_port", "udp_bind", "dxlog_port", "wintest_port",
-                "n1mm_rotor_port", "web_port"):
+                "n1mm_rotor_port", "web_port", "ag_port"):
         value = getattr(args, key)
         if value is not None:
             launch[key] = value
@@ -420,7 +449,8 @@ def vet_launch(app: RunningServer, launch: dict[str, object], *, headless: bool)
                else (address[1] if address else None),
                "udp_port": options.udp_port, "dxlog_port": options.dxlog_port,
                "wintest_port": options.wintest_port, "n1mm_rotor_port": options.n1mm_rotor_port,
-               "web_port": options.web_port, "source": _source_text(options.sources)}
+               "web_port": options.web_port, "ag_port": options.ag_port,
+               "source": _source_text(options.sources)}
     for key, value in running.items():
         if key in launch and launch[key] != value:
             flag = "--" + key.replace("_", "-")

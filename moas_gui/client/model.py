@@ -207,6 +207,16 @@ class RadioView:
     """This radio has its station's receive focus (the operator is on it)."""
     why: WhyView | None = None
     """Why the radio has these antennas (None when the server did not say)."""
+    held_by: str | None = None
+    """Who holds the radio's antennas against its frequency changes (an Antenna Genius
+    client's ``auto=0``), None when they follow the frequency."""
+
+    @property
+    def held_text(self) -> str:
+        """The hold in words for a display line, empty when none."""
+        if not self.held_by:
+            return ""
+        return f"Held by {self.held_by}: the antennas do not follow the frequency"
 
     @property
     def key(self) -> RadioKey:
@@ -390,6 +400,7 @@ def parse_radio(obj: object, where: str = "radio") -> RadioView:
         active=f.flag("active"),
         focus=f.flag("focus"),
         why=_parse_why(obj.get("why") if isinstance(obj, Mapping) else None, f"{where}: why"),
+        held_by=f.text("held_by") or None,
     )
 
 

@@ -361,6 +361,8 @@ class Config:
     udp_port: int = 12060
     web_port: int | None = None
     """The browser client's port; ``None``: no browser client."""
+    ag_port: int | None = None
+    """The Antenna Genius API's first port (docs/antenna-genius.md); ``None``: not served."""
     use_n1mm_logger: bool = False
     n1mm_logger: tuple[N1MMStation, ...] = ()
     use_dxlog: bool = False

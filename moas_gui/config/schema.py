@@ -321,6 +321,7 @@ TOP = GroupSpec({
     "TCPPort": Field("tcp_port", integer(1, 65535)),
     "UDPPort": Field("udp_port", integer(1, 65535)),
     "WebPort": Field("web_port", integer(1, 65535)),
+    "AGPort": Field("ag_port", integer(1, 65535)),
     "UseN1MMLogger": Field("use_n1mm_logger", boolean),
     "N1MMLogger": Field("n1mm_logger", list_of(group_of(N1MM, "N1MMLogger entry"))),
     "UseDXLog": Field("use_dxlog", boolean),

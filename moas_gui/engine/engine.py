@@ -212,6 +212,32 @@ class Engine:
             self._frequency(w, ref, khz, None if tx == khz else tx)
         return self._run(op, now, need_running=False)
 
+    def hold(self, station: int, radio: int, by: str | None,
+             now: float | None = None) -> Changes:
+        """Hold the radio's antennas against its frequency changes (``by`` says who holds
+        them, e.g. "AetherSDR at 192.168.1.20"), or release them (``by`` None): a held
+        radio's frequency is kept but chooses no antennas; presses still do.  Releasing
+        selects for the frequency it has now."""
+        ref = self._radio(station, radio)
+        if by is not None and (not isinstance(by, str) or not by.strip()):
+            raise BadRequest(f"who holds the antennas must be said (not {by!r})")
+
+        def op(w: Work) -> None:
+            st = w.st
+            if by is not None:
+                if st.held.get(ref) != by:
+                    st.held[ref] = by
+                    w.log.append(f"{radio_name(ref)}: antennas held by {by}")
+                return
+            if st.held.pop(ref, None) is None:
+                return
+            w.log.append(f"{radio_name(ref)}: antennas released, they follow the frequency")
+            if st.radios[ref].khz is not None:
+                w.takeover = True
+                w.reported = ref
+                select_by_frequency(w, ref, None)  # chosen afresh, as for a new frequency
+        return self._run(op, now, need_running=False)
+
     def radio_on_port(self, switch_id: int, port: int) -> tuple[int, int] | None:
         """``(station, radio)`` of the radio whose switch port this is (the configured
         ports, or each station's own port by default); None for a port of no radio."""
@@ -359,6 +385,8 @@ class Engine:
         info = ix.radios[ref]
         old = st.radios[ref].khz
         st.radios[ref] = st.radios[ref].with_(khz=khz, tx_khz=tx)
+        if ref in st.held:
+            return  # an operator holds its antennas (hold): the frequency chooses none
         w.takeover = True
         w.reported = ref
         select_by_frequency(w, ref, old)
@@ -501,7 +529,8 @@ class Engine:
         view = RadioView(ref.station, ref.radio, rs.khz, rs.tx_freq if main else None,
                          rs.tx, rs.rx, alt, rs.transmitting, inhibited, note,
                          None if listed is None else listed[1].ids,
-                         path is not None and path.radio_rx_antenna, st.why.get(ref))
+                         path is not None and path.radio_rx_antenna, st.why.get(ref),
+                         st.held.get(ref))
         old = self._views.get(ref)
         return old if old == view else view
 

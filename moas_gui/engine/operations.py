@@ -40,6 +40,16 @@ class Select:
 
 
 @dataclass(frozen=True, slots=True)
+class Hold:
+    """Hold the radio's antennas against frequency changes (``by``: who holds them),
+    or release them (``by`` None)."""
+
+    station: int
+    radio: int
+    by: str | None
+
+
+@dataclass(frozen=True, slots=True)
 class RunFunction:
     """Run the configuration's function ``function`` for that radio."""
 
@@ -96,7 +106,7 @@ class StartSwitches:
     """File > Start Switches: the switches hold the current antennas again."""
 
 
-Operation = (SetFrequency | Select | RunFunction | Relative | SetTransmitting
+Operation = (SetFrequency | Select | Hold | RunFunction | Relative | SetTransmitting
              | SelectDirection | KeepSwitchAntennas | StopSwitches | StartSwitches)
 """Anything the engine can be asked to do."""
 
@@ -112,6 +122,8 @@ def perform(engine: Engine, op: Operation, now: float) -> Changes:
             return engine.set_frequency(station, radio, khz, tx_khz, now=now)
         case Select(station, radio, antenna, target, exclusive):
             return engine.select(station, radio, antenna, target, exclusive, now=now)
+        case Hold(station, radio, by):
+            return engine.hold(station, radio, by, now=now)
         case RunFunction(station, radio, function):
             return engine.run_function(station, radio, function, now=now)
         case Relative(station, radio, step, index):
@@ -129,6 +141,7 @@ def perform(engine: Engine, op: Operation, now: float) -> Changes:
 
 
 __all__ = [
+    "Hold",
     "KeepSwitchAntennas",
     "Operation",
     "Relative",

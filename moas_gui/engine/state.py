@@ -50,6 +50,7 @@ class State:
         "alt_active",
         "busses",
         "extra_on",
+        "held",
         "history",
         "latched",
         "now",
@@ -85,6 +86,9 @@ class State:
         self.now = 0.0
         self.why: dict[RadioRef, Why] = {}
         """The reason for each radio's antennas (recorded where they were decided)."""
+        self.held: dict[RadioRef, str] = {}
+        """Radios whose antennas an operator holds against frequency changes, and who
+        holds them ("AetherSDR at 192.168.1.20"): their frequency is kept, no selection."""
 
     def clone(self) -> State:
         c = State.__new__(State)
@@ -103,6 +107,7 @@ class State:
         c.ports_tr = dict(self.ports_tr)
         c.now = self.now
         c.why = dict(self.why)
+        c.held = dict(self.held)
         return c
 
     def remember(self, ref: RadioRef, band: Segment,

@@ -30,6 +30,9 @@ class RadioView:
     ``RadioRXAntenna``): a client controlling the radio switches that input on."""
     why: Why | None = None
     """Why the radio has these antennas (None before any decision)."""
+    held_by: str | None = None
+    """Who holds this radio's antennas against frequency changes (:meth:`Engine.hold`),
+    None when its antennas follow its frequency."""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -39,6 +42,7 @@ class RadioView:
             "relative": None if self.relative is None else list(self.relative),
             "radio_rx_antenna": self.radio_rx_antenna,
             "why": None if self.why is None else self.why.to_dict(),
+            "held_by": self.held_by,
         }
 
 

@@ -46,15 +46,17 @@ class _Radio:
     transmitting: bool = False
     active: bool = False
     focus: bool = False
+    held_by: str | None = None
 
     def view(self) -> JSONObject:
         inhibited = self.tx is None
+        held = {"held_by": self.held_by} if self.held_by is not None else {}
         return {
             "station": self.station, "radio": self.radio, "khz": self.khz,
             "tx_khz": self.tx_khz, "tx": self.tx, "rx": self.rx, "alt": None,
             "transmitting": self.transmitting, "inhibited": inhibited,
             "note": f"no free antenna covers {self.tx_khz:g} kHz" if inhibited else "",
-            "active": self.active, "focus": self.focus,
+            "active": self.active, "focus": self.focus, **held,
         }
 
     def __str__(self) -> str:
@@ -233,6 +235,13 @@ class FakeBackend:
         r = self._radio(station, radio)
         if r.transmitting != transmitting:
             r.transmitting = transmitting
+            self._changed([r])
+
+    def set_held(self, station: int, radio: int, by: str | None) -> None:
+        """An operator holds the radio's antennas (``by``), or releases them (None)."""
+        r = self._radio(station, radio)
+        if r.held_by != by:
+            r.held_by = by
             self._changed([r])
 
     def set_switch_status(self, switch: int, status: str) -> None:

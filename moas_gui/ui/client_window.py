@@ -511,8 +511,9 @@ class ClientWindow(QMainWindow):
         self.badge_inhibit.setVisible(radio.inhibited)
         self.badge_active.setVisible(radio.active)
         self.badge_focus.setVisible(radio.focus)
-        self.note_label.setText(radio.note)
-        self.note_label.setVisible(bool(radio.note))
+        note = "\n".join(text for text in (radio.note, radio.held_text) if text)
+        self.note_label.setText(note)
+        self.note_label.setVisible(bool(note))
         self.relative_strip.show_list(radio, snapshot)
 
     def why_text(self) -> str:

@@ -329,3 +329,34 @@ async def test_tapping_the_display_line_shows_why_the_radio_has_its_antennas(
         await page_until(browser, f"return {why}.hidden", what="the reason hidden again")
     finally:
         await tcp.close()
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_an_antenna_genius_hold_is_shown_on_the_page_with_who_holds_it(
+        tmp_path: Path, browser: Any) -> None:
+    from ag_client import AgClient
+    from web_station import free_port
+
+    made = Station(tmp_path)
+    ag_port = free_port()
+    ag: AgClient | None = None
+    try:
+        await made.start_server("--ag-port", str(ag_port))
+        await run(browser.get, made.url + "?station=1&radio=1")
+        note = "document.querySelector('.radio[data-radio=\"1\"] .note')"
+        await page_until(browser, f"return {note} !== null", what="radio 1")
+        ag = await AgClient.connect(ag_port)
+        assert (await ag.ask("port set 1 band=6")).code == 0  # 14175 kHz, no note
+        await page_until(browser, f"return {note}.hidden", what="radio 1 on 20 m")
+        assert (await ag.ask("port set 1 auto=0")).code == 0
+        await page_until(browser, f"return !{note}.hidden", what="the hold")
+        text = await js(browser, f"return {note}.textContent")
+        assert text == ("Held by an Antenna Genius client at 127.0.0.1: the antennas do not "
+                        "follow the frequency")
+        assert (await ag.ask("port set 1 auto=1")).code == 0
+        await page_until(browser, f"return {note}.hidden", what="the hold released")
+    finally:
+        if ag is not None:
+            await ag.close()
+        await made.close()

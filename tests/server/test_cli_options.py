@@ -56,3 +56,20 @@ def test_every_program_tells_its_version(program: str) -> None:
     assert done.returncode == 0, done.stderr
     name = "moas-" + program.rsplit(".", 1)[1]
     assert done.stdout.strip() == f"{name} {__version__}"
+
+
+def test_the_antenna_genius_options_are_read_and_bad_ones_say_what_is_wrong(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    from moas_gui.config.model import RadioRef
+
+    args = parse_server(["--ag-port", "9007", "--ag-radios", "1/1,2/1",
+                         "--ag-discovery", "127.0.0.1:9999"])
+    assert args.ag_port == 9007  # type: ignore[attr-defined]
+    assert args.ag_radios == (RadioRef(1, 1), RadioRef(2, 1))  # type: ignore[attr-defined]
+    assert args.ag_discovery == ("127.0.0.1", 9999)  # type: ignore[attr-defined]
+    for option, value, words in (("--ag-radios", "1:1", "'1:1' is not STATION/RADIO"),
+                                 ("--ag-discovery", "localhost", "not ADDR:PORT")):
+        with pytest.raises(SystemExit) as stopped:
+            parse_server([option, value])
+        assert stopped.value.code == 2
+        assert words in capsys.readouterr().err

@@ -222,6 +222,21 @@ def test_transmitting_and_inhibited_are_shown_with_the_reason(qapp: QApplication
     run_on_qt(qapp, scenario())
 
 
+def test_a_hold_is_shown_with_who_holds_it_and_goes_when_released(qapp: QApplication) -> None:
+    async def scenario() -> None:
+        async with LiveServer() as live, open_window(live) as window:
+            assert window.note_label.isHidden()
+            live.backend.set_held(1, 1, "an Antenna Genius client at 192.168.1.20")
+            await until(lambda: not window.note_label.isHidden(), what="the hold")
+            assert window.note_label.text() == ("Held by an Antenna Genius client at "
+                                                "192.168.1.20: the antennas do not follow "
+                                                "the frequency")
+            live.backend.set_held(1, 1, None)
+            await until(lambda: window.note_label.isHidden(), what="the hold released")
+
+    run_on_qt(qapp, scenario())
+
+
 def test_server_errors_are_shown_in_the_status_line(qapp: QApplication, qtbot: Any) -> None:
     async def scenario() -> None:
         async with LiveServer() as live, open_window(live) as window:

@@ -317,8 +317,9 @@
     rx.textContent = `RX ${antennaName(r.rx)}` + (r.alt != null ? ` \u00b7 ALT ${antennaName(r.alt)}` : "");
     $(".transmitting", el).hidden = !r.transmitting;
     $(".inhibited", el).hidden = !r.inhibited;
-    note.textContent = r.note || "";
-    note.hidden = !r.note;
+    const held = r.held_by ? `Held by ${r.held_by}: the antennas do not follow the frequency` : "";
+    note.textContent = [r.note || "", held].filter(Boolean).join(" \u00b7 ");
+    note.hidden = !note.textContent;
     const why = $(".why", el);
     why.textContent = whyText(r);
     $(".display", el).title = why.textContent;

@@ -34,9 +34,10 @@ from importlib import resources
 
 from aiohttp import web
 
+from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
 
-from .admission import REQUEST_DEADLINE, deepen_backlog
+from .admission import REQUEST_DEADLINE
 from .connection import format_peer
 from .server import ClientServer
 from .web_guard import host_allowed, local_names, origin_complaint
@@ -100,7 +101,7 @@ class WebServer:
         self._files = page_files()
         self._names = local_names()
         self._runner: web.AppRunner | None = None
-        self._listener: asyncio.Server | None = None
+        self._listener: Listener | None = None
         self._quiet = QuietAiohttp(clients.trouble)
 
     async def start(self) -> int:
@@ -114,10 +115,11 @@ class WebServer:
         await runner.setup()
         assert runner.server is not None
         try:
-            # not aiohttp's TCPSite: every connection goes through the guard first
-            self._listener = await asyncio.get_running_loop().create_server(
-                self._guarded(runner.server),
-                self.host or None, self.port)
+            # not aiohttp's TCPSite: every connection goes through the guard first, and
+            # the program's accept loop (which backs off when out of file handles)
+            self._listener = await Listener.open(self._guarded(runner.server),
+                                                 self.host or None, self.port,
+                                                 what="browsers", trouble=self.clients.trouble)
         except OSError as e:
             await runner.cleanup()
             raise HardwareError(
@@ -126,10 +128,7 @@ class WebServer:
             ) from e
         self._runner = runner
         self._quiet.install()
-        sockets = self._listener.sockets or ()
-        deepen_backlog(sockets)
-        if sockets:
-            self.port = int(sockets[0].getsockname()[1])
+        self.port = self._listener.port
         where = self.host if self.host not in (None, "") else "every interface"
         log.info("Serving the browser client on http://%s:%d/ (%s)",
                  _loopback(self.host), self.port, where)
@@ -142,13 +141,11 @@ class WebServer:
     async def close(self) -> None:
         """Stops listening and closes every page's WebSocket."""
         if self._listener is not None:
-            self._listener.close()
+            listener, self._listener = self._listener, None
+            await listener.close()
         if self._runner is not None:
             runner, self._runner = self._runner, None
             await runner.cleanup()
-        if self._listener is not None:
-            listener, self._listener = self._listener, None
-            await listener.wait_closed()
         self._quiet.remove()
 
     @web.middleware
@@ -168,7 +165,7 @@ class WebServer:
         host = str(peer[0]) if isinstance(peer, tuple) else str(request.remote or "")
         if not self.clients.allows(host):
             self.clients.trouble_line(
-                ("browser not allowed", host), logging.WARNING,
+                "browser not allowed", logging.WARNING,
                 "Refused a browser from %s: the address is not in the allowed networks "
                 "(ClientAllow in the configuration decides)", format_peer(peer))
             raise web.HTTPForbidden(text="This address may not use the MOAS server "
@@ -203,8 +200,10 @@ class WebServer:
         ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE, heartbeat=20.0)
         if not ws.can_prepare(request).ok:
             raise web.HTTPBadRequest(text="This address is for a WebSocket.\n")
+        guard = request.transport.get_protocol() if request.transport else None
+        ticket = guard.ticket if isinstance(guard, GuardedConnection) else None
         await ws.prepare(request)
-        await converse(self.clients, ws, address)
+        await converse(self.clients, ws, address, ticket)
         return ws
 
 

@@ -28,6 +28,8 @@ from collections import deque
 
 from aiohttp import WSMsgType, web
 
+from moas_gui.edge.admission import Ticket
+
 from .backend import ErrorCode
 from .dispatch import answer
 from .framing import MAX_LINE
@@ -123,10 +125,12 @@ class WebSocketOutlet:
                 await ws.close()
 
 
-async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: str) -> None:
-    """Serves one prepared WebSocket until it closes."""
+async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: str,
+                   ticket: Ticket | None = None) -> None:
+    """Serves one prepared WebSocket until it closes; ``ticket`` is its web connection's
+    place in the admission, which its hello greets."""
     outlet = WebSocketOutlet(ws)
-    conn = clients.attach(outlet, address)
+    conn = clients.attach(outlet, address, ticket)
     if conn is None:
         log.warning("Refused a browser client from %s: %d clients are connected, the most "
                     "this server takes at once (moas-server --max-clients sets it)",

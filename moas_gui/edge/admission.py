@@ -66,8 +66,9 @@ DEFAULT_PER_ADDRESS: Final = 32
 """Connections from one address at once unless told otherwise: far more than one
 computer's clients and browser pages need, well under the client server's whole limit."""
 
-DEFAULT_BEFORE_HELLO: Final = 8
-"""Connections of one address that may be waiting to say who they are at once."""
+DEFAULT_BEFORE_HELLO: Final = 16
+"""Connections of one address that may be waiting to say who they are at once: more
+than a browser opens to load a page in a few tabs (six per page, kept a few seconds)."""
 
 DEFAULT_OPERATORS: Final = 64
 """Authenticated operators' connections at once, beside everyone else's."""
@@ -193,7 +194,7 @@ class Ticket:
         if self._evict is not None:
             try:
                 self._evict(reason)
-            except Exception:  # noqa: BLE001 - a front's failure must not stop the others
+            except Exception:
                 log.exception("Closing the connection from %s failed", self.address)
 
     def overdue(self, now: float) -> str | None:

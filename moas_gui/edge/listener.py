@@ -21,6 +21,7 @@ Each accepted socket is handed to asyncio as a transport with the listener's pro
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import errno
 import logging
 import os
@@ -158,10 +159,8 @@ class Listener:
         for task in self._tasks:
             task.cancel()
         for task in (*self._tasks, *self._handing):
-            try:
+            with contextlib.suppress(asyncio.CancelledError, Exception):
                 await task
-            except (asyncio.CancelledError, Exception):  # noqa: BLE001 - closing anyway
-                pass
         self._tasks = []
         for sock in self.sockets:
             sock.close()

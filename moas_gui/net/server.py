@@ -49,6 +49,7 @@ from moas_gui.errors import HardwareError
 
 from .access import allowed_networks, is_allowed
 from .admission import (
+    DEFAULT_BEFORE_HELLO,
     DEFAULT_PER_ADDRESS,
     HELLO_DEADLINE,
     KEEPALIVE,
@@ -125,6 +126,7 @@ class ClientServer:
         max_clients: int = DEFAULT_MAX_CLIENTS,
         max_layouts: int = 16,
         per_address: int = DEFAULT_PER_ADDRESS,
+        before_hello: int = DEFAULT_BEFORE_HELLO,
         hello_deadline: float = HELLO_DEADLINE,
         keepalive: float = KEEPALIVE,
     ) -> None:
@@ -146,8 +148,8 @@ class ClientServer:
         self.trouble = LogLimiter()
         """One log line a minute per kind of trouble from outside, whatever the address
         (the web server's and the admission's too)."""
-        self.admission = Admission(max_clients, per_address, trouble=self.trouble,
-                                   what="client connections")
+        self.admission = Admission(max_clients, per_address, before_hello=before_hello,
+                                   trouble=self.trouble, what="client connections")
         """Open connections of both transports, in all and per address: the program's
         admission policy (:mod:`moas_gui.edge.admission`)."""
         self.hello_deadline = hello_deadline

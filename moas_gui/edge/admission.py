@@ -19,10 +19,10 @@ The rules, in the order they are applied to a newcomer:
 
 1. Operators have capacity of their own (``operators``): an operator is never refused
    or evicted because of the connections of anyone else.
-2. At most ``before_hello`` connections of one address may be ``NEW`` at once: that is
+2. At most ``per_address`` connections (``NEW`` and ``GREETED``) from one address.
+3. At most ``before_hello`` connections of one address may be ``NEW`` at once: that is
    each address's reserve for connections that have not said who they are yet, and a
    crowd that never says hello cannot take more than it from any one address.
-3. At most ``per_address`` connections (``NEW`` and ``GREETED``) from one address.
 4. At most ``total`` connections that are not operators, all addresses together.  When
    they are all taken, the newcomer takes the place of another connection -- the fair
    share -- chosen among the addresses that hold *more* connections than the
@@ -257,13 +257,13 @@ class Admission:
         ``evict`` is how the admission closes it should it have to (told why)."""
         key = address_key(host)
         held = self._by_address.get(key, {})
+        if len(held) >= self.per_address:
+            raise Refused(f"{len(held)} connections from that address are open, the most one "
+                          "address may hold", "address")
         waiting = sum(1 for t in held if t.standing is Standing.NEW)
         if waiting >= self.before_hello:
             raise Refused(f"{waiting} connections from that address have not said who they "
                           "are yet, the most one address may have waiting", "hello")
-        if len(held) >= self.per_address:
-            raise Refused(f"{len(held)} connections from that address are open, the most one "
-                          "address may hold", "address")
         if self._rest >= self.total:
             victim = self._victim(len(held))
             if victim is None:

@@ -13,7 +13,7 @@ from helpers import until
 
 from moas_gui.clock import FakeClock
 from moas_gui.config.model import Rotator, RotatorControl
-from moas_gui.edge.admission import Admission, Deadlines
+from moas_gui.edge.admission import NO_DEADLINES, Admission, Deadlines
 from moas_gui.net.rotctld_server import RotctldServer
 
 ROTATOR = Rotator(id=6, short_name="Stack", control=RotatorControl.TEST, ccw_limit=180,
@@ -27,7 +27,7 @@ class NoService:
         raise AssertionError("not asked in these tests")
 
 
-async def listening(admission: Admission, deadlines: Deadlines = Deadlines()) -> RotctldServer:
+async def listening(admission: Admission, deadlines: Deadlines = NO_DEADLINES) -> RotctldServer:
     server = RotctldServer(NoService(), ROTATOR, "127.0.0.1", 0, admission,  # type: ignore[arg-type]
                            deadlines)
     await server.start()

@@ -40,6 +40,7 @@ from moas_gui.errors import HardwareError
 from .admission import REQUEST_DEADLINE
 from .connection import format_peer
 from .server import ClientServer
+from .web_frames import frames_arrived_early, require_masking
 from .web_guard import host_allowed, local_names, origin_complaint
 from .web_limits import GuardedConnection, QuietAiohttp
 from .web_socket import MAX_MESSAGE, converse
@@ -202,9 +203,23 @@ class WebServer:
             raise web.HTTPBadRequest(text="This address is for a WebSocket.\n")
         guard = request.transport.get_protocol() if request.transport else None
         ticket = guard.ticket if isinstance(guard, GuardedConnection) else None
+        handler = getattr(guard, "inner", None)
+        if frames_arrived_early(handler):
+            raise web.HTTPBadRequest(text="Frames were sent before the handshake's answer.\n")
         await ws.prepare(request)
+        if not require_masking(handler, request.transport, lambda: self._unmasked(address)):
+            self.clients.trouble_line("websocket masking", logging.ERROR,
+                                      "This aiohttp's WebSocket reader cannot be checked for "
+                                      "unmasked frames; WebSockets are refused")
+            await ws.close(code=1011)
+            return ws
         await converse(self.clients, ws, address, ticket)
         return ws
+
+    def _unmasked(self, address: str) -> None:
+        self.clients.trouble_line("websocket unmasked", logging.WARNING,
+                                  "Closed a WebSocket from %s: it sent an unmasked frame "
+                                  "(RFC 6455 forbids it)", address)
 
 
 def _loopback(host: str | None) -> str:

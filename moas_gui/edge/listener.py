@@ -158,9 +158,10 @@ class Listener:
         """Stops accepting and closes the listening sockets (open connections stay)."""
         for task in self._tasks:
             task.cancel()
-        for task in (*self._tasks, *self._handing):
+        waiting: list[asyncio.Task[object] | asyncio.Task[None]] = [*self._tasks, *self._handing]
+        for each in waiting:
             with contextlib.suppress(asyncio.CancelledError, Exception):
-                await task
+                await each
         self._tasks = []
         for sock in self.sockets:
             sock.close()

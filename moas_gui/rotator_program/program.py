@@ -84,7 +84,7 @@ class RotatorProgram:
         self._retry = retry
         self._clock = clock
         self._version = version
-        self._server: asyncio.Server | None = None
+        self._server: Listener | None = None
         self._writer: asyncio.StreamWriter | None = None
         self._peer = ""
         self._announced: set[int] = set()
@@ -108,7 +108,7 @@ class RotatorProgram:
                             deadlines=DEADLINES)
         self._server = await Listener.open(gate, host, port, what="server connections",
                                            trouble=self.admission.trouble)
-        address = self._server.sockets[0].getsockname()
+        address = self._server.sockets[0].getsockname()  # the listener's own sockets
         log.debug("listening on %s:%d", address[0], address[1])  # moas-rotator prints it
         return address[0], address[1]
 

@@ -26,8 +26,11 @@ The rules, in the order they are applied to a newcomer:
 4. At most ``total`` connections that are not operators, all addresses together.  When
    they are all taken, the newcomer takes the place of another connection -- the fair
    share -- chosen among the addresses that hold *more* connections than the
-   newcomer's own: a ``NEW`` one before a ``GREETED`` one, then one of the address
-   holding the most, then the one idle the longest.  The connection so chosen is closed
+   newcomer's own: a ``NEW`` one before a ``GREETED`` one (the one waiting longest to
+   say who it is: a client's own connections, opened a moment ago, are the last to
+   go), else the ``GREETED`` one idle the longest of the address holding the most.
+   A ``NEW`` connection that has waited :data:`PATIENCE` seconds may also give its
+   place to a newcomer from an address holding as many as its own.  The connection so chosen is closed
    (its front tells it why) and its place given at once.  A newcomer whose address holds
    as many as any other is refused.
 
@@ -72,6 +75,12 @@ than a browser opens to load a page in a few tabs (six per page, kept a few seco
 
 DEFAULT_OPERATORS: Final = 64
 """Authenticated operators' connections at once, beside everyone else's."""
+
+PATIENCE: Final = 0.5
+"""Seconds after which a connection that has not said who it is may give its place to a
+newcomer from any other address, even one holding as many (a client says hello within
+milliseconds; a silent crowd spread one connection to an address would otherwise keep
+every client to a single connection)."""
 
 SWEEP_EVERY: Final = 1.0
 """Seconds between two checks of the deadlines."""
@@ -265,11 +274,10 @@ class Admission:
             raise Refused(f"{waiting} connections from that address have not said who they "
                           "are yet, the most one address may have waiting", "hello")
         if self._rest >= self.total:
-            victim = self._victim(len(held))
+            victim = self._victim(key, len(held))
             if victim is None:
                 raise Refused(f"{self._rest} {self.what} are open, the most this server "
-                              "takes at once, and no address holds more than that one",
-                              "total")
+                              "takes at once, and no other address holds more", "total")
             self._make_room(victim, address or host)
         ticket = Ticket(self, key, address or host, front, evict, deadlines, self.clock.now())
         self._by_address.setdefault(key, {})[ticket] = None
@@ -278,16 +286,25 @@ class Admission:
             self._keep_sweeping()
         return ticket
 
-    def _victim(self, held: int) -> Ticket | None:
-        """The connection a newcomer from an address holding ``held`` takes the place of."""
+    def _victim(self, key: str, held: int) -> Ticket | None:
+        """The connection a newcomer from ``key``, an address holding ``held``, takes the
+        place of."""
         best: Ticket | None = None
         best_rank: tuple[int, int, float] | None = None
-        for tickets in self._by_address.values():
+        patient = self.clock.now() - PATIENCE
+        for other, tickets in self._by_address.items():
             size = len(tickets)
-            if size <= held:
+            if other == key:
                 continue
             for ticket in tickets:
-                rank = (int(ticket.standing), -size, ticket.last_active)
+                if size <= held and not (ticket.standing is Standing.NEW
+                                         and ticket.admitted_at <= patient):
+                    continue
+                # one waiting to say who it is: the longest waiting, whatever its address
+                # holds (a client's own connections, opened together, are the youngest);
+                # else the idlest of the address holding the most
+                new = ticket.standing is Standing.NEW
+                rank = (int(ticket.standing), 0 if new else -size, ticket.last_active)
                 if best_rank is None or rank < best_rank:
                     best, best_rank = ticket, rank
         return best
@@ -367,6 +384,7 @@ __all__ = [
     "DEFAULT_OPERATORS",
     "DEFAULT_PER_ADDRESS",
     "NO_DEADLINES",
+    "PATIENCE",
     "SWEEP_EVERY",
     "Admission",
     "Deadlines",

@@ -9,7 +9,10 @@ each time it fails again, at most :data:`BACKOFF_MOST` -- and writes one Warning
 minute about it, with the count of those left out.  The system keeps the waiting
 connections in its queue (:data:`BACKLOG` long) meanwhile.
 
-Each accepted socket is handed to asyncio as a transport with the listener's protocol
+It accepts one connection a turn of the event loop, and waits while
+:data:`HANDING_MOST` are still being handed over, so that a crowd is refused as fast as
+it is accepted instead of taking every file handle first.  Each accepted socket is
+handed to asyncio as a transport with the listener's protocol
 (``make_protocol``), which decides at once whether it may stay (an admission gate,
 :mod:`.admission`).  ``ssl`` serves TLS on it.  A new front listens with::
 
@@ -40,6 +43,9 @@ reconnecting as fast as it is refused then does not make the system drop newcome
 
 BACKOFF_FIRST: Final = 0.1
 BACKOFF_MOST: Final = 2.0
+
+HANDING_MOST: Final = 8
+"""Accepted connections being handed to asyncio at once, at most, per listening socket."""
 
 OUT_OF_RESOURCES: Final = frozenset(
     code for code in (getattr(errno, name, None) for name in ("EMFILE", "ENFILE", "ENOBUFS",
@@ -129,6 +135,13 @@ class Listener:
                 continue
             pause = BACKOFF_FIRST
             self._hand_over(conn, peer)
+            # One connection a turn of the loop, and a few being handed over at most: the
+            # ones refused are closed before more are accepted (an accept that finds a
+            # connection waiting does not yield, and a crowd would otherwise take every
+            # file handle before the first refusal is carried out).
+            if len(self._handing) >= HANDING_MOST:
+                await asyncio.wait(set(self._handing), return_when=asyncio.FIRST_COMPLETED)
+            await asyncio.sleep(0)
 
     def _complain(self, kind: str, exc: OSError, then: str) -> None:
         held = self.trouble.allow(("accept", kind, self.what))
@@ -167,4 +180,4 @@ class Listener:
             sock.close()
 
 
-__all__ = ["BACKLOG", "BACKOFF_FIRST", "BACKOFF_MOST", "OUT_OF_RESOURCES", "Listener", "bind"]
+__all__ = ["BACKLOG", "BACKOFF_FIRST", "BACKOFF_MOST", "HANDING_MOST", "OUT_OF_RESOURCES", "Listener", "bind"]

@@ -155,6 +155,8 @@ class WebServer:
         guard = transport.get_protocol() if transport is not None else None
         if isinstance(guard, GuardedConnection):
             guard.disarm()  # the request is here; the next one is timed after the response
+            if guard.ticket is not None:
+                guard.ticket.greeted()  # a whole request: a browser, not a silent crowd
         try:
             return await self._checked(request, handler)
         finally:

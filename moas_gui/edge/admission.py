@@ -143,11 +143,30 @@ class Ticket:
     to be an authenticated operator, :meth:`touch` on every sign of life, and
     :meth:`release` when the connection closes (again is harmless)."""
 
-    __slots__ = ("_admission", "_evict", "address", "admitted_at", "deadlines", "evicted",
-                 "front", "key", "last_active", "released", "standing")
+    __slots__ = (
+        "_admission",
+        "_evict",
+        "address",
+        "admitted_at",
+        "deadlines",
+        "evicted",
+        "front",
+        "key",
+        "last_active",
+        "released",
+        "standing",
+    )
 
-    def __init__(self, admission: Admission, key: str, address: str, front: str,
-                 evict: Evict | None, deadlines: Deadlines, now: float) -> None:
+    def __init__(
+        self,
+        admission: Admission,
+        key: str,
+        address: str,
+        front: str,
+        evict: Evict | None,
+        deadlines: Deadlines,
+        now: float,
+    ) -> None:
         self._admission = admission
         self._evict = evict
         self.key = key
@@ -211,7 +230,11 @@ class Ticket:
         hello, idle = self.deadlines.hello, self.deadlines.idle
         if self.standing is Standing.NEW and hello is not None and now - self.admitted_at >= hello:
             return f"it did not say who it is within {hello:g} s"
-        if self.standing is not Standing.NEW and idle is not None and now - self.last_active >= idle:
+        if (
+            self.standing is not Standing.NEW
+            and idle is not None
+            and now - self.last_active >= idle
+        ):
             return f"silent for {idle:g} s"
         return None
 
@@ -219,13 +242,21 @@ class Ticket:
 class Admission:
     """One pool of connections under the rules of the module notes."""
 
-    def __init__(self, total: int, per_address: int = DEFAULT_PER_ADDRESS, *,
-                 before_hello: int = DEFAULT_BEFORE_HELLO, operators: int = DEFAULT_OPERATORS,
-                 clock: Clock = LOOP_CLOCK, trouble: LogLimiter | None = None,
-                 what: str = "connections") -> None:
+    def __init__(
+        self,
+        total: int,
+        per_address: int = DEFAULT_PER_ADDRESS,
+        *,
+        before_hello: int = DEFAULT_BEFORE_HELLO,
+        operators: int = DEFAULT_OPERATORS,
+        clock: Clock = LOOP_CLOCK,
+        trouble: LogLimiter | None = None,
+        what: str = "connections",
+    ) -> None:
         if min(total, per_address, before_hello) < 1 or operators < 0:
-            raise ValueError(f"limits must be at least 1, not {total}, {per_address} and "
-                             f"{before_hello}")
+            raise ValueError(
+                f"limits must be at least 1, not {total}, {per_address} and {before_hello}"
+            )
         self.total = total
         self.per_address = per_address
         self.before_hello = before_hello
@@ -260,24 +291,40 @@ class Admission:
         return rest + list(self._operators)
 
     # -- admitting ------------------------------------------------------------------------
-    def admit(self, host: str, evict: Evict | None = None, *, front: str = "connection",
-              deadlines: Deadlines = NO_DEADLINES, address: str | None = None) -> Ticket:
+    def admit(
+        self,
+        host: str,
+        evict: Evict | None = None,
+        *,
+        front: str = "connection",
+        deadlines: Deadlines = NO_DEADLINES,
+        address: str | None = None,
+    ) -> Ticket:
         """A ticket for a newcomer from ``host``; raises :class:`Refused` saying why not.
         ``evict`` is how the admission closes it should it have to (told why)."""
         key = address_key(host)
         held = self._by_address.get(key, {})
         if len(held) >= self.per_address:
-            raise Refused(f"{len(held)} connections from that address are open, the most one "
-                          "address may hold", "address")
+            raise Refused(
+                f"{len(held)} connections from that address are open, the most one "
+                "address may hold",
+                "address",
+            )
         waiting = sum(1 for t in held if t.standing is Standing.NEW)
         if waiting >= self.before_hello:
-            raise Refused(f"{waiting} connections from that address have not said who they "
-                          "are yet, the most one address may have waiting", "hello")
+            raise Refused(
+                f"{waiting} connections from that address have not said who they "
+                "are yet, the most one address may have waiting",
+                "hello",
+            )
         if self._rest >= self.total:
             victim = self._victim(key, len(held))
             if victim is None:
-                raise Refused(f"{self._rest} {self.what} are open, the most this server "
-                              "takes at once, and no other address holds more", "total")
+                raise Refused(
+                    f"{self._rest} {self.what} are open, the most this server "
+                    "takes at once, and no other address holds more",
+                    "total",
+                )
             self._make_room(victim, address or host)
         ticket = Ticket(self, key, address or host, front, evict, deadlines, self.clock.now())
         self._by_address.setdefault(key, {})[ticket] = None
@@ -297,8 +344,9 @@ class Admission:
             if other == key:
                 continue
             for ticket in tickets:
-                if size <= held and not (ticket.standing is Standing.NEW
-                                         and ticket.admitted_at <= patient):
+                if size <= held and not (
+                    ticket.standing is Standing.NEW and ticket.admitted_at <= patient
+                ):
                     continue
                 # one waiting to say who it is: the longest waiting, whatever its address
                 # holds (a client's own connections, opened together, are the youngest);
@@ -311,24 +359,35 @@ class Admission:
 
     def _make_room(self, victim: Ticket, newcomer: str) -> None:
         standing = "before saying who it was" if victim.standing is Standing.NEW else "idle"
-        why = ("the server is full, and a newcomer from an address holding fewer connections "
-               f"took the place of this one ({standing} the longest, of an address holding "
-               f"{len(self._by_address.get(victim.key, ()))})")
+        why = (
+            "the server is full, and a newcomer from an address holding fewer connections "
+            f"took the place of this one ({standing} the longest, of an address holding "
+            f"{len(self._by_address.get(victim.key, ()))})"
+        )
         held = self.trouble.allow(("made room", self.what))
         if held is not None:
-            log.warning("Made room for a newcomer from %s: closed the %s from %s, the %s of "
-                        "an address holding more%s", newcomer, victim.front, victim.address,
-                        "waiting longest" if victim.standing is Standing.NEW else "idle longest",
-                        held_text(held, "more closed to make room"))
+            log.warning(
+                "Made room for a newcomer from %s: closed the %s from %s, the %s of "
+                "an address holding more%s",
+                newcomer,
+                victim.front,
+                victim.address,
+                "waiting longest" if victim.standing is Standing.NEW else "idle longest",
+                held_text(held, "more closed to make room"),
+            )
         victim._close(why)
 
     def _promote(self, ticket: Ticket) -> bool:
         if len(self._operators) >= self.operators:
             held = self.trouble.allow(("operators full", self.what))
             if held is not None:
-                log.warning("An operator at %s stays an ordinary connection: %d operators' "
-                            "connections are open, the most at once%s", ticket.address,
-                            len(self._operators), held_text(held))
+                log.warning(
+                    "An operator at %s stays an ordinary connection: %d operators' "
+                    "connections are open, the most at once%s",
+                    ticket.address,
+                    len(self._operators),
+                    held_text(held),
+                )
             return False
         self._drop(ticket)
         self._operators[ticket] = None
@@ -354,8 +413,13 @@ class Admission:
         for ticket, why in late:
             held = self.trouble.allow(("deadline", self.what, ticket.standing is Standing.NEW))
             if held is not None:
-                log.info("Closed the %s from %s: %s%s", ticket.front, ticket.address, why,
-                         held_text(held, "more closed for the same reason"))
+                log.info(
+                    "Closed the %s from %s: %s%s",
+                    ticket.front,
+                    ticket.address,
+                    why,
+                    held_text(held, "more closed for the same reason"),
+                )
             ticket._close(why)
         return len(late)
 

@@ -41,9 +41,16 @@ def peer_host(transport: asyncio.BaseTransport) -> tuple[str, str]:
 class StreamGate(asyncio.Protocol):
     """One connection of a stream front (see the module notes)."""
 
-    def __init__(self, admission: Admission, serve: Serve, *, front: str,
-                 deadlines: Deadlines, refusal: Callable[[str], bytes] | None,
-                 limit: int) -> None:
+    def __init__(
+        self,
+        admission: Admission,
+        serve: Serve,
+        *,
+        front: str,
+        deadlines: Deadlines,
+        refusal: Callable[[str], bytes] | None,
+        limit: int,
+    ) -> None:
         self.admission = admission
         self.serve = serve
         self.front = front
@@ -57,14 +64,23 @@ class StreamGate(asyncio.Protocol):
         assert isinstance(transport, asyncio.Transport)
         host, address = peer_host(transport)
         try:
-            self.ticket = self.admission.admit(host, lambda _why: transport.abort(),
-                                               front=self.front, deadlines=self.deadlines,
-                                               address=address)
+            self.ticket = self.admission.admit(
+                host,
+                lambda _why: transport.abort(),
+                front=self.front,
+                deadlines=self.deadlines,
+                address=address,
+            )
         except Refused as refused:
             held = self.admission.trouble.allow(("refused", self.front, refused.limit))
             if held is not None:
-                log.warning("Refused a %s from %s: %s%s", self.front, address, refused.reason,
-                            held_text(held, "more refused for the same reason"))
+                log.warning(
+                    "Refused a %s from %s: %s%s",
+                    self.front,
+                    address,
+                    refused.reason,
+                    held_text(held, "more refused for the same reason"),
+                )
             if self.refusal is not None:
                 transport.write(self.refusal(refused.reason))
             transport.close()
@@ -96,13 +112,19 @@ class StreamGate(asyncio.Protocol):
             inner.connection_lost(exc)
 
 
-def gate_factory(admission: Admission, serve: Serve, *, front: str,
-                 deadlines: Deadlines = NO_DEADLINES,
-                 refusal: Callable[[str], bytes] | None = None,
-                 limit: int = 65_536) -> Callable[[], StreamGate]:
+def gate_factory(
+    admission: Admission,
+    serve: Serve,
+    *,
+    front: str,
+    deadlines: Deadlines = NO_DEADLINES,
+    refusal: Callable[[str], bytes] | None = None,
+    limit: int = 65_536,
+) -> Callable[[], StreamGate]:
     """The protocol factory of a stream front behind ``admission``."""
-    return lambda: StreamGate(admission, serve, front=front, deadlines=deadlines,
-                              refusal=refusal, limit=limit)
+    return lambda: StreamGate(
+        admission, serve, front=front, deadlines=deadlines, refusal=refusal, limit=limit
+    )
 
 
 def ticket_of(writer: asyncio.StreamWriter) -> Ticket | None:

@@ -48,9 +48,10 @@ HANDING_MOST: Final = 8
 """Accepted connections being handed to asyncio at once, at most, per listening socket."""
 
 OUT_OF_RESOURCES: Final = frozenset(
-    code for code in (getattr(errno, name, None) for name in ("EMFILE", "ENFILE", "ENOBUFS",
-                                                              "ENOMEM"))
-    if code is not None)
+    code
+    for code in (getattr(errno, name, None) for name in ("EMFILE", "ENFILE", "ENOBUFS", "ENOMEM"))
+    if code is not None
+)
 """Errors of accept() that say the system has nothing left for a new connection now."""
 
 Accept = Callable[[socket.socket], Awaitable[tuple[socket.socket, object]]]
@@ -60,8 +61,7 @@ Sleep = Callable[[float], Awaitable[None]]
 def bind(host: str | None, port: int, backlog: int = BACKLOG) -> list[socket.socket]:
     """Listening sockets on ``host`` (``None`` or ``""``: every interface, IPv4 and IPv6)
     and ``port``; raises :class:`OSError` when one cannot be bound."""
-    infos = socket.getaddrinfo(host or None, port, type=socket.SOCK_STREAM,
-                               flags=socket.AI_PASSIVE)
+    infos = socket.getaddrinfo(host or None, port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
     made: list[socket.socket] = []
     seen: set[tuple[int, object]] = set()
     try:
@@ -88,10 +88,17 @@ def bind(host: str | None, port: int, backlog: int = BACKLOG) -> list[socket.soc
 class Listener:
     """Accepts connections on bound ``sockets`` (see the module notes)."""
 
-    def __init__(self, make_protocol: Callable[[], asyncio.Protocol],
-                 sockets: list[socket.socket], *, what: str = "connections",
-                 ssl: ssl_module.SSLContext | None = None, trouble: LogLimiter | None = None,
-                 accept: Accept | None = None, sleep: Sleep = asyncio.sleep) -> None:
+    def __init__(
+        self,
+        make_protocol: Callable[[], asyncio.Protocol],
+        sockets: list[socket.socket],
+        *,
+        what: str = "connections",
+        ssl: ssl_module.SSLContext | None = None,
+        trouble: LogLimiter | None = None,
+        accept: Accept | None = None,
+        sleep: Sleep = asyncio.sleep,
+    ) -> None:
         self.make_protocol = make_protocol
         self.sockets = sockets
         self.what = what
@@ -103,12 +110,19 @@ class Listener:
         self.pauses: list[float] = []
         """Every wait after a refused accept, in order (what the tests read)."""
         self._handing: set[asyncio.Task[object]] = set()
-        self._tasks = [self._loop.create_task(self._accept_forever(sock), name=f"accept {what}")
-                       for sock in sockets]
+        self._tasks = [
+            self._loop.create_task(self._accept_forever(sock), name=f"accept {what}")
+            for sock in sockets
+        ]
 
     @classmethod
-    async def open(cls, make_protocol: Callable[[], asyncio.Protocol], host: str | None,
-                   port: int, **options: object) -> Listener:
+    async def open(
+        cls,
+        make_protocol: Callable[[], asyncio.Protocol],
+        host: str | None,
+        port: int,
+        **options: object,
+    ) -> Listener:
         """Binds ``host``:``port`` and starts accepting; raises :class:`OSError`."""
         return cls(make_protocol, bind(host, port), **options)  # type: ignore[arg-type]
 
@@ -146,8 +160,13 @@ class Listener:
     def _complain(self, kind: str, exc: OSError, then: str) -> None:
         held = self.trouble.allow(("accept", kind, self.what))
         if held is not None:
-            log.warning("Cannot accept %s for now: %s (%s)%s", self.what,
-                        exc.strerror or exc, then, held_text(held, "more such failures"))
+            log.warning(
+                "Cannot accept %s for now: %s (%s)%s",
+                self.what,
+                exc.strerror or exc,
+                then,
+                held_text(held, "more such failures"),
+            )
 
     def _hand_over(self, conn: socket.socket, peer: object) -> None:
         conn.setblocking(False)
@@ -157,14 +176,17 @@ class Listener:
 
     async def _connect(self, conn: socket.socket) -> object:
         try:
-            return await self._loop.connect_accepted_socket(self.make_protocol, conn,
-                                                            ssl=self.ssl)
+            return await self._loop.connect_accepted_socket(self.make_protocol, conn, ssl=self.ssl)
         except (OSError, ssl_module.SSLError, asyncio.CancelledError, TimeoutError) as exc:
             conn.close()
             held = self.trouble.allow(("handshake", self.what))
             if held is not None:
-                log.info("A connection to %s ended before it began: %s%s", self.what,
-                         exc or type(exc).__name__, held_text(held))
+                log.info(
+                    "A connection to %s ended before it began: %s%s",
+                    self.what,
+                    exc or type(exc).__name__,
+                    held_text(held),
+                )
             return None
 
     async def close(self) -> None:
@@ -180,4 +202,12 @@ class Listener:
             sock.close()
 
 
-__all__ = ["BACKLOG", "BACKOFF_FIRST", "BACKOFF_MOST", "HANDING_MOST", "OUT_OF_RESOURCES", "Listener", "bind"]
+__all__ = [
+    "BACKLOG",
+    "BACKOFF_FIRST",
+    "BACKOFF_MOST",
+    "HANDING_MOST",
+    "OUT_OF_RESOURCES",
+    "Listener",
+    "bind",
+]

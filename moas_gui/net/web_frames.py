@@ -101,8 +101,9 @@ def frames_arrived_early(protocol: Any) -> bool:
     return bool(getattr(protocol, "_message_tail", b""))
 
 
-def require_masking(protocol: Any, transport: asyncio.Transport | None,
-                    on_unmasked: Callable[[], None]) -> bool:
+def require_masking(
+    protocol: Any, transport: asyncio.Transport | None, on_unmasked: Callable[[], None]
+) -> bool:
     """Puts a :class:`MaskCheck` in front of the WebSocket reader of aiohttp's request
     handler ``protocol`` (call right after the handshake).  ``False`` when this aiohttp
     keeps its reader elsewhere (the check could not be put in)."""

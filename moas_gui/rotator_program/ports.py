@@ -32,7 +32,8 @@ from .serial_link import split_port
 _WINDOWS_PORT = re.compile(r"(\\\\\.\\)?COM\d{1,3}", re.IGNORECASE)
 _DEVICE = re.compile(
     r"/dev/(tty(USB|ACM|S|AMA|THS|XRUSB|mxc|SAC|O|AP|GS)?\d+|ttys\d+|cu\.[^/]+|tty\.[^/]+"
-    r"|pts/\d+|rfcomm\d+|serial/(by-id|by-path)/[^/]+)")
+    r"|pts/\d+|rfcomm\d+|serial/(by-id|by-path)/[^/]+)"
+)
 """Terminal devices by name (the real path, after links)."""
 _NOT_SERIAL = re.compile(r"/dev/tty\d+")
 """Virtual consoles: terminals, but not serial ports."""
@@ -65,7 +66,7 @@ def port_refusal(port: str, allow: Iterable[str] = ()) -> str | None:
     if allowed_by(port, allow):
         return None
     name = split_port(port)[0]
-    hint = ("only serial devices, and what moas-rotator --allow names, may be opened")
+    hint = "only serial devices, and what moas-rotator --allow names, may be opened"
     if "://" in name:
         return f"port {name!r} is a URL; {hint}"
     if _WINDOWS_PORT.fullmatch(name):

@@ -59,9 +59,9 @@ class Tries:
     failures: list[str] = field(default_factory=list)
 
 
-async def _connect(port: int, source: str, crowds: Crowds,
-                   host: str = "127.0.0.1") -> tuple[asyncio.StreamReader,
-                                                      asyncio.StreamWriter] | None:
+async def _connect(
+    port: int, source: str, crowds: Crowds, host: str = "127.0.0.1"
+) -> tuple[asyncio.StreamReader, asyncio.StreamWriter] | None:
     try:
         opened = await asyncio.open_connection(host, port, local_addr=(source, 0))
     except OSError:
@@ -71,8 +71,9 @@ async def _connect(port: int, source: str, crowds: Crowds,
     return opened
 
 
-async def _hold(port: int, source: str, until: float, crowds: Crowds, *, hello: bool,
-                again: float) -> None:
+async def _hold(
+    port: int, source: str, until: float, crowds: Crowds, *, hello: bool, again: float
+) -> None:
     loop = asyncio.get_running_loop()
     while loop.time() < until:
         opened = await _connect(port, source, crowds)
@@ -99,16 +100,22 @@ async def _hold(port: int, source: str, until: float, crowds: Crowds, *, hello: 
         await asyncio.sleep(again)
 
 
-async def crowds_only(tcp: int, rotctld: int, *, per: int, silent: int, idle: int,
-                      hold: float) -> Crowds:
+async def crowds_only(
+    tcp: int, rotctld: int, *, per: int, silent: int, idle: int, hold: float
+) -> Crowds:
     until = asyncio.get_running_loop().time() + hold
     crowds = Crowds()
-    tasks = [_hold(tcp, source, until, crowds, hello=True, again=1.0)
-             for source in GREETED_FROM for _ in range(per)]
-    tasks += [_hold(tcp, silent_from(i), until, crowds, hello=False, again=0.0)
-              for i in range(silent)]
-    tasks += [_hold(rotctld, rotctld_from(i), until, crowds, hello=False, again=1.0)
-              for i in range(idle)]
+    tasks = [
+        _hold(tcp, source, until, crowds, hello=True, again=1.0)
+        for source in GREETED_FROM
+        for _ in range(per)
+    ]
+    tasks += [
+        _hold(tcp, silent_from(i), until, crowds, hello=False, again=0.0) for i in range(silent)
+    ]
+    tasks += [
+        _hold(rotctld, rotctld_from(i), until, crowds, hello=False, again=1.0) for i in range(idle)
+    ]
     await asyncio.gather(*tasks)
     return crowds
 
@@ -138,8 +145,9 @@ async def _page_once(port: int, source: str) -> float:
     started = time.perf_counter()
     reader, writer = await asyncio.open_connection("127.0.0.1", port, local_addr=(source, 0))
     try:
-        writer.write(f"GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nConnection: close\r\n\r\n"
-                     .encode())
+        writer.write(
+            f"GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nConnection: close\r\n\r\n".encode()
+        )
         data = await reader.read()
         if not data.startswith(b"HTTP/1.1 200") or b"</html>" not in data:
             raise ConnectionError(f"not the page: {data[:60]!r}")
@@ -148,15 +156,17 @@ async def _page_once(port: int, source: str) -> float:
         writer.close()
 
 
-async def legit(tcp: int, web: int, hold: float, token: str | None = None,
-                patience: float = 5.0) -> Tries:
+async def legit(
+    tcp: int, web: int, hold: float, token: str | None = None, patience: float = 5.0
+) -> Tries:
     """The legitimate client (and the operator, with ``token``) every half second."""
     loop = asyncio.get_running_loop()
     until = loop.time() + hold
     tries = Tries()
 
-    async def timed(kind: str, attempt: Callable[[], Awaitable[float]],
-                    into: list[float | None]) -> None:
+    async def timed(
+        kind: str, attempt: Callable[[], Awaitable[float]], into: list[float | None]
+    ) -> None:
         try:
             async with asyncio.timeout(patience):
                 into.append(await attempt())
@@ -166,13 +176,18 @@ async def legit(tcp: int, web: int, hold: float, token: str | None = None,
 
     running: list[asyncio.Future[None]] = []
     while loop.time() < until:
-        running.append(asyncio.ensure_future(
-            timed("hello", lambda: _hello_once(tcp, LEGIT), tries.hellos)))
-        running.append(asyncio.ensure_future(
-            timed("page", lambda: _page_once(web, LEGIT), tries.pages)))
+        running.append(
+            asyncio.ensure_future(timed("hello", lambda: _hello_once(tcp, LEGIT), tries.hellos))
+        )
+        running.append(
+            asyncio.ensure_future(timed("page", lambda: _page_once(web, LEGIT), tries.pages))
+        )
         if token is not None:
-            running.append(asyncio.ensure_future(
-                timed("operator", lambda: _hello_once(tcp, OPERATOR, token), tries.operator)))
+            running.append(
+                asyncio.ensure_future(
+                    timed("operator", lambda: _hello_once(tcp, OPERATOR, token), tries.operator)
+                )
+            )
         await asyncio.sleep(0.5)
     await asyncio.gather(*running)
     with contextlib.suppress(Exception):
@@ -186,8 +201,9 @@ def main() -> None:
     tcp, rotctld, per, silent, idle = (int(arg) for arg in sys.argv[1:6])
     _soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
-    done = asyncio.run(crowds_only(tcp, rotctld, per=per, silent=silent, idle=idle,
-                                   hold=float(sys.argv[6])))
+    done = asyncio.run(
+        crowds_only(tcp, rotctld, per=per, silent=silent, idle=idle, hold=float(sys.argv[6]))
+    )
     print(json.dumps(done.__dict__))
 
 

@@ -26,7 +26,9 @@ async def test_a_crowd_of_silent_control_connections_is_capped() -> None:
         reader, writer = await asyncio.open_connection(host, int(port))
         async with asyncio.timeout(5):
             refused = await reader.read()
-        assert refused.startswith(b"error ") and b"connections from that address are open" in refused
+        assert (
+            refused.startswith(b"error ") and b"connections from that address are open" in refused
+        )
         writer.close()
         for silent in held:  # the silent ones go; a talking one is served
             silent.close()

@@ -24,13 +24,15 @@ class Pool:
     def __init__(self, total: int, **options: int) -> None:
         self.clock = FakeClock()
         self.closed: list[tuple[str, str]] = []
-        self.admission = Admission(total, clock=self.clock,
-                                   trouble=LogLimiter(clock=self.clock.now), **options)
+        self.admission = Admission(
+            total, clock=self.clock, trouble=LogLimiter(clock=self.clock.now), **options
+        )
 
     def admit(self, host: str, name: str = "", deadlines: Deadlines | None = None) -> Ticket:
         label = name or host
-        return self.admission.admit(host, lambda why: self.closed.append((label, why)),
-                                    deadlines=deadlines or Deadlines())
+        return self.admission.admit(
+            host, lambda why: self.closed.append((label, why)), deadlines=deadlines or Deadlines()
+        )
 
     def later(self, seconds: float) -> None:
         self.clock._now += seconds  # plain time passing; no timers are due in these tests
@@ -162,7 +164,8 @@ async def test_the_admission_checks_deadlines_by_itself() -> None:
 
 
 def test_trouble_is_logged_once_a_minute_a_kind_with_its_count(
-        caplog: pytest.LogCaptureFixture) -> None:
+    caplog: pytest.LogCaptureFixture,
+) -> None:
     pool = Pool(2, per_address=100, before_hello=100)
     caplog.set_level(logging.INFO, logger="moas_gui.edge")
     pool.admit("127.0.0.2")
@@ -179,7 +182,8 @@ def test_trouble_is_logged_once_a_minute_a_kind_with_its_count(
 
 @pytest.mark.asyncio
 async def test_the_accept_loop_backs_off_when_out_of_file_handles(
-        caplog: pytest.LogCaptureFixture) -> None:
+    caplog: pytest.LogCaptureFixture,
+) -> None:
     sockets = bind("127.0.0.1", 0)
     port = sockets[0].getsockname()[1]
     loop = asyncio.get_running_loop()

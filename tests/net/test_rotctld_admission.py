@@ -16,8 +16,15 @@ from moas_gui.config.model import Rotator, RotatorControl
 from moas_gui.edge.admission import NO_DEADLINES, Admission, Deadlines
 from moas_gui.net.rotctld_server import RotctldServer
 
-ROTATOR = Rotator(id=6, short_name="Stack", control=RotatorControl.TEST, ccw_limit=180,
-                  rotation=360, has_stop=True, rotctld_port=0)
+ROTATOR = Rotator(
+    id=6,
+    short_name="Stack",
+    control=RotatorControl.TEST,
+    ccw_limit=180,
+    rotation=360,
+    has_stop=True,
+    rotctld_port=0,
+)
 
 
 class NoService:
@@ -28,8 +35,14 @@ class NoService:
 
 
 async def listening(admission: Admission, deadlines: Deadlines = NO_DEADLINES) -> RotctldServer:
-    server = RotctldServer(NoService(), ROTATOR, "127.0.0.1", 0, admission,  # type: ignore[arg-type]
-                           deadlines)
+    server = RotctldServer(
+        NoService(),
+        ROTATOR,
+        "127.0.0.1",
+        0,
+        admission,  # type: ignore[arg-type]
+        deadlines,
+    )
     await server.start()
     return server
 
@@ -105,7 +118,8 @@ async def test_deadlines_close_the_silent_on_the_admissions_clock() -> None:
 
 @pytest.mark.asyncio
 async def test_bad_commands_from_many_addresses_write_one_line(
-        caplog: pytest.LogCaptureFixture) -> None:
+    caplog: pytest.LogCaptureFixture,
+) -> None:
     caplog.set_level(logging.INFO, logger="moas_gui")
     admission = Admission(100, 10)
     server = await listening(admission)

@@ -32,9 +32,13 @@ class Opened:
     def __init__(self) -> None:
         self.ports: list[str] = []
 
-    async def __call__(self, port: str, settings: SerialSettings,
-                       on_data: Callable[[bytes], None],
-                       on_lost: Callable[[Exception], None]) -> ControllerPort:
+    async def __call__(
+        self,
+        port: str,
+        settings: SerialSettings,
+        on_data: Callable[[bytes], None],
+        on_lost: Callable[[Exception], None],
+    ) -> ControllerPort:
         self.ports.append(port)
         return _Silent(port)
 
@@ -51,8 +55,9 @@ class _Silent:
 
 
 @pytest_asyncio.fixture
-async def program_of() -> AsyncIterator[Callable[..., asyncio.Future[tuple[RotatorProgram,
-                                                                          Opened, int]]]]:
+async def program_of() -> AsyncIterator[
+    Callable[..., asyncio.Future[tuple[RotatorProgram, Opened, int]]]
+]:
     made: list[RotatorProgram] = []
 
     async def make(**options: object) -> tuple[RotatorProgram, Opened, int]:
@@ -67,8 +72,9 @@ async def program_of() -> AsyncIterator[Callable[..., asyncio.Future[tuple[Rotat
         await program.close()
 
 
-async def connect(port: int, source: str = "127.0.0.1") -> tuple[asyncio.StreamReader,
-                                                                   asyncio.StreamWriter]:
+async def connect(
+    port: int, source: str = "127.0.0.1"
+) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
     return await asyncio.open_connection("127.0.0.1", port, local_addr=(source, 0))
 
 
@@ -86,23 +92,28 @@ async def shut(writer: asyncio.StreamWriter) -> None:
 def test_it_binds_loopback_unless_told_otherwise() -> None:
     assert _arguments([]).bind == "127.0.0.1"
     assert _arguments(["--bind", "0.0.0.0"]).bind == "0.0.0.0"
-    assert _arguments(["--allow", "socket://a:1", "--allow", "COM9"]).allow == ["socket://a:1",
-                                                                               "COM9"]
+    assert _arguments(["--allow", "socket://a:1", "--allow", "COM9"]).allow == [
+        "socket://a:1",
+        "COM9",
+    ]
 
 
 @POSIX
 def test_configure_refuses_urls_files_and_devices_that_are_not_serial(tmp_path: Path) -> None:
     (tmp_path / "plain").write_text("x")
     os.symlink("/dev/null", tmp_path / "null")
-    for port, words in (("socket://192.0.2.1:4001", "is a URL"), ("loop://", "is a URL"),
-                        ("rfc2217://192.0.2.1:1", "is a URL"),
-                        ("/etc/passwd", "/etc/passwd is not a serial device"),
-                        ("/dev/zero", "not a serial device"),
-                        ("/dev/tty", "not a serial device"),
-                        ("/dev/tty1", "not a serial device"),
-                        (str(tmp_path / "plain"), "not a serial device"),
-                        (str(tmp_path / "null"), "which leads to /dev/null"),
-                        ("ttyUSB0", "not a serial port name")):
+    for port, words in (
+        ("socket://192.0.2.1:4001", "is a URL"),
+        ("loop://", "is a URL"),
+        ("rfc2217://192.0.2.1:1", "is a URL"),
+        ("/etc/passwd", "/etc/passwd is not a serial device"),
+        ("/dev/zero", "not a serial device"),
+        ("/dev/tty", "not a serial device"),
+        ("/dev/tty1", "not a serial device"),
+        (str(tmp_path / "plain"), "not a serial device"),
+        (str(tmp_path / "null"), "which leads to /dev/null"),
+        ("ttyUSB0", "not a serial port name"),
+    ):
         refusal = port_refusal(port)
         assert refusal is not None and words in refusal, (port, refusal)
         assert "moas-rotator --allow" in refusal
@@ -110,9 +121,16 @@ def test_configure_refuses_urls_files_and_devices_that_are_not_serial(tmp_path: 
 
 @POSIX
 def test_configure_accepts_serial_devices_and_what_the_user_allowed() -> None:
-    for port in ("COM3", "com14@4800", "/dev/ttyUSB7", "/dev/ttyACM0@9600", "/dev/ttyS0",
-                 "/dev/serial/by-id/usb-FTDI_FT232R-if00-port0", "/dev/cu.usbserial-A1",
-                 "/dev/rfcomm0"):
+    for port in (
+        "COM3",
+        "com14@4800",
+        "/dev/ttyUSB7",
+        "/dev/ttyACM0@9600",
+        "/dev/ttyS0",
+        "/dev/serial/by-id/usb-FTDI_FT232R-if00-port0",
+        "/dev/cu.usbserial-A1",
+        "/dev/rfcomm0",
+    ):
         assert port_refusal(port) is None, port
     master, slave = os.openpty()
     try:
@@ -136,14 +154,17 @@ def test_the_server_starts_it_allowing_its_configurations_ports() -> None:
 
 @pytest.mark.asyncio
 async def test_a_configure_naming_a_url_or_a_file_opens_nothing(
-        program_of: Callable[..., asyncio.Future[tuple[RotatorProgram, Opened, int]]],
-        caplog: pytest.LogCaptureFixture) -> None:
+    program_of: Callable[..., asyncio.Future[tuple[RotatorProgram, Opened, int]]],
+    caplog: pytest.LogCaptureFixture,
+) -> None:
     caplog.set_level(logging.WARNING, logger="moas_gui.rotator_program")
     program, opened, port = await program_of()
     reader, writer = await connect(port)
     try:
-        writer.write(b"CONFIGURE 1 4 /etc/passwd 100\rCONFIGURE 2 4 socket://192.0.2.1:22 100\r"
-                     b"CONFIGURE 3 4 COM3 100\rVERSION\r")
+        writer.write(
+            b"CONFIGURE 1 4 /etc/passwd 100\rCONFIGURE 2 4 socket://192.0.2.1:22 100\r"
+            b"CONFIGURE 3 4 COM3 100\rVERSION\r"
+        )
         async with asyncio.timeout(5):
             assert (await reader.readuntil(b"\r")).startswith(b"VERSION")
         assert opened.ports == ["COM3"] and set(program.rotators) == {3}
@@ -155,7 +176,8 @@ async def test_a_configure_naming_a_url_or_a_file_opens_nothing(
 
 @pytest.mark.asyncio
 async def test_a_second_server_from_another_address_is_refused(
-        program_of: Callable[..., asyncio.Future[tuple[RotatorProgram, Opened, int]]]) -> None:
+    program_of: Callable[..., asyncio.Future[tuple[RotatorProgram, Opened, int]]],
+) -> None:
     program, _, port = await program_of()
     reader, writer = await connect(port, "127.0.0.1")
     try:
@@ -173,7 +195,8 @@ async def test_a_second_server_from_another_address_is_refused(
 
 @pytest.mark.asyncio
 async def test_a_second_server_takes_over_only_when_allowed_and_the_first_is_told(
-        program_of: Callable[..., asyncio.Future[tuple[RotatorProgram, Opened, int]]]) -> None:
+    program_of: Callable[..., asyncio.Future[tuple[RotatorProgram, Opened, int]]],
+) -> None:
     program, _, port = await program_of(take_over=True)
     reader, writer = await connect(port, "127.0.0.1")
     try:

@@ -132,9 +132,10 @@ async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: st
     outlet = WebSocketOutlet(ws)
     conn = clients.attach(outlet, address, ticket)
     if conn is None:
-        log.warning("Refused a browser client from %s: %d clients are connected, the most "
-                    "this server takes at once (moas-server --max-clients sets it)",
-                    address, clients.client_limit)
+        clients.trouble_line(("over a limit", "websocket"), logging.WARNING,
+                             "Refused a browser client from %s: %d clients are connected, the "
+                             "most this server takes at once (moas-server --max-clients sets "
+                             "it)", address, clients.client_limit)
         outlet.write(reply_error(None, ErrorCode.UNAVAILABLE,
                                  f"the server already serves {clients.client_limit} clients, "
                                  "its limit; try again when one has left"))

@@ -60,6 +60,7 @@ from dataclasses import dataclass
 from typing import Final
 
 from moas_gui.clock import LOOP_CLOCK, Clock, Timer
+from moas_gui.errors import MoasError
 
 from .log_limit import LogLimiter, held_text
 
@@ -106,7 +107,7 @@ class Deadlines:
 NO_DEADLINES: Final = Deadlines()
 
 
-class Refused(Exception):
+class Refused(MoasError):
     """A newcomer the admission does not take; ``reason`` says why in words, ``limit``
     which limit (``"hello"``, ``"address"`` or ``"total"``)."""
 

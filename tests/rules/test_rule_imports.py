@@ -28,7 +28,7 @@ ALLOWED: dict[str, set[str]] = {
     "retry": set(),
     "log_repeats": set(),
     "line_framer": set(),
-    "edge": {"clock"},
+    "edge": {"clock", "errors"},
     "serial": {"errors"},
     "config": {"errors"},
     "engine": {"config", "errors"},

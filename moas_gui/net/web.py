@@ -21,7 +21,8 @@ address, and must deliver each complete request within a few seconds
 (:mod:`.web_limits`).  Every request is checked first against the client
 server's ``ClientAllow`` (refused with ``403``), then its Host header, and a
 WebSocket's Origin (:mod:`.web_guard`); each refusal writes a Warning line, once
-a minute per kind.  ``docs/web-client.md`` has the page's side.
+a minute per kind.  A WebSocket whose client sends an unmasked frame is failed
+with a Close 1002, as RFC 6455 requires (:mod:`.web_frames`).  ``docs/web-client.md`` has the page's side.
 """
 
 from __future__ import annotations

@@ -164,9 +164,9 @@ async def run(args: argparse.Namespace) -> bool:
             await server.end()
 
 
-CHATTER = re.compile(r"(Browser client|Client) (at #:# is |# at #:# disconnected$|# at #:# "
-                     r"disconnected by the server: the server is closing|# at #:# connection)")
-"""The Info lines about greeted clients coming and going: a share for all addresses."""
+CHATTER = re.compile(r"(Browser client|Client) (at #:# is |# at #:# )")
+"""The Info lines about greeted clients coming and going (a greeted client's lines name
+it): a share for all addresses."""
 
 
 def crowd_kinds(lines: list[str]) -> dict[str, int]:

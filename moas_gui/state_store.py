@@ -27,6 +27,8 @@ import contextlib
 import hashlib
 import json
 import logging
+import os
+import stat
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -261,16 +263,63 @@ def remove_stale_temporaries(path: Path) -> int:
     return removed
 
 
+MAX_STATE_BYTES = 4 << 20
+"""The largest saved state read: a station's is a few kilobytes; anything near this is
+not one of ours, and is not read into memory."""
+
+
+def _kind_of(mode: int) -> str:
+    """What a file that is not a regular one is, in words."""
+    kinds = (
+        (stat.S_ISFIFO, "a FIFO (named pipe)"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISSOCK, "a socket"),
+        (stat.S_ISDIR, "a directory"),
+    )
+    return next((words for test, words in kinds if test(mode)), "not a regular file")
+
+
+def read_state_file(path: Path, limit: int = MAX_STATE_BYTES) -> bytes | None:
+    """The bytes of the saved state at ``path``, read safely: ``None`` when there is no
+    file; :class:`StateError` saying why for anything that is not a regular file of at
+    most ``limit`` bytes (a FIFO, a device, a link leading outside the state directory, a
+    huge file).  Opening never waits (a FIFO with no writer would block forever), and no
+    more than ``limit`` bytes are ever read."""
+    try:
+        if path.is_symlink():
+            target = path.resolve()
+            home = path.parent.resolve()
+            if target.parent != home:
+                raise StateError(f"it is a link to {target}, outside the state directory {home}")
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        raise StateError(f"it cannot be read ({exc.strerror or exc})") from exc
+    info = os.fstat(fd)
+    if not stat.S_ISREG(info.st_mode):
+        os.close(fd)
+        raise StateError(f"it is {_kind_of(info.st_mode)}, not a regular file")
+    with os.fdopen(fd, "rb") as opened:
+        if info.st_size > limit:
+            raise StateError(f"it holds {info.st_size:,} bytes, more than a saved state "
+                             f"ever does (at most {limit:,})")
+        raw = opened.read(limit + 1)
+    if len(raw) > limit:
+        raise StateError(f"it holds more than {limit:,} bytes, more than a saved state ever does")
+    return raw
+
+
 def load(path: Path, expected_fingerprint: str) -> SavedState | None:
     """The usable state at ``path``, or None (then one log line says why, unless there is
     simply no file yet)."""
     try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
+        raw = read_state_file(path)
+    except StateError as exc:
+        log.warning("The saved state %s is ignored: %s; starting without it", path, exc)
         return None
-    except OSError as exc:
-        log.warning("The saved state %s cannot be read (%s); starting without it",
-                    path, exc.strerror or exc)
+    if raw is None:
         return None
     try:
         return decode(raw, expected_fingerprint)
@@ -397,6 +446,7 @@ class StateKeeper:
 
 
 __all__ = [
+    "MAX_STATE_BYTES",
     "SAVE_DELAY_S",
     "SavedState",
     "StateError",
@@ -405,6 +455,7 @@ __all__ = [
     "encode",
     "fingerprint",
     "load",
+    "read_state_file",
     "remove_stale_temporaries",
     "restore",
     "state_dir",

@@ -44,6 +44,7 @@ from ..aio import CleanStop, run_until_stopped
 from ..hw.moas2.emulator.box import EmulatedBox, Traffic
 from ..hw.moas2.emulator.control import (
     Control,
+    ControlServer,
     describe_relays,
     remove_control,
     serve_control,
@@ -117,7 +118,7 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
         print(f"moas-emulator: cannot make the link {args.link}: {exc}", file=sys.stderr)
         endpoint.close()
         return 2
-    control_server: asyncio.AbstractServer | None = None
+    control_server: ControlServer | None = None
     control_at = ""
     if args.control and args.control != "-":
         try:
@@ -153,7 +154,7 @@ async def _run(args: argparse.Namespace, windowed: bool) -> int:
         if window is not None:
             window.close()
         if control_server is not None:
-            control_server.close()
+            await control_server.close()
             remove_control(args.control)
         box.close()
         endpoint.close()

@@ -1,10 +1,11 @@
 """``moas-rotator``: the MOAS Rotator program, or a rotator controller emulator.
 
-    moas-rotator [--bind ADDRESS] [--port N]      serve MOAS Servers on TCP (default 0.0.0.0:13020)
+    moas-rotator [--bind ADDRESS] [--port N]      serve a MOAS Server on TCP (default 127.0.0.1:13020)
+                 [--allow PATTERN]... [--take-over]
     moas-rotator --emulate MODEL [--link PATH]    play a controller on a new pseudo-terminal
 
 The first line on standard output is what another program needs: the
-address listened on (``listening on 0.0.0.0:13020``), or the emulator's
+address listened on (``listening on 127.0.0.1:13020``), or the emulator's
 pseudo-terminal path.  Logging goes to standard error.  Both run until
 interrupted (Ctrl+C, SIGTERM).
 """
@@ -35,10 +36,18 @@ def _arguments(argv: list[str] | None) -> argparse.Namespace:
         description="The MOAS Rotator program: drives rotator controllers on serial ports "
                     "for a MOAS Server connecting on TCP.",
     )
-    parser.add_argument("--bind", default="0.0.0.0", metavar="ADDRESS",
-                        help="address to listen on (default 0.0.0.0: every interface, so "
-                             "that a server on another computer can connect; 127.0.0.1 "
-                             "when the server runs on this computer)")
+    parser.add_argument("--bind", default="127.0.0.1", metavar="ADDRESS",
+                        help="address to listen on (default 127.0.0.1: only a server on this "
+                             "computer can connect; give this computer's address on the "
+                             "station network, or 0.0.0.0 behind the station's firewall, for "
+                             "a server on another computer)")
+    parser.add_argument("--allow", action="append", default=[], metavar="PATTERN",
+                        help="a port CONFIGURE may open besides serial devices, e.g. "
+                             "socket://10.0.0.5:4001 (shell-style * and ? allowed); repeat "
+                             "for more")
+    parser.add_argument("--take-over", action="store_true",
+                        help="let a server connecting from another address replace the one "
+                             "in control (which is told); without it, it is refused")
     parser.add_argument("--port", type=int, default=PORT,
                         help=f"TCP port (default {PORT}; the MOAS Server always uses {PORT})")
     parser.add_argument("--emulate", metavar="MODEL",
@@ -92,7 +101,7 @@ async def _emulate_until_stopped(args: argparse.Namespace, model: Any,
 
 
 async def _serve(args: argparse.Namespace) -> int:
-    program = RotatorProgram()
+    program = RotatorProgram(allow=tuple(args.allow), take_over=args.take_over)
     try:
         host, port = await program.start(args.bind, args.port)
     except OSError as error:

@@ -1,5 +1,9 @@
 """Who gets a connection: one count of open connections for every transport.
 
+The rules themselves (tickets, the fair share, operators' own capacity, the reserve
+before hello) are the program's one admission policy, :mod:`moas_gui.edge.admission`;
+this module gives the client server's numbers.
+
 The client port and the browser client's web port take connections from the
 same pool, an :class:`Admission`: at most ``total`` open at once (the client
 server's limit, see :mod:`.fd_limit`), and at most ``per_address`` from any
@@ -21,12 +25,16 @@ import socket
 from collections.abc import Iterable
 from typing import Any, Final
 
-from .access import peer_address
-
-DEFAULT_PER_ADDRESS: Final = 32
-"""Connections from one address at once unless ``--max-per-address`` says otherwise:
-far more than one computer's clients and browser pages need, well under the
-server's whole limit (200)."""
+from moas_gui.edge.admission import (
+    DEFAULT_BEFORE_HELLO,
+    DEFAULT_OPERATORS,
+    DEFAULT_PER_ADDRESS,
+    Admission,
+    Refused,
+    Standing,
+    Ticket,
+    address_key,
+)
 
 HELLO_DEADLINE: Final = 5.0
 """Seconds a client connection (TCP or WebSocket) has to say ``hello``."""
@@ -69,66 +77,19 @@ def deepen_backlog(sockets: Iterable[Any], backlog: int = BACKLOG) -> None:
             twin.close()
 
 
-def address_key(host: str) -> str:
-    """The key under which a peer is counted: its normalised address."""
-    parsed = peer_address(host)
-    return str(parsed) if parsed is not None else host
-
-
-class Admission:
-    """Counts open connections, in all and per address, and refuses those over."""
-
-    def __init__(self, total: int, per_address: int = DEFAULT_PER_ADDRESS) -> None:
-        if total < 1 or per_address < 1:
-            raise ValueError(f"limits must be at least 1, not {total} and {per_address}")
-        self.total = total
-        self.per_address = per_address
-        self._open: dict[str, int] = {}
-        self._count = 0
-
-    @property
-    def count(self) -> int:
-        """Connections open now, all addresses together."""
-        return self._count
-
-    def open_from(self, host: str) -> int:
-        return self._open.get(address_key(host), 0)
-
-    def admit(self, host: str) -> str | None:
-        """Counts a new connection from ``host`` and returns ``None``; or, when it is
-        over a limit, counts nothing and returns why (which limit, in words)."""
-        key = address_key(host)
-        held = self._open.get(key, 0)
-        if held >= self.per_address:
-            return (f"{held} connections from that address are open, the most one address "
-                    "may hold (moas-server --max-per-address sets it)")
-        if self._count >= self.total:
-            return (f"{self._count} connections are open, the most this server takes at once "
-                    "(moas-server --max-clients sets it)")
-        self._open[key] = held + 1
-        self._count += 1
-        return None
-
-    def release(self, host: str) -> None:
-        """A connection :meth:`admit` counted has closed."""
-        key = address_key(host)
-        held = self._open.get(key, 0)
-        if held <= 1:
-            self._open.pop(key, None)
-        else:
-            self._open[key] = held - 1
-        if held:
-            self._count -= 1
-
-
 __all__ = [
     "BACKLOG",
+    "DEFAULT_BEFORE_HELLO",
+    "DEFAULT_OPERATORS",
     "DEFAULT_PER_ADDRESS",
     "HELLO_DEADLINE",
     "KEEPALIVE",
     "KEEPALIVE_SEND",
     "REQUEST_DEADLINE",
     "Admission",
+    "Refused",
+    "Standing",
+    "Ticket",
     "address_key",
     "deepen_backlog",
 ]

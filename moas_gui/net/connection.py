@@ -17,6 +17,8 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+from moas_gui.edge.admission import Ticket
+
 from .backend import ErrorCode
 from .framing import request_framer
 from .log_limit import held_text
@@ -113,8 +115,12 @@ class Connection:
         self.close_reason: str | None = None
         self.chatter: Callable[[], int | None] | None = None
         """Asked before each Info line about this client (its hello, its leaving): None
-        to stay quiet, else how many were left out -- the server gives each address a
-        share of the log, so that a program connecting in a loop cannot flood it."""
+        to stay quiet, else how many were left out -- all clients together have a share
+        of the log, so that programs connecting in a loop cannot flood it."""
+        self.ticket: Ticket | None = None
+        """Its place in the admission policy (:mod:`moas_gui.edge.admission`): the hook
+        that :func:`~.dispatch.answer` greets after a valid ``hello``, and that makes it
+        an operator once a token has said so (:meth:`Ticket.operator`)."""
 
     def note(self, message: str, *args: object) -> None:
         """An Info line about this client, within its address's share of the log."""
@@ -123,7 +129,7 @@ class Connection:
             return
         if held:
             message += "%s"
-            args = (*args, held_text(held, "more lines about clients at that address"))
+            args = (*args, held_text(held, "more lines about clients connecting and leaving"))
         log.info(message, *args)
 
     def __str__(self) -> str:

@@ -73,6 +73,8 @@ def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
     conn.note('Client at %s is "%s"%s', conn.address, conn.name, serves)
     conn.reply(request.id, request.cmd, hello_result())
     conn.greeted = True
+    if conn.ticket is not None:
+        conn.ticket.greeted()  # out of its address's reserve for newcomers (admission)
     try:
         line = event("state", backend.snapshot())
     except RequestError as e:

@@ -18,7 +18,13 @@ bad arguments: ``-1``; no ``ParkHeading``, or a move in elevation: ``-11``
 (feature not available).
 
 Listeners bind 127.0.0.1 unless told otherwise: only programs on the server's
-computer can use them.  A station whose logging computers should turn
+computer can use them.  All of them share one admission (the program's policy,
+:mod:`moas_gui.edge.admission`): at most :data:`ROTCTLD_TOTAL` connections at once,
+:data:`ROTCTLD_PER_ADDRESS` from one address, a fair share when full; a connection
+must send its first command within :data:`ROTCTLD_DEADLINES` ``hello`` seconds (it
+then counts as greeted) and is closed after ``idle`` seconds without one.  Log lines
+about bad input go out once a minute a kind, whoever sends it, with the count of
+those left out.  A station whose logging computers should turn
 rotators binds the server's address on the station network (or 0.0.0.0
 behind the station's firewall); rotctld has no authentication.
 """
@@ -32,6 +38,10 @@ from collections.abc import Awaitable, Iterable
 from typing import Protocol
 
 from moas_gui.config.model import Rotator
+from moas_gui.edge.admission import Admission, Deadlines
+from moas_gui.edge.gate import gate_factory, ticket_of
+from moas_gui.edge.listener import Listener
+from moas_gui.edge.log_limit import held_text
 from moas_gui.hw.rotators.base import RotatorError, RotatorView, describe
 from moas_gui.hw.rotators.headings import Travel, normalize
 
@@ -59,6 +69,19 @@ from .rotctld_codec import (
 
 log = logging.getLogger(__name__)
 
+ROTCTLD_TOTAL = 64
+"""rotctld connections at once, all listeners together: far more than the loggers and
+trackers of a station."""
+ROTCTLD_PER_ADDRESS = 16
+ROTCTLD_DEADLINES = Deadlines(hello=30.0, idle=600.0)
+"""A first command within 30 s; then at most 10 minutes without one."""
+
+
+def rotctld_admission() -> Admission:
+    """The admission every rotctld listener of a server shares."""
+    return Admission(ROTCTLD_TOTAL, ROTCTLD_PER_ADDRESS, what="rotctld connections")
+
+
 SERVED = frozenset({"get_pos", "set_pos", "stop", "park", "move", "reset", "get_info",
                     "dump_caps", "dump_state", "quit"})
 
@@ -76,16 +99,20 @@ class RotatorService(Protocol):
 
 
 class RotctldServer:
-    def __init__(self, service: RotatorService, rotator: Rotator, host: str, port: int) -> None:
+    def __init__(self, service: RotatorService, rotator: Rotator, host: str, port: int,
+                 admission: Admission | None = None,
+                 deadlines: Deadlines = ROTCTLD_DEADLINES) -> None:
         self.service, self.rotator = service, rotator
         self.host, self.port = host, port
+        self.admission = admission if admission is not None else rotctld_admission()
+        self.deadlines = deadlines
         try:
             travel = Travel(rotator.ccw_limit, rotator.rotation, rotator.has_stop)
         except ValueError:
             travel = Travel()
         self.travel = travel
         self.scale: AzimuthScale = scale_for(travel)
-        self._server: asyncio.Server | None = None
+        self._server: Listener | None = None
         self._sessions: set[asyncio.Task[None]] = set()
         self._writers: set[asyncio.StreamWriter] = set()
 
@@ -95,15 +122,20 @@ class RotctldServer:
 
     async def start(self) -> int:
         """Listen; returns the port.  Raises ``OSError`` when it cannot bind."""
-        self._server = await asyncio.start_server(self._serve, self.host, self.port)
-        self.port = self._server.sockets[0].getsockname()[1]
+        gate = gate_factory(self.admission, self._serve, front="rotctld connection",
+                            deadlines=self.deadlines)
+        self._server = await Listener.open(gate, self.host, self.port,
+                                           what="rotctld connections",
+                                           trouble=self.admission.trouble)
+        self.port = self._server.port
         log.info("%s: listening", self.where)
         return self.port
 
     async def close(self) -> None:
         if self._server is not None:
-            self._server.close()
+            await self._server.close()
             self._server = None
+        self.admission.close()
         for writer in list(self._writers):
             writer.close()
         sessions = list(self._sessions)
@@ -120,18 +152,23 @@ class RotctldServer:
         self._sessions.add(task)
         self._writers.add(writer)
         peer = writer.get_extra_info("peername")
+        ticket = ticket_of(writer)
         parser = RequestParser()
         try:
             while data := await reader.read(4096):
                 for request in parser.feed(data):
                     if request.name == "quit":
                         return
+                    if request.known and ticket is not None:
+                        ticket.greeted()  # a rotctld command: it has said what it is
+                        ticket.touch()
                     reply = await self._handle(request, peer)
                     if reply:
                         writer.write(reply)
                 if parser.overflowed:
-                    log.warning("%s: %s sent over 4096 bytes without a command; dropped",
-                                self.where, peer)
+                    self._trouble("overflow", logging.WARNING,
+                                  "%s: %s sent over 4096 bytes without a command; dropped",
+                                  self.where, peer)
                     parser.overflowed = False
                 await writer.drain()
         except (ConnectionError, OSError):
@@ -147,12 +184,14 @@ class RotctldServer:
 
     async def _handle(self, request: RotctldRequest, peer: object) -> bytes:
         if not request.known:
-            log.warning("%s: %s sent %r, which is not a rotctld command; no answer (as rotctld)",
-                        self.where, peer, request.name)
+            self._trouble("unknown", logging.WARNING,
+                          "%s: %s sent %r, which is not a rotctld command; no answer (as rotctld)",
+                          self.where, peer, request.name[:40])
             return b""
         if request.name not in SERVED:
-            log.info("%s: %s asked for %s, which this listener does not do", self.where, peer,
-                     request.name)
+            self._trouble(("not served", request.name), logging.INFO,
+                          "%s: %s asked for %s, which this listener does not do", self.where,
+                          peer, request.name)
             return answer(request, code=ENIMPL)
         if request.name == "dump_state":
             return dump_state(request, self.scale)
@@ -175,6 +214,12 @@ class RotctldServer:
             return await self._move(request, peer)
         return await self._call(request, self.service.stop(self.rotator.id))  # stop, reset
 
+    def _trouble(self, kind: object, level: int, message: str, *args: object) -> None:
+        """A line about bad or refused input: once a minute a kind, whoever sends it."""
+        held = self.admission.trouble.allow(("rotctld", kind))
+        if held is not None:
+            log.log(level, message + "%s", *args, held_text(held))
+
     @property
     def _info(self) -> str:
         return f"MOAS {self.rotator.label}"[:48]
@@ -182,20 +227,20 @@ class RotctldServer:
     async def _park(self, request: RotctldRequest) -> bytes:
         heading = self.rotator.park_heading
         if heading is None:
-            log.info("%s: park asked for, but %s has no ParkHeading", self.where,
-                     describe(self.rotator))
+            self._trouble("no park", logging.INFO, "%s: park asked for, but %s has no "
+                          "ParkHeading", self.where, describe(self.rotator))
             return answer(request, code=ENAVAIL)
         return await self._call(request, self.service.rotate(self.rotator.id, float(heading)))
 
     async def _move(self, request: RotctldRequest, peer: object) -> bytes:
         direction = parse_direction(request.args[0])
         if direction is None or parse_number(request.args[1]) is None:
-            log.warning("%s: %s sent move with %r: not a direction and a speed", self.where,
-                        peer, " ".join(request.args))
+            self._trouble("bad move", logging.WARNING, "%s: %s sent move with %r: not a "
+                          "direction and a speed", self.where, peer, " ".join(request.args)[:80])
             return answer(request, code=EINVAL)
         if direction not in (CLOCKWISE, COUNTERCLOCKWISE):
-            log.info("%s: %s asked to move in elevation; this rotator turns in azimuth only",
-                     self.where, peer)
+            self._trouble("elevation", logging.INFO, "%s: %s asked to move in elevation; this "
+                          "rotator turns in azimuth only", self.where, peer)
             return answer(request, code=ENAVAIL)
         view = self.service.view(self.rotator.id)
         if not view.online or view.heading is None:
@@ -209,8 +254,8 @@ class RotctldServer:
         azimuth = parse_number(request.args[0])
         elevation = parse_number(request.args[1])
         if azimuth is None or elevation is None:
-            log.warning("%s: %s sent set_pos with %r: not two numbers", self.where, peer,
-                        " ".join(request.args))
+            self._trouble("bad set_pos", logging.WARNING, "%s: %s sent set_pos with %r: not "
+                          "two numbers", self.where, peer, " ".join(request.args)[:80])
             return answer(request, code=EINVAL)
         return await self._call(request, self.service.rotate(self.rotator.id, normalize(azimuth)))
 
@@ -218,7 +263,8 @@ class RotctldServer:
         try:
             await action
         except RotatorError as exc:
-            log.info("%s: %s refused: %s", self.where, request.name, exc.message)
+            self._trouble(("refused", request.name), logging.INFO, "%s: %s refused: %s",
+                          self.where, request.name, exc.message)
             return answer(request, code=self._code_for(exc))
         return answer(request)
 
@@ -239,10 +285,11 @@ async def start_rotctld_servers(
     """A listener for every rotator with a ``RotctldPort``; a port that cannot be
     opened is logged and skipped."""
     servers: list[RotctldServer] = []
+    shared = rotctld_admission()
     for rotator in rotators:
         if rotator.rotctld_port is None:
             continue
-        server = RotctldServer(service, rotator, host, rotator.rotctld_port)
+        server = RotctldServer(service, rotator, host, rotator.rotctld_port, shared)
         try:
             await server.start()
         except OSError as exc:
@@ -252,4 +299,12 @@ async def start_rotctld_servers(
     return servers
 
 
-__all__ = ["RotatorService", "RotctldServer", "start_rotctld_servers"]
+__all__ = [
+    "ROTCTLD_DEADLINES",
+    "ROTCTLD_PER_ADDRESS",
+    "ROTCTLD_TOTAL",
+    "RotatorService",
+    "RotctldServer",
+    "rotctld_admission",
+    "start_rotctld_servers",
+]

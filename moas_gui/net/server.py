@@ -44,16 +44,18 @@ import logging
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
+from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
 
-from .access import allowed_networks, is_allowed, peer_address
+from .access import allowed_networks, is_allowed
 from .admission import (
+    DEFAULT_BEFORE_HELLO,
     DEFAULT_PER_ADDRESS,
     HELLO_DEADLINE,
     KEEPALIVE,
     Admission,
-    address_key,
-    deepen_backlog,
+    Refused,
+    Ticket,
 )
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
 from .connection import (
@@ -63,7 +65,6 @@ from .connection import (
     LineWriter,
     cut_slowest,
     format_peer,
-    host_of,
 )
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
@@ -125,6 +126,7 @@ class ClientServer:
         max_clients: int = DEFAULT_MAX_CLIENTS,
         max_layouts: int = 16,
         per_address: int = DEFAULT_PER_ADDRESS,
+        before_hello: int = DEFAULT_BEFORE_HELLO,
         hello_deadline: float = HELLO_DEADLINE,
         keepalive: float = KEEPALIVE,
     ) -> None:
@@ -143,14 +145,17 @@ class ClientServer:
         """The connections served at once: ``max_clients``, or fewer when the
         process may open few files (set by :meth:`start`)."""
         self.max_layouts = max_layouts
-        self.admission = Admission(max_clients, per_address)
-        """Open connections of both transports, in all and per address."""
+        self.trouble = LogLimiter()
+        """One log line a minute per kind of trouble from outside, whatever the address
+        (the web server's and the admission's too)."""
+        self.admission = Admission(max_clients, per_address, before_hello=before_hello,
+                                   trouble=self.trouble, what="client connections")
+        """Open connections of both transports, in all and per address: the program's
+        admission policy (:mod:`moas_gui.edge.admission`)."""
         self.hello_deadline = hello_deadline
         self.keepalive = keepalive
-        self.trouble = LogLimiter()
-        """One log line a minute per kind of trouble from outside (the web server's too)."""
         self.chatter = LogLimiter(burst=CHATTER_BURST)
-        """Each address's share of the Info lines about greeted clients."""
+        """The Info lines about greeted clients, all addresses together."""
         self._unchecked = 0
         """Bytes queued since the sum of all clients' output was last checked."""
         self._crowd = 0
@@ -158,7 +163,7 @@ class ClientServer:
         self._trim: asyncio.Handle | None = None
         self._loop_faults = LogLimiter()
         self._restore_handler: Callable[[], None] | None = None
-        self._server: asyncio.Server | None = None
+        self._server: Listener | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._connections: dict[Connection, None] = {}
         self._tasks: set[asyncio.Task[Any]] = set()
@@ -177,15 +182,14 @@ class ClientServer:
         if self._restore_handler is None:
             self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
-            self._server = await self._loop.create_server(
-                lambda: _Gate(self), self.host, self.port)
+            self._server = await Listener.open(lambda: _Gate(self), self.host, self.port,
+                                               what="clients", trouble=self.trouble)
         except OSError as e:
             raise HardwareError(
                 f"cannot accept clients on TCP port {self.port}: {e.strerror or e} "
                 "(is another moas-server running? TCPPort in the configuration sets the port)"
             ) from e
-        self.port = self._server.sockets[0].getsockname()[1]
-        deepen_backlog(self._server.sockets)
+        self.port = self._server.port
         where = self.host if self.host is not None else "every interface"
         log.info("Accepting clients on TCP port %d (%s)", self.port, where)
         return self.port
@@ -193,7 +197,9 @@ class ClientServer:
     async def close(self) -> None:
         """Stops listening and closes every connection."""
         if self._server is not None:
-            self._server.close()
+            await self._server.close()
+            self._server = None
+        self.admission.close()
         for conn in tuple(self._connections):
             conn.close("the server is closing")
         if self._layout_refresh is not None:
@@ -208,9 +214,6 @@ class ClientServer:
             for task in pending:
                 task.cancel()
             await asyncio.gather(*pending, return_exceptions=True)
-        if self._server is not None:
-            await self._server.wait_closed()
-            self._server = None
         if self._restore_handler is not None:
             self._restore_handler()
             self._restore_handler = None
@@ -223,17 +226,20 @@ class ClientServer:
         """Whether a peer at ``host`` is inside ``ClientAllow`` (other transports ask too)."""
         return is_allowed(host, self._allowed)
 
-    def attach(self, writer: LineWriter, address: str) -> Connection | None:
+    def attach(self, writer: LineWriter, address: str,
+               ticket: Ticket | None = None) -> Connection | None:
         """A connection carried by another transport (the browser client's
         WebSocket, :mod:`.web`), with the same limits as a TCP one: its lines
         are answered by :func:`~.dispatch.answer` and it gets events as TCP
         clients do, until :meth:`detach`.  ``None`` when the server already
-        serves as many clients as it takes (the caller says so and closes)."""
+        serves as many clients as it takes (the caller says so and closes).  ``ticket``
+        is the connection's place in :attr:`admission`: a ``hello`` greets it."""
         if len(self._connections) >= self.client_limit:
             return None
         conn = Connection(writer, address, max_pending=self.max_pending,
                           max_layouts=self.max_layouts, on_queued=self._queued)
         conn.chatter = self._chatter_of(address)
+        self._take_ticket(conn, ticket)
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         return conn
@@ -345,29 +351,43 @@ class ClientServer:
 
     # ---- connections ----------------------------------------------------------------
 
-    def _gate(self, transport: asyncio.Transport) -> str | None:
-        """Decides on a new connection before anything is made for it: the peer's
-        address when it may stay, else ``None`` (it was refused and closed)."""
+    def _take_ticket(self, conn: Connection, ticket: Ticket | None) -> None:
+        """``conn`` keeps its admission ticket: touched by every line, greeted by its
+        hello; should the admission close it, it is told why first."""
+        conn.ticket = ticket
+        if ticket is None:
+            return
+
+        def evict(why: str) -> None:
+            conn.reply_error(None, ErrorCode.UNAVAILABLE, why)
+            conn.close(why)
+
+        ticket.set_evict(evict)
+
+    def _gate(self, transport: asyncio.Transport) -> Ticket | None:
+        """Decides on a new connection before anything is made for it: its admission
+        ticket when it may stay, else ``None`` (it was refused and closed)."""
         peer = transport.get_extra_info("peername")
         address = format_peer(peer)
         host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
         if not is_allowed(host, self._allowed):
-            held = self.trouble.allow(("not allowed", str(peer_address(host) or host)))
+            held = self.trouble.allow("not allowed")
             if held is not None:
                 log.warning(
                     "Refused a client from %s: the address is not in the allowed networks "
                     "(ClientAllow in the configuration decides)%s", address,
-                    held_text(held, "more refused from that address"),
+                    held_text(held, "more refused that were not allowed"),
                 )
             transport.abort()
             return None
-        refusal = self.admission.admit(host)
-        if refusal is not None:
+        try:
+            return self.admission.admit(host, lambda _why: transport.abort(), front="client",
+                                        address=address)
+        except Refused as refusal:
             self.refused(address, refusal)
             transport.write(reply_error(None, ErrorCode.UNAVAILABLE, self.refusal_reply(refusal)))
             transport.close()
             return None
-        return host
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
@@ -379,18 +399,23 @@ class ClientServer:
             if task is not None:
                 self._tasks.discard(task)
 
-    def refused(self, address: str, refusal: str, what: str = "a client") -> None:
+    def refused(self, address: str, refusal: Refused, what: str = "a client") -> None:
         """Logs a connection refused by :attr:`admission` (once a minute per limit)."""
-        held = self.trouble.allow(("over a limit", refusal.split(",", 1)[1]))
+        held = self.trouble.allow(("over a limit", refusal.limit))
         if held is not None:
-            log.warning("Refused %s from %s: %s%s", what, address, refusal,
+            option = {"address": " (moas-server --max-per-address sets it)",
+                      "total": " (moas-server --max-clients sets it)"}.get(refusal.limit, "")
+            log.warning("Refused %s from %s: %s%s%s", what, address, refusal.reason, option,
                         held_text(held, "more refused for the same reason"))
 
-    def refusal_reply(self, refusal: str) -> str:
+    def refusal_reply(self, refusal: Refused) -> str:
         """The sentence a refused client is told."""
-        if "one address" in refusal:
+        if refusal.limit == "address":
             return (f"this address already holds {self.admission.per_address} connections, "
                     "the most one address may; close one and try again")
+        if refusal.limit == "hello":
+            return (f"this address already has {self.admission.before_hello} connections "
+                    "that have not said hello; try again when they have")
         return (f"the server already serves {self.client_limit} clients, its limit; "
                 "try again when one has left")
 
@@ -409,6 +434,8 @@ class ClientServer:
             on_queued=self._queued,
         )
         conn.chatter = self._chatter_of(address)
+        gate = writer.transport.get_protocol()
+        self._take_ticket(conn, gate.ticket if isinstance(gate, _Gate) else None)
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         log.debug("Client connected from %s", address)
@@ -426,6 +453,8 @@ class ClientServer:
                     break
                 if not data:
                     break
+                if conn.ticket is not None:
+                    conn.ticket.touch()
                 await self._answer(conn, data)
         except (ConnectionError, OSError) as e:
             lost = str(e) or type(e).__name__
@@ -477,8 +506,8 @@ class ClientServer:
 
 
     def _chatter_of(self, address: str) -> Callable[[], int | None]:
-        key = ("clients", address_key(host_of(address)))
-        return lambda: self.chatter.allow(key)
+        # one share for all addresses: a crowd of addresses writes no more than one
+        return lambda: self.chatter.allow("clients")
 
     def timed_out(self, conn: Connection) -> str:
         """Why ``conn`` is closed for its silence."""
@@ -511,15 +540,14 @@ class _Gate(asyncio.Protocol):
 
     def __init__(self, server: ClientServer) -> None:
         self.server = server
-        self.host = ""
+        self.ticket: Ticket | None = None
         self.inner: asyncio.StreamReaderProtocol | None = None
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         assert isinstance(transport, asyncio.Transport)
-        host = self.server._gate(transport)
-        if host is None:
+        self.ticket = self.server._gate(transport)
+        if self.ticket is None:
             return
-        self.host = host
         reader = asyncio.StreamReader(limit=_READ_CHUNK)
         self.inner = asyncio.StreamReaderProtocol(reader, self.server._serve)
         self.inner.connection_made(transport)
@@ -541,8 +569,9 @@ class _Gate(asyncio.Protocol):
 
     def connection_lost(self, exc: Exception | None) -> None:
         inner, self.inner = self.inner, None
+        if self.ticket is not None:
+            self.ticket.release()
         if inner is not None:
-            self.server.admission.release(self.host)
             inner.connection_lost(exc)
 
 

@@ -21,7 +21,8 @@ address, and must deliver each complete request within a few seconds
 (:mod:`.web_limits`).  Every request is checked first against the client
 server's ``ClientAllow`` (refused with ``403``), then its Host header, and a
 WebSocket's Origin (:mod:`.web_guard`); each refusal writes a Warning line, once
-a minute per kind.  ``docs/web-client.md`` has the page's side.
+a minute per kind.  A WebSocket whose client sends an unmasked frame is failed
+with a Close 1002, as RFC 6455 requires (:mod:`.web_frames`).  ``docs/web-client.md`` has the page's side.
 """
 
 from __future__ import annotations
@@ -34,11 +35,13 @@ from importlib import resources
 
 from aiohttp import web
 
+from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
 
-from .admission import REQUEST_DEADLINE, deepen_backlog
+from .admission import REQUEST_DEADLINE
 from .connection import format_peer
 from .server import ClientServer
+from .web_frames import frames_arrived_early, require_masking
 from .web_guard import host_allowed, local_names, origin_complaint
 from .web_limits import GuardedConnection, QuietAiohttp
 from .web_socket import MAX_MESSAGE, converse
@@ -100,7 +103,7 @@ class WebServer:
         self._files = page_files()
         self._names = local_names()
         self._runner: web.AppRunner | None = None
-        self._listener: asyncio.Server | None = None
+        self._listener: Listener | None = None
         self._quiet = QuietAiohttp(clients.trouble)
 
     async def start(self) -> int:
@@ -114,10 +117,11 @@ class WebServer:
         await runner.setup()
         assert runner.server is not None
         try:
-            # not aiohttp's TCPSite: every connection goes through the guard first
-            self._listener = await asyncio.get_running_loop().create_server(
-                self._guarded(runner.server),
-                self.host or None, self.port)
+            # not aiohttp's TCPSite: every connection goes through the guard first, and
+            # the program's accept loop (which backs off when out of file handles)
+            self._listener = await Listener.open(self._guarded(runner.server),
+                                                 self.host or None, self.port,
+                                                 what="browsers", trouble=self.clients.trouble)
         except OSError as e:
             await runner.cleanup()
             raise HardwareError(
@@ -126,10 +130,7 @@ class WebServer:
             ) from e
         self._runner = runner
         self._quiet.install()
-        sockets = self._listener.sockets or ()
-        deepen_backlog(sockets)
-        if sockets:
-            self.port = int(sockets[0].getsockname()[1])
+        self.port = self._listener.port
         where = self.host if self.host not in (None, "") else "every interface"
         log.info("Serving the browser client on http://%s:%d/ (%s)",
                  _loopback(self.host), self.port, where)
@@ -142,13 +143,11 @@ class WebServer:
     async def close(self) -> None:
         """Stops listening and closes every page's WebSocket."""
         if self._listener is not None:
-            self._listener.close()
+            listener, self._listener = self._listener, None
+            await listener.close()
         if self._runner is not None:
             runner, self._runner = self._runner, None
             await runner.cleanup()
-        if self._listener is not None:
-            listener, self._listener = self._listener, None
-            await listener.wait_closed()
         self._quiet.remove()
 
     @web.middleware
@@ -157,6 +156,8 @@ class WebServer:
         guard = transport.get_protocol() if transport is not None else None
         if isinstance(guard, GuardedConnection):
             guard.disarm()  # the request is here; the next one is timed after the response
+            if guard.ticket is not None:
+                guard.ticket.greeted()  # a whole request: a browser, not a silent crowd
         try:
             return await self._checked(request, handler)
         finally:
@@ -168,7 +169,7 @@ class WebServer:
         host = str(peer[0]) if isinstance(peer, tuple) else str(request.remote or "")
         if not self.clients.allows(host):
             self.clients.trouble_line(
-                ("browser not allowed", host), logging.WARNING,
+                "browser not allowed", logging.WARNING,
                 "Refused a browser from %s: the address is not in the allowed networks "
                 "(ClientAllow in the configuration decides)", format_peer(peer))
             raise web.HTTPForbidden(text="This address may not use the MOAS server "
@@ -203,9 +204,25 @@ class WebServer:
         ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE, heartbeat=20.0)
         if not ws.can_prepare(request).ok:
             raise web.HTTPBadRequest(text="This address is for a WebSocket.\n")
+        guard = request.transport.get_protocol() if request.transport else None
+        ticket = guard.ticket if isinstance(guard, GuardedConnection) else None
+        handler = getattr(guard, "inner", None)
+        if frames_arrived_early(handler):
+            raise web.HTTPBadRequest(text="Frames were sent before the handshake's answer.\n")
         await ws.prepare(request)
-        await converse(self.clients, ws, address)
+        if not require_masking(handler, request.transport, lambda: self._unmasked(address)):
+            self.clients.trouble_line("websocket masking", logging.ERROR,
+                                      "This aiohttp's WebSocket reader cannot be checked for "
+                                      "unmasked frames; WebSockets are refused")
+            await ws.close(code=1011)
+            return ws
+        await converse(self.clients, ws, address, ticket)
         return ws
+
+    def _unmasked(self, address: str) -> None:
+        self.clients.trouble_line("websocket unmasked", logging.WARNING,
+                                  "Closed a WebSocket from %s: it sent an unmasked frame "
+                                  "(RFC 6455 forbids it)", address)
 
 
 def _loopback(host: str | None) -> str:

@@ -22,7 +22,7 @@ import asyncio
 import logging
 from collections.abc import Callable
 
-from .admission import REQUEST_DEADLINE
+from .admission import REQUEST_DEADLINE, Refused, Ticket
 from .connection import format_peer
 from .log_limit import LogLimiter, held_text
 from .server import ClientServer
@@ -54,6 +54,9 @@ class GuardedConnection(asyncio.Protocol):
         self.host = ""
         self.address = ""
         self.admitted = False
+        self.ticket: Ticket | None = None
+        """Its place in the client server's admission (a WebSocket's connection takes it
+        over: a hello greets it)."""
         self.transport: asyncio.Transport | None = None
         self._timer: asyncio.TimerHandle | None = None
 
@@ -85,8 +88,11 @@ class GuardedConnection(asyncio.Protocol):
         peer = transport.get_extra_info("peername")
         self.host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
         self.address = format_peer(peer)
-        refusal = self.clients.admission.admit(self.host)
-        if refusal is not None:
+        try:
+            self.ticket = self.clients.admission.admit(
+                self.host, lambda _why: transport.abort(), front="web connection",
+                address=self.address)
+        except Refused as refusal:
             self.clients.refused(self.address, refusal, "a browser")
             transport.write(_refusal(self.clients.refusal_reply(refusal) + "\n"))
             transport.close()
@@ -98,6 +104,8 @@ class GuardedConnection(asyncio.Protocol):
 
     def data_received(self, data: bytes) -> None:
         if self.admitted:
+            if self.ticket is not None:
+                self.ticket.touch()
             self.inner.data_received(data)
 
     def eof_received(self) -> bool | None:
@@ -115,7 +123,8 @@ class GuardedConnection(asyncio.Protocol):
         self.disarm()
         if self.admitted:
             self.admitted = False
-            self.clients.admission.release(self.host)
+            if self.ticket is not None:
+                self.ticket.release()
             self.inner.connection_lost(exc)
         self.transport = None
 

@@ -28,6 +28,8 @@ from collections import deque
 
 from aiohttp import WSMsgType, web
 
+from moas_gui.edge.admission import Ticket
+
 from .backend import ErrorCode
 from .dispatch import answer
 from .framing import MAX_LINE
@@ -123,14 +125,17 @@ class WebSocketOutlet:
                 await ws.close()
 
 
-async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: str) -> None:
-    """Serves one prepared WebSocket until it closes."""
+async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: str,
+                   ticket: Ticket | None = None) -> None:
+    """Serves one prepared WebSocket until it closes; ``ticket`` is its web connection's
+    place in the admission, which its hello greets."""
     outlet = WebSocketOutlet(ws)
-    conn = clients.attach(outlet, address)
+    conn = clients.attach(outlet, address, ticket)
     if conn is None:
-        log.warning("Refused a browser client from %s: %d clients are connected, the most "
-                    "this server takes at once (moas-server --max-clients sets it)",
-                    address, clients.client_limit)
+        clients.trouble_line(("over a limit", "websocket"), logging.WARNING,
+                             "Refused a browser client from %s: %d clients are connected, the "
+                             "most this server takes at once (moas-server --max-clients sets "
+                             "it)", address, clients.client_limit)
         outlet.write(reply_error(None, ErrorCode.UNAVAILABLE,
                                  f"the server already serves {clients.client_limit} clients, "
                                  "its limit; try again when one has left"))

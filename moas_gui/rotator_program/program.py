@@ -2,9 +2,20 @@
 
 Decisions (see also docs/rotators-serial.md):
 
-- One server connection at a time.  A new connection replaces the old one,
-  which is closed; the MOAS Server reconnects after a restart, and a
-  half-dead old connection must not keep the new one out.
+- One server connection at a time.  A new connection from the address of the
+  one in control replaces it (the MOAS Server reconnects after a restart, and a
+  half-dead old connection must not keep the new one out); one from another
+  address is refused, told why, unless the program was started with
+  ``--take-over``.  A connection replaced is told so in one line before it is
+  closed.  Every connection passes the program's admission first (the
+  project's one policy, :mod:`moas_gui.edge.admission`): a few at once, a
+  fair share, and one that does not become the controlling one is closed.
+- ``CONFIGURE`` opens serial devices only (``COM3``, ``/dev/ttyUSB0``, a
+  pseudo-terminal, a link to one), and whatever else the user allowed
+  (:mod:`.ports`: ``--allow``; the server that starts the program allows the
+  ports of its ``.moas`` file); a ``socket://`` URL, ``loop://``, a file such
+  as ``/etc/passwd`` is refused with one log line, and the rotator stays as it
+  was.
 - The program keeps no configuration of its own, but rotators stay
   configured and polled when the server goes away: a turn in progress runs
   to its end, nothing is stopped by a network hiccup, and ports stay open.
@@ -23,9 +34,14 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import socket
 
 from moas_gui import __version__
 from moas_gui.clock import LOOP_CLOCK, Clock
+from moas_gui.edge.admission import Admission, Deadlines
+from moas_gui.edge.gate import gate_factory, ticket_of
+from moas_gui.edge.listener import Listener
+from moas_gui.edge.log_limit import held_text
 from moas_gui.hw.rotators.controllers.base import ControllerError
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.moas_rotator_codec import (
@@ -42,6 +58,7 @@ from moas_gui.hw.rotators.moas_rotator_codec import (
 )
 
 from .driver import RETRY, ControllerDriver
+from .ports import port_refusal
 from .serial_link import Opener, PortError, open_serial, split_port
 
 log = logging.getLogger(__name__)
@@ -49,37 +66,56 @@ log = logging.getLogger(__name__)
 WRITE_BUFFER_LIMIT = 1 << 20
 """Bytes queued for a server that does not read before it is disconnected."""
 
+CONNECTIONS = 8
+"""Connections at once (one controls; the others are told why not and closed)."""
+PER_ADDRESS = 4
+DEADLINES = Deadlines(hello=10.0)
+"""A connection that does not become the controlling one is closed within 10 s."""
+
 
 class RotatorProgram:
     """The program; see the module docstring."""
 
     def __init__(self, *, opener: Opener = open_serial, retry: float = RETRY,
-                 clock: Clock = LOOP_CLOCK, version: str = __version__) -> None:
+                 clock: Clock = LOOP_CLOCK, version: str = __version__,
+                 allow: tuple[str, ...] = (), take_over: bool = False) -> None:
         self.rotators: dict[int, ControllerDriver] = {}
         self._opener = opener
         self._retry = retry
         self._clock = clock
         self._version = version
-        self._server: asyncio.Server | None = None
+        self._server: Listener | None = None
         self._writer: asyncio.StreamWriter | None = None
         self._peer = ""
         self._announced: set[int] = set()
         self._handlers: dict[asyncio.Task[None], asyncio.StreamWriter] = {}
+        self.allow = tuple(allow)
+        """Ports beyond serial devices that CONFIGURE may open (patterns, ``--allow``)."""
+        self.take_over = take_over
+        """Whether a connection from another address may replace the one in control."""
+        self.admission = Admission(CONNECTIONS, PER_ADDRESS, before_hello=PER_ADDRESS,
+                                   what="server connections")
+        self._controller_host = ""
 
     # -- running ---------------------------------------------------------------------------
 
-    async def start(self, host: str = "0.0.0.0", port: int = PORT) -> tuple[str, int]:
-        """Listens on ``host``:``port``; returns the address really bound."""
-        # asyncio sets SO_REUSEADDR on POSIX by itself (a restart need not wait for
-        # TIME_WAIT); on Windows that option would let two programs share the port.
-        self._server = await asyncio.start_server(self._connection, host, port)
-        address = self._server.sockets[0].getsockname()
+    async def start(self, host: str = "127.0.0.1", port: int = PORT) -> tuple[str, int]:
+        """Listens on ``host``:``port`` (this computer only unless told otherwise);
+        returns the address really bound."""
+        # SO_REUSEADDR on POSIX only (a restart need not wait for TIME_WAIT); on Windows
+        # that option would let two programs share the port (moas_gui.edge.listener).
+        gate = gate_factory(self.admission, self._connection, front="server connection",
+                            deadlines=DEADLINES)
+        self._server = await Listener.open(gate, host, port, what="server connections",
+                                           trouble=self.admission.trouble)
+        address = self._server.sockets[0].getsockname()  # the listener's own sockets
         log.debug("listening on %s:%d", address[0], address[1])  # moas-rotator prints it
         return address[0], address[1]
 
     async def close(self) -> None:
         if self._server is not None:
-            self._server.close()
+            await self._server.close()
+        self.admission.close()
         self._writer = None
         handlers = dict(self._handlers)
         for writer in handlers.values():
@@ -91,10 +127,7 @@ class RotatorProgram:
         for driver in list(self.rotators.values()):
             await driver.close()
         self.rotators.clear()
-        if self._server is not None:
-            with contextlib.suppress(Exception):
-                await self._server.wait_closed()
-            self._server = None
+        self._server = None
 
     @property
     def connected(self) -> bool:
@@ -109,9 +142,23 @@ class RotatorProgram:
         if task is not None:
             self._handlers[task] = writer
         peer = _peer(writer)
-        old, self._writer = self._writer, writer
+        host = str(writer.get_extra_info("peername", ("",))[0])
+        old = self._writer
+        if old is not None and not old.is_closing() and host != self._controller_host \
+                and not self.take_over:
+            self._refuse(writer, peer)
+            if task is not None:
+                self._handlers.pop(task, None)
+            return
+        ticket = ticket_of(writer)
+        if ticket is not None:
+            ticket.greeted()  # in control: no deadline before it says anything
+        _keep_alive(writer)
+        self._writer, self._controller_host = writer, host
         if old is not None:
             log.info("server connection from %s replaces the one from %s", peer, self._peer)
+            with contextlib.suppress(Exception):
+                old.write(f"TAKEN OVER by the MOAS Server at {peer}\r".encode())
             old.close()
         else:
             log.info("server connected from %s", peer)
@@ -136,6 +183,16 @@ class RotatorProgram:
             writer.close()
             if task is not None:
                 self._handlers.pop(task, None)
+
+    def _refuse(self, writer: asyncio.StreamWriter, peer: str) -> None:
+        """A second server from another address: told why, and closed."""
+        held = self.admission.trouble.allow("second server")
+        if held is not None:
+            log.warning("refused a server connection from %s: the MOAS Server at %s is in "
+                        "control (moas-rotator --take-over lets a newcomer replace it)%s",
+                        peer, self._peer, held_text(held, "more refused"))
+        writer.write(f"BUSY: the MOAS Server at {self._peer} controls this program\r".encode())
+        writer.close()
 
     def _send(self, data: bytes) -> None:
         writer = self._writer
@@ -176,6 +233,12 @@ class RotatorProgram:
             current = self.rotators.get(rotator)
             kept = f"; it stays {current.label}" if current is not None else ""
             log.warning("rotator %d: CONFIGURE refused: %s%s", rotator, error, kept)
+            return
+        refusal = port_refusal(command.port, self.allow)
+        if refusal is not None:
+            current = self.rotators.get(rotator)
+            kept = f"; it stays {current.label}" if current is not None else ""
+            log.warning("rotator %d: CONFIGURE refused: %s%s", rotator, refusal, kept)
             return
         self._announced.add(rotator)
         current = self.rotators.get(rotator)
@@ -228,6 +291,15 @@ def _peer(writer: asyncio.StreamWriter) -> str:
     if isinstance(peer, tuple) and len(peer) >= 2:
         return f"{peer[0]}:{peer[1]}"
     return str(peer)
+
+
+def _keep_alive(writer: asyncio.StreamWriter) -> None:
+    """TCP keepalive on the controlling connection: a server gone without a word (its
+    computer switched off) is found out by the system in time."""
+    sock = writer.get_extra_info("socket")
+    if sock is not None:
+        with contextlib.suppress(OSError):
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_KEEPALIVE, 1)
 
 
 def _polling(driver: ControllerDriver) -> str:

@@ -315,9 +315,12 @@ def test_no_program_is_started_when_the_configuration_says_false_or_none_is_loca
     assert RotatorManager([serial(1)], start_moas_rotator=False).local_program is None
     assert RotatorManager([serial(1, address="192.0.2.7")]).local_program is None
     assert RotatorManager([serial(1, model="Bad Model")]).local_program is None
-    started = RotatorManager([serial(1, address="127.0.0.1")]).local_program
-    assert started is not None and started.command == default_command(13020)
-    assert started.command[1:] == ["-m", "moas_gui.cli.rotator", "--bind", "127.0.0.1"]
+    rotator = serial(1, address="127.0.0.1")
+    started = RotatorManager([rotator]).local_program
+    assert started is not None and started.command == default_command(13020, [rotator.comm_port])
+    # loopback only, and the configuration's port is what CONFIGURE may open
+    assert started.command[1:] == ["-m", "moas_gui.cli.rotator", "--bind", "127.0.0.1",
+                                   "--allow", rotator.comm_port]
 
 
 @pytest.mark.asyncio

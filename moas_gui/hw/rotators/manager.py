@@ -86,7 +86,9 @@ class RotatorManager:
         self.local_program: LocalMoasRotator | None = None
         local = [port for host, port in self._moas_links if is_local(host)]
         if start_moas_rotator and local:
-            command = moas_rotator_command or default_command(local[0])
+            ports = [r.comm_port for r in rotators
+                     if r.control is RotatorControl.SERIAL and r.comm_port]
+            command = moas_rotator_command or default_command(local[0], ports)
             self.local_program = LocalMoasRotator(
                 command, local[0], restart_min=self.timing.restart_min,
                 restart_max=self.timing.restart_max, clock=self.timing.clock)

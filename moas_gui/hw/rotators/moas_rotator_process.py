@@ -27,12 +27,17 @@ from moas_gui.retry import Backoff, Pauses
 log = logging.getLogger(__name__)
 
 
-def default_command(port: int) -> list[str]:
+def default_command(port: int, allow: Sequence[str] = ()) -> list[str]:
     """``python -m moas_gui.cli.rotator`` (the ``moas-rotator`` program), on ``port``.
 
     The program the server starts serves this computer's rotators to this server
-    only, so it listens on the loopback address."""
+    only, so it listens on the loopback address; it may open the ``CommPort`` of
+    each of ``allow`` (the configuration's rotators: serial devices, and the
+    ``socket://`` ports the configuration names)."""
     command = [sys.executable, "-m", "moas_gui.cli.rotator", "--bind", "127.0.0.1"]
+    for comm_port in dict.fromkeys(allow):  # as they are: no pattern characters
+        command += ["--allow", comm_port.replace("[", "[[]").replace("*", "[*]")
+                    .replace("?", "[?]")]
     if port != 13020:
         command += ["--port", str(port)]
     return command

@@ -39,6 +39,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from moas_gui.edge.admission import Admission, Deadlines
+from moas_gui.edge.gate import gate_factory, ticket_of
+from moas_gui.edge.listener import Listener
+
 from .box import EmulatedBox, Traffic
 from .boxstate import STATIONS
 from .record import Entry
@@ -185,19 +189,49 @@ class Session:
 # --------------------------------------------------------------------------- transports
 
 
-async def serve_control(control: Control, where: str) -> tuple[asyncio.AbstractServer, str]:
+CONTROL_CONNECTIONS = 16
+"""Control connections at once (the project's admission policy, moas_gui.edge)."""
+CONTROL_DEADLINES = Deadlines(hello=60.0)
+"""A control connection sends its first command within a minute (a ``watch`` may then
+stay silent as long as it likes)."""
+
+
+class ControlServer:
+    """Where the control listens; :meth:`close` stops it."""
+
+    def __init__(self, admission: Admission, listener: Listener | None = None,
+                 server: asyncio.AbstractServer | None = None) -> None:
+        self.admission = admission
+        self._listener = listener
+        self._server = server
+
+    async def close(self) -> None:
+        if self._listener is not None:
+            await self._listener.close()
+        if self._server is not None:
+            self._server.close()
+            await self._server.wait_closed()
+        self.admission.close()
+
+
+async def serve_control(control: Control, where: str) -> tuple[ControlServer, str]:
     """Listen for control connections at ``where``: a number is a TCP port on
     127.0.0.1 (0: any free one), anything else the path of a Unix socket (not on
-    Windows).  Returns the server and where it listens, as text."""
+    Windows).  Every connection passes the project's admission policy first (caps, a
+    deadline for its first command).  Returns the server and where it listens, as text."""
 
     async def connected(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         def write(line: str) -> None:
             if not writer.is_closing():
                 writer.write(line.encode() + b"\n")
 
+        ticket = ticket_of(writer)
         session = control.session(write)
         try:
             while line := await reader.readline():
+                if ticket is not None:
+                    ticket.greeted()
+                    ticket.touch()
                 session.handle(line.decode("utf-8", errors="replace"))
                 await writer.drain()
         except (ConnectionError, OSError):
@@ -206,10 +240,14 @@ async def serve_control(control: Control, where: str) -> tuple[asyncio.AbstractS
             session.close()
             writer.close()
 
+    admission = Admission(CONTROL_CONNECTIONS, CONTROL_CONNECTIONS,
+                          what="control connections")
+    gate = gate_factory(admission, connected, front="control connection",
+                        deadlines=CONTROL_DEADLINES, refusal=lambda why: f"error {why}\n".encode())
     if where.isdigit():
-        server = await asyncio.start_server(connected, "127.0.0.1", int(where))
-        port = server.sockets[0].getsockname()[1]
-        return server, f"127.0.0.1:{port}"
+        listener = await Listener.open(gate, "127.0.0.1", int(where),
+                                       what="control connections", trouble=admission.trouble)
+        return ControlServer(admission, listener), f"127.0.0.1:{listener.port}"
     if sys.platform == "win32":
         raise OSError("on Windows --control takes a TCP port number (on 127.0.0.1)")
     path = Path(where)
@@ -217,9 +255,9 @@ async def serve_control(control: Control, where: str) -> tuple[asyncio.AbstractS
         if not stat.S_ISSOCK(path.lstat().st_mode):
             raise OSError(f"{path} exists and is not a socket; not replacing it")
         path.unlink()  # left behind by an emulator that was killed
-    server = await asyncio.start_unix_server(connected, path=str(path))
+    server = await asyncio.get_running_loop().create_unix_server(gate, path=str(path))
     os.chmod(path, 0o600)
-    return server, str(path)
+    return ControlServer(admission, server=server), str(path)
 
 
 def remove_control(where: str) -> None:
@@ -254,8 +292,11 @@ def serve_stdin(control: Control, loop: asyncio.AbstractEventLoop) -> None:
 
 
 __all__ = [
+    "CONTROL_CONNECTIONS",
+    "CONTROL_DEADLINES",
     "HELP",
     "Control",
+    "ControlServer",
     "Session",
     "describe_relays",
     "record_line",

@@ -1,0 +1,213 @@
+"""Listening on a TCP port: an accept loop that backs off instead of spinning.
+
+asyncio's own accept loop, when the process is out of file handles, tries again as
+many times as its backlog in one turn and once a second after that, each failure
+reported.  :class:`Listener` accepts one connection at a time in a task per listening
+socket; when the system refuses (out of file handles ``EMFILE``/``ENFILE``, of buffers
+or memory) it waits before trying again -- :data:`BACKOFF_FIRST` seconds, twice as long
+each time it fails again, at most :data:`BACKOFF_MOST` -- and writes one Warning line a
+minute about it, with the count of those left out.  The system keeps the waiting
+connections in its queue (:data:`BACKLOG` long) meanwhile.
+
+It accepts one connection a turn of the event loop, and waits while
+:data:`HANDING_MOST` are still being handed over, so that a crowd is refused as fast as
+it is accepted instead of taking every file handle first.  Each accepted socket is
+handed to asyncio as a transport with the listener's protocol
+(``make_protocol``), which decides at once whether it may stay (an admission gate,
+:mod:`.admission`).  ``ssl`` serves TLS on it.  A new front listens with::
+
+    listener = await Listener.open(make_protocol, host, port, what="the rotctld port")
+    ...
+    await listener.close()
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import errno
+import logging
+import os
+import socket
+import ssl as ssl_module
+from collections.abc import Awaitable, Callable
+from typing import Final
+
+from .log_limit import LogLimiter, held_text
+
+log = logging.getLogger(__name__)
+
+BACKLOG: Final = 1024
+"""Connections the system keeps waiting to be accepted, on each port: a crowd
+reconnecting as fast as it is refused then does not make the system drop newcomers."""
+
+BACKOFF_FIRST: Final = 0.1
+BACKOFF_MOST: Final = 2.0
+
+HANDING_MOST: Final = 8
+"""Accepted connections being handed to asyncio at once, at most, per listening socket."""
+
+OUT_OF_RESOURCES: Final = frozenset(
+    code
+    for code in (getattr(errno, name, None) for name in ("EMFILE", "ENFILE", "ENOBUFS", "ENOMEM"))
+    if code is not None
+)
+"""Errors of accept() that say the system has nothing left for a new connection now."""
+
+Accept = Callable[[socket.socket], Awaitable[tuple[socket.socket, object]]]
+Sleep = Callable[[float], Awaitable[None]]
+
+
+def bind(host: str | None, port: int, backlog: int = BACKLOG) -> list[socket.socket]:
+    """Listening sockets on ``host`` (``None`` or ``""``: every interface, IPv4 and IPv6)
+    and ``port``; raises :class:`OSError` when one cannot be bound."""
+    infos = socket.getaddrinfo(host or None, port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
+    made: list[socket.socket] = []
+    seen: set[tuple[int, object]] = set()
+    try:
+        for family, kind, proto, _name, address in infos:
+            if (family, address) in seen:
+                continue
+            seen.add((family, address))
+            sock = socket.socket(family, kind, proto)
+            made.append(sock)
+            if os.name == "posix":  # on Windows the option would let two programs share it
+                sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+            if family == socket.AF_INET6 and hasattr(socket, "IPPROTO_IPV6"):
+                sock.setsockopt(socket.IPPROTO_IPV6, socket.IPV6_V6ONLY, 1)
+            sock.bind(address)
+            sock.listen(backlog)
+            sock.setblocking(False)
+    except OSError:
+        for sock in made:
+            sock.close()
+        raise
+    return made
+
+
+class Listener:
+    """Accepts connections on bound ``sockets`` (see the module notes)."""
+
+    def __init__(
+        self,
+        make_protocol: Callable[[], asyncio.Protocol],
+        sockets: list[socket.socket],
+        *,
+        what: str = "connections",
+        ssl: ssl_module.SSLContext | None = None,
+        trouble: LogLimiter | None = None,
+        accept: Accept | None = None,
+        sleep: Sleep = asyncio.sleep,
+    ) -> None:
+        self.make_protocol = make_protocol
+        self.sockets = sockets
+        self.what = what
+        self.ssl = ssl
+        self.trouble = trouble if trouble is not None else LogLimiter()
+        self._loop = asyncio.get_running_loop()
+        self._accept = accept if accept is not None else self._loop.sock_accept
+        self._sleep = sleep
+        self.pauses: list[float] = []
+        """Every wait after a refused accept, in order (what the tests read)."""
+        self._handing: set[asyncio.Task[object]] = set()
+        self._tasks = [
+            self._loop.create_task(self._accept_forever(sock), name=f"accept {what}")
+            for sock in sockets
+        ]
+
+    @classmethod
+    async def open(
+        cls,
+        make_protocol: Callable[[], asyncio.Protocol],
+        host: str | None,
+        port: int,
+        **options: object,
+    ) -> Listener:
+        """Binds ``host``:``port`` and starts accepting; raises :class:`OSError`."""
+        return cls(make_protocol, bind(host, port), **options)  # type: ignore[arg-type]
+
+    @property
+    def port(self) -> int:
+        return int(self.sockets[0].getsockname()[1]) if self.sockets else 0
+
+    async def _accept_forever(self, sock: socket.socket) -> None:
+        pause = BACKOFF_FIRST
+        while True:
+            try:
+                conn, peer = await self._accept(sock)
+            except OSError as exc:
+                if exc.errno not in OUT_OF_RESOURCES:
+                    if sock.fileno() < 0:
+                        return  # closed under us
+                    self._complain("accept failed", exc, "trying again")
+                    await self._sleep(BACKOFF_FIRST)
+                    continue
+                self._complain("out of resources", exc, f"trying again in {pause:g} s")
+                self.pauses.append(pause)
+                await self._sleep(pause)
+                pause = min(pause * 2, BACKOFF_MOST)
+                continue
+            pause = BACKOFF_FIRST
+            self._hand_over(conn, peer)
+            # One connection a turn of the loop, and a few being handed over at most: the
+            # ones refused are closed before more are accepted (an accept that finds a
+            # connection waiting does not yield, and a crowd would otherwise take every
+            # file handle before the first refusal is carried out).
+            if len(self._handing) >= HANDING_MOST:
+                await asyncio.wait(set(self._handing), return_when=asyncio.FIRST_COMPLETED)
+            await asyncio.sleep(0)
+
+    def _complain(self, kind: str, exc: OSError, then: str) -> None:
+        held = self.trouble.allow(("accept", kind, self.what))
+        if held is not None:
+            log.warning(
+                "Cannot accept %s for now: %s (%s)%s",
+                self.what,
+                exc.strerror or exc,
+                then,
+                held_text(held, "more such failures"),
+            )
+
+    def _hand_over(self, conn: socket.socket, peer: object) -> None:
+        conn.setblocking(False)
+        task = self._loop.create_task(self._connect(conn))
+        self._handing.add(task)
+        task.add_done_callback(self._handing.discard)
+
+    async def _connect(self, conn: socket.socket) -> object:
+        try:
+            return await self._loop.connect_accepted_socket(self.make_protocol, conn, ssl=self.ssl)
+        except (OSError, ssl_module.SSLError, asyncio.CancelledError, TimeoutError) as exc:
+            conn.close()
+            held = self.trouble.allow(("handshake", self.what))
+            if held is not None:
+                log.info(
+                    "A connection to %s ended before it began: %s%s",
+                    self.what,
+                    exc or type(exc).__name__,
+                    held_text(held),
+                )
+            return None
+
+    async def close(self) -> None:
+        """Stops accepting and closes the listening sockets (open connections stay)."""
+        for task in self._tasks:
+            task.cancel()
+        waiting: list[asyncio.Task[object] | asyncio.Task[None]] = [*self._tasks, *self._handing]
+        for each in waiting:
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await each
+        self._tasks = []
+        for sock in self.sockets:
+            sock.close()
+
+
+__all__ = [
+    "BACKLOG",
+    "BACKOFF_FIRST",
+    "BACKOFF_MOST",
+    "HANDING_MOST",
+    "OUT_OF_RESOURCES",
+    "Listener",
+    "bind",
+]

@@ -1,0 +1,223 @@
+"""The one admission policy (moas_gui/edge/admission.py), rule by rule, on a FakeClock:
+the fair share, the order of eviction, operators' own capacity, the caps, the deadlines,
+and its log lines one a minute a kind; and the accept loop's back-off
+(moas_gui/edge/listener.py) when the system refuses a connection."""
+
+from __future__ import annotations
+
+import asyncio
+import errno
+import logging
+import socket
+
+import pytest
+
+from moas_gui.clock import FakeClock
+from moas_gui.edge.admission import Admission, Deadlines, Refused, Standing, Ticket
+from moas_gui.edge.listener import BACKOFF_MOST, Listener, bind
+from moas_gui.edge.log_limit import LogLimiter
+
+
+class Pool:
+    """An admission on a fake clock that records whom it closed, and why."""
+
+    def __init__(self, total: int, **options: int) -> None:
+        self.clock = FakeClock()
+        self.closed: list[tuple[str, str]] = []
+        self.admission = Admission(
+            total, clock=self.clock, trouble=LogLimiter(clock=self.clock.now), **options
+        )
+
+    def admit(self, host: str, name: str = "", deadlines: Deadlines | None = None) -> Ticket:
+        label = name or host
+        return self.admission.admit(
+            host, lambda why: self.closed.append((label, why)), deadlines=deadlines or Deadlines()
+        )
+
+    def later(self, seconds: float) -> None:
+        self.clock._now += seconds  # plain time passing; no timers are due in these tests
+
+
+def test_a_newcomer_takes_the_place_of_the_longest_idle_of_the_address_holding_most() -> None:
+    pool = Pool(4)
+    crowd = [pool.admit("127.0.0.2", f"crowd{n}") for n in range(3)]
+    other = pool.admit("127.0.0.3", "other")
+    for ticket in (*crowd, other):
+        ticket.greeted()
+    pool.later(5)
+    crowd[0].touch()
+    crowd[2].touch()
+    other.touch()  # crowd1 is the idlest of the address holding the most
+    pool.later(5)
+    pool.admit("127.0.0.9", "newcomer")
+    assert [name for name, _ in pool.closed] == ["crowd1"]
+    assert "newcomer from an address holding fewer connections" in pool.closed[0][1]
+    assert crowd[1].released and crowd[1].evicted is not None
+    assert pool.admission.count == 4 and pool.admission.open_from("127.0.0.2") == 2
+
+
+def test_a_newcomer_from_the_address_holding_the_most_is_refused() -> None:
+    pool = Pool(3)
+    for n in range(2):
+        pool.admit("127.0.0.2", f"crowd{n}")
+    pool.admit("127.0.0.3")
+    with pytest.raises(Refused) as refused:
+        pool.admit("127.0.0.2")
+    assert refused.value.limit == "total"
+    assert not pool.closed
+
+
+def test_one_that_never_said_hello_goes_before_a_greeted_one_even_if_less_idle() -> None:
+    pool = Pool(4)
+    greeted = [pool.admit("127.0.0.2", f"greeted{n}") for n in range(3)]
+    for ticket in greeted:
+        ticket.greeted()
+    pool.later(60)  # the greeted ones are idle far longer ...
+    pool.admit("127.0.0.3", "silent")  # ... but this one never said who it is
+    pool.later(1)
+    pool.admit("127.0.0.4", "newcomer").greeted()
+    assert [name for name, _ in pool.closed] == ["silent"]
+    assert "before saying who it was" in pool.closed[0][1]
+    pool.admit("127.0.0.5", "another")  # no more silent ones: a greeted one of the most
+    assert pool.closed[-1][0] == "greeted0"
+
+
+def test_operators_have_their_own_capacity_and_are_never_evicted() -> None:
+    pool = Pool(3, operators=2)
+    operator = pool.admit("192.0.2.7", "operator")
+    operator.greeted()
+    assert operator.operator() and operator.standing is Standing.OPERATOR
+    crowd = [pool.admit(f"127.0.0.{n}", f"crowd{n}") for n in range(2, 5)]
+    for n in range(5, 40):  # a crowd of newcomers, each taking someone's place
+        pool.admit(f"127.0.1.{n}", f"late{n}")
+    assert "operator" not in [name for name, _ in pool.closed]
+    assert not operator.released
+    assert all(ticket.released for ticket in crowd)
+    assert pool.admission.count == 4 and pool.admission.operator_count == 1
+    # a second operator fits; a third does not, and stays an ordinary connection
+    second = pool.admit("192.0.2.8")
+    assert second.operator()
+    third = pool.admit("192.0.2.9")
+    assert not third.operator() and third.standing is Standing.NEW
+
+
+def test_an_operator_arriving_when_the_crowd_holds_everything_is_served() -> None:
+    pool = Pool(200)
+    for source in range(2, 9):  # 7 x 30 greeted, idle: every place taken
+        for n in range(30):
+            if pool.admission.count < 200:
+                pool.admit(f"127.0.0.{source}").greeted()
+    pool.later(30)
+    newcomer = pool.admit("127.0.0.1", "operator")
+    newcomer.greeted()
+    assert newcomer.operator()
+    assert len(pool.closed) == 1 and pool.admission.operator_count == 1
+
+
+def test_each_address_has_a_reserve_before_hello_and_a_cap() -> None:
+    pool = Pool(100, per_address=5, before_hello=3)
+    waiting = [pool.admit("127.0.0.2") for _ in range(3)]
+    with pytest.raises(Refused) as refused:
+        pool.admit("127.0.0.2")
+    assert refused.value.limit == "hello"
+    waiting[0].greeted()  # said who it is: out of the reserve
+    pool.admit("127.0.0.2").greeted()
+    pool.admit("127.0.0.2")
+    with pytest.raises(Refused) as refused:
+        pool.admit("127.0.0.2")
+    assert refused.value.limit == "address"
+    pool.admit("127.0.0.3")  # another address is not concerned
+    assert pool.admission.open_from("127.0.0.2") == 5
+    assert pool.admission.open_from("::ffff:127.0.0.2") == 5  # one address, two spellings
+
+
+def test_deadlines_close_the_silent_on_the_clock() -> None:
+    pool = Pool(10)
+    clocks = Deadlines(hello=5, idle=120)
+    mute = pool.admit("127.0.0.2", "mute", clocks)
+    talker = pool.admit("127.0.0.3", "talker", clocks)
+    talker.greeted()
+    pool.later(4.9)
+    assert pool.admission.sweep() == 0
+    pool.later(0.2)
+    assert pool.admission.sweep() == 1
+    assert pool.closed == [("mute", "it did not say who it is within 5 s")]
+    assert mute.released
+    for _ in range(5):  # signs of life keep it
+        pool.later(100)
+        talker.touch()
+        assert pool.admission.sweep() == 0
+    pool.later(120)
+    pool.admission.sweep()
+    assert pool.closed[-1] == ("talker", "silent for 120 s")
+
+
+@pytest.mark.asyncio
+async def test_the_admission_checks_deadlines_by_itself() -> None:
+    pool = Pool(10)
+    pool.admit("127.0.0.2", "mute", Deadlines(hello=3))
+    await pool.clock.advance(2.5)
+    assert not pool.closed
+    await pool.clock.advance(1.0)
+    assert [name for name, _ in pool.closed] == ["mute"]
+    pool.admission.close()
+
+
+def test_trouble_is_logged_once_a_minute_a_kind_with_its_count(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    pool = Pool(2, per_address=100, before_hello=100)
+    caplog.set_level(logging.INFO, logger="moas_gui.edge")
+    pool.admit("127.0.0.2")
+    pool.admit("127.0.0.2")
+    for n in range(50):  # 50 newcomers from 50 addresses, each making room
+        pool.admit(f"10.0.0.{n + 1}")
+    made_room = [r for r in caplog.records if "Made room" in r.getMessage()]
+    assert len(made_room) == 1
+    pool.later(61)
+    pool.admit("10.9.9.9")
+    made_room = [r.getMessage() for r in caplog.records if "Made room" in r.getMessage()]
+    assert len(made_room) == 2 and "(49 more closed to make room" in made_room[1]
+
+
+@pytest.mark.asyncio
+async def test_the_accept_loop_backs_off_when_out_of_file_handles(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    sockets = bind("127.0.0.1", 0)
+    port = sockets[0].getsockname()[1]
+    loop = asyncio.get_running_loop()
+    attempts: list[int] = []
+    failures = 7
+
+    async def accept(sock: socket.socket) -> tuple[socket.socket, object]:
+        attempts.append(1)
+        if len(attempts) <= failures:
+            raise OSError(errno.EMFILE, "Too many open files")
+        return await loop.sock_accept(sock)
+
+    async def no_wait(_seconds: float) -> None:
+        await asyncio.sleep(0)
+
+    made: list[asyncio.Protocol] = []
+
+    def protocol() -> asyncio.Protocol:
+        made.append(asyncio.Protocol())
+        return made[-1]
+
+    caplog.set_level(logging.WARNING, logger="moas_gui.edge")
+    listener = Listener(protocol, sockets, what="test clients", accept=accept, sleep=no_wait)
+    try:
+        with socket.create_connection(("127.0.0.1", port)):
+            deadline = loop.time() + 10
+            while not made and loop.time() < deadline:
+                await asyncio.sleep(0.01)
+            assert made, "the connection was never accepted"
+        # one try per pause, never a spin: the failures, the success, and the wait for
+        # the next connection
+        assert len(attempts) == failures + 2
+        assert listener.pauses == [0.1, 0.2, 0.4, 0.8, 1.6, BACKOFF_MOST, BACKOFF_MOST]
+        lines = [r.getMessage() for r in caplog.records if "Cannot accept" in r.getMessage()]
+        assert len(lines) == 1 and "Too many open files" in lines[0]
+    finally:
+        await listener.close()

@@ -5,8 +5,11 @@ networks, never beyond.  Everything the front asks about access goes through one
 :class:`AgAccess`, so that the server's one access policy (operators, tokens,
 ``--require-token``) can take its place whole:
 
-* :meth:`~AgAccess.admit` -- one call when a connection is accepted: None (it may
-  stay; it is counted until :meth:`~AgAccess.release`) or why it is refused;
+* :meth:`~AgAccess.allowed` -- one call when a connection is accepted: None (it may
+  stay) or why it is refused (an address outside ``ClientAllow``);
+* :attr:`~AgAccess.admission` -- the pool the front's listener admits connections
+  to: the program's one admission policy (:mod:`moas_gui.edge.admission`: caps per
+  address and in total, the fair share, the reserve before a first command);
 * :meth:`~AgAccess.needs_token` -- whether that peer gets ``V... AG AUTH`` and must send
   ``auth code=N`` before anything else;
 * :meth:`~AgAccess.check_code` -- the operator an ``auth`` code stands for, or None.
@@ -22,8 +25,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Mapping
 from typing import Protocol
 
+from moas_gui.edge.admission import Admission, address_key
 from moas_gui.net.access import allowed_networks, is_allowed, peer_address
-from moas_gui.net.admission import Admission, address_key
 
 MAX_AUTH_FAILURES = 5
 """Wrong ``auth`` codes one address may send before it is shut out for a while."""
@@ -32,9 +35,9 @@ AUTH_LOCKOUT = 300.0
 
 
 class AgAccess(Protocol):
-    def admit(self, host: str) -> str | None: ...
+    admission: Admission
 
-    def release(self, host: str) -> None: ...
+    def allowed(self, host: str) -> str | None: ...
 
     def needs_token(self, host: str) -> bool: ...
 
@@ -56,16 +59,13 @@ class SimpleAccess:
         self.client_allow = client_allow
         self.require_token = require_token
         self.codes = dict(codes or {})
-        self.admission = Admission(total, per_address)
+        self.admission = Admission(total, per_address, what="Antenna Genius connections")
 
-    def admit(self, host: str) -> str | None:
+    def allowed(self, host: str) -> str | None:
         if not is_allowed(host, allowed_networks(self.client_allow())):
             return ("the address is not in the allowed networks (ClientAllow in the "
                     "configuration decides)")
-        return self.admission.admit(host)
-
-    def release(self, host: str) -> None:
-        self.admission.release(host)
+        return None
 
     def needs_token(self, host: str) -> bool:
         return self.require_token and not is_loopback(host)

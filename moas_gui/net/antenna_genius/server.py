@@ -32,6 +32,8 @@ from typing import Protocol
 
 from moas_gui.config import Config
 from moas_gui.config.model import RadioRef
+from moas_gui.edge.gate import gate_factory, ticket_of
+from moas_gui.edge.listener import Listener
 from moas_gui.errors import RequestRefused
 from moas_gui.net.connection import format_peer
 
@@ -148,7 +150,7 @@ class _Device:
 
     def __init__(self, owner: AgServer, device: Device, port: int) -> None:
         self.owner, self.device, self.port = owner, device, port
-        self.server: asyncio.Server | None = None
+        self.server: Listener | None = None
         self.sessions: set[_Session] = set()
         self.pushed: dict[int, str] = {}
 
@@ -215,15 +217,19 @@ class AgServer:
         port = self.port + device.index if self.port or not self.devices else 0
         served = _Device(self, device, port)
         try:
-            served.server = await asyncio.start_server(
-                lambda r, w: self._serve(served, r, w), self.host, port)
+            gate = gate_factory(self.access.admission,
+                                lambda r, w: self._serve(served, r, w),
+                                front="Antenna Genius connection")
+            served.server = await Listener.open(gate, self.host or None, port,
+                                                what="Antenna Genius connections",
+                                                trouble=self.access.admission.trouble)
         except OSError as exc:
             if not self.devices:
                 raise
             log.error("Antenna Genius device %d (%s) cannot listen on TCP port %d: %s",
                       device.index + 1, _radios_text(device), port, exc.strerror or exc)
             return
-        served.port = served.server.sockets[0].getsockname()[1]
+        served.port = served.server.port
         if not self.devices:
             self.port = served.port
         self.devices.append(served)
@@ -278,8 +284,8 @@ class AgServer:
 
     async def _close_device(self, served: _Device) -> None:
         if served.server is not None:
-            served.server.close()
-            served.server = None
+            listener, served.server = served.server, None
+            await listener.close()
         for session in list(served.sessions):
             session.writer.close()
 
@@ -334,7 +340,7 @@ class AgServer:
                         format_peer(peer))
             writer.close()
             return
-        refusal = self.access.admit(host)
+        refusal = self.access.allowed(host)
         if refusal is not None:
             log.warning("Antenna Genius: refused %s: %s", format_peer(peer), refusal)
             writer.close()
@@ -351,7 +357,6 @@ class AgServer:
         finally:
             served.sessions.discard(session)
             self._tasks.discard(task)
-            self.access.release(host)
             writer.close()
             with contextlib.suppress(OSError, ConnectionError):
                 await writer.wait_closed()
@@ -370,6 +375,10 @@ class AgServer:
             if not data:
                 return
             session.last = loop.time()
+            ticket = ticket_of(session.writer)
+            if ticket is not None:  # a first command greets it: it is no crowd any more
+                ticket.greeted()
+                ticket.touch()
             for item in lines.feed(data):
                 session.send(self.answer(session, item))
                 if session.closing:

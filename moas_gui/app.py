@@ -52,6 +52,8 @@ from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.net.identity import enforce
+from moas_gui.rights import action_for
 from moas_gui.running import (
     ROTCTLD_HOST,
     Running,
@@ -283,6 +285,16 @@ class ServerApp:
         if self._run is not None:
             self.act(KeepSwitchAntennas(switch_id, port, slots[0], slots[1]))
 
+    def end_operator(self, name: str) -> int:
+        """Ends the client sessions of operator ``name`` (just removed); how many."""
+        run = self._run
+        if run is None or run.clients is None:
+            return 0
+        ended = run.clients.end_operator(name)
+        log.info('Operator "%s" was removed: %d session%s ended', name, ended,
+                 "" if ended == 1 else "s")
+        return ended
+
     def reset_switches(self) -> None:
         """File > Reset Switches: reset every switch and set the antennas in use again."""
         if self._run is None:
@@ -342,6 +354,9 @@ class ServerApp:
         run = self._run
         if run is None:
             raise NotRunning("No configuration is open")
+        action = action_for(op, run.config)
+        if action is not None:
+            enforce(action)  # the role of the client asking, if any; logs who did it
         return self.apply_changes(perform(run.engine, op, now=asyncio.get_running_loop().time()))
 
     def apply_changes(self, changes: Changes) -> set[RadioKey]:

@@ -41,10 +41,12 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import ssl
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 from moas_gui.errors import HardwareError
+from moas_gui.operators import OperatorBook
 
 from .access import allowed_networks, is_allowed, peer_address
 from .admission import (
@@ -67,6 +69,7 @@ from .connection import (
 )
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
+from .identity import anonymous, is_local, token_needed
 from .log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
@@ -127,6 +130,9 @@ class ClientServer:
         per_address: int = DEFAULT_PER_ADDRESS,
         hello_deadline: float = HELLO_DEADLINE,
         keepalive: float = KEEPALIVE,
+        require_token: bool = False,
+        operators: OperatorBook | None = None,
+        tls: ssl.SSLContext | None = None,
     ) -> None:
         if max_clients < 1:
             raise ValueError(f"max_clients must be at least 1, not {max_clients}")
@@ -147,6 +153,13 @@ class ClientServer:
         """Open connections of both transports, in all and per address."""
         self.hello_deadline = hello_deadline
         self.keepalive = keepalive
+        self.require_token = require_token
+        """Clients from ``ClientAllow`` networks need an operator's token too."""
+        self.operators = operators
+        """The station's operators (None: no token is ever valid)."""
+        self.tls = tls
+        """Serve TLS with this context; then peers outside ``ClientAllow`` are admitted
+        (and must give a token)."""
         self.trouble = LogLimiter()
         """One log line a minute per kind of trouble from outside (the web server's too)."""
         self.chatter = LogLimiter(burst=CHATTER_BURST)
@@ -178,7 +191,7 @@ class ClientServer:
             self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
             self._server = await self._loop.create_server(
-                lambda: _Gate(self), self.host, self.port)
+                lambda: _Gate(self), self.host, self.port, ssl=self.tls)
         except OSError as e:
             raise HardwareError(
                 f"cannot accept clients on TCP port {self.port}: {e.strerror or e} "
@@ -187,7 +200,11 @@ class ClientServer:
         self.port = self._server.sockets[0].getsockname()[1]
         deepen_backlog(self._server.sockets)
         where = self.host if self.host is not None else "every interface"
-        log.info("Accepting clients on TCP port %d (%s)", self.port, where)
+        log.info("Accepting clients on TCP port %d (%s)%s", self.port, where,
+                 " over TLS" if self.tls is not None else "")
+        if not self.require_token:
+            log.info("Clients from the allowed networks (ClientAllow) need no token: the LAN "
+                     "is kept open (moas-server --require-token closes it)")
         return self.port
 
     async def close(self) -> None:
@@ -220,8 +237,27 @@ class ClientServer:
         self._allowed = allowed_networks(allow)
 
     def allows(self, host: str) -> bool:
-        """Whether a peer at ``host`` is inside ``ClientAllow`` (other transports ask too)."""
-        return is_allowed(host, self._allowed)
+        """Whether a peer at ``host`` may connect: this computer, a ``ClientAllow``
+        network, or -- over TLS -- anywhere (then with a token).  Other transports ask too."""
+        return (is_local(host) or is_allowed(host, self._allowed)
+                or (self.tls is not None and token_needed(host, self._allowed, True)))
+
+    def identify(self, conn: Connection, host: str) -> None:
+        """Gives a new connection its identity before hello (:mod:`.identity`)."""
+        conn.identity = anonymous(host, conn.address, self._allowed, self.require_token)
+        book = self.operators
+        if book is not None:
+            conn.authenticate = book.check
+
+    def end_operator(self, name: str) -> int:
+        """Closes every connection of the operator ``name`` (just removed); how many."""
+        ended = 0
+        for conn in tuple(self._connections):
+            operator = conn.identity.operator
+            if operator is not None and operator.name.lower() == name.lower():
+                conn.abort(f'operator "{operator.name}" was removed')
+                ended += 1
+        return ended
 
     def attach(self, writer: LineWriter, address: str) -> Connection | None:
         """A connection carried by another transport (the browser client's
@@ -234,6 +270,7 @@ class ClientServer:
         conn = Connection(writer, address, max_pending=self.max_pending,
                           max_layouts=self.max_layouts, on_queued=self._queued)
         conn.chatter = self._chatter_of(address)
+        self.identify(conn, host_of(address))
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         return conn
@@ -351,7 +388,7 @@ class ClientServer:
         peer = transport.get_extra_info("peername")
         address = format_peer(peer)
         host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
-        if not is_allowed(host, self._allowed):
+        if not self.allows(host):
             held = self.trouble.allow(("not allowed", str(peer_address(host) or host)))
             if held is not None:
                 log.warning(
@@ -409,6 +446,7 @@ class ClientServer:
             on_queued=self._queued,
         )
         conn.chatter = self._chatter_of(address)
+        self.identify(conn, host_of(address))
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         log.debug("Client connected from %s", address)

@@ -117,7 +117,7 @@ class WebServer:
             # not aiohttp's TCPSite: every connection goes through the guard first
             self._listener = await asyncio.get_running_loop().create_server(
                 self._guarded(runner.server),
-                self.host or None, self.port)
+                self.host or None, self.port, ssl=self.clients.tls)
         except OSError as e:
             await runner.cleanup()
             raise HardwareError(
@@ -131,7 +131,8 @@ class WebServer:
         if sockets:
             self.port = int(sockets[0].getsockname()[1])
         where = self.host if self.host not in (None, "") else "every interface"
-        log.info("Serving the browser client on http://%s:%d/ (%s)",
+        log.info("Serving the browser client on %s://%s:%d/ (%s)",
+                 "https" if self.clients.tls is not None else "http",
                  _loopback(self.host), self.port, where)
         return self.port
 

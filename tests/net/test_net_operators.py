@@ -50,7 +50,7 @@ async def forbidden(peer: ProtocolClient, cmd: str, **args: Any) -> str:
 @pytest.mark.asyncio
 async def test_an_open_lan_client_acts_without_a_token_but_may_not_stop_the_switches(
         tmp_path: Path) -> None:
-    server, backend = await serve(tmp_path)
+    server, _backend = await serve(tmp_path)
     client = await ProtocolClient.connect(HOST, server.port, local_host=LAN)
     try:
         await client.request("hello", client="lan")
@@ -188,7 +188,7 @@ async def test_outside_the_allowed_networks_only_tls_with_a_token_gets_in(
         await refused.close()
     finally:
         await plain.close()
-    server, backend = await serve(tmp_path, tls=server_context(where))
+    server, _backend = await serve(tmp_path, tls=server_context(where))
     try:
         anonymous = await ProtocolClient.connect(HOST, server.port, local_host=OUTSIDE,
                                                  ssl=client_context())

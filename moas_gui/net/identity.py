@@ -78,26 +78,29 @@ class Identity:
 LOCAL_ADDRESSES = (ipaddress.ip_address("127.0.0.1"), ipaddress.ip_address("::1"))
 
 
-def is_local(host: str) -> bool:
-    """This computer itself: ``127.0.0.1`` or ``::1`` (not other loopback addresses)."""
-    return peer_address(host) in LOCAL_ADDRESSES
+def is_local(host: str, local: Iterable[object] = LOCAL_ADDRESSES) -> bool:
+    """This computer itself: ``127.0.0.1`` or ``::1`` (not other loopback addresses).
+    ``local``: the addresses that count as this computer (a test that drives a browser,
+    which always connects from ``127.0.0.1``, gives none to play a LAN peer)."""
+    return peer_address(host) in tuple(local)
 
 
-def token_needed(host: str, allowed: Iterable[IPNetwork], require_token: bool) -> bool:
+def token_needed(host: str, allowed: Iterable[IPNetwork], require_token: bool,
+                 local: Iterable[object] = LOCAL_ADDRESSES) -> bool:
     """Whether a peer at ``host`` must give an operator's token."""
-    if is_local(host):
+    if is_local(host, local):
         return False
     if is_allowed(host, allowed):
         return require_token
     return True
 
 
-def anonymous(host: str, address: str, allowed: Iterable[IPNetwork],
-              require_token: bool) -> Identity:
+def anonymous(host: str, address: str, allowed: Iterable[IPNetwork], require_token: bool,
+              local: Iterable[object] = LOCAL_ADDRESSES) -> Identity:
     """The identity of a connection before (or without) a token."""
-    if token_needed(host, allowed, require_token):
+    if token_needed(host, allowed, require_token, local):
         return Identity(Kind.NOBODY, address)
-    return Identity(Kind.LOCAL if is_local(host) else Kind.LAN, address)
+    return Identity(Kind.LOCAL if is_local(host, local) else Kind.LAN, address)
 
 
 def as_operator(operator: Operator, address: str) -> Identity:
@@ -176,6 +179,7 @@ current: contextvars.ContextVar[Identity | None] = contextvars.ContextVar(
 
 
 __all__ = [
+    "LOCAL_ADDRESSES",
     "Action",
     "Forbidden",
     "Identity",

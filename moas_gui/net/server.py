@@ -69,7 +69,7 @@ from .connection import (
 )
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
-from .identity import anonymous, is_local, token_needed
+from .identity import LOCAL_ADDRESSES, anonymous, is_local, token_needed
 from .log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
@@ -157,6 +157,9 @@ class ClientServer:
         """Clients from ``ClientAllow`` networks need an operator's token too."""
         self.operators = operators
         """The station's operators (None: no token is ever valid)."""
+        self.local_addresses: tuple[object, ...] = LOCAL_ADDRESSES
+        """The addresses that are this computer (never need a token); a test driving a
+        browser (which connects from ``127.0.0.1``) empties it to play a LAN peer."""
         self.tls = tls
         """Serve TLS with this context; then peers outside ``ClientAllow`` are admitted
         (and must give a token)."""
@@ -239,12 +242,13 @@ class ClientServer:
     def allows(self, host: str) -> bool:
         """Whether a peer at ``host`` may connect: this computer, a ``ClientAllow``
         network, or -- over TLS -- anywhere (then with a token).  Other transports ask too."""
-        return (is_local(host) or is_allowed(host, self._allowed)
+        return (is_local(host, self.local_addresses) or is_allowed(host, self._allowed)
                 or (self.tls is not None and token_needed(host, self._allowed, True)))
 
     def identify(self, conn: Connection, host: str) -> None:
         """Gives a new connection its identity before hello (:mod:`.identity`)."""
-        conn.identity = anonymous(host, conn.address, self._allowed, self.require_token)
+        conn.identity = anonymous(host, conn.address, self._allowed, self.require_token,
+                                  self.local_addresses)
         book = self.operators
         if book is not None:
             conn.authenticate = book.check

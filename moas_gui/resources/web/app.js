@@ -27,11 +27,17 @@
   // an operator's token: from a pairing QR code's fragment (#token=...), kept in this
   // browser, sent in hello; never in the address bar after it is read
   const TOKEN_KEY = "moas-token";
-  const fragment = new URLSearchParams(location.hash.slice(1));
-  if (fragment.get("token")) {
+  function tokenFromFragment() {
+    const fragment = new URLSearchParams(location.hash.slice(1));
+    if (!fragment.get("token")) return false;
     localStorage.setItem(TOKEN_KEY, fragment.get("token"));
     history.replaceState(null, "", location.pathname + location.search);
+    return true;
   }
+  tokenFromFragment();
+  window.addEventListener("hashchange", () => {  // a pairing link opened on this page
+    if (tokenFromFragment()) { $("#signin").hidden = true; if (ws) ws.close(); else connect(); }
+  });
   function askToken(why) {
     const box = $("#signin");
     $(".why", box).textContent = why;

@@ -32,6 +32,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from moas_gui import state_store
+from moas_gui.addresses import network_address
 from moas_gui.config import Config, LoadResult, load_config
 from moas_gui.config.model import RotatorControl
 from moas_gui.engine import Changes, Engine, NotRunning
@@ -116,6 +117,43 @@ class ServerApp:
         if host in ("0.0.0.0", "", "::"):
             host = "127.0.0.1"
         return host, int(self._run.clients.port)
+
+    @property
+    def web_address(self) -> tuple[str, int, bool] | None:
+        """The browser page (host, port, over TLS), once it is served; the host is this
+        computer's address on its network when the server listens on every interface."""
+        run = self._run
+        if run is None or run.web is None or run.clients is None:
+            return None
+        host = self.options.bind
+        if host in ("0.0.0.0", "", "::"):
+            host = network_address()
+        return host, int(run.web.port), run.clients.tls is not None
+
+    @property
+    def security(self) -> tuple[str, str] | None:
+        """What the window says of who may connect: a short text and a longer one
+        (the open LAN, TLS and its fingerprint), None while no client server runs."""
+        run = self._run
+        if run is None or run.clients is None:
+            return None
+        parts = ["LAN open: no token needed" if not self.options.require_token
+                 else "tokens required"]
+        detail = [("Clients from the allowed networks (ClientAllow) need no token "
+                   "(moas-server --require-token changes that)") if not
+                  self.options.require_token else
+                  "Every client but this computer's programs needs an operator's token"]
+        if run.clients.tls is not None:
+            from moas_gui.net.tls import TLSError, ensure_certificate, fingerprint
+
+            try:
+                seen = fingerprint(ensure_certificate(self.options.tls_cert,
+                                                      self.options.tls_key))
+            except (TLSError, OSError):
+                seen = "?"
+            parts.append(f"TLS {seen[:11]}\u2026")
+            detail.append(f"TLS certificate SHA-256 fingerprint: {seen}")
+        return " \u00b7 ".join(parts), "\n".join(detail)
 
     @property
     def n1mm_address(self) -> tuple[str, int] | None:

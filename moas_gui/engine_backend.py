@@ -64,6 +64,18 @@ class ServerCore(Protocol):
         ``radio``; raises the engine's not-found error for a radio that does not exist."""
         ...
 
+    def stop_switches(self) -> None:
+        """Every relay off (File > Stop Switches)."""
+        ...
+
+    def start_switches(self) -> None:
+        """The switches run again (File > Start Switches)."""
+        ...
+
+    def reset_switches(self) -> None:
+        """Every switch reset and loaded again (File > Reset Switches)."""
+        ...
+
 
 def _refused(action: Callable[[], T]) -> T:
     """``action()``, with an engine's or rotator's refusal as the client protocol's error."""

@@ -36,6 +36,7 @@ from enum import StrEnum
 from pathlib import Path
 from typing import Any, Final
 
+from moas_gui.errors import MoasError
 from moas_gui.files import write_atomic
 from moas_gui.places import config_dir
 
@@ -55,7 +56,7 @@ class Role(StrEnum):
     ADMIN = "admin"
 
 
-class OperatorError(ValueError):
+class OperatorError(MoasError, ValueError):
     """A request about operators that cannot be done; the message says why."""
 
 
@@ -104,7 +105,7 @@ def check_name(name: str) -> str:
 
 
 def _hash(secret: str, salt: bytes) -> bytes:
-    return hashlib.scrypt(secret.encode("utf-8"), salt=salt, **_SCRYPT)  # type: ignore[arg-type]
+    return hashlib.scrypt(secret.encode("utf-8"), salt=salt, **_SCRYPT)
 
 
 def split_token(token: str) -> tuple[str, str] | None:

@@ -44,7 +44,10 @@ log = logging.getLogger(__name__)
 RadioRef = tuple[int, int]
 
 
-class Kind(Enum):
+class Standing(Enum):
+    """What a connection is before its role: this computer, the LAN, an operator, or
+    nobody yet."""
+
     LOCAL = "local"
     LAN = "lan"
     OPERATOR = "operator"
@@ -55,21 +58,21 @@ class Kind(Enum):
 class Identity:
     """Who a connection is (see the module's docstring)."""
 
-    kind: Kind
+    kind: Standing
     address: str
     operator: Operator | None = None
 
     @property
     def is_operator(self) -> bool:
         """An authenticated operator (the admission policy gives it capacity of its own)."""
-        return self.kind is Kind.OPERATOR
+        return self.kind is Standing.OPERATOR
 
     @property
     def name(self) -> str:
         """How the log names it: the operator's name, else what it is."""
         if self.operator is not None:
             return self.operator.name
-        return {Kind.LOCAL: "local client", Kind.LAN: "LAN client"}.get(self.kind, "anonymous")
+        return {Standing.LOCAL: "local client", Standing.LAN: "LAN client"}.get(self.kind, "anonymous")
 
     def __str__(self) -> str:
         return f"{self.name} at {self.address}"
@@ -99,12 +102,12 @@ def anonymous(host: str, address: str, allowed: Iterable[IPNetwork], require_tok
               local: Iterable[object] = LOCAL_ADDRESSES) -> Identity:
     """The identity of a connection before (or without) a token."""
     if token_needed(host, allowed, require_token, local):
-        return Identity(Kind.NOBODY, address)
-    return Identity(Kind.LOCAL if is_local(host, local) else Kind.LAN, address)
+        return Identity(Standing.NOBODY, address)
+    return Identity(Standing.LOCAL if is_local(host, local) else Standing.LAN, address)
 
 
 def as_operator(operator: Operator, address: str) -> Identity:
-    return Identity(Kind.OPERATOR, address, operator)
+    return Identity(Standing.OPERATOR, address, operator)
 
 
 class Forbidden(RequestRefused):
@@ -143,11 +146,11 @@ def enforce(action: Action) -> None:
 def check(identity: Identity | None, action: Action) -> str | None:
     """Why ``identity`` may not do ``action``, or None.  ``None`` as identity is the
     server's own window (and code that acts for nobody in particular): allowed."""
-    if identity is None or identity.kind is Kind.LOCAL:
+    if identity is None or identity.kind is Standing.LOCAL:
         return None
-    if identity.kind is Kind.NOBODY:
+    if identity.kind is Standing.NOBODY:
         return f"{action.what} needs an operator's token from this address (say it in hello)"
-    if identity.kind is Kind.LAN:
+    if identity.kind is Standing.LAN:
         if action.admin:
             return (f"{action.what} is for an operator with the admin role "
                     "(or a program on the server's own computer)")
@@ -183,8 +186,8 @@ __all__ = [
     "Action",
     "Forbidden",
     "Identity",
-    "Kind",
     "RadioRef",
+    "Standing",
     "anonymous",
     "as_operator",
     "check",

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Final
 
+from moas_gui.errors import MoasError
 from moas_gui.files import write_atomic
 from moas_gui.places import config_dir
 
@@ -34,7 +35,7 @@ KEY_NAME: Final = "tls-key.pem"
 VALID_DAYS: Final = 3650
 
 
-class TLSError(ValueError):
+class TLSError(MoasError, ValueError):
     """A certificate or key that cannot be used; the message says which and why."""
 
 

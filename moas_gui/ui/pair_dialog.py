@@ -98,16 +98,16 @@ class PairDialog(QDialog):
         self.address.hide()
         layout.addWidget(self.address)
         self.buttons = QDialogButtonBox(self)
-        self.create = self.buttons.addButton("Create and show the code",
+        self.create_button = self.buttons.addButton("Create and show the code",
                                              QDialogButtonBox.ButtonRole.AcceptRole)
         self.buttons.addButton(QDialogButtonBox.StandardButton.Close)
-        self.create.clicked.connect(self.make)
+        self.create_button.clicked.connect(self.make)
         self.buttons.rejected.connect(self.close)
         layout.addWidget(self.buttons)
         if page is None:
             self.message.setText("The browser page is not served: set WebPort in the "
                                  "configuration (or moas-server --web-port) first.")
-            self.create.setEnabled(False)
+            self.create_button.setEnabled(False)
         elif not page[2]:
             self.message.setText("The page is served without TLS: the token crosses the "
                                  "network readable (moas-server --tls encrypts it).")
@@ -135,7 +135,7 @@ class PairDialog(QDialog):
         self.address.show()
         self.message.setText(f'Operator "{operator.name}" ({role.value}) was added. The code '
                              "holds its token: it is shown here only, once.")
-        self.create.setEnabled(False)
+        self.create_button.setEnabled(False)
         self.name.setEnabled(False)
         self.role.setEnabled(False)
         self.adjustSize()

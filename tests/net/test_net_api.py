@@ -21,7 +21,7 @@ PUBLIC = {
         "SwitchAction", "Target",
     ],
     "moas_gui.net.identity": [
-        "Action", "Forbidden", "Identity", "Kind", "LOCAL_ADDRESSES", "RadioRef", "anonymous", "as_operator",
+        "LOCAL_ADDRESSES", "Action", "Forbidden", "Identity", "RadioRef", "Standing", "anonymous", "as_operator",
         "check", "current", "enforce", "is_local", "token_needed",
     ],
     "moas_gui.net.tls": [

@@ -49,7 +49,7 @@ def test_pairing_adds_an_operator_and_shows_its_token_only_in_the_code(
         assert dialog.isVisible() and not dialog.isModal()
         dialog.name.setText("tablet 40m")
         dialog.role.setCurrentIndex(dialog.role.findData(Role.OPERATE.value))
-        dialog.create.click()
+        dialog.create_button.click()
         url = dialog.url
         assert url is not None and url.startswith(f"https://127.0.0.1:{app.web_address[1]}/#token=")
         token = url.split("#token=", 1)[1]
@@ -79,11 +79,11 @@ def test_a_name_already_taken_is_said_in_the_dialog(qapp: Any, tmp_path: Path) -
     dialog = PairDialog(None, ("192.0.2.5", 8080, False), book)
     assert "without TLS" in dialog.message.text()
     dialog.name.setText("Phone")
-    dialog.create.click()
+    dialog.create_button.click()
     assert "already an operator" in dialog.message.text() and dialog.url is None
     dialog.close()
     none = PairDialog(None, None, book)
-    assert not none.create.isEnabled() and "WebPort" in none.message.text()
+    assert not none.create_button.isEnabled() and "WebPort" in none.message.text()
     none.close()
 
 

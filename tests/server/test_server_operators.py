@@ -79,6 +79,68 @@ def test_operators_are_added_listed_and_removed_with_only_a_hash_kept(
     assert "No operators" in server(env, "--list-operators").stdout
 
 
+def ask(conn: socket.socket, request_id: int, cmd: str, **args: object) -> dict:
+    conn.sendall(json.dumps({"id": request_id, "cmd": cmd, **args}).encode() + b"\n")
+    reader = conn.makefile("rb")
+    while True:
+        reply = json.loads(reader.readline())
+        if reply.get("id") == request_id:
+            return reply  # type: ignore[no-any-return]
+
+
+def test_the_real_engine_refuses_what_a_role_may_not_do(tmp_path: Path,
+                                                        runtime_dir: Path) -> None:
+    env = environment(tmp_path, runtime_dir)
+    tokens = {name: server(env, "--add-operator", name, "--role", role, *radios)
+              .stdout.splitlines()[-1]
+              for name, role, radios in (("vera", "view", ()),
+                                         ("otto", "operate", ("--radios", "1/1")),
+                                         ("ada", "admin", ()))}
+    tcp = free_port(socket.SOCK_STREAM)
+    first = subprocess.Popen(
+        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
+         "--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
+         "--no-rotator-program", "--require-token"],
+        env=env, stderr=subprocess.PIPE, text=True)
+    opened: list[socket.socket] = []
+    try:
+        wait_for(lambda: _greets(tcp, tokens["ada"], opened))
+        conns = {}
+        for name, token in tokens.items():
+            reply, conns[name] = hello(tcp, token)
+            assert reply["ok"], reply
+        anonymous, conns["nobody"] = hello(tcp, None)
+        assert anonymous["error"]["code"] == "forbidden"
+        assert ask(conns["otto"], 2, "frequency", station=1, radio=1, khz=14025)["ok"]
+        mine = ask(conns["otto"], 3, "select", station=1, radio=1, antenna=3)
+        assert mine["ok"], mine
+        other = ask(conns["otto"], 4, "frequency", station=1, radio=2, khz=7025)
+        assert other["error"]["code"] == "forbidden" and "1/2" in other["error"]["message"]
+        assert ask(conns["otto"], 5, "stop_switches")["error"]["code"] == "forbidden"
+        assert ask(conns["vera"], 6, "frequency", station=1, radio=1,
+                   khz=7025)["error"]["code"] == "forbidden"
+        assert ask(conns["ada"], 7, "frequency", station=1, radio=2, khz=7025)["ok"]
+        assert ask(conns["ada"], 8, "stop_switches")["ok"]
+        assert ask(conns["ada"], 9, "start_switches")["ok"]
+        for each in (*conns.values(), *opened):
+            each.close()
+    finally:
+        first.terminate()
+        _, stderr = first.communicate(timeout=15)
+    assert "otto at 127.0.0.2:" in stderr and "tuning radio 1/1" in stderr
+    assert "ada at 127.0.0.2:" in stderr and "stop the switches" in stderr
+    assert all(token.rsplit(".", 1)[1][:10] not in stderr for token in tokens.values())
+
+
+def _greets(port: int, token: str, opened: list[socket.socket]) -> bool:
+    try:
+        reply, conn = hello(port, token)
+    except OSError:
+        return False
+    opened.append(conn)
+    return bool(reply.get("ok"))
+
+
 def test_remove_operator_reaches_the_running_server_and_ends_its_session(
         tmp_path: Path, runtime_dir: Path) -> None:
     env = environment(tmp_path, runtime_dir)

@@ -134,13 +134,15 @@ class Action:
 
 def enforce(action: Action) -> None:
     """Raises :class:`Forbidden` when the identity being served (:data:`current`) may not
-    do ``action``; logs who did it otherwise (at Info, for a network client)."""
+    do ``action``; logs who did it otherwise (an operator at Info, never rate-limited;
+    an anonymous client at Debug: the engine's own line says what changed)."""
     identity = current.get()
     refusal = check(identity, action)
     if refusal is not None:
         raise Forbidden(refusal)
-    if identity is not None:
-        log.info("%s: %s", identity, action.what)
+    if identity is not None:  # an operator's every change at Info; anonymous ones at Debug
+        log.log(logging.INFO if identity.is_operator else logging.DEBUG,
+                "%s: %s", identity, action.what)
 
 
 def check(identity: Identity | None, action: Action) -> str | None:

@@ -100,7 +100,7 @@ def test_the_real_engine_refuses_what_a_role_may_not_do(tmp_path: Path,
     first = subprocess.Popen(
         [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
          "--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
-         "--no-rotator-program", "--require-token"],
+         "--no-rotator-program", "--require-token", "--new-instance"],
         env=env, stderr=subprocess.PIPE, text=True)
     opened: list[socket.socket] = []
     try:
@@ -192,7 +192,7 @@ def test_both_ports_serve_tls_to_openssl_and_the_client_pins_the_fingerprint(
     first = subprocess.Popen(
         [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
          "--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
-         "--web-port", str(web), "--no-rotator-program", "--tls"],
+         "--web-port", str(web), "--no-rotator-program", "--tls", "--new-instance"],
         env=env, stderr=subprocess.PIPE, text=True)
     try:
         wait_for(lambda: _tls_answers(tcp))

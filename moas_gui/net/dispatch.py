@@ -85,11 +85,10 @@ def _identify(conn: Connection, token: str | None) -> str | None:
 
 def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
     args = request.args
-    refusal = _identify(conn, args["token"])
-    if refusal is not None:
+    refusal = _identify(conn, args["token"] or None)
+    if refusal is not None:  # not greeted: the hello deadline closes it unless it tries again
         conn.note("Refused the hello of %s: %s", conn, refusal)
         conn.reply_error(request.id, ErrorCode.FORBIDDEN, refusal)
-        conn.close("its hello was refused: " + refusal)
         return
     conn.name = clean_name(args["client"])
     conn.station, conn.radio = args["station"], args["radio"]

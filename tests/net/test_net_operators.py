@@ -89,7 +89,8 @@ async def test_with_require_token_a_lan_client_without_one_is_refused_and_closed
     try:
         assert "token" in await forbidden(client, "select", station=1, radio=1, antenna=2)
         assert "token" in await forbidden(client, "hello", client="no token")
-        await asyncio.wait_for(client.closed.wait(), 5)
+        assert "token" in await forbidden(client, "state")  # still nobody
+        await asyncio.wait_for(client.closed.wait(), 10)  # the hello deadline
         assert [c for c in backend.calls if c[0] == "select"] == []
     finally:
         await client.close()
@@ -108,7 +109,9 @@ async def test_a_wrong_token_is_refused_and_never_logged(
     try:
         assert "not one of this station's operators" in await forbidden(
             client, "hello", client="guess", token=wrong)
-        await asyncio.wait_for(client.closed.wait(), 5)
+        assert "token" in await forbidden(client, "select", station=1, radio=1, antenna=2)
+        await client.request("hello", client="right", token=token)  # it may try again
+        assert (await client.request("select", station=1, radio=1, antenna=2))["tx"] == 2
     finally:
         await client.close()
         await server.close()

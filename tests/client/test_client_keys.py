@@ -55,3 +55,30 @@ def test_a_pinned_fingerprint_is_kept_per_server(tmp_path: Path) -> None:
     again = ClientKeys(tmp_path, use_keyring=False)
     assert (again.pin("a:1"), again.pin("b:2"), again.pin("c:3")) == ("AB:CD", "EF:01", None)
     assert (tmp_path / KNOWN_FILE).is_file()
+
+
+def test_the_command_line_pins_a_fingerprint_or_trusts_the_first_one_it_sees(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import argparse
+
+    from moas_gui.cli.client import connection_security
+
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
+    monkeypatch.setattr("moas_gui.client.keys._keyring_usable", lambda: False)
+
+    def args(**given: object) -> argparse.Namespace:
+        return argparse.Namespace(**{"token": None, "tls": False, "pin": None, **given})
+
+    first = connection_security("10.0.0.5", 12059, args(tls=True, token="moas1.01020304.x"))
+    trust = first["trust"]
+    assert first["token"] == "moas1.01020304.x" and callable(trust)
+    assert trust("AB:" * 31 + "CD") is True  # trusted on first use, and kept
+    again = connection_security("10.0.0.5", 12059, args(tls=True))
+    assert again["pin"] == "AB:" * 31 + "CD" and "trust" not in again
+    assert again["token"] == "moas1.01020304.x"  # given once
+    pinned = connection_security("10.0.0.5", 12059, args(tls=True, pin="ef" * 32))
+    assert pinned["pin"] == ":".join(["EF"] * 32)
+    with pytest.raises(ValueError, match="64 hex digits"):
+        connection_security("10.0.0.5", 12059, args(tls=True, pin="12:34"))
+    with pytest.raises(ValueError, match="goes with --tls"):
+        connection_security("10.0.0.5", 12059, args(pin="ef" * 32))

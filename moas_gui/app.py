@@ -144,7 +144,7 @@ class ServerApp:
                   self.options.require_token else
                   "Every client but this computer's programs needs an operator's token"]
         if run.clients.tls is not None:
-            from moas_gui.net.tls import TLSError, ensure_certificate, fingerprint
+            from moas_gui.tls import TLSError, ensure_certificate, fingerprint
 
             try:
                 seen = fingerprint(ensure_certificate(self.options.tls_cert,

@@ -18,7 +18,7 @@
      +-- StateError        (moas_gui.state_store)     a saved state that cannot be used
      +-- SnapshotError     (moas_gui.engine.snapshot) a snapshot that does not fit the engine
      +-- OperatorError     (moas_gui.operators)       an operator that cannot be added or found
-     +-- TLSError          (moas_gui.net.tls)         a certificate or key that cannot be used
+     +-- TLSError          (moas_gui.tls)         a certificate or key that cannot be used
 """
 
 from __future__ import annotations

@@ -69,7 +69,7 @@ def state_dir(platform: str = sys.platform) -> Path:
 
 def config_dir(platform: str = sys.platform) -> Path:
     """The per-user directory for what the server is told once and keeps: its operators
-    (:mod:`moas_gui.operators`) and its TLS certificate (:mod:`moas_gui.net.tls`).
+    (:mod:`moas_gui.operators`) and its TLS certificate (:mod:`moas_gui.tls`).
     ``$XDG_CONFIG_HOME``, when set to an absolute path, is used on every system (tests)."""
     value = os.environ.get("XDG_CONFIG_HOME", "")
     if value and os.path.isabs(value):

@@ -241,7 +241,7 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
     each = options.max_per_address
     tls = None
     if options.tls:
-        from moas_gui.net.tls import TLSError, ensure_certificate, fingerprint, server_context
+        from moas_gui.tls import TLSError, ensure_certificate, fingerprint, server_context
 
         try:
             certificate = ensure_certificate(options.tls_cert, options.tls_key)

@@ -114,7 +114,7 @@ def connection_security(host: str, port: int, args: argparse.Namespace) -> dict[
         if args.pin:
             raise ValueError("--pin goes with --tls")
         return security
-    from moas_gui.net.tls import TLSError, normalize_pin
+    from moas_gui.tls import TLSError, normalize_pin
 
     if args.pin:
         try:

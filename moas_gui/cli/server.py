@@ -491,6 +491,25 @@ def _install_service(args: argparse.Namespace, arguments: list[str]) -> int:
     return 0
 
 
+def _security_command(args: argparse.Namespace) -> int | None:
+    """The operator commands and ``--fingerprint``: their exit status, or None when the
+    command line asks for neither."""
+    if args.add_operator or args.remove_operator or args.list_operators:
+        from moas_gui.cli.operators import operators_command
+
+        return operators_command(args, INSTANCE_NAME)
+    if not args.fingerprint:
+        return None
+    from moas_gui.tls import TLSError, ensure_certificate, fingerprint
+
+    try:
+        print(fingerprint(ensure_certificate(args.tls_cert, args.tls_key)))
+    except (TLSError, OSError) as exc:
+        print(f"moas-server: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     output_without_console("moas-server")  # started without a console: output to a log file
     args = _parser().parse_args(argv)
@@ -508,19 +527,9 @@ def main(argv: list[str] | None = None) -> int:
         for line in done:
             print(line)
         return 0
-    if args.add_operator or args.remove_operator or args.list_operators:
-        from moas_gui.cli.operators import operators_command
-
-        return operators_command(args, INSTANCE_NAME)
-    if args.fingerprint:
-        from moas_gui.net.tls import TLSError, ensure_certificate, fingerprint
-
-        try:
-            print(fingerprint(ensure_certificate(args.tls_cert, args.tls_key)))
-        except (TLSError, OSError) as exc:
-            print(f"moas-server: {exc}", file=sys.stderr)
-            return 1
-        return 0
+    security = _security_command(args)
+    if security is not None:
+        return security
     if args.install_service:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
     if args.json and not args.plan:

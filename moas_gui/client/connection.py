@@ -289,7 +289,7 @@ class ClientConnection:
     async def _open(self) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
         if not self.tls:
             return await asyncio.open_connection(self.host, self.port)
-        from moas_gui.net.tls import client_context
+        from moas_gui.tls import client_context
 
         return await asyncio.open_connection(self.host, self.port, ssl=client_context(),
                                              server_hostname=self.host)
@@ -298,7 +298,7 @@ class ClientConnection:
         """Why the server's TLS certificate is not to be trusted, or None."""
         if not self.tls:
             return None
-        from moas_gui.net.tls import TLSError, check_pin, peer_fingerprint
+        from moas_gui.tls import TLSError, check_pin, peer_fingerprint
 
         ssl_object = writer.get_extra_info("ssl_object")
         try:

@@ -24,7 +24,7 @@ PUBLIC = {
         "LOCAL_ADDRESSES", "Action", "Forbidden", "Identity", "RadioRef", "Standing", "anonymous", "as_operator",
         "check", "current", "enforce", "is_local", "token_needed",
     ],
-    "moas_gui.net.tls": [
+    "moas_gui.tls": [
         "CERT_NAME", "KEY_NAME", "Certificate", "TLSError", "check_pin", "client_context",
         "default_paths", "ensure_certificate", "fingerprint", "format_fingerprint",
         "make_self_signed", "normalize_pin", "peer_fingerprint", "server_context",

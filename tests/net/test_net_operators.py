@@ -14,7 +14,9 @@ import pytest
 from moas_gui.net.backend import ErrorCode, RequestError
 from moas_gui.net.client import ProtocolClient
 from moas_gui.net.server import ClientServer
-from moas_gui.net.tls import (
+from moas_gui.operators import OperatorBook, Role
+from moas_gui.testing.fake_backend import FakeBackend
+from moas_gui.tls import (
     Certificate,
     client_context,
     fingerprint,
@@ -22,8 +24,6 @@ from moas_gui.net.tls import (
     peer_fingerprint,
     server_context,
 )
-from moas_gui.operators import OperatorBook, Role
-from moas_gui.testing.fake_backend import FakeBackend
 
 HOST = "127.0.0.1"
 LAN = "127.0.0.2"

@@ -14,10 +14,10 @@ import pytest
 from web_station import CHROMEDRIVER, CHROMIUM, browser_missing
 
 from moas_gui.net.server import ClientServer
-from moas_gui.net.tls import Certificate, make_self_signed, server_context
 from moas_gui.net.web import WebServer
 from moas_gui.operators import OperatorBook, Role
 from moas_gui.testing.fake_backend import FakeBackend
+from moas_gui.tls import Certificate, make_self_signed, server_context
 
 MISSING = browser_missing()
 pytestmark = [

@@ -19,7 +19,7 @@ import pytest
 from helpers import free_port, wait_for
 
 from moas_gui.client.connection import ClientConnection
-from moas_gui.net.tls import client_context, format_fingerprint
+from moas_gui.tls import client_context, format_fingerprint
 
 pytestmark = pytest.mark.realtime
 

@@ -15,8 +15,8 @@ from helpers import until
 from test_server_window import EXAMPLES, FAST
 
 from moas_gui.app import ServerApp, ServerOptions
-from moas_gui.net.tls import default_paths, fingerprint
 from moas_gui.operators import OperatorBook, Role
+from moas_gui.tls import default_paths, fingerprint
 from moas_gui.ui.pair_dialog import pairing_url, qr_pixmap
 from moas_gui.ui.qt import QSettings
 from moas_gui.ui.server_window import ServerWindow

@@ -131,6 +131,15 @@ class ServerApp:
         return host, int(run.web.port), run.clients.tls is not None
 
     @property
+    def client_fingerprint(self) -> str | None:
+        """The SHA-256 fingerprint of the certificate the client port serves; None
+        without TLS (or before the client server runs)."""
+        run = self._run
+        if run is None or run.clients is None or run.clients.tls is None:
+            return None
+        return run.clients.fingerprint
+
+    @property
     def security(self) -> tuple[str, str] | None:
         """What the window says of who may connect: a short text and a longer one
         (the open LAN, TLS and its fingerprint), None while no client server runs."""
@@ -143,14 +152,8 @@ class ServerApp:
                    "(moas-server --require-token changes that)") if not
                   self.options.require_token else
                   "Every client but this computer's programs needs an operator's token"]
-        if run.clients.tls is not None:
-            from moas_gui.tls import TLSError, ensure_certificate, fingerprint
-
-            try:
-                seen = fingerprint(ensure_certificate(self.options.tls_cert,
-                                                      self.options.tls_key))
-            except (TLSError, OSError):
-                seen = "?"
+        seen = self.client_fingerprint
+        if seen is not None:
             parts.append(f"TLS {seen[:11]}\u2026")
             detail.append(f"TLS certificate SHA-256 fingerprint: {seen}")
         return " \u00b7 ".join(parts), "\n".join(detail)

@@ -239,24 +239,25 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
     port = options.tcp_port if options.tcp_port is not None else run.config.tcp_port
     most = options.max_clients
     each = options.max_per_address
-    tls = None
+    tls, seen = None, None
     if options.tls:
         from moas_gui.tls import TLSError, ensure_certificate, fingerprint, server_context
 
         try:
             certificate = ensure_certificate(options.tls_cert, options.tls_key)
             tls = server_context(certificate)
-        except TLSError as exc:
+            seen = fingerprint(certificate)
+        except (TLSError, OSError) as exc:  # a certificate that cannot be used or made
             log.error("Clients cannot connect: TLS was asked for, but %s", exc)
             return
-        log.info("TLS certificate %s, SHA-256 fingerprint %s", certificate.cert,
-                 fingerprint(certificate))
+        log.info("TLS certificate %s, SHA-256 fingerprint %s", certificate.cert, seen)
     clients = ClientServer(backend, host=options.bind, port=port,
                            allow=run.config.client_allow,
                            max_clients=DEFAULT_MAX_CLIENTS if most is None else most,
                            per_address=DEFAULT_PER_ADDRESS if each is None else each,
                            require_token=options.require_token, operators=OperatorBook(),
                            tls=tls)
+    clients.fingerprint = seen if tls is not None else None
     try:
         await clients.start()
     except HardwareError as exc:

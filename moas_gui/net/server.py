@@ -160,6 +160,8 @@ class ClientServer:
         self.local_addresses: tuple[object, ...] = LOCAL_ADDRESSES
         """The addresses that are this computer (never need a token); a test driving a
         browser (which connects from ``127.0.0.1``) empties it to play a LAN peer."""
+        self.fingerprint: str | None = None
+        """The SHA-256 fingerprint of the certificate ``tls`` serves (set by who made it)."""
         self.tls = tls
         """Serve TLS with this context; then peers outside ``ClientAllow`` are admitted
         (and must give a token)."""

@@ -61,7 +61,12 @@ def test_pairing_adds_an_operator_and_shows_its_token_only_in_the_code(
         dialog.grab().save(str(tmp_path / "pair.png"))
         window.grab().save(str(tmp_path / "window.png"))
         dialog.close()
+        window.action_client.trigger()  # the built-in client: TLS, pinned to this server
+        client = window.client_windows[-1]
+        await until(lambda: client.connection.connects > 0)
+        assert client.connection.fingerprint == seen
         window.shutdown()
+        await window.idle()
         window.close()
         await app.close()
         said = " ".join(r.getMessage() for r in caplog.records)

@@ -116,6 +116,9 @@ class Connection:
         """Who this connection is (:mod:`.identity`): set by the server when it is made,
         changed by a hello with a token.  :attr:`Identity.is_operator` tells the admission
         policy an authenticated operator holds it."""
+        self.identified: Callable[[Identity], None] | None = None
+        """Told the new identity when a hello's token makes this connection an operator
+        (the admission policy may move it to the operators' own capacity then)."""
         self.authenticate: Callable[[str], Any] | None = None
         """Turns a hello's token into an :class:`~moas_gui.operators.Operator` (None: a
         wrong token); None here when this server has no operators."""

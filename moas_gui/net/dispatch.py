@@ -80,6 +80,8 @@ def _identify(conn: Connection, token: str | None) -> str | None:
     if operator is None:
         return "that token is not one of this station's operators (it may have been removed)"
     conn.identity = as_operator(operator, conn.address)
+    if conn.identified is not None:
+        conn.identified(conn.identity)
     return None
 
 

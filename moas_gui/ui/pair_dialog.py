@@ -5,7 +5,7 @@ The dialog asks the operator's name and role, adds it to the station's operators
 page's address with the token in the URL's fragment (``#token=...``): a browser
 never sends a fragment to the server, the page reads it, keeps the token and
 clears it from the address bar.  The token is shown in this dialog only: it is
-never logged (the log says which operator was added).  Opened with ``show()``,
+never logged (the log says which operator was added).  Opened with ``open()``,
 never ``exec()`` (the window runs on qasync's loop).
 """
 

@@ -384,14 +384,15 @@ class ServerWindow(QMainWindow):
         self.client_windows.append(open_builtin_client(self.app))
 
     def pair_device(self) -> None:
-        """View > Pair a device: a new operator's token as a QR code (opened with show())."""
+        """View > Pair a device: a new operator's token as a QR code (opened with open(),
+        never exec(): the loop keeps running)."""
         from .pair_dialog import PairDialog
 
         if self.pair_dialog is not None:
             self.pair_dialog.close()
         self.pair_dialog = PairDialog(self, self.app.web_address)
         self.pair_dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose, False)
-        self.pair_dialog.show()
+        self.pair_dialog.open()
 
     def open_plan(self) -> None:
         """View > Station plan: the plan of the open configuration (the switches are not

@@ -132,6 +132,9 @@ async def test_roles_view_operate_and_admin_over_real_sockets(
     clients = [await ProtocolClient.connect(HOST, server.port, local_host=LAN)
                for _ in range(3)]
     v, o, a = clients
+    told: list[str] = []
+    for conn in server._connections:
+        conn.identified = lambda identity: told.append(identity.name)
     try:
         await v.request("hello", client="v", token=view)
         await o.request("hello", client="o", token=operate)
@@ -147,6 +150,7 @@ async def test_roles_view_operate_and_admin_over_real_sockets(
         assert await a.request("stop_switches") == {}
         assert not backend.running
         assert {c.identity.is_operator for c in server._connections} == {True}
+        assert sorted(told) == ["ada", "otto", "vera"]
     finally:
         for client in clients:
             await client.close()

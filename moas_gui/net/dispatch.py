@@ -16,7 +16,7 @@ from typing import Any
 from .backend import ClientBackend, ErrorCode, RequestError
 from .connection import Connection, LayoutKey, clean_name
 from .framing import MAX_LINE, Line, LongLine
-from .identity import Standing, as_operator, current
+from .identity import Standing, as_operator, serving
 from .messages import event, hello_result
 from .requests import BadLine, InvalidRequest, Request, parse_line
 
@@ -53,9 +53,9 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> N
         conn.reply_error(parsed.id, ErrorCode.FORBIDDEN, "this address needs an operator's "
                          'token: say hello with "token" first')
         return
-    serving = current.set(conn.identity)
     try:
-        HANDLERS[parsed.cmd](backend, conn, parsed)
+        with serving(conn.identity):
+            HANDLERS[parsed.cmd](backend, conn, parsed)
     except RequestError as e:
         log.debug("Refused %s from %s: %s", parsed.cmd, conn, e.message)
         conn.reply_error(parsed.id, e.code, e.message)
@@ -65,8 +65,6 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> N
             parsed.id, ErrorCode.INTERNAL,
             f"the server failed on {parsed.cmd}: {type(e).__name__}: {e}",
         )
-    finally:
-        current.reset(serving)
 
 
 def _identify(conn: Connection, token: str | None) -> str | None:

@@ -22,15 +22,17 @@ an authenticated operator has capacity of its own.
 :func:`check` is the rule: given an identity and an :class:`Action`, the
 refusal's sentence or None.  The server's one door (``ServerApp.act``) and the
 backend's rotator and switch calls ask it with the identity of the request
-being served (:data:`current`, set by :mod:`.dispatch` around each request).
+being served (:func:`current`, set by :mod:`.dispatch` around each request with
+:func:`serving`; a task or callback the request started does not inherit it).
 """
 
 from __future__ import annotations
 
+import contextlib
 import contextvars
 import ipaddress
 import logging
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from enum import Enum
 
@@ -133,10 +135,10 @@ class Action:
 
 
 def enforce(action: Action) -> None:
-    """Raises :class:`Forbidden` when the identity being served (:data:`current`) may not
+    """Raises :class:`Forbidden` when the identity being served (:func:`current`) may not
     do ``action``; logs who did it otherwise (an operator at Info, never rate-limited;
     an anonymous client at Debug: the engine's own line says what changed)."""
-    identity = current.get()
+    identity = current()
     refusal = check(identity, action)
     if refusal is not None:
         raise Forbidden(refusal)
@@ -178,9 +180,38 @@ def check(identity: Identity | None, action: Action) -> str | None:
     return None
 
 
-current: contextvars.ContextVar[Identity | None] = contextvars.ContextVar(
-    "moas_identity", default=None)
-"""The identity whose request is being served now (None: the server itself)."""
+class _Serving:
+    """The identity of the request being served, for as long as it is served: a task or
+    callback that the request started copies the context, and finds it over."""
+
+    __slots__ = ("identity", "open")
+
+    def __init__(self, identity: Identity) -> None:
+        self.identity = identity
+        self.open = True
+
+
+_serving: contextvars.ContextVar[_Serving | None] = contextvars.ContextVar(
+    "moas_serving", default=None)
+
+
+@contextlib.contextmanager
+def serving(identity: Identity) -> Iterator[None]:
+    """Within it, :func:`current` is ``identity`` (:mod:`.dispatch` wraps each request)."""
+    scope = _Serving(identity)
+    token = _serving.set(scope)
+    try:
+        yield
+    finally:
+        scope.open = False
+        _serving.reset(token)
+
+
+def current() -> Identity | None:
+    """The identity whose request is being served now (None: the server itself, or a
+    task a request once started, which acts for nobody in particular)."""
+    scope = _serving.get()
+    return scope.identity if scope is not None and scope.open else None
 
 
 __all__ = [
@@ -196,5 +227,6 @@ __all__ = [
     "current",
     "enforce",
     "is_local",
+    "serving",
     "token_needed",
 ]

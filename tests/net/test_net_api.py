@@ -22,7 +22,7 @@ PUBLIC = {
     ],
     "moas_gui.net.identity": [
         "LOCAL_ADDRESSES", "Action", "Forbidden", "Identity", "RadioRef", "Standing", "anonymous", "as_operator",
-        "check", "current", "enforce", "is_local", "token_needed",
+        "check", "current", "enforce", "is_local", "serving", "token_needed",
     ],
     "moas_gui.tls": [
         "CERT_NAME", "KEY_NAME", "Certificate", "TLSError", "check_pin", "client_context",

@@ -13,6 +13,7 @@ import pytest
 
 from moas_gui.net.backend import ErrorCode, RequestError
 from moas_gui.net.client import ProtocolClient
+from moas_gui.net.identity import Forbidden, as_operator
 from moas_gui.net.server import ClientServer
 from moas_gui.operators import OperatorBook, Role
 from moas_gui.testing.fake_backend import FakeBackend
@@ -211,3 +212,26 @@ async def test_outside_the_allowed_networks_only_tls_with_a_token_gets_in(
         await client.close()
     finally:
         await server.close()
+
+
+@pytest.mark.asyncio
+async def test_a_task_a_request_started_acts_for_nobody_once_the_request_is_answered() -> None:
+    from moas_gui.net.identity import Action, Standing, current, enforce, serving
+    from moas_gui.operators import Operator
+
+    viewer = as_operator(Operator("vera", Role.VIEW), "127.0.0.2:1")
+    seen: list[object] = []
+
+    async def later() -> None:
+        await asyncio.sleep(0)
+        seen.append(current())
+        enforce(Action("tuning radio 1/1", frozenset({(1, 1)})))  # the server's own: allowed
+
+    with serving(viewer):
+        assert current() is viewer
+        with pytest.raises(Forbidden):
+            enforce(Action("tuning radio 1/1", frozenset({(1, 1)})))
+        task = asyncio.ensure_future(later())
+    await task
+    assert seen == [None] and current() is None
+    assert Standing.OPERATOR is viewer.kind

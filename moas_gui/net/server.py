@@ -69,7 +69,7 @@ from .connection import (
 )
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
-from .identity import LOCAL_ADDRESSES, anonymous, is_local, token_needed
+from .identity import LOCAL_ADDRESSES, anonymous, is_local
 from .log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
@@ -244,8 +244,8 @@ class ClientServer:
     def allows(self, host: str) -> bool:
         """Whether a peer at ``host`` may connect: this computer, a ``ClientAllow``
         network, or -- over TLS -- anywhere (then with a token).  Other transports ask too."""
-        return (is_local(host, self.local_addresses) or is_allowed(host, self._allowed)
-                or (self.tls is not None and token_needed(host, self._allowed, True)))
+        return (self.tls is not None or is_local(host, self.local_addresses)
+                or is_allowed(host, self._allowed))
 
     def identify(self, conn: Connection, host: str) -> None:
         """Gives a new connection its identity before hello (:mod:`.identity`)."""

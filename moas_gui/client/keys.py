@@ -39,7 +39,11 @@ def _keyring_usable() -> bool:
         backend = keyring.get_keyring()
     except Exception:  # noqa: BLE001 - a broken keyring set-up is the same as none
         return False
-    return not isinstance(backend, Failing) and getattr(backend, "priority", 1) > 0
+    if isinstance(backend, Failing) or getattr(backend, "priority", 1) <= 0:
+        return False
+    # keyrings.alt's file keyrings (a test dependency) are no system keyring: a plaintext
+    # one in the home directory is worse than this module's own private file
+    return not type(backend).__module__.startswith("keyrings.alt")
 
 
 def _read(path: Path) -> dict[str, str]:

@@ -82,3 +82,11 @@ def test_the_command_line_pins_a_fingerprint_or_trusts_the_first_one_it_sees(
         connection_security("10.0.0.5", 12059, args(tls=True, pin="12:34"))
     with pytest.raises(ValueError, match="goes with --tls"):
         connection_security("10.0.0.5", 12059, args(pin="ef" * 32))
+
+
+def test_a_plaintext_file_keyring_is_not_taken_for_the_system_keyring(
+        file_keyring: PlaintextKeyring) -> None:
+    from moas_gui.client.keys import _keyring_usable
+
+    assert keyring.get_keyring() is file_keyring
+    assert _keyring_usable() is False

@@ -19,7 +19,7 @@ from typing import Any, Protocol
 
 from .backend import ErrorCode
 from .framing import request_framer
-from .identity import Identity, Standing
+from .identity import Identity, Party
 from .log_limit import held_text
 from .messages import MessageEncodeError, reply_error, reply_ok
 
@@ -112,7 +112,7 @@ class Connection:
         """Layouts this connection follows, with the last one it was sent."""
         self.closed = False
         self.close_reason: str | None = None
-        self.identity = Identity(Standing.LAN, address)
+        self.identity = Identity(Party.LAN, address)
         """Who this connection is (:mod:`.identity`): set by the server when it is made,
         changed by a hello with a token.  :attr:`Identity.is_operator` tells the admission
         policy an authenticated operator holds it."""

@@ -16,7 +16,7 @@ from typing import Any
 from .backend import ClientBackend, ErrorCode, RequestError
 from .connection import Connection, LayoutKey, clean_name
 from .framing import MAX_LINE, Line, LongLine
-from .identity import Standing, as_operator, serving
+from .identity import Party, as_operator, serving
 from .messages import event, hello_result
 from .requests import BadLine, InvalidRequest, Request, parse_line
 
@@ -48,7 +48,7 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> N
         log.debug("Refused a request from %s: %s", conn, parsed.message)
         conn.reply_error(parsed.id, parsed.code, parsed.message)
         return
-    if conn.identity.kind is Standing.NOBODY and parsed.cmd != "hello":
+    if conn.identity.kind is Party.NOBODY and parsed.cmd != "hello":
         log.debug("Refused %s from %s: no token yet", parsed.cmd, conn)
         conn.reply_error(parsed.id, ErrorCode.FORBIDDEN, "this address needs an operator's "
                          'token: say hello with "token" first')
@@ -70,7 +70,7 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> N
 def _identify(conn: Connection, token: str | None) -> str | None:
     """Settles who a saying-hello connection is; the refusal's sentence, or None."""
     if token is None:
-        if conn.identity.kind is Standing.NOBODY:
+        if conn.identity.kind is Party.NOBODY:
             return ("this address needs an operator's token (moas-server --add-operator "
                     'makes one; give it as "token" in hello)')
         return None

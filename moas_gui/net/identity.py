@@ -46,7 +46,7 @@ log = logging.getLogger(__name__)
 RadioRef = tuple[int, int]
 
 
-class Standing(Enum):
+class Party(Enum):
     """What a connection is before its role: this computer, the LAN, an operator, or
     nobody yet."""
 
@@ -60,21 +60,21 @@ class Standing(Enum):
 class Identity:
     """Who a connection is (see the module's docstring)."""
 
-    kind: Standing
+    kind: Party
     address: str
     operator: Operator | None = None
 
     @property
     def is_operator(self) -> bool:
         """An authenticated operator (the admission policy gives it capacity of its own)."""
-        return self.kind is Standing.OPERATOR
+        return self.kind is Party.OPERATOR
 
     @property
     def name(self) -> str:
         """How the log names it: the operator's name, else what it is."""
         if self.operator is not None:
             return self.operator.name
-        return {Standing.LOCAL: "local client", Standing.LAN: "LAN client"}.get(self.kind, "anonymous")
+        return {Party.LOCAL: "local client", Party.LAN: "LAN client"}.get(self.kind, "anonymous")
 
     def __str__(self) -> str:
         return f"{self.name} at {self.address}"
@@ -104,12 +104,12 @@ def anonymous(host: str, address: str, allowed: Iterable[IPNetwork], require_tok
               local: Iterable[object] = LOCAL_ADDRESSES) -> Identity:
     """The identity of a connection before (or without) a token."""
     if token_needed(host, allowed, require_token, local):
-        return Identity(Standing.NOBODY, address)
-    return Identity(Standing.LOCAL if is_local(host, local) else Standing.LAN, address)
+        return Identity(Party.NOBODY, address)
+    return Identity(Party.LOCAL if is_local(host, local) else Party.LAN, address)
 
 
 def as_operator(operator: Operator, address: str) -> Identity:
-    return Identity(Standing.OPERATOR, address, operator)
+    return Identity(Party.OPERATOR, address, operator)
 
 
 class Forbidden(RequestRefused):
@@ -150,11 +150,11 @@ def enforce(action: Action) -> None:
 def check(identity: Identity | None, action: Action) -> str | None:
     """Why ``identity`` may not do ``action``, or None.  ``None`` as identity is the
     server's own window (and code that acts for nobody in particular): allowed."""
-    if identity is None or identity.kind is Standing.LOCAL:
+    if identity is None or identity.kind is Party.LOCAL:
         return None
-    if identity.kind is Standing.NOBODY:
+    if identity.kind is Party.NOBODY:
         return f"{action.what} needs an operator's token from this address (say it in hello)"
-    if identity.kind is Standing.LAN:
+    if identity.kind is Party.LAN:
         if action.admin:
             return (f"{action.what} is for an operator with the admin role "
                     "(or a program on the server's own computer)")
@@ -219,8 +219,8 @@ __all__ = [
     "Action",
     "Forbidden",
     "Identity",
+    "Party",
     "RadioRef",
-    "Standing",
     "anonymous",
     "as_operator",
     "check",

@@ -21,7 +21,7 @@ PUBLIC = {
         "SwitchAction", "Target",
     ],
     "moas_gui.net.identity": [
-        "LOCAL_ADDRESSES", "Action", "Forbidden", "Identity", "RadioRef", "Standing", "anonymous", "as_operator",
+        "LOCAL_ADDRESSES", "Action", "Forbidden", "Identity", "RadioRef", "Party", "anonymous", "as_operator",
         "check", "current", "enforce", "is_local", "serving", "token_needed",
     ],
     "moas_gui.tls": [

@@ -216,7 +216,7 @@ async def test_outside_the_allowed_networks_only_tls_with_a_token_gets_in(
 
 @pytest.mark.asyncio
 async def test_a_task_a_request_started_acts_for_nobody_once_the_request_is_answered() -> None:
-    from moas_gui.net.identity import Action, Standing, current, enforce, serving
+    from moas_gui.net.identity import Action, Party, current, enforce, serving
     from moas_gui.operators import Operator
 
     viewer = as_operator(Operator("vera", Role.VIEW), "127.0.0.2:1")
@@ -234,4 +234,4 @@ async def test_a_task_a_request_started_acts_for_nobody_once_the_request_is_answ
         task = asyncio.ensure_future(later())
     await task
     assert seen == [None] and current() is None
-    assert Standing.OPERATOR is viewer.kind
+    assert Party.OPERATOR is viewer.kind

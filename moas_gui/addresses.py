@@ -37,4 +37,19 @@ def split_address(text: str, default_port: int) -> tuple[str, int]:
     return host, int(port_text)
 
 
-__all__ = ["split_address"]
+__all__ = ["network_address", "split_address"]
+
+
+def network_address() -> str:
+    """This computer's address on its network, as another computer there would reach it
+    (the one the system would send from towards a private address; nothing is sent), or
+    ``127.0.0.1`` when it has none."""
+    import socket
+
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+        try:
+            probe.connect(("10.255.255.255", 9))
+            address = str(probe.getsockname()[0])
+        except OSError:
+            return "127.0.0.1"
+    return address if address != "0.0.0.0" else "127.0.0.1"

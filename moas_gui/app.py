@@ -32,6 +32,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from moas_gui import state_store
+from moas_gui.addresses import network_address
 from moas_gui.config import Config, LoadResult, load_config
 from moas_gui.config.model import RotatorControl
 from moas_gui.engine import Changes, Engine, NotRunning
@@ -54,6 +55,8 @@ from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.net.identity import enforce
+from moas_gui.rights import action_for
 from moas_gui.running import (
     ROTCTLD_HOST,
     AntennaGenius,
@@ -125,6 +128,45 @@ class ServerApp:
         """The Antenna Genius devices' TCP ports (docs/antenna-genius.md), empty when
         not served."""
         return self._ag.ports
+
+    def web_address(self) -> tuple[str, int, bool] | None:
+        """The browser page (host, port, over TLS), once it is served; the host is this
+        computer's address on its network when the server listens on every interface."""
+        run = self._run
+        if run is None or run.web is None or run.clients is None:
+            return None
+        host = self.options.bind
+        if host in ("0.0.0.0", "", "::"):
+            host = network_address()
+        return host, int(run.web.port), run.clients.tls is not None
+
+    @property
+    def client_fingerprint(self) -> str | None:
+        """The SHA-256 fingerprint of the certificate the client port serves; None
+        without TLS (or before the client server runs)."""
+        run = self._run
+        if run is None or run.clients is None or run.clients.tls is None:
+            return None
+        return run.clients.fingerprint
+
+    @property
+    def security(self) -> tuple[str, str] | None:
+        """What the window says of who may connect: a short text and a longer one
+        (the open LAN, TLS and its fingerprint), None while no client server runs."""
+        run = self._run
+        if run is None or run.clients is None:
+            return None
+        parts = ["LAN open: no token needed" if not self.options.require_token
+                 else "tokens required"]
+        detail = [("Clients from the allowed networks (ClientAllow) need no token "
+                   "(moas-server --require-token changes that)") if not
+                  self.options.require_token else
+                  "Every client but this computer's programs needs an operator's token"]
+        seen = self.client_fingerprint
+        if seen is not None:
+            parts.append(f"TLS {seen[:11]}\u2026")
+            detail.append(f"TLS certificate SHA-256 fingerprint: {seen}")
+        return " \u00b7 ".join(parts), "\n".join(detail)
 
     @property
     def n1mm_address(self) -> tuple[str, int] | None:
@@ -313,6 +355,16 @@ class ServerApp:
         if self._run is not None:
             self.act(KeepSwitchAntennas(switch_id, port, slots[0], slots[1]))
 
+    def end_operator(self, name: str) -> int:
+        """Ends the client sessions of operator ``name`` (just removed); how many."""
+        run = self._run
+        if run is None or run.clients is None:
+            return 0
+        ended = run.clients.end_operator(name)
+        log.info('Operator "%s" was removed: %d session%s ended', name, ended,
+                 "" if ended == 1 else "s")
+        return ended
+
     def reset_switches(self) -> None:
         """File > Reset Switches: reset every switch and set the antennas in use again."""
         if self._run is None:
@@ -366,6 +418,9 @@ class ServerApp:
         run = self._run
         if run is None:
             raise NotRunning("No configuration is open")
+        action = action_for(op, run.config)
+        if action is not None:
+            enforce(action)  # the role of the client asking, if any; logs who did it
         changes = perform(run.engine, op, now=asyncio.get_running_loop().time())
         # a frequency, or a hold released (the frequency chooses again), is automatic
         automatic = isinstance(op, SetFrequency) or (isinstance(op, Hold) and op.by is None)

@@ -28,7 +28,16 @@ from moas_gui.engine.views import RadioView
 from moas_gui.errors import RequestRefused
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.net.antenna_genius.server import PortRequest
-from moas_gui.net.backend import ErrorCode, FocusKind, JSONObject, RequestError, Target
+from moas_gui.net.backend import (
+    ErrorCode,
+    FocusKind,
+    JSONObject,
+    RequestError,
+    SwitchAction,
+    Target,
+)
+from moas_gui.net.identity import Action, enforce
+from moas_gui.rights import rotator_radios
 from moas_gui.status import ServerStatus
 
 T = TypeVar("T")
@@ -64,6 +73,18 @@ class ServerCore(Protocol):
     def set_focus(self, station: int, radio: int, kind: FocusKind) -> set[tuple[int, int]]:
         """The station's transmit (``"active"``) or receive (``"focus"``) focus is on
         ``radio``; raises the engine's not-found error for a radio that does not exist."""
+        ...
+
+    def stop_switches(self) -> None:
+        """Every relay off (File > Stop Switches)."""
+        ...
+
+    def start_switches(self) -> None:
+        """The switches run again (File > Start Switches)."""
+        ...
+
+    def reset_switches(self) -> None:
+        """Every switch reset and loaded again (File > Reset Switches)."""
         ...
 
 
@@ -117,6 +138,8 @@ class EngineBackend:
 
     def set_focus(self, station: int, radio: int, kind: FocusKind) -> None:
         self._engine()
+        _refused(lambda: enforce(Action(f"{kind} on radio {station}/{radio}",
+                                        frozenset({(station, radio)}))))
         _refused(lambda: self.core.set_focus(station, radio, kind))
 
     def select(self, station: int, radio: int, antenna: int, target: Target,
@@ -143,13 +166,25 @@ class EngineBackend:
             raise RequestError(ErrorCode.NOT_FOUND, "This station has no rotators")
         return manager
 
+    def _may_turn(self, rotator: int, what: str) -> None:
+        radios = rotator_radios(self._engine(), rotator)
+        _refused(lambda: enforce(Action(f"{what} rotator {rotator}", radios)))
+
     def rotate(self, rotator: int, heading: float) -> None:
         manager = self._rotators()
+        self._may_turn(rotator, "turning")
         _refused(lambda: manager.start_rotate(rotator, heading))
 
     def stop(self, rotator: int) -> None:
         manager = self._rotators()
+        self._may_turn(rotator, "stopping")
         _refused(lambda: manager.start_stop(rotator))
+
+    def switches(self, action: SwitchAction) -> None:
+        self._engine()
+        _refused(lambda: enforce(Action(f"{action} the switches", admin=True)))
+        {"stop": self.core.stop_switches, "start": self.core.start_switches,
+         "reset": self.core.reset_switches}[action]()
 
 
 class AgEngineBackend:

@@ -9,6 +9,7 @@
      |    +-- EngineError   (moas_gui.engine)         a request the rules refuse
      |    +-- RotatorError  (moas_gui.hw.rotators)    a rotate or stop that cannot be served
      |    +-- RequestError  (moas_gui.net.backend)    what the client server answers
+     |    +-- Forbidden     (moas_gui.net.identity)   what the asker's role may not do
      +-- ProtocolError                                a peer sent nonsense, or a codec
      |                                                cannot write a value
      +-- HardwareError                                a port vanished or cannot be opened
@@ -16,6 +17,8 @@
      +-- ClientError       (moas_gui.client)          what the client library raises
      +-- StateError        (moas_gui.state_store)     a saved state that cannot be used
      +-- SnapshotError     (moas_gui.engine.snapshot) a snapshot that does not fit the engine
+     +-- OperatorError     (moas_gui.operators)       an operator that cannot be added or found
+     +-- TLSError          (moas_gui.tls)         a certificate or key that cannot be used
 """
 
 from __future__ import annotations

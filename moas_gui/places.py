@@ -6,6 +6,9 @@
 state          ``$XDG_STATE_HOME/moas-gui``                ``~/Library/Application Support/       ``%LOCALAPPDATA%\\moas-gui\\state``
                (``~/.local/state/moas-gui``)               moas-gui``
 logs           ``$XDG_STATE_HOME/moas-gui/log``            ``~/Library/Logs/moas-gui``            ``%LOCALAPPDATA%\\moas-gui\\Logs``
+config         ``$XDG_CONFIG_HOME/moas-gui``                ``~/Library/Application Support/       ``%LOCALAPPDATA%\\moas-gui``
+(operators,    (``~/.config/moas-gui``)                    moas-gui``
+TLS)
 settings       ``$XDG_CONFIG_HOME/moas-gui/*.conf``        ``~/Library/Preferences/               the registry, ``HKCU\\Software\\
 (Qt's)                                                     com.moas-gui.*.plist``                 moas-gui``
 =============  ==========================================  =====================================  ==================================
@@ -64,6 +67,16 @@ def state_dir(platform: str = sys.platform) -> Path:
     return base / "state" if platform == "win32" and not _xdg_state_home() else base
 
 
+def config_dir(platform: str = sys.platform) -> Path:
+    """The per-user directory for what the server is told once and keeps: its operators
+    (:mod:`moas_gui.operators`) and its TLS certificate (:mod:`moas_gui.tls`).
+    ``$XDG_CONFIG_HOME``, when set to an absolute path, is used on every system (tests)."""
+    value = os.environ.get("XDG_CONFIG_HOME", "")
+    if value and os.path.isabs(value):
+        return Path(value) / APP
+    return Path(_dirs(platform).user_config_dir)
+
+
 def log_dir(platform: str = sys.platform) -> Path:
     """The per-user directory for the log files of programs without a console."""
     return Path(_dirs(platform).user_log_dir)
@@ -97,4 +110,4 @@ def output_without_console(program: str) -> Path | None:
     return path
 
 
-__all__ = ["APP", "log_dir", "log_file", "output_without_console", "state_dir"]
+__all__ = ["APP", "config_dir", "log_dir", "log_file", "output_without_console", "state_dir"]

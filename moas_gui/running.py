@@ -56,6 +56,8 @@ from moas_gui.state_store import SavedState, StateKeeper, switch_to_data
 if TYPE_CHECKING:  # the web server (aiohttp) is loaded only when a station asks for it
     from moas_gui.net.web import WebServer
 
+from moas_gui.operators import OperatorBook
+
 log = logging.getLogger(__name__)
 
 ROTCTLD_HOST = "127.0.0.1"
@@ -98,6 +100,13 @@ class ServerOptions:
     """Client connections served at once; None for the client server's default."""
     max_per_address: int | None = None
     """Connections one address may hold at once; None for the default."""
+    require_token: bool = False
+    """Clients from ``ClientAllow`` networks need an operator's token too."""
+    tls: bool = False
+    """Serve the client port and the web page over TLS (docs/security.md)."""
+    tls_cert: str | None = None
+    """With ``tls_key``: the certificate to serve; None: the kept self-signed one."""
+    tls_key: str | None = None
     start_rotator_program: bool | None = None
     """Overrides ``StartMOASRotator`` when not None."""
     use_rotator_program: bool = True
@@ -266,10 +275,25 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
     port = options.tcp_port if options.tcp_port is not None else run.config.tcp_port
     most = options.max_clients
     each = options.max_per_address
+    tls, seen = None, None
+    if options.tls:
+        from moas_gui.tls import TLSError, ensure_certificate, fingerprint, server_context
+
+        try:
+            certificate = ensure_certificate(options.tls_cert, options.tls_key)
+            tls = server_context(certificate)
+            seen = fingerprint(certificate)
+        except (TLSError, OSError) as exc:  # a certificate that cannot be used or made
+            log.error("Clients cannot connect: TLS was asked for, but %s", exc)
+            return
+        log.info("TLS certificate %s, SHA-256 fingerprint %s", certificate.cert, seen)
     clients = ClientServer(backend, host=options.bind, port=port,
                            allow=run.config.client_allow,
                            max_clients=DEFAULT_MAX_CLIENTS if most is None else most,
-                           per_address=DEFAULT_PER_ADDRESS if each is None else each)
+                           per_address=DEFAULT_PER_ADDRESS if each is None else each,
+                           require_token=options.require_token, operators=OperatorBook(),
+                           tls=tls)
+    clients.fingerprint = seen if tls is not None else None
     try:
         await clients.start()
     except HardwareError as exc:

@@ -29,6 +29,10 @@ How, without Qt (the headless server uses it too):
 - **A stale socket** (the last instance crashed and left its socket file) is
   recognised because its lock is free: :func:`claim` removes it and binds anew.
 
+A ``launch`` holding ``"command"`` (``moas-server --remove-operator``: ``{"command":
+"remove_operator", "name": ...}``) is no hand-over: the vetting callback does it, and
+the reply is ``{"ok": true, "done": "what it did"}``.
+
 The request is one line of JSON, ``{"open": "/absolute/path.moas", "launch":
 {...}}`` (``open`` null: just show the window; ``launch`` what the second
 command line asked for, which the running server may refuse: a headless
@@ -82,6 +86,8 @@ class HandOver:
     refusal: str | None = None
     running: bool = True
     """False when no instance runs at all."""
+    done: str | None = None
+    """What the running instance did for a command (``launch`` with ``"command"``)."""
 
 
 class InstanceError(MoasError, OSError):
@@ -218,6 +224,14 @@ class InstanceServer:
             launch: dict[str, object] = {}
             if error is None:
                 path, launch, error = self._read_request(line)
+            if error is None and "command" in launch and self._vet is not None:
+                # a command for the running server (moas-server --remove-operator): vet
+                # does it and says what it did; nothing is opened
+                done = self._vet(None, launch)
+                log.info("Another moas-server asked: %s", done)
+                writer.write(json.dumps({"ok": True, "done": done}).encode() + b"\n")
+                await writer.drain()
+                return
             if error is None and self._vet is not None:
                 error = self._vet(path, launch)
             if error is None:
@@ -424,6 +438,8 @@ def _ask(directory: Path, name: str, transport: Transport, request: dict[str, ob
                 raise ConnectionResetError("the running instance closed the connection")
             reply += chunk
     answer = json.loads(reply)
+    if answer.get("ok") and "done" in answer:
+        return HandOver(taken=True, done=str(answer["done"]))
     if not answer.get("ok"):
         log.info("The running moas-server refused %s: %s",
                  request["open"] or "a launch without a file", answer.get("error"))

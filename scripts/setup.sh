@@ -13,7 +13,7 @@ apt_pkgs="libegl1 libgl1 libfontconfig1 libxkbcommon0 libdbus-1-3 libglib2.0-0 f
 apt_pkgs="$apt_pkgs libxcb-cursor0 libxcb-icccm4 libxcb-keysyms1 libxcb-image0 libxcb-randr0"
 apt_pkgs="$apt_pkgs libxcb-render-util0 libxcb-shape0 libxcb-xkb1 libxkbcommon-x11-0"
 if [ "$want_test" = 1 ]; then
-    apt_pkgs="$apt_pkgs libhamlib-utils socat shared-mime-info xvfb xauth trayer chromium chromium-driver"
+    apt_pkgs="$apt_pkgs libhamlib-utils socat shared-mime-info xvfb xauth trayer chromium chromium-driver openssl"
 fi
 # as root, or with MOAS_SETUP_SUDO=1 through sudo (a CI runner: passwordless sudo)
 as_root=""

@@ -47,6 +47,15 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--source", action="append", default=[], metavar="KIND[:OPTIONS]",
                         help="a logger or rig to read: rigctld, flrig, otrsp, n1mm, dxlog, "
                              "wintest (see docs/sources.md); may be given more than once")
+    parser.add_argument("--tls", action="store_true",
+                        help="connect over TLS (a server started with moas-server --tls)")
+    parser.add_argument("--pin", metavar="SHA256",
+                        help="with --tls: the server certificate's fingerprint (moas-server "
+                             "--fingerprint prints it); kept for next time. Without it, the "
+                             "first certificate seen is trusted, shown, and kept")
+    parser.add_argument("--token", metavar="TOKEN",
+                        help="an operator's token (moas-server --add-operator); kept in the "
+                             "system keyring for this server, so it is given once")
     parser.add_argument("--quit-after", type=float, metavar="SECONDS",
                         help="close by itself after SECONDS (for tests)")
     parser.add_argument("-v", "--verbose", action="store_true", help="log to standard error")
@@ -80,9 +89,55 @@ def main(argv: list[str] | None = None) -> int:
             parser.error("--headless needs --station: the station this computer operates")
     logging.basicConfig(level=logging.INFO if args.verbose or args.headless else logging.WARNING,
                         stream=sys.stderr, format="%(asctime)s %(levelname)s %(message)s")
+    try:
+        security = connection_security(host, port, args)
+    except ValueError as exc:
+        parser.error(str(exc))
+    args.security = security
     if args.headless:
         return run_headless(host, port, args, specs)
     return run(host, port, args)
+
+
+def connection_security(host: str, port: int, args: argparse.Namespace) -> dict[str, object]:
+    """The token, TLS and pin a connection to ``host:port`` uses: from the command line,
+    else from what was kept for that server (:mod:`moas_gui.client.keys`)."""
+    from moas_gui.client.keys import ClientKeys
+
+    keys = ClientKeys()
+    server = f"{host}:{port}"
+    if args.token:
+        where = keys.set_token(server, args.token.strip())
+        print(f"moas-client: the token for {server} is kept in {where}", file=sys.stderr)
+    security: dict[str, object] = {"token": keys.token(server), "tls": bool(args.tls)}
+    if not args.tls:
+        if args.pin:
+            raise ValueError("--pin goes with --tls")
+        return security
+    from moas_gui.tls import TLSError, normalize_pin
+
+    if args.pin:
+        try:
+            pin = normalize_pin(args.pin)
+        except TLSError as exc:
+            raise ValueError(str(exc)) from None
+        keys.set_pin(server, pin)
+        security["pin"] = pin
+        return security
+    kept = keys.pin(server)
+    if kept is not None:
+        security["pin"] = kept
+        return security
+
+    def first_use(seen: str) -> bool:
+        print(f"moas-client: {server} shows the certificate fingerprint {seen}; trusted on "
+              "first use and kept (compare it with moas-server --fingerprint on the server)",
+              file=sys.stderr)
+        keys.set_pin(server, seen)
+        return True
+
+    security["trust"] = first_use
+    return security
 
 
 def run_headless(host: str, port: int, args: argparse.Namespace,
@@ -91,7 +146,7 @@ def run_headless(host: str, port: int, args: argparse.Namespace,
     from moas_gui.sources.headless import serve
 
     return run_until_stopped(serve(host, port, args.station, specs, name=args.name,
-                                   quit_after=args.quit_after))
+                                   quit_after=args.quit_after, security=args.security))
 
 
 def run(host: str, port: int, args: argparse.Namespace) -> int:
@@ -125,7 +180,7 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
     async def show() -> int:
         done = asyncio.Event()
         connection = ClientConnection(host, port, name=args.name, station=args.station,
-                                      radio=args.radio)
+                                      radio=args.radio, **args.security)
         window = ClientWindow(connection, station=args.station, radio=args.radio,
                               rows=args.rows, columns=args.columns)
         window.closed.connect(done.set)

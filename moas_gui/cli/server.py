@@ -44,6 +44,8 @@ class RunningServer(Protocol):
     @property
     def client_address(self) -> tuple[str, int] | None: ...
 
+    def end_operator(self, name: str) -> int: ...
+
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
@@ -132,6 +134,30 @@ def _parser() -> argparse.ArgumentParser:
                              "at most once in MS milliseconds; the latest lands at its end "
                              "(default 100; 0 sends every update at once); presses are never "
                              "delayed")
+    parser.add_argument("--require-token", action="store_true",
+                        help="clients from the allowed networks (ClientAllow) need an "
+                             "operator's token too (programs on this computer never do)")
+    parser.add_argument("--tls", action="store_true",
+                        help="serve the client port and the web page over TLS (a self-signed "
+                             "certificate kept in the configuration directory, unless "
+                             "--tls-cert and --tls-key give one); clients from outside the "
+                             "allowed networks are then admitted with a token")
+    parser.add_argument("--tls-cert", metavar="FILE", help="the TLS certificate (PEM)")
+    parser.add_argument("--tls-key", metavar="FILE", help="the TLS certificate's key (PEM)")
+    parser.add_argument("--fingerprint", action="store_true",
+                        help="print the SHA-256 fingerprint of the TLS certificate (made now "
+                             "if there is none) and exit")
+    parser.add_argument("--add-operator", metavar="NAME",
+                        help="add an operator, print its token (shown once) and exit")
+    parser.add_argument("--role", choices=("view", "operate", "admin"), default=None,
+                        help="with --add-operator: what it may do")
+    parser.add_argument("--radios", metavar="S/R,...",
+                        help="with --add-operator: the radios it may act on, e.g. 1/1,1/2 "
+                             "(default: all)")
+    parser.add_argument("--remove-operator", metavar="NAME",
+                        help="remove an operator (a running server ends its sessions) and exit")
+    parser.add_argument("--list-operators", action="store_true",
+                        help="list the operators and exit")
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     # no options: only the test hooks set these (main)
     parser.set_defaults(switch_timing=None, rotator_timing=None)
@@ -341,6 +367,8 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          sources=tuple(args.source or ()),
                          max_clients=args.max_clients,
                          max_per_address=args.max_per_address,
+                         require_token=args.require_token, tls=args.tls,
+                         tls_cert=args.tls_cert, tls_key=args.tls_key,
                          start_rotator_program=False if args.no_rotator_program else None,
                          use_rotator_program=not args.no_rotator_program,
                          switch_timing=args.switch_timing,
@@ -435,6 +463,8 @@ def _refuse_unusable(args: argparse.Namespace) -> int | None:
 
 def vet_launch(app: RunningServer, launch: dict[str, object], *, headless: bool) -> str | None:
     """Why the running server (``app``, headless or not) refuses a second launch, or None."""
+    if launch.get("command") == "remove_operator":
+        return _end_operator(app, launch.get("name"))
     if headless:
         status = app.status
         return (f"it runs {status.file or 'a configuration'} headless and takes no hand-over; "
@@ -458,6 +488,12 @@ def vet_launch(app: RunningServer, launch: dict[str, object], *, headless: bool)
             return (f"it runs with {flag} {shown}, this launch asked for {flag} {launch[key]}; "
                     "stop it first, or leave the option out to use the running server")
     return None
+
+
+def _end_operator(app: RunningServer, name: object) -> str:
+    """``--remove-operator`` told the running server: its sessions end; says how many."""
+    ended = app.end_operator(str(name))
+    return f"{ended} session{'s' if ended != 1 else ''} of operator {name} ended"
 
 
 async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | None) -> int:
@@ -590,6 +626,25 @@ def _install_service(args: argparse.Namespace, arguments: list[str]) -> int:
     return 0
 
 
+def _security_command(args: argparse.Namespace) -> int | None:
+    """The operator commands and ``--fingerprint``: their exit status, or None when the
+    command line asks for neither."""
+    if args.add_operator or args.remove_operator or args.list_operators:
+        from moas_gui.cli.operators import operators_command
+
+        return operators_command(args, INSTANCE_NAME)
+    if not args.fingerprint:
+        return None
+    from moas_gui.tls import TLSError, ensure_certificate, fingerprint
+
+    try:
+        print(fingerprint(ensure_certificate(args.tls_cert, args.tls_key)))
+    except (TLSError, OSError) as exc:
+        print(f"moas-server: {exc}", file=sys.stderr)
+        return 1
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     output_without_console("moas-server")  # started without a console: output to a log file
     args = _parser().parse_args(argv)
@@ -607,6 +662,9 @@ def main(argv: list[str] | None = None) -> int:
         for line in done:
             print(line)
         return 0
+    security = _security_command(args)
+    if security is not None:
+        return security
     if args.install_service:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
     if args.probe:

@@ -128,8 +128,23 @@ class ClientConnection:
         connect_timeout: float = 3.0,
         backoff: Backoff | None = None,
         keepalive: float = 30.0,
+        token: str | None = None,
+        tls: bool = False,
+        pin: str | None = None,
+        trust: Callable[[str], bool] | None = None,
     ) -> None:
         self.host = host
+        self.token = token
+        """An operator's token, said in ``hello`` (docs/security.md); never logged."""
+        self.tls = tls
+        """Connect over TLS; the server's certificate is judged by its fingerprint."""
+        self.pin = pin
+        """The SHA-256 fingerprint the server must show (``moas-client --pin``)."""
+        self.trust = trust
+        """Without a pin: asked with the fingerprint seen (trust on first use); True to go
+        on (the caller then keeps it as the pin).  None: any certificate is taken."""
+        self.fingerprint: str | None = None
+        """The fingerprint of the server's certificate on the last TLS connection."""
         self.port = port
         self.name = name
         self.station = station
@@ -232,13 +247,18 @@ class ClientConnection:
     async def _attempt(self) -> bool:
         """One connection, from connect to loss; True when ``hello`` was answered."""
         try:
-            reader, writer = await asyncio.wait_for(
-                asyncio.open_connection(self.host, self.port), self.connect_timeout)
+            reader, writer = await asyncio.wait_for(self._open(), self.connect_timeout)
         except TimeoutError:
             self._last_problem = f"no answer from {self.address} within {self.connect_timeout:g} s"
             return False
         except OSError as exc:
             self._last_problem = f"cannot connect to {self.address}: {_reason(exc)}"
+            return False
+        refusal = self._judge_certificate(writer)
+        if refusal is not None:
+            self._last_problem = refusal
+            log.warning("Not connecting to %s: %s", self.address, refusal)
+            writer.close()
             return False
         self._codec = ClientCodec()
         self._writer = writer
@@ -266,6 +286,36 @@ class ClientConnection:
             self._fail_pending(ConnectionLost(f"the connection to {self.address} was lost"))
         return greeted
 
+    async def _open(self) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
+        if not self.tls:
+            return await asyncio.open_connection(self.host, self.port)
+        from moas_gui.tls import client_context
+
+        return await asyncio.open_connection(self.host, self.port, ssl=client_context(),
+                                             server_hostname=self.host)
+
+    def _judge_certificate(self, writer: asyncio.StreamWriter) -> str | None:
+        """Why the server's TLS certificate is not to be trusted, or None."""
+        if not self.tls:
+            return None
+        from moas_gui.tls import TLSError, check_pin, peer_fingerprint
+
+        ssl_object = writer.get_extra_info("ssl_object")
+        try:
+            seen = peer_fingerprint(ssl_object)
+        except (TLSError, AttributeError, ValueError) as exc:
+            return f"{self.address} showed no usable certificate: {exc}"
+        self.fingerprint = seen
+        if self.pin is not None:
+            if not check_pin(seen, self.pin):
+                return (f"the server's certificate fingerprint is {seen}, not the pinned "
+                        f"{self.pin}: someone may be in between, or the server has a new "
+                        "certificate (moas-server --fingerprint on it tells)")
+            return None
+        if self.trust is not None and not self.trust(seen):
+            return f"the certificate of {self.address} (fingerprint {seen}) was not trusted"
+        return None
+
     async def _keep_alive(self, writer: asyncio.StreamWriter) -> None:
         """Sends a blank line whenever nothing was sent for ``keepalive`` seconds."""
         loop = asyncio.get_running_loop()
@@ -284,6 +334,8 @@ class ClientConnection:
             args["radio"] = self.radio
         if self.want_log:
             args["log"] = True
+        if self.token:
+            args["token"] = self.token
         try:
             self.server = await self.request("hello", args)
         except ClientError as exc:

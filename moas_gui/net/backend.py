@@ -36,6 +36,9 @@ JSONObject = dict[str, Any]
 
 Target = Literal["both", "tx", "rx"]
 LogLevel = Literal["error", "info", "debug"]
+SwitchAction = Literal["stop", "start", "reset"]
+"""The admin commands on the switches: ``stop_switches``, ``start_switches``,
+``reset_switches``."""
 FocusKind = Literal["active", "focus"]
 """Transmit focus (``active``) or receive focus (``focus``) of a station's radio."""
 
@@ -53,6 +56,9 @@ class ErrorCode(StrEnum):
     """It exists but cannot be used now (conflict, frequency, TX-only, not applicable)."""
     NOT_RUNNING = "not_running"
     """No configuration is loaded, or the switches are stopped."""
+    FORBIDDEN = "forbidden"
+    """The one asking may not do this: no operator's token where one is needed, or a
+    role that does not allow it (docs/security.md)."""
     INTERNAL = "internal"
     """The server failed; the log says why."""
 
@@ -123,6 +129,10 @@ class ClientBackend(Protocol):
         """Stops ``rotator`` where it is."""
         ...
 
+    def switches(self, action: SwitchAction) -> None:
+        """Stops (every relay off), starts or resets every switch (admin only)."""
+        ...
+
 
 class EventSink(Protocol):
     """What the application calls after a change; :class:`~moas_gui.net.server.ClientServer`
@@ -161,5 +171,6 @@ __all__ = [
     "JSONObject",
     "LogLevel",
     "RequestError",
+    "SwitchAction",
     "Target",
 ]

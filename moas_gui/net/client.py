@@ -48,8 +48,13 @@ class ProtocolClient:
         self._task = asyncio.create_task(self._read(), name="client protocol reader")
 
     @classmethod
-    async def connect(cls, host: str, port: int) -> ProtocolClient:
-        reader, writer = await asyncio.open_connection(host, port)
+    async def connect(cls, host: str, port: int, *, local_host: str | None = None,
+                      ssl: Any = None) -> ProtocolClient:
+        """``local_host``: the address to connect from (``127.0.0.2`` plays another
+        computer); ``ssl``: an :class:`ssl.SSLContext` for a server with TLS."""
+        reader, writer = await asyncio.open_connection(
+            host, port, local_addr=None if local_host is None else (local_host, 0), ssl=ssl,
+            server_hostname=None if ssl is None else host)
         return cls(reader, writer)
 
     # ---- sending --------------------------------------------------------------------

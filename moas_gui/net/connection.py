@@ -21,6 +21,7 @@ from moas_gui.edge.admission import Ticket
 
 from .backend import ErrorCode
 from .framing import request_framer
+from .identity import Identity, Party
 from .log_limit import held_text
 from .messages import MessageEncodeError, reply_error, reply_ok
 
@@ -113,6 +114,16 @@ class Connection:
         """Layouts this connection follows, with the last one it was sent."""
         self.closed = False
         self.close_reason: str | None = None
+        self.identity = Identity(Party.LAN, address)
+        """Who this connection is (:mod:`.identity`): set by the server when it is made,
+        changed by a hello with a token.  :attr:`Identity.is_operator` tells the admission
+        policy an authenticated operator holds it."""
+        self.identified: Callable[[Identity], None] | None = None
+        """Told the new identity when a hello's token makes this connection an operator
+        (the admission policy may move it to the operators' own capacity then)."""
+        self.authenticate: Callable[[str], Any] | None = None
+        """Turns a hello's token into an :class:`~moas_gui.operators.Operator` (None: a
+        wrong token); None here when this server has no operators."""
         self.chatter: Callable[[], int | None] | None = None
         """Asked before each Info line about this client (its hello, its leaving): None
         to stay quiet, else how many were left out -- all clients together have a share
@@ -133,6 +144,8 @@ class Connection:
         log.info(message, *args)
 
     def __str__(self) -> str:
+        if self.identity.is_operator:
+            return f'operator "{self.identity.name}" at {self.address}'
         if self.name is None:
             return f"client at {self.address}"
         return f'client "{self.name}" at {self.address}'

@@ -16,6 +16,7 @@ from typing import Any
 from .backend import ClientBackend, ErrorCode, RequestError
 from .connection import Connection, LayoutKey, clean_name
 from .framing import MAX_LINE, Line, LongLine
+from .identity import Party, as_operator, serving
 from .messages import event, hello_result
 from .requests import BadLine, InvalidRequest, Request, parse_line
 
@@ -47,8 +48,14 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> N
         log.debug("Refused a request from %s: %s", conn, parsed.message)
         conn.reply_error(parsed.id, parsed.code, parsed.message)
         return
+    if conn.identity.kind is Party.NOBODY and parsed.cmd != "hello":
+        log.debug("Refused %s from %s: no token yet", parsed.cmd, conn)
+        conn.reply_error(parsed.id, ErrorCode.FORBIDDEN, "this address needs an operator's "
+                         'token: say hello with "token" first')
+        return
     try:
-        HANDLERS[parsed.cmd](backend, conn, parsed)
+        with serving(conn.identity):
+            HANDLERS[parsed.cmd](backend, conn, parsed)
     except RequestError as e:
         log.debug("Refused %s from %s: %s", parsed.cmd, conn, e.message)
         conn.reply_error(parsed.id, e.code, e.message)
@@ -60,8 +67,29 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> N
         )
 
 
+def _identify(conn: Connection, token: str | None) -> str | None:
+    """Settles who a saying-hello connection is; the refusal's sentence, or None."""
+    if token is None:
+        if conn.identity.kind is Party.NOBODY:
+            return ("this address needs an operator's token (moas-server --add-operator "
+                    'makes one; give it as "token" in hello)')
+        return None
+    operator = conn.authenticate(token) if conn.authenticate is not None else None
+    if operator is None:
+        return "that token is not one of this station's operators (it may have been removed)"
+    conn.identity = as_operator(operator, conn.address)
+    if conn.identified is not None:
+        conn.identified(conn.identity)
+    return None
+
+
 def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
     args = request.args
+    refusal = _identify(conn, args["token"] or None)
+    if refusal is not None:  # not greeted: the hello deadline closes it unless it tries again
+        conn.note("Refused the hello of %s: %s", conn, refusal)
+        conn.reply_error(request.id, ErrorCode.FORBIDDEN, refusal)
+        return
     conn.name = clean_name(args["client"])
     conn.station, conn.radio = args["station"], args["radio"]
     conn.wants_log = args["log"]
@@ -70,6 +98,9 @@ def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
         serves = f" for station {conn.station}" + (
             f" radio {conn.radio}" if conn.radio is not None else ""
         )
+    operator = conn.identity.operator
+    if operator is not None:
+        serves += f' (operator "{operator.name}", role {operator.role.value})'
     conn.note('Client at %s is "%s"%s', conn.address, conn.name, serves)
     conn.reply(request.id, request.cmd, hello_result())
     conn.greeted = True
@@ -139,6 +170,11 @@ def _stop(backend: ClientBackend, conn: Connection, request: Request) -> None:
     conn.reply(request.id, request.cmd, {})
 
 
+def _switches(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    backend.switches(request.cmd.split("_", 1)[0])  # type: ignore[arg-type]
+    conn.reply(request.id, request.cmd, {})
+
+
 Handler = Callable[[ClientBackend, Connection, Request], Any]
 
 HANDLERS: dict[str, Handler] = {
@@ -153,6 +189,9 @@ HANDLERS: dict[str, Handler] = {
     "layout": _layout,
     "rotate": _rotate,
     "stop": _stop,
+    "stop_switches": _switches,
+    "start_switches": _switches,
+    "reset_switches": _switches,
 }
 
 

@@ -94,6 +94,8 @@ COMMANDS: dict[str, Command] = {
                 Arg("station", Kind.NUMBER_ID, False, doc="the station this client serves"),
                 Arg("radio", Kind.NUMBER_ID, False, doc="the radio this client serves"),
                 Arg("log", Kind.BOOL, False, False, doc="also send log events"),
+                Arg("token", Kind.TEXT, False, doc="an operator's token, where one is needed "
+                    "or to act as that operator (docs/security.md)"),
             ),
             '{"server": "moas-gui", "version": "X.Y.Z", "protocol": 1}',
             "introduces the client; a state event follows, then change events",
@@ -178,6 +180,12 @@ COMMANDS: dict[str, Command] = {
             "{}",
             "stops a rotator",
         ),
+        Command("stop_switches", (), "{}",
+                "stops every switch: all relays off (admin only)"),
+        Command("start_switches", (), "{}",
+                "starts the switches again after stop_switches (admin only)"),
+        Command("reset_switches", (), "{}",
+                "resets every switch and sets the antennas in use again (admin only)"),
     )
 }
 

@@ -41,11 +41,13 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import ssl
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
+from moas_gui.operators import OperatorBook
 
 from .access import allowed_networks, is_allowed
 from .admission import (
@@ -65,9 +67,11 @@ from .connection import (
     LineWriter,
     cut_slowest,
     format_peer,
+    host_of,
 )
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
+from .identity import LOCAL_ADDRESSES, anonymous, is_local
 from .log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
@@ -129,6 +133,9 @@ class ClientServer:
         before_hello: int = DEFAULT_BEFORE_HELLO,
         hello_deadline: float = HELLO_DEADLINE,
         keepalive: float = KEEPALIVE,
+        require_token: bool = False,
+        operators: OperatorBook | None = None,
+        tls: ssl.SSLContext | None = None,
     ) -> None:
         if max_clients < 1:
             raise ValueError(f"max_clients must be at least 1, not {max_clients}")
@@ -154,6 +161,20 @@ class ClientServer:
         admission policy (:mod:`moas_gui.edge.admission`)."""
         self.hello_deadline = hello_deadline
         self.keepalive = keepalive
+        self.require_token = require_token
+        """Clients from ``ClientAllow`` networks need an operator's token too."""
+        self.operators = operators
+        """The station's operators (None: no token is ever valid)."""
+        self.local_addresses: tuple[object, ...] = LOCAL_ADDRESSES
+        """The addresses that are this computer (never need a token); a test driving a
+        browser (which connects from ``127.0.0.1``) empties it to play a LAN peer."""
+        self.fingerprint: str | None = None
+        """The SHA-256 fingerprint of the certificate ``tls`` serves (set by who made it)."""
+        self.tls = tls
+        """Serve TLS with this context; then peers outside ``ClientAllow`` are admitted
+        (and must give a token)."""
+        self.trouble = LogLimiter()
+        """One log line a minute per kind of trouble from outside (the web server's too)."""
         self.chatter = LogLimiter(burst=CHATTER_BURST)
         """The Info lines about greeted clients, all addresses together."""
         self._unchecked = 0
@@ -183,7 +204,8 @@ class ClientServer:
             self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
             self._server = await Listener.open(lambda: _Gate(self), self.host, self.port,
-                                               what="clients", trouble=self.trouble)
+                                               what="clients", trouble=self.trouble,
+                                               ssl=self.tls)
         except OSError as e:
             raise HardwareError(
                 f"cannot accept clients on TCP port {self.port}: {e.strerror or e} "
@@ -191,7 +213,11 @@ class ClientServer:
             ) from e
         self.port = self._server.port
         where = self.host if self.host is not None else "every interface"
-        log.info("Accepting clients on TCP port %d (%s)", self.port, where)
+        log.info("Accepting clients on TCP port %d (%s)%s", self.port, where,
+                 " over TLS" if self.tls is not None else "")
+        if not self.require_token:
+            log.info("Clients from the allowed networks (ClientAllow) need no token: the LAN "
+                     "is kept open (moas-server --require-token closes it)")
         return self.port
 
     async def close(self) -> None:
@@ -223,8 +249,28 @@ class ClientServer:
         self._allowed = allowed_networks(allow)
 
     def allows(self, host: str) -> bool:
-        """Whether a peer at ``host`` is inside ``ClientAllow`` (other transports ask too)."""
-        return is_allowed(host, self._allowed)
+        """Whether a peer at ``host`` may connect: this computer, a ``ClientAllow``
+        network, or -- over TLS -- anywhere (then with a token).  Other transports ask too."""
+        return (self.tls is not None or is_local(host, self.local_addresses)
+                or is_allowed(host, self._allowed))
+
+    def identify(self, conn: Connection, host: str) -> None:
+        """Gives a new connection its identity before hello (:mod:`.identity`)."""
+        conn.identity = anonymous(host, conn.address, self._allowed, self.require_token,
+                                  self.local_addresses)
+        book = self.operators
+        if book is not None:
+            conn.authenticate = book.check
+
+    def end_operator(self, name: str) -> int:
+        """Closes every connection of the operator ``name`` (just removed); how many."""
+        ended = 0
+        for conn in tuple(self._connections):
+            operator = conn.identity.operator
+            if operator is not None and operator.name.lower() == name.lower():
+                conn.abort(f'operator "{operator.name}" was removed')
+                ended += 1
+        return ended
 
     def attach(self, writer: LineWriter, address: str,
                ticket: Ticket | None = None) -> Connection | None:
@@ -240,6 +286,7 @@ class ClientServer:
                           max_layouts=self.max_layouts, on_queued=self._queued)
         conn.chatter = self._chatter_of(address)
         self._take_ticket(conn, ticket)
+        self.identify(conn, host_of(address))
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         return conn
@@ -363,6 +410,14 @@ class ClientServer:
             conn.close(why)
 
         ticket.set_evict(evict)
+        # a token that names an operator moves the connection to the operators' own pool
+        conn.identified = lambda identity: None if not identity.is_operator \
+            else self._promote(conn, ticket)
+
+    def _promote(self, conn: Connection, ticket: Ticket) -> None:
+        if not ticket.operator():
+            log.warning("%s: the operators' own connections are all in use; %s stays with "
+                        "the others", conn.address, conn.identity.name)
 
     def _gate(self, transport: asyncio.Transport) -> Ticket | None:
         """Decides on a new connection before anything is made for it: its admission
@@ -370,8 +425,8 @@ class ClientServer:
         peer = transport.get_extra_info("peername")
         address = format_peer(peer)
         host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
-        if not is_allowed(host, self._allowed):
-            held = self.trouble.allow("not allowed")
+        if not self.allows(host):
+            held = self.trouble.allow("not allowed")  # one line a minute, all addresses
             if held is not None:
                 log.warning(
                     "Refused a client from %s: the address is not in the allowed networks "
@@ -436,6 +491,7 @@ class ClientServer:
         conn.chatter = self._chatter_of(address)
         gate = writer.transport.get_protocol()
         self._take_ticket(conn, gate.ticket if isinstance(gate, _Gate) else None)
+        self.identify(conn, host_of(address))
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         log.debug("Client connected from %s", address)

@@ -121,7 +121,8 @@ class WebServer:
             # the program's accept loop (which backs off when out of file handles)
             self._listener = await Listener.open(self._guarded(runner.server),
                                                  self.host or None, self.port,
-                                                 what="browsers", trouble=self.clients.trouble)
+                                                 what="browsers", trouble=self.clients.trouble,
+                                                 ssl=self.clients.tls)
         except OSError as e:
             await runner.cleanup()
             raise HardwareError(
@@ -132,7 +133,8 @@ class WebServer:
         self._quiet.install()
         self.port = self._listener.port
         where = self.host if self.host not in (None, "") else "every interface"
-        log.info("Serving the browser client on http://%s:%d/ (%s)",
+        log.info("Serving the browser client on %s://%s:%d/ (%s)",
+                 "https" if self.clients.tls is not None else "http",
                  _loopback(self.host), self.port, where)
         return self.port
 
@@ -174,7 +176,9 @@ class WebServer:
                 "(ClientAllow in the configuration decides)", format_peer(peer))
             raise web.HTTPForbidden(text="This address may not use the MOAS server "
                                          "(ClientAllow in its configuration decides).\n")
-        if not host_allowed(request.host, self._names):
+        # over TLS a rebound name cannot reach the page (the browser checks the certificate
+        # against the name it asked for); a station reached by its public name serves it
+        if self.clients.tls is None and not host_allowed(request.host, self._names):
             self.clients.trouble_line(
                 "browser host", logging.WARNING,
                 "Refused a browser request from %s for host %r: not a name of this computer",
@@ -195,7 +199,8 @@ class WebServer:
     async def _websocket(self, request: web.Request) -> web.StreamResponse:
         peer = request.transport.get_extra_info("peername") if request.transport else None
         address = format_peer(peer)
-        complaint = origin_complaint(request.headers.getall("Origin", []), request.host)
+        complaint = origin_complaint(request.headers.getall("Origin", []), request.host,
+                                     "https" if self.clients.tls is not None else "http")
         if complaint is not None:
             self.clients.trouble_line(("websocket origin", complaint.split(" ", 2)[1]),
                                       logging.WARNING, "Refused a WebSocket from %s: %s",

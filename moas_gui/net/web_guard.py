@@ -74,14 +74,16 @@ def host_allowed(host: str | None, names: frozenset[str]) -> bool:
         return name in names
 
 
-def _with_port(host: str) -> tuple[str, str]:
+def _with_port(host: str, scheme: str = "http") -> tuple[str, str]:
     name, port = split_host(host)
-    return name.rstrip("."), port or "80"
+    return name.rstrip("."), port or ("443" if scheme == "https" else "80")
 
 
-def origin_complaint(origins: str | Sequence[str] | None, host: str | None) -> str | None:
+def origin_complaint(origins: str | Sequence[str] | None, host: str | None,
+                     scheme: str = "http") -> str | None:
     """Why a WebSocket with these Origin headers (a request's every Origin header, or
-    the one) may not use this server, or ``None`` when it may."""
+    the one) may not use this server, or ``None`` when it may.  ``scheme``: what the
+    server serves, ``http`` or (with TLS) ``https``."""
     if origins is None:
         return None
     if not isinstance(origins, str):
@@ -96,10 +98,11 @@ def origin_complaint(origins: str | Sequence[str] | None, host: str | None) -> s
         parts = urlsplit(origin.strip())
     except ValueError:
         return f"its Origin {shown!r} is not an address"
-    if parts.scheme != "http" or not parts.netloc or parts.path or parts.query \
+    if parts.scheme != scheme or not parts.netloc or parts.path or parts.query \
             or parts.fragment or "@" in parts.netloc:
-        return f"its Origin {shown!r} is not a web page of this server (it serves http:// only)"
-    if host is None or _with_port(parts.netloc) != _with_port(host):
+        return (f"its Origin {shown!r} is not a web page of this server (it serves "
+                f"{scheme}:// only)")
+    if host is None or _with_port(parts.netloc, scheme) != _with_port(host, scheme):
         return (f"it comes from a page of another site ({shown}); only the page this server "
                 "serves may use it")
     return None

@@ -14,6 +14,7 @@ import asyncio
 import contextlib
 import logging
 from collections.abc import Sequence
+from typing import Any
 
 from moas_gui.aio import CleanStop
 from moas_gui.client.connection import ClientConnection
@@ -27,8 +28,11 @@ EXIT_NEVER_CONNECTED = 3
 
 
 async def serve(host: str, port: int, station: int, specs: Sequence[SourceSpec], *,
-                name: str, quit_after: float | None = None) -> int:
-    connection = ClientConnection(host, port, name=name, station=station)
+                name: str, quit_after: float | None = None,
+                security: dict[str, Any] | None = None) -> int:
+    """``security``: the connection's ``token``, ``tls``, ``pin``, ``trust``
+    (:class:`~moas_gui.client.connection.ClientConnection`)."""
+    connection = ClientConnection(host, port, name=name, station=station, **(security or {}))
     forwarder = Forwarder(connection)
     hub = SourceHub(forwarder, logging.getLogger("moas_gui.sources"))
     sources: list[Source] = []

@@ -30,7 +30,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from moas_gui.net.backend import ErrorCode, EventSink, FocusKind, JSONObject, RequestError, Target
+from moas_gui.net.backend import (
+    ErrorCode,
+    EventSink,
+    FocusKind,
+    JSONObject,
+    RequestError,
+    SwitchAction,
+    Target,
+)
+from moas_gui.net.identity import Action, Forbidden, enforce
 
 from .fake_station import DEMO_STATION, FakeAntenna, FakeLayout, FakeRelative, FakeStation
 
@@ -119,6 +128,7 @@ class FakeBackend:
 
     def frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:
         self.calls.append(("frequency", (station, radio, khz, tx_khz)))
+        _may(Action(f"tuning radio {station}/{radio}", frozenset({(station, radio)})))
         r = self._radio(station, radio, need_running=True)
         before = r.view()
         r.khz, r.tx_khz = khz, khz if tx_khz is None else tx_khz
@@ -130,6 +140,7 @@ class FakeBackend:
 
     def set_focus(self, station: int, radio: int, kind: FocusKind) -> None:
         self.calls.append(("set_focus", (station, radio, kind)))
+        _may(Action(f"{kind} on radio {station}/{radio}", frozenset({(station, radio)})))
         self._radio(station, radio)
         changed = []
         for r in self._radios.values():
@@ -144,6 +155,8 @@ class FakeBackend:
         self, station: int, radio: int, antenna: int, target: Target, exclusive: bool
     ) -> JSONObject:
         self.calls.append(("select", (station, radio, antenna, target, exclusive)))
+        _may(Action(f"selecting antennas of radio {station}/{radio}",
+                    frozenset({(station, radio)})))
         r = self._radio(station, radio, need_running=True)
         a = self._antenna(antenna)
         for role in ("tx", "rx") if target == "both" else (target,):
@@ -158,6 +171,8 @@ class FakeBackend:
 
     def function(self, station: int, radio: int, function: int) -> None:
         self.calls.append(("function", (station, radio, function)))
+        _may(Action(f"function {function} for radio {station}/{radio}",
+                    frozenset({(station, radio)})))
         r = self._radio(station, radio, need_running=True)
         f = self._functions.get(function)
         if f is None:
@@ -169,6 +184,8 @@ class FakeBackend:
         self, station: int, radio: int, step: int | None, index: int | None
     ) -> JSONObject:
         self.calls.append(("relative", (station, radio, step, index)))
+        _may(Action(f"selecting antennas of radio {station}/{radio}",
+                    frozenset({(station, radio)})))
         r = self._radio(station, radio, need_running=True)
         ids = self._relative_list(r).ids
         if index is not None:
@@ -216,6 +233,7 @@ class FakeBackend:
 
     def rotate(self, rotator: int, heading: float) -> None:
         self.calls.append(("rotate", (rotator, heading)))
+        _may(Action(f"turning rotator {rotator}"))
         rot = self._rotator(rotator)
         if not rot.online:
             raise _err(ErrorCode.UNAVAILABLE, f"rotator {rot.id} ({rot.short}) is offline")
@@ -224,10 +242,19 @@ class FakeBackend:
 
     def stop(self, rotator: int) -> None:
         self.calls.append(("stop", (rotator,)))
+        _may(Action(f"stopping rotator {rotator}"))
         rot = self._rotator(rotator)
         if rot.moving or rot.target is not None:
             rot.target, rot.moving = None, False
             self._tell_rotator(rot)
+
+    def switches(self, action: SwitchAction) -> None:
+        self.calls.append(("switches", (action,)))
+        _may(Action(f"{action} the switches", admin=True))
+        if action == "stop":
+            self.stop_switches()
+        elif action == "start":
+            self.start_switches()
 
     # ---- test hooks -----------------------------------------------------------------
 
@@ -406,6 +433,14 @@ class FakeBackend:
     def _tell_rotator(self, rot: _Rotator) -> None:
         if self.sink is not None:
             self.sink.publish_rotator(rot.view())
+
+
+def _may(action: Action) -> None:
+    """The role check, as the real server's one door makes it (a refusal is ``forbidden``)."""
+    try:
+        enforce(action)
+    except Forbidden as exc:
+        raise RequestError(ErrorCode.FORBIDDEN, exc.message) from None
 
 
 __all__ = ["FakeBackend"]

@@ -92,6 +92,9 @@ class ServerAppLike(Protocol):
     @property
     def client_address(self) -> tuple[str, int] | None: ...
 
+    @property
+    def client_fingerprint(self) -> str | None: ...
+
 
 def loopback_for(host: str) -> str:
     """The address a client on the same computer uses for a server bound to ``host``."""
@@ -108,7 +111,9 @@ def open_builtin_client(server_app: ServerAppLike) -> ClientWindow:
     if address is None:
         raise ValueError("the server is not accepting clients: no configuration is open")
     host, port = address
-    connection = ClientConnection(loopback_for(host), port, name="built-in client")
+    pin = server_app.client_fingerprint  # over TLS: the server's own certificate, pinned
+    connection = ClientConnection(loopback_for(host), port, name="built-in client",
+                                  tls=pin is not None, pin=pin)
     window = ClientWindow(connection)
     window.start()
     window.show()

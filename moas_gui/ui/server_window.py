@@ -33,12 +33,14 @@ from .qt import (
     QEvent,
     QFileDialog,
     QIcon,
+    QLabel,
     QMainWindow,
     QMenu,
     QMessageBox,
     QProcess,
     QSettings,
     QSystemTrayIcon,
+    Qt,
     QUrl,
     QWidget,
 )
@@ -106,6 +108,10 @@ class ServerWindow(QMainWindow):
         self._build_tray()
         self._summary = "No configuration open"
         self.statusBar().showMessage(self._summary)
+        self.security_label = QLabel(self)
+        """Who may connect: an open LAN, TLS and its fingerprint (ServerApp.security)."""
+        self.statusBar().addPermanentWidget(self.security_label)
+        self.pair_dialog: Any = None
         show_bar = self.settings.value("view/statusBar", True, type=bool)
         self.statusBar().setVisible(bool(show_bar))
         self.action_status_bar.setChecked(bool(show_bar))
@@ -148,6 +154,7 @@ class ServerWindow(QMainWindow):
         view.addSeparator()
         self.action_client = view.addAction("&Client", self.open_client)
         self.action_plan = view.addAction("Station &Plan", self.open_plan)
+        self.action_pair = view.addAction("Pair a &Device...", self.pair_device)
         self.emulator_menu = view.addMenu("E&mulator")
 
         help_menu = bar.addMenu("&Help")
@@ -184,6 +191,9 @@ class ServerWindow(QMainWindow):
         self._summary = status.summary
         self.statusBar().showMessage(status.summary)
         self.tray.setToolTip(f"MOAS Server: {status.summary}")
+        security = self.app.security
+        self.security_label.setText(security[0] if security is not None else "")
+        self.security_label.setToolTip(security[1] if security is not None else "")
         title = "MOAS Server" if status.file is None else f"{status.file} - MOAS Server"
         self.setWindowTitle(title)
         self._refresh_actions()
@@ -396,6 +406,17 @@ class ServerWindow(QMainWindow):
         from .client_window import open_builtin_client
 
         self.client_windows.append(open_builtin_client(self.app))
+
+    def pair_device(self) -> None:
+        """View > Pair a device: a new operator's token as a QR code (opened with open(),
+        never exec(): the loop keeps running)."""
+        from .pair_dialog import PairDialog
+
+        if self.pair_dialog is not None:
+            self.pair_dialog.close()
+        self.pair_dialog = PairDialog(self, self.app.web_address)
+        self.pair_dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose, False)
+        self.pair_dialog.open()
 
     def open_plan(self) -> None:
         """View > Station plan: the plan of the open configuration (the switches are not

@@ -18,7 +18,16 @@ PUBLIC = {
     ],
     "moas_gui.net.backend": [
         "ClientBackend", "ErrorCode", "EventSink", "JSONObject", "LogLevel", "RequestError",
-        "Target",
+        "SwitchAction", "Target",
+    ],
+    "moas_gui.net.identity": [
+        "LOCAL_ADDRESSES", "Action", "Forbidden", "Identity", "RadioRef", "Party", "anonymous", "as_operator",
+        "check", "current", "enforce", "is_local", "serving", "token_needed",
+    ],
+    "moas_gui.tls": [
+        "CERT_NAME", "KEY_NAME", "Certificate", "TLSError", "check_pin", "client_context",
+        "default_paths", "ensure_certificate", "fingerprint", "format_fingerprint",
+        "make_self_signed", "normalize_pin", "peer_fingerprint", "server_context",
     ],
     "moas_gui.net.server": [
         "DEFAULT_MAX_CLIENTS", "DEFAULT_MAX_PENDING_TOTAL", "DEFAULT_PORT", "LOG_LEVELS",

@@ -54,6 +54,9 @@ GOOD: dict[str, dict[str, Any]] = {
     "layout": {"station": 1, "radio": 1, "rows": 4, "columns": 3},
     "rotate": {"rotator": 2, "heading": 271.5},
     "stop": {"rotator": 2},
+    "stop_switches": {},
+    "start_switches": {},
+    "reset_switches": {},
 }
 
 

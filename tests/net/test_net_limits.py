@@ -60,20 +60,22 @@ async def test_connections_over_the_limit_are_told_why_and_logged_once(
 async def test_a_refused_address_writes_one_warning_a_minute_with_a_count(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
-    rig = await make_rig(allow=["10.0.0.0/8"])
+    rig = await make_rig(allow=["10.0.0.0/8"])  # 127.0.0.2 plays a computer outside it
     now = [0.0]
     rig.server.trouble = LogLimiter(60.0, clock=lambda: now[0])
     try:
         for _ in range(50):
-            reader, writer = await asyncio.open_connection(HOST, rig.server.port)
+            reader, writer = await asyncio.open_connection(HOST, rig.server.port,
+                                                         local_addr=("127.0.0.2", 0))
             await read_all(reader)
             writer.close()
-        assert len(warnings(caplog, "Refused a client from 127.0.0.1")) == 1
+        assert len(warnings(caplog, "Refused a client from 127.0.0.2")) == 1
         now[0] += 61.0
-        reader, writer = await asyncio.open_connection(HOST, rig.server.port)
+        reader, writer = await asyncio.open_connection(HOST, rig.server.port,
+                                                         local_addr=("127.0.0.2", 0))
         await read_all(reader)
         writer.close()
-        lines = warnings(caplog, "Refused a client from 127.0.0.1")
+        lines = warnings(caplog, "Refused a client from 127.0.0.2")
         assert len(lines) == 2 and "(49 more refused that were not allowed" in lines[1]
     finally:
         await dispose(rig)

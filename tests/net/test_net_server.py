@@ -559,8 +559,10 @@ async def test_closing_the_server_disconnects_every_client(
 
 
 async def refused_at_once(port: int) -> bool:
-    """Whether the server closes a new connection without a word, even after a request."""
-    reader, writer = await asyncio.open_connection(HOST, port)
+    """Whether the server closes a new connection without a word, even after a request.
+    From 127.0.0.2, another host as far as the server can tell: ``127.0.0.1`` (this
+    computer's programs) is never refused by address."""
+    reader, writer = await asyncio.open_connection(HOST, port, local_addr=("127.0.0.2", 0))
     writer.write(b'{"id": 1, "cmd": "state"}\n')
     try:
         data = await asyncio.wait_for(reader.read(), 5)
@@ -581,7 +583,7 @@ async def test_a_client_outside_the_allow_list_is_refused_at_once(
         assert rig.server.client_count == 0
         assert rig.backend.calls == []
         refused = [r for r in caplog.records if r.levelno == logging.WARNING]
-        assert refused and refused[0].getMessage().startswith("Refused a client from 127.0.0.1:")
+        assert refused and refused[0].getMessage().startswith("Refused a client from 127.0.0.2:")
     finally:
         await dispose(rig)
 

@@ -16,7 +16,8 @@ ROOT = Path(__file__).resolve().parents[2]
 STRICT = ["moas_gui/app.py", "moas_gui/running.py", "moas_gui/source_intake.py",
           "moas_gui/engine_backend.py", "moas_gui/net", "moas_gui/engine", "moas_gui/config",
           "moas_gui/errors.py", "moas_gui/cli", "moas_gui/sources", "moas_gui/hw",
-          "moas_gui/line_framer.py", "moas_gui/testing"]
+          "moas_gui/line_framer.py", "moas_gui/testing", "moas_gui/operators.py",
+          "moas_gui/rights.py", "moas_gui/tls.py"]
 CORE = ["moas_gui/app.py", "moas_gui/running.py", "moas_gui/source_intake.py",
         "moas_gui/engine_backend.py"]
 

@@ -18,11 +18,14 @@ from moas_gui.hw.rotators.base import RotatorError
 from moas_gui.hw.rotators.controllers.base import ControllerError, OutOfRange, UnknownModel
 from moas_gui.net.backend import ErrorCode, RequestError
 from moas_gui.net.client import ConnectionClosed
+from moas_gui.net.identity import Forbidden
 from moas_gui.net.messages import MessageEncodeError
+from moas_gui.operators import OperatorError
 from moas_gui.rotator_program.serial_link import PortError as RotatorPortError
 from moas_gui.single_instance import InstanceError
 from moas_gui.sources.n1mm_packet import N1MMPacketError
 from moas_gui.state_store import StateError
+from moas_gui.tls import TLSError
 
 BRANCHES = {
     ConfigError: MoasError,
@@ -52,6 +55,9 @@ BRANCHES = {
     N1MMPacketError: ProtocolError,
     InstanceError: MoasError,
     ConnectionClosed: MoasError,
+    Forbidden: RequestRefused,
+    OperatorError: MoasError,
+    TLSError: MoasError,
 }
 
 

@@ -329,6 +329,7 @@ def test_open_builtin_client_connects_over_loopback(qapp: QApplication) -> None:
     class ServerAppStandIn:
         def __init__(self, port: int) -> None:
             self.client_address = ("0.0.0.0", port)
+            self.client_fingerprint = None  # no TLS
 
     async def scenario() -> None:
         async with LiveServer() as live:

@@ -24,6 +24,37 @@
       { station: choice.station, radioA: choice.radios[0], radioB: choice.radios[1] }));
   }
 
+  // an operator's token: from a pairing QR code's fragment (#token=...), kept in this
+  // browser, sent in hello; never in the address bar after it is read
+  const TOKEN_KEY = "moas-token";
+  function tokenFromFragment() {
+    const fragment = new URLSearchParams(location.hash.slice(1));
+    if (!fragment.get("token")) return false;
+    localStorage.setItem(TOKEN_KEY, fragment.get("token"));
+    history.replaceState(null, "", location.pathname + location.search);
+    return true;
+  }
+  tokenFromFragment();
+  window.addEventListener("hashchange", () => {  // a pairing link opened on this page
+    if (tokenFromFragment()) { $("#signin").hidden = true; if (ws) ws.close(); else connect(); }
+  });
+  function askToken(why) {
+    const box = $("#signin");
+    $(".why", box).textContent = why;
+    box.hidden = false;
+    $("#token").focus();
+  }
+  function takeToken() {
+    const text = $("#token").value.trim();
+    if (!text) return;
+    localStorage.setItem(TOKEN_KEY, text);
+    $("#token").value = "";
+    $("#signin").hidden = true;
+    if (ws) ws.close(); else connect();
+  }
+  $("#token-go").addEventListener("click", takeToken);
+  $("#token").addEventListener("keydown", e => { if (e.key === "Enter") takeToken(); });
+
   let ws = null, connected = false, snapshot = null, nextId = 1, retry = 500, lastHeard = 0, lastSent = 0;
   let firstState = true;
   const pending = new Map();
@@ -39,7 +70,15 @@
       const hello = { cmd: "hello", client: "browser " + shortAgent() };
       if (choice.station != null) hello.station = choice.station;
       if (choice.radios[0] != null) hello.radio = choice.radios[0];
-      request(hello).catch(e => showLink(false, e.message));
+      const token = localStorage.getItem(TOKEN_KEY);
+      if (token) hello.token = token;
+      request(hello).catch(e => {
+        showLink(false, e.message);
+        if (e.code === "forbidden") {
+          if (token) localStorage.removeItem(TOKEN_KEY);
+          askToken(e.message);
+        }
+      });
     };
     socket.onmessage = (e) => {
       lastHeard = Date.now();
@@ -51,7 +90,11 @@
         pending.delete(msg.id);
         clearTimeout(p.timer);
         if (msg.ok) p.resolve(msg.result);
-        else p.reject(new Error(msg.error ? msg.error.message : "refused"));
+        else {
+          const error = new Error(msg.error ? msg.error.message : "refused");
+          error.code = msg.error ? msg.error.code : null;
+          p.reject(error);
+        }
       }
     };
     socket.onclose = () => {
@@ -61,6 +104,7 @@
       for (const p of pending.values()) { clearTimeout(p.timer); p.reject(new Error("not connected")); }
       pending.clear();
       showLink(false);
+      if (!$("#signin").hidden) return;  // no token yet: wait for one
       setTimeout(connect, retry + Math.random() * 250);
       retry = Math.min(retry * 2, 4000);
     };

@@ -1,0 +1,220 @@
+"""The station's operators: who may act over the network, with which role and radios.
+
+An operator is a name, a :class:`Role` and, optionally, the radios it may act on
+(none given: every radio).  Each has one token, made by :func:`OperatorBook.add`,
+shown once and never stored: the book keeps a salted scrypt hash of it, in
+``operators.json`` in the configuration directory (:func:`moas_gui.places.config_dir`),
+written atomically and readable by the user alone.
+
+A token reads ``moas1.<id>.<secret>``: the id (8 hex digits, not secret) finds the
+one operator whose hash is checked, so a hello costs one hash however many operators
+there are; the secret is 32 random bytes (URL-safe base64), so a guess is hopeless
+and a fast hash would do -- scrypt is used anyway, with small parameters.  The check
+compares in constant time.  Nothing here logs a token.
+
+Roles (what :mod:`moas_gui.net.identity` enforces):
+
+* ``view`` sees everything and changes nothing;
+* ``operate`` selects, steps and tunes its radios, sets their transmit and receive
+  focus, runs functions whose radios are all its own, and turns the rotators of the
+  antennas its radios use;
+* ``admin`` may also stop, start and reset the switches, and act on any radio.
+"""
+
+from __future__ import annotations
+
+import base64
+import hashlib
+import hmac
+import json
+import os
+import re
+import secrets
+import sys
+from dataclasses import dataclass
+from enum import StrEnum
+from pathlib import Path
+from typing import Any, Final
+
+from moas_gui.errors import MoasError
+from moas_gui.files import write_atomic
+from moas_gui.places import config_dir
+
+FILE_NAME: Final = "operators.json"
+TOKEN_PREFIX: Final = "moas1"
+_SCRYPT = {"n": 1 << 12, "r": 8, "p": 1, "dklen": 32}
+"""Cheap enough for every hello (a few ms), ample for 256-bit random secrets."""
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9 ._@-]{0,39}$")
+MAX_OPERATORS: Final = 1000
+
+RadioRef = tuple[int, int]
+
+
+class Role(StrEnum):
+    VIEW = "view"
+    OPERATE = "operate"
+    ADMIN = "admin"
+
+
+class OperatorError(MoasError, ValueError):
+    """A request about operators that cannot be done; the message says why."""
+
+
+@dataclass(frozen=True, slots=True)
+class Operator:
+    """One operator as the book holds it (no token, only its hash)."""
+
+    name: str
+    role: Role
+    radios: frozenset[RadioRef] | None = None
+    """The radios it may act on; None: every radio."""
+    key: str = ""
+    """The token's public id."""
+    salt: str = ""
+    digest: str = ""
+
+    def radios_text(self) -> str:
+        if self.radios is None:
+            return "all radios"
+        return ",".join(f"{s}/{r}" for s, r in sorted(self.radios))
+
+    def to_json(self) -> dict[str, Any]:
+        return {"name": self.name, "role": self.role.value,
+                "radios": None if self.radios is None else sorted(list(r) for r in self.radios),
+                "key": self.key, "salt": self.salt, "hash": self.digest}
+
+
+def parse_radios(text: str) -> frozenset[RadioRef]:
+    """``"1/1,1/2"`` to radios; :class:`OperatorError` naming the part that is not one."""
+    radios: set[RadioRef] = set()
+    for part in text.split(","):
+        part = part.strip()
+        match = re.fullmatch(r"(\d{1,9})/(\d{1,9})", part)
+        if match is None:
+            raise OperatorError(f"{part!r} is not a radio: write STATION/RADIO, as in 1/2")
+        radios.add((int(match[1]), int(match[2])))
+    return frozenset(radios)
+
+
+def check_name(name: str) -> str:
+    if not _NAME.match(name):
+        raise OperatorError(
+            f"{name!r} is not an operator name: 1 to 40 letters, digits, spaces or . _ @ -, "
+            "starting with a letter or digit")
+    return name
+
+
+def _hash(secret: str, salt: bytes) -> bytes:
+    return hashlib.scrypt(secret.encode("utf-8"), salt=salt, **_SCRYPT)
+
+
+def split_token(token: str) -> tuple[str, str] | None:
+    """``(id, secret)`` of a token in the book's form, or None."""
+    parts = token.strip().split(".")
+    if len(parts) != 3 or parts[0] != TOKEN_PREFIX or not re.fullmatch(r"[0-9a-f]{8}", parts[1]):
+        return None
+    if not 20 <= len(parts[2]) <= 100:
+        return None
+    return parts[1], parts[2]
+
+
+def _from_json(item: Any) -> Operator:
+    if not isinstance(item, dict):
+        raise OperatorError("an entry is not an object")
+    radios = item.get("radios")
+    return Operator(
+        check_name(str(item["name"])), Role(item["role"]),
+        None if radios is None else frozenset((int(s), int(r)) for s, r in radios),
+        str(item["key"]), str(item["salt"]), str(item["hash"]))
+
+
+class OperatorBook:
+    """The operators file: read at each change and each check, so that a second
+    process (``moas-server --add-operator`` beside a running server) is seen at once."""
+
+    def __init__(self, path: Path | None = None) -> None:
+        self.path = path if path is not None else config_dir() / FILE_NAME
+
+    def operators(self) -> tuple[Operator, ...]:
+        """Every operator, in the file's order; none when there is no file.  A file that
+        cannot be read raises :class:`OperatorError` saying where and why."""
+        try:
+            data = self.path.read_bytes()
+        except FileNotFoundError:
+            return ()
+        except OSError as exc:
+            raise OperatorError(f"cannot read {self.path}: {exc.strerror or exc}") from None
+        try:
+            entries = json.loads(data)["operators"]
+            return tuple(_from_json(item) for item in entries)
+        except (ValueError, KeyError, TypeError) as exc:
+            raise OperatorError(f"{self.path} is not an operators file: {exc}") from None
+
+    def _write(self, operators: tuple[Operator, ...]) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        text = json.dumps({"operators": [op.to_json() for op in operators]}, indent=1)
+        if not self.path.exists():  # the first one: made private before anything is in it
+            fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            os.close(fd)
+        write_atomic(self.path, text.encode("utf-8"))
+        if sys.platform != "win32":
+            os.chmod(self.path, 0o600)
+
+    def add(self, name: str, role: Role, radios: frozenset[RadioRef] | None = None
+            ) -> tuple[Operator, str]:
+        """A new operator and its token (to be shown once; only its hash is kept)."""
+        check_name(name)
+        existing = self.operators()
+        if any(op.name.lower() == name.lower() for op in existing):
+            raise OperatorError(f"there is already an operator {name!r} "
+                                "(remove it first to give it a new token)")
+        if len(existing) >= MAX_OPERATORS:
+            raise OperatorError(f"the station already has {MAX_OPERATORS} operators")
+        keys = {op.key for op in existing}
+        key = secrets.token_hex(4)
+        while key in keys:
+            key = secrets.token_hex(4)
+        secret = base64.urlsafe_b64encode(secrets.token_bytes(32)).decode().rstrip("=")
+        salt = secrets.token_bytes(16)
+        operator = Operator(name, role, radios, key, salt.hex(), _hash(secret, salt).hex())
+        self._write((*existing, operator))
+        return operator, f"{TOKEN_PREFIX}.{key}.{secret}"
+
+    def remove(self, name: str) -> Operator:
+        existing = self.operators()
+        for op in existing:
+            if op.name.lower() == name.lower():
+                self._write(tuple(o for o in existing if o is not op))
+                return op
+        raise OperatorError(f"there is no operator {name!r}")
+
+    def find(self, name: str) -> Operator | None:
+        return next((op for op in self.operators() if op.name.lower() == name.lower()), None)
+
+    def check(self, token: str) -> Operator | None:
+        """The operator whose token this is, or None (a wrong or malformed token)."""
+        parts = split_token(token)
+        if parts is None:
+            return None
+        key, secret = parts
+        try:
+            candidates = [op for op in self.operators() if op.key == key]
+        except OperatorError:
+            return None
+        for op in candidates:
+            if hmac.compare_digest(_hash(secret, bytes.fromhex(op.salt)).hex(), op.digest):
+                return op
+        return None
+
+
+__all__ = [
+    "FILE_NAME",
+    "MAX_OPERATORS",
+    "Operator",
+    "OperatorBook",
+    "OperatorError",
+    "Role",
+    "check_name",
+    "parse_radios",
+    "split_token",
+]

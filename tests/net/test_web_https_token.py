@@ -1,0 +1,121 @@
+"""The browser page over HTTPS with the server's self-signed certificate, where a token is
+needed: Debian's Chromium (accepting that certificate) asks for the token once, keeps it,
+and takes one from a pairing link's fragment.  The page connects from 127.0.0.1, so the
+test makes that address count as the LAN (``ClientServer.local_addresses``)."""
+
+from __future__ import annotations
+
+import asyncio
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+from web_station import CHROMEDRIVER, CHROMIUM, browser_missing
+
+from moas_gui.net.server import ClientServer
+from moas_gui.net.web import WebServer
+from moas_gui.operators import OperatorBook, Role
+from moas_gui.testing.fake_backend import FakeBackend
+from moas_gui.tls import Certificate, make_self_signed, server_context
+
+MISSING = browser_missing()
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform == "win32", reason="Debian's Chromium"),
+    pytest.mark.skipif(MISSING is not None, reason=f"no browser to test with: {MISSING}"),
+]
+
+def insecure_chrome(profile: Path) -> Any:
+    """Chromium that accepts a self-signed certificate (what a user does by clicking
+    through the warning once, or by trusting the fingerprint)."""
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    options.accept_insecure_certs = True
+    for argument in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                     "--no-first-run", "--disable-extensions", f"--user-data-dir={profile}",
+                     "--window-size=1024,600"):
+        options.add_argument(argument)
+    return webdriver.Chrome(options=options, service=Service(CHROMEDRIVER))
+
+
+async def js(driver: Any, script: str) -> Any:
+    return await asyncio.to_thread(driver.execute_script, script)
+
+
+async def page_until(driver: Any, script: str, what: str, timeout: float = 15.0) -> Any:
+    loop = asyncio.get_running_loop()
+    end = loop.time() + timeout
+    while True:
+        value = await js(driver, script)
+        if value:
+            return value
+        if loop.time() > end:
+            raise AssertionError(f"the page did not show {what} in {timeout:g} s")
+        await asyncio.sleep(0.05)
+
+
+async def type_token(driver: Any, token: str) -> None:
+    from selenium.webdriver.common.by import By
+
+    def do() -> None:
+        field = driver.find_element(By.ID, "token")
+        field.clear()
+        field.send_keys(token)
+        driver.find_element(By.ID, "token-go").click()
+    await asyncio.to_thread(do)
+
+
+CONNECTED = "return document.querySelector('#link').classList.contains('up')"
+ASKING = "return !document.querySelector('#signin').hidden"
+
+
+@pytest.mark.asyncio
+async def test_the_page_over_https_asks_for_a_token_once_and_keeps_it(tmp_path: Path) -> None:
+    where = Certificate(tmp_path / "cert.pem", tmp_path / "key.pem")
+    make_self_signed(where, "localhost")
+    book = OperatorBook(tmp_path / "operators.json")
+    _op, token = book.add("tablet", Role.OPERATE)
+    _op2, paired = book.add("phone", Role.VIEW)
+    backend = FakeBackend()
+    clients = ClientServer(backend, host="127.0.0.1", port=0, require_token=True,
+                           operators=book, tls=server_context(where))
+    clients.local_addresses = ()  # the browser's 127.0.0.1 plays a computer on the LAN
+    backend.attach(clients)
+    await clients.start()
+    web = WebServer(clients, host="127.0.0.1", port=0)
+    await web.start()
+    url = f"https://127.0.0.1:{web.port}/"
+    driver = await asyncio.to_thread(insecure_chrome, tmp_path / "profile")
+    try:
+        await asyncio.to_thread(driver.get, url)
+        await page_until(driver, ASKING, "the token prompt")
+        assert "token" in await js(driver, "return document.querySelector('#signin .why')"
+                                           ".textContent")
+        await asyncio.to_thread(driver.save_screenshot, str(tmp_path / "web-token.png"))
+        assert (tmp_path / "web-token.png").stat().st_size > 0
+        await type_token(driver, token[:-3] + "xyz")  # a wrong one: asked again
+        await page_until(driver, ASKING + " && document.querySelector('#signin .why')"
+                         ".textContent.includes('not one of')", "the refusal")
+        await type_token(driver, token)
+        await page_until(driver, CONNECTED, "a connection")
+        assert await js(driver, "return localStorage.getItem('moas-token')") == token
+        names = {c.name for c in clients.clients()}
+        assert any(n and n.startswith("browser") for n in names)
+        await asyncio.to_thread(driver.refresh)  # kept: not asked again
+        await page_until(driver, CONNECTED, "a connection after a reload")
+        assert await js(driver, ASKING) is False
+        await js(driver, "localStorage.clear()")
+        await asyncio.to_thread(driver.get, url + "#token=" + paired)  # a pairing QR code
+        await page_until(driver, CONNECTED, "a paired connection")
+        assert await js(driver, "return location.hash") == ""
+        assert await js(driver, "return localStorage.getItem('moas-token')") == paired
+        assert any(c.identity.operator is not None and c.identity.operator.name == "phone"
+                   for c in clients._connections)
+    finally:
+        await asyncio.to_thread(driver.quit)
+        await web.close()
+        await clients.close()

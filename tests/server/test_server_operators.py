@@ -1,0 +1,249 @@
+"""moas-server's operators and TLS as real processes: --add/--list/--remove-operator,
+--fingerprint, a running headless server reached by --remove-operator, both ports over
+TLS for ``openssl s_client``, and the desktop client's connection pinning the fingerprint."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import os
+import shutil
+import socket
+import ssl
+import stat
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from helpers import free_port, wait_for
+
+from moas_gui.client.connection import ClientConnection
+from moas_gui.tls import client_context, format_fingerprint
+
+pytestmark = pytest.mark.realtime
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def environment(tmp_path: Path, runtime: Path) -> dict[str, str]:
+    return dict(os.environ, XDG_RUNTIME_DIR=str(runtime), XDG_CONFIG_HOME=str(tmp_path / "cfg"),
+                XDG_STATE_HOME=str(tmp_path / "state"), PYTHONUNBUFFERED="1",
+                QT_QPA_PLATFORM="offscreen")
+
+
+def server(env: dict[str, str], *args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "moas_gui.cli.server", *args], env=env,
+                          capture_output=True, text=True, check=False, timeout=60)
+
+
+def hello(port: int, token: str | None, *, context: ssl.SSLContext | None = None,
+          source: str = "127.0.0.2") -> tuple[dict, socket.socket]:
+    raw = socket.create_connection(("127.0.0.1", port), timeout=10,
+                                   source_address=(source, 0))
+    conn: socket.socket = (context.wrap_socket(raw, server_hostname="127.0.0.1")
+                           if context is not None else raw)
+    message: dict[str, object] = {"id": 1, "cmd": "hello", "client": "test"}
+    if token is not None:
+        message["token"] = token
+    conn.sendall(json.dumps(message).encode() + b"\n")
+    reader = conn.makefile("rb")
+    while True:
+        line = reader.readline()
+        if not line:
+            return {"closed": True}, conn
+        reply = json.loads(line)
+        if reply.get("id") == 1:
+            return reply, conn
+
+
+def test_operators_are_added_listed_and_removed_with_only_a_hash_kept(
+        tmp_path: Path, runtime_dir: Path) -> None:
+    env = environment(tmp_path, runtime_dir)
+    added = server(env, "--add-operator", "alice", "--role", "operate", "--radios", "1/1,1/2")
+    assert added.returncode == 0, added.stderr
+    token = added.stdout.splitlines()[-1]
+    assert token.startswith("moas1.") and " " not in token
+    book = tmp_path / "cfg" / "moas-gui" / "operators.json"
+    text = book.read_text()
+    assert token.rsplit(".", 1)[1] not in text and '"hash"' in text
+    assert stat.S_IMODE(book.stat().st_mode) == 0o600
+    listed = server(env, "--list-operators")
+    assert listed.stdout.split() == ["alice", "operate", "1/1,1/2"]
+    twice = server(env, "--add-operator", "Alice", "--role", "view")
+    assert twice.returncode == 1 and "already an operator" in twice.stderr
+    bad = server(env, "--add-operator", "bob", "--role", "view", "--radios", "one")
+    assert bad.returncode == 1 and "STATION/RADIO" in bad.stderr
+    removed = server(env, "--remove-operator", "alice")
+    assert removed.returncode == 0, removed.stderr
+    assert "No operators" in server(env, "--list-operators").stdout
+
+
+def ask(conn: socket.socket, request_id: int, cmd: str, **args: object) -> dict:
+    conn.sendall(json.dumps({"id": request_id, "cmd": cmd, **args}).encode() + b"\n")
+    reader = conn.makefile("rb")
+    while True:
+        reply = json.loads(reader.readline())
+        if reply.get("id") == request_id:
+            return reply  # type: ignore[no-any-return]
+
+
+def test_the_real_engine_refuses_what_a_role_may_not_do(tmp_path: Path,
+                                                        runtime_dir: Path) -> None:
+    env = environment(tmp_path, runtime_dir)
+    tokens = {name: server(env, "--add-operator", name, "--role", role, *radios)
+              .stdout.splitlines()[-1]
+              for name, role, radios in (("vera", "view", ()),
+                                         ("otto", "operate", ("--radios", "1/1")),
+                                         ("ada", "admin", ()))}
+    tcp = free_port(socket.SOCK_STREAM)
+    first = subprocess.Popen(
+        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
+         "--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
+         "--no-rotator-program", "--require-token", "--new-instance"],
+        env=env, stderr=subprocess.PIPE, text=True)
+    opened: list[socket.socket] = []
+    try:
+        wait_for(lambda: _greets(tcp, tokens["ada"], opened))
+        conns = {}
+        for name, token in tokens.items():
+            reply, conns[name] = hello(tcp, token)
+            assert reply["ok"], reply
+        anonymous, conns["nobody"] = hello(tcp, None)
+        assert anonymous["error"]["code"] == "forbidden"
+        assert ask(conns["otto"], 2, "frequency", station=1, radio=1, khz=14025)["ok"]
+        mine = ask(conns["otto"], 3, "select", station=1, radio=1, antenna=3)
+        assert mine["ok"], mine
+        other = ask(conns["otto"], 4, "frequency", station=1, radio=2, khz=7025)
+        assert other["error"]["code"] == "forbidden" and "1/2" in other["error"]["message"]
+        assert ask(conns["otto"], 5, "stop_switches")["error"]["code"] == "forbidden"
+        assert ask(conns["vera"], 6, "frequency", station=1, radio=1,
+                   khz=7025)["error"]["code"] == "forbidden"
+        assert ask(conns["ada"], 7, "frequency", station=1, radio=2, khz=7025)["ok"]
+        assert ask(conns["ada"], 8, "stop_switches")["ok"]
+        assert ask(conns["ada"], 9, "start_switches")["ok"]
+        for each in (*conns.values(), *opened):
+            each.close()
+    finally:
+        first.terminate()
+        _, stderr = first.communicate(timeout=15)
+    assert "otto at 127.0.0.2:" in stderr and "tuning radio 1/1" in stderr
+    assert "ada at 127.0.0.2:" in stderr and "stop the switches" in stderr
+    assert all(token.rsplit(".", 1)[1][:10] not in stderr for token in tokens.values())
+
+
+def _greets(port: int, token: str, opened: list[socket.socket]) -> bool:
+    try:
+        reply, conn = hello(port, token)
+    except OSError:
+        return False
+    opened.append(conn)
+    return bool(reply.get("ok"))
+
+
+def test_remove_operator_reaches_the_running_server_and_ends_its_session(
+        tmp_path: Path, runtime_dir: Path) -> None:
+    env = environment(tmp_path, runtime_dir)
+    token = server(env, "--add-operator", "otto", "--role", "operate").stdout.splitlines()[-1]
+    tcp = free_port(socket.SOCK_STREAM)
+    first = subprocess.Popen(
+        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
+         "--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
+         "--no-rotator-program", "--require-token"],
+        env=env, stderr=subprocess.PIPE, text=True)
+    try:
+        def greeted() -> bool:
+            try:
+                reply, conn = hello(tcp, token)
+            except OSError:
+                return False
+            held.append(conn)
+            return bool(reply.get("ok"))
+
+        held: list[socket.socket] = []
+        wait_for(greeted)
+        session = held[-1]
+        removed = server(env, "--remove-operator", "otto")
+        assert removed.returncode == 0, removed.stderr
+        assert "1 session of operator otto ended" in removed.stdout
+        session.settimeout(10)
+        while session.recv(65536):  # the state event, then the end
+            pass
+        reply, conn = hello(tcp, token)
+        assert reply["error"]["code"] == "forbidden"
+        for each in (*held, conn):
+            each.close()
+    finally:
+        first.terminate()
+        _, stderr = first.communicate(timeout=15)
+    assert 'Operator "otto" was removed: 1 session ended' in stderr
+    assert token.rsplit(".", 1)[1][:10] not in stderr
+
+
+@pytest.mark.skipif(shutil.which("openssl") is None, reason="needs the openssl command")
+def test_both_ports_serve_tls_to_openssl_and_the_client_pins_the_fingerprint(
+        tmp_path: Path, runtime_dir: Path) -> None:
+    env = environment(tmp_path, runtime_dir)
+    printed = server(env, "--fingerprint")
+    assert printed.returncode == 0, printed.stderr
+    pin = printed.stdout.strip()
+    assert len(pin) == 95 and pin.count(":") == 31
+    tcp, web = free_port(socket.SOCK_STREAM), free_port(socket.SOCK_STREAM)
+    first = subprocess.Popen(
+        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
+         "--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
+         "--web-port", str(web), "--no-rotator-program", "--tls", "--new-instance"],
+        env=env, stderr=subprocess.PIPE, text=True)
+    try:
+        wait_for(lambda: _tls_answers(tcp))
+        for port, request in ((tcp, b'{"id": 1, "cmd": "state"}\n'),
+                              (web, b"GET / HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n")):
+            shown = subprocess.run(
+                ["openssl", "s_client", "-connect", f"127.0.0.1:{port}", "-quiet",
+                 "-verify_quiet"], input=request, capture_output=True, timeout=30,
+                check=False)
+            if port == tcp:
+                assert b'"config": "small-station.moas"' in shown.stdout, shown.stderr
+            else:
+                assert shown.stdout.startswith(b"HTTP/1.") and b"200" in shown.stdout[:20]
+        seen = subprocess.run(
+            ["openssl", "s_client", "-connect", f"127.0.0.1:{tcp}"], input=b"",
+            capture_output=True, timeout=30, check=False)
+        der = subprocess.run(["openssl", "x509", "-outform", "DER"], input=seen.stdout,
+                             capture_output=True, timeout=30, check=True).stdout
+        assert format_fingerprint(der) == pin
+        asyncio.run(_pinned_client(tcp, pin))
+    finally:
+        first.terminate()
+        _, stderr = first.communicate(timeout=15)
+    assert f"SHA-256 fingerprint {pin}" in stderr
+
+
+def _tls_answers(port: int) -> bool:
+    try:
+        with socket.create_connection(("127.0.0.1", port), timeout=5) as raw, \
+                client_context().wrap_socket(raw) as conn:
+            conn.sendall(b'{"id": 1, "cmd": "state"}\n')
+            return b'"ok": true' in conn.recv(65536)
+    except OSError:
+        return False
+
+
+async def _pinned_client(port: int, pin: str) -> None:
+    good = ClientConnection("127.0.0.1", port, tls=True, pin=pin, connect_timeout=10)
+    good.start()
+    await good.wait_connected(20)
+    assert good.fingerprint == pin
+    assert good.snapshot is not None or await _state(good)
+    await good.aclose()
+    wrong = "00:" * 31 + "00"
+    bad = ClientConnection("127.0.0.1", port, tls=True, pin=wrong, connect_timeout=10)
+    bad.start()
+    with pytest.raises(TimeoutError):
+        await bad.wait_connected(2)
+    assert bad.connects == 0 and "not the pinned" in bad._last_problem
+    await bad.aclose()
+
+
+async def _state(conn: ClientConnection) -> bool:
+    return bool(await conn.request("state", {}))

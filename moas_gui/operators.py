@@ -31,7 +31,7 @@ import os
 import re
 import secrets
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import StrEnum
 from pathlib import Path
 from typing import Any, Final
@@ -72,6 +72,10 @@ class Operator:
     """The token's public id."""
     salt: str = ""
     digest: str = ""
+    ag_salt: str = ""
+    ag_digest: str = ""
+    """The hash of its Antenna Genius code (``--ag-code``; empty: none): AG clients
+    authenticate with a number (``auth code=N``), not a token."""
 
     def radios_text(self) -> str:
         if self.radios is None:
@@ -81,7 +85,9 @@ class Operator:
     def to_json(self) -> dict[str, Any]:
         return {"name": self.name, "role": self.role.value,
                 "radios": None if self.radios is None else sorted(list(r) for r in self.radios),
-                "key": self.key, "salt": self.salt, "hash": self.digest}
+                "key": self.key, "salt": self.salt, "hash": self.digest,
+                **({"ag_salt": self.ag_salt, "ag_hash": self.ag_digest} if self.ag_digest
+                   else {})}
 
 
 def parse_radios(text: str) -> frozenset[RadioRef]:
@@ -125,7 +131,8 @@ def _from_json(item: Any) -> Operator:
     return Operator(
         check_name(str(item["name"])), Role(item["role"]),
         None if radios is None else frozenset((int(s), int(r)) for s, r in radios),
-        str(item["key"]), str(item["salt"]), str(item["hash"]))
+        str(item["key"]), str(item["salt"]), str(item["hash"]),
+        str(item.get("ag_salt", "")), str(item.get("ag_hash", "")))
 
 
 class OperatorBook:
@@ -160,11 +167,16 @@ class OperatorBook:
         if sys.platform != "win32":
             os.chmod(self.path, 0o600)
 
-    def add(self, name: str, role: Role, radios: frozenset[RadioRef] | None = None
-            ) -> tuple[Operator, str]:
-        """A new operator and its token (to be shown once; only its hash is kept)."""
+    def add(self, name: str, role: Role, radios: frozenset[RadioRef] | None = None,
+            ag_code: str | None = None) -> tuple[Operator, str]:
+        """A new operator and its token (to be shown once; only its hash is kept), with
+        an Antenna Genius code when ``ag_code`` is given (also kept as a hash only)."""
         check_name(name)
         existing = self.operators()
+        if ag_code is not None:
+            check_ag_code(ag_code)
+            if self.check_ag_code(ag_code) is not None:
+                raise OperatorError("another operator has that Antenna Genius code")
         if any(op.name.lower() == name.lower() for op in existing):
             raise OperatorError(f"there is already an operator {name!r} "
                                 "(remove it first to give it a new token)")
@@ -177,6 +189,10 @@ class OperatorBook:
         secret = base64.urlsafe_b64encode(secrets.token_bytes(32)).decode().rstrip("=")
         salt = secrets.token_bytes(16)
         operator = Operator(name, role, radios, key, salt.hex(), _hash(secret, salt).hex())
+        if ag_code is not None:
+            ag_salt = secrets.token_bytes(16)
+            operator = replace(operator, ag_salt=ag_salt.hex(),
+                               ag_digest=_hash(ag_code, ag_salt).hex())
         self._write((*existing, operator))
         return operator, f"{TOKEN_PREFIX}.{key}.{secret}"
 
@@ -205,6 +221,29 @@ class OperatorBook:
             if hmac.compare_digest(_hash(secret, bytes.fromhex(op.salt)).hex(), op.digest):
                 return op
         return None
+
+    def check_ag_code(self, code: str) -> Operator | None:
+        """The operator whose Antenna Genius code this is, or None."""
+        code = code.strip()
+        if not code.isdigit():
+            return None
+        try:
+            operators = self.operators()
+        except OperatorError:
+            return None
+        for op in operators:
+            if op.ag_digest and hmac.compare_digest(
+                    _hash(code, bytes.fromhex(op.ag_salt)).hex(), op.ag_digest):
+                return op
+        return None
+
+
+def check_ag_code(code: str) -> str:
+    """An Antenna Genius code: 4 to 9 digits (AG clients send a number); else
+    :class:`OperatorError` saying so."""
+    if not (code.isdigit() and 4 <= len(code) <= 9):
+        raise OperatorError(f"an Antenna Genius code is 4 to 9 digits, not {code!r}")
+    return code
 
 
 __all__ = [

@@ -56,6 +56,8 @@ from moas_gui.state_store import SavedState, StateKeeper, switch_to_data
 if TYPE_CHECKING:  # the web server (aiohttp) is loaded only when a station asks for it
     from moas_gui.net.web import WebServer
 
+from moas_gui.net.access import allowed_networks
+from moas_gui.net.identity import Identity, anonymous, as_operator
 from moas_gui.operators import OperatorBook
 
 log = logging.getLogger(__name__)
@@ -363,8 +365,23 @@ class AntennaGenius:
         if server is not None:
             await server.reload(config)
             return
+        book = OperatorBook()
+
+        def check(code: str) -> str | None:
+            operator = book.check_ag_code(code) or book.check(code)
+            return None if operator is None else operator.name
+
+        access = SimpleAccess(allow, require_token=options.require_token, check=check)
+
+        def identify(host: str, address: str, named: str | None) -> Identity | None:
+            operator = None if named is None else book.find(named)
+            if operator is not None:
+                return as_operator(operator, address)
+            return anonymous(host, address, allowed_networks(allow()), options.require_token)
+
+        access.identify = identify
         server = AgServer(backend, options.bind, port, radios=options.ag_radios,
-                          access=SimpleAccess(allow), name=name,
+                          access=access, name=name,
                           discovery=options.ag_discovery)
         try:
             await server.start(config)

@@ -35,8 +35,11 @@ class AgClient:
         self._pending: list[str] = []
 
     @classmethod
-    async def connect(cls, port: int, host: str = "127.0.0.1") -> AgClient:
-        reader, writer = await asyncio.open_connection(host, port)
+    async def connect(cls, port: int, host: str = "127.0.0.1",
+                      local: str | None = None) -> AgClient:
+        """``local``: the address to connect from (``127.0.0.2`` plays a LAN computer)."""
+        reader, writer = await asyncio.open_connection(
+            host, port, local_addr=None if local is None else (local, 0))
         greeting = (await asyncio.wait_for(reader.readline(), 10)).decode().strip()
         return cls(reader, writer, greeting)
 

@@ -46,7 +46,8 @@ def _add(book: OperatorBook, args: argparse.Namespace) -> int:
         print("moas-server: --add-operator needs --role view, operate or admin", file=sys.stderr)
         return 2
     radios = parse_radios(args.radios) if args.radios else None
-    operator, token = book.add(args.add_operator, Role(args.role), radios)
+    operator, token = book.add(args.add_operator, Role(args.role), radios,
+                               ag_code=args.ag_code)
     print(f'Operator "{operator.name}" ({operator.role.value}, {operator.radios_text()}) '
           f"added to {book.path}.")
     print("Its token follows, shown this once (only its hash is kept); give it to the "

@@ -154,6 +154,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--radios", metavar="S/R,...",
                         help="with --add-operator: the radios it may act on, e.g. 1/1,1/2 "
                              "(default: all)")
+    parser.add_argument("--ag-code", metavar="N",
+                        help="with --add-operator: a number of 4-9 digits the operator's "
+                             "Antenna Genius clients authenticate with (auth code=N) where "
+                             "--require-token asks for one")
     parser.add_argument("--remove-operator", metavar="NAME",
                         help="remove an operator (a running server ends its sessions) and exit")
     parser.add_argument("--list-operators", action="store_true",

@@ -458,3 +458,59 @@ async def test_a_moas_clients_press_is_pushed_to_antenna_genius_subscribers(
         assert said["txant"] == "4" and said["rxant"] == "4"
     finally:
         writer.close()
+
+
+@pytest.mark.asyncio
+async def test_with_require_token_a_lan_client_needs_an_operators_ag_code_and_keeps_to_its_role(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The server's own access policy on the AG front: ``--require-token`` makes a LAN
+    peer (127.0.0.2) authenticate with the numeric code of ``--add-operator --ag-code``;
+    the operator then acts on its own radios only; this computer needs no code."""
+    from moas_gui.operators import OperatorBook, Role
+
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
+    book = OperatorBook()
+    book.add("Ann", Role.OPERATE, frozenset({(1, 1)}), ag_code="4711")
+    server = ServerApp(options(require_token=True))
+    assert (await server.open(EXAMPLES / "small-station.moas")).ok
+    await until(lambda: server.status.state is ServerState.NORMAL)
+    try:
+        local = await AgClient.connect(server.ag_ports[0])
+        assert local.greeting == "V4.1.0 AG"  # a program on this computer
+        await local.close()
+        lan = await AgClient.connect(server.ag_ports[0], local="127.0.0.2")
+        assert lan.greeting == "V4.1.0 AG AUTH"
+        assert (await lan.ask("port set 1 rxant=4 txant=4")).code == 0xFF
+        assert (await lan.ask("auth code=1234")).code == 0xFF
+        assert (await lan.ask("auth code=4711")).code == 0
+        logger_band(server, 14025.0, radio=1)
+        engine = server.engine
+        assert engine is not None
+        await until(lambda: engine.radio_view(1, 1).khz == 14025.0)
+        answer = await lan.ask("port set 1 rxant=4 txant=4")  # its own radio
+        assert answer.code == 0, answer
+        assert engine.radio_view(1, 1).tx == 3
+        logger_band(server, 3525.0, radio=2)
+        await until(lambda: engine.radio_view(1, 2).khz == 3525.0)
+        before = engine.radio_view(1, 2)
+        answer = await lan.ask("port set 2 rxant=3 txant=3")  # not its radio
+        assert answer.code != 0 and "Ann" in answer.message, answer
+        assert engine.radio_view(1, 2) == before
+        await lan.close()
+    finally:
+        await server.close()
+
+
+def test_an_ag_code_is_kept_as_a_hash_and_must_be_digits(tmp_path: Path) -> None:
+    from moas_gui.operators import OperatorBook, OperatorError, Role
+
+    book = OperatorBook(tmp_path / "operators.json")
+    book.add("Ann", Role.ADMIN, ag_code="4711")
+    assert "4711" not in (tmp_path / "operators.json").read_text()
+    found = book.check_ag_code("4711")
+    assert found is not None and found.name == "Ann"
+    assert book.check_ag_code("4712") is None
+    with pytest.raises(OperatorError, match="4 to 9 digits"):
+        book.add("Bob", Role.VIEW, ag_code="12a4")
+    with pytest.raises(OperatorError, match="another operator has that"):
+        book.add("Bob", Role.VIEW, ag_code="4711")

@@ -27,6 +27,7 @@ from typing import Protocol
 
 from moas_gui.edge.admission import Admission, address_key
 from moas_gui.net.access import allowed_networks, is_allowed, peer_address
+from moas_gui.net.identity import Identity, is_local
 
 MAX_AUTH_FAILURES = 5
 """Wrong ``auth`` codes one address may send before it is shut out for a while."""
@@ -36,6 +37,8 @@ AUTH_LOCKOUT = 300.0
 
 class AgAccess(Protocol):
     admission: Admission
+
+    def identity(self, host: str, address: str, operator: str | None) -> Identity | None: ...
 
     def allowed(self, host: str) -> str | None: ...
 
@@ -55,11 +58,22 @@ class SimpleAccess:
 
     def __init__(self, client_allow: Callable[[], Iterable[str] | None] = lambda: None, *,
                  require_token: bool = False, codes: Mapping[str, str] | None = None,
+                 check: Callable[[str], str | None] | None = None,
                  total: int = 64, per_address: int = 16) -> None:
         self.client_allow = client_allow
         self.require_token = require_token
         self.codes = dict(codes or {})
+        self.check = check
+        """The station's own check of a code: an operator's AG code or token -> its
+        name (the server passes the operators book's)."""
+        self.identify: Callable[[str, str, str | None], Identity | None] | None = None
+        """Who a connection is for the roles' rules (:mod:`moas_gui.net.identity`): the
+        server's; None (tests): nobody in particular, which the rules let through."""
+
         self.admission = Admission(total, per_address, what="Antenna Genius connections")
+
+    def identity(self, host: str, address: str, operator: str | None) -> Identity | None:
+        return None if self.identify is None else self.identify(host, address, operator)
 
     def allowed(self, host: str) -> str | None:
         if not is_allowed(host, allowed_networks(self.client_allow())):
@@ -68,10 +82,15 @@ class SimpleAccess:
         return None
 
     def needs_token(self, host: str) -> bool:
-        return self.require_token and not is_loopback(host)
+        """As for the client port: never from this computer (``127.0.0.1``, ``::1``);
+        from the LAN (other loopback addresses count as the LAN) with ``require_token``."""
+        return self.require_token and not is_local(host)
 
     def check_code(self, code: str) -> str | None:
-        return self.codes.get(code.strip())
+        named = self.codes.get(code.strip())
+        if named is None and self.check is not None:
+            named = self.check(code.strip())
+        return named
 
 
 class AuthFailures:

@@ -36,6 +36,7 @@ from moas_gui.edge.gate import gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import RequestRefused
 from moas_gui.net.connection import format_peer
+from moas_gui.net.identity import Identity, serving
 
 from . import codec
 from .access import AgAccess, AuthFailures, SimpleAccess
@@ -133,6 +134,8 @@ class _Session:
     ports: bool = False
     relay: bool = False
     operator: str | None = None
+    identity: Identity | None = None
+    """Who its commands act as (the roles' rules, :mod:`moas_gui.net.identity`)."""
     closing: bool = field(default=False)
 
     def deadline(self, timing: AgTiming) -> float:
@@ -348,6 +351,7 @@ class AgServer:
         self._tasks.add(task)
         needs = self.access.needs_token(host)
         session = _Session(served, writer, host, format_peer(peer), not needs, loop.time())
+        session.identity = self.access.identity(host, session.peer, None)
         served.sessions.add(session)
         try:
             writer.write(codec.greeting(auth=needs))
@@ -380,7 +384,11 @@ class AgServer:
                 ticket.greeted()
                 ticket.touch()
             for item in lines.feed(data):
-                session.send(self.answer(session, item))
+                if session.identity is None:
+                    session.send(self.answer(session, item))
+                    continue
+                with serving(session.identity):  # an operator acts within its role
+                    session.send(self.answer(session, item))
                 if session.closing:
                     break
             await session.writer.drain()
@@ -420,6 +428,7 @@ class AgServer:
             return codec.reply(item.seq, codec.NO_AUTH)
         self.failures.succeeded(session.host)
         session.authed, session.operator = True, operator
+        session.identity = self.access.identity(session.host, session.peer, operator)
         log.info("Antenna Genius: %s authenticated as %s", session.peer, operator)
         return codec.reply(item.seq)
 

@@ -6,14 +6,16 @@ from __future__ import annotations
 
 import asyncio
 import logging
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
+from helpers import until
 
 from moas_gui.net.backend import ErrorCode, RequestError
 from moas_gui.net.client import ProtocolClient
-from moas_gui.net.identity import Forbidden, as_operator
+from moas_gui.net.identity import Forbidden, Identity, as_operator
 from moas_gui.net.server import ClientServer
 from moas_gui.operators import OperatorBook, Role
 from moas_gui.testing.fake_backend import FakeBackend
@@ -134,8 +136,16 @@ async def test_roles_view_operate_and_admin_over_real_sockets(
                for _ in range(3)]
     v, o, a = clients
     told: list[str] = []
+    await until(lambda: len(server._connections) == 3)  # accepted one a loop turn
     for conn in server._connections:
-        conn.identified = lambda identity: told.append(identity.name)
+        promote = conn.identified  # the admission's: an operator gets its own pool
+
+        def note(identity: Identity, promote: Callable[[Identity], None] | None = promote
+                 ) -> None:
+            told.append(identity.name)
+            if promote is not None:
+                promote(identity)
+        conn.identified = note
     try:
         await v.request("hello", client="v", token=view)
         await o.request("hello", client="o", token=operate)
@@ -151,6 +161,7 @@ async def test_roles_view_operate_and_admin_over_real_sockets(
         assert await a.request("stop_switches") == {}
         assert not backend.running
         assert {c.identity.is_operator for c in server._connections} == {True}
+        assert server.admission.operator_count == 3  # in the operators' own pool
         assert sorted(told) == ["ada", "otto", "vera"]
     finally:
         for client in clients:

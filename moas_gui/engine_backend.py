@@ -87,6 +87,10 @@ class ServerCore(Protocol):
         """Every switch reset and loaded again (File > Reset Switches)."""
         ...
 
+    def keyed_radios(self) -> list[str]:
+        """The radios transmitting now, as the switches say, in words."""
+        ...
+
 
 def _refused(action: Callable[[], T]) -> T:
     """``action()``, with an engine's or rotator's refusal as the client protocol's error."""
@@ -180,9 +184,17 @@ class EngineBackend:
         self._may_turn(rotator, "stopping")
         _refused(lambda: manager.start_stop(rotator))
 
-    def switches(self, action: SwitchAction) -> None:
+    def switches(self, action: SwitchAction, force: bool = False) -> None:
         self._engine()
         _refused(lambda: enforce(Action(f"{action} the switches", admin=True)))
+        keyed = self.core.keyed_radios() if action != "start" and not force else []
+        if keyed:
+            what = "Stop Switches" if action == "stop" else "Reset Switches"
+            raise RequestError(
+                ErrorCode.UNAVAILABLE,
+                f"{what} opens relays at once, and {', '.join(keyed)} "
+                f"transmit{'s' if len(keyed) == 1 else ''} now (hot switching): unkey "
+                'first, or send "force": true to do it anyway')
         {"stop": self.core.stop_switches, "start": self.core.start_switches,
          "reset": self.core.reset_switches}[action]()
 

@@ -129,8 +129,10 @@ class ClientBackend(Protocol):
         """Stops ``rotator`` where it is."""
         ...
 
-    def switches(self, action: SwitchAction) -> None:
-        """Stops (every relay off), starts or resets every switch (admin only)."""
+    def switches(self, action: SwitchAction, force: bool = False) -> None:
+        """Stops (every relay off), starts or resets every switch (admin only).  A stop
+        or a reset while a radio transmits is refused (``unavailable``, naming it)
+        unless ``force``."""
         ...
 
 

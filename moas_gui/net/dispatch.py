@@ -171,7 +171,8 @@ def _stop(backend: ClientBackend, conn: Connection, request: Request) -> None:
 
 
 def _switches(backend: ClientBackend, conn: Connection, request: Request) -> None:
-    backend.switches(request.cmd.split("_", 1)[0])  # type: ignore[arg-type]
+    backend.switches(request.cmd.split("_", 1)[0],  # type: ignore[arg-type]
+                     force=bool(request.args.get("force", False)))
     conn.reply(request.id, request.cmd, {})
 
 

@@ -82,6 +82,9 @@ def _one_of_step_index(args: Mapping[str, Any]) -> str | None:
 
 _STATION = Arg("station", Kind.NUMBER_ID, doc="the station number")
 _RADIO = Arg("radio", Kind.NUMBER_ID, doc="the radio number of that station")
+_FORCE = Arg("force", Kind.BOOL, False, False,
+                     doc="do it even while a radio transmits (its relays open under the "
+                         "key); without it a keyed radio refuses the command")
 _TX_RX = '{"tx": ID or null, "rx": ID or null} after the change'
 
 COMMANDS: dict[str, Command] = {
@@ -180,11 +183,11 @@ COMMANDS: dict[str, Command] = {
             "{}",
             "stops a rotator",
         ),
-        Command("stop_switches", (), "{}",
+        Command("stop_switches", (_FORCE,), "{}",
                 "stops every switch: all relays off (admin only)"),
         Command("start_switches", (), "{}",
                 "starts the switches again after stop_switches (admin only)"),
-        Command("reset_switches", (), "{}",
+        Command("reset_switches", (_FORCE,), "{}",
                 "resets every switch and sets the antennas in use again (admin only)"),
     )
 }

@@ -248,7 +248,7 @@ class FakeBackend:
             rot.target, rot.moving = None, False
             self._tell_rotator(rot)
 
-    def switches(self, action: SwitchAction) -> None:
+    def switches(self, action: SwitchAction, force: bool = False) -> None:
         self.calls.append(("switches", (action,)))
         _may(Action(f"{action} the switches", admin=True))
         if action == "stop":

@@ -743,3 +743,34 @@ async def test_restart_disconnects_clients_and_the_built_in_client_reconnects_to
         await connection.aclose()
         await app.close()
     assert log_handlers() == 0
+
+
+@pytest.mark.asyncio
+async def test_stop_and_reset_switches_while_a_radio_transmits_need_force(
+        app: ServerApp, peers: list[Peer]) -> None:
+    """The admin commands ask first, as the window does: while a switch says a radio is
+    keyed, stop_switches and reset_switches are refused naming it (nothing happens) and
+    go only with "force": true; start_switches never waits."""
+    await run_example(app, "small-station.moas")
+    peer = await greeted(app, peers)  # this computer: every right
+    await peer.ok("frequency", station=1, radio=1, khz=21025)
+    box = app.emulators()[1]
+    await until(lambda: bool(box.view().relays))
+    held = box.view().relays
+    box.set_tr(1, True)
+    await until(lambda: app.keyed_radios() == ["station 1 radio 1 (switch 1 port 1)"])
+    resets = box.record.written
+    for cmd in ("stop_switches", "reset_switches"):
+        code, message = await peer.refused(cmd)
+        assert code == "unavailable", (cmd, message)
+        assert "station 1 radio 1 (switch 1 port 1) transmits now" in message
+        assert '"force": true' in message
+    assert not app.switches_stopped and box.view().relays == held
+    assert not any(e.event.value == "reset" for e in box.record.after(resets))
+    assert await peer.ok("stop_switches", force=True) == {}
+    assert app.switches_stopped
+    await until(lambda: box.view().relays == frozenset())
+    assert await peer.ok("start_switches") == {}
+    box.set_tr(1, False)
+    await until(lambda: app.keyed_radios() == [])
+    assert await peer.ok("reset_switches") == {}  # nobody keyed: no force needed

@@ -129,6 +129,7 @@ class ServerApp:
         not served."""
         return self._ag.ports
 
+    @property
     def web_address(self) -> tuple[str, int, bool] | None:
         """The browser page (host, port, over TLS), once it is served; the host is this
         computer's address on its network when the server listens on every interface."""

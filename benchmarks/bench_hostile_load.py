@@ -3,16 +3,17 @@
     .venv/bin/python benchmarks/bench_hostile_load.py [--idle 1500] [--slow 1100]
         [--malformed 300] [--hold 30] [--files 1024]
     .venv/bin/python benchmarks/bench_hostile_load.py --scenario crowds [--per 30]
-        [--silent 200] [--rotctld 3000] [--hold 30] [--files 1024] [--token TOKEN]
+        [--silent 200] [--rotctld 3000] [--hold 30] [--files 1024] [--no-operator]
 
 ``--scenario crowds`` (issue 31) runs the crowds of tests/faults/crowd_load.py instead,
 against a station whose rotator has a rotctld-compatible port: ``--per`` greeted
 connections from each of 127.0.0.2-8 (hello, then a blank line a minute), ``--silent``
 connections from as many addresses that never say hello and reconnect at once, and
 ``--rotctld`` idle connections to the rotctld port from 250 addresses; meanwhile a
-client on 127.0.0.9 says hello and loads the page every half second, and, given
-``--token`` (an operator's, from ``moas-server --add-operator``), an operator on
-127.0.0.10 says hello with it.  PASS when the client was served hello and page within
+client on 127.0.0.9 says hello and loads the page every half second, and an operator
+on 127.0.0.10 (made in the station's own configuration folder with ``moas-server
+--add-operator`` before the server starts; ``--no-operator`` leaves it out) says hello
+with its token.  PASS when the client was served hello and page within
 1 s at least 95 % of the time, the operator (when measured) 100 %, no kind of trouble
 wrote more than one line a minute, nothing said "Too many open files", and the server's
 files came back.
@@ -175,6 +176,17 @@ def crowd_kinds(lines: list[str]) -> dict[str, int]:
                           and "127.0.0.10:" not in line])
 
 
+async def add_operator(env: dict[str, str]) -> str:
+    """An operator made in the station's own configuration folder; its token."""
+    made = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "moas_gui.cli.server", "--add-operator", "bench", "--role",
+        "operate", env=env, stdout=asyncio.subprocess.PIPE)
+    out, _ = await made.communicate()
+    if made.returncode != 0:
+        raise RuntimeError("moas-server --add-operator failed")
+    return out.decode().strip().splitlines()[-1]
+
+
 async def run_crowds(args: argparse.Namespace) -> bool:
     with tempfile.TemporaryDirectory() as folder:
         tmp = Path(folder)
@@ -183,6 +195,7 @@ async def run_crowds(args: argparse.Namespace) -> bool:
         rotctld = free_port()
         data["Rotators"][0]["RotctldPort"] = rotctld
         station = Station.make(tmp, data)
+        token = None if args.no_operator else await add_operator(station.env)
         web = free_port()
         server = await station.server("--no-rotator-program", "--web-port", str(web),
                                       preexec=limit_files(args.files))
@@ -205,14 +218,14 @@ async def run_crowds(args: argparse.Namespace) -> bool:
                   f"{args.per} greeted from each of 127.0.0.2-8, {args.silent} never saying "
                   f"hello (reconnecting), {args.rotctld} idle on rotctld from 250 addresses; "
                   f"a client on {CROWD_LEGIT} every 0.5 s"
-                  + ("; an operator on 127.0.0.10" if args.token else ""))
+                  + ("; an operator on 127.0.0.10" if token else ""))
             attacker = await asyncio.create_subprocess_exec(
                 sys.executable, str(ROOT / "tests" / "faults" / "crowd_load.py"),
                 str(station.tcp), str(rotctld), str(args.per), str(args.silent),
                 str(args.rotctld), str(args.hold), stdout=asyncio.subprocess.PIPE)
             await asyncio.sleep(min(5.0, args.hold / 4))  # the crowds arrive first
             tries = await crowd_legit(station.tcp, web, args.hold - min(5.0, args.hold / 4),
-                                      args.token)
+                                      token)
             said, _ = await attacker.communicate()
             done = json.loads(said.decode().strip().splitlines()[-1])
             await asyncio.sleep(10.0)
@@ -224,11 +237,11 @@ async def run_crowds(args: argparse.Namespace) -> bool:
                   f"closed by the server, {done['failed_to_open']:,} failed to open")
             print(f"legitimate client on {CROWD_LEGIT}:")
             ok = describe95("hello", tries.hellos) & describe95("page", tries.pages)
-            if args.token:
+            if token:
                 print("operator on 127.0.0.10:")
                 ok = describe95("hello", tries.operator, 1.0) and ok
             else:
-                print("operator: not measured (give --token, an operator's token)")
+                print("operator: not measured (--no-operator)")
             for failure in tries.failures[:5]:
                 print(f"    failed: {failure}")
             kinds = crowd_kinds(after)
@@ -267,7 +280,8 @@ def main() -> None:
                         help="crowds: connections that never say hello")
     parser.add_argument("--rotctld", type=int, default=3000,
                         help="crowds: idle connections on the rotctld port")
-    parser.add_argument("--token", help="crowds: an operator's token, to measure an operator")
+    parser.add_argument("--no-operator", action="store_true",
+                        help="crowds: leave the operator with a token out")
     parser.add_argument("--idle", type=int, default=1500)
     parser.add_argument("--slow", type=int, default=1100)
     parser.add_argument("--malformed", type=int, default=300)

@@ -38,7 +38,43 @@ def peer_host(transport: asyncio.BaseTransport) -> tuple[str, str]:
     return str(peer), str(peer)
 
 
-class StreamGate(asyncio.Protocol):
+class ForwardingGate(asyncio.Protocol):
+    """What every gate shares: once a connection is admitted (:attr:`ticket`), asyncio's
+    streams take it (:meth:`open_streams`) and everything is forwarded to them; the
+    ticket is given back when the connection closes."""
+
+    ticket: Ticket | None = None
+    inner: asyncio.StreamReaderProtocol | None = None
+
+    def open_streams(self, transport: asyncio.Transport, serve: Serve, limit: int) -> None:
+        reader = asyncio.StreamReader(limit=limit)
+        self.inner = asyncio.StreamReaderProtocol(reader, serve)
+        self.inner.connection_made(transport)
+
+    def data_received(self, data: bytes) -> None:
+        if self.inner is not None:
+            self.inner.data_received(data)
+
+    def eof_received(self) -> bool | None:
+        return self.inner.eof_received() if self.inner is not None else None
+
+    def pause_writing(self) -> None:
+        if self.inner is not None:
+            self.inner.pause_writing()
+
+    def resume_writing(self) -> None:
+        if self.inner is not None:
+            self.inner.resume_writing()
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        if self.ticket is not None:
+            self.ticket.release()
+        inner, self.inner = self.inner, None
+        if inner is not None:
+            inner.connection_lost(exc)
+
+
+class StreamGate(ForwardingGate):
     """One connection of a stream front (see the module notes)."""
 
     def __init__(
@@ -57,8 +93,6 @@ class StreamGate(asyncio.Protocol):
         self.deadlines = deadlines
         self.refusal = refusal
         self.limit = limit
-        self.ticket: Ticket | None = None
-        self.inner: asyncio.StreamReaderProtocol | None = None
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         assert isinstance(transport, asyncio.Transport)
@@ -85,31 +119,7 @@ class StreamGate(asyncio.Protocol):
                 transport.write(self.refusal(refused.reason))
             transport.close()
             return
-        reader = asyncio.StreamReader(limit=self.limit)
-        self.inner = asyncio.StreamReaderProtocol(reader, self.serve)
-        self.inner.connection_made(transport)
-
-    def data_received(self, data: bytes) -> None:
-        if self.inner is not None:
-            self.inner.data_received(data)
-
-    def eof_received(self) -> bool | None:
-        return self.inner.eof_received() if self.inner is not None else None
-
-    def pause_writing(self) -> None:
-        if self.inner is not None:
-            self.inner.pause_writing()
-
-    def resume_writing(self) -> None:
-        if self.inner is not None:
-            self.inner.resume_writing()
-
-    def connection_lost(self, exc: Exception | None) -> None:
-        if self.ticket is not None:
-            self.ticket.release()
-        inner, self.inner = self.inner, None
-        if inner is not None:
-            inner.connection_lost(exc)
+        self.open_streams(transport, self.serve, self.limit)
 
 
 def gate_factory(
@@ -133,4 +143,4 @@ def ticket_of(writer: asyncio.StreamWriter) -> Ticket | None:
     return protocol.ticket if isinstance(protocol, StreamGate) else None
 
 
-__all__ = ["Serve", "StreamGate", "gate_factory", "peer_host", "ticket_of"]
+__all__ = ["ForwardingGate", "Serve", "StreamGate", "gate_factory", "peer_host", "ticket_of"]

@@ -45,6 +45,7 @@ import ssl
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
+from moas_gui.edge.gate import ForwardingGate
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
 from moas_gui.operators import OperatorBook
@@ -588,7 +589,7 @@ class ClientServer:
             self.trouble_line(kind, logging.INFO, "%s %s %s%s", what, _who(conn), how, never)
 
 
-class _Gate(asyncio.Protocol):
+class _Gate(ForwardingGate):
     """A connection to the client port: refused at once, before any stream or task is
     made for it, when its address is not allowed or over a limit (a crowd reconnecting
     as fast as it is refused then costs little); otherwise asyncio's streams take it,
@@ -596,39 +597,12 @@ class _Gate(asyncio.Protocol):
 
     def __init__(self, server: ClientServer) -> None:
         self.server = server
-        self.ticket: Ticket | None = None
-        self.inner: asyncio.StreamReaderProtocol | None = None
 
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         assert isinstance(transport, asyncio.Transport)
         self.ticket = self.server._gate(transport)
-        if self.ticket is None:
-            return
-        reader = asyncio.StreamReader(limit=_READ_CHUNK)
-        self.inner = asyncio.StreamReaderProtocol(reader, self.server._serve)
-        self.inner.connection_made(transport)
-
-    def data_received(self, data: bytes) -> None:
-        if self.inner is not None:
-            self.inner.data_received(data)
-
-    def eof_received(self) -> bool | None:
-        return self.inner.eof_received() if self.inner is not None else None
-
-    def pause_writing(self) -> None:
-        if self.inner is not None:
-            self.inner.pause_writing()
-
-    def resume_writing(self) -> None:
-        if self.inner is not None:
-            self.inner.resume_writing()
-
-    def connection_lost(self, exc: Exception | None) -> None:
-        inner, self.inner = self.inner, None
         if self.ticket is not None:
-            self.ticket.release()
-        if inner is not None:
-            inner.connection_lost(exc)
+            self.open_streams(transport, self.server._serve, _READ_CHUNK)
 
 
 def _who(conn: Connection) -> str:

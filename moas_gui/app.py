@@ -237,13 +237,13 @@ class ServerApp:
             log.info("Opened %s in %.0f ms", self._path.name, (time.perf_counter() - started) * 1000)
             return result
 
-    async def restart(self) -> None:
-        """Close and reopen the current file (File > Restart)."""
-        if self._path is not None:
-            async with self._lock:
-                if self._run is not None:
-                    await self._close_running()
-            await self.open(self._path)
+    async def restart(self) -> LoadResult | None:
+        """Reopen the current file (File > Restart), checked first: a file that now has
+        errors is not opened and the running configuration carries on (:meth:`open`
+        closes it only for a file that loads); None when no file is open."""
+        if self._path is None:
+            return None
+        return await self.open(self._path)
 
     async def close(self) -> None:
         """Stop serving; the relays stay as they are."""

@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from .qt import QFileDialog, QMessageBox, Qt, QWidget
+from .qt import QDesktopServices, QFileDialog, QMessageBox, Qt, QUrl, QWidget
 
 
 def docs_path() -> Path:
@@ -23,6 +23,24 @@ def docs_path() -> Path:
 def show_message(parent: QWidget, icon: QMessageBox.Icon, title: str, text: str) -> QMessageBox:
     """A message with an OK button, left open beside the window."""
     box = QMessageBox(icon, title, text, QMessageBox.StandardButton.Ok, parent)
+    box.setModal(False)
+    box.open()
+    return box
+
+
+def show_problems(parent: QWidget, title: str, text: str, problems: str,
+                  folder: Path) -> QMessageBox:
+    """A file's problems, in the dialog itself (not behind "Show Details"), with a
+    button that opens the file's folder in the system's file manager (not an editor:
+    the desktop's opener for a text file may be a terminal program)."""
+    box = QMessageBox(QMessageBox.Icon.Critical, title, text, QMessageBox.StandardButton.Ok,
+                      parent)
+    box.setInformativeText(problems)
+    box.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+    opener = box.addButton("Open Folder", QMessageBox.ButtonRole.ActionRole)
+    opener.clicked.disconnect()  # the box stays open: the operator reads on
+    opener.clicked.connect(
+        lambda: QDesktopServices.openUrl(QUrl.fromLocalFile(str(folder))))
     box.setModal(False)
     box.open()
     return box

@@ -21,7 +21,7 @@ from moas_gui.aio import BackgroundTasks
 from moas_gui.log_repeats import fold_repeats
 from moas_gui.status import ServerState, ServerStatus
 
-from .dialogs import ask_yes_no, choose_file, docs_path, show_message
+from .dialogs import ask_yes_no, choose_file, docs_path, show_message, show_problems
 from .icons import app_icon, status_icon
 from .log_view import LogLevel, LogView, QtLogHandler
 from .qt import (
@@ -295,12 +295,7 @@ class ServerWindow(QMainWindow):
     async def _open(self, path: str) -> None:
         result = await self.app.open(path)
         if result.config is None:
-            shown = "\n".join(str(p) for p in result.errors[:20])
-            more = f"\n... and {len(result.errors) - 20} more" if len(result.errors) > 20 else ""
-            self._message(QMessageBox.Icon.Critical, "Configuration not opened",
-                          f"{path} has errors and was not opened"
-                          f"{'; the running configuration carries on' if self.app.config else ''}."
-                          f"\n\n{shown}{more}")
+            self._show_problems(path, result)
             return
         self._remember_recent(str(Path(path).resolve()))
         self._follow_client_port()
@@ -382,7 +377,33 @@ class ServerWindow(QMainWindow):
                  lambda yes: self.ask_first(what, effect, act, keyed) if yes else None)
 
     def restart(self) -> None:
-        self._spawn(self.app.restart())
+        """File > Restart: the file is checked first; with errors it is not restarted,
+        the running configuration carries on and a dialog shows the problems."""
+        self._spawn(self._restart())
+
+    async def _restart(self) -> None:
+        path = self.app.path
+        result = await self.app.restart()
+        if result is not None and result.config is None and path is not None:
+            self._show_problems(str(path), result, restarting=True)
+
+    def _show_problems(self, path: str, result: Any, restarting: bool = False) -> None:
+        # the path is said once above; each problem with its line and column
+        shown = "\n".join((f"line {p.line}, column {p.column}: " if p.line else "")
+                          + p.message for p in result.errors[:20])
+        more = f"\n... and {len(result.errors) - 20} more" if len(result.errors) > 20 else ""
+        running = self.app.config is not None
+        if restarting:
+            title = "Not restarted: the file has errors"
+            text = (f"{path} has errors, so it was not restarted: the running configuration "
+                    "carries on unchanged (switches, clients, rotators and loggers).")
+        else:
+            title = "Configuration not opened"
+            text = (f"{path} has errors and was not opened"
+                    f"{'; the running configuration carries on' if running else ''}.")
+        self.last_dialog = show_problems(self, title, f"{text}\n\nFix the file, then "
+                                         f"{'Restart' if restarting else 'open it'} again.",
+                                         shown + more, Path(path).resolve().parent)
 
     def exit(self) -> None:
         self.tray.hide()

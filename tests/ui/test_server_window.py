@@ -183,8 +183,8 @@ def test_a_broken_file_shows_its_errors_and_the_running_file_carries_on(
         await window.idle()
         assert window.last_dialog is not None
         text = window.last_dialog.text()
-        assert "broken.moas:2:46: error: missing comma" in text
-        assert "running configuration carries on" in text
+        assert str(broken) in text and "running configuration carries on" in text
+        assert "line 2, column 46: missing comma" in window.last_dialog.informativeText()
         assert any("broken.moas:2:46" in line for line in window.log_view.shown_lines())
         assert harness.app is not None and harness.app.status.file == "small-station.moas"
         assert str(broken.resolve()) not in window.recent_files()
@@ -465,5 +465,40 @@ def test_a_station_keyed_while_the_question_is_open_is_asked_about_before_anythi
         assert "station 1 radio 2 (switch 1 port 2)" in text
         answered(True)
         assert app.switches_stopped
+        await harness.close()
+    run_on_qt(qapp, scenario())
+
+
+def test_restart_on_a_file_with_a_typo_keeps_the_station_running_and_shows_why(
+        qapp: Any, harness: Harness, tmp_path: Path) -> None:
+    """File > Restart checks the file first: a typo is shown in a dialog with its line
+    and column and the file's path, and the running configuration, its client port and
+    band-following carry on (issue 30, point 1)."""
+    async def scenario() -> None:
+        path = tmp_path / "station.moas"
+        path.write_text((EXAMPLES / "small-station.moas").read_text())
+        window = harness.make()
+        window.open_file(str(path))
+        await window.idle()
+        app = harness.app
+        assert app is not None
+        await until(lambda: app.status.state is ServerState.NORMAL)
+        address = app.client_address
+        data = json.loads(path.read_text())
+        data["Antennas"][0]["ID"] = "zero"  # the typo
+        path.write_text(json.dumps(data, indent=2))
+        window.action_restart.trigger()
+        await window.idle()
+        dialog = window.last_dialog
+        assert dialog is not None and dialog.isVisible()
+        assert dialog.windowTitle() == "Not restarted: the file has errors"
+        assert str(path) in dialog.text() and "carries on" in dialog.text()
+        assert 'line 115, column 13: "ID" of this antenna' in dialog.informativeText()
+        assert any(b.text() == "Open Folder" for b in dialog.buttons())
+        assert app.config is not None and app.client_address == address
+        assert app.status.state is ServerState.NORMAL
+        box = app.emulators()[1]
+        app.apply_changes(app.engine.set_frequency(1, 1, 14025.0))  # still following
+        await until(lambda: bool(box.view().relays))
         await harness.close()
     run_on_qt(qapp, scenario())

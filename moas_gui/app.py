@@ -84,6 +84,9 @@ class ServerApp:
         self.options = options or ServerOptions()
         self._run: Running | None = None
         self._path: Path | None = None
+        self._last_good = False
+        """The running configuration is the last good version of ``_path`` (which has
+        errors): ``--headless`` started it rather than nothing."""
         self._status_listeners: list[Callable[[ServerStatus], None]] = []
         self._alert_listeners: list[Callable[[str, str], None]] = []
         self._status = ServerStatus()
@@ -207,11 +210,16 @@ class ServerApp:
         self._alert_listeners.append(listener)
 
     # -- opening and closing -----------------------------------------------------------
-    async def open(self, path: str | Path) -> LoadResult:
-        """Load ``path`` and, when it has no errors, run it instead of what ran before."""
+    async def open(self, path: str | Path, *, last_good: bool = False) -> LoadResult:
+        """Load ``path`` and, when it has no errors, run it instead of what ran before.
+
+        Each file that opens is kept beside its saved state (:func:`state_store.last_good_path`);
+        ``last_good`` runs that kept copy instead of ``path`` (which has errors), under
+        ``path``'s name and saved state, saying so in the log and the status."""
         async with self._lock:
             started = time.perf_counter()
-            result = load_config(path)
+            source = state_store.last_good_path(Path(path)) if last_good else Path(path)
+            result = load_config(source)
             for problem in result.warnings:
                 log.warning("%s", problem)
             if result.config is None:
@@ -225,6 +233,7 @@ class ServerApp:
                 log.info("Closing %s to open %s", self._status.file, Path(path).name)
                 await self._close_running()
             self._path = Path(path)
+            self._last_good = last_good
             try:
                 await self._start(result.config)
             except Exception:
@@ -235,7 +244,23 @@ class ServerApp:
                 self._update_status()
                 raise
             log.info("Opened %s in %.0f ms", self._path.name, (time.perf_counter() - started) * 1000)
+            if last_good:
+                log.warning("RUNNING THE LAST GOOD VERSION of %s (kept %s): the file itself "
+                            "has errors; fix it, then Restart", self._path,
+                            time.strftime("%Y-%m-%d %H:%M", time.localtime(
+                                source.stat().st_mtime)))
+            else:
+                await asyncio.to_thread(_keep_last_good, self._path)
             return result
+
+    async def open_or_last_good(self, path: str | Path) -> LoadResult:
+        """:meth:`open`; when ``path`` has errors and a last good version of it is kept,
+        that one (a station computer restarted after an edit that broke the file runs
+        the version that last ran, rather than nothing)."""
+        result = await self.open(path)
+        if result.config is None and state_store.last_good_path(Path(path)).is_file():
+            result = await self.open(path, last_good=True)
+        return result
 
     async def restart(self) -> LoadResult | None:
         """Reopen the current file (File > Restart), checked first: a file that now has
@@ -530,7 +555,9 @@ class ServerApp:
             shown = tuple((i, "stopped" if run.stopped else s) for i, s in switches)
             status = ServerStatus(
                 state=overall_state(True, run.stopped, [s for _, s in switches]),
-                file=self._path.name if self._path else None,
+                file=(None if self._path is None else self._path.name
+                      + (" (last good version: the file has errors)"
+                         if self._last_good else "")),
                 switches=shown,
                 clients=run.clients.client_count if run.clients is not None else 0,
             )
@@ -538,6 +565,19 @@ class ServerApp:
             self._status = status
             for listener in self._status_listeners:
                 listener(status)
+
+
+def _keep_last_good(path: Path) -> None:
+    """Keep ``path``'s bytes (it opened) as its last good version; a failure is logged."""
+    kept = state_store.last_good_path(path)
+    try:
+        data = path.read_bytes()
+        if kept.is_file() and kept.read_bytes() == data:
+            return
+        state_store.write_atomic(kept, data)
+    except OSError as exc:
+        log.warning("Cannot keep the last good version of %s in %s: %s", path.name, kept,
+                    exc.strerror or exc)
 
 
 __all__ = ["ROTCTLD_HOST", "ServerApp", "ServerOptions"]

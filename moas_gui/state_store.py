@@ -64,6 +64,13 @@ def state_path(config_path: Path) -> Path:
     return state_dir() / f"{stem[:40]}-{digest}.state.json"
 
 
+def last_good_path(config_path: Path) -> Path:
+    """Where the last version of ``config_path`` that opened is kept, beside its state: a
+    headless or service start on a file that has since got an error starts that one."""
+    return state_path(config_path).with_name(
+        state_path(config_path).name.removesuffix(".state.json") + ".last-good.moas")
+
+
 def fingerprint(config_bytes: bytes) -> str:
     return hashlib.sha256(config_bytes).hexdigest()
 

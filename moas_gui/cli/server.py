@@ -502,9 +502,8 @@ def _end_operator(app: RunningServer, name: object) -> str:
 
 async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | None) -> int:
     from moas_gui.app import ServerApp
-
     app = ServerApp(_options(args))
-    result = await app.open(args.file)
+    result = await app.open_or_last_good(args.file)
     if result.config is None:
         return 1
     stop = asyncio.Event()

@@ -165,3 +165,24 @@ async def test_closing_leaves_the_relays_as_they_are(app: ServerApp) -> None:
     await app.close()
     assert box.view().relays == held and box.view().active
     assert app.status.state is ServerState.NO_CONFIG
+
+
+@pytest.mark.asyncio
+async def test_each_file_that_opens_is_kept_and_its_last_good_version_runs_under_its_name(
+        app: ServerApp, tmp_path: Path) -> None:
+    from moas_gui.state_store import last_good_path
+
+    path = tmp_path / "station.moas"
+    shutil.copy(EXAMPLES / "small-station.moas", path)
+    assert (await app.open(path)).ok
+    kept = last_good_path(path)
+    assert kept.read_bytes() == path.read_bytes()
+    good = path.read_bytes()
+    path.write_text(path.read_text().replace('"ID": 0', '"ID": "zero"', 1))
+    assert (await app.restart()) is not None and app.config is not None  # still running
+    assert kept.read_bytes() == good  # a broken file is never kept
+    await app.close()
+    assert (await app.open(path)).config is None
+    assert (await app.open(path, last_good=True)).ok
+    assert app.status.file == "station.moas (last good version: the file has errors)"
+    assert app.path == path

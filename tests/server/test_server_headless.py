@@ -201,3 +201,54 @@ async def test_a_logger_flood_moves_the_relays_once_a_dwell_and_the_latest_band_
     finally:
         process.send_signal(signal.SIGTERM)
         assert await asyncio.wait_for(process.wait(), 15) == 0
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(90)
+async def test_a_headless_start_on_a_file_broken_since_runs_its_last_good_version(
+        station: tuple[Cable, Path], tmp_path: Path) -> None:
+    """A service restarted after an edit that broke the file: the server starts the last
+    version that opened (kept beside the saved state), says so loudly, and the switch is
+    driven; never nothing (issue 30, "Decided already")."""
+    _cable, config_path = station
+    env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_STATE_HOME=str(tmp_path / "state"),
+               XDG_CONFIG_HOME=str(tmp_path / "config"))
+
+    async def start() -> tuple[asyncio.subprocess.Process, list[str], int]:
+        tcp = free_port(socket.SOCK_STREAM)
+        process = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "moas_gui.cli.server", "--headless", str(config_path),
+            "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
+            "--no-rotator-program", "--new-instance", "--log-level", "info",
+            stderr=asyncio.subprocess.PIPE, env=env)
+        lines: list[str] = []
+
+        async def collect() -> None:
+            assert process.stderr is not None
+            async for line in process.stderr:
+                lines.append(line.decode(errors="replace"))
+        asyncio.ensure_future(collect())
+        await until(lambda: any("Serving " in line for line in lines)
+                    or process.returncode is not None, timeout=30, what="the server serving")
+        return process, lines, tcp
+
+    first, _, _ = await start()
+    first.send_signal(signal.SIGTERM)
+    assert await asyncio.wait_for(first.wait(), 15) == 0
+    data = json.loads(config_path.read_text())
+    data["Antennas"][0]["ID"] = "zero"  # an edit that breaks the file, then a power cut
+    config_path.write_text(json.dumps(data, indent=2))
+    second, lines, tcp = await start()
+    try:
+        assert second.returncode is None, "".join(lines)
+        text = "".join(lines)
+        assert "was not opened" in text and "RUNNING THE LAST GOOD VERSION" in text
+        reader, writer = await asyncio.open_connection("127.0.0.1", tcp)
+        client = Client(reader, writer, lines)
+        writer.write(b'{"id": 1, "cmd": "hello", "client": "test"}\n')
+        await client.event("state")
+        await client.switch_becomes("ok", timeout=30)
+        writer.close()
+    finally:
+        second.send_signal(signal.SIGTERM)
+        assert await asyncio.wait_for(second.wait(), 15) == 0

@@ -11,7 +11,6 @@ import asyncio
 import contextlib
 import functools
 import logging
-import sys
 from collections.abc import Callable, Coroutine, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -24,12 +23,12 @@ from moas_gui.status import ServerState, ServerStatus
 from .dialogs import ask_yes_no, choose_file, docs_path, show_message, show_problems
 from .icons import app_icon, status_icon
 from .log_view import LogLevel, LogView, QtLogHandler
+from .manual_window import ManualWindow
 from .qt import (
     QAction,
     QActionGroup,
     QApplication,
     QCloseEvent,
-    QDesktopServices,
     QEvent,
     QFileDialog,
     QIcon,
@@ -37,11 +36,9 @@ from .qt import (
     QMainWindow,
     QMenu,
     QMessageBox,
-    QProcess,
     QSettings,
     QSystemTrayIcon,
     Qt,
-    QUrl,
     QWidget,
 )
 from .screen_fit import fit_to_screen
@@ -79,14 +76,8 @@ class ServerWindow(QMainWindow):
         """The open "Stop ... and open ...?" question, if any: one at a time."""
         self._question_number = 0
         self.file_dialog: QFileDialog | None = None
-        self.open_url: Callable[[QUrl], bool] = QDesktopServices.openUrl
-        """Opens a file in the desktop's viewer; False when none does (tests replace it)."""
-        self.viewer_command: list[str] | None = (
-            ["xdg-open"] if sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd"))
-            else None)
-        """The program that shows the manual (watched for failing), or None for
-        :attr:`open_url`; tests point it at a program of their own."""
-        self._viewer: QProcess | None = None
+        self.manual_window: ManualWindow | None = None
+        """Help > Manual, once opened (kept: it opens again at its contents)."""
         self.ask: Callable[[str, str, Callable[[bool], None]], None] = self._ask_dialog
         """Asks the user a yes/no question without waiting (a window-modal dialog
         opened with ``open()``): the answer comes later to the callback.  Tests
@@ -485,54 +476,15 @@ class ServerWindow(QMainWindow):
                       "An open-source server for the YCCC MOAS II antenna switch.")
 
     def open_manual(self) -> None:
-        """Help > Manual: the manual in the desktop's viewer, or where it is when none opens it.
-
-        On Linux and the BSDs the viewer is started with ``xdg-open`` and watched: it
-        may start and then fail (no program for Markdown, a missing terminal), which
-        Qt's own opener does not report."""
-        docs = docs_path()
-        target = docs / "README.md" if (docs / "README.md").exists() else docs
-        command = self.viewer_command
-        if not command:
-            if not self.open_url(QUrl.fromLocalFile(str(target))):
-                self._manual_elsewhere(target, f"no program on this computer opens "
-                                               f"{target.suffix or 'folder'} files")
-            return
-        process = QProcess(self)
-        process.setProgram(command[0])
-        process.setArguments([*command[1:], str(target)])
-        process.setProcessChannelMode(QProcess.ProcessChannelMode.SeparateChannels)
-
-        def failed_to_start(error: QProcess.ProcessError) -> None:
-            if error is QProcess.ProcessError.FailedToStart:
-                self._manual_elsewhere(target, f"{command[0]} could not be started "
-                                               f"({process.errorString()})")
-                self._done_viewing(process)
-
-        def finished(code: int, status: QProcess.ExitStatus) -> None:
-            said = bytes(process.readAllStandardError().data()).decode(errors="replace")
-            lines = [line.strip() for line in said.splitlines() if line.strip()]
-            if code != 0 or status is QProcess.ExitStatus.CrashExit:
-                why = f"{command[0]} found no viewer for it (exit status {code}"
-                why += f": {lines[-1]})" if lines else ")"
-                self._manual_elsewhere(target, why)
-            self._done_viewing(process)
-
-        process.errorOccurred.connect(failed_to_start)
-        process.finished.connect(finished)
-        process.start()
-        self._viewer = process
-
-    def _done_viewing(self, process: QProcess) -> None:
-        if self._viewer is process:
-            self._viewer = None
-        process.deleteLater()
-
-    def _manual_elsewhere(self, target: Path, why: str) -> None:
-        log.warning("Help > Manual: %s; the manual is at %s", why, target)
-        self._message(QMessageBox.Icon.Information, "MOAS Server manual",
-                      f"The manual did not open: {why}.\n\nThe manual is at:\n{target}\n\n"
-                      "Open it with any text editor or web browser.")
+        """Help > Manual: the manual rendered in a window of its own (Qt renders Markdown),
+        never handed raw to the desktop's opener."""
+        if self.manual_window is None:
+            self.manual_window = ManualWindow(docs_path())
+        else:
+            self.manual_window.home()
+        self.manual_window.show()
+        self.manual_window.raise_()
+        self.manual_window.activateWindow()
 
     # -- window and tray -------------------------------------------------------------
     def bring_to_front(self) -> None:

@@ -193,59 +193,30 @@ def test_stop_and_start_each_log_one_line(qapp: Any, harness: Harness) -> None:
     run_on_qt(qapp, scenario())
 
 
-def test_help_manual_opens_the_manual_or_says_where_it_is(qapp: Any, harness: Harness) -> None:
+def test_help_manual_shows_the_manual_rendered_in_the_program(
+        qapp: Any, harness: Harness) -> None:
+    """Help > Manual renders the Markdown itself (never the desktop's opener, which once
+    started a terminal editor with no terminal): its first heading shows, a link to
+    another page opens it in the same window, Back returns, Contents starts again."""
     from moas_gui.ui.server_window import docs_path
 
     async def scenario() -> None:
         window = harness.make()
-        window.viewer_command = None  # Qt's own opener, as on Windows and macOS
-        asked: list[str] = []
-        window.open_url = lambda url: asked.append(url.toLocalFile()) or True
         window.action_manual.trigger()
-        assert asked == [str(docs_path() / "README.md")]
-        assert Path(asked[0]).is_file()
-        window.open_url = lambda url: False  # no viewer on this computer
-        window.action_manual.trigger()
-        box = window.last_dialog
-        assert box is not None and box.isVisible()
-        assert str(docs_path() / "README.md") in box.text()
-        await harness.close()
-    run_on_qt(qapp, scenario())
-
-
-def test_help_manual_says_where_the_manual_is_when_the_viewer_fails(
-        qapp: Any, harness: Harness, tmp_path: Path) -> None:
-    """xdg-open starts, finds nothing to show Markdown with and fails: the window says so
-    and where the manual is (the failing viewer here is a real program)."""
-    from moas_gui.ui.server_window import docs_path
-
-    failing = tmp_path / "xdg-open"
-    failing.write_text("#!/bin/sh\necho 'x-terminal-emulator: not found' >&2\nexit 3\n")
-    failing.chmod(0o755)
-    working = tmp_path / "viewer"
-    working.write_text("#!/bin/sh\nexit 0\n")
-    working.chmod(0o755)
-
-    async def scenario() -> None:
-        window = harness.make()
-        window.viewer_command = [str(working)]
-        window.action_manual.trigger()
-        assert window._viewer is not None
-        await until(lambda: window._viewer is None, what="the viewer ran and ended")
-        await asyncio.sleep(0.05)
-        assert window.last_dialog is None, "a viewer that works needs no message"
-        window.viewer_command = [str(failing)]
-        window.action_manual.trigger()
-        await until(lambda: window.last_dialog is not None and window.last_dialog.isVisible(),
-                    what="the message about the manual")
-        text = window.last_dialog.text()
-        assert str(docs_path() / "README.md") in text
-        assert "exit status 3: x-terminal-emulator: not found" in text
-        window.viewer_command = [str(tmp_path / "missing-viewer")]
-        window.last_dialog = None
-        window.action_manual.trigger()
-        await until(lambda: window.last_dialog is not None, what="the missing viewer told")
-        assert "could not be started" in window.last_dialog.text()
+        manual = window.manual_window
+        assert manual is not None and manual.isVisible()
+        first = next(line for line in (docs_path() / "README.md").read_text().splitlines()
+                     if line.startswith("# "))
+        assert manual.first_heading() == first[2:].strip()
+        assert "#" not in manual.browser.toPlainText().splitlines()[0]  # rendered, not raw
+        manual.show_page("server.md")
+        assert manual.page == "server.md" and manual.first_heading() != first[2:].strip()
+        assert manual.back.isEnabled()
+        manual.back.click()
+        assert manual.page in ("server.md", "README.md")
+        manual.contents.click()
+        assert manual.page == "README.md"
+        manual.grab().save(str(harness.tmp_path / "manual.png"))
         await harness.close()
     run_on_qt(qapp, scenario())
 

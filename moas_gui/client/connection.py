@@ -26,7 +26,9 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import errno
 import logging
+import socket
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -217,7 +219,8 @@ class ClientConnection:
     async def _pause(self, delay: float) -> None:
         """Waits ``delay`` before the next attempt (cut short by :meth:`close`)."""
         self._set_link(LinkState.RECONNECTING,
-                       f"{self._last_problem}; trying again in {delay:g} s")
+                       f"{self._last_problem} \u2014 trying again in {delay:g} s"
+                       f"{self._last_cause}")
         self._wake.clear()
         with contextlib.suppress(TimeoutError):
             await asyncio.wait_for(self._wake.wait(), delay)
@@ -243,17 +246,23 @@ class ClientConnection:
                 await self._task
 
     _last_problem = "not connected"
+    _last_cause = ""
+    """Why the last attempt failed, in words, after the countdown (a narrow window cuts
+    the end of the line, never the countdown)."""
 
     async def _attempt(self) -> bool:
         """One connection, from connect to loss; True when ``hello`` was answered."""
         try:
             reader, writer = await asyncio.wait_for(self._open(), self.connect_timeout)
         except TimeoutError:
-            self._last_problem = f"no answer from {self.address} within {self.connect_timeout:g} s"
+            self._last_problem = f"Cannot reach the server at {self.address}"
+            self._last_cause = f" (no answer within {self.connect_timeout:g} s)"
             return False
         except OSError as exc:
-            self._last_problem = f"cannot connect to {self.address}: {_reason(exc)}"
+            self._last_problem = f"Cannot reach the server at {self.address}"
+            self._last_cause = _why_not(exc)
             return False
+        self._last_cause = ""
         refusal = self._judge_certificate(writer)
         if refusal is not None:
             self._last_problem = refusal
@@ -540,6 +549,22 @@ def _selection(cmd: str, result: Mapping[str, Any]) -> Selection:
         if value is not None and (isinstance(value, bool) or not isinstance(value, int)):
             raise ClientError(f"{cmd}: the reply's '{name}' is {value!r}, not an antenna number")
     return Selection(tx, rx)
+
+
+_UNREACHABLE = {
+    errno.ECONNREFUSED: "nothing answers on that port: is the server running?",
+    errno.EHOSTUNREACH: "no route to that computer",
+    errno.ENETUNREACH: "no route to that network",
+    errno.ETIMEDOUT: "no answer",
+}
+
+
+def _why_not(exc: OSError) -> str:
+    """A connection failure in words an operator reads (no exception text), or nothing."""
+    if isinstance(exc, socket.gaierror):
+        return " (that name is not known)"
+    said = _UNREACHABLE.get(exc.errno or 0)
+    return f" ({said})" if said else ""
 
 
 def _reason(exc: OSError) -> str:

@@ -396,7 +396,7 @@ class ClientWindow(QMainWindow):
         text = {
             LinkState.CONNECTING: f"\u25cc Connecting to {self.connection.address}\u2026",
             LinkState.CONNECTED: f"\u25cf Connected to {detail or self.connection.address}",
-            LinkState.RECONNECTING: f"\u25cc Reconnecting: {detail}",
+            LinkState.RECONNECTING: f"\u25cc {detail}",
             LinkState.CLOSED: "\u2715 Closed",
         }[state]
         if screen.screen is Screen.STOPPED:

@@ -3,7 +3,7 @@
 :class:`CompassWidget` draws one rotator as the antenna on it sees the world
 (the antenna's offset added): the current heading as a thick amber needle,
 the target as a dashed cyan line while turning, the travel's dead zone
-hatched red, an overlap tinted, the stop as a red spoke, and an electrical
+hatched red, an overlap tinted, the stop as a red mark on the rim, and an electrical
 system's directions as dots (the one in use filled).  An offline rotator is
 drawn grey and ignores the mouse.  Press, drag and release anywhere on the
 face to ask for a heading: :attr:`CompassWidget.rotate_requested` carries the
@@ -285,9 +285,11 @@ class CompassWidget(QWidget):
             painter.setBrush(QBrush(QColor("#ff8a80"), Qt.BrushStyle.BDiagPattern))
             painter.drawPie(inner, start, span)
         if marks.stop is not None:
-            cx, cy = dial.center().x(), dial.center().y()
-            painter.setPen(QPen(Colours.STOP, 4))
-            painter.drawLine(QPointF(cx, cy), self.point_for_heading(marks.stop, 1.0))
+            # a mark on the rim, not a spoke from the centre: with no heading to draw, a
+            # spoke would read as a needle pointing at the stop
+            painter.setPen(QPen(Colours.STOP, 5))
+            painter.drawLine(self.point_for_heading(marks.stop, 0.78),
+                             self.point_for_heading(marks.stop, 1.0))
 
     def _paint_scale(self, painter: QPainter, cx: float, cy: float, radius: float,
                      online: bool) -> None:

@@ -150,6 +150,17 @@ def test_the_target_and_the_dead_zone_are_drawn(qtbot: Any) -> None:
     assert close(alive, Colours.COMPASS_FACE, 12)
 
 
+def test_with_no_heading_nothing_on_the_dial_reads_as_a_needle(qtbot: Any) -> None:
+    """The stop of a rotator whose heading is not known yet is a mark on the rim, not a
+    red spoke from the centre that reads as a needle pointing at it (issue 30)."""
+    compass = make_compass(qtbot, RotatorView(1, "Beam", heading=None, ccw_limit=180,
+                                              rotation=360, has_stop=True))
+    assert close(colour_at(compass, 180, 0.8), Colours.STOP)  # the stop, on the rim
+    for fraction in (0.2, 0.4, 0.6):
+        assert not close(colour_at(compass, 180, fraction), Colours.STOP), fraction
+        assert not close(colour_at(compass, 180, fraction), Colours.HEADING), fraction
+
+
 def test_a_click_asks_for_the_heading_under_it(qtbot: Any) -> None:
     compass = make_compass(qtbot, RotatorView(1, "Beam", heading=0.0))
     asked: list[float] = []

@@ -66,6 +66,7 @@ class ControllerDriver:
 
     def __init__(self, rotator: int, model: Model, port: str, poll_ms: int,
                  report: Callable[[int, int], None], *, opener: Opener = open_serial,
+                 port_state: Callable[[int, str | None], None] | None = None,
                  codec: ControllerCodec | None = None, retry: float = RETRY,
                  clock: Clock = LOOP_CLOCK) -> None:
         self.rotator = rotator
@@ -76,6 +77,8 @@ class ControllerDriver:
         self.heading: int | None = None
         self.estimated = False
         self._report = report
+        self._port_state = port_state
+        """Told when the port becomes unusable (why) and usable again (None)."""
         self._opener = opener
         self._retry = retry
         self._clock = clock
@@ -192,6 +195,8 @@ class ControllerDriver:
             log.info("%s: port open", self.label)
         self._was_open = True
         self._open_failures = 0
+        if self._port_state is not None:
+            self._port_state(self.rotator, None)
         self._next_poll = self._clock.now()
         try:
             for send in self.codec.opening():
@@ -331,6 +336,8 @@ class ControllerDriver:
         self._stop_pending = False
         self._followups.clear()
         self._close_link()
+        if self._port_state is not None:
+            self._port_state(self.rotator, f"port {self.port}: {error}")
 
     def _close_link(self) -> None:
         link, self._link = self._link, None

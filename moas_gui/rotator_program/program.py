@@ -54,6 +54,7 @@ from moas_gui.hw.rotators.moas_rotator_codec import (
     Stop,
     VersionRequest,
     encode_heading,
+    encode_port_state,
     encode_version_reply,
 )
 
@@ -88,6 +89,8 @@ class RotatorProgram:
         self._writer: asyncio.StreamWriter | None = None
         self._peer = ""
         self._announced: set[int] = set()
+        self._port_reasons: dict[int, str | None] = {}
+        """Why each rotator's controller cannot be reached (None: it can), as last told."""
         self._handlers: dict[asyncio.Task[None], asyncio.StreamWriter] = {}
         self.allow = tuple(allow)
         """Ports beyond serial devices that CONFIGURE may open (patterns, ``--allow``)."""
@@ -209,6 +212,13 @@ class RotatorProgram:
         if rotator in self._announced:
             self._send(encode_heading(rotator, degrees))
 
+    def _port_state(self, rotator: int, reason: str | None) -> None:
+        """The controller's port went away (why) or is open again: the server shows the
+        rotator offline or online (``OFFLINE``/``ONLINE``, lines of this project's)."""
+        self._port_reasons[rotator] = reason
+        if rotator in self._announced:
+            self._send(encode_port_state(rotator, reason))
+
     # -- commands --------------------------------------------------------------------------
 
     async def _obey(self, command: RotatorCommand | BadRotatorLine) -> None:
@@ -246,6 +256,8 @@ class RotatorProgram:
             log.info("%s: configured again, unchanged", current.label)
             if current.heading is not None:
                 self._send(encode_heading(rotator, current.heading))
+            if self._port_reasons.get(rotator) is not None:
+                self._send(encode_port_state(rotator, self._port_reasons[rotator]))
             return
         if current is not None:
             log.info("%s: replaced by a new configuration", current.label)
@@ -258,6 +270,7 @@ class RotatorProgram:
                 del self.rotators[other.rotator]
                 await other.close()
         driver = ControllerDriver(rotator, model, command.port, command.poll_ms, self._report,
+                               port_state=self._port_state,
                                opener=self._opener, retry=self._retry, clock=self._clock)
         self.rotators[rotator] = driver
         log.info("%s: configured, %s", driver.label, _polling(driver))

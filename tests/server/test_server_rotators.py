@@ -246,3 +246,32 @@ async def test_restarts_wait_on_the_clock_and_a_steady_run_starts_the_back_off_a
         assert waits() == [1.0, 2.0, 4.0, 1.0]
     finally:
         await local.stop()
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(60)
+async def test_a_controller_whose_port_is_gone_is_offline_refuses_turns_and_comes_back(
+        station: Station, peers: list[Peer]) -> None:
+    """One truth per rotator (issue 30): the MOAS Rotator program runs, but the
+    controller's port is pulled: the program says so (OFFLINE), clients see the rotator
+    offline, a turn is refused with the reason instead of answering ok with a target
+    that never comes; when the port is back, so is the rotator."""
+    peer = await client(station, peers)
+    await peer.wait_for(tribander(lambda r: r["online"] and r["heading"] == START),
+                        timeout=15, what="the tribander online")
+    link = station.port.link
+    assert link is not None
+    station.host.remove(station.port)  # the USB adapter pulled
+    since = peer.mark()
+    await peer.event("rotator", since, timeout=15, where=lambda m: m["id"] == 1
+                     and not m["online"] and not m["moving"])
+    code, message = await peer.refused("rotate", rotator=1, heading=90)
+    assert code == "unavailable" and "offline" in message and link in message, message
+    assert not any(m["moving"] for m in peer.events("rotator", since) if m["id"] == 1)
+    station.port = station.host.add(find_model("Yaesu").make_emulator(
+        START, SPEED, station.host.clock()), link=link)  # plugged back
+    await peer.event("rotator", since, timeout=20, where=lambda m: m["id"] == 1
+                     and m["online"])
+    assert await peer.ok("rotate", rotator=1, heading=90) == {}
+    await peer.event("rotator", since, timeout=15,
+                     where=lambda m: m["id"] == 1 and m["heading"] == 90)

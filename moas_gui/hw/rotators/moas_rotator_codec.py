@@ -165,8 +165,19 @@ class BadRotatorLine:
     rotator: int | None = None
 
 
+@dataclass(frozen=True, slots=True)
+class PortReport:
+    """``OFFLINE <rotator> <why...>`` / ``ONLINE <rotator>`` from this project's program:
+    whether the rotator's controller can be reached (``reason`` None: it can).  An
+    addition to the protocol, sent only to a server: the original program never sends
+    it, and the original server would log it as a line it does not know."""
+
+    rotator: int
+    reason: str | None
+
+
 RotatorCommand = VersionRequest | Configure | Rotate | Stop
-Report = VersionReport | HeadingReport
+Report = VersionReport | HeadingReport | PortReport
 
 
 # ---- server side: commands out, reports in -------------------------------------------
@@ -217,6 +228,9 @@ def parse_report(line: str) -> Report | BadRotatorLine:
     fields = line.split()
     if len(fields) == 2 and fields[0] == "VERSION":
         return VersionReport(fields[1])
+    if len(fields) >= 2 and fields[0] in ("OFFLINE", "ONLINE") and _is_int(fields[1]):
+        why = " ".join(fields[2:]) or "its controller cannot be reached"
+        return PortReport(int(fields[1]), why if fields[0] == "OFFLINE" else None)
     if len(fields) == 2 and _is_int(fields[0]):
         rotator = int(fields[0])
         degrees = _finite(fields[1])
@@ -248,6 +262,14 @@ def encode_version_reply(version: str) -> bytes:
     parts = (version.split(".") + ["0"])[:2]
     major, minor = (int(p) if is_digits(p) else 0 for p in parts)
     return f"VERSION {major}.{minor}\r".encode("ascii")
+
+
+def encode_port_state(rotator: int, reason: str | None) -> bytes:
+    """``OFFLINE <rotator> <reason>`` or ``ONLINE <rotator>`` (see :class:`PortReport`)."""
+    if reason is None:
+        return f"ONLINE {rotator}\r".encode("ascii")
+    words = " ".join(reason.split())[:MAX_REPORT_LINE - 20]
+    return f"OFFLINE {rotator} {words}\r".encode("ascii", "replace")
 
 
 def encode_heading(rotator: int, degrees: float) -> bytes:
@@ -398,6 +420,7 @@ __all__ = [
     "Configure",
     "HeadingReport",
     "HeadingScale",
+    "PortReport",
     "Report",
     "ReportDecoder",
     "Rotate",
@@ -409,6 +432,7 @@ __all__ = [
     "check_field",
     "encode_configure",
     "encode_heading",
+    "encode_port_state",
     "encode_rotate",
     "encode_stop",
     "encode_version",

@@ -24,6 +24,7 @@ from .moas_rotator_codec import (
     BadRotatorLine,
     HeadingReport,
     HeadingScale,
+    PortReport,
     ReportDecoder,
     VersionReport,
     encode_configure,
@@ -102,7 +103,8 @@ class MoasRotatorLink:
             with contextlib.suppress(OSError):
                 await writer.wait_closed()
 
-    def _dispatch(self, report: HeadingReport | VersionReport | BadRotatorLine) -> None:
+    def _dispatch(self, report: HeadingReport | VersionReport | PortReport | BadRotatorLine
+                  ) -> None:
         if isinstance(report, VersionReport):
             self.version = report.version
             log.info("%s: program version %s", self.where, report.version)
@@ -114,6 +116,10 @@ class MoasRotatorLink:
                             self.where, report.rotator)
             else:
                 driver.on_report(report.degrees)
+            return
+        if isinstance(report, PortReport):
+            if driver is not None:
+                driver.on_port(report.reason)
             return
         about = f" about {driver.name}" if driver is not None else ""
         log.warning("%s sent a malformed line%s: %r (%s); ignored",
@@ -138,6 +144,9 @@ class SerialRotator(RotatorDriver):
         )
         self._watch_every = min(max(poll, 0.1), 1.0)
         self._online = False
+        self._unreachable: str | None = None
+        """Why the program says it cannot reach this rotator's controller (its port is
+        missing or failed), or None: then the rotator is offline too, and refuses turns."""
         self._task: asyncio.Task[None] | None = None
         link.attach(self)
 
@@ -169,6 +178,18 @@ class SerialRotator(RotatorDriver):
 
     def link_down(self) -> None:
         self._online = False
+        self._unreachable = None  # the next program says afresh
+        self._publish_now()
+
+    def on_port(self, reason: str | None) -> None:
+        """The program says the controller's port is unusable (why) or usable again."""
+        if reason != self._unreachable:
+            if reason is None:
+                log.info("%s is online again: its controller's port is open", self.title)
+            else:
+                log.warning("%s is offline: %s", self.title, reason)
+                self.tracker.end()  # no turn goes on where nothing is driven
+        self._unreachable = reason
         self._publish_now()
 
     def on_report(self, degrees: float) -> None:
@@ -178,6 +199,7 @@ class SerialRotator(RotatorDriver):
             position = degrees
         else:
             position = normalize(degrees)
+        self._unreachable = None  # a heading: the controller answers
         if self.tracker.observe(position, self._now()) == "arrived":
             log.debug("%s reached its target", self.name)
         self._publish_now()
@@ -187,6 +209,8 @@ class SerialRotator(RotatorDriver):
     def check_ready(self) -> None:
         if not self.link.connected:
             raise self._unavailable(f"cannot turn: {self.link.where} is not connected")
+        if self._unreachable is not None:
+            raise self._unavailable(f"cannot turn: it is offline ({self._unreachable})")
 
     def forget_turn(self) -> None:
         self.tracker.end()
@@ -214,6 +238,11 @@ class SerialRotator(RotatorDriver):
 
     # ---- helpers ---------------------------------------------------------------------
 
+    @property
+    def usable(self) -> bool:
+        """The program is connected and says the controller's port is open."""
+        return self._online and self._unreachable is None
+
     def _wire_degrees(self, position: float) -> float:
         if self.scale is HeadingScale.COMPASS:
             return round(self.travel.heading_at(position)) % 360
@@ -227,8 +256,8 @@ class SerialRotator(RotatorDriver):
         self._set(RotatorStatus(
             heading=None if position is None else self.travel.heading_at(position),
             target=None if target is None else self.travel.heading_at(target),
-            moving=self._online and self.tracker.moving(self._now()),
-            online=self._online,
+            moving=self.usable and self.tracker.moving(self._now()),
+            online=self.usable,
         ))
 
     async def _watch(self) -> None:

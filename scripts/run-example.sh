@@ -2,7 +2,10 @@
 # Installs moas-gui (scripts/setup.sh) and starts the server window on an example
 # station whose switches are the built-in emulator (no hardware needed); the
 # example's serial rotators get emulated controllers, linked in a private directory
-# made for this run (removed at the end).  The server listens on this computer only
+# of this user's (mode 700, the same every run, so that the example's copy naming
+# them is the same file with the same content every run: Recent Files lists it and
+# its saved state comes back).  An example with nothing to emulate is opened as it
+# is, so every message names the example itself.  The server listens on this computer only
 # (127.0.0.1) unless --bind or --udp-bind is given.  When no display can be opened
 # (a server over ssh, or a DISPLAY that does not answer), it runs the same server
 # headless instead.
@@ -11,14 +14,18 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 example="${1:-examples/big-station.moas}"
 shift || true
-private=$(mktemp -d "${TMPDIR:-/tmp}/moas-example.XXXXXX")  # mode 700, this run's own
+private="${XDG_STATE_HOME:-$HOME/.local/state}/moas-gui/example-run"
+mkdir -p "$private" && chmod 700 "$private"  # this user's alone
 emulators=$(.venv/bin/python scripts/example_rotators.py "$example" "$private")
 cleanup() {
     for pid in $emulators; do kill "$pid" 2>/dev/null || true; done
-    rm -rf "$private"
+    find "$private" -maxdepth 1 -type l -delete 2>/dev/null || true  # the emulators' links
 }
 trap cleanup EXIT
 opened="$private/$(basename "$example")"
+if cmp -s "$opened" "$example"; then
+    opened="$example"  # nothing rewritten: the example itself (and its name in messages)
+fi
 bind=()
 case " $* " in *" --bind"*) ;; *) bind+=(--bind 127.0.0.1) ;; esac
 case " $* " in *" --udp-bind"*) ;; *) bind+=(--udp-bind 127.0.0.1) ;; esac

@@ -96,5 +96,6 @@ def test_the_examples_rotator_links_go_into_the_runs_private_directory(tmp_path:
         for pid in pids:
             os.kill(pid, signal.SIGTERM)
     script = (ROOT / "scripts" / "run-example.sh").read_text()
-    assert "--bind 127.0.0.1" in script and "mktemp -d" in script
+    assert "--bind 127.0.0.1" in script and 'chmod 700 "$private"' in script
+    assert 'opened="$example"' in script  # nothing rewritten: the example itself
     assert "python -m moas_gui.ui.display" in script

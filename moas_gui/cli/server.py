@@ -423,13 +423,13 @@ def _become_instance(args: argparse.Namespace) -> tuple[InstanceServer | None, i
 
 
 def _refuse(args: argparse.Namespace, reason: str, advice: str, *, detail: str = "",
-            status: int = 1) -> int:
+            status: int = 1, title: str = "") -> int:
     """Tells why this launch cannot go on (stderr, and a message window for a window
     launch) and returns the exit status."""
     from moas_gui.ui.launch_message import tell_launch_refused
 
     tell_launch_refused("moas-server", reason, advice, detail=detail,
-                        window=not args.headless)
+                        window=not args.headless, title=title)
     return status
 
 
@@ -456,13 +456,15 @@ def _refuse_unusable(args: argparse.Namespace) -> int | None:
     if result.config is not None:
         return None
     count = len(result.errors)
-    shown = "\n".join(str(problem) for problem in result.errors[:20])
+    shown = "\n".join((f"line {p.line}, column {p.column}: " if p.line else "") + p.message
+                      for p in result.errors[:20])
     if count > 20:
         shown += f"\n... and {count - 20} more"
-    return _refuse(args, f"{path} has {count} error{'s' if count != 1 else ''}; not handed to "
-                         "the server that is already running, which carries on untouched",
-                   f"correct the file (moas-server --check {path} lists every problem) and "
-                   "open it again", detail=shown)
+    return _refuse(args, f"{path} has {count} error{'s' if count != 1 else ''}, so it was not "
+                         "opened; the moas-server that is already running goes on untouched "
+                         "with what it runs",
+                   "correct the file where the lines below say, then open it again",
+                   detail=shown, title=f"{Path(path).name} was not opened")
 
 
 def vet_launch(app: RunningServer, launch: dict[str, object], *, headless: bool) -> str | None:

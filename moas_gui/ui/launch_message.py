@@ -16,14 +16,15 @@ from __future__ import annotations
 
 import os
 import sys
+from typing import Any
 
 from .display import display_problem
 
-__all__ = ["tell_launch_refused"]
+__all__ = ["refusal_box", "tell_launch_refused"]
 
 
 def tell_launch_refused(program: str, reason: str, advice: str, *, detail: str = "",
-                        window: bool = True) -> None:
+                        window: bool = True, title: str = "") -> None:
     """``program: reason; advice`` on stderr, and in a message window when ``window``
     and a display can be opened.  Returns once the window is closed."""
     line = f"{program}: {reason}"
@@ -38,21 +39,31 @@ def tell_launch_refused(program: str, reason: str, advice: str, *, detail: str =
     if problem is not None:
         print(f"{program}: no message window either: {problem}", file=sys.stderr)
         return
-    _show(program, reason, advice, detail)
+    _show(program, reason, advice, detail, title)
 
 
-def _show(program: str, reason: str, advice: str, detail: str) -> None:
-    from .qt import QApplication, QMessageBox, QTimer
+def refusal_box(program: str, reason: str, advice: str, detail: str, title: str = "") -> Any:
+    """The message window: the reason, then what to do, then the details (a file's
+    problems) in the window itself, not behind a "Show Details" button."""
+    from .qt import QMessageBox
+
+    box = QMessageBox(QMessageBox.Icon.Critical, title or f"{program} did not start",
+                      f"{reason[:1].upper()}{reason[1:]}." if title
+                      else f"{program} did not start: {reason}.",
+                      QMessageBox.StandardButton.Ok)
+    informative = f"What to do: {advice[:1].upper()}{advice[1:]}." if advice else ""
+    if detail:
+        informative = f"{detail}\n\n{informative}" if informative else detail
+    box.setInformativeText(informative)
+    return box
+
+
+def _show(program: str, reason: str, advice: str, detail: str, title: str) -> None:
+    from .qt import QApplication, QTimer
 
     existing = QApplication.instance()
     application = existing if isinstance(existing, QApplication) else QApplication([program])
-    box = QMessageBox(QMessageBox.Icon.Critical, f"{program} did not start",
-                      f"{program} did not start: {reason}.",
-                      QMessageBox.StandardButton.Ok)
-    if advice:
-        box.setInformativeText(f"What to do: {advice[:1].upper()}{advice[1:]}.")
-    if detail:
-        box.setDetailedText(detail)
+    box = refusal_box(program, reason, advice, detail, title)
     platform = os.environ.get("QT_QPA_PLATFORM", "") or application.platformName()
     if platform.split(":", 1)[0] in ("offscreen", "minimal"):
         QTimer.singleShot(0, box.accept)

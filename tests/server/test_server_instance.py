@@ -112,12 +112,13 @@ def test_a_broken_or_missing_file_is_refused_by_the_new_process_alone(
     broken = tmp_path / "broken.moas"
     broken.write_text('{"Switches": [}')
     try:
-        for path, why in ((broken, "broken.moas:1"), (tmp_path / "missing.moas", "missing.moas")):
+        for path, why in ((broken, "line 1, column "), (tmp_path / "missing.moas", "missing.moas")):
             second = second_launch(env, str(path))
             assert second.returncode != 0
-            assert why in second.stderr and "untouched" in second.stderr, second.stderr
+            assert why in second.stderr and "goes on untouched" in second.stderr, second.stderr
             assert "Traceback" not in second.stderr
-            assert "moas-server --check" in second.stderr, "what to do"
+            assert "where the lines below say" in second.stderr, "what to do"
+            assert "moas-server --check" not in second.stderr  # no command to a double-click
             assert "moas-server: showed a message window" in second.stderr
         assert ask_state(tcp)["config"] == "small-station.moas"
     finally:

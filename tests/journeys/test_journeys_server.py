@@ -334,3 +334,35 @@ def test_a_second_launch_with_another_file_asks_and_yes_switches_cleanly(tmp_pat
         assert "Traceback" not in out and "Cannot enter into task" not in out, out
     finally:
         server.stop()
+
+
+def test_restart_on_a_file_with_a_typo_keeps_the_station_on_the_air(
+        server: Server, tmp_path: Path) -> None:
+    """Issue 30's first finding as a person meets it: the running file is edited with a
+    typo and File > Restart is chosen.  The station stays up: the window still names
+    the file, the client port answers, a band change still moves the relays; a dialog
+    says why, with the line and column."""
+    path = tmp_path / "station.moas"
+    path.write_text((EXAMPLES / "small-station.moas").read_text())
+    server.start(str(path))
+    server.shows(normal("station.moas"), "the station running")
+    server.click("View", "Emulator", "Switch 1")
+    assert server.client({"cmd": "frequency", "station": 1, "radio": 1, "khz": 7150})["ok"]
+    on_40 = relays(server.shows(lambda s: relays(s), "the 40 m antenna's relays"))
+    data = json.loads(path.read_text())
+    data["Antennas"][0]["ID"] = "zero"  # the typo
+    path.write_text(json.dumps(data, indent=2))
+    server.click("File", "Restart")
+    seen = server.shows(lambda s: any(d["title"] == "Not restarted: the file has errors"
+                                      for d in s["dialogs"]), "the dialog about the typo")
+    dialog = next(d for d in seen["dialogs"] if d["title"].startswith("Not restarted"))
+    assert "carries on unchanged" in dialog["text"] and str(path) in dialog["text"]
+    assert "Open Folder" in dialog["buttons"]
+    assert normal("station.moas")(seen), seen["status"]
+    assert server.config() == "station.moas"  # the client port answers as before
+    assert server.client({"cmd": "frequency", "station": 1, "radio": 1, "khz": 14025})["ok"]
+    server.shows(lambda s: relays(s) and relays(s) != on_40, "band-following goes on")
+    server.answer("OK")
+    server.click("Tray", "Exit")
+    assert server.ends() == 0
+    assert "Traceback" not in server.output()

@@ -59,6 +59,8 @@ class GuardedConnection(asyncio.Protocol):
         over: a hello greets it)."""
         self.transport: asyncio.Transport | None = None
         self._timer: asyncio.TimerHandle | None = None
+        self.received = 0
+        """Bytes this connection sent: none at all is a browser's preconnect."""
 
     # -- the request clock ---------------------------------------------------------
     def arm(self) -> None:
@@ -74,10 +76,16 @@ class GuardedConnection(asyncio.Protocol):
 
     def _expire(self) -> None:
         self._timer = None
-        self.clients.trouble_line(
-            "web request deadline", logging.INFO,
-            "Closed a web connection from %s: no complete request within %g s",
-            self.address, self.deadline)
+        if self.received == 0:
+            # a browser opens a connection or two ahead in case it needs them (Chromium's
+            # preconnect) and never uses them: nothing wrong, nothing for the Info log
+            log.debug("Closed a web connection from %s: it sent nothing within %g s (a "
+                      "browser's preconnect)", self.address, self.deadline)
+        else:
+            self.clients.trouble_line(
+                "web request deadline", logging.INFO,
+                "Closed a web connection from %s: no complete request within %g s",
+                self.address, self.deadline)
         if self.transport is not None:
             self.transport.abort()
 
@@ -103,6 +111,7 @@ class GuardedConnection(asyncio.Protocol):
         self.arm()
 
     def data_received(self, data: bytes) -> None:
+        self.received += len(data)
         if self.admitted:
             if self.ticket is not None:
                 self.ticket.touch()

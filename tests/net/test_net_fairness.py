@@ -298,3 +298,25 @@ def test_aiohttp_lines_lose_their_traceback_except_at_debug() -> None:
             assert not quiet.filter(again)
     finally:
         logger.setLevel(saved)
+
+
+@pytest.mark.asyncio
+async def test_a_browsers_preconnect_that_sends_nothing_is_closed_at_debug_only(
+        caplog: pytest.LogCaptureFixture) -> None:
+    """Chromium opens a connection ahead and never uses it: it is closed at the deadline
+    like any other, but that is no trouble for the Info log (issue 30)."""
+    caplog.set_level(logging.DEBUG, logger="moas_gui.net")
+    made = await make_web()
+    made.web.request_deadline = 0.3
+    try:
+        assert await slow_request(made.web.port, b"") == b""
+        await until(lambda: made.clients.admission.count == 0)
+        closed_lines = [r for r in caplog.records if "a browser's preconnect" in r.getMessage()]
+        assert len(closed_lines) == 1 and closed_lines[0].levelno == logging.DEBUG
+        assert not lines(caplog, "no complete request within")
+        assert not [r for r in caplog.records if r.levelno >= logging.INFO
+                    and "web connection" in r.getMessage()]
+    finally:
+        await made.session.close()
+        await made.web.close()
+        await made.clients.close()

@@ -423,13 +423,13 @@ def _become_instance(args: argparse.Namespace) -> tuple[InstanceServer | None, i
 
 
 def _refuse(args: argparse.Namespace, reason: str, advice: str, *, detail: str = "",
-            status: int = 1, title: str = "") -> int:
+            status: int = 1, title: str = "", window_detail: str | None = None) -> int:
     """Tells why this launch cannot go on (stderr, and a message window for a window
     launch) and returns the exit status."""
     from moas_gui.ui.launch_message import tell_launch_refused
 
     tell_launch_refused("moas-server", reason, advice, detail=detail,
-                        window=not args.headless, title=title)
+                        window=not args.headless, title=title, window_detail=window_detail)
     return status
 
 
@@ -456,15 +456,17 @@ def _refuse_unusable(args: argparse.Namespace) -> int | None:
     if result.config is not None:
         return None
     count = len(result.errors)
+    more = f"\n... and {count - 20} more" if count > 20 else ""
+    # the terminal gets each problem as FILE:LINE:COLUMN; the window names the file once
+    listed = "\n".join(str(p) for p in result.errors[:20]) + more
     shown = "\n".join((f"line {p.line}, column {p.column}: " if p.line else "") + p.message
-                      for p in result.errors[:20])
-    if count > 20:
-        shown += f"\n... and {count - 20} more"
+                      for p in result.errors[:20]) + more
     return _refuse(args, f"{path} has {count} error{'s' if count != 1 else ''}, so it was not "
-                         "opened; the moas-server that is already running goes on untouched "
-                         "with what it runs",
+                         "opened: it was not handed to the moas-server that is already "
+                         "running, which goes on untouched with what it runs",
                    "correct the file where the lines below say, then open it again",
-                   detail=shown, title=f"{Path(path).name} was not opened")
+                   detail=listed, window_detail=shown,
+                   title=f"{Path(path).name} was not opened")
 
 
 def vet_launch(app: RunningServer, launch: dict[str, object], *, headless: bool) -> str | None:

@@ -24,7 +24,8 @@ __all__ = ["refusal_box", "tell_launch_refused"]
 
 
 def tell_launch_refused(program: str, reason: str, advice: str, *, detail: str = "",
-                        window: bool = True, title: str = "") -> None:
+                        window: bool = True, title: str = "",
+                        window_detail: str | None = None) -> None:
     """``program: reason; advice`` on stderr, and in a message window when ``window``
     and a display can be opened.  Returns once the window is closed."""
     line = f"{program}: {reason}"
@@ -39,7 +40,7 @@ def tell_launch_refused(program: str, reason: str, advice: str, *, detail: str =
     if problem is not None:
         print(f"{program}: no message window either: {problem}", file=sys.stderr)
         return
-    _show(program, reason, advice, detail, title)
+    _show(program, reason, advice, detail if window_detail is None else window_detail, title)
 
 
 def refusal_box(program: str, reason: str, advice: str, detail: str, title: str = "") -> Any:

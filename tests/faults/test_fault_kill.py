@@ -54,7 +54,7 @@ async def test_kill_9_mid_band_changes_and_restart(tmp_path: Path) -> None:
         await server.end(signal.SIGKILL)
         await client.close()
         for path in Path(station.env["XDG_STATE_HOME"]).rglob("*"):
-            if path.is_file() and not path.name.endswith(".tmp"):
+            if path.is_file() and not path.name.endswith((".tmp", ".last-good.moas")):
                 decode(path.read_bytes(), fingerprint(station.config.read_bytes()))  # whole
 
         server = await station.server("--no-rotator-program")

@@ -112,7 +112,7 @@ def test_a_broken_or_missing_file_is_refused_by_the_new_process_alone(
     broken = tmp_path / "broken.moas"
     broken.write_text('{"Switches": [}')
     try:
-        for path, why in ((broken, "line 1, column "), (tmp_path / "missing.moas", "missing.moas")):
+        for path, why in ((broken, "broken.moas:1"), (tmp_path / "missing.moas", "missing.moas")):
             second = second_launch(env, str(path))
             assert second.returncode != 0
             assert why in second.stderr and "goes on untouched" in second.stderr, second.stderr

@@ -29,6 +29,7 @@ import json
 import logging
 import os
 import stat
+import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -257,17 +258,33 @@ STALE_TEMPORARY_S = 60.0
 
 
 def remove_stale_temporaries(path: Path) -> int:
-    """Remove temporary files of ``path`` that a killed writer left (older than a minute,
-    so a second server writing right now keeps its own); returns how many."""
+    """Remove temporary files of ``path`` that a killed writer left: those of a process
+    that no longer runs (the name carries the writer's process id), and any older than a
+    minute (so a second server writing right now keeps its own); returns how many."""
     removed = 0
     now = time.time()
     with contextlib.suppress(OSError):
         for candidate in path.parent.glob(f".{path.name}.*.tmp"):
             with contextlib.suppress(OSError):
-                if now - candidate.stat().st_mtime > STALE_TEMPORARY_S:
+                if now - candidate.stat().st_mtime > STALE_TEMPORARY_S \
+                        or _writer_gone(candidate):
                     candidate.unlink()
                     removed += 1
     return removed
+
+
+def _writer_gone(temporary: Path) -> bool:
+    """Whether the process that wrote ``temporary`` (``.NAME.PID.tmp``) has ended."""
+    pid_text = temporary.name.removesuffix(".tmp").rsplit(".", 1)[-1]
+    if sys.platform == "win32" or not pid_text.isdigit() or int(pid_text) == os.getpid():
+        return False
+    try:
+        os.kill(int(pid_text), 0)
+    except ProcessLookupError:
+        return True
+    except OSError:  # it runs, as another user
+        return False
+    return False
 
 
 MAX_STATE_BYTES = 4 << 20

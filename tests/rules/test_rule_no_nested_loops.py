@@ -19,7 +19,7 @@ PACKAGE = Path(__file__).resolve().parents[2] / "moas_gui"
 
 VETTED: dict[str, str] = {
     # "moas_gui/some/module.py:LINE": "why this exec() never runs under a task",
-    "moas_gui/ui/launch_message.py:72": "the refused launch's message window runs before "
+    "moas_gui/ui/launch_message.py:73": "the refused launch's message window runs before "
                                         "any event loop exists, then the process exits",
 }
 """Calls allowed anyway, by file and line, each with the reason it is safe."""

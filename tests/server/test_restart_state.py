@@ -390,3 +390,29 @@ async def test_stopped_switches_stay_stopped_after_a_restart(station: Path, app:
     assert app.emulators()[1].view().relays == frozenset()
     app.start_switches()
     await until(lambda: app.emulators()[1].view().relays != frozenset())
+
+
+def test_a_temporary_left_by_a_writer_that_is_gone_is_removed_at_once(tmp_path: Path) -> None:
+    """A server killed in the middle of a save leaves ``.NAME.PID.tmp``: the next one
+    removes it at once (its writer is gone), not only a minute later; a temporary of a
+    process still running is kept (it may be writing right now)."""
+    import os
+    import subprocess
+    import sys
+
+    from moas_gui.state_store import remove_stale_temporaries
+
+    target = tmp_path / "s.json"
+    ended = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                           capture_output=True, text=True, check=True)
+    gone = tmp_path / f".s.json.{int(ended.stdout)}.tmp"
+    gone.write_text("half")
+    living = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
+    try:
+        alive = tmp_path / f".s.json.{living.pid}.tmp"
+        alive.write_text("being written")
+        assert remove_stale_temporaries(target) == 1
+        assert not gone.exists() and alive.exists()
+    finally:
+        living.kill()
+        living.wait()

@@ -250,7 +250,8 @@ class ServerApp:
                             time.strftime("%Y-%m-%d %H:%M", time.localtime(
                                 source.stat().st_mtime)))
             else:
-                await asyncio.to_thread(_keep_last_good, self._path)
+                # off the loop and not waited for: opening is done when the ports listen
+                asyncio.get_running_loop().run_in_executor(None, _keep_last_good, self._path)
             return result
 
     async def open_or_last_good(self, path: str | Path) -> LoadResult:

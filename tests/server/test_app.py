@@ -176,7 +176,8 @@ async def test_each_file_that_opens_is_kept_and_its_last_good_version_runs_under
     shutil.copy(EXAMPLES / "small-station.moas", path)
     assert (await app.open(path)).ok
     kept = last_good_path(path)
-    assert kept.read_bytes() == path.read_bytes()
+    await until(lambda: kept.is_file() and kept.read_bytes() == path.read_bytes(),
+                what="the file kept as its last good version")
     good = path.read_bytes()
     path.write_text(path.read_text().replace('"ID": 0', '"ID": "zero"', 1))
     assert (await app.restart()) is not None and app.config is not None  # still running

@@ -396,7 +396,6 @@ def test_a_temporary_left_by_a_writer_that_is_gone_is_removed_at_once(tmp_path: 
     """A server killed in the middle of a save leaves ``.NAME.PID.tmp``: the next one
     removes it at once (its writer is gone), not only a minute later; a temporary of a
     process still running is kept (it may be writing right now)."""
-    import os
     import subprocess
     import sys
 

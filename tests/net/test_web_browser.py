@@ -360,3 +360,23 @@ async def test_an_antenna_genius_hold_is_shown_on_the_page_with_who_holds_it(
         if ag is not None:
             await ag.close()
         await made.close()
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_a_station_with_one_radio_shows_no_second_radio_selector(
+        tmp_path: Path, browser: Any) -> None:
+    """Issue 30: the "and –" selector for a second radio is left out where the station
+    has no second radio, and shown where it has one."""
+    made = Station(tmp_path, "two-op-shared-tx.moas")  # station 1: two radios; 2: one
+    try:
+        await made.start_server()
+        shown = ("return !document.getElementById('radioB').closest('label').hidden")
+        await run(browser.get, made.url + "?station=2&radio=1")
+        await page_until(browser, f"return {button(1, 0)} !== null")
+        assert await js(browser, shown) is False
+        await run(browser.get, made.url + "?station=1&radio=1")
+        await page_until(browser, shown, what="the second radio's selector on station 1")
+    finally:
+        await run(browser.get, "about:blank")
+        await made.close()

@@ -238,7 +238,10 @@
     }
     fillSelect($("#station"), stations, choice.station, false);
     fillSelect($("#radioA"), radios, choice.radios[0], false);
-    fillSelect($("#radioB"), radios.filter(r => r !== choice.radios[0]), choice.radios[1], true);
+    const others = radios.filter(r => r !== choice.radios[0]);
+    fillSelect($("#radioB"), others, choice.radios[1], true);
+    // a station with one radio has no second to show: no "and \u2013" selector
+    $("#radioB").closest("label").hidden = others.length === 0;
   }
 
   function fillSelect(select, values, current, blank) {
@@ -505,13 +508,14 @@
       : { ...t, rotator: { ...t.rotator, heading: null, target: null, moving: false } });
     svg.classList.toggle("offline", !t.rotator.online || !connected);
     const rot = t.rotator;
-    let text = rot.online ? (rot.heading == null ? "\u2013" : `${pad(MoasCompass.norm(rot.heading + t.offset))}\u00b0`) : "offline";
-    if (rot.online && rot.moving && rot.target != null) text += ` \u2192 ${pad(MoasCompass.norm(rot.target + t.offset))}\u00b0`;
+    // the desktop client's format: "75\u00b0", "200\u00b0 \u2192 75\u00b0", "heading unknown"
+    let text = rot.online ? (rot.heading == null ? "heading unknown" : `${degrees(rot.heading + t.offset)}\u00b0`) : "offline";
+    if (rot.online && rot.moving && rot.target != null) text += ` \u2192 ${degrees(rot.target + t.offset)}\u00b0`;
     if (!connected) text = "not connected";  // the last heading heard is not the heading now
     $(".heading", p.el).textContent = text;
     $(".stop", p.el).disabled = connected && !rot.online;
   }
-  function pad(h) { return String(Math.round(h) % 360).padStart(3, "0"); }
+  function degrees(h) { return String(Math.round(MoasCompass.norm(h)) % 360); }
 
   let resizeTimer = null;
   window.addEventListener("resize", () => {

@@ -286,6 +286,12 @@ async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         await page_until(browser, f"{selected.replace('return ', 'return 0 === ')}",
                          what="no antenna shown selected")
         assert await js(browser, "return document.body.dataset.screen") == "switches stopped"
+        # no button is hatched or titled as if its state held now: each says why
+        states = await js(browser, "return [...document.querySelectorAll('.radio[data-radio="
+                          "\"1\"] .grid button')].map(b => b.dataset.state + '|' + b.title)")
+        assert states and all(s.startswith("available|") and s.endswith(
+            "the switches are stopped; start them on the server (File > Start Switches)")
+            for s in states), states
         freq = "return document.querySelector('.radio[data-radio=\"1\"] .freq').textContent"
         assert await js(browser, freq) == "Switches stopped: no antenna is connected"
         assert "\u25b8" not in await js(browser, "return document.querySelector("

@@ -419,7 +419,8 @@
 
   function showButton(b, view) {
     b.view = view;
-    if (view.state === "selected" && !showsSelection()) view = { ...view, state: "available" };  // stopped: nothing is on
+    const hidden = !showsSelection();  // stopped, not connected: what each would be is not so now
+    if (hidden && view.state !== "available") view = { ...view, state: "available" };
     b.dataset.state = view.state;
     b.dataset.type = view.type;
     b.dataset.id = String(view.id);
@@ -427,7 +428,8 @@
     b.textContent = mark + (view.label || `#${view.id}`);
     b.disabled = view.state === "unavailable" && showsSelection();  // greyed: every tap is answered
     b.setAttribute("aria-pressed", String(view.state === "selected"));
-    b.title = `${view.label} (${view.type === "Function" ? "function" : "antenna"} ${view.id}): ${view.state}`;
+    b.title = `${view.label} (${view.type === "Function" ? "function" : "antenna"} ${view.id}): `
+      + (hidden ? (REFUSALS[screenState()] || view.state) : view.state);
   }
 
   /* Tap selects (additive antennas toggle: the server decides); a long press

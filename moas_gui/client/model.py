@@ -282,6 +282,8 @@ class ButtonView:
     id: int
     label: str
     state: ButtonState
+    reason: str = ""
+    """Why an unavailable button is unavailable (the server's words; "" when not said)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -481,6 +483,7 @@ def parse_button(obj: object, where: str = "button") -> ButtonView:
         id=f.whole("id"),
         label=f.text("label"),
         state=button_state,
+        reason=f.text("reason"),
     )
 
 

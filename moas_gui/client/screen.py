@@ -15,6 +15,12 @@ people)::
     switch unresponsive a switch does not answer: everything usable, with a
                         warning that its relays may not match
     connected           everything as the server says
+
+The status line follows the same table: every message it shows belongs to the
+state and the radio it was shown in (:class:`StatusMessage`), and goes when the
+state changes, another radio is chosen, a new configuration arrives, or the next
+press or Why? replaces it.  ``docs/client.md`` ("The status line") lists each
+message with what shows it and what clears it.
 """
 
 from __future__ import annotations
@@ -23,9 +29,9 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from .events import LinkState
-from .model import Snapshot
+from .model import ButtonState, ButtonType, ButtonView, RadioKey, Snapshot
 
-__all__ = ["Screen", "ScreenState", "screen_state"]
+__all__ = ["Screen", "ScreenState", "StatusMessage", "Tone", "button_answer", "screen_state"]
 
 
 class Screen(StrEnum):
@@ -90,3 +96,52 @@ def screen_state(link: LinkState, snapshot: Snapshot | None) -> ScreenState:
     if silent:
         return ScreenState(Screen.UNRESPONSIVE, silent)
     return ScreenState(Screen.CONNECTED)
+
+
+class Tone(StrEnum):
+    """How a status message is drawn: a refusal or problem, or an answer to a question."""
+
+    WARNING = "warning"
+    """⚠, amber: something asked was refused, or failed."""
+    INFO = "info"
+    """ⓘ, the window's plain text colour: why something is as it is (Why?, a press on an
+    unavailable button)."""
+
+
+@dataclass(frozen=True, slots=True)
+class StatusMessage:
+    """One message of the status line, tied to the screen state and radio it was shown in."""
+
+    text: str
+    tone: Tone
+    screen: Screen
+    radio: RadioKey | None = None
+
+    @property
+    def shown(self) -> str:
+        """The text with its tone's mark."""
+        return ("\u26a0 " if self.tone is Tone.WARNING else "\u24d8 ") + self.text
+
+    def still_true(self, screen: Screen, radio: RadioKey | None) -> bool:
+        """Whether the message may stay: the same state, the same radio."""
+        return screen is self.screen and radio == self.radio
+
+
+def button_answer(view: ButtonView, screen: ScreenState, why: str = "") -> str:
+    """What a press on a button that is not sent, or Why? on any button, answers.
+
+    The deciding reason comes first: the screen state's refusal while nothing can be
+    pressed; an unavailable button's reason (the server's words); for a selected
+    antenna, ``why`` (why the radio has its antennas); otherwise what a press does.
+    """
+    if not screen.can_select:
+        return f"{view.label}: {screen.refusal}"
+    function = view.type is ButtonType.FUNCTION
+    if view.state is ButtonState.UNAVAILABLE:
+        reason = view.reason or "not available now (the server did not say why)"
+        return f"{view.label}: {reason}"
+    if view.state is ButtonState.SELECTED:
+        if function:
+            return f"{view.label}: on; a click turns it off"
+        return f"{view.label}: in use by this radio" + (f". {why}" if why else "")
+    return f"{view.label}: available; a click " + ("runs it" if function else "selects it")

@@ -170,19 +170,22 @@ class Engine:
         ix, st = self._ix, self._state
         rs = st.radios[ref]
 
-        def antenna_state(a: int) -> str:
+        def antenna_state(a: int) -> tuple[str, str]:
             canon = ix.canon[a]
             for held in (rs.tx, rs.rx):
                 if held is not None and is_selected(ix.systems, ix.comps, ix.comps[held], canon):
-                    return SELECTED
-            return AVAILABLE if self._would_work(
-                lambda w: select_antenna(w, ref, a, "both", False)) else UNAVAILABLE
+                    return SELECTED, ""
+            refusal = self._refusal(lambda w: select_antenna(w, ref, a, "both", False))
+            return (UNAVAILABLE, refusal) if refusal else (AVAILABLE, "")
 
-        def function_state(fid: int) -> str:
+        def function_state(fid: int) -> tuple[str, str]:
             f = ix.functions[fid]
             if is_on(ix, st, f):
-                return SELECTED
-            return AVAILABLE if status(ix, st, ref, f).available else UNAVAILABLE
+                return SELECTED, ""
+            verdict = status(ix, st, ref, f)
+            if verdict.available:
+                return AVAILABLE, ""
+            return UNAVAILABLE, f"{f.label} is not available: {verdict.reason}"
 
         return layout_view(ix, ref, rs.khz, rows, columns, antenna_state, function_state)
 
@@ -402,13 +405,14 @@ class Engine:
                 st.radios[extra] = st.radios[extra].with_(khz=khz)
                 select_by_frequency(w, extra, eold)
 
-    def _would_work(self, op: Callable[[Work], None]) -> bool:
+    def _refusal(self, op: Callable[[Work], None]) -> str:
+        """What ``op`` would be refused with now ("" when it would work), tried on a copy."""
         w = Work(self._ix, self._state.clone())
         try:
             op(w)
-        except Exception:  # noqa: BLE001 - any refusal means "unavailable"
-            return False
-        return True
+        except Exception as exc:  # noqa: BLE001 - any refusal means "unavailable"
+            return str(exc) or type(exc).__name__
+        return ""
 
     def _run(self, op: Callable[[Work], None], now: float | None,
              need_running: bool = True) -> Changes:

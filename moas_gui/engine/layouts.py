@@ -9,7 +9,7 @@ holds the radio's frequency, plus those of entries with no range; a button
 outside the layout's rows and columns, or a second button on the same place,
 is left out.  A button is "selected" when it shows the radio's antenna (or a
 toggling function that is on), "available" when pressing it would work now,
-otherwise "unavailable".
+otherwise "unavailable", with the refusal a press would get as its ``reason``.
 """
 
 from __future__ import annotations
@@ -39,8 +39,10 @@ def closest_layout(ix: ConfigIndex, ref: RadioRef, rows: int, columns: int) -> L
 
 
 def layout_view(ix: ConfigIndex, ref: RadioRef, khz: float | None, rows: int, columns: int,
-                antenna_state: Callable[[int], str], function_state: Callable[[int], str]
-                ) -> LayoutView:
+                antenna_state: Callable[[int], tuple[str, str]],
+                function_state: Callable[[int], tuple[str, str]]) -> LayoutView:
+    """The layout closest to ``rows`` x ``columns`` with its buttons; each ``*_state``
+    gives a button's state and, when unavailable, why."""
     layout = closest_layout(ix, ref, rows, columns)
     if layout is None:
         return LayoutView(ref.station, ref.radio, rows, columns, ())
@@ -59,14 +61,15 @@ def layout_view(ix: ConfigIndex, ref: RadioRef, khz: float | None, rows: int, co
                 ant = ix.antennas.get(b.id)
                 if ant is None:
                     continue
-                label, state = ant.label, antenna_state(b.id)
+                label, (state, reason) = ant.label, antenna_state(b.id)
             else:
                 f = ix.functions.get(b.id)
                 if f is None:
                     continue
-                label, state = f.label, function_state(b.id)
+                label, (state, reason) = f.label, function_state(b.id)
             taken.add(place)
-            buttons.append(ButtonView(b.row, b.column, b.type.value, b.id, label, state))
+            buttons.append(ButtonView(b.row, b.column, b.type.value, b.id, label, state,
+                                      reason))
     buttons.sort(key=lambda b: (b.row, b.column))
     return LayoutView(ref.station, ref.radio, layout.rows, layout.columns, tuple(buttons))
 

@@ -41,7 +41,7 @@ class RadioView:
             "transmitting": self.transmitting, "inhibited": self.inhibited, "note": self.note,
             "relative": None if self.relative is None else list(self.relative),
             "radio_rx_antenna": self.radio_rx_antenna,
-            "why": None if self.why is None else self.why.to_dict(),
+            "why": None if self.why is None else self.why.to_dict(full=False),
             "held_by": self.held_by,
         }
 
@@ -77,10 +77,15 @@ class ButtonView:
     label: str
     state: str
     """``selected``, ``available`` or ``unavailable``."""
+    reason: str = ""
+    """Why an unavailable button is unavailable: the refusal a press would get ("" else)."""
 
     def to_dict(self) -> dict[str, Any]:
-        return {"row": self.row, "column": self.column, "type": self.type, "id": self.id,
-                "label": self.label, "state": self.state}
+        out = {"row": self.row, "column": self.column, "type": self.type, "id": self.id,
+               "label": self.label, "state": self.state}
+        if self.reason:
+            out["reason"] = self.reason
+        return out
 
 
 @dataclass(frozen=True, slots=True)

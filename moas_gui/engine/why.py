@@ -73,9 +73,17 @@ class Why:
     text: str
     passed_over: tuple[tuple[int, str], ...] = ()
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self, *, full: bool = True) -> dict[str, Any]:
+        """``full=False`` (what clients are told) leaves out the antennas passed over only
+        because they do not cover the frequency: they decide nothing a person asks about,
+        and stay in the Debug log's "passed over" line."""
+        passed = self.passed_over if full else self.deciding()
         return {"rule": self.rule, "text": self.text,
-                "passed_over": [{"antenna": a, "reason": r} for a, r in self.passed_over]}
+                "passed_over": [{"antenna": a, "reason": r} for a, r in passed]}
+
+    def deciding(self) -> tuple[tuple[int, str], ...]:
+        """The antennas passed over for a reason other than not covering the frequency."""
+        return tuple(p for p in self.passed_over if not p[1].startswith("does not cover"))
 
     def short(self, name: Any, limit: int = 2) -> str:
         """``text`` with a few passed-over antennas in brackets (``name`` maps an ID to its

@@ -98,6 +98,8 @@ class FakeBackend:
         self.sink = sink
         self.calls: list[tuple[str, tuple[Any, ...]]] = []
         self.loaded = True
+        self.closed = False
+        """:meth:`close_configuration` was called: the state names no configuration."""
         self.running = True
         self._antennas = {a.id: a for a in station.antennas}
         self._functions = {f.id: f for f in station.functions}
@@ -117,6 +119,9 @@ class FakeBackend:
     def snapshot(self) -> JSONObject:
         self.calls.append(("snapshot", ()))
         self._need_config()
+        if self.closed:
+            return {"config": None, "radios": [], "antennas": [], "rotators": [],
+                    "switches": []}
         return {
             "config": self.station.name,
             "radios": [r.view() for r in self._radios.values()],
@@ -222,12 +227,16 @@ class FakeBackend:
                     label = a.short if a is not None else f"#{b.id}"
                     state = self._button_state(r, a)
                 else:
+                    a = None
                     f = self._functions.get(b.id)
                     label = f.name if f is not None else f"#{b.id}"
                     state = "available" if f is not None and self._function_ok(r, f.kind) \
                         else "unavailable"
-                buttons.append({"row": b.row, "column": b.column, "type": b.type, "id": b.id,
-                                "label": label, "state": state})
+                shown: JSONObject = {"row": b.row, "column": b.column, "type": b.type,
+                                     "id": b.id, "label": label, "state": state}
+                if state == "unavailable":
+                    shown["reason"] = self._unavailable_reason(r, b.type, label, a)
+                buttons.append(shown)
         return {"station": station, "radio": radio, "rows": chosen.rows,
                 "columns": chosen.columns, "buttons": buttons}
 
@@ -301,8 +310,15 @@ class FakeBackend:
     def unload(self) -> None:
         self.loaded = False
 
+    def close_configuration(self) -> None:
+        """As the real server with no configuration open: its state names none."""
+        self.closed = True
+        if self.sink is not None:
+            self.sink.publish_state()
+
     def load(self) -> None:
         self.loaded = True
+        self.closed = False
         if self.sink is not None:
             self.sink.publish_state()
 
@@ -378,6 +394,20 @@ class FakeBackend:
             return "selected"
         return "available" if self._fits(r, a.id, "rx") or self._fits(r, a.id, "tx") \
             else "unavailable"
+
+    def _unavailable_reason(self, r: _Radio, kind: str, label: str,
+                            a: FakeAntenna | None) -> str:
+        """What a press of an unavailable button would be told, as the engine says it."""
+        if kind != "Antenna":
+            return f"{label} is not available: the radios' antennas do not allow it now"
+        if a is None:
+            return f"there is no antenna {label}"
+        for role in ("rx", "tx"):
+            try:
+                self._check_usable(r, a, role)
+            except RequestError as exc:
+                return exc.message
+        return f"{a} cannot be used now"
 
     def _other(self, r: _Radio) -> _Radio | None:
         return next((o for o in self._radios.values() if o.station != r.station), None)

@@ -3,9 +3,12 @@
 The grid shows what the server's layout says and nothing more: each button
 carries the server's :class:`~moas_gui.client.model.ButtonView` and is drawn
 by its state (colours and second cues in :mod:`.client_style`).  A click emits
-:attr:`ButtonGrid.pressed`, a double-click :attr:`ButtonGrid.double_pressed`;
-an unavailable button is disabled, so it cannot be pressed at all.  Which
-antennas a press adds, removes or replaces is the server's decision.
+:attr:`ButtonGrid.pressed`, a double-click :attr:`ButtonGrid.double_pressed`.
+An unavailable button keeps its unavailable look but can be clicked: the window
+answers the click with the button's reason and sends nothing (its tooltip says
+the same).  A right-click anywhere on the grid emits :attr:`ButtonGrid.why_asked`
+with the button under the pointer (None between buttons).  Which antennas a press
+adds, removes or replaces is the server's decision.
 
 While the window does not have the server's state now (not connected, or the
 switches stopped: :mod:`moas_gui.client.screen`), :meth:`ButtonGrid.set_greyed`
@@ -27,12 +30,14 @@ from .qt import (
     QAbstractButton,
     QBrush,
     QColor,
+    QContextMenuEvent,
     QFont,
     QGridLayout,
     QMouseEvent,
     QPainter,
     QPaintEvent,
     QPen,
+    QPoint,
     QRectF,
     QSize,
     QSizePolicy,
@@ -84,14 +89,15 @@ class LayoutButton(QAbstractButton):
     def show_view(self, view: ButtonView) -> None:
         self.view = view
         self.setText(view.label or f"#{view.id}")
-        self.setEnabled(bool(self.greyed) or view.state is not ButtonState.UNAVAILABLE)
         kind = "function" if view.type is ButtonType.FUNCTION else "antenna"
         if self.greyed:
-            self.setToolTip(f"{view.label} ({kind} {view.id}): {self.greyed}")
-            self.setAccessibleName(f"{view.label}: {self.greyed}")
+            said = self.greyed
+        elif view.state is ButtonState.UNAVAILABLE:
+            said = f"unavailable: {view.reason}" if view.reason else "unavailable"
         else:
-            self.setToolTip(f"{view.label} ({kind} {view.id}): {view.state.value}")
-            self.setAccessibleName(f"{view.label} {view.state.value}")
+            said = view.state.value
+        self.setToolTip(f"{view.label} ({kind} {view.id}): {said}")
+        self.setAccessibleName(f"{view.label}: {said}")
         self.update()
 
     def set_greyed(self, why: str) -> None:
@@ -109,7 +115,7 @@ class LayoutButton(QAbstractButton):
         return QSize(132, 64)
 
     def mouseDoubleClickEvent(self, event: QMouseEvent) -> None:
-        if self.isEnabled() and event.button() == Qt.MouseButton.LeftButton:
+        if event.button() == Qt.MouseButton.LeftButton:
             event.accept()
             self.double_clicked.emit()
             return
@@ -183,6 +189,9 @@ class ButtonGrid(QWidget):
     user, negative towards (the knob, :mod:`.knob`)."""
     middle_pressed = Signal()
     """The middle mouse button (a wheel's press) went down over the grid."""
+    why_asked = Signal(object)
+    """A right-click (or the context-menu key) over the grid: the :class:`ButtonView`
+    under the pointer, or None between buttons.  The window shows the menu."""
 
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
@@ -202,6 +211,17 @@ class ButtonGrid(QWidget):
         self.greyed = why
         for button in self._buttons.values():
             button.set_greyed(why)
+
+    def contextMenuEvent(self, event: QContextMenuEvent) -> None:
+        event.accept()
+        self.why_asked.emit(self.button_at(event.pos()))
+
+    def button_at(self, pos: QPoint) -> ButtonView | None:
+        """The view of the button at ``pos`` (grid coordinates), None between buttons."""
+        child = self.childAt(pos)
+        while child is not None and not isinstance(child, LayoutButton):
+            child = child.parentWidget()
+        return child.view if isinstance(child, LayoutButton) else None
 
     def wheelEvent(self, event: QWheelEvent) -> None:
         delta = event.angleDelta()

@@ -99,7 +99,9 @@ QPushButton#stop { background: #b71c1c; border: 2px solid #ff8a80; color: white;
 QPushButton#stop:disabled { background: #2a2022; color: #6d5f60; border-color: #3b2f30; }
 QPushButton#stop[greyed="true"] { background: #2a2022; color: #6d5f60; border: 2px dotted #3b2f30; }
 QCheckBox { spacing: 6px; }
-QStatusBar { background: #1b2228; color: #ffab91; font-weight: bold; }
+QStatusBar { background: #1b2228; }
+QLabel#statusLine { color: #e0e6ea; padding: 2px 4px; }
+QLabel#statusLine[tone="warning"] { color: #ffab91; font-weight: bold; }
 """
 
 

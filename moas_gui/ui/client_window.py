@@ -40,6 +40,7 @@ from moas_gui.client.events import (
     SwitchChanged,
 )
 from moas_gui.client.model import (
+    ButtonState,
     ButtonType,
     ButtonView,
     LayoutView,
@@ -47,7 +48,14 @@ from moas_gui.client.model import (
     Snapshot,
     explain,
 )
-from moas_gui.client.screen import Screen, ScreenState, screen_state
+from moas_gui.client.screen import (
+    Screen,
+    ScreenState,
+    StatusMessage,
+    Tone,
+    button_answer,
+    screen_state,
+)
 
 from .button_grid import ButtonGrid
 from .client_panels import FrequencyBox, RelativeStrip, frequency_text
@@ -66,6 +74,7 @@ from .qt import (
     QHBoxLayout,
     QLabel,
     QMainWindow,
+    QMenu,
     QPushButton,
     QScrollArea,
     QSpinBox,
@@ -133,7 +142,6 @@ class ClientWindow(QMainWindow):
         self.connection = connection
         self.snapshot: Snapshot | None = None
         self.layout_view: LayoutView | None = None
-        self.last_error = ""
         self._link_detail = ""
         self._wanted_radio = (station, radio)
         self._layout_asked: tuple[int, int, int, int] | None = None
@@ -262,6 +270,14 @@ class ClientWindow(QMainWindow):
         outer.addLayout(body, 1)
 
         self.statusBar().setSizeGripEnabled(False)
+        self.status_line = QLabel(self)
+        """The status line: one :class:`StatusMessage` at a time, wrapped, never cut off."""
+        self.status_line.setObjectName("statusLine")
+        self.status_line.setWordWrap(True)
+        self.status_line.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.statusBar().addWidget(self.status_line, 1)
+        self.message: StatusMessage | None = None
+        """What the status line shows now (None: nothing)."""
 
         self.station_box.currentIndexChanged.connect(self._station_chosen)
         self.radio_box.currentIndexChanged.connect(lambda _i: self._radio_chosen())
@@ -276,10 +292,11 @@ class ClientWindow(QMainWindow):
         self.frequency_box.frequency_requested.connect(self._send_frequency)
         self.compass_panel.refused.connect(self._refused)
         self.why_action = QAction("Why?", self)
-        """On the button grid's context menu: why the selected antenna was chosen."""
-        self.why_action.triggered.connect(self._show_why)
-        self.grid.setContextMenuPolicy(Qt.ContextMenuPolicy.ActionsContextMenu)
-        self.grid.addAction(self.why_action)
+        """On the button grid's context menu: why the button under the pointer is as it
+        is (between buttons: why the radio has its antennas)."""
+        self.why_action.triggered.connect(lambda: self._show_why(self._why_view))
+        self._why_view: ButtonView | None = None
+        self.grid.why_asked.connect(self._why_menu)
         self.knob = KnobControl(self)
         """Mouse wheel, keys and USB knobs step through the antennas (docs/web-client.md)."""
 
@@ -347,7 +364,20 @@ class ClientWindow(QMainWindow):
         return "both"
 
     def status_text(self) -> str:
-        return self.statusBar().currentMessage()
+        """The status line's text with its mark (⚠ or ⓘ), "" when empty."""
+        return self.message.shown if self.message is not None else ""
+
+    @property
+    def last_error(self) -> str:
+        """The warning the status line shows ("" when it shows none, or an answer)."""
+        message = self.message
+        return message.text if message is not None and message.tone is Tone.WARNING else ""
+
+    @property
+    def radio_key(self) -> tuple[int, int] | None:
+        if self.station is None or self.radio is None:
+            return None
+        return (self.station, self.radio)
 
     # -- events from the server -----------------------------------------------------------------
     def _on_event(self, event: ClientEvent) -> None:
@@ -357,12 +387,11 @@ class ClientWindow(QMainWindow):
             case LinkChanged(state, detail):
                 self._show_link(state, detail)
             case StateReceived(snapshot):
-                self._clear_refusal()
+                self._clear_message()  # a fresh state for everyone: old answers are old
                 self._show_snapshot(snapshot)
                 self._show_link(self.link_state, self._link_detail)
             case SwitchChanged():
                 self.snapshot = self.connection.snapshot
-                self._clear_refusal()
                 self._show_link(self.link_state, self._link_detail)
                 self._show_radio()
             case RadioChanged(radio):
@@ -413,8 +442,6 @@ class ClientWindow(QMainWindow):
         self.link_label.setStyleSheet(f"background: {colour.name()}; color: {fg};")
         self.link_label.updateGeometry()
         self._show_screen()
-        if state is LinkState.CONNECTED and self.last_error.startswith("Connection:"):
-            self._clear_error()
 
     def _show_screen(self) -> None:
         """Greys what cannot be pressed now, with the reason, and shows no stale selection."""
@@ -428,6 +455,7 @@ class ClientWindow(QMainWindow):
             widget.style().unpolish(widget)
             widget.style().polish(widget)
         self.compass_panel.set_greyed("" if screen.can_turn else screen.refusal)
+        self._expire_message()
         if screen.screen is not self._screen_shown:
             self._screen_shown = screen.screen
             self._show_radio()
@@ -440,6 +468,14 @@ class ClientWindow(QMainWindow):
             return False
         self._error(f"{what}: {screen.refusal}")
         return True
+
+    def _expire_message(self) -> None:
+        """The status line's table (docs/client.md): a message goes with the state and
+        the radio it was shown in."""
+        message = self.message
+        if message is not None and not message.still_true(self.screen_now.screen,
+                                                          self.radio_key):
+            self._clear_message()
 
     @property
     def switches_stopped(self) -> bool:
@@ -478,6 +514,7 @@ class ClientWindow(QMainWindow):
         self._radio_chosen()
 
     def _radio_chosen(self) -> None:
+        self._expire_message()
         self.frequency_box.show_radio(self.radio_view)
         self._show_radio()
         self._ask_layout(force=True)
@@ -526,10 +563,27 @@ class ClientWindow(QMainWindow):
         radio = self.radio_view
         return explain(radio, self.snapshot) if radio is not None else ""
 
-    def _show_why(self) -> None:
-        """The "Why?" action: the reason in the status bar and next to the pointer."""
-        text = self.why_text() or "The server has not said why (no decision yet)"
-        self.statusBar().showMessage(text.replace("\n", "; "), 20000)
+    def why_answer(self, view: ButtonView | None) -> str:
+        """What Why? says about ``view`` (None: about the radio's antennas)."""
+        why = self.why_text().replace("\n", ";").replace(";  ", "; ")
+        if view is None:
+            if not self.screen_now.shows_selection:
+                return self.screen_now.refusal[:1].upper() + self.screen_now.refusal[1:]
+            return why or "The server has not said why (no decision yet)"
+        return button_answer(view, self.screen_now, why)
+
+    def _why_menu(self, view: ButtonView | None) -> None:
+        """The grid's right-click menu (opened with ``popup``: no nested event loop)."""
+        self._why_view = view
+        menu = QMenu(self)
+        menu.addAction(self.why_action)
+        menu.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
+        menu.popup(QCursor.pos())
+
+    def _show_why(self, view: ButtonView | None = None) -> None:
+        """The "Why?" action: the answer in the status line and next to the pointer."""
+        text = self.why_answer(view)
+        self._say(text, Tone.INFO)
         QToolTip.showText(QCursor.pos(), text, self.grid)
 
     def _show_compass(self) -> None:
@@ -570,6 +624,9 @@ class ClientWindow(QMainWindow):
         station, radio = self.station, self.radio
         kind = "Function" if view.type is ButtonType.FUNCTION else "Select"
         if self._refused(f"{kind} {view.label}") or station is None or radio is None:
+            return
+        if view.state is ButtonState.UNAVAILABLE:  # answered here with its reason; nothing sent
+            self._say(button_answer(view, self.screen_now), Tone.INFO)
             return
         if view.type is ButtonType.FUNCTION:
             if not exclusive:
@@ -632,19 +689,23 @@ class ClientWindow(QMainWindow):
             self._error(f"{what} failed; the log says why")
 
     def _error(self, message: str) -> None:
+        self._say(message, Tone.WARNING)
+
+    def _say(self, text: str, tone: Tone) -> None:
+        """Shows one message in the status line, tied to the state and radio now."""
         if self._closed:
             return
-        self.last_error = message
-        self.statusBar().showMessage(f"\u26a0 {message}")
+        self.message = StatusMessage(text, tone, self.screen_now.screen, self.radio_key)
+        self.status_line.setText(self.message.shown)
+        self.status_line.setToolTip(self.message.shown)
+        self.status_line.setProperty("tone", tone.value)
+        self.status_line.style().unpolish(self.status_line)
+        self.status_line.style().polish(self.status_line)
 
-    def _clear_refusal(self) -> None:
-        """A server's refusal is old news once the switches or the configuration change."""
-        if self.last_error and not self.last_error.startswith("Connection:"):
-            self._clear_error()
-
-    def _clear_error(self) -> None:
-        self.last_error = ""
-        self.statusBar().clearMessage()
+    def _clear_message(self) -> None:
+        self.message = None
+        self.status_line.setText("")
+        self.status_line.setToolTip("")
 
     @property
     def pending(self) -> int:

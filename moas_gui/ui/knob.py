@@ -22,7 +22,7 @@ from __future__ import annotations
 from typing import Any
 
 from moas_gui.client.knob import knob_antennas, knob_step
-from moas_gui.client.model import ButtonType
+from moas_gui.client.model import ButtonState, ButtonType
 
 from .qt import QKeySequence, QShortcut, Qt, QWidget
 
@@ -95,7 +95,8 @@ class KnobControl:
         grid = self.window.grid
         button = grid.button_for(ButtonType.ANTENNA, self.cursor) if self.cursor is not None \
             else None
-        if button is None or not button.isEnabled():
+        if button is None or (button.view.state is ButtonState.UNAVAILABLE
+                              and not button.greyed):
             return False
         if exclusive:
             grid.double_pressed.emit(button.view)

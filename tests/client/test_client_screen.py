@@ -91,4 +91,5 @@ def test_a_greyed_button_shows_no_state_and_can_be_pressed(qapp: QApplication) -
     button.show_view(ButtonView(0, 0, ButtonType.ANTENNA, 7, "Beam", ButtonState.UNAVAILABLE))
     assert button.isEnabled(), "greyed, even an unavailable button answers a press"
     button.set_greyed("")
-    assert not button.isEnabled() and button.shown_state is ButtonState.UNAVAILABLE
+    assert button.shown_state is ButtonState.UNAVAILABLE
+    assert button.toolTip() == "Beam (antenna 7): unavailable"

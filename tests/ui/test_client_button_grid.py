@@ -6,7 +6,7 @@ from typing import Any
 
 from moas_gui.client.model import ButtonState, ButtonType, ButtonView, LayoutView
 from moas_gui.ui.button_grid import ButtonGrid, grid_size
-from moas_gui.ui.qt import Qt
+from moas_gui.ui.qt import QApplication, QContextMenuEvent, Qt
 
 A, F = ButtonType.ANTENNA, ButtonType.FUNCTION
 SEL, AV, UN = ButtonState.SELECTED, ButtonState.AVAILABLE, ButtonState.UNAVAILABLE
@@ -48,15 +48,32 @@ def test_clicks_and_double_clicks_carry_the_button(qtbot: Any) -> None:
     assert grid.button_for(F, 2) is not None and grid.button_for(A, 2) is None
 
 
-def test_unavailable_buttons_are_disabled_and_say_so(qtbot: Any) -> None:
-    grid = make_grid(qtbot, layout(ButtonView(0, 0, A, 5, "Beam", UN)))
+def test_unavailable_buttons_say_why_and_a_click_reaches_the_window(qtbot: Any) -> None:
+    reason = "Antenna 5 (Beam) is in use by station 2 radio 1"
+    grid = make_grid(qtbot, layout(ButtonView(0, 0, A, 5, "Beam", UN, reason)))
     beam = grid.buttons[0]
-    assert not beam.isEnabled()
-    assert "unavailable" in beam.toolTip() and "unavailable" in beam.accessibleName()
+    assert beam.toolTip() == f"Beam (antenna 5): unavailable: {reason}"
+    assert reason in beam.accessibleName()
     clicked: list[ButtonView] = []
     grid.pressed.connect(clicked.append)
     qtbot.mouseClick(beam, Qt.MouseButton.LeftButton)
-    assert clicked == []
+    # the window answers the click with the reason (and sends nothing): see
+    # test_client_window's Why? tests
+    assert [(b.id, b.state) for b in clicked] == [(5, UN)]
+
+
+def test_a_right_click_asks_why_about_the_button_under_the_pointer(qtbot: Any) -> None:
+    grid = make_grid(qtbot, layout(ButtonView(0, 0, A, 5, "Beam", UN, "in use"),
+                                   ButtonView(1, 1, F, 2, "Swap", AV)))
+    asked: list[ButtonView | None] = []
+    grid.why_asked.connect(asked.append)
+    beam = grid.buttons[0]
+    centre = beam.rect().center()
+    QApplication.sendEvent(beam, QContextMenuEvent(QContextMenuEvent.Reason.Mouse, centre,
+                                                   beam.mapToGlobal(centre)))
+    assert [v.id if v else None for v in asked] == [5], "the button passes it to the grid"
+    assert grid.button_at(beam.geometry().center()) is beam.view
+    assert grid.button_at(grid.rect().bottomLeft()) is None
 
 
 def test_a_new_layout_updates_buttons_in_place_and_drops_the_gone(qtbot: Any) -> None:
@@ -67,7 +84,7 @@ def test_a_new_layout_updates_buttons_in_place_and_drops_the_gone(qtbot: Any) ->
     assert grid.buttons == (first,)
     assert first.view.state is SEL and first.isEnabled()
     grid.show_layout(layout(ButtonView(0, 0, A, 5, "Beam", UN)), 2, 2)
-    assert not first.isEnabled()
+    assert first.view.state is UN and first.toolTip() == "Beam (antenna 5): unavailable"
 
 
 def test_states_are_drawn_apart_even_in_grey(qtbot: Any) -> None:

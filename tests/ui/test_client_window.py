@@ -17,7 +17,7 @@ from helpers import until
 from moas_gui.client import Backoff, ButtonState, ButtonType, ClientConnection, LinkState
 from moas_gui.ui.button_grid import LayoutButton
 from moas_gui.ui.client_window import ClientWindow, loopback_for, open_builtin_client
-from moas_gui.ui.qt import QApplication, Qt
+from moas_gui.ui.qt import QApplication, QContextMenuEvent, Qt
 
 FAST = Backoff(first=0.02, factor=2.0, most=0.1)
 
@@ -80,8 +80,8 @@ def test_the_grid_shows_the_layout_buttons_with_their_states(qapp: QApplication)
                                       "Swap": "unavailable", "RX=TX": "unavailable"}
             assert [(b.view.row, b.view.column) for b in window.grid.buttons] == [
                 (0, 0), (0, 1), (3, 0), (3, 1)]
-            assert button(window, "20 Stack").isEnabled()
-            assert not button(window, "Swap").isEnabled()
+            assert button(window, "Swap").toolTip().startswith(
+                "Swap (function 0): unavailable: Swap is not available")
             assert button(window, "Swap").view.type is ButtonType.FUNCTION
             assert (window.grid.rows, window.grid.columns) == (4, 3)
 
@@ -109,7 +109,8 @@ def test_clicking_a_button_sends_select_and_the_new_state_shows(qapp: QApplicati
     run_on_qt(qapp, scenario())
 
 
-def test_an_unavailable_button_cannot_be_pressed(qapp: QApplication, qtbot: Any) -> None:
+def test_an_unavailable_button_answers_a_click_with_its_reason_and_sends_nothing(
+        qapp: QApplication, qtbot: Any) -> None:
     async def scenario() -> None:
         async with LiveServer() as live, open_window(live) as window:
             swap = button(window, "Swap")
@@ -119,6 +120,113 @@ def test_an_unavailable_button_cannot_be_pressed(qapp: QApplication, qtbot: Any)
             await until(lambda: window.pending == 0)
             assert live.calls("function") == []
             assert live.calls("select") == []
+            # the answer is the reason, as an answer (not a warning), whole
+            assert window.status_text() == f"\u24d8 Swap: {swap.view.reason}"
+            assert window.message is not None and window.message.tone.value == "info"
+            assert window.status_line.property("tone") == "info"
+            assert window.last_error == ""
+
+    run_on_qt(qapp, scenario())
+
+
+def _why_by_right_click(qtbot: Any, window: ClientWindow, target: LayoutButton) -> None:
+    """A right-click on ``target``, then Why? in the menu that opens (no nested loop)."""
+    centre = target.rect().center()
+    QApplication.sendEvent(target, QContextMenuEvent(QContextMenuEvent.Reason.Mouse, centre,
+                                                     target.mapToGlobal(centre)))
+    menu = QApplication.activePopupWidget()
+    assert menu is not None, "the right-click opened a menu"
+    assert [a.text() for a in menu.actions()] == ["Why?"]
+    menu.actions()[0].trigger()
+    menu.close()
+
+
+def test_why_on_any_button_enabled_or_not_answers_with_the_deciding_reason(
+        qapp: QApplication, qtbot: Any) -> None:
+    async def scenario() -> None:
+        async with LiveServer() as live, open_window(live) as window:
+            swap = button(window, "Swap")
+            _why_by_right_click(qtbot, window, swap)
+            assert window.status_text() == f"\u24d8 Swap: {swap.view.reason}"
+            _why_by_right_click(qtbot, window, button(window, "Tribander"))
+            assert window.status_text() == "\u24d8 Tribander: available; a click selects it"
+            _why_by_right_click(qtbot, window, button(window, "20 Stack"))
+            assert window.status_text().startswith("\u24d8 20 Stack: in use by this radio")
+            # greyed by a stop: every button answers with what greys it
+            live.backend.stop_switches()
+            await until(lambda: window.switches_stopped)
+            _why_by_right_click(qtbot, window, swap)
+            assert window.status_text() == ("\u24d8 Swap: the switches are stopped; start "
+                                            "them on the server (File > Start Switches)")
+            assert live.calls("function") == [] and live.calls("select") == []
+
+    run_on_qt(qapp, scenario())
+
+
+def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_in(
+        qapp: QApplication, qtbot: Any) -> None:
+    """The status line's table (docs/client.md): each message, what shows it, and each
+    transition that clears it, walked in the real window against a real server."""
+    async def scenario() -> None:
+        async with LiveServer() as live, open_window(live) as window:
+            backend = live.backend
+
+            async def refused_by_server() -> None:
+                window.relative_box.setCurrentIndex(5)
+                qtbot.mouseClick(window.relative_go, Qt.MouseButton.LeftButton)
+                await until(lambda: "there is no index 5" in window.status_text(),
+                            what="the server's refusal")
+                assert window.status_text().startswith("\u26a0 Relative:")
+
+            # connected: a server's refusal; cleared by the next press
+            await refused_by_server()
+            qtbot.mouseClick(button(window, "Swap"), Qt.MouseButton.LeftButton)
+            assert window.status_text().startswith("\u24d8 Swap:"), "replaced by the answer"
+            # ... by the switches stopping; a press then answers "stopped"
+            await refused_by_server()
+            backend.stop_switches()
+            await until(lambda: window.switches_stopped)
+            assert window.status_text() == ""
+            qtbot.mouseClick(button(window, "Tribander"), Qt.MouseButton.LeftButton)
+            assert "the switches are stopped" in window.status_text()
+            # ... which Start clears
+            backend.start_switches()
+            await until(lambda: not window.grid.greyed)
+            assert window.status_text() == ""
+            # a switch not answering: a refusal shown before it goes, and one shown
+            # while it lasts goes when it answers again
+            await refused_by_server()
+            backend.set_switch_status(1, "unresponsive")
+            await until(lambda: "not answering" in window.link_label.text())
+            assert window.status_text() == ""
+            await refused_by_server()
+            backend.set_switch_status(1, "connected")
+            await until(lambda: "not answering" not in window.link_label.text())
+            assert window.status_text() == ""
+            # no configuration: a press answers so; a configuration opening clears it
+            backend.close_configuration()
+            await until(lambda: window.screen_now.screen.value == "no configuration")
+            qtbot.mouseClick(window.next_button, Qt.MouseButton.LeftButton)
+            assert window.status_text() == ("\u26a0 Relative: the server has no "
+                                            "configuration open")
+            backend.load()
+            await until(lambda: window.screen_now.screen.value == "connected")
+            assert window.status_text() == ""
+            await until(lambda: window.grid.buttons and not window.grid.greyed)
+            # another radio: an answer about this one goes
+            await refused_by_server()
+            window.station_box.setCurrentIndex(1)
+            await until(lambda: window.station == 2)
+            assert window.status_text() == ""
+            # not connected: a press answers "not connected"; connecting again clears it
+            await live.stop()
+            await until(lambda: window.link_state is LinkState.RECONNECTING)
+            qtbot.mouseClick(window.next_button, Qt.MouseButton.LeftButton)
+            assert "Relative: not connected" in window.status_text()
+            await live.start()
+            await until(lambda: window.link_state is LinkState.CONNECTED)
+            await until(lambda: window.status_text() == "",
+                        what="the not-connected answer gone once connected")
 
     run_on_qt(qapp, scenario())
 

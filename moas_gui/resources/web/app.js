@@ -171,6 +171,7 @@
   function onState(state) {
     snapshot = { ...state }; delete snapshot.event;
     connected = true;
+    for (const p of panels) clearMessage(p);  // a fresh state for everyone: old answers are old
     $("#config").textContent = snapshot.config || "no configuration";
     fillChoices();
     showLink(true);
@@ -224,8 +225,38 @@
     }
     document.body.dataset.link = up ? "connected" : "not-connected";
     document.body.dataset.screen = state;
-    for (const p of panels) { showRadio(p); if (p.layout) showLayout(p, p.layout); else showCompass(p); }
+    for (const p of panels) {
+      expireMessage(p);
+      showRadio(p); if (p.layout) showLayout(p, p.layout); else showCompass(p);
+    }
   }
+
+  /* The status line under each radio's buttons follows the desktop client's table
+     (docs/client.md "The status line"; moas_gui/client/screen.py StatusMessage): one
+     message at a time, a warning (⚠) or an answer (ⓘ), tied to the screen state and
+     the radio it was shown in; a change of either, a fresh state or the next press
+     clears it. */
+  function say(p, text, tone) {
+    const el = $(".message", p.el);
+    p.message = { text, tone, screen: currentScreen(), radio: radioKey(p) };
+    el.textContent = (tone === "warning" ? "\u26a0 " : "\u24d8 ") + text;
+    el.dataset.tone = tone;
+    // a phone's reply lands where the finger is, not below the fold
+    if (el.scrollIntoView) el.scrollIntoView({ block: "nearest" });
+  }
+  function clearMessage(p) {
+    p.message = null;
+    const el = $(".message", p.el);
+    el.textContent = "";
+    delete el.dataset.tone;
+  }
+  function expireMessage(p) {
+    const m = p.message;
+    if (m && (m.screen !== currentScreen() || m.radio !== radioKey(p))) clearMessage(p);
+  }
+  function radioKey(p) { return `${choice.station}/${p.radio}`; }
+  // the link may be down before the socket says so: "reconnecting" then, whatever the snapshot
+  function currentScreen() { return document.body.dataset.link === "connected" ? screenState() : "reconnecting"; }
 
   // -- choosing station and radios ---------------------------------------------------------------
   function fillChoices() {
@@ -266,6 +297,7 @@
       if (!panels[i]) panels.push(makePanel(i));
       const p = panels[i];
       if (p.radio !== radio) { p.radio = radio; p.asked = null; p.layout = null; p.rotator = null; }
+      expireMessage(p);  // a message is about the station and radio it was shown for
       p.el.dataset.radio = String(radio);
       $(".title", p.el).textContent = `Station ${choice.station} \u00b7 Radio ${radio}`;
     });
@@ -288,7 +320,7 @@
   function makePanel(index) {
     const el = $("#panel").content.firstElementChild.cloneNode(true);
     $("#radios").append(el);
-    const p = { index, el, radio: null, target: "both", asked: null, shape: null, layout: null, rotator: null };
+    const p = { index, el, radio: null, target: "both", asked: null, shape: null, layout: null, rotator: null, message: null };
     for (const b of el.querySelectorAll(".targets button")) {
       b.addEventListener("click", () => {
         p.target = b.dataset.target;
@@ -300,33 +332,34 @@
       const why = $(".why", el);
       why.hidden = !why.hidden || !why.textContent;
     });
-    $(".prev", el).addEventListener("click", () => send(p, { cmd: "relative", step: -1 }));
-    $(".next", el).addEventListener("click", () => send(p, { cmd: "relative", step: 1 }));
+    $(".prev", el).addEventListener("click", () => send(p, { cmd: "relative", step: -1 }, "Relative"));
+    $(".next", el).addEventListener("click", () => send(p, { cmd: "relative", step: 1 }, "Relative"));
     $(".rotator", el).addEventListener("change", (e) => { p.rotator = num(e.target.value); p.picked = true; showCompass(p); });
     $(".stop", el).addEventListener("click", () => {
-      if (!connected) { $(".message", el).textContent = "\u26a0 Stop: " + REFUSALS.reconnecting; return; }
-      if (p.rotator != null) act(p, { cmd: "stop", rotator: p.rotator });
+      if (!connected) { say(p, "Stop: " + REFUSALS.reconnecting, "warning"); return; }
+      if (p.rotator != null) act(p, { cmd: "stop", rotator: p.rotator }, "Stop");
     });
     const svg = $(".compass", el);
     svg.addEventListener("pointerup", (e) => {
       const t = p.compassTarget;
-      if (!connected) { $(".message", el).textContent = "\u26a0 Turn: " + REFUSALS.reconnecting; return; }
+      if (!connected) { say(p, "Turn: " + REFUSALS.reconnecting, "warning"); return; }
       if (!t || !t.rotator.online) return;
       const heading = MoasCompass.headingAt(svg, e.clientX, e.clientY, t.offset);
-      if (heading != null) act(p, { cmd: "rotate", rotator: t.rotator.id, heading });
+      if (heading != null) act(p, { cmd: "rotate", rotator: t.rotator.id, heading }, `Turn to ${Math.round(heading)}\u00b0`);
     });
     return p;
   }
 
-  function send(p, obj) {
+  function send(p, obj, what) {
     if (choice.station == null || p.radio == null) return;
-    const refusal = REFUSALS[screenState()];
-    if (refusal) { $(".message", p.el).textContent = "\u26a0 " + refusal; return; }
-    act(p, { ...obj, station: choice.station, radio: p.radio });
+    const refusal = REFUSALS[currentScreen()];
+    if (refusal) { say(p, `${what}: ${refusal}`, "warning"); return; }
+    act(p, { ...obj, station: choice.station, radio: p.radio }, what);
   }
-  function act(p, obj) {
-    $(".message", p.el).textContent = "";
-    request(obj).catch(e => { $(".message", p.el).textContent = "\u26a0 " + e.message; });
+  function act(p, obj, what) {
+    clearMessage(p);
+    const asked = what || obj.cmd;
+    request(obj).catch(e => { say(p, `${asked}: ${e.message}`, "warning"); });
   }
 
   function antenna(id) { return id == null || !snapshot ? null : snapshot.antennas.find(a => a.id === id) || null; }
@@ -394,7 +427,7 @@
       if (p.asked !== key) return;
       p.shape = [layout.rows, layout.columns];
       showLayout(p, layout);
-    }, (e) => { $(".message", p.el).textContent = "\u26a0 " + e.message; });
+    }, (e) => { say(p, "Layout: " + e.message, "warning"); });
   }
 
   function showLayout(p, layout) {
@@ -426,10 +459,28 @@
     b.dataset.id = String(view.id);
     const mark = view.state === "selected" ? "\u2714 " : view.type === "Function" ? "\u0192 " : "";
     b.textContent = mark + (view.label || `#${view.id}`);
-    b.disabled = view.state === "unavailable" && showsSelection();  // greyed: every tap is answered
+    // an unavailable button keeps its look but is never disabled: a tap is answered with its reason
+    b.setAttribute("aria-disabled", String(view.state === "unavailable"));
     b.setAttribute("aria-pressed", String(view.state === "selected"));
-    b.title = `${view.label} (${view.type === "Function" ? "function" : "antenna"} ${view.id}): `
-      + (hidden ? (REFUSALS[screenState()] || view.state) : view.state);
+    const said = hidden ? (REFUSALS[currentScreen()] || view.state)
+      : view.state === "unavailable" && view.reason ? `unavailable: ${view.reason}` : view.state;
+    b.title = `${view.label} (${view.type === "Function" ? "function" : "antenna"} ${view.id}): ${said}`;
+    b.setAttribute("aria-label", `${view.label}: ${said}`);
+  }
+
+  /* What Why? (a right-click) or a tap on an unavailable button answers: the same
+     words as the desktop client (moas_gui/client/screen.py button_answer). */
+  function buttonAnswer(p, view) {
+    const refusal = REFUSALS[currentScreen()];
+    if (refusal) return `${view.label}: ${refusal}`;
+    const fn = view.type === "Function";
+    if (view.state === "unavailable") return `${view.label}: ${view.reason || "not available now (the server did not say why)"}`;
+    if (view.state === "selected") {
+      if (fn) return `${view.label}: on; a click turns it off`;
+      const r = radioView(p), why = r ? whyText(r).replace(/\n/g, "; ") : "";
+      return `${view.label}: in use by this radio` + (why ? `. ${why}` : "");
+    }
+    return `${view.label}: available; a click ` + (fn ? "runs it" : "selects it");
   }
 
   /* Tap selects (additive antennas toggle: the server decides); a long press
@@ -440,7 +491,7 @@
     let timer = null, long = false, down = false;
     const cancel = () => { clearTimeout(timer); timer = null; down = false; b.classList.remove("pressing"); };
     b.addEventListener("pointerdown", (e) => {
-      if (b.disabled || e.button > 0) return;
+      if (e.button > 0) return;
       down = true; long = false; b.classList.add("pressing");
       timer = setTimeout(() => {
         long = true; timer = null;
@@ -451,15 +502,20 @@
     b.addEventListener("pointerup", () => { if (down && !long) press(p, b.view, false); cancel(); });
     b.addEventListener("pointerleave", cancel);
     b.addEventListener("pointercancel", cancel);
-    b.addEventListener("contextmenu", (e) => e.preventDefault());
+    b.addEventListener("contextmenu", (e) => {  // a mouse's right-click asks Why?
+      e.preventDefault();
+      if (e.pointerType === "touch" || long || down) return;  // a finger's long press selects
+      if (b.view) say(p, buttonAnswer(p, b.view), "info");
+    });
     b.addEventListener("click", (e) => { if (e.detail === 0) press(p, b.view, false); });  // keyboard
     return b;
   }
 
   function press(p, view, exclusive) {
-    if (!view || (view.state === "unavailable" && showsSelection())) return;
-    if (view.type === "Function") send(p, { cmd: "function", function: view.id });
-    else send(p, { cmd: "select", antenna: view.id, target: p.target, exclusive });
+    if (!view) return;
+    if (view.state === "unavailable" && showsSelection()) { say(p, buttonAnswer(p, view), "info"); return; }
+    if (view.type === "Function") send(p, { cmd: "function", function: view.id }, `Function ${view.label}`);
+    else send(p, { cmd: "select", antenna: view.id, target: p.target, exclusive }, `Select ${view.label}`);
   }
 
   // -- compass -----------------------------------------------------------------------------------

@@ -8,7 +8,9 @@ built-in client in one process, tunes station 1 radio 1 to 20 m, and saves:
 - ``client-window-stopped.png`` after File > Stop Switches: no antenna shown
   selected, the buttons greyed;
 - ``client-window-disconnected.png`` after the server has gone: everything
-  greyed, the compass too, and a press answered "not connected".
+  greyed, the compass too, and a press answered "not connected";
+- ``client-window-why.png`` at 1024x600: a click on an unavailable button (another
+  station uses the antenna) answered with its reason in the status line.
 
 Usage: QT_QPA_PLATFORM=offscreen .venv/bin/python scripts/screenshot_client.py [FOLDER]
 (or on an X display: ``xvfb-run -s "-screen 0 1280x800x24" .venv/bin/python ...``)
@@ -64,6 +66,16 @@ async def shoot(out: Path) -> None:
         client.resize(1240, 720)
         await settle()
         client.grab().save(str(out / "client-window-laptop.png"))
+        # another station takes an antenna of this radio's layout: a click on it answers why
+        server.apply_changes(server.engine.set_frequency(2, 1, 14030.0))
+        await until(lambda: any(b.view.state.value == "unavailable" and b.view.reason
+                                and b.view.type.value == "Antenna" for b in client.grid.buttons))
+        client.resize(1024, 600)
+        taken = next(b for b in client.grid.buttons
+                     if b.view.state.value == "unavailable" and b.view.type.value == "Antenna")
+        taken.click()
+        await settle()
+        client.grab().save(str(out / "client-window-why.png"))
         client.resize(1060, 700)
         server.stop_switches()
         await until(lambda: client.switches_stopped)
@@ -79,7 +91,8 @@ async def shoot(out: Path) -> None:
         await settle()
         client.grab().save(str(out / "client-window-disconnected.png"))
         print(f"screenshot_client: wrote client-window.png, client-window-laptop.png, "
-              f"client-window-stopped.png and client-window-disconnected.png in {out}")
+              f"client-window-why.png, client-window-stopped.png and "
+              f"client-window-disconnected.png in {out}")
         await client.aclose()
         client.close()
 

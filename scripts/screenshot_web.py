@@ -8,7 +8,9 @@ station) on 127.0.0.1, opens it in Debian's Chromium (headless, 1024x600, as a
 - ``web-stopped.png``: the switches stopped, no antenna shown selected, a tap
   answered with the reason;
 - ``web-disconnected.png``: the server gone, the page greyed and trying again,
-  a tap answered "not connected".
+  a tap answered "not connected";
+- ``web-why.png``: a tap on an unavailable button answered with its reason;
+- ``web-phone-answer.png``: the same at a phone's size (390x844), the answer in view.
 
 Usage: .venv/bin/python scripts/screenshot_web.py [FOLDER]   (default docs/images)
 """
@@ -38,14 +40,34 @@ async def until(driver: Any, script: str) -> None:
     raise RuntimeError(f"screenshot_web: the page never showed {script}")
 
 
-async def tap_a_button(driver: Any) -> None:
+async def tap_a_button(driver: Any, css: str = '.grid button[data-type="Antenna"]') -> None:
     from selenium.webdriver.common.action_chains import ActionChains
     from selenium.webdriver.common.by import By
 
     def do() -> None:
-        button = driver.find_element(By.CSS_SELECTOR, '.grid button[data-type="Antenna"]')
+        button = driver.find_element(By.CSS_SELECTOR, css)
         ActionChains(driver).move_to_element(button).click().perform()
     await asyncio.to_thread(do)
+
+
+UNAVAILABLE = '.grid button[data-state="unavailable"]'
+
+
+async def why_shots(driver: Any, out: Path) -> None:
+    """A tap on an unavailable button, answered: at 1024x600, then at a phone's size."""
+    from tests.web_station import viewport
+
+    await tap_a_button(driver, UNAVAILABLE)
+    await until(driver, "return document.querySelector('.message').textContent !== ''")
+    await asyncio.to_thread(driver.save_screenshot, str(out / "web-why.png"))
+    await asyncio.to_thread(viewport, driver, 390, 844)
+    await asyncio.to_thread(driver.refresh)
+    await until(driver, f"return document.querySelector('{UNAVAILABLE}')")
+    await tap_a_button(driver, UNAVAILABLE)
+    await until(driver, "return document.querySelector('.message').textContent !== ''")
+    await asyncio.sleep(0.3)
+    await asyncio.to_thread(driver.save_screenshot, str(out / "web-phone-answer.png"))
+    await asyncio.to_thread(viewport, driver, 1024, 600)
 
 
 async def shoot(out: Path) -> None:
@@ -59,6 +81,10 @@ async def shoot(out: Path) -> None:
         driver = await asyncio.to_thread(chrome, Path(profile), 1024, 600)
         try:
             await asyncio.to_thread(driver.get, f"http://127.0.0.1:{web.port}/?station=1&radio=1")
+            await until(driver, "return document.querySelector('.grid button[data-state="
+                                "\"selected\"]')")
+            await why_shots(driver, out)
+            await asyncio.to_thread(driver.refresh)
             await until(driver, "return document.querySelector('.grid button[data-state="
                                 "\"selected\"]')")
             backend.stop_switches()
@@ -77,7 +103,8 @@ async def shoot(out: Path) -> None:
             await asyncio.to_thread(driver.save_screenshot, str(out / "web-disconnected.png"))
         finally:
             await asyncio.to_thread(driver.quit)
-    print(f"screenshot_web: wrote web-stopped.png and web-disconnected.png in {out}")
+    print(f"screenshot_web: wrote web-why.png, web-phone-answer.png, web-stopped.png and "
+          f"web-disconnected.png in {out}")
 
 
 def main() -> int:

@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
-# Screenshots of the server window and of its tray menu, for docs/server.md.
+# Screenshots for the docs, on a 1024x600 screen (a small station laptop) and at a
+# phone's size: the server window and its tray menu (docs/server.md), then the client
+# window's states (scripts/screenshot_client.py, docs/client.md) and the web page's at
+# 1024x600 and 390x844 (scripts/screenshot_web.py, docs/web-client.md).  Look at them.
 #
 # Runs everything on a virtual X display of its own (Xvfb), with a small window
 # manager (openbox, for title bars, when installed) and a system tray (trayer):
@@ -22,7 +25,7 @@ out="${1:-docs/images}"
 python="$root/.venv/bin/python"
 helper="$root/scripts/screenshot_tray.py"
 width=1024
-height=768
+height=600
 
 missing=()
 for tool in Xvfb xauth xdpyinfo trayer import convert display xdotool; do
@@ -145,3 +148,8 @@ if kill -0 "$server" 2>/dev/null; then
     exit 1
 fi
 echo "screenshots: the server exited from its tray menu"
+
+# --- the client window's states and the web page's, 1024x600 and a phone ------------------
+XDG_CONFIG_HOME="$work/config" XDG_STATE_HOME="$work/state" QT_QPA_PLATFORM=xcb \
+    "$python" scripts/screenshot_client.py "$out"
+"$python" scripts/screenshot_web.py "$out"

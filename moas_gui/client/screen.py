@@ -104,7 +104,7 @@ class Tone(StrEnum):
     WARNING = "warning"
     """⚠, amber: something asked was refused, or failed."""
     INFO = "info"
-    """ⓘ, the window's plain text colour: why something is as it is (Why?, a press on an
+    """ℹ, the window's plain text colour: why something is as it is (Why?, a press on an
     unavailable button)."""
 
 
@@ -120,7 +120,7 @@ class StatusMessage:
     @property
     def shown(self) -> str:
         """The text with its tone's mark."""
-        return ("\u26a0 " if self.tone is Tone.WARNING else "\u24d8 ") + self.text
+        return ("\u26a0 " if self.tone is Tone.WARNING else "\u2139 ") + self.text
 
     def still_true(self, screen: Screen, radio: RadioKey | None) -> bool:
         """Whether the message may stay: the same state, the same radio."""

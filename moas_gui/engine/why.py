@@ -86,14 +86,14 @@ class Why:
         return tuple(p for p in self.passed_over if not p[1].startswith("does not cover"))
 
     def short(self, name: Any, limit: int = 2) -> str:
-        """``text`` with a few passed-over antennas in brackets (``name`` maps an ID to its
-        name): the ones that covered the frequency but were not free come first."""
-        if not self.passed_over:
+        """``text`` with a few of the antennas passed over for a deciding reason in
+        brackets (``name`` maps an ID to its name); those that merely do not cover the
+        frequency are left out (the Debug log's "passed over" line lists them)."""
+        deciding = self.deciding()
+        if not deciding:
             return self.text
-        ordered = sorted(self.passed_over, key=lambda p: p[1].startswith("does not cover"))
-        parts = [f"{name(a)} {'does not cover it' if r.startswith('does not cover') else r}"
-                 for a, r in ordered[:limit]]
-        more = len(ordered) - limit
+        parts = [f"{name(a)} {r}" for a, r in deciding[:limit]]
+        more = len(deciding) - limit
         if more > 0:
             parts.append(f"{more} more")
         return f"{self.text} ({'; '.join(parts)})"

@@ -364,7 +364,7 @@ class ClientWindow(QMainWindow):
         return "both"
 
     def status_text(self) -> str:
-        """The status line's text with its mark (⚠ or ⓘ), "" when empty."""
+        """The status line's text with its mark (⚠ or ℹ), "" when empty."""
         return self.message.shown if self.message is not None else ""
 
     @property

@@ -91,7 +91,7 @@ async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_i
         assert title.startswith("Swap (function 0): unavailable: Swap is not available")
         await tap(browser, function("Swap"))
         text = await shows(browser, "Swap is not available", "the tap on Swap answered")
-        assert text.startswith("\u24d8 Swap: ")
+        assert text.startswith("\u2139 Swap: ")
         assert await js(browser, f"return {MESSAGE}.dataset.tone") == "info"
         assert sent("function") == 0
         # Why? by a right-click on any button: an available one says what a click does
@@ -100,7 +100,7 @@ async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_i
                   .context_click(browser.find_element("css selector", antenna("Tribander")))
                   .perform())
         assert await shows(browser, "available; a click selects it", "Why? answered") \
-            == "\u24d8 Tribander: available; a click selects it"
+            == "\u2139 Tribander: available; a click selects it"
 
         async def refused_by_server() -> None:
             backend.set_transmitting(1, 1, True)
@@ -113,7 +113,7 @@ async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_i
         # connected: the server's refusal goes with the next press...
         await refused_by_server()
         await tap(browser, function("Swap"))
-        await shows(browser, "\u24d8 Swap", "replaced by the next press's answer")
+        await shows(browser, "\u2139 Swap", "replaced by the next press's answer")
         # ... and with the switches stopping; a tap then answers "stopped"; Start clears it
         await refused_by_server()
         backend.stop_switches()
@@ -171,7 +171,7 @@ async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_i
         await page_until(browser, f"return document.querySelector('{function('Swap')}')",
                          what="the buttons after reconnecting")
         await tap(browser, function("Swap"))
-        await shows(browser, "\u24d8 Swap", "an answer")
+        await shows(browser, "\u2139 Swap", "an answer")
         await js(browser, "const s = document.getElementById('station'); s.value = '2';"
                           "s.dispatchEvent(new Event('change'));")
         await page_until(browser, "return document.querySelector('.radio .title')"

@@ -121,7 +121,7 @@ def test_an_unavailable_button_answers_a_click_with_its_reason_and_sends_nothing
             assert live.calls("function") == []
             assert live.calls("select") == []
             # the answer is the reason, as an answer (not a warning), whole
-            assert window.status_text() == f"\u24d8 Swap: {swap.view.reason}"
+            assert window.status_text() == f"\u2139 Swap: {swap.view.reason}"
             assert window.message is not None and window.message.tone.value == "info"
             assert window.status_line.property("tone") == "info"
             assert window.last_error == ""
@@ -147,16 +147,16 @@ def test_why_on_any_button_enabled_or_not_answers_with_the_deciding_reason(
         async with LiveServer() as live, open_window(live) as window:
             swap = button(window, "Swap")
             _why_by_right_click(qtbot, window, swap)
-            assert window.status_text() == f"\u24d8 Swap: {swap.view.reason}"
+            assert window.status_text() == f"\u2139 Swap: {swap.view.reason}"
             _why_by_right_click(qtbot, window, button(window, "Tribander"))
-            assert window.status_text() == "\u24d8 Tribander: available; a click selects it"
+            assert window.status_text() == "\u2139 Tribander: available; a click selects it"
             _why_by_right_click(qtbot, window, button(window, "20 Stack"))
-            assert window.status_text().startswith("\u24d8 20 Stack: in use by this radio")
+            assert window.status_text().startswith("\u2139 20 Stack: in use by this radio")
             # greyed by a stop: every button answers with what greys it
             live.backend.stop_switches()
             await until(lambda: window.switches_stopped)
             _why_by_right_click(qtbot, window, swap)
-            assert window.status_text() == ("\u24d8 Swap: the switches are stopped; start "
+            assert window.status_text() == ("\u2139 Swap: the switches are stopped; start "
                                             "them on the server (File > Start Switches)")
             assert live.calls("function") == [] and live.calls("select") == []
 
@@ -181,7 +181,7 @@ def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_in(
             # connected: a server's refusal; cleared by the next press
             await refused_by_server()
             qtbot.mouseClick(button(window, "Swap"), Qt.MouseButton.LeftButton)
-            assert window.status_text().startswith("\u24d8 Swap:"), "replaced by the answer"
+            assert window.status_text().startswith("\u2139 Swap:"), "replaced by the answer"
             # ... by the switches stopping; a press then answers "stopped"
             await refused_by_server()
             backend.stop_switches()

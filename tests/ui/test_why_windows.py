@@ -66,7 +66,7 @@ def test_the_client_shows_why_on_the_display_line_and_by_its_why_action(
         menu.actions()[0].trigger()
         menu.close()
         assert "Lowest-numbered antenna covering 7025 kHz" in client.status_text()
-        assert client.status_text().startswith("\u24d8 ")
+        assert client.status_text().startswith("\u2139 ")
         assert any("40 m dipole (also 15 m) \u2014 lowest-numbered antenna covering 7025 kHz"
                    in line for line in window.log_view.shown_lines())
         client.close()

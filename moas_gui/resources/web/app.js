@@ -233,13 +233,13 @@
 
   /* The status line under each radio's buttons follows the desktop client's table
      (docs/client.md "The status line"; moas_gui/client/screen.py StatusMessage): one
-     message at a time, a warning (⚠) or an answer (ⓘ), tied to the screen state and
+     message at a time, a warning (⚠) or an answer (ℹ), tied to the screen state and
      the radio it was shown in; a change of either, a fresh state or the next press
      clears it. */
   function say(p, text, tone) {
     const el = $(".message", p.el);
     p.message = { text, tone, screen: currentScreen(), radio: radioKey(p) };
-    el.textContent = (tone === "warning" ? "\u26a0 " : "\u24d8 ") + text;
+    el.textContent = (tone === "warning" ? "\u26a0 " : "\u2139 ") + text;
     el.dataset.tone = tone;
     // a phone's reply lands where the finger is, not below the fold
     if (el.scrollIntoView) el.scrollIntoView({ block: "nearest" });

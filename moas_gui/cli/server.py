@@ -108,6 +108,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-rotator-program", action="store_true",
                         help="no MOAS Rotator program: neither start one nor connect to "
                              "one (the rotators that go through it stay offline)")
+    parser.add_argument("--rotator-program-port", type=int, default=None, metavar="PORT",
+                        help="the TCP port (on 127.0.0.1) of the MOAS Rotator program to "
+                             "start or connect to (default 13020, the original's)")
     parser.add_argument("--new-instance", action="store_true",
                         help="do not hand FILE to a server that is already running")
     parser.add_argument("--install-desktop", action="store_true",
@@ -375,6 +378,8 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          tls_cert=args.tls_cert, tls_key=args.tls_key,
                          start_rotator_program=False if args.no_rotator_program else None,
                          use_rotator_program=not args.no_rotator_program,
+                         **({} if args.rotator_program_port is None
+                            else {"rotator_program_port": args.rotator_program_port}),
                          switch_timing=args.switch_timing,
                          record_serial=args.record_serial,
                          switch_dtr=args.switch_dtr, switch_rts=args.switch_rts,

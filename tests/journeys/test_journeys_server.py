@@ -51,13 +51,17 @@ class Server:
         self._hook: socket.socket | None = None
         self._reader: Any = None
 
-    def start(self, file: str, *extra: str) -> Server:
+    def start(self, file: str, *extra: str, rotator_program: int | None = None) -> Server:
+        """Starts the server on ``file``; with ``rotator_program`` (a port) it starts the
+        MOAS Rotator program there as the file asks, else it runs none."""
         if self.process is not None:  # a restart: the ended process's hook and output go
             self.output()
         self.control.unlink(missing_ok=True)  # a restart waits for the new process's hook
+        program = (["--no-rotator-program"] if rotator_program is None
+                   else ["--rotator-program-port", str(rotator_program)])
         args = [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / file),
                 "--bind", "127.0.0.1", "--tcp-port", str(self.tcp), "--udp-port", "0",
-                "--udp-bind", "127.0.0.1", "--no-rotator-program", *extra]
+                "--udp-bind", "127.0.0.1", *program, *extra]
         if self.new_instance:
             args.append("--new-instance")
         self.process = subprocess.Popen(args, env=self.env, stdout=subprocess.PIPE,
@@ -343,9 +347,24 @@ def test_restart_on_a_file_with_a_typo_keeps_the_station_on_the_air(
     the file, the client port answers, a band change still moves the relays; a dialog
     says why, with the line and column."""
     path = tmp_path / "station.moas"
-    path.write_text((EXAMPLES / "small-station.moas").read_text())
-    server.start(str(path))
+    data = json.loads((EXAMPLES / "small-station.moas").read_text())
+    # a rotator through the MOAS Rotator program, which the server starts (its
+    # controller's port is missing: the rotator is offline, the program runs)
+    data["Rotators"].append({"ID": 2, "ShortName": "Beam", "LongName": "Beam rotator",
+                             "CCWLimit": 180, "Rotation": 360, "HasStop": True,
+                             "Control": "Serial", "Address": "127.0.0.1",
+                             "CommPort": str(tmp_path / "no-controller"),
+                             "Model": "Prosistel D", "Poll": 2000})
+    data["StartMOASRotator"] = True
+    path.write_text(json.dumps(data, indent=2))
+    program_port = free_port()
+    server.start(str(path), rotator_program=program_port)
     server.shows(normal("station.moas"), "the station running")
+    started = server.shows(lambda s: any("started the MOAS Rotator program (pid" in line
+                                         for line in s["log"]), "the rotator program started")
+    pid = int(next(line for line in started["log"] if "started the MOAS Rotator" in line)
+              .split("(pid ")[1].split(")")[0])
+    wait_for(lambda: _connected(program_port), 20, "the rotator program's port").close()
     server.click("View", "Emulator", "Switch 1")
     assert server.client({"cmd": "frequency", "station": 1, "radio": 1, "khz": 7150})["ok"]
     on_40 = relays(server.shows(lambda s: relays(s), "the 40 m antenna's relays"))
@@ -362,7 +381,21 @@ def test_restart_on_a_file_with_a_typo_keeps_the_station_on_the_air(
     assert server.config() == "station.moas"  # the client port answers as before
     assert server.client({"cmd": "frequency", "station": 1, "radio": 1, "khz": 14025})["ok"]
     server.shows(lambda s: relays(s) and relays(s) != on_40, "band-following goes on")
+    # the MOAS Rotator program was not stopped: the same process, still answering
+    os.kill(pid, 0)
+    conn = _connected(program_port)
+    assert conn is not None, "the rotator program's port answers after the refused Restart"
+    conn.close()
+    assert not any("stopped the MOAS Rotator program" in line for line in server.look()["log"])
     server.answer("OK")
     server.click("Tray", "Exit")
     assert server.ends() == 0
     assert "Traceback" not in server.output()
+
+    def program_gone() -> bool:
+        try:
+            os.kill(pid, 0)
+        except ProcessLookupError:
+            return True
+        return False
+    wait_for(program_gone, 20, "the rotator program stopped with the server")

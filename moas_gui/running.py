@@ -115,6 +115,10 @@ class ServerOptions:
     """False (``--no-rotator-program``): no MOAS Rotator program at all, neither started
     nor connected to; the rotators that go through one are shown offline, saying why."""
     rotator_program_port: int = 13020
+    rotator_ports: tuple[tuple[int, str], ...] = ()
+    """``--rotator-port ID=DEVICE``: these rotators' controllers are on DEVICE instead of
+    the file's ``CommPort`` (the file is left as it is; scripts/run-example.sh uses it
+    for the emulated controllers)."""
     switch_timing: LinkTiming | None = None
     """Timing of the switch links (ping interval, timeouts); None for the real defaults."""
     rotator_timing: Timing | None = None
@@ -258,8 +262,19 @@ async def start_rotators(run: Running, options: ServerOptions,
             log.info("No MOAS Rotator program (--no-rotator-program): rotator%s %s, which "
                      "go%s through one, stay offline", "s" if len(serial) > 1 else "",
                      ", ".join(str(i) for i in serial), "" if len(serial) > 1 else "es")
+    config = run.config
+    if options.rotator_ports:
+        moved = dict(options.rotator_ports)
+        unknown = sorted(set(moved) - {r.id for r in config.rotators})
+        if unknown:
+            log.warning("--rotator-port names rotator%s %s, which %s not in the file",
+                        "s" if len(unknown) > 1 else "", ", ".join(map(str, unknown)),
+                        "are" if len(unknown) > 1 else "is")
+        config = replace(config, rotators=tuple(
+            replace(r, comm_port=moved[r.id]) if r.id in moved else r
+            for r in config.rotators))
     run.rotators = manager.from_config(
-        run.config,
+        config,
         on_change=on_change,
         select_direction=select_direction,
         start_moas_rotator=run.config.start_moas_rotator if start is None else start,

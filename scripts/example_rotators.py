@@ -3,16 +3,17 @@ port does not exist yet, so the example runs with no hardware.
 
     python scripts/example_rotators.py FILE.moas DIR    prints the emulators' process ids
 
-The emulators' links go into DIR (a private directory made for this run), not
-where the file names them (``/tmp/moas-rotator-1`` ...), so two users or two
-runs never share one; a copy of FILE naming those links is written to DIR under
-FILE's name, for the server to open.  Used by scripts/run-example.sh, which
-stops the emulators and removes DIR when the server ends.
+The emulators' links go into DIR (a private directory of this user's), not where
+the file names them (``/tmp/moas-rotator-1`` ...), so two users or two runs never
+share one.  The file is not copied or changed: DIR/rotator-ports lists one
+``ID=LINK`` a line, which scripts/run-example.sh hands to the server as
+``--rotator-port ID=LINK``, so the server opens the example itself (Recent Files and
+every message name it, and its saved state comes back).  run-example.sh stops the
+emulators and removes the links when the server ends.
 """
 
 from __future__ import annotations
 
-import json
 import subprocess
 import sys
 from pathlib import Path
@@ -23,33 +24,25 @@ from moas_gui.hw.rotators.addresses import is_local
 
 def main(path: str, directory: str) -> int:
     config = load_config(path).config
-    text = Path(path).read_text(encoding="utf-8")
     private = Path(directory)
-    copy = private / Path(path).name
-    if config is None:
-        copy.write_text(text, encoding="utf-8")  # the server explains the problems itself
-        return 0
-    for rotator in config.rotators:
+    listed = private / "rotator-ports"
+    moved: list[str] = []
+    for rotator in config.rotators if config is not None else ():  # broken: the server says
         host = (rotator.address or "127.0.0.1").rsplit(":", 1)[0]
         port = Path(rotator.comm_port)
         if rotator.control is not RotatorControl.SERIAL or not is_local(host) \
                 or not port.is_absolute() or port.exists():
             continue
         link = private / port.name
-        named = json.dumps(str(port))
-        if named not in text:
-            print(f"run-example: rotator {rotator.id}'s port {port} is not written as "
-                  f"{named} in {path}; not emulated", file=sys.stderr)
-            continue
-        text = text.replace(named, json.dumps(str(link)))
         process = subprocess.Popen(
             [sys.executable, "-m", "moas_gui.cli.rotator", "--emulate", rotator.model,
              "--link", str(link), "--azimuth", str(rotator.ccw_limit % 360)],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
         print(process.pid)
+        moved.append(f"{rotator.id}={link}")
         print(f"run-example: emulating {rotator.model} rotator {rotator.id} on {link}",
               file=sys.stderr)
-    copy.write_text(text, encoding="utf-8")
+    listed.write_text("".join(f"{line}\n" for line in moved), encoding="utf-8")
     return 0
 
 

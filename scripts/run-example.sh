@@ -2,10 +2,10 @@
 # Installs moas-gui (scripts/setup.sh) and starts the server window on an example
 # station whose switches are the built-in emulator (no hardware needed); the
 # example's serial rotators get emulated controllers, linked in a private directory
-# of this user's (mode 700, the same every run, so that the example's copy naming
-# them is the same file with the same content every run: Recent Files lists it and
-# its saved state comes back).  An example with nothing to emulate is opened as it
-# is, so every message names the example itself.  The server listens on this computer only
+# of this user's (mode 700), and the server is told where they are with
+# --rotator-port ID=LINK: the example itself is opened, unchanged, so Recent Files
+# and every message name it and its saved state comes back at the next run.  The
+# server listens on this computer only
 # (127.0.0.1) unless --bind or --udp-bind is given.  When no display can be opened
 # (a server over ssh, or a DISPLAY that does not answer), it runs the same server
 # headless instead.
@@ -22,16 +22,17 @@ cleanup() {
     find "$private" -maxdepth 1 -type l -delete 2>/dev/null || true  # the emulators' links
 }
 trap cleanup EXIT
-opened="$private/$(basename "$example")"
-if cmp -s "$opened" "$example"; then
-    opened="$example"  # nothing rewritten: the example itself (and its name in messages)
-fi
+opened="$example"  # the example itself, never a copy
+moved=()
+while read -r line; do
+    [ -n "$line" ] && moved+=(--rotator-port "$line")
+done <"$private/rotator-ports"
 bind=()
 case " $* " in *" --bind"*) ;; *) bind+=(--bind 127.0.0.1) ;; esac
 case " $* " in *" --udp-bind"*) ;; *) bind+=(--udp-bind 127.0.0.1) ;; esac
 if problem=$(.venv/bin/python -m moas_gui.ui.display); then
-    .venv/bin/moas-server "$opened" "${bind[@]}" "$@"
+    .venv/bin/moas-server "$opened" "${bind[@]}" ${moved[@]+"${moved[@]}"} "$@"
 else
     echo "run-example: $problem; running the server headless (Ctrl+C stops it)" >&2
-    .venv/bin/moas-server --headless "$opened" "${bind[@]}" "$@"
+    .venv/bin/moas-server --headless "$opened" "${bind[@]}" ${moved[@]+"${moved[@]}"} "$@"
 fi

@@ -111,6 +111,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--rotator-program-port", type=int, default=None, metavar="PORT",
                         help="the TCP port (on 127.0.0.1) of the MOAS Rotator program to "
                              "start or connect to (default 13020, the original's)")
+    parser.add_argument("--rotator-port", action="append", type=_rotator_port,
+                        metavar="ID=DEVICE",
+                        help="rotator ID's controller is on DEVICE, not on the file's "
+                             "CommPort (the file is not changed; repeat for several)")
     parser.add_argument("--new-instance", action="store_true",
                         help="do not hand FILE to a server that is already running")
     parser.add_argument("--install-desktop", action="store_true",
@@ -240,6 +244,15 @@ def probe(args: argparse.Namespace) -> int:
 
 def _switch_lines(args: argparse.Namespace) -> tuple[bool | None, bool | None]:
     return args.switch_dtr, args.switch_rts
+
+
+def _rotator_port(text: str) -> tuple[int, str]:
+    ident, sep, device = text.partition("=")
+    if not sep or not ident.strip().isdigit() or not device.strip():
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not ID=DEVICE (a rotator's ID and its controller's port, "
+            "for example 2=/dev/ttyUSB1)")
+    return int(ident), device.strip()
 
 
 def _source(text: str) -> SourceSpec:
@@ -378,6 +391,7 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          tls_cert=args.tls_cert, tls_key=args.tls_key,
                          start_rotator_program=False if args.no_rotator_program else None,
                          use_rotator_program=not args.no_rotator_program,
+                         rotator_ports=tuple(args.rotator_port or ()),
                          **({} if args.rotator_program_port is None
                             else {"rotator_program_port": args.rotator_program_port}),
                          switch_timing=args.switch_timing,

@@ -84,18 +84,22 @@ def test_the_examples_rotator_links_go_into_the_runs_private_directory(tmp_path:
                           capture_output=True, text=True, check=True, timeout=60)
     pids = [int(line) for line in done.stdout.split()]
     try:
-        copy = load_config(private / "big-station.moas").config
-        assert copy is not None
-        serial = [r for r in copy.rotators if r.control is RotatorControl.SERIAL]
-        assert len(serial) == len(pids) == 9
-        assert all(Path(r.comm_port).parent == private for r in serial)
-        wait_for(lambda: all(Path(r.comm_port).exists() for r in serial), 20,
+        config = load_config(ROOT / "examples" / "big-station.moas").config
+        assert config is not None
+        serial = {r.id for r in config.rotators if r.control is RotatorControl.SERIAL}
+        moved = dict(line.split("=", 1)
+                     for line in (private / "rotator-ports").read_text().splitlines())
+        assert {int(i) for i in moved} == serial and len(pids) == 9
+        assert all(Path(link).parent == private for link in moved.values())
+        wait_for(lambda: all(Path(link).exists() for link in moved.values()), 20,
                  "every emulator's link")
         assert f"on {private}/moas-rotator-1" in done.stderr
+        assert not (private / "big-station.moas").exists(), "the example is not copied"
     finally:
         for pid in pids:
             os.kill(pid, signal.SIGTERM)
     script = (ROOT / "scripts" / "run-example.sh").read_text()
     assert "--bind 127.0.0.1" in script and 'chmod 700 "$private"' in script
-    assert 'opened="$example"' in script  # nothing rewritten: the example itself
+    assert 'opened="$example"' in script  # the example itself, never a copy
+    assert '--rotator-port "$line"' in script
     assert "python -m moas_gui.ui.display" in script

@@ -100,7 +100,7 @@ QPushButton#stop:disabled { background: #2a2022; color: #6d5f60; border-color: #
 QPushButton#stop[greyed="true"] { background: #2a2022; color: #6d5f60; border: 2px dotted #3b2f30; }
 QCheckBox { spacing: 6px; }
 QStatusBar { background: #1b2228; }
-QLabel#statusLine { color: #e0e6ea; padding: 2px 4px; }
+QLabel#statusLine { color: #e0e6ea; background: #1b2228; padding: 3px 6px; min-height: 1.2em; }
 QLabel#statusLine[tone="warning"] { color: #ffab91; font-weight: bold; }
 """
 

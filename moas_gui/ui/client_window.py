@@ -169,7 +169,20 @@ class ClientWindow(QMainWindow):
         # on a small screen (a laptop, or scale 2) the window may be smaller than its
         # content: the content scrolls instead of squeezing labels into each other
         self.scroll_area = fit_small_screens(root, self)
-        self.setCentralWidget(self.scroll_area)
+        frame = QWidget(self)
+        framed = QVBoxLayout(frame)
+        framed.setContentsMargins(0, 0, 0, 0)
+        framed.setSpacing(0)
+        framed.addWidget(self.scroll_area, 1)
+        self.status_line = QLabel(frame)
+        """The status line: one :class:`StatusMessage` at a time, wrapped, never cut off,
+        always in view below the scrolling content (a layout gives a wrapped label the
+        height its text needs at the window's width, and no more)."""
+        self.status_line.setObjectName("statusLine")
+        self.status_line.setWordWrap(True)
+        self.status_line.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        framed.addWidget(self.status_line)
+        self.setCentralWidget(frame)
         outer = QVBoxLayout(root)
         outer.setContentsMargins(10, 8, 10, 6)
         outer.setSpacing(8)
@@ -269,13 +282,7 @@ class ClientWindow(QMainWindow):
         body.addWidget(compass_box, 2)
         outer.addLayout(body, 1)
 
-        self.statusBar().setSizeGripEnabled(False)
-        self.status_line = QLabel(self)
-        """The status line: one :class:`StatusMessage` at a time, wrapped, never cut off."""
-        self.status_line.setObjectName("statusLine")
-        self.status_line.setWordWrap(True)
-        self.status_line.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        self.statusBar().addWidget(self.status_line, 1)
+
         self.message: StatusMessage | None = None
         """What the status line shows now (None: nothing)."""
 

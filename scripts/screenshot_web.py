@@ -26,10 +26,7 @@ from typing import Any
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from moas_gui.net.server import ClientServer
-from moas_gui.net.web import WebServer
-from moas_gui.testing.fake_backend import FakeBackend
-from tests.web_station import browser_missing, chrome
+from tests.web_station import FakeWeb, browser_missing, chrome
 
 
 async def until(driver: Any, script: str) -> None:
@@ -51,6 +48,7 @@ async def tap_a_button(driver: Any, css: str = '.grid button[data-type="Antenna"
 
 
 UNAVAILABLE = '.grid button[data-state="unavailable"]'
+SELECTED = "return document.querySelector('.grid button[data-state=\"selected\"]')"
 
 
 async def why_shots(driver: Any, out: Path) -> None:
@@ -71,22 +69,16 @@ async def why_shots(driver: Any, out: Path) -> None:
 
 
 async def shoot(out: Path) -> None:
-    backend = FakeBackend()
-    clients = ClientServer(backend, host="127.0.0.1", port=0)
-    backend.attach(clients)
-    await clients.start()
-    web = WebServer(clients, host="127.0.0.1", port=0)
-    await web.start()
+    page = await FakeWeb.start()
+    backend = page.backend
     with tempfile.TemporaryDirectory() as profile:
         driver = await asyncio.to_thread(chrome, Path(profile), 1024, 600)
         try:
-            await asyncio.to_thread(driver.get, f"http://127.0.0.1:{web.port}/?station=1&radio=1")
-            await until(driver, "return document.querySelector('.grid button[data-state="
-                                "\"selected\"]')")
+            await asyncio.to_thread(driver.get, page.url())
+            await until(driver, SELECTED)
             await why_shots(driver, out)
             await asyncio.to_thread(driver.refresh)
-            await until(driver, "return document.querySelector('.grid button[data-state="
-                                "\"selected\"]')")
+            await until(driver, SELECTED)
             backend.stop_switches()
             await until(driver, "return document.body.dataset.screen === 'switches stopped'")
             await tap_a_button(driver)
@@ -94,14 +86,15 @@ async def shoot(out: Path) -> None:
             await asyncio.to_thread(driver.save_screenshot, str(out / "web-stopped.png"))
             backend.start_switches()
             await until(driver, "return document.body.dataset.screen === 'connected'")
-            await web.close()
-            await clients.close()
+            await page.stop_serving()
             await until(driver, "return document.body.dataset.link === 'not-connected'")
             await asyncio.sleep(0.3)
             await tap_a_button(driver)
             await asyncio.sleep(0.3)
             await asyncio.to_thread(driver.save_screenshot, str(out / "web-disconnected.png"))
+            await page.serve()
         finally:
+            await page.close(driver)
             await asyncio.to_thread(driver.quit)
     print(f"screenshot_web: wrote web-why.png, web-phone-answer.png, web-stopped.png and "
           f"web-disconnected.png in {out}")

@@ -224,3 +224,51 @@ def blank(driver: Any, width: int = 1024, height: int = 600) -> None:
 def viewport(driver: Any, width: int, height: int, mobile: bool = True) -> None:
     driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride", {
         "width": width, "height": height, "deviceScaleFactor": 1, "mobile": mobile})
+
+
+class FakeWeb:
+    """The page served by the real protocol and web servers over the fake backend (the
+    demo station) on 127.0.0.1: for journeys that need to set any state at will."""
+
+    def __init__(self) -> None:
+        from moas_gui.net.server import ClientServer
+        from moas_gui.testing.fake_backend import FakeBackend
+
+        self.backend = FakeBackend()
+        self.clients = ClientServer(self.backend, host="127.0.0.1", port=0)
+        self.backend.attach(self.clients)
+        self.web: Any = None
+        self.port = 0
+
+    @classmethod
+    async def start(cls) -> FakeWeb:
+        made = cls()
+        await made.clients.start()
+        await made.serve()
+        return made
+
+    async def serve(self) -> None:
+        """Serves the page (again, on the same port after :meth:`stop_serving`)."""
+        from moas_gui.net.web import WebServer
+
+        self.web = WebServer(self.clients, host="127.0.0.1", port=self.port)
+        await self.web.start()
+        self.port = self.web.port
+
+    async def stop_serving(self) -> None:
+        """The page's server goes away (the pages lose their connection)."""
+        await self.web.close()
+
+    def url(self, query: str = "station=1&radio=1") -> str:
+        return f"http://127.0.0.1:{self.port}/?{query}"
+
+    def sent(self, cmd: str) -> int:
+        """How many ``cmd`` requests the backend was given."""
+        return len([c for c in self.backend.calls if c[0] == cmd])
+
+    async def close(self, driver: Any) -> None:
+        """The page leaves first (so the server sees it go), then the servers close."""
+        await asyncio.to_thread(driver.get, "about:blank")
+        await until(lambda: not self.clients.clients(), 5, "the page gone")
+        await self.web.close()
+        await self.clients.close()

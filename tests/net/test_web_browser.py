@@ -14,7 +14,7 @@ from typing import Any
 
 import pytest
 import pytest_asyncio
-from web_station import Protocol, Station, blank, browser_missing, until, viewport
+from web_station import FakeWeb, Protocol, Station, blank, browser_missing, until, viewport
 
 MISSING = browser_missing()
 pytestmark = [
@@ -264,21 +264,13 @@ async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
 @pytest.mark.timeout(120)
 async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         browser: Any) -> None:
-    from moas_gui.net.server import ClientServer
-    from moas_gui.net.web import WebServer
-    from moas_gui.testing.fake_backend import FakeBackend
-
-    backend = FakeBackend()
-    clients = ClientServer(backend, host="127.0.0.1", port=0)
-    backend.attach(clients)
-    await clients.start()
-    web = WebServer(clients, host="127.0.0.1", port=0)
-    await web.start()
+    page = await FakeWeb.start()
+    backend = page.backend
     selected = ("return document.querySelectorAll('.radio[data-radio=\"1\"] "
                 ".grid button[data-state=\"selected\"]').length")
     message = "return document.querySelector('.radio[data-radio=\"1\"] .message').textContent"
     try:
-        await run(browser.get, f"http://127.0.0.1:{web.port}/?station=1&radio=1")
+        await run(browser.get, page.url())
         await page_until(browser, selected, what="an antenna selected")
         backend.stop_switches()
         await page_until(browser, "return document.getElementById('link').textContent"
@@ -305,10 +297,7 @@ async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         await page_until(browser, selected, what="the selection shown again after Start")
         assert await js(browser, "return document.body.dataset.screen") == "connected"
     finally:
-        await run(browser.get, "about:blank")  # the page leaves before its server closes
-        await until(lambda: not clients.clients(), 5, "the page gone")
-        await web.close()
-        await clients.close()
+        await page.close(browser)
 
 
 @pytest.mark.asyncio

@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 import pytest_asyncio
 from test_web_browser import js, page_until, run, tap
-from web_station import blank, browser_missing, until, viewport
+from web_station import FakeWeb, blank, browser_missing, viewport
 
 MISSING = browser_missing()
 pytestmark = [
@@ -67,23 +67,10 @@ async def screen(driver: Any, name: str) -> None:
 @pytest.mark.timeout(150)
 async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_in(
         browser: Any) -> None:
-    from moas_gui.net.server import ClientServer
-    from moas_gui.net.web import WebServer
-    from moas_gui.testing.fake_backend import FakeBackend
-
-    backend = FakeBackend()
-    clients = ClientServer(backend, host="127.0.0.1", port=0)
-    backend.attach(clients)
-    await clients.start()
-    web = WebServer(clients, host="127.0.0.1", port=0)
-    await web.start()
-    port = web.port
-
-    def sent(cmd: str) -> int:
-        return len([c for c in backend.calls if c[0] == cmd])
-
+    page = await FakeWeb.start()
+    backend, sent = page.backend, page.sent
     try:
-        await run(browser.get, f"http://127.0.0.1:{port}/?station=1&radio=1")
+        await run(browser.get, page.url())
         await page_until(browser, f"return document.querySelector('{function('Swap')}')",
                          what="the buttons")
         # an unavailable button: its title and a tap say why, as an answer; nothing sent
@@ -153,7 +140,7 @@ async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_i
         await screen(browser, "switches stopped")
         await tap(browser, antenna("Tribander"))
         await shows(browser, "switches are stopped", "the stopped answer")
-        await web.close()
+        await page.stop_serving()
         await screen(browser, "reconnecting")
         await cleared(browser, "the stopped answer gone with the connection")
         await tap(browser, antenna("Tribander"))
@@ -161,8 +148,7 @@ async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_i
         assert got == ("\u26a0 Select Tribander: not connected to the server; "
                        "the page keeps trying"), "never blamed on the stopped switches"
         backend.start_switches()
-        web = WebServer(clients, host="127.0.0.1", port=port)
-        await web.start()
+        await page.serve()
         await screen(browser, "connected")
         await cleared(browser, "the not-connected answer gone once connected")
         assert "Connected" in await js(browser, "return document.getElementById('link')"
@@ -179,28 +165,16 @@ async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_i
         assert await js(browser, "return document.querySelector('.radio .message')"
                                  ".textContent") == ""
     finally:
-        await run(browser.get, "about:blank")
-        await until(lambda: not clients.clients(), 5, "the page gone")
-        await web.close()
-        await clients.close()
+        await page.close(browser)
 
 
 @pytest.mark.asyncio
 @pytest.mark.timeout(120)
 async def test_the_answer_to_a_phone_tap_is_in_view(browser: Any) -> None:
-    from moas_gui.net.server import ClientServer
-    from moas_gui.net.web import WebServer
-    from moas_gui.testing.fake_backend import FakeBackend
-
-    backend = FakeBackend()
-    clients = ClientServer(backend, host="127.0.0.1", port=0)
-    backend.attach(clients)
-    await clients.start()
-    web = WebServer(clients, host="127.0.0.1", port=0)
-    await web.start()
+    page = await FakeWeb.start()
     try:
         await run(viewport, browser, 390, 844)
-        await run(browser.get, f"http://127.0.0.1:{web.port}/?station=1&radio=1")
+        await run(browser.get, page.url())
         await page_until(browser, f"return document.querySelector('{function('Swap')}')",
                          what="the buttons")
         await tap(browser, function("Swap"))
@@ -210,7 +184,4 @@ async def test_the_answer_to_a_phone_tap_is_in_view(browser: Any) -> None:
         top, bottom, height = box
         assert 0 <= top and bottom <= height, f"the answer is out of view: {box}"
     finally:
-        await run(browser.get, "about:blank")
-        await until(lambda: not clients.clients(), 5, "the page gone")
-        await web.close()
-        await clients.close()
+        await page.close(browser)

@@ -107,6 +107,18 @@ def chromium(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
         driver.quit()
 
 
+@pytest.fixture
+def browser(chromium: Any) -> Iterator[Any]:
+    """The worker's Chromium, clean and at the first size (1024x600) before and after."""
+    from web_station import blank
+
+    blank(chromium)
+    try:
+        yield chromium
+    finally:
+        blank(chromium)  # the page leaves, so its server sees it go
+
+
 # -- what some test modules need of the system -------------------------------------------
 #
 # On a system without it (the CI's Windows and macOS runners), such a module is skipped

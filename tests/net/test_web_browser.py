@@ -14,7 +14,7 @@ from typing import Any
 
 import pytest
 import pytest_asyncio
-from web_station import FakeWeb, Protocol, Station, blank, browser_missing, until, viewport
+from web_station import FakeWeb, Protocol, Station, browser_missing, until, viewport
 
 MISSING = browser_missing()
 pytestmark = [
@@ -85,16 +85,6 @@ async def station(tmp_path: Path) -> AsyncIterator[Station]:
     finally:
         await made.close()
         print("the server's log:\n" + "".join(made.log))  # shown when a test fails
-
-
-@pytest_asyncio.fixture
-async def browser(chromium: Any) -> AsyncIterator[Any]:
-    """The worker's Chromium (tests/conftest.py), clean, at the first size."""
-    await run(blank, chromium)
-    try:
-        yield chromium
-    finally:
-        await run(blank, chromium)  # the page leaves, so its server sees it go
 
 
 @pytest.mark.asyncio

@@ -7,13 +7,11 @@ to a phone's tap in view."""
 from __future__ import annotations
 
 import sys
-from collections.abc import AsyncIterator
 from typing import Any
 
 import pytest
-import pytest_asyncio
 from test_web_browser import js, page_until, run, tap
-from web_station import FakeWeb, blank, browser_missing, viewport
+from web_station import FakeWeb, browser_missing, viewport
 
 MISSING = browser_missing()
 pytestmark = [
@@ -25,16 +23,6 @@ pytestmark = [
 
 PANEL = '.radio[data-radio="1"]'
 MESSAGE = f"document.querySelector('{PANEL} .message')"
-
-
-@pytest_asyncio.fixture
-async def browser(chromium: Any) -> AsyncIterator[Any]:
-    """The worker's Chromium (tests/conftest.py), clean, at the first size."""
-    await run(blank, chromium)
-    try:
-        yield chromium
-    finally:
-        await run(blank, chromium)
 
 
 def antenna(label: str) -> str:

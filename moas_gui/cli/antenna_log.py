@@ -1,0 +1,139 @@
+"""``moas-server --antenna-log FILE.moas --adif OUT.adi [--from T] [--to T]``: the antenna
+journal kept for a configuration file, written as ADIF, without starting a server.
+
+Exit status: 0 when the file is written, 1 when there is no journal to read or the file
+cannot be written, 2 for options that do not go together or a time that is not one.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from collections.abc import Callable
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the export's modules load when it runs (moas-server starts quickly)
+    from moas_gui.antenna_log.records import JournalReader
+
+__all__ = ["add_arguments", "export_antenna_log", "open_journal", "wants_export"]
+
+Opener = Callable[[Path], "JournalReader"]
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The export's options, on ``moas-server``'s parser."""
+    parser.add_argument(
+        "--antenna-log",
+        metavar="FILE",
+        help="the antenna journal kept for the configuration FILE: with --adif, write it "
+        "as ADIF and exit (docs/antenna-log.md)",
+    )
+    parser.add_argument("--adif", metavar="OUT", help="the ADIF file (.adi) --antenna-log writes")
+    parser.add_argument(
+        "--from",
+        dest="log_from",
+        metavar="T",
+        help="with --adif: the contacts from T on (ISO 8601 UTC, e.g. 2026-11-28T00:00Z)",
+    )
+    parser.add_argument(
+        "--to", dest="log_to", metavar="T", help="with --adif: the contacts before T (ISO 8601 UTC)"
+    )
+    parser.add_argument(
+        "--station-callsign",
+        metavar="CALL",
+        help="with --adif: the station's call, written as STATION_CALLSIGN",
+    )
+
+
+def wants_export(args: argparse.Namespace) -> bool:
+    """Whether the command line asks for the export (or one of its options)."""
+    return bool(
+        args.antenna_log or args.adif or args.log_from or args.log_to or args.station_callsign
+    )
+
+
+def open_journal(config: Path) -> JournalReader:
+    """The journal kept for ``config``; ``FileNotFoundError`` when there is none yet."""
+    from moas_gui.antenna_log.journal import open_reader  # type: ignore[import-not-found,unused-ignore]
+
+    reader: JournalReader = open_reader(config)
+    return reader
+
+
+def _fail(text: str, status: int) -> int:
+    print(f"moas-server: {text}", file=sys.stderr)
+    return status
+
+
+def _bounds(args: argparse.Namespace) -> tuple[float | None, float | None, str]:
+    """``--from`` and ``--to`` in POSIX seconds (None: not given), or what is wrong."""
+    from moas_gui.antenna_log.adif import parse_utc
+
+    found: list[float | None] = []
+    for option, text in (("--from", args.log_from), ("--to", args.log_to)):
+        if text is None:
+            found.append(None)
+            continue
+        try:
+            found.append(parse_utc(text))
+        except ValueError as exc:
+            return None, None, f"{option}: {exc}"
+    start, end = found
+    if start is not None and end is not None and start >= end:
+        return None, None, f"--from {args.log_from} is not before --to {args.log_to}"
+    return start, end, ""
+
+
+def _utc(seconds: float) -> str:
+    return datetime.fromtimestamp(seconds, UTC).strftime("%Y-%m-%d %H:%M:%S UTC")
+
+
+def export_antenna_log(args: argparse.Namespace, opener: Opener = open_journal) -> int:
+    """Writes ``args.adif`` from the journal of ``args.antenna_log``; the exit status."""
+    import sqlite3
+
+    from moas_gui.antenna_log.adif import write_adif
+    from moas_gui.antenna_log.records import Period
+
+    if not args.antenna_log or not args.adif:
+        return _fail(
+            "--antenna-log FILE and --adif OUT go together (and --from, --to and "
+            "--station-callsign with them)",
+            2,
+        )
+    start, end, problem = _bounds(args)
+    if problem:
+        return _fail(problem, 2)
+    config = Path(args.antenna_log)
+    try:
+        reader = opener(config)
+    except FileNotFoundError:
+        return _fail(
+            f"{config}: no antenna journal for this file yet (the server keeps one "
+            "while it runs with it, unless --no-antenna-log)",
+            1,
+        )
+    except ImportError:
+        return _fail("this build keeps no antenna journal", 1)
+    except (OSError, sqlite3.Error) as exc:
+        return _fail(f"{config}: cannot read its antenna journal: {exc}", 1)
+    try:
+        extent = reader.extent()
+        if extent is None and (start is None or end is None):
+            return _fail(f"{config}: its antenna journal is empty; nothing to export", 1)
+        period = Period(
+            start if start is not None else extent.start if extent else 0.0,
+            # the journal's last second included
+            end if end is not None else math.floor(extent.end if extent else 0.0) + 1.0,
+        )
+        count = write_adif(reader, period, args.adif, station_callsign=args.station_callsign or "")
+    except sqlite3.Error as exc:
+        return _fail(f"{config}: cannot read its antenna journal: {exc}", 1)
+    except OSError as exc:
+        return _fail(f"{args.adif}: cannot write it: {exc.strerror or exc}", 1)
+    plural = "" if count == 1 else "s"
+    print(f"{args.adif}: {count} contact{plural} from {_utc(period.start)} to {_utc(period.end)}")
+    return 0

@@ -146,7 +146,7 @@ def _draw_rate(ax: Axes, report: ContestReport) -> None:
     ax.set_ylabel("QSOs per hour")
     ax.set_ylim(bottom=0)
     _time_axis(ax)
-    ax.legend(fontsize="small")
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
 
 
 def _draw_transmit(ax: Axes, report: ContestReport) -> None:

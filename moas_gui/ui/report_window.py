@@ -189,7 +189,10 @@ class ReportWindow(QWidget):
         layout.addWidget(self.summary)
         layout.addWidget(self.tabs, 1)
         layout.addLayout(buttons)
+        self._stale: set[str] = set()
+        """The charts whose canvas has not been rendered since the report changed."""
         self.chooser.changed.connect(self.refresh)
+        self.tabs.currentChanged.connect(self._draw_shown)
         self.export_png.clicked.connect(self.save_png)
         self.export_html.clicked.connect(self.save_html)
         close.clicked.connect(self.close)
@@ -233,7 +236,17 @@ class ReportWindow(QWidget):
         self.summary.setText(f"{period_text(report)}: {qsos}")
         for kind, canvas in self.canvases.items():
             draw_chart(kind, canvas.figure, report)
-            canvas.draw_idle()  # drawn when its tab shows
+        self._stale = set(self.canvases)
+        self._draw_shown()
+
+    def _draw_shown(self) -> None:
+        """Renders the chart of the tab shown, if the report changed since it was drawn
+        (the other tabs wait until shown: each takes a moment of the loop's thread)."""
+        shown = self.tabs.currentWidget()
+        for kind, canvas in self.canvases.items():
+            if canvas is shown and kind in self._stale:
+                self._stale.discard(kind)
+                canvas.draw_idle()
 
     def _nothing(self, notice: str) -> None:
         self.report = None

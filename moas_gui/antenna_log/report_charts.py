@@ -22,6 +22,7 @@ import html
 import io
 from collections.abc import Callable
 from datetime import UTC, datetime
+from pathlib import Path
 
 import matplotlib.dates as mdates
 import numpy
@@ -33,6 +34,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from moas_gui import __version__
+from moas_gui.files import write_atomic, write_text_atomic
 
 from .report import ContestReport
 
@@ -45,6 +47,8 @@ __all__ = [
     "report_html",
     "report_png",
     "report_svgs",
+    "save_html",
+    "save_png",
 ]
 
 CHARTS: dict[str, str] = {
@@ -89,13 +93,15 @@ def _nothing(ax: Axes, text: str) -> None:
 
 def _when(seconds: float) -> float:
     """matplotlib's date number for POSIX seconds (the axes' unit for times)."""
-    return float(mdates.date2num(datetime.fromtimestamp(seconds, UTC)))
+    # matplotlib.dates has no type annotations
+    return float(mdates.date2num(datetime.fromtimestamp(seconds, UTC)))  # type: ignore[no-untyped-call]
 
 
 def _time_axis(ax: Axes) -> None:
-    locator = mdates.AutoDateLocator(tz=UTC)
+    locator = mdates.AutoDateLocator(tz=UTC)  # type: ignore[no-untyped-call]
     ax.xaxis.set_major_locator(locator)
-    ax.xaxis.set_major_formatter(mdates.ConciseDateFormatter(locator, tz=UTC))
+    formatter = mdates.ConciseDateFormatter(locator, tz=UTC)  # type: ignore[no-untyped-call]
+    ax.xaxis.set_major_formatter(formatter)
     ax.set_xlabel("UTC")
 
 
@@ -231,6 +237,16 @@ def report_figure(report: ContestReport) -> Figure:
         ax.set_title(CHARTS[kind])
     figure.suptitle(f"Contest report, {period_text(report)}")
     return figure
+
+
+def save_png(report: ContestReport, path: Path) -> None:
+    """Writes :func:`report_png` to ``path`` (whole or not at all)."""
+    write_atomic(path, report_png(report))
+
+
+def save_html(report: ContestReport, path: Path) -> None:
+    """Writes :func:`report_html` to ``path`` (whole or not at all)."""
+    write_text_atomic(path, report_html(report))
 
 
 def report_png(report: ContestReport, dpi: int = 100) -> bytes:

@@ -30,9 +30,13 @@ from moas_gui.antenna_log.report import (
     last_hours,
     whole_journal,
 )
-from moas_gui.antenna_log.report_charts import CHARTS, draw_chart, period_text, report_html
-from moas_gui.antenna_log.report_charts import report_png as png_of
-from moas_gui.files import write_atomic, write_text_atomic
+from moas_gui.antenna_log.report_charts import (
+    CHARTS,
+    draw_chart,
+    period_text,
+    save_html,
+    save_png,
+)
 
 from .qt import (
     QComboBox,
@@ -171,7 +175,7 @@ class ReportWindow(QWidget):
         self.tabs = QTabWidget()
         self.canvases: dict[str, FigureCanvasQTAgg] = {}
         for kind, title in CHARTS.items():
-            canvas = FigureCanvasQTAgg(Figure(figsize=(8, 4.2)))
+            canvas = FigureCanvasQTAgg(Figure(figsize=(8, 4.2)))  # type: ignore[no-untyped-call]
             self.canvases[kind] = canvas
             self.tabs.addTab(canvas, title)
         self.export_png = QPushButton("Export &PNG...")
@@ -246,7 +250,7 @@ class ReportWindow(QWidget):
         for kind, canvas in self.canvases.items():
             if canvas is shown and kind in self._stale:
                 self._stale.discard(kind)
-                canvas.draw_idle()
+                canvas.draw_idle()  # type: ignore[no-untyped-call]
 
     def _nothing(self, notice: str) -> None:
         self.report = None
@@ -262,7 +266,7 @@ class ReportWindow(QWidget):
                 "Export the contest report as PNG",
                 "PNG images (*.png);;All files (*)",
                 "contest-report.png",
-                lambda path: self._save(path, lambda: write_atomic(Path(path), png_of(report))),
+                lambda path: self._save(path, lambda: save_png(report, Path(path))),
             )
 
     def save_html(self) -> None:
@@ -273,9 +277,7 @@ class ReportWindow(QWidget):
                 "Export the contest report as HTML",
                 "HTML pages (*.html *.htm);;All files (*)",
                 "contest-report.html",
-                lambda path: self._save(
-                    path, lambda: write_text_atomic(Path(path), report_html(report))
-                ),
+                lambda path: self._save(path, lambda: save_html(report, Path(path))),
             )
 
     def _save(self, path: str, write: Callable[[], None]) -> None:

@@ -8,7 +8,6 @@ cannot be written, 2 for options that do not go together or a time that is not o
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from collections.abc import Callable
 from datetime import UTC, datetime
@@ -97,6 +96,7 @@ def export_antenna_log(args: argparse.Namespace, opener: Opener = open_journal) 
 
     from moas_gui.antenna_log.adif import write_adif
     from moas_gui.antenna_log.records import Period
+    from moas_gui.antenna_log.report import whole_journal
 
     if not args.antenna_log or not args.adif:
         return _fail(
@@ -121,13 +121,12 @@ def export_antenna_log(args: argparse.Namespace, opener: Opener = open_journal) 
     except (OSError, sqlite3.Error) as exc:
         return _fail(f"{config}: cannot read its antenna journal: {exc}", 1)
     try:
-        extent = reader.extent()
-        if extent is None and (start is None or end is None):
+        whole = None if start is not None and end is not None else whole_journal(reader)
+        if whole is None and (start is None or end is None):
             return _fail(f"{config}: its antenna journal is empty; nothing to export", 1)
         period = Period(
-            start if start is not None else extent.start if extent else 0.0,
-            # the journal's last second included
-            end if end is not None else math.floor(extent.end if extent else 0.0) + 1.0,
+            start if start is not None else whole.start if whole else 0.0,
+            end if end is not None else whole.end if whole else 0.0,  # its last second in
         )
         count = write_adif(reader, period, args.adif, station_callsign=args.station_callsign or "")
     except sqlite3.Error as exc:

@@ -172,3 +172,16 @@ def test_export_antenna_log_without_a_journal(qtbot: Any, reader: Any) -> None:
     window.show()
     assert window.notice.isVisible() and not window.save.isEnabled()
     assert "turned off" in window.notice.text() or "empty" in window.notice.text()
+
+
+def test_only_the_tab_shown_is_rendered_until_another_is_chosen(qtbot: Any) -> None:
+    window = ReportWindow(contest_journal())
+    qtbot.addWidget(window)
+    window.show()
+    qtbot.waitExposed(window)
+    canvases = list(window.canvases.values())
+    qtbot.waitUntil(lambda: hasattr(canvases[0], "renderer"))
+    assert all(not hasattr(c, "renderer") for c in canvases[1:])
+    window.tabs.setCurrentIndex(2)
+    qtbot.waitUntil(lambda: hasattr(canvases[2], "renderer"))
+    assert not hasattr(canvases[1], "renderer") and not hasattr(canvases[3], "renderer")

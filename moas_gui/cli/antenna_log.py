@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the export's modules load when it runs (moas-server starts quickly)
-    from moas_gui.antenna_log.records import JournalReader
+    from moas_gui.antenna_log.records import JournalReader, Period
 
 __all__ = ["add_arguments", "export_antenna_log", "open_journal", "wants_export"]
 
@@ -90,13 +90,42 @@ def _utc(seconds: float) -> str:
     return datetime.fromtimestamp(seconds, UTC).strftime("%Y-%m-%d %H:%M:%S UTC")
 
 
+def _period(reader: JournalReader, start: float | None, end: float | None) -> Period | None:
+    """From ``start`` to ``end``, the journal's own first and last times where not given
+    (its last second included); None when one is needed and the journal is empty."""
+    from moas_gui.antenna_log.records import Period
+    from moas_gui.antenna_log.report import whole_journal
+
+    if start is not None and end is not None:
+        return Period(start, end)
+    whole = whole_journal(reader)
+    if whole is None:
+        return None
+    return Period(whole.start if start is None else start, whole.end if end is None else end)
+
+
+def _open(config: Path, opener: Opener) -> tuple[JournalReader | None, str]:
+    """The journal of ``config``, or why it cannot be read."""
+    import sqlite3
+
+    try:
+        return opener(config), ""
+    except FileNotFoundError:
+        return None, (
+            f"{config}: no antenna journal for this file yet (the server keeps one "
+            "while it runs with it, unless --no-antenna-log)"
+        )
+    except ImportError:
+        return None, "this build keeps no antenna journal"
+    except (OSError, sqlite3.Error) as exc:
+        return None, f"{config}: cannot read its antenna journal: {exc}"
+
+
 def export_antenna_log(args: argparse.Namespace, opener: Opener = open_journal) -> int:
     """Writes ``args.adif`` from the journal of ``args.antenna_log``; the exit status."""
     import sqlite3
 
     from moas_gui.antenna_log.adif import write_adif
-    from moas_gui.antenna_log.records import Period
-    from moas_gui.antenna_log.report import whole_journal
 
     if not args.antenna_log or not args.adif:
         return _fail(
@@ -108,26 +137,13 @@ def export_antenna_log(args: argparse.Namespace, opener: Opener = open_journal) 
     if problem:
         return _fail(problem, 2)
     config = Path(args.antenna_log)
+    reader, problem = _open(config, opener)
+    if reader is None:
+        return _fail(problem, 1)
     try:
-        reader = opener(config)
-    except FileNotFoundError:
-        return _fail(
-            f"{config}: no antenna journal for this file yet (the server keeps one "
-            "while it runs with it, unless --no-antenna-log)",
-            1,
-        )
-    except ImportError:
-        return _fail("this build keeps no antenna journal", 1)
-    except (OSError, sqlite3.Error) as exc:
-        return _fail(f"{config}: cannot read its antenna journal: {exc}", 1)
-    try:
-        whole = None if start is not None and end is not None else whole_journal(reader)
-        if whole is None and (start is None or end is None):
+        period = _period(reader, start, end)
+        if period is None:
             return _fail(f"{config}: its antenna journal is empty; nothing to export", 1)
-        period = Period(
-            start if start is not None else whole.start if whole else 0.0,
-            end if end is not None else whole.end if whole else 0.0,  # its last second in
-        )
         count = write_adif(reader, period, args.adif, station_callsign=args.station_callsign or "")
     except sqlite3.Error as exc:
         return _fail(f"{config}: cannot read its antenna journal: {exc}", 1)

@@ -3,7 +3,8 @@
 ``moas-server [FILE]`` opens the window (and FILE at once, which is what a
 double-click does); ``--headless FILE`` runs the same server without a window;
 ``--check FILE`` explains every problem of a configuration and exits;
-``--plan FILE`` prints the station plan (``--json``: as data) and exits.
+``--plan FILE`` prints the station plan (``--json``: as data) and exits;
+``--antenna-log FILE --adif OUT`` writes the antenna journal as ADIF and exits.
 """
 
 from __future__ import annotations
@@ -19,6 +20,9 @@ from typing import TYPE_CHECKING, Protocol
 
 from moas_gui import __version__
 from moas_gui.aio import CleanStop, run_until_stopped
+from moas_gui.cli.antenna_log import add_arguments as add_antenna_log_arguments
+from moas_gui.cli.antenna_log import export_antenna_log
+from moas_gui.cli.antenna_log import wants_export as wants_antenna_log_export
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
@@ -169,6 +173,7 @@ def _parser() -> argparse.ArgumentParser:
                         help="remove an operator (a running server ends its sessions) and exit")
     parser.add_argument("--list-operators", action="store_true",
                         help="list the operators and exit")
+    add_antenna_log_arguments(parser)
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     # no options: only the test hooks set these (main)
     parser.set_defaults(switch_timing=None, rotator_timing=None)
@@ -691,6 +696,8 @@ def main(argv: list[str] | None = None) -> int:
     security = _security_command(args)
     if security is not None:
         return security
+    if wants_antenna_log_export(args):
+        return export_antenna_log(args)
     if args.install_service:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
     if args.probe:

@@ -72,7 +72,7 @@ from .connection import (
 )
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
-from .identity import LOCAL_ADDRESSES, anonymous, is_local
+from .identity import LOCAL_ADDRESSES, anonymous, is_local, token_needed
 from .log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
@@ -254,6 +254,11 @@ class ClientServer:
         network, or -- over TLS -- anywhere (then with a token).  Other transports ask too."""
         return (self.tls is not None or is_local(host, self.local_addresses)
                 or is_allowed(host, self._allowed))
+
+    def needs_token(self, host: str) -> bool:
+        """Whether a peer at ``host`` must show an operator's token to see anything (the
+        same rule as a connection's identity: :func:`.identity.token_needed`)."""
+        return token_needed(host, self._allowed, self.require_token, self.local_addresses)
 
     def identify(self, conn: Connection, host: str) -> None:
         """Gives a new connection its identity before hello (:mod:`.identity`)."""

@@ -7,13 +7,17 @@
     ...
     await web.close()
 
-It serves three kinds of request, and nothing else:
+It serves four kinds of request, and nothing else:
 
 * ``/`` and the page's own files (``moas_gui/resources/web``), read into memory
   at start: a name not in that fixed set is ``404``, so no path leads outside
   it and no directory is ever listed;
 * ``/ws``, a WebSocket speaking the client protocol to the same
   :class:`~.server.ClientServer` as TCP clients (:mod:`.web_socket`);
+* ``/report``, the contest report of the antenna journal as one read-only HTML page
+  (``?hours=N``: the last N hours; ``?from=T&to=T``: ISO 8601 UTC).  Whoever may
+  connect without a token sees it; anyone else shows an operator's token (any role:
+  ``view`` suffices) as ``Authorization: Bearer TOKEN``, or gets ``401``;
 * nothing else (``404``; methods other than GET and HEAD: ``405``).
 
 Every connection is counted against the client server's limits, in all and per
@@ -29,9 +33,12 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import Awaitable, Callable
+import sqlite3
+import time
+from collections.abc import Awaitable, Callable, Mapping
 from dataclasses import dataclass
 from importlib import resources
+from typing import TYPE_CHECKING
 
 from aiohttp import web
 
@@ -46,7 +53,14 @@ from .web_guard import host_allowed, local_names, origin_complaint
 from .web_limits import GuardedConnection, QuietAiohttp
 from .web_socket import MAX_MESSAGE, converse
 
+if TYPE_CHECKING:
+    from moas_gui.antenna_log.records import JournalReader, Period
+    from moas_gui.antenna_log.report import ContestReport
+
 log = logging.getLogger(__name__)
+
+JournalSource = Callable[[], "JournalReader | None"]
+"""The antenna journal the server keeps now (None: turned off)."""
 
 _TYPES = {
     ".html": "text/html; charset=utf-8",
@@ -88,6 +102,16 @@ def page_files() -> dict[str, StaticFile]:
     return files
 
 
+_REPORT_HEADERS = _HEADERS | {
+    # one page with no script, its style and charts inline
+    "Content-Security-Policy": (
+        "default-src 'none'; style-src 'unsafe-inline'; img-src data:; "
+        "frame-ancestors 'none'; base-uri 'none'; form-action 'none'"
+    ),
+}
+MAX_REPORT_HOURS = 24 * 31
+"""The most hours ``/report?hours=`` takes."""
+
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
 
 
@@ -95,8 +119,12 @@ class WebServer:
     """Serves the browser client for one :class:`~.server.ClientServer`."""
 
     def __init__(self, clients: ClientServer, *, host: str | None = None, port: int,
-                 request_deadline: float = REQUEST_DEADLINE) -> None:
+                 request_deadline: float = REQUEST_DEADLINE,
+                 journal: JournalSource | None = None) -> None:
         self.clients = clients
+        self.journal = journal
+        """Where ``/report`` reads the antenna journal (None: the journal is off)."""
+        self._drawing = asyncio.Lock()  # one report drawn at a time: the charts take a while
         self.host = host
         self.port = port
         self.request_deadline = request_deadline
@@ -111,6 +139,7 @@ class WebServer:
         :class:`~moas_gui.errors.HardwareError` saying which port when it cannot."""
         app = web.Application(middlewares=[self._guard], client_max_size=MAX_MESSAGE)
         app.router.add_get("/ws", self._websocket)
+        app.router.add_get("/report", self._report)
         app.router.add_get("/{name:.*}", self._static)
         runner = web.AppRunner(app, access_log=None, handle_signals=False, shutdown_timeout=0.5,
                                keepalive_timeout=self.request_deadline, lingering_time=1.0)
@@ -224,19 +253,112 @@ class WebServer:
         await converse(self.clients, ws, address, ticket)
         return ws
 
+    async def _report(self, request: web.Request) -> web.StreamResponse:
+        peer = request.transport.get_extra_info("peername") if request.transport else None
+        host = str(peer[0]) if isinstance(peer, tuple) else str(request.remote or "")
+        if self.clients.needs_token(host) and not await self._token_shown(request):
+            self.clients.trouble_line(
+                "report token", logging.WARNING,
+                "Refused the contest report to %s: it needs an operator's token",
+                format_peer(peer))
+            raise web.HTTPUnauthorized(
+                text="The contest report needs an operator's token "
+                     "(Authorization: Bearer TOKEN).\n",
+                headers={"WWW-Authenticate": 'Bearer realm="moas-server"'})
+        reader = self.journal() if self.journal is not None else None
+        page = await self._report_page(reader, request.query)
+        return web.Response(text=page, content_type="text/html", charset="utf-8",
+                            headers=_REPORT_HEADERS)
+
+    async def _token_shown(self, request: web.Request) -> bool:
+        book = self.clients.operators
+        scheme, _, token = request.headers.get("Authorization", "").partition(" ")
+        if book is None or scheme.lower() != "bearer" or not token.strip():
+            return False
+        # the operators file is read and the token hashed off the loop
+        return await asyncio.to_thread(book.check, token.strip()) is not None
+
+    async def _report_page(self, reader: JournalReader | None,
+                           query: Mapping[str, str]) -> str:
+        from moas_gui.antenna_log.report import contest_report
+
+        if reader is None:
+            return _notice_page("The antenna journal is turned off: there is no report.")
+        try:
+            period = _report_period(reader, query)
+        except ValueError as exc:
+            raise web.HTTPBadRequest(text=f"{exc}\n") from None
+        if period is None:
+            return _notice_page("The antenna journal is empty: nothing has been recorded yet.")
+        try:
+            report = contest_report(reader, period)  # on the loop's thread: the journal's own
+        except (sqlite3.Error, OSError) as exc:
+            log.error("The contest report could not read the antenna journal: %s", exc)
+            raise web.HTTPServiceUnavailable(
+                text=f"Could not read the antenna journal: {exc}\n") from None
+        async with self._drawing:
+            return await asyncio.to_thread(_report_html, report)
+
     def _unmasked(self, address: str) -> None:
         self.clients.trouble_line("websocket unmasked", logging.WARNING,
                                   "Closed a WebSocket from %s: it sent an unmasked frame "
                                   "(RFC 6455 forbids it)", address)
 
 
+def _report_period(reader: JournalReader, query: Mapping[str, str]) -> Period | None:
+    """The period ``/report`` was asked for (the whole journal by default); None for an
+    empty journal.  Raises ``ValueError`` saying what is wrong with the query."""
+    from moas_gui.antenna_log.adif import parse_utc
+    from moas_gui.antenna_log.records import Period
+    from moas_gui.antenna_log.report import last_hours, whole_journal
+
+    if "hours" in query:
+        try:
+            hours = float(query["hours"])
+        except ValueError:
+            hours = -1.0
+        if not 0 < hours <= MAX_REPORT_HOURS:
+            raise ValueError(f"hours={query['hours'][:40]}: give a number of hours from 1 to "
+                             f"{MAX_REPORT_HOURS}")
+        return last_hours(time.time(), hours)
+    if "from" in query or "to" in query:
+        try:
+            start = parse_utc(query["from"]) if "from" in query else None
+            end = parse_utc(query["to"]) if "to" in query else None
+        except ValueError as exc:
+            raise ValueError(f"from/to: {exc}") from None
+        if start is None or end is None:  # the journal's first or last time for the other
+            whole = whole_journal(reader)
+            if whole is None:
+                return None
+            start = whole.start if start is None else start
+            end = whole.end if end is None else end
+        if start >= end:
+            raise ValueError("from/to: from is not before to")
+        return Period(start, end)
+    return whole_journal(reader)
+
+
+def _report_html(report: ContestReport) -> str:
+    from moas_gui.antenna_log.report_charts import report_html
+
+    return report_html(report)
+
+
+def _notice_page(text: str) -> str:
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            "<title>Contest report</title></head><body><h1>Contest report</h1>"
+            f"<p id=\"notice\">{text}</p></body></html>\n")
+
+
 def _loopback(host: str | None) -> str:
     return "127.0.0.1" if host in (None, "", "0.0.0.0", "::") else str(host)
 
 
-async def start_web(clients: ClientServer, host: str | None, port: int) -> WebServer | None:
+async def start_web(clients: ClientServer, host: str | None, port: int,
+                    journal: JournalSource | None = None) -> WebServer | None:
     """A started :class:`WebServer`, or ``None`` (and an Error log line) when it cannot listen."""
-    server = WebServer(clients, host=host, port=port)
+    server = WebServer(clients, host=host, port=port, journal=journal)
     try:
         await server.start()
     except HardwareError as e:

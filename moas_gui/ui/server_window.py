@@ -50,6 +50,15 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
+
+def _load_charts() -> None:
+    """Imports what the contest report draws with (matplotlib, its fonts), off the loop."""
+    import matplotlib.backends.backend_agg
+    import matplotlib.dates
+    import matplotlib.figure  # noqa: F401
+
+    import moas_gui.antenna_log.report_charts  # noqa: F401
+
 RECENT_MAX = 4
 
 
@@ -71,6 +80,10 @@ class ServerWindow(QMainWindow):
         self.emulator_windows: dict[int, QWidget] = {}
         self.plan_window: QWidget | None = None
         """View > Station plan, while open."""
+        self.report_window: QWidget | None = None
+        """View > Contest report, while open."""
+        self.export_window: QWidget | None = None
+        """File > Export antenna log, while open."""
         self.last_dialog: QMessageBox | None = None
         self._question: QMessageBox | None = None
         """The open "Stop ... and open ...?" question, if any: one at a time."""
@@ -122,6 +135,8 @@ class ServerWindow(QMainWindow):
         file_menu.addSeparator()
         self.action_reset = file_menu.addAction("&Reset Switches", self.reset_switches)
         self.action_save_data = file_menu.addAction("&Save Switch Data...", self.save_switch_data)
+        self.action_export_log = file_menu.addAction("Export Antenna &Log...",
+                                                     self.export_antenna_log)
         self.action_stop_start = file_menu.addAction("S&top Switches", self.toggle_switches)
         file_menu.addSeparator()
         self.action_restart = file_menu.addAction("Rest&art", self.restart)
@@ -145,6 +160,7 @@ class ServerWindow(QMainWindow):
         view.addSeparator()
         self.action_client = view.addAction("&Client", self.open_client)
         self.action_plan = view.addAction("Station &Plan", self.open_plan)
+        self.action_report = view.addAction("Contest &Report...", self.open_report)
         self.action_pair = view.addAction("Pair a &Device...", self.pair_device)
         self.emulator_menu = view.addMenu("E&mulator")
 
@@ -455,6 +471,31 @@ class ServerWindow(QMainWindow):
         log.info("Station plan of %s: %d finding%s", plan.file, len(plan.findings),
                  "" if len(plan.findings) == 1 else "s")
 
+    def open_report(self) -> None:
+        """View > Contest report: the antenna journal's charts for a chosen period (the
+        window says so when the journal is off or empty)."""
+        self._spawn(self._open_antenna_log_window(report=True))
+
+    def export_antenna_log(self) -> None:
+        """File > Export antenna log: the journal's contacts of a chosen period as ADIF."""
+        self._spawn(self._open_antenna_log_window(report=False))
+
+    async def _open_antenna_log_window(self, report: bool) -> None:
+        # matplotlib loads off the event loop's thread (the first time takes a while)
+        await asyncio.to_thread(_load_charts)
+        from .report_window import AdifExportWindow, ReportWindow
+
+        journal = getattr(self.app, "antenna_journal", None)
+        old = self.report_window if report else self.export_window
+        if old is not None:
+            old.close()
+        window: QWidget = ReportWindow(journal) if report else AdifExportWindow(journal)
+        if report:
+            self.report_window = window
+        else:
+            self.export_window = window
+        window.show()
+
     def open_emulator(self, switch_id: int) -> None:
         emulator = self.app.emulators().get(switch_id)
         if emulator is None:
@@ -530,8 +571,9 @@ class ServerWindow(QMainWindow):
             self._close_client(client)
         for window in self.emulator_windows.values():
             window.close()
-        if self.plan_window is not None:
-            self.plan_window.close()
+        for other in (self.plan_window, self.report_window, self.export_window):
+            if other is not None:
+                other.close()
 
     # -- helpers ---------------------------------------------------------------------
     def _close_client(self, window: ClientWindow) -> None:

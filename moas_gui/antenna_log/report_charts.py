@@ -1,0 +1,326 @@
+"""The contest report drawn with matplotlib: four charts, as PNG or as one HTML page.
+
+::
+
+    draw_chart("qsos", figure, report)          # onto any Figure (the window's Qt canvas)
+    Path("report.png").write_bytes(report_png(report))
+    Path("report.html").write_text(report_html(report), encoding="utf-8")
+
+The four charts (:data:`CHARTS`): contacts per antenna per band (stacked bars), the
+rate per clock hour per antenna (steps), minutes transmitted per antenna (bars), and
+each radio's antennas over time (one row per radio and role).  An antenna keeps its
+colour in every chart.  Times are UTC.
+
+Only matplotlib's object API is used (no pyplot, no display): the PNG comes from the
+Agg canvas, the SVG from the SVG canvas with text kept as text, so the HTML page is
+one file that needs nothing else (no script, no font, no image file).
+"""
+
+from __future__ import annotations
+
+import html
+import io
+from collections.abc import Callable
+from datetime import UTC, datetime
+from pathlib import Path
+
+import matplotlib.dates as mdates
+import numpy
+from matplotlib import colormaps
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.backends.backend_svg import FigureCanvasSVG
+from matplotlib.figure import Figure
+from matplotlib.patches import Patch
+
+from moas_gui import __version__
+from moas_gui.files import write_atomic, write_text_atomic
+
+from .report import ContestReport
+
+__all__ = [
+    "CHARTS",
+    "chart_figure",
+    "draw_chart",
+    "period_text",
+    "report_figure",
+    "report_html",
+    "report_png",
+    "report_svgs",
+    "save_html",
+    "save_png",
+]
+
+CHARTS: dict[str, str] = {
+    "qsos": "QSOs per antenna per band",
+    "rate": "Rate per hour per antenna",
+    "transmit": "Transmit time per antenna",
+    "timeline": "Antennas per radio",
+}
+"""The charts, by key, with their titles (in the order shown)."""
+
+_ROLE_NAMES = {"tx": "TX", "rx": "RX", "alt": "Alt", "sub": "Sub RX"}
+
+
+def period_text(report: ContestReport) -> str:
+    """``2026-11-28 00:00 – 2026-11-29 23:59 UTC`` for the report's period."""
+    start = datetime.fromtimestamp(report.period.start, UTC)
+    end = datetime.fromtimestamp(report.period.end - 1, UTC)
+    return f"{start:%Y-%m-%d %H:%M} – {end:%Y-%m-%d %H:%M} UTC"
+
+
+def _colours(report: ContestReport) -> dict[str, tuple[float, float, float, float]]:
+    names = set(report.antennas)
+    for timeline in report.timelines:
+        for spans in timeline.spans.values():
+            names.update(span.antenna for span in spans)
+    # ten strong colours first, then the paler ones (tab20's odd entries)
+    palette = [colormaps["tab10"](i) for i in range(10)]
+    palette += [colormaps["tab20"](2 * i + 1) for i in range(10)]
+    return {name: palette[i % len(palette)] for i, name in enumerate(sorted(names))}
+
+
+def _band_colours(report: ContestReport) -> dict[str, tuple[float, float, float, float]]:
+    palette = colormaps["Set2"]  # not the antennas' colours: a band is not an antenna
+    return {band: palette(i % 8) for i, band in enumerate(report.bands)}
+
+
+def _nothing(ax: Axes, text: str) -> None:
+    ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, color="0.35")
+    ax.set_xticks([])
+    ax.set_yticks([])
+
+
+def _when(seconds: float) -> float:
+    """matplotlib's date number for POSIX seconds (the axes' unit for times)."""
+    # matplotlib.dates has no type annotations
+    return float(mdates.date2num(datetime.fromtimestamp(seconds, UTC)))  # type: ignore[no-untyped-call]
+
+
+def _time_axis(ax: Axes) -> None:
+    locator = mdates.AutoDateLocator(tz=UTC)  # type: ignore[no-untyped-call]
+    ax.xaxis.set_major_locator(locator)
+    formatter = mdates.ConciseDateFormatter(locator, tz=UTC)  # type: ignore[no-untyped-call]
+    ax.xaxis.set_major_formatter(formatter)
+    ax.set_xlabel("UTC")
+
+
+def _draw_qsos(ax: Axes, report: ContestReport) -> None:
+    antennas = sorted(report.qsos, key=lambda name: (-report.antenna_qsos(name), name))
+    if not antennas:
+        _nothing(ax, "No contacts in this period")
+        return
+    colours = _band_colours(report)
+    bottoms = [0] * len(antennas)
+    for band in report.bands:
+        counts = [report.qsos[name].get(band, 0) for name in antennas]
+        ax.bar(antennas, counts, bottom=bottoms, label=band, color=colours[band])
+        bottoms = [b + c for b, c in zip(bottoms, counts, strict=True)]
+    for x, total in enumerate(bottoms):
+        ax.annotate(str(total), (x, total), ha="center", va="bottom", fontsize="small")
+    ax.set_ylabel("QSOs")
+    ax.set_ylim(0, max(bottoms) * 1.15)
+    ax.legend(title="Band", fontsize="small")
+    ax.tick_params(axis="x", labelrotation=20)
+
+
+def _draw_rate(ax: Axes, report: ContestReport) -> None:
+    if not report.rate:
+        _nothing(ax, "No contacts in this period")
+        return
+    colours = _colours(report)
+    edges = [*report.hours, report.hours[-1] + 3600.0]
+    times = [_when(t) for t in edges]
+    middles = [_when(t + 1800.0) for t in report.hours]
+    styles = ("-", "--", "-.", ":")
+    order = sorted(report.rate, key=lambda n: (-sum(report.rate[n]), n))
+    for number, name in enumerate(order):
+        counts = report.rate[name]
+        # a line style each and a dot per hour, so equal rates stay told apart
+        style = styles[number % len(styles)]
+        ax.step(
+            times,
+            [*counts, counts[-1]],
+            where="post",
+            color=colours[name],
+            label=name,
+            linestyle=style,
+            linewidth=1.8,
+            marker="",
+        )
+        ax.plot(middles, counts, "o", color=colours[name], markersize=4)
+    ax.set_ylabel("QSOs per hour")
+    ax.set_ylim(bottom=0)
+    _time_axis(ax)
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
+
+
+def _draw_transmit(ax: Axes, report: ContestReport) -> None:
+    if not report.transmit:
+        _nothing(ax, "No transmissions in this period")
+        return
+    colours = _colours(report)
+    names = sorted(report.transmit, key=lambda n: (report.transmit[n], n))
+    minutes = [report.transmit[name] / 60 for name in names]
+    ax.barh(names, minutes, color=[colours[name] for name in names])
+    for y, value in enumerate(minutes):
+        ax.annotate(
+            f"{value:.1f}",
+            (value, y),
+            xytext=(3, 0),
+            textcoords="offset points",
+            va="center",
+            fontsize="small",
+        )
+    ax.set_xlabel("Minutes transmitted")
+    ax.set_xlim(0, max(minutes) * 1.2 or 1)
+
+
+def _draw_timeline(ax: Axes, report: ContestReport) -> None:
+    rows = [
+        (f"{timeline.label} {_ROLE_NAMES[role]}", spans)
+        for timeline in report.timelines
+        for role, spans in timeline.spans.items()
+    ]
+    if not rows:
+        _nothing(ax, "No antenna in use in this period")
+        return
+    colours = _colours(report)
+    used: dict[str, bool] = {}
+    for y, (_label, spans) in enumerate(reversed(rows)):
+        bars = [(_when(s.start), (s.end - s.start) / 86400.0) for s in spans]
+        ax.broken_barh(bars, (y - 0.4, 0.8), facecolors=[colours[s.antenna] for s in spans])
+        used.update((s.antenna, True) for s in spans)
+    ax.set_yticks(range(len(rows)), [label for label, _spans in reversed(rows)])
+    ax.set_xlim(_when(report.period.start), _when(report.period.end))
+    _time_axis(ax)
+    ax.legend(
+        handles=[Patch(color=colours[name], label=name) for name in sorted(used)],
+        fontsize="small",
+        loc="upper left",
+        bbox_to_anchor=(1.0, 1.0),
+    )
+
+
+_DRAW: dict[str, Callable[[Axes, ContestReport], None]] = {
+    "qsos": _draw_qsos,
+    "rate": _draw_rate,
+    "transmit": _draw_transmit,
+    "timeline": _draw_timeline,
+}
+
+
+def draw_chart(kind: str, figure: Figure, report: ContestReport) -> None:
+    """Clears ``figure`` and draws the chart ``kind`` (a key of :data:`CHARTS`) on it."""
+    figure.clear()
+    ax = figure.add_subplot()
+    _DRAW[kind](ax, report)
+    ax.set_title(CHARTS[kind])
+    figure.set_layout_engine("constrained")
+
+
+def chart_figure(kind: str, report: ContestReport, size: tuple[float, float] = (8, 4.2)) -> Figure:
+    """A new figure (``size`` in inches) with the chart ``kind``."""
+    figure = Figure(figsize=size)
+    draw_chart(kind, figure, report)
+    return figure
+
+
+def report_figure(report: ContestReport) -> Figure:
+    """The four charts in one figure, two by two, titled with the period."""
+    figure = Figure(figsize=(16, 9), layout="constrained")
+    subs = figure.subfigures(2, 2, squeeze=False)
+    assert isinstance(subs, numpy.ndarray)
+    for sub, kind in zip(subs.flat, CHARTS, strict=True):
+        ax = sub.add_subplot()
+        _DRAW[kind](ax, report)
+        ax.set_title(CHARTS[kind])
+    figure.suptitle(f"Contest report, {period_text(report)}")
+    return figure
+
+
+def save_png(report: ContestReport, path: Path) -> None:
+    """Writes :func:`report_png` to ``path`` (whole or not at all)."""
+    write_atomic(path, report_png(report))
+
+
+def save_html(report: ContestReport, path: Path) -> None:
+    """Writes :func:`report_html` to ``path`` (whole or not at all)."""
+    write_text_atomic(path, report_html(report))
+
+
+def report_png(report: ContestReport, dpi: int = 100) -> bytes:
+    """The four charts as one PNG image."""
+    buffer = io.BytesIO()
+    figure = report_figure(report)
+    FigureCanvasAgg(figure)
+    figure.savefig(buffer, format="png", dpi=dpi)
+    return buffer.getvalue()
+
+
+def _svg(figure: Figure) -> str:
+    from matplotlib import rc_context
+
+    buffer = io.StringIO()
+    FigureCanvasSVG(figure)
+    with rc_context({"svg.fonttype": "none"}):  # text as text: searchable, no glyph paths
+        figure.savefig(buffer, format="svg")
+    text = buffer.getvalue()
+    return text[text.index("<svg") :].strip()  # the element alone, for an HTML page
+
+
+def report_svgs(report: ContestReport) -> dict[str, str]:
+    """Each chart as an ``<svg>`` element, by key."""
+    return {kind: _svg(chart_figure(kind, report)) for kind in CHARTS}
+
+
+_STYLE = """
+body { font-family: sans-serif; margin: 1em auto; max-width: 60em; padding: 0 1em; }
+table { border-collapse: collapse; margin: 1em 0; }
+th, td { border: 1px solid #bbb; padding: 0.2em 0.6em; text-align: right; }
+th:first-child, td:first-child { text-align: left; }
+figure { margin: 1.5em 0; }
+figure svg { max-width: 100%; height: auto; }
+"""
+
+
+def _table(report: ContestReport) -> str:
+    bands = report.bands
+    head = "".join(f"<th>{html.escape(band)}</th>" for band in bands)
+    rows = []
+    for name in report.antennas:
+        per_band = "".join(f"<td>{report.qsos.get(name, {}).get(band, 0)}</td>" for band in bands)
+        minutes = report.transmit.get(name, 0.0) / 60
+        rows.append(
+            f"<tr><td>{html.escape(name)}</td><td>{report.antenna_qsos(name)}</td>{per_band}"
+            f"<td>{minutes:.1f}</td></tr>"
+        )
+    return (
+        '<table id="antennas"><thead><tr><th>Antenna</th><th>QSOs</th>'
+        f"{head}<th>Minutes transmitted</th></tr></thead>"
+        f"<tbody>{''.join(rows)}</tbody></table>"
+    )
+
+
+def report_html(report: ContestReport, title: str = "Contest report") -> str:
+    """The report as one self-contained HTML page: the numbers as a table, the four
+    charts as inline SVG."""
+    figures = "".join(
+        f'<figure id="{kind}">{svg}</figure>' for kind, svg in report_svgs(report).items()
+    )
+    summary = (
+        f"{report.contacts} QSO{'s' if report.contacts != 1 else ''}"
+        if not report.empty
+        else "Nothing was recorded in this period."
+    )
+    return (
+        "<!DOCTYPE html>\n"
+        '<html lang="en"><head><meta charset="utf-8">'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">'
+        f"<title>{html.escape(title)}</title><style>{_STYLE}</style></head><body>"
+        f"<h1>{html.escape(title)}</h1>"
+        f'<p id="period">{html.escape(period_text(report))}: {summary}</p>'
+        f"{_table(report)}{figures}"
+        f"<footer><small>moas-gui {html.escape(__version__)}</small></footer>"
+        "</body></html>\n"
+    )

@@ -1,0 +1,154 @@
+"""The contest report's charts (matplotlib, no display): one PNG, and one self-contained
+HTML page with the charts as inline SVG and the numbers as a table."""
+
+from __future__ import annotations
+
+import io
+import re
+import xml.etree.ElementTree as ET
+from html.parser import HTMLParser
+
+import pytest
+from antenna_log_support import T0, contest_journal
+from matplotlib.figure import Figure
+from matplotlib.image import imread
+
+from moas_gui.antenna_log.records import Period
+from moas_gui.antenna_log.report import HOUR, contest_report
+from moas_gui.antenna_log.report_charts import (
+    CHARTS,
+    draw_chart,
+    period_text,
+    report_html,
+    report_png,
+    report_svgs,
+)
+
+SVG = "{http://www.w3.org/2000/svg}"
+
+
+@pytest.fixture(scope="module")
+def report():
+    return contest_report(contest_journal(), Period(T0, T0 + 2 * HOUR))
+
+
+@pytest.fixture(scope="module")
+def page(report) -> str:
+    return report_html(report)
+
+
+class Page(HTMLParser):
+    """The tags, attributes and table cells of a page."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.tags: list[tuple[str, dict[str, str | None]]] = []
+        self.rows: list[list[str]] = []
+        self._cell: list[str] | None = None
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        self.tags.append((tag, dict(attrs)))
+        if tag == "tr":
+            self.rows.append([])
+        elif tag in ("td", "th"):
+            self._cell = []
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag in ("td", "th") and self._cell is not None:
+            self.rows[-1].append("".join(self._cell))
+            self._cell = None
+
+    def handle_data(self, data: str) -> None:
+        if self._cell is not None:
+            self._cell.append(data)
+
+
+def parsed(text: str) -> Page:
+    page = Page()
+    page.feed(text)
+    return page
+
+
+def svg_texts(svg: str) -> list[str]:
+    root = ET.fromstring(svg)
+    return ["".join(node.itertext()) for node in root.iter(f"{SVG}text")]
+
+
+def test_the_png_holds_the_four_charts(report) -> None:
+    data = report_png(report)
+    assert data.startswith(b"\x89PNG\r\n\x1a\n")
+    image = imread(io.BytesIO(data))
+    assert image.shape[:2] == (900, 1600)
+    # drawn, not blank: the antennas' colours are there (tab10's blue, 4-Square's)
+    colours = {
+        tuple(round(float(v), 2) for v in pixel[:3])
+        for pixel in image[::7, ::7].reshape(-1, image.shape[2])
+    }
+    assert len(colours) > 20
+    assert (0.12, 0.47, 0.71) in colours
+
+
+def test_the_page_needs_no_other_file(page: str) -> None:
+    tags = parsed(page).tags
+    names = [tag for tag, _ in tags]
+    assert "script" not in names and "link" not in names and "img" not in names
+    for _tag, attrs in tags:
+        for name in ("src", "href"):
+            assert not attrs.get(name), f"{name}={attrs.get(name)} refers elsewhere"
+    assert "url(http" not in page and "@import" not in page
+
+
+def test_the_page_holds_each_chart_as_svg_with_its_text(page: str, report) -> None:
+    figures = re.findall(r'<figure id="(\w+)">(<svg.*?</svg>)</figure>', page, re.DOTALL)
+    assert [kind for kind, _ in figures] == list(CHARTS)
+    texts = {kind: svg_texts(svg) for kind, svg in figures}  # each one well-formed XML
+    for kind, title in CHARTS.items():
+        assert title in texts[kind]
+    assert {"Yagi 20", "Dipole 20", "4-Square"} <= set(texts["qsos"])
+    assert {"20m", "40m", "7", "6", "2"} <= set(texts["qsos"])
+    assert {"20.0", "10.0", "5.0"} <= set(texts["transmit"])
+    assert {"Station 1 radio 1 TX", "Station 1 radio 2 RX", "Bev NE"} <= set(texts["timeline"])
+    assert "QSOs per hour" in texts["rate"]
+
+
+def test_the_page_gives_the_numbers_per_antenna(page: str, report) -> None:
+    rows = parsed(page).rows
+    assert rows[0] == ["Antenna", "QSOs", "40m", "20m", "Minutes transmitted"]
+    assert sorted(rows[1:]) == [
+        ["4-Square", "6", "6", "0", "20.0"],
+        ["Dipole 20", "2", "0", "2", "5.0"],
+        ["Yagi 20", "7", "0", "7", "10.0"],
+    ]
+    assert f"{period_text(report)}: 15 QSOs" in page
+
+
+def test_the_charts_of_an_empty_period_say_so() -> None:
+    empty = contest_report(contest_journal(), Period(T0 - 2 * HOUR, T0 - HOUR))
+    svgs = report_svgs(empty)
+    assert "No contacts in this period" in svg_texts(svgs["qsos"])
+    assert "No contacts in this period" in svg_texts(svgs["rate"])
+    assert "No transmissions in this period" in svg_texts(svgs["transmit"])
+    assert "No antenna in use in this period" in svg_texts(svgs["timeline"])
+    page = report_html(empty)
+    assert "Nothing was recorded in this period." in page
+    assert parsed(page).rows == [["Antenna", "QSOs", "Minutes transmitted"]]
+
+
+def test_names_are_escaped_in_the_page() -> None:
+    journal = contest_journal()
+    journal.keys[0] = type(journal.keys[0])(1, 1, "<b>Yagi</b> & Co", T0, T0 + 60)
+    page = report_html(contest_report(journal, Period(T0, T0 + 2 * HOUR)))
+    assert "<b>Yagi" not in page
+    assert "&lt;b&gt;Yagi&lt;/b&gt; &amp; Co" in page
+
+
+def test_a_chart_redraws_on_the_same_figure(report) -> None:
+    figure = Figure()
+    for kind in CHARTS:
+        draw_chart(kind, figure, report)
+        assert len(figure.axes) == 1
+        assert figure.axes[0].get_title() == CHARTS[kind]
+
+
+def test_the_period_in_words(report) -> None:
+    assert period_text(report) == "2026-11-18 11:00 – 2026-11-18 12:59 UTC"

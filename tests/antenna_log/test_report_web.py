@@ -1,0 +1,182 @@
+"""``/report`` on the browser client's web server, over real sockets on 127.0.0.1: the
+contest report as one HTML page with the charts' SVG and the numbers per antenna, under
+the page's access policy (a token of any role where one is needed)."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import AsyncIterator
+from pathlib import Path
+from typing import Any
+
+import aiohttp
+import pytest
+import pytest_asyncio
+from antenna_log_support import T0, MemoryJournal, contest_journal
+
+from moas_gui.antenna_log.records import JournalReader
+from moas_gui.antenna_log.report import HOUR
+from moas_gui.net.server import ClientServer
+from moas_gui.net.web import WebServer
+from moas_gui.operators import OperatorBook, Role
+from moas_gui.testing.fake_backend import FakeBackend
+
+HOST = "127.0.0.1"
+
+
+class Site:
+    def __init__(self, clients: ClientServer, web: WebServer) -> None:
+        self.clients = clients
+        self.web = web
+        self.session = aiohttp.ClientSession()
+        self.journal: JournalReader | None = contest_journal()
+
+    @property
+    def base(self) -> str:
+        return f"http://{HOST}:{self.web.port}"
+
+    async def get(self, target: str, **headers: str) -> tuple[int, str, Any]:
+        async with self.session.get(self.base + target, headers=headers) as response:
+            return response.status, await response.text(), response.headers
+
+    async def close(self) -> None:
+        await self.session.close()
+        await self.web.close()
+        await self.clients.close()
+
+
+async def make_site(**options: Any) -> Site:
+    backend = FakeBackend()
+    clients = ClientServer(backend, host=HOST, port=0, **options)
+    backend.attach(clients)
+    await clients.start()
+    site: Site
+
+    def journal() -> JournalReader | None:
+        return site.journal
+
+    web = WebServer(clients, host=HOST, port=0, journal=journal)
+    site = Site(clients, web)
+    await web.start()
+    return site
+
+
+@pytest_asyncio.fixture
+async def site() -> AsyncIterator[Site]:
+    made = await make_site()
+    yield made
+    await made.close()
+
+
+def cells(page: str) -> list[list[str]]:
+    rows = re.findall(r"<tr>(.*?)</tr>", page)
+    return [re.findall(r"<t[dh]>(.*?)</t[dh]>", row) for row in rows]
+
+
+@pytest.mark.asyncio
+async def test_the_report_page_holds_the_charts_and_the_numbers(site: Site) -> None:
+    status, page, headers = await site.get("/report")
+    assert status == 200
+    assert headers["Content-Type"] == "text/html; charset=utf-8"
+    assert "script-src" not in headers["Content-Security-Policy"]
+    assert headers["Content-Security-Policy"].startswith("default-src 'none'")
+    svgs = re.findall(r'<figure id="(\w+)"><svg[^>]*>.*?</svg></figure>', page, re.DOTALL)
+    assert svgs == ["qsos", "rate", "transmit", "timeline"]
+    assert "<script" not in page and " src=" not in page
+    assert sorted(cells(page)[1:]) == [
+        ["4-Square", "6", "6", "0", "20.0"],
+        ["Dipole 20", "2", "0", "2", "5.0"],
+        ["Yagi 20", "7", "0", "7", "10.0"],
+    ]
+    assert "2026-11-18 11:00 – 2026-11-18 13:00 UTC: 15 QSOs" in page
+    assert ">Station 1 radio 2 RX</text>" in page  # the timeline's rows, as SVG text
+
+
+@pytest.mark.asyncio
+async def test_a_period_by_from_and_to(site: Site) -> None:
+    status, page, _ = await site.get("/report?from=2026-11-18T12:00Z&to=2026-11-18T13:00Z")
+    assert status == 200
+    assert sorted(cells(page)[1:]) == [
+        ["4-Square", "2", "2", "0", "10.0"],
+        ["Dipole 20", "2", "0", "2", "5.0"],
+        ["Yagi 20", "1", "0", "1", "0.0"],
+    ]
+
+
+@pytest.mark.asyncio
+@pytest.mark.parametrize(
+    ("query", "message"),
+    [
+        ("?hours=0", "hours=0: give a number of hours from 1 to 744"),
+        ("?hours=lots", "hours=lots: give a number of hours"),
+        ("?from=soon", "from/to: 'soon' is not a time"),
+        ("?from=2026-11-18T13:00Z&to=2026-11-18T12:00Z", "from is not before to"),
+    ],
+)
+async def test_a_bad_period_is_a_400_that_says_why(site: Site, query: str, message: str) -> None:
+    status, text, _ = await site.get("/report" + query)
+    assert status == 400
+    assert message in text
+
+
+@pytest.mark.asyncio
+async def test_the_last_hours_of_a_live_journal(site: Site) -> None:
+    site.journal = MemoryJournal()  # nothing yet
+    status, page, _ = await site.get("/report?hours=3")
+    assert status == 200 and "Nothing was recorded in this period." in page
+
+
+@pytest.mark.asyncio
+@pytest.mark.parametrize(
+    ("journal", "text"),
+    [
+        (None, "The antenna journal is turned off"),
+        (MemoryJournal(), "The antenna journal is empty"),
+    ],
+)
+async def test_no_journal_says_so(site: Site, journal: Any, text: str) -> None:
+    site.journal = journal
+    status, page, _ = await site.get("/report")
+    assert status == 200 and text in page and "<svg" not in page
+
+
+@pytest.mark.asyncio
+async def test_where_a_token_is_needed_a_view_token_shows_the_report(tmp_path: Path) -> None:
+    book = OperatorBook(tmp_path / "operators.json")
+    _op, viewer = book.add("wall display", Role.VIEW)
+    made = await make_site(allow=["127.0.0.0/8"], require_token=True, operators=book)
+    made.clients.local_addresses = ()  # 127.0.0.1 counts as the LAN, which needs a token
+    try:
+        status, text, headers = await made.get("/report")
+        assert status == 401 and "needs an operator's token" in text
+        assert headers["WWW-Authenticate"].startswith("Bearer")
+        status, _, _ = await made.get("/report", Authorization="Bearer " + viewer[:-3] + "xyz")
+        assert status == 401
+        status, page, _ = await made.get("/report", Authorization=f"Bearer {viewer}")
+        assert status == 200 and page.count("<svg") == 4
+    finally:
+        await made.close()
+
+
+@pytest.mark.asyncio
+async def test_the_page_is_open_to_the_lan_without_require_token() -> None:
+    made = await make_site(allow=["127.0.0.0/8"])
+    made.clients.local_addresses = ()
+    try:
+        status, page, _ = await made.get("/report")
+        assert status == 200 and page.count("<svg") == 4
+    finally:
+        await made.close()
+
+
+@pytest.mark.asyncio
+async def test_the_period_cuts_contacts_and_transmissions_at_its_edges(site: Site) -> None:
+    assert T0 % HOUR == 0  # 11:00 UTC
+    status, page, _ = await site.get("/report?from=2026-11-18T11:00Z&to=2026-11-18T11:10Z")
+    assert status == 200
+    assert cells(page)[0] == ["Antenna", "QSOs", "20m", "Minutes transmitted"]
+    assert sorted(cells(page)[1:]) == [
+        # G0BB comes at 11:10, just outside; 4-Square is keyed from 11:08:20 (100 s of it)
+        ["4-Square", "0", "0", "1.7"],
+        ["Yagi 20", "1", "1", "5.0"],
+    ]

@@ -60,6 +60,7 @@ import logging
 import os
 import platform
 import re
+import shutil
 import signal
 import socket
 import statistics
@@ -185,6 +186,10 @@ def serve_child(argv: list[str]) -> int:
     logging.getLogger("moas_gui.app").addHandler(_MarkHandler(window="--headless" not in argv))
     if os.environ.get(quiet_path.TRACE_ENV):
         quiet_path.install_stamps(os.environ[quiet_path.TRACE_ENV])
+    if os.environ.get(quiet_path.COSTS_ENV):
+        quiet_path.install_costs(os.environ[quiet_path.COSTS_ENV])
+    elif os.environ.get(quiet_path.PROFILE_ENV):
+        quiet_path.install_profiler(os.environ[quiet_path.PROFILE_ENV])
     return cli.main(argv)
 
 
@@ -570,6 +575,12 @@ class FloodResult:
     """Each packet's ``sendto`` (monotonic ns)."""
     stamps: Path | None = None
     """The server's stage stamps (``--trace``)."""
+    profile: Path | None = None
+    """The server's profile of the flood (``--profile``)."""
+    costs: Path | None = None
+    """The CPU of the server's loop callbacks during the flood (``--costs``)."""
+    threads: dict[str, float] = field(default_factory=dict)
+    """CPU seconds of each thread of the server during the flood."""
     dwell_ms: int = 0
     """The server's ``--relay-dwell``: 0 for the latency floods (each packet's command is
     matched), the default for the relay-wear run."""
@@ -580,7 +591,8 @@ class FloodResult:
 
 
 async def bench_flood(name: str, rate: int, seconds: float, work: Path,
-                      trace: bool = False, dwell_ms: int = 0) -> FloodResult:
+                      trace: bool = False, dwell_ms: int = 0,
+                      profile: bool = False, costs: bool = False) -> FloodResult:
     from moas_gui.config import load_config
     from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
     from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
@@ -607,6 +619,12 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
     stamps = work / f"stamps-{name}-{rate}.json"
     if trace:
         env[quiet_path.TRACE_ENV] = str(stamps)
+    profiled = work / f"profile-{name}-{rate}.pstats"
+    if profile:
+        env[quiet_path.PROFILE_ENV] = str(profiled)
+    counted = work / f"costs-{name}-{rate}.json"
+    if costs:
+        env[quiet_path.COSTS_ENV] = str(counted)
     process, _ = await spawn_server(
         server_args(flood_config(name, work, links), True)
         + ["--log-level", "info", "--relay-dwell", str(dwell_ms)], env, stderr)
@@ -627,7 +645,7 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
         else:
             raise RuntimeError("the switches were never loaded:\n" + stderr.read_text()[-3000:])
         result = await _flood(name, rate, seconds, int(found.group(1)), process, terminals,
-                              config, dwell_ms)
+                              config, dwell_ms, profile or costs)
     finally:
         await stop(process)
         for terminal in terminals.values():
@@ -637,12 +655,16 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
             link.unlink(missing_ok=True)
     if trace and stamps.exists():
         result.stamps = stamps
+    if profile and profiled.exists():
+        result.profile = profiled
+    if costs and counted.exists():
+        result.costs = counted
     return result
 
 
 async def _flood(name: str, rate: int, seconds: float, port: int,
                  process: asyncio.subprocess.Process, terminals: dict[int, Terminal],
-                 config: Any, dwell_ms: int = 0) -> FloodResult:
+                 config: Any, dwell_ms: int = 0, signal_usr: bool = False) -> FloodResult:
     from moas_gui.hw.moas2.emulator.record import EntryCause
     from moas_gui.sources.n1mm_packet import radio_info_packet
 
@@ -662,6 +684,9 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
     before = {"server": cpu_seconds(process.pid), "emulators": own_cpu(),
               "machine": machine_busy()}
     faults_before = minor_faults(process.pid)
+    threads_before = quiet_path.thread_cpu(process.pid)
+    if signal_usr:  # the profiler or the callback costs start
+        process.send_signal(signal.SIGUSR1)
     sender = await asyncio.create_subprocess_exec(
         sys.executable, __file__, "--send", str(port),
         json.dumps({"flood": name, "rate": rate, "count": count}),
@@ -676,6 +701,10 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
         await asyncio.wait([reader], timeout=0.25)
     stdout, _ = reader.result()
     await asyncio.sleep(0.5)
+    threads_after = quiet_path.thread_cpu(process.pid)
+    if signal_usr:
+        process.send_signal(signal.SIGUSR2)
+        await asyncio.sleep(0.5)
     cpu = {"server": cpu_seconds(process.pid) - before["server"],
            "emulators": own_cpu() - before["emulators"], "sender": sender_cpu,
            "machine": machine_busy() - before["machine"]}
@@ -704,7 +733,8 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
         bytes_per_change={s: b / max(1, len(latencies)) for s, b in antenna_bytes.items()},
         udp_queue_max=queue_max, udp_drops=drops, cpu=cpu, rss_before_kb=rss_before,
         rss_after_kb=rss_after, wall=(sent[-1] - sent[0]) / 1e9, sent_at=sent,
-        faults=faults, dwell_ms=dwell_ms, relay_changes=relay_changes, line_bytes=line_bytes)
+        faults=faults, dwell_ms=dwell_ms, relay_changes=relay_changes, line_bytes=line_bytes,
+        threads={k: v - threads_before.get(k, 0.0) for k, v in threads_after.items()})
 
 
 LINE_BYTES_PER_SECOND = 960
@@ -887,7 +917,9 @@ async def run(args: argparse.Namespace) -> None:
             rows += await bench_start(args.runs, not args.no_window, work)
         for name in args.flood:
             for rate in args.rate:
-                result = await bench_flood(name, rate, args.seconds, work, args.trace)
+                result = await bench_flood(name, rate, args.seconds, work, args.trace,
+                                           profile=bool(args.profile) and rate <= QUIET_RATE,
+                                           costs=args.costs)
                 rows += flood_rows(result)
                 if rate == max(args.rate) and args.dwell:
                     worn = await bench_flood(name, rate, args.seconds, work,
@@ -896,6 +928,13 @@ async def run(args: argparse.Namespace) -> None:
                 if result.stamps is not None and rate <= QUIET_RATE:
                     rows += quiet_path.stage_rows(result.stamps, result.sent_at,
                                                   result.latencies, rate)
+                if result.costs is not None:
+                    rows += quiet_path.costs_rows(result.costs, result.sent, rate,
+                                                  result.threads)
+                if result.profile is not None:
+                    rows += quiet_path.profile_rows(result.profile, result.sent, rate)
+                    if args.profile != "-":
+                        shutil.copyfile(result.profile, args.profile)
         if args.floor:
             rows += await floor_rows(args.rate, args.seconds)
     for name in ("small", "big"):
@@ -935,6 +974,15 @@ def main() -> int:
     parser.add_argument("--trace", action="store_true",
                         help="also print where a quiet packet's time goes (benchmarks/"
                              "quiet_path.py: the server stamps each stage)")
+    parser.add_argument("--costs", action="store_true",
+                        help="also print the server's CPU per band change by thread and by "
+                             "event-loop callback (about a microsecond of overhead a callback)")
+    parser.add_argument("--profile", nargs="?", const="-", default=None, metavar="FILE",
+                        help="also profile the server (cProfile, its event loop's thread) "
+                             "during each quiet flood and print the costliest functions per "
+                             "band change (the profiler's overhead makes the flood's own "
+                             "figures worth less: take them without it); FILE: also keep the "
+                             "profile there (pstats)")
     parser.add_argument("--floor", action="store_true",
                         help="also measure the machine's floor at each rate: the same hops "
                              "with no work between them")

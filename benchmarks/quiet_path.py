@@ -153,6 +153,7 @@ def install_costs(path: str) -> None:
             entry[1] += spent
 
     asyncio.events.Handle._run = measured  # type: ignore[method-assign]
+    _measure_parts(costs, on, clock)
     loop_cpu = [0]
 
     def start(signum: int, frame: object) -> None:
@@ -169,11 +170,61 @@ def install_costs(path: str) -> None:
     signal.signal(signal.SIGUSR2, finish)
 
 
+PARTS = (
+    ("moas_gui.sources.n1mm", "N1MMListener", "handle", "N1MM: the datagram taken"),
+    ("moas_gui.sources.n1mm", None, "parse_radio_info", "N1MM: RadioInfo parsed"),
+    ("moas_gui.source_intake", "SourceIntake", "set_focus", "intake: transmit/receive focus"),
+    ("moas_gui.app", None, "perform", "app: engine decision (perform)"),
+    ("moas_gui.app", "ServerApp", "apply_changes", "app: the decision sent out"),
+    ("moas_gui.hw.moas2.link", "SwitchLink", "apply", "link: apply (plan, guard, write)"),
+    ("moas_gui.serial.port", "SerialPort", "write", "serial: the write"),
+    ("moas_gui.app", "ServerApp", "radio_entry", "app: a radio entry for clients"),
+    ("logging", "Logger", "handle", "logging: records shown"),
+    ("moas_gui.state_store", "StateKeeper", "changed", "saved state: changed()"),
+)
+"""Parts timed inside the callbacks (``--costs``): module, class (None: a function of
+the module, replaced where the path calls it), attribute, what the table calls it."""
+
+
+def _measure_parts(costs: dict[str, list[int]], on: list[bool],
+                   clock: Callable[[], int]) -> None:
+    """Wrap each of :data:`PARTS` (those that exist) to add its thread CPU to ``costs``
+    under ``"part: NAME"``; an inner part's time counts in its outer part too."""
+    import importlib
+
+    def wrapped(call: Callable[..., Any], label: str) -> Callable[..., Any]:
+        @functools.wraps(call)
+        def timed(*args: Any, **kwargs: Any) -> Any:
+            if not on[0]:
+                return call(*args, **kwargs)
+            began = clock()
+            try:
+                return call(*args, **kwargs)
+            finally:
+                entry = costs.setdefault(f"part: {label}", [0, 0])
+                entry[0] += 1
+                entry[1] += clock() - began
+        return timed
+
+    for module_name, class_name, attribute, label in PARTS:
+        try:
+            module = importlib.import_module(module_name)
+        except ImportError:
+            continue
+        owner = module if class_name is None else getattr(module, class_name, None)
+        call = getattr(owner, attribute, None) if owner is not None else None
+        if call is not None:
+            setattr(owner, attribute, wrapped(call, label))
+
+
 def costs_rows(path: Path, changes: int, rate: int,
                threads: dict[str, float]) -> list[tuple[str, str, str, str]]:
     """The loop thread's CPU per band change by callback, and each thread's CPU."""
     costs: dict[str, list[int]] = json.loads(path.read_text())
     whole = costs.pop("(the loop thread, all of it)", [0, 0])[1]
+    parts = {name.removeprefix("part: "): value for name, value in costs.items()
+             if name.startswith("part: ")}
+    costs = {name: value for name, value in costs.items() if not name.startswith("part: ")}
     counted = sum(ns for _, ns in costs.values())
     rows = [(f"  CPU per band change at {rate}/s, by thread and by loop callback",
              "us (calls per change)", "", "")]
@@ -183,6 +234,11 @@ def costs_rows(path: Path, changes: int, rate: int,
     rows.append(("    the loop thread: the loop itself (select, timers, signals)",
                  f"{(whole - counted) / 1000 / changes:.0f} us", "", ""))
     for name, (calls, ns) in sorted(costs.items(), key=lambda item: -item[1][1])[:15]:
+        rows.append((f"      {name}", f"{ns / 1000 / changes:.0f} us ({calls / changes:.1f})",
+                     "", ""))
+    rows.append(("    parts inside the callbacks (an inner part counts in its outer too)", "",
+                 "", ""))
+    for name, (calls, ns) in sorted(parts.items(), key=lambda item: -item[1][1]):
         rows.append((f"      {name}", f"{ns / 1000 / changes:.0f} us ({calls / changes:.1f})",
                      "", ""))
     return rows

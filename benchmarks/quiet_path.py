@@ -37,6 +37,11 @@ from typing import Any
 
 TRACE_ENV = "BENCH_SERVER_TRACE"
 """The file the server child writes its stamps to (set: stamp; unset: nothing changes)."""
+COSTS_ENV = "BENCH_SERVER_COSTS"
+"""The file the server child writes the CPU of each kind of loop callback to (``--costs``)."""
+PROFILE_ENV = "BENCH_SERVER_PROFILE"
+"""The file the server child writes its profile of a flood to (``--profile``): SIGUSR1
+starts the profiler on the event loop's thread, SIGUSR2 stops it and writes the file."""
 
 STAGES = ("received", "parsed", "decide", "decided", "write", "written", "turned", "saving")
 
@@ -112,6 +117,202 @@ def install_stamps(path: str) -> None:
         Path(path).write_text(json.dumps({**stamps, "gc": collections}))
 
     atexit.register(dump)
+
+
+def install_costs(path: str) -> None:
+    """In the server child: the event loop thread's CPU time (``time.thread_time_ns``)
+    of each callback the loop runs, summed by what it calls, between SIGUSR1 and SIGUSR2
+    (written to ``path`` as JSON).  About a microsecond of overhead a callback."""
+    import signal
+
+    clock = time.thread_time_ns
+    costs: dict[str, list[int]] = {}
+    on = [False]
+    original = asyncio.events.Handle._run
+
+    def name_of(handle: asyncio.Handle) -> str:
+        callback = handle._callback  # type: ignore[attr-defined]
+        owner = getattr(callback, "__self__", None)
+        if isinstance(owner, asyncio.Task):
+            coro = owner.get_coro()
+            return f"task {getattr(coro, '__qualname__', coro)}"
+        inner = getattr(callback, "func", callback)  # functools.partial
+        return str(getattr(inner, "__qualname__", None) or type(inner).__name__)
+
+    def measured(handle: asyncio.Handle) -> None:
+        if not on[0]:
+            original(handle)
+            return
+        began = clock()
+        try:
+            original(handle)
+        finally:
+            spent = clock() - began
+            entry = costs.setdefault(name_of(handle), [0, 0])
+            entry[0] += 1
+            entry[1] += spent
+
+    asyncio.events.Handle._run = measured  # type: ignore[method-assign]
+    _measure_parts(costs, on, clock)
+    loop_cpu = [0]
+
+    def start(signum: int, frame: object) -> None:
+        costs.clear()
+        loop_cpu[0] = clock()
+        on[0] = True
+
+    def finish(signum: int, frame: object) -> None:
+        on[0] = False
+        costs["(the loop thread, all of it)"] = [0, clock() - loop_cpu[0]]
+        Path(path).write_text(json.dumps(costs))
+
+    signal.signal(signal.SIGUSR1, start)
+    signal.signal(signal.SIGUSR2, finish)
+
+
+PARTS = (
+    ("moas_gui.sources.n1mm", "N1MMListener", "handle", "N1MM: the datagram taken"),
+    ("moas_gui.sources.n1mm", None, "parse_radio_info", "N1MM: RadioInfo parsed"),
+    ("moas_gui.source_intake", "SourceIntake", "set_focus", "intake: transmit/receive focus"),
+    ("moas_gui.app", None, "perform", "app: engine decision (perform)"),
+    ("moas_gui.app", "ServerApp", "apply_changes", "app: the decision sent out"),
+    ("moas_gui.hw.moas2.link", "SwitchLink", "apply", "link: apply (plan, guard, write)"),
+    ("moas_gui.serial.port", "SerialPort", "write", "serial: the write"),
+    ("moas_gui.app", "ServerApp", "radio_entry", "app: a radio entry for clients"),
+    ("logging", "Logger", "handle", "logging: records shown"),
+    ("moas_gui.state_store", "StateKeeper", "changed", "saved state: changed()"),
+)
+"""Parts timed inside the callbacks (``--costs``): module, class (None: a function of
+the module, replaced where the path calls it), attribute, what the table calls it."""
+
+
+def _measure_parts(costs: dict[str, list[int]], on: list[bool],
+                   clock: Callable[[], int]) -> None:
+    """Wrap each of :data:`PARTS` (those that exist) to add its thread CPU to ``costs``
+    under ``"part: NAME"``; an inner part's time counts in its outer part too."""
+    import importlib
+
+    def wrapped(call: Callable[..., Any], label: str) -> Callable[..., Any]:
+        @functools.wraps(call)
+        def timed(*args: Any, **kwargs: Any) -> Any:
+            if not on[0]:
+                return call(*args, **kwargs)
+            began = clock()
+            try:
+                return call(*args, **kwargs)
+            finally:
+                entry = costs.setdefault(f"part: {label}", [0, 0])
+                entry[0] += 1
+                entry[1] += clock() - began
+        return timed
+
+    for module_name, class_name, attribute, label in PARTS:
+        try:
+            module = importlib.import_module(module_name)
+        except ImportError:
+            continue
+        owner = module if class_name is None else getattr(module, class_name, None)
+        call = getattr(owner, attribute, None) if owner is not None else None
+        if call is not None:
+            setattr(owner, attribute, wrapped(call, label))
+
+
+def costs_rows(path: Path, changes: int, rate: int,
+               threads: dict[str, float]) -> list[tuple[str, str, str, str]]:
+    """The loop thread's CPU per band change by callback, and each thread's CPU."""
+    costs: dict[str, list[int]] = json.loads(path.read_text())
+    whole = costs.pop("(the loop thread, all of it)", [0, 0])[1]
+    parts = {name.removeprefix("part: "): value for name, value in costs.items()
+             if name.startswith("part: ")}
+    costs = {name: value for name, value in costs.items() if not name.startswith("part: ")}
+    counted = sum(ns for _, ns in costs.values())
+    rows = [(f"  CPU per band change at {rate}/s, by thread and by loop callback",
+             "us (calls per change)", "", "")]
+    for name, seconds in sorted(threads.items(), key=lambda item: -item[1]):
+        rows.append((f"    thread {name}", f"{1e6 * seconds / changes:.0f} us", "", ""))
+    rows.append(("    the loop thread: callbacks", f"{counted / 1000 / changes:.0f} us", "", ""))
+    rows.append(("    the loop thread: the loop itself (select, timers, signals)",
+                 f"{(whole - counted) / 1000 / changes:.0f} us", "", ""))
+    for name, (calls, ns) in sorted(costs.items(), key=lambda item: -item[1][1])[:15]:
+        rows.append((f"      {name}", f"{ns / 1000 / changes:.0f} us ({calls / changes:.1f})",
+                     "", ""))
+    rows.append(("    parts inside the callbacks (an inner part counts in its outer too)", "",
+                 "", ""))
+    for name, (calls, ns) in sorted(parts.items(), key=lambda item: -item[1][1]):
+        rows.append((f"      {name}", f"{ns / 1000 / changes:.0f} us ({calls / changes:.1f})",
+                     "", ""))
+    return rows
+
+
+def thread_cpu(pid: int) -> dict[str, float]:
+    """CPU seconds of each thread of ``pid`` so far, by thread id and name."""
+    found: dict[str, float] = {}
+    tick = os.sysconf("SC_CLK_TCK")
+    try:
+        tasks = list(Path(f"/proc/{pid}/task").iterdir())
+    except OSError:
+        return found
+    for task in tasks:
+        try:
+            head, _, rest = (task / "stat").read_text().rpartition(")")
+        except OSError:
+            continue
+        fields = rest.split()
+        name = "loop" if task.name == str(pid) else head.partition("(")[2]
+        found[f"{task.name} {name}"] = (int(fields[11]) + int(fields[12])) / tick
+    return found
+
+
+def install_profiler(path: str) -> None:
+    """In the server child: SIGUSR1 starts profiling the event loop's thread, SIGUSR2
+    stops and writes ``path`` (pstats).  The save's worker thread is not profiled: its
+    CPU shows in the flood's figure, its calls not here."""
+    import cProfile
+    import signal
+
+    profiler = cProfile.Profile()
+
+    def start(signum: int, frame: object) -> None:
+        profiler.enable()
+
+    def finish(signum: int, frame: object) -> None:
+        profiler.disable()
+        profiler.dump_stats(path)
+
+    signal.signal(signal.SIGUSR1, start)
+    signal.signal(signal.SIGUSR2, finish)
+
+
+IDLE = ("<method 'poll' of 'select.epoll' objects>", "<method 'select' of 'select.epoll' objects>")
+"""The event loop waiting: time the profiler sees that is no work."""
+
+
+def profile_rows(path: Path, changes: int, rate: int,
+                 top: int = 25) -> list[tuple[str, str, str, str]]:
+    """The functions that cost most (own time, the loop's wait left out) per band change
+    of a quiet flood, and the cumulative time of the path's main steps."""
+    import pstats
+
+    stats = pstats.Stats(str(path))
+    table: dict[Any, Any] = stats.stats  # type: ignore[attr-defined]
+    busy = {key: value for key, value in table.items() if key[2] not in IDLE}
+    total = sum(own for _, _, own, _, _ in busy.values())
+    rows = [((f"  profile at {rate}/s (event loop's thread, per band change: busy "
+             f"{1e3 * total / max(1, changes):.2f} ms with the profiler's overhead)"),
+             "own us, with callees us, calls, share of busy", "", "")]
+    ordered = sorted(busy.items(), key=lambda item: -item[1][2])
+    for key, (_, calls, own, cumulative, _) in ordered[:top]:
+        rows.append((f"    {_where(key)}",
+                     (f"{1e6 * own / changes:.0f} us, {1e6 * cumulative / changes:.0f} us, "
+                      f"{calls / changes:.1f}, {100 * own / max(total, 1e-9):.0f} %"), "", ""))
+    return rows
+
+
+def _where(key: tuple[str, int, str]) -> str:
+    filename, line, function = key
+    if filename == "~":
+        return function
+    return f"{function} ({Path(filename).parent.name}/{Path(filename).name}:{line})"
 
 
 # --------------------------------------------------------------------------- in the bench
@@ -285,5 +486,6 @@ def send_numbers(port: int, rate: int, count: int) -> None:
     print(json.dumps(sent))
 
 
-__all__ = ["STAGES", "TRACE_ENV", "floor", "install_stamps", "relay", "send_numbers",
-           "stage_rows"]
+__all__ = ["COSTS_ENV", "PROFILE_ENV", "STAGES", "TRACE_ENV", "costs_rows", "floor",
+           "install_costs", "install_profiler", "install_stamps", "profile_rows", "relay",
+           "send_numbers", "stage_rows", "thread_cpu"]

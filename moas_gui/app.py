@@ -463,12 +463,12 @@ class ServerApp:
         run = self._run
         if run is None:
             return published
-        if run.keeper is not None:
-            run.keeper.changed()
-        for switch_id, state in changes.switches.items():
-            link = run.links.get(switch_id)
+        for switch_id, state in changes.switches.items():  # the switches first: the
+            link = run.links.get(switch_id)               # quickest to the first byte
             if link is not None:
                 link.apply(state, automatic=automatic)
+        if run.keeper is not None:
+            run.keeper.changed()
         for line in changes.log:
             log.info("%s", line)
         for line in changes.details:
@@ -482,19 +482,24 @@ class ServerApp:
                     if heading is not None:
                         run.rotators.note_direction(rotator.id, heading)
         if run.clients is not None:
+            # with no client connected there is nobody to tell: no entry is even built
+            served = run.clients.client_count > 0
             for ref in changes.radios:
-                run.clients.publish_radio(self.radio_entry(ref.station, ref.radio))
+                if served:
+                    run.clients.publish_radio(self.radio_entry(ref.station, ref.radio))
                 published.add((ref.station, ref.radio))
-            if changes.layouts:
+            if changes.layouts and served:
                 run.clients.layouts_may_have_changed()
         if changes.radios:
             self._ag.radios_changed({(ref.station, ref.radio) for ref in changes.radios})
         return published
 
-    def _publish_radio(self, entry: dict[str, object]) -> None:
-        """A radio entry to the clients of the running configuration, when any are served."""
-        if self._run is not None and self._run.clients is not None:
-            self._run.clients.publish_radio(entry)
+    def _publish_radio(self, station: int, radio: int) -> None:
+        """A radio's entry to the clients of the running configuration, when any are
+        connected (otherwise the entry is not built)."""
+        run = self._run
+        if run is not None and run.clients is not None and run.clients.client_count > 0:
+            run.clients.publish_radio(run.intake.radio_entry(station, radio))
 
     # -- frequency sources (loggers, rig daemons, OTRSP): moas_gui/source_intake.py --------
     def _running(self) -> Running:

@@ -57,11 +57,12 @@ class SourceIntake:
     It owns each station's transmit and receive focus (a :class:`FocusTable`), the
     latest focus and run-or-search reports of the loggers, and the batch of events of
     the current loop turn.  ``act`` is the app's one door into the engine;
-    ``publish`` sends a radio entry to the clients (when any are served).
+    ``publish`` sends the entry of radio ``(station, radio)`` (:meth:`radio_entry`) to
+    the clients, when any are connected.
     """
 
     def __init__(self, engine: Engine, act: Act,
-                 publish: Callable[[dict[str, object]], None]) -> None:
+                 publish: Callable[[int, int], None]) -> None:
         self._engine = engine
         self._act = act
         self._publish = publish
@@ -113,7 +114,7 @@ class SourceIntake:
             if isinstance(event, AuxAntenna):
                 published |= self._aux_antenna(event)
         for station, radio in sorted(refocused - published):
-            self._publish(self.radio_entry(station, radio))
+            self._publish(station, radio)
 
     def frequency(self, station: int, radio: int, khz: float,
                   tx_khz: float | None) -> set[RadioKey]:
@@ -152,7 +153,7 @@ class SourceIntake:
         changed = {(station, number) for number in (before, radio) if number is not None}
         if publish:
             for _, number in sorted(changed):
-                self._publish(self.radio_entry(station, number))
+                self._publish(station, number)
         return changed
 
     def radio_entry(self, station: int, radio: int) -> dict[str, object]:

@@ -12,8 +12,8 @@ directory, flushed to the disk, and renamed over the old one, so whatever a
 crash leaves behind is either the old file or the new one, never half of one.
 Writes are coalesced (:class:`StateKeeper`): a change after a quiet spell is
 written at once, and everything that changes within ``SAVE_DELAY_S`` of a write
-goes out together in the next; the writing itself is done on a worker thread,
-off the event loop.
+goes out together in the next; only the collecting of the state is done on the
+event loop, its encoding and writing on a worker thread.
 
 A file that cannot be read, is cut short, belongs to another version of the
 configuration, or does not fit it is ignored with one log line: the server
@@ -44,8 +44,12 @@ from .engine.switchstate import STATIONS, StationAntennas, SwitchState
 log = logging.getLogger(__name__)
 
 FORMAT = 1
-SAVE_DELAY_S = 0.2
-"""How long a change waits for others before they are written together."""
+SAVE_DELAY_S = 1.0
+"""How long after a write the changes that follow it wait, to be written together.
+
+A logger at a contest's pace (a band change every 100 ms) then costs one write a
+second rather than one every other change; a restart within that second finds the
+box holding a newer state than the file, and the box wins (docs/server.md)."""
 
 
 class StateError(MoasError, ValueError):
@@ -418,28 +422,39 @@ class StateKeeper:
         self._timer = None
         self._started = asyncio.get_running_loop().time()
         try:
-            data = encode(self._collect())
+            saved = self._collect()  # on the loop: the engine as it stands now
         except Exception:
             log.exception("The state could not be collected for saving")
             return
-        if data == self._last:
-            return
-        self._writing = asyncio.get_running_loop().create_task(self._write(data))
+        self._writing = asyncio.get_running_loop().create_task(self._write(saved))
 
-    async def _write(self, data: bytes) -> None:
+    def _encode_and_write(self, saved: SavedState) -> bool:
+        """On the worker thread: the file unless it would hold what it holds; whether
+        it was written.  (One write at a time: ``_last`` is never shared.)"""
+        data = encode(saved)
+        if data == self._last:
+            return False
+        write_atomic(self.path, data)
+        self._last = data
+        return True
+
+    async def _write(self, saved: SavedState) -> None:
         try:
-            await asyncio.get_running_loop().run_in_executor(None, write_atomic, self.path, data)
+            written = await asyncio.get_running_loop().run_in_executor(
+                None, self._encode_and_write, saved)
         except OSError as exc:
             if not self._failed:
                 log.error("The state cannot be saved to %s (%s); a restart will reload the "
                           "switches", self.path, exc.strerror or exc)
             self._failed = True
+        except Exception:
+            log.exception("The state could not be encoded for saving")
         else:
-            self._last = data
-            self.writes += 1
-            if self._failed:
-                log.info("The state is saved to %s again", self.path)
-            self._failed = False
+            if written:
+                self.writes += 1
+                if self._failed:
+                    log.info("The state is saved to %s again", self.path)
+                self._failed = False
         finally:
             self._writing = None
             if self._again:

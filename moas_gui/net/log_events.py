@@ -36,8 +36,8 @@ class ClientLogHandler(logging.Handler):
         self._sending = False
 
     def emit(self, record: logging.LogRecord) -> None:
-        if self._sending:
-            return
+        if self._sending or not getattr(self.sink, "log_wanted", True):
+            return  # (a sink that says nobody wants the log: the record is not formatted)
         self._sending = True
         try:
             self.sink.publish_log(client_level(record.levelno), record.getMessage())

@@ -345,10 +345,16 @@ class ClientServer:
     def publish_switch(self, entry: Mapping[str, Any]) -> None:
         self._publish("switch", entry)
 
+    @property
+    def log_wanted(self) -> bool:
+        """Whether any client asked for the log (``"log": true``): with none, a log
+        record is not even formatted for clients (:class:`~.log_events.ClientLogHandler`)."""
+        return any(conn.greeted and conn.wants_log for conn in self._connections)
+
     def publish_log(self, level: LogLevel, message: str) -> None:
         if level not in LOG_LEVELS:
             raise ValueError(f"log level {level!r} is not one of {', '.join(LOG_LEVELS)}")
-        if not any(conn.greeted and conn.wants_log for conn in self._connections):
+        if not self.log_wanted:
             return
         try:
             line = event("log", {"level": level, "message": str(message)})

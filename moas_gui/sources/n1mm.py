@@ -37,6 +37,7 @@ window and of the headless server alike.
 from __future__ import annotations
 
 import asyncio
+import functools
 import ipaddress
 import logging
 import socket
@@ -115,8 +116,12 @@ class N1MMStats:
         return sum(n for reason, n in self.refused.items() if reason != "not_radio_info")
 
 
+@functools.lru_cache(maxsize=256)
 def _address_key(address: str) -> str:
-    """The canonical text of an IP address (IPv4-mapped IPv6 becomes IPv4); other text as is."""
+    """The canonical text of an IP address (IPv4-mapped IPv6 becomes IPv4); other text as is.
+
+    Remembered for the last 256 addresses: every datagram asks it again for its sender, and
+    parsing the address cost more than parsing the RadioInfo it carried."""
     try:
         ip = ipaddress.ip_address(address.split("%", 1)[0])
     except ValueError:

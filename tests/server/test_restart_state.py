@@ -10,6 +10,7 @@ import logging
 import os
 import shutil
 import socket
+import threading
 from collections.abc import AsyncIterator, Callable
 from dataclasses import replace
 from pathlib import Path
@@ -194,6 +195,34 @@ async def test_changes_are_coalesced_into_few_writes(tmp_path: Path) -> None:
     await keeper.flush()
     assert keeper.writes == 3
     assert decode((tmp_path / "s.json").read_bytes(), "x").engine == {"n": 3}
+
+
+@pytest.mark.asyncio
+async def test_the_state_is_encoded_off_the_loop_and_an_unchanged_one_not_written_again(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    encoded_on: list[int] = []
+
+    def spy(saved: SavedState) -> bytes:
+        encoded_on.append(threading.get_ident())
+        return encode(saved)
+
+    monkeypatch.setattr("moas_gui.state_store.encode", spy)
+    collected_on: list[int] = []
+
+    def collect() -> SavedState:
+        collected_on.append(threading.get_ident())
+        return SavedState("x", {"n": 1})
+
+    keeper = StateKeeper(tmp_path / "s.json", collect, delay=0)
+    keeper.changed()
+    await keeper.flush()
+    keeper.changed()                      # the same state again: encoded, not written
+    await keeper.flush()
+    loop_thread = threading.get_ident()
+    assert collected_on == [loop_thread, loop_thread], "collected on the loop, as it stands"
+    assert len(encoded_on) == 2 and loop_thread not in encoded_on, "encoded on a worker"
+    assert keeper.writes == 1
+    assert decode((tmp_path / "s.json").read_bytes(), "x").engine == {"n": 1}
 
 
 def test_a_write_cut_short_leaves_the_old_file_whole(tmp_path: Path,

@@ -26,6 +26,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import math
 from collections import deque
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -137,6 +138,8 @@ class SwitchLink:
         self._open = False
         self._ended: asyncio.Event | None = None
         self._wake: asyncio.Event | None = None
+        self._waits_until = math.inf
+        """The deadline the supervisor sleeps towards (inf: none, or it is not asleep)."""
         self._reached = False
         self._task: asyncio.Task[None] | None = None
         self._session_no = 0
@@ -277,6 +280,7 @@ class SwitchLink:
         session = self._session_no
         self._ended = asyncio.Event()
         self._wake = asyncio.Event()
+        self._waits_until = math.inf
         self._reached = False
         try:
             self._transport.open(
@@ -295,6 +299,7 @@ class SwitchLink:
             while not self._ended.is_set():
                 self._wake.clear()
                 deadline = self.session.next_deadline()
+                self._waits_until = math.inf if deadline is None else deadline
                 wait = None if deadline is None else deadline - self.clock.now()
                 if wait is not None and wait <= 0:  # due: however busy the port is
                     self._do(self.session.tick(self._record("tick")))
@@ -367,8 +372,18 @@ class SwitchLink:
                 self._reached = self._reached or action.reached
                 if self._ended is not None:
                     self._ended.set()
-        if self._wake is not None:
+        if self._wake is not None and self._wake_needed():
             self._wake.set()
+
+    def _wake_needed(self) -> bool:
+        """Whether the supervisor must wake to sleep towards another deadline: the session
+        ended, or its next deadline is earlier than the one it sleeps towards.  (A later
+        one needs no wake: the supervisor ticks at the earlier time, finds nothing due and
+        sleeps on; so a band change and the box's answer to it cost no wake at all.)"""
+        if self._ended is not None and self._ended.is_set():
+            return True
+        deadline = self.session.next_deadline()
+        return deadline is not None and deadline < self._waits_until
 
     def _write(self, data: bytes) -> None:
         if not self._open:

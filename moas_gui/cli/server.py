@@ -108,6 +108,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--no-rotator-program", action="store_true",
                         help="no MOAS Rotator program: neither start one nor connect to "
                              "one (the rotators that go through it stay offline)")
+    parser.add_argument("--no-antenna-log", action="store_true",
+                        help="write no antenna log (the journal of antenna changes, key "
+                             "events, headings and the loggers' contacts; "
+                             "docs/antenna-log.md)")
     parser.add_argument("--new-instance", action="store_true",
                         help="do not hand FILE to a server that is already running")
     parser.add_argument("--install-desktop", action="store_true",
@@ -376,6 +380,7 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          start_rotator_program=False if args.no_rotator_program else None,
                          use_rotator_program=not args.no_rotator_program,
                          switch_timing=args.switch_timing,
+                         antenna_log=not args.no_antenna_log,
                          record_serial=args.record_serial,
                          switch_dtr=args.switch_dtr, switch_rts=args.switch_rts,
                          relay_dwell=args.relay_dwell,

@@ -436,7 +436,8 @@ class ServerApp:
             log.warning("The antenna log %s cannot be opened (%s): the server runs without it",
                         path, exc)
             return
-        run.antenna_log = AntennaRecorder(journal, run.config, run.engine)
+        run.antenna_log = AntennaRecorder(journal, run.config, run.engine,
+                                          clock=self.options.antenna_log_clock or time.time)
 
     async def _close_antenna_log(self, run: Running) -> None:
         recorder, run.antenna_log = run.antenna_log, None

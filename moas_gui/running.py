@@ -131,6 +131,9 @@ class ServerOptions:
     """``--switch-rts``: the switches' RTS line, as ``switch_dtr``."""
     antenna_log: bool = True
     """False (``--no-antenna-log``): no antenna journal is written (docs/antenna-log.md)."""
+    antenna_log_clock: Callable[[], float] | None = None
+    """The wall clock (POSIX seconds) the antenna log stamps its rows with; None for the
+    system's (tests replay an hour on a clock of their own)."""
     relay_dwell: float | None = None
     """``--relay-dwell MS``, in seconds: automatic updates move a switch's relays at most
     once in this long (0: every update at once); None for the link's default (0.1 s)."""

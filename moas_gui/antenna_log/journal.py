@@ -315,11 +315,12 @@ class Journal:
         return [HeadingMark(r, h, t) for r, h, t in rows]
 
     def contacts(self, period: Period) -> list[Contact]:
-        wide = Period(period.start - self.tolerance, period.end + self.tolerance)
+        # a contact's moment is within τ of its time; its transmission within τ before that
+        wide = Period(period.start - 2 * self.tolerance - 1, period.end + self.tolerance + 1)
         with self._cursor() as db:
             logged = db.execute(
                 "SELECT contact_id, time, call, band, mode, station, radio, operator, contest, "
-                "tx_khz, rx_khz FROM contacts WHERE deleted = 0 AND time >= ? AND time < ? "
+                "tx_khz, rx_khz, received FROM contacts WHERE deleted = 0 AND time >= ? AND time < ? "
                 "ORDER BY time, contact_id", (period.start, period.end)).fetchall()
             if not logged:
                 return []
@@ -343,12 +344,20 @@ def _write_contact(db: sqlite3.Connection, received: float, packet: ContactPacke
     if packet.kind == "contactdelete":
         db.execute("UPDATE contacts SET deleted = 1 WHERE contact_id = ?", (packet.contact_id,))
         return
-    verb = "INSERT OR IGNORE" if packet.kind == "contactinfo" else "INSERT OR REPLACE"
+    # a duplicate (same ID) of a contactinfo is dropped; a contactreplace takes every
+    # field but when the contact first arrived (what the join times it by)
+    then = ("DO NOTHING" if packet.kind == "contactinfo" else
+            "DO UPDATE SET " + ", ".join(f"{c} = excluded.{c}" for c in _REPLACED))
     db.execute(
-        f"{verb} INTO contacts VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 0, ?, ?, ?)",
+        "INSERT INTO contacts VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 0, ?, ?, ?) "
+        f"ON CONFLICT (contact_id) {then}",
         (packet.contact_id, packet.time if packet.time is not None else received, packet.call,
          packet.band, packet.mode, station, radio, packet.operator, packet.contest,
          packet.tx_khz, packet.rx_khz, packet.station_name, packet.radio_nr, received))
+
+
+_REPLACED: Final = ("time", "call", "band", "mode", "station", "radio", "operator", "contest",
+                    "tx_khz", "rx_khz", "logger_station", "logger_radio")
 
 
 # -- retention ------------------------------------------------------------------------------------
@@ -380,8 +389,9 @@ def _remove_before(db: sqlite3.Connection, cutoff: float) -> int:
     db.execute("BEGIN")
     gone = 0
     gone += db.execute(
-        "DELETE FROM antenna_changes WHERE time < ? AND rowid NOT IN (SELECT rowid FROM "
-        "(SELECT rowid, MAX(time) FROM antenna_changes GROUP BY station, radio, role))",
+        "DELETE FROM antenna_changes WHERE time < ? AND rowid NOT IN (SELECT r FROM "
+        "(SELECT rowid AS r, ROW_NUMBER() OVER (PARTITION BY station, radio, role "
+        "ORDER BY time DESC, rowid DESC) AS n FROM antenna_changes) WHERE n = 1)",
         (cutoff,)).rowcount
     for table in ("key_events", "headings", "contacts"):
         gone += db.execute(f"DELETE FROM {table} WHERE time < ?", (cutoff,)).rowcount
@@ -396,9 +406,11 @@ def _rows_in(db: sqlite3.Connection, table: str, group: str, columns: str, perio
     """``time, columns...`` of the rows in ``period`` and, for each ``group``, the last
     row before it (what was in force when the period began), oldest first."""
     where = "" if role is None else f" AND role = '{role}'"
+    # the latest row of each group before the period (the last written wins a tie)
     before = db.execute(
-        f"SELECT MAX(time), {columns} FROM {table} WHERE time < ?{where} GROUP BY {group}",
-        (period.start,)).fetchall()
+        f"SELECT time, {columns} FROM (SELECT time, {columns}, ROW_NUMBER() OVER "
+        f"(PARTITION BY {group} ORDER BY time DESC, rowid DESC) AS n FROM {table} "
+        f"WHERE time < ?{where}) WHERE n = 1", (period.start,)).fetchall()
     inside = db.execute(
         f"SELECT time, {columns} FROM {table} WHERE time >= ? AND time < ?{where} "
         "ORDER BY time, rowid", (period.start, period.end)).fetchall()
@@ -495,10 +507,10 @@ class _KeyIndex:
 
     def last_before(self, station: int, radio: int, when: float,
                     tolerance: float) -> KeySpan | None:
-        """The radio's last transmission begun by ``when + tolerance`` and not ended
-        before ``when - tolerance``."""
+        """The radio's last transmission begun at or before ``when``, unless it ended
+        more than ``tolerance`` before it."""
         key = (station, radio)
-        i = bisect_right(self._starts.get(key, []), when + tolerance) - 1
+        i = bisect_right(self._starts.get(key, []), when) - 1
         if i < 0:
             return None
         span = self._by[key][i]
@@ -522,26 +534,34 @@ class _HeadingIndex:
 def join_rule(row: _Row, spans: _SpanIndex, keys: _KeyIndex,
               headings: _HeadingIndex, antennas: dict[str, AntennaInfo],
               tolerance: float) -> Contact:
-    """One contact with its antennas.  With the contact's time ``T`` (the logging
-    computer's clock) and the tolerance ``τ``:
+    """One contact with its antennas.  With its timestamp ``T`` (the logging computer's
+    clock), the time ``R`` it reached this server (the server's clock) and the
+    tolerance ``τ`` (:data:`CLOCK_TOLERANCE`):
 
-    * when its radio has a transmission that began at or before ``T + τ`` and had not
-      ended before ``T - τ``, the last such one is the contact's: its transmit antenna
+    * its moment ``M`` is ``R`` when ``|T - R| <= τ`` (a logger sends the packet as the
+      QSO is logged: the difference is the logging computer's clock error, and ``R`` is
+      the moment on the journal's own clock), else ``T`` (a contact edited or re-sent
+      later, or a clock off by more than ``τ``); a ``contactreplace`` keeps the ``R`` of
+      the contact it replaces;
+    * when its radio has a transmission that began at or before ``M`` and ended no more
+      than ``τ`` before ``M``, the last such one is the contact's: its transmit antenna
       (the one in force when it began), the receive antenna in force then, and the heading
       in force at its end;
-    * otherwise the transmit and receive antennas in force at ``T``, and the heading then;
+    * otherwise the transmit and receive antennas in force at ``M``, and the heading then;
     * the heading is the last settled heading of the rotator that turns the transmit
       antenna, plus the antenna's offset (None when no rotator turns it or none is known);
     * ``switch_path`` is the relay path the transmit antenna was confirmed on.
     """
-    (cid, t, call, band, mode, station, radio, operator, contest, tx_khz, rx_khz) = row
+    (cid, t, call, band, mode, station, radio, operator, contest, tx_khz, rx_khz,
+     received) = row
     when = float(t)
+    moment = float(received) if abs(float(received) - when) <= tolerance else when
     tx_ant = rx_ant = path = ""
     heading: float | None = None
     if station is not None and radio is not None:
         st, rd = int(station), int(radio)
-        key = keys.last_before(st, rd, when, tolerance)
-        at, heading_at = (key.start, key.end) if key is not None else (when, when)
+        key = keys.last_before(st, rd, moment, tolerance)
+        at, heading_at = (key.start, key.end) if key is not None else (moment, moment)
         tx = spans.at(st, rd, "tx", at)
         rx = spans.at(st, rd, "rx", at)
         tx_ant = key.antenna if key is not None and key.antenna else (tx.span.antenna if tx else "")

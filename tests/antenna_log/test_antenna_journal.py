@@ -164,14 +164,22 @@ def test_without_a_transmission_near_it_the_antennas_at_its_time(journal: Journa
 
 def test_the_clock_tolerance_covers_a_logging_computer_behind_or_ahead(journal: Journal) -> None:
     station_history(journal)
-    # logged 100 s "before" the transmission it was made on (its clock is behind)
-    journal.contact(qso("c1", T0 - 90), 1, 1)
-    # 130 s behind: beyond the tolerance, the antennas at its time (none then)
-    journal.contact(qso("c2", T0 - 130), 1, 1)
+    # the contact reached the server at T0+16, just after its transmission, from a
+    # computer whose clock is 106 s behind: its moment is when it arrived
+    journal.contact(qso("c1", T0 - 90), 1, 1, at=T0 + 16)
+    # one 100 s ahead, arriving at T0+22 (after the band change, still the 20 m QSO)
+    journal.contact(qso("c3", T0 + 122), 1, 1, at=T0 + 22)
+    # 146 s behind: beyond the tolerance, the antennas at its time (none then)
+    journal.contact(qso("c2", T0 - 130), 1, 1, at=T0 + 16)
+    # re-sent (edited) long after: its timestamp, and the arrival of the first copy
+    journal.contact(qso("c4", T0 - 89), 1, 1, at=T0 + 16)
+    journal.contact(qso("c4", T0 - 89, "DL1ABD", kind="contactreplace"), 1, 1, at=T0 + 4000)
     assert journal.flush()
-    c2, c1 = journal.contacts(ALL)
-    assert c1.tx_antenna == "20m Stack"
+    c2, c1, c4, c3 = journal.contacts(ALL)
+    assert (c1.tx_antenna, c1.time) == ("20m Stack", T0 - 90)  # its own timestamp kept
+    assert c3.tx_antenna == "20m Stack"
     assert c2.tx_antenna == ""
+    assert (c4.call, c4.tx_antenna) == ("DL1ABD", "20m Stack")
 
 
 def test_duplicates_replacements_and_deletions(journal: Journal) -> None:

@@ -373,15 +373,17 @@ class SwitchLink:
                 self._reached = self._reached or action.reached
                 if self._ended is not None:
                     self._ended.set()
-        if self._on_seen is not None and self.session.seen != self._told_seen:
-            self._tell_seen()
+        self._tell_seen()
         if self._wake is not None:
             self._wake.set()
 
     def _tell_seen(self) -> None:
+        """``on_seen`` for each station whose antennas in use the box reports anew."""
+        if self._on_seen is None or self.session.seen == self._told_seen:
+            return
         seen, before = self.session.seen, self._told_seen
         self._told_seen = seen
-        if seen is None or self._on_seen is None:
+        if seen is None:
             return
         for station, slots in enumerate(seen, start=1):
             if before is None or before[station - 1] != slots:

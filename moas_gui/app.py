@@ -417,13 +417,18 @@ class ServerApp:
             return
         if on and run.antenna_log is None:
             await self._open_antenna_log(run)
-            if run.antenna_log is not None:
-                for link in run.links.values():  # what each box holds now
-                    for port, slots in enumerate(link.seen or (), start=1):
-                        run.antenna_log.landed(link.switch_id, port, slots)
+            self._land_all(run)
         elif not on:
             await self._close_antenna_log(run)
         log.info("Antenna log %s", "on" if run.antenna_log is not None else "off")
+
+    @staticmethod
+    def _land_all(run: Running) -> None:
+        """What each box reports holding now, to the antenna log."""
+        if run.antenna_log is not None:
+            for link in run.links.values():
+                for port, slots in enumerate(link.seen or (), start=1):
+                    run.antenna_log.landed(link.switch_id, port, slots)
 
     async def _open_antenna_log(self, run: Running) -> None:
         if self._path is None:
@@ -570,6 +575,8 @@ class ServerApp:
                 run.clients.layouts_may_have_changed()
         if changes.radios:
             self._ag.radios_changed({(ref.station, ref.radio) for ref in changes.radios})
+        if run.antenna_log is not None and run.antenna_log.switches_running(run.engine.running):
+            self._land_all(run)
         return published
 
     def _publish_radio(self, entry: dict[str, object]) -> None:

@@ -16,6 +16,8 @@ hears what the box then reports).
 * :meth:`~AntennaRecorder.rotator`: a rotator's view; its heading is recorded when it
   has settled (not moving, online, a heading known) on a heading other than the last
   recorded one.
+* :meth:`~AntennaRecorder.switches_running`: Stop Switches (every relay off: no
+  antenna in force) and Start Switches.
 * :meth:`~AntennaRecorder.chosen_by`: an operator's request changed a radio's
   antennas; the next change that lands for that radio within
   :data:`OPERATOR_WINDOW` seconds carries the operator's name.
@@ -66,6 +68,7 @@ class AntennaRecorder:
         self._keyed: dict[tuple[int, int], bool] = {}
         self._headings: dict[int, float] = {}
         self._chosen: dict[tuple[int, int], tuple[str, float]] = {}
+        self._running = engine.running
 
     def name(self, antenna: int) -> str:
         return self._names.get(antenna, f"Antenna {antenna}")
@@ -73,7 +76,7 @@ class AntennaRecorder:
     # -- antennas ---------------------------------------------------------------------------
     def landed(self, switch_id: int, port: int, slots: tuple[int, int, int]) -> None:
         radio = self._engine.radio_on_port(switch_id, port)
-        if radio is None:
+        if radio is None or not self._running:
             return
         station, number = radio
         view = self._engine.radio_view(station, number)
@@ -97,6 +100,18 @@ class AntennaRecorder:
         chosen = self._chosen.get((station, radio))
         operator = chosen[0] if chosen is not None and now - chosen[1] <= OPERATOR_WINDOW else None
         self.journal.antenna(station, radio, role, name, path=path, operator=operator, at=now)
+
+    def switches_running(self, running: bool) -> bool:
+        """Stop Switches turns every relay off: each radio has no antenna in force until
+        Start Switches.  Returns True when the switches have just started again (the
+        caller then hands over what each box reports, :meth:`landed`)."""
+        if running == self._running:
+            return False
+        self._running = running
+        if not running:
+            for station, radio, role in list(self._antennas):
+                self._note(station, radio, role, "", "switches stopped")
+        return running
 
     def chosen_by(self, operator: str, radios: set[tuple[int, int]]) -> None:
         now = self._clock()

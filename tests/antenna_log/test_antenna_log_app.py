@@ -161,3 +161,25 @@ async def test_no_antenna_log_writes_nothing_and_it_turns_on_at_run_time(tmp_pat
         assert app.antenna_journal is None
     finally:
         await app.close()
+
+
+@pytest.mark.asyncio
+async def test_stop_switches_leaves_no_antenna_in_force_until_start(app: ServerApp) -> None:
+    await opened(app)
+    send(app, radio_info_packet(1, 14025.0))
+    await until(lambda: app.engine is not None and app.engine.radio_view(1, 1).tx is not None)
+    tribander = name_of(app, app.engine.radio_view(1, 1).tx)  # type: ignore[union-attr]
+    await until(lambda: (1, 1, tribander) in tx_spans(app))
+
+    def last_tx() -> str:
+        return [a for s, r, a in tx_spans(app) if (s, r) == (1, 1)][-1]
+    app.stop_switches()
+    assert last_tx() == ""
+    journal = app.antenna_journal
+    assert journal is not None
+    before = [s for s in journal.antenna_spans(EVER) if (s.radio, s.role) == (1, "tx")]
+    assert [s.antenna for s in before][-2:] == [tribander, ""]
+    app.start_switches()
+    await until(lambda: last_tx() == tribander)
+    after = [s for s in journal.antenna_spans(EVER) if (s.radio, s.role) == (1, "tx")]
+    assert after[-2].antenna == "" and after[-2].end == after[-1].start  # the stop's span

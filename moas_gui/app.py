@@ -441,6 +441,10 @@ class ServerApp:
             log.warning("The antenna log %s cannot be opened (%s): the server runs without it",
                         path, exc)
             return
+        if self._run is not run or run.antenna_log is not None or not self._antenna_log_on:
+            # the configuration closed, or the log was turned off or on again meanwhile
+            await asyncio.get_running_loop().run_in_executor(None, journal.close)
+            return
         run.antenna_log = AntennaRecorder(journal, run.config, run.engine,
                                           clock=self.options.antenna_log_clock or time.time)
 

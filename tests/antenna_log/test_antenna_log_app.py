@@ -183,3 +183,17 @@ async def test_stop_switches_leaves_no_antenna_in_force_until_start(app: ServerA
     await until(lambda: last_tx() == tribander)
     after = [s for s in journal.antenna_spans(EVER) if (s.radio, s.role) == (1, "tx")]
     assert after[-2].antenna == "" and after[-2].end == after[-1].start  # the stop's span
+
+
+@pytest.mark.asyncio
+async def test_a_journal_that_cannot_be_opened_leaves_the_server_running(
+        app: ServerApp, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+        caplog: pytest.LogCaptureFixture) -> None:
+    blocker = tmp_path / "not-a-directory"
+    blocker.write_text("a file where the data directory would be")
+    monkeypatch.setenv("XDG_DATA_HOME", str(blocker))
+    await opened(app)
+    assert app.antenna_journal is None
+    assert "cannot be opened" in caplog.text and "runs without it" in caplog.text
+    send(app, radio_info_packet(1, 14025.0))  # the station works as ever
+    await until(lambda: app.engine is not None and app.engine.radio_view(1, 1).tx is not None)

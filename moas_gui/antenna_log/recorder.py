@@ -8,7 +8,8 @@ hears what the box then reports).
 
 * :meth:`AntennaRecorder.landed`: a switch reported the antennas it holds for a port
   (its antenna events, or its status at a survey).  Each of that port's radio's
-  roles (transmit, receive, alternate) is recorded when the box holds the slot of the
+  roles (transmit, receive, alternate; for a sub receiver on a port of its own, its
+  receive antenna as its main radio's ``sub`` role) is recorded when the box holds the slot of the
   antenna the engine wants for it (what the box CONFIRMED, timed when it landed) and
   that antenna differs from the one recorded last.  Until it lands nothing is recorded
   (the relay dwell, a box that refused, a box away).
@@ -69,6 +70,9 @@ class AntennaRecorder:
         self._headings: dict[int, float] = {}
         self._chosen: dict[tuple[int, int], tuple[str, float]] = {}
         self._running = engine.running
+        self._main_of = {(r.station, r.sub_receiver): (r.station, r.radio)
+                         for r in config.radios if r.sub_receiver is not None}
+        """Each sub receiver's main radio: its antenna is the main radio's ``sub`` role."""
 
     def name(self, antenna: int) -> str:
         return self._names.get(antenna, f"Antenna {antenna}")
@@ -80,6 +84,14 @@ class AntennaRecorder:
             return
         station, number = radio
         view = self._engine.radio_view(station, number)
+        main = self._main_of.get(radio)
+        if main is not None:  # a sub receiver on a port of its own: what it receives on
+            held = NO_ANTENNA if view.rx is None else self._engine.slot_of(
+                switch_id, view.rx, station, number)
+            if held == slots[1]:
+                name = "" if view.rx is None else self.name(view.rx)
+                self._note(*main, "sub", name, switch_path(switch_id, port, slots[1]))
+            return
         for role, wanted, slot in zip(_ROLES, (view.tx, view.rx, view.alt), slots, strict=True):
             if wanted is None:
                 if slot != NO_ANTENNA:

@@ -117,3 +117,22 @@ def test_key_events_headings_and_contacts(
                          "ORDER BY 1") == [("c1", 1, 2, 1), ("c2", None, None, 1)]
     assert rows(journal, "SELECT name, rotator, offset FROM antennas WHERE rotator IS NOT NULL"
                 ) == [("Triband Yagi 20-15-10", "Tribander", 0.0)]
+
+
+def test_a_sub_receiver_on_its_own_port_is_its_main_radios_sub_role(tmp_path: Path) -> None:
+    config = load_config(SMALL.with_name("ms-one-amp.moas")).unwrap()  # 1/3 is 1/1's sub
+    engine = Engine(config)
+    journal = Journal(tmp_path / "sub.sqlite")
+    try:
+        recorder = AntennaRecorder(journal, config, engine, clock=Clock())
+        engine.set_frequency(1, 3, 14025.0)
+        view = engine.radio_view(1, 3)
+        assert view.rx is not None
+        rx_slot = engine.slot_of(1, view.rx, 1, 3)
+        assert rx_slot is not None
+        recorder.landed(1, 3, (NO_ANTENNA, (rx_slot + 1) % 32, NO_ANTENNA))  # not yet
+        recorder.landed(1, 3, (NO_ANTENNA, rx_slot, NO_ANTENNA))
+        assert rows(journal, "SELECT station, radio, role, antenna FROM antenna_changes") == [
+            (1, 1, "sub", recorder.name(view.rx))]
+    finally:
+        journal.close()

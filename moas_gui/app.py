@@ -27,12 +27,15 @@ from __future__ import annotations
 import asyncio
 import functools
 import logging
+import sqlite3
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 from moas_gui import state_store
 from moas_gui.addresses import network_address
+from moas_gui.antenna_log.journal import Journal, journal_path
+from moas_gui.antenna_log.recorder import AntennaRecorder
 from moas_gui.config import Config, LoadResult, load_config
 from moas_gui.config.model import RotatorControl
 from moas_gui.engine import Changes, Engine, NotRunning
@@ -55,7 +58,7 @@ from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
-from moas_gui.net.identity import enforce
+from moas_gui.net.identity import current, enforce
 from moas_gui.rights import action_for
 from moas_gui.running import (
     ROTCTLD_HOST,
@@ -70,6 +73,7 @@ from moas_gui.running import (
 )
 from moas_gui.source_intake import RadioKey, ServerEvent, SourceIntake
 from moas_gui.sources.base import SourceEvent
+from moas_gui.sources.n1mm_contact import ContactPacket
 from moas_gui.sources.server import ServerSources
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
@@ -93,6 +97,8 @@ class ServerApp:
         self._lock = asyncio.Lock()
         self._ag = AntennaGenius()
         """The Antenna Genius front: it outlives a configuration, closed by :meth:`close`."""
+        self._antenna_log_on = self.options.antenna_log
+        """The antenna journal is written (``--no-antenna-log`` and the menu turn it off)."""
 
     # -- what the window and tests read ---------------------------------------------
     @property
@@ -286,12 +292,15 @@ class ServerApp:
         intake = SourceIntake(engine, self.act, self._publish_radio)
         self._run = run = Running(config=config, engine=engine, intake=intake)
         saved = self._restore(run)
+        if self._antenna_log_on:
+            await self._open_antenna_log(run)
         start_switches(run, self.options, saved or SavedState(""),
-                       self._link_status, self._switch_tr, self._switch_antennas)
+                       self._link_status, self._switch_tr, self._switch_antennas,
+                       self._switch_seen)
         # every listener (the logger's port, the rotators' rotctld ports) is bound
         # before clients are accepted, so nothing a client sees as "ready" can miss a packet
         await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
-        await start_sources(run, self.options, self._source_event)
+        await start_sources(run, self.options, self._source_event, self._contact)
         await start_clients(run, self.options, EngineBackend(self))
         await self._ag.sync(self.options, config, AgEngineBackend(self),
                             f"MOAS_{self._path.stem}" if self._path is not None else "MOAS",
@@ -320,6 +329,7 @@ class ServerApp:
                 log.exception("while saving the state")
             run.keeper.close()
         await close_parts(run)
+        await self._close_antenna_log(run)
         self._update_status()
 
     # -- the saved state ---------------------------------------------------------------
@@ -372,8 +382,83 @@ class ServerApp:
         self._update_status()
 
     def _switch_tr(self, switch_id: int, port: int, transmitting: bool) -> None:
-        if self._run is not None:  # not a late event of a link being closed
+        run = self._run
+        if run is not None:  # not a late event of a link being closed
             self.act(SetTransmitting(switch_id, port, transmitting))
+            radio = run.engine.radio_on_port(switch_id, port)
+            if run.antenna_log is not None and radio is not None:
+                run.antenna_log.transmitting(*radio, run.engine.radio_view(*radio).transmitting)
+
+    def _switch_seen(self, switch_id: int, port: int, slots: tuple[int, int, int]) -> None:
+        """A switch reported other antennas in use for ``port``: what it confirmed."""
+        run = self._run
+        if run is not None and run.antenna_log is not None:
+            run.antenna_log.landed(switch_id, port, slots)
+
+    # -- the antenna log (docs/antenna-log.md) -----------------------------------------------
+    @property
+    def antenna_journal(self) -> Journal | None:
+        """The running configuration's antenna journal (a
+        :class:`~moas_gui.antenna_log.records.JournalReader`); None when it is off or no
+        configuration runs."""
+        run = self._run
+        return run.antenna_log.journal if run is not None and run.antenna_log else None
+
+    @property
+    def antenna_log_on(self) -> bool:
+        return self._antenna_log_on
+
+    async def set_antenna_log(self, on: bool) -> None:
+        """Turn the antenna journal on or off (the menu; ``--no-antenna-log`` starts off).
+        Off closes the file; on opens the running configuration's again."""
+        self._antenna_log_on = on
+        run = self._run
+        if run is None:
+            return
+        if on and run.antenna_log is None:
+            await self._open_antenna_log(run)
+            self._land_all(run)
+        elif not on:
+            await self._close_antenna_log(run)
+        log.info("Antenna log %s", "on" if run.antenna_log is not None else "off")
+
+    @staticmethod
+    def _land_all(run: Running) -> None:
+        """What each box reports holding now, to the antenna log."""
+        if run.antenna_log is not None:
+            for link in run.links.values():
+                for port, slots in enumerate(link.seen or (), start=1):
+                    run.antenna_log.landed(link.switch_id, port, slots)
+
+    async def _open_antenna_log(self, run: Running) -> None:
+        if self._path is None:
+            return
+        path = journal_path(self._path)
+        try:
+            # the file is made (and pruned) off the loop
+            journal = await asyncio.get_running_loop().run_in_executor(None, Journal, path)
+        except (OSError, sqlite3.Error) as exc:
+            log.warning("The antenna log %s cannot be opened (%s): the server runs without it",
+                        path, exc)
+            return
+        if self._run is not run or run.antenna_log is not None or not self._antenna_log_on:
+            # the configuration closed, or the log was turned off or on again meanwhile
+            await asyncio.get_running_loop().run_in_executor(None, journal.close)
+            return
+        run.antenna_log = AntennaRecorder(journal, run.config, run.engine,
+                                          clock=self.options.antenna_log_clock or time.time)
+
+    async def _close_antenna_log(self, run: Running) -> None:
+        recorder, run.antenna_log = run.antenna_log, None
+        if recorder is not None:
+            recorder.stopping()
+            await asyncio.get_running_loop().run_in_executor(None, recorder.journal.close)
+
+    def _contact(self, packet: ContactPacket, station: int | None, radio: int | None) -> None:
+        """A logger's contact packet (the N1MM listener), to the journal when it is on."""
+        run = self._run
+        if run is not None and run.antenna_log is not None:
+            run.antenna_log.contact(packet, station, radio)
 
     def _switch_antennas(self, switch_id: int, port: int, slots: tuple[int, int, int],
                          transmitting: bool) -> None:
@@ -449,6 +534,11 @@ class ServerApp:
         if action is not None:
             enforce(action)  # the role of the client asking, if any; logs who did it
         changes = perform(run.engine, op, now=asyncio.get_running_loop().time())
+        if action is not None and run.antenna_log is not None and changes.radios:
+            who = current()
+            if who is not None and who.operator is not None:
+                run.antenna_log.chosen_by(who.operator.name,
+                                          {(r.station, r.radio) for r in changes.radios})
         # a frequency, or a hold released (the frequency chooses again), is automatic
         automatic = isinstance(op, SetFrequency) or (isinstance(op, Hold) and op.by is None)
         return self.apply_changes(changes, automatic=automatic)
@@ -492,6 +582,8 @@ class ServerApp:
                 run.clients.layouts_may_have_changed()
         if changes.radios:
             self._ag.radios_changed({(ref.station, ref.radio) for ref in changes.radios})
+        if run.antenna_log is not None and run.antenna_log.switches_running(run.engine.running):
+            self._land_all(run)
         return published
 
     def _publish_radio(self, station: int, radio: int) -> None:
@@ -542,6 +634,9 @@ class ServerApp:
         run = self._run
         if run is not None and run.sources is not None:
             run.sources.rotator_heading(view.id, view.heading)
+        if run is not None and run.antenna_log is not None:
+            run.antenna_log.rotator(view.id, view.heading, moving=view.moving,
+                                    online=view.online)
         if run is not None and run.clients is not None:
             run.clients.publish_rotator(view.to_json())
 

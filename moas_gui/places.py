@@ -9,6 +9,9 @@ logs           ``$XDG_STATE_HOME/moas-gui/log``            ``~/Library/Logs/moas
 config         ``$XDG_CONFIG_HOME/moas-gui``                ``~/Library/Application Support/       ``%LOCALAPPDATA%\\moas-gui``
 (operators,    (``~/.config/moas-gui``)                    moas-gui``
 TLS)
+data           ``$XDG_DATA_HOME/moas-gui``                 ``~/Library/Application Support/       ``%LOCALAPPDATA%\\moas-gui``
+(antenna       (``~/.local/share/moas-gui``)               moas-gui``
+journals)
 settings       ``$XDG_CONFIG_HOME/moas-gui/*.conf``        ``~/Library/Preferences/               the registry, ``HKCU\\Software\\
 (Qt's)                                                     com.moas-gui.*.plist``                 moas-gui``
 =============  ==========================================  =====================================  ==================================
@@ -77,6 +80,16 @@ def config_dir(platform: str = sys.platform) -> Path:
     return Path(_dirs(platform).user_config_dir)
 
 
+def data_dir(platform: str = sys.platform) -> Path:
+    """The per-user directory for what the server records over time: its antenna
+    journals (:mod:`moas_gui.antenna_log`).  ``$XDG_DATA_HOME``, when set to an absolute
+    path, is used on every system (the test suite gives each test its own)."""
+    value = os.environ.get("XDG_DATA_HOME", "")
+    if value and os.path.isabs(value):
+        return Path(value) / APP
+    return Path(_dirs(platform).user_data_dir)
+
+
 def log_dir(platform: str = sys.platform) -> Path:
     """The per-user directory for the log files of programs without a console."""
     return Path(_dirs(platform).user_log_dir)
@@ -110,4 +123,4 @@ def output_without_console(program: str) -> Path | None:
     return path
 
 
-__all__ = ["APP", "config_dir", "log_dir", "log_file", "output_without_console", "state_dir"]
+__all__ = ["APP", "config_dir", "data_dir", "log_dir", "log_file", "output_without_console", "state_dir"]

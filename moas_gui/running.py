@@ -22,6 +22,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
+from moas_gui.antenna_log.recorder import AntennaRecorder
 from moas_gui.config import Config
 from moas_gui.config.model import Antenna, RadioRef, Rotator, RotatorControl
 from moas_gui.engine import Engine
@@ -48,7 +49,7 @@ from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
 from moas_gui.source_intake import SourceIntake
 from moas_gui.sources.base import SourceSink
-from moas_gui.sources.n1mm import N1MMListener
+from moas_gui.sources.n1mm import ContactCallback, N1MMListener
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 from moas_gui.sources.spec import SourceSpec
 from moas_gui.state_store import SavedState, StateKeeper, switch_to_data
@@ -132,6 +133,11 @@ class ServerOptions:
     system's open leaves it, never pulsed)."""
     switch_rts: bool | None = None
     """``--switch-rts``: the switches' RTS line, as ``switch_dtr``."""
+    antenna_log: bool = True
+    """False (``--no-antenna-log``): no antenna journal is written (docs/antenna-log.md)."""
+    antenna_log_clock: Callable[[], float] | None = None
+    """The wall clock (POSIX seconds) the antenna log stamps its rows with; None for the
+    system's (tests replay an hour on a clock of their own)."""
     relay_dwell: float | None = None
     """``--relay-dwell MS``, in seconds: automatic updates move a switch's relays at most
     once in this long (0: every update at once); None for the link's default (0.1 s)."""
@@ -167,6 +173,8 @@ class Running:
     fingerprint: str = ""
     recorder: SerialRecorder | None = None
     """Where the switch sessions are recorded (``--record-serial``), or None."""
+    antenna_log: AntennaRecorder | None = None
+    """What feeds the antenna journal (None: no journal; docs/antenna-log.md)."""
 
     @property
     def stopped(self) -> bool:
@@ -178,9 +186,13 @@ class Running:
 def start_switches(run: Running, options: ServerOptions, saved: SavedState,
                    on_status: Callable[[int, LinkStatus], None],
                    on_tr: Callable[[int, int, bool], None],
-                   on_adopt: Callable[[int, int, tuple[int, int, int], bool], None]) -> None:
+                   on_adopt: Callable[[int, int, tuple[int, int, int], bool], None],
+                   on_seen: Callable[[int, int, tuple[int, int, int]], None] | None = None,
+                   ) -> None:
     """A link per configured switch, told what the engine wants and connecting: each
-    checks what its box holds against the saved state (``saved``) before it writes."""
+    checks what its box holds against the saved state (``saved``) before it writes.
+    ``on_seen(switch, port, slots)``: the antennas a box reports in use for a port
+    changed (the antenna log records what the box confirmed, as it landed)."""
     states = run.engine.switch_states()
     if options.record_serial is not None and run.recorder is None:
         run.recorder = open_recorder(options.record_serial)
@@ -195,6 +207,7 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
             on_status=functools.partial(on_status, switch.id),
             on_tr=functools.partial(on_tr, switch.id),
             on_adopt=functools.partial(on_adopt, switch.id),
+            on_seen=None if on_seen is None else functools.partial(on_seen, switch.id),
             indicate_tr=switch.indicate_tr,
             held=saved.switches.get(switch.id),
             seen=saved.seen.get(switch.id),
@@ -207,7 +220,8 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
         link.connect()
 
 
-async def start_sources(run: Running, options: ServerOptions, sink: SourceSink) -> None:
+async def start_sources(run: Running, options: ServerOptions, sink: SourceSink,
+                        contacts: ContactCallback | None = None) -> None:
     """Every frequency source the configuration turns on, and N1MM's rotor window
     (after the rotators, whose manager it turns them with); see docs/sources.md."""
     settings = SourceSettings(
@@ -221,7 +235,8 @@ async def start_sources(run: Running, options: ServerOptions, sink: SourceSink) 
             names=lambda: {r.id: (r.short_name, r.long_name) for r in rotators},
             turn=manager.start_rotate, stop=manager.start_stop,
             headings=lambda: [(r.id, manager.view(r.id).heading) for r in rotators])
-    run.sources = ServerSources(run.config, sink, settings=settings, rotators=hooks)
+    run.sources = ServerSources(run.config, sink, settings=settings, rotators=hooks,
+                                contacts=contacts)
     await run.sources.start()
     run.n1mm = run.sources.n1mm
 

@@ -47,6 +47,8 @@ def _own_state_directory(tmp_path_factory: pytest.TempPathFactory,
     """Each test's servers save and restore their state in a directory of the test's own,
     never the user's (and never one another's)."""
     monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path_factory.mktemp("state")))
+    # and their antenna journals (moas_gui.antenna_log) in one of its own too
+    monkeypatch.setenv("XDG_DATA_HOME", str(tmp_path_factory.mktemp("data")))
 
 
 @pytest.fixture

@@ -119,6 +119,10 @@ def _parser() -> argparse.ArgumentParser:
                         metavar="ID=DEVICE",
                         help="rotator ID's controller is on DEVICE, not on the file's "
                              "CommPort (the file is not changed; repeat for several)")
+    parser.add_argument("--no-antenna-log", action="store_true",
+                        help="write no antenna log (the journal of antenna changes, key "
+                             "events, headings and the loggers' contacts; "
+                             "docs/antenna-log.md)")
     parser.add_argument("--new-instance", action="store_true",
                         help="do not hand FILE to a server that is already running")
     parser.add_argument("--install-desktop", action="store_true",
@@ -400,6 +404,7 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          **({} if args.rotator_program_port is None
                             else {"rotator_program_port": args.rotator_program_port}),
                          switch_timing=args.switch_timing,
+                         antenna_log=not args.no_antenna_log,
                          record_serial=args.record_serial,
                          switch_dtr=args.switch_dtr, switch_rts=args.switch_rts,
                          relay_dwell=args.relay_dwell,

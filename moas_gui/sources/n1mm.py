@@ -22,6 +22,10 @@ docs/sources.md).  The listener
   :class:`~moas_gui.sources.base.RunOrSearch` when a radio's ``IsRunning`` does;
 - calls the optional ``on_update(update)`` for every RadioInfo from a known
   station, changed or not (transmit state, staleness, a status display);
+- hands the optional ``on_contact(packet, station, radio)`` each contact packet
+  (``contactinfo``, ``contactreplace``, ``contactdelete``: :mod:`.n1mm_contact`) with
+  the station and radio the same mapping gives (``None, None`` when its sender maps
+  to no station): the antenna log joins them to its journal;
 - ignores packets from senders it cannot map (a debug line, at most one per
   sender a minute) and counts every packet it refuses, by reason
   (:data:`~moas_gui.sources.n1mm_packet.REASONS`), in :meth:`N1MMListener.stats`.
@@ -56,6 +60,7 @@ from moas_gui.sources.base import (
     SourceEvent,
     SourceSink,
 )
+from moas_gui.sources.n1mm_contact import ContactPacket, parse_contact
 from moas_gui.sources.n1mm_packet import (
     REASONS,
     N1MMPacketError,
@@ -88,6 +93,8 @@ class RadioUpdate:
 
 
 UpdateCallback = Callable[[RadioUpdate], object]
+ContactCallback = Callable[[ContactPacket, int | None, int | None], object]
+"""``on_contact(packet, station, radio)``; station and radio are None for an unknown sender."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -107,6 +114,8 @@ class N1MMStats:
     """RadioInfo packets from a known station saying the radio has no frequency (``Freq`` 0)."""
     unknown_sender: int = 0
     callback_errors: int = 0
+    contacts: int = 0
+    """Contact packets (logged, replaced, deleted QSOs) handed to ``on_contact``."""
     refused: Mapping[str, int] = field(default_factory=dict)
     """Refused packets by reason (``not_xml``, ``not_radio_info``, ...)."""
 
@@ -183,6 +192,7 @@ class N1MMListener(DatagramSource):
         *,
         on_update: UpdateCallback | None = None,
         on_event: SourceSink | None = None,
+        on_contact: ContactCallback | None = None,
         names: Mapping[str, int] | None = None,
         every_sender: int | None = None,
         port: int = DEFAULT_PORT,
@@ -197,6 +207,8 @@ class N1MMListener(DatagramSource):
         self._on_frequency = on_frequency
         self._on_update = on_update
         self._on_event = on_event
+        self._on_contact = on_contact
+        self._contacts = 0
         self._port = port
         self._host = host
         if label is not None:
@@ -227,11 +239,12 @@ class N1MMListener(DatagramSource):
 
     # -- the logic ---------------------------------------------------------------
 
-    def _station_of(self, key: str, info: RadioInfo | None) -> int | None:
+    def _station_of(self, key: str, info: RadioInfo | None, name: str = "") -> int | None:
         if self._every_sender is not None:
             return self._every_sender
-        if info is not None and info.station_name and self._names:
-            station = self._names.get(_name_key(info.station_name))
+        name = info.station_name if info is not None else name
+        if name and self._names:
+            station = self._names.get(_name_key(name))
             if station is not None:
                 return station
         return self._stations.get(key)
@@ -247,6 +260,9 @@ class N1MMListener(DatagramSource):
         try:
             info = parse_radio_info(data)
         except N1MMPacketError as exc:
+            if exc.reason == "not_radio_info" and self._on_contact is not None \
+                    and self._contact(data, key, address):
+                return None
             self._refused[exc.reason] += 1
             held = self._limiter.allow((exc.reason, key))
             if held is not None:
@@ -259,6 +275,27 @@ class N1MMListener(DatagramSource):
             self._unknown_sender(address, key, info.station_name)
             return None
         return self._accept(station, address, info)
+
+    def _contact(self, data: bytes, key: str, address: str) -> bool:
+        """A contact packet handed to ``on_contact``: True; False for any other packet
+        (counted as not ours); a bad contact packet is counted by its reason (True)."""
+        try:
+            packet = parse_contact(data)
+        except N1MMPacketError as exc:
+            if exc.reason == "not_contact":
+                return False
+            self._refused[exc.reason] += 1
+            held = self._limiter.allow(("contact", exc.reason, key))
+            if held is not None:
+                log.debug("%s contact packet from %s ignored: %s%s", self.label, address, exc,
+                          held_text(held))
+            return True
+        station = self._station_of(key, None, packet.station_name)
+        self._contacts += 1
+        if self._on_contact is not None:
+            self._call(self._on_contact, packet, station,
+                       None if station is None else packet.radio_nr)
+        return True
 
     def _unknown_sender(self, address: str, key: str, name: str = "") -> None:
         self._unknown += 1
@@ -357,7 +394,7 @@ class N1MMListener(DatagramSource):
             received=self._received, accepted=self._accepted, delivered=self._delivered,
             superseded=self._superseded,
             no_frequency=self._no_frequency, unknown_sender=self._unknown,
-            callback_errors=self._callback_errors,
+            callback_errors=self._callback_errors, contacts=self._contacts,
             refused={r: n for r, n in self._refused.items() if n},
         )
 
@@ -397,6 +434,6 @@ class N1MMListener(DatagramSource):
 
 
 __all__ = [
-    "DEFAULT_PORT", "FrequencyCallback", "N1MMListener", "N1MMPacketError", "N1MMStats",
+    "DEFAULT_PORT", "ContactCallback", "FrequencyCallback", "N1MMListener", "N1MMPacketError", "N1MMStats",
     "RadioInfo", "RadioUpdate", "UpdateCallback", "parse_radio_info", "radio_info_packet",
 ]

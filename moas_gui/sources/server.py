@@ -23,7 +23,7 @@ from typing import TypeVar
 from moas_gui.config.model import Config
 from moas_gui.sources.base import SourceHub, SourceSink
 from moas_gui.sources.dxlog import DXLogListener
-from moas_gui.sources.n1mm import N1MMListener
+from moas_gui.sources.n1mm import ContactCallback, N1MMListener
 from moas_gui.sources.n1mm_rotor import N1MMRotorServer, parse_destination
 from moas_gui.sources.otrsp import OtrspSource
 from moas_gui.sources.polling import PolledRig
@@ -71,11 +71,14 @@ class ServerSources:
         *,
         settings: SourceSettings | None = None,
         rotators: RotatorHooks | None = None,
+        contacts: ContactCallback | None = None,
     ) -> None:
         self._config = config
         self._settings = settings or SourceSettings()
         self.hub = SourceHub(sink)
         self._rotators = rotators
+        self._contacts = contacts
+        """Where the N1MM listener hands the loggers' contact packets (the antenna log)."""
         self.n1mm: N1MMListener | None = None
         self.dxlog: DXLogListener | None = None
         self.wintest: WinTestListener | None = None
@@ -92,7 +95,8 @@ class ServerSources:
         dxlog_port = c.dxlog_port if s.dxlog_port is None else s.dxlog_port
         if c.use_n1mm_logger:
             self.n1mm = await self._bind(
-                N1MMListener(c.n1mm_logger, on_event=self.hub, port=n1mm_port, host=host),
+                N1MMListener(c.n1mm_logger, on_event=self.hub, on_contact=self._contacts,
+                             port=n1mm_port, host=host),
                 "N1MM Logger packets", n1mm_port)
         if c.use_dxlog and not (self.n1mm is not None and dxlog_port == n1mm_port):
             self.dxlog = await self._bind(

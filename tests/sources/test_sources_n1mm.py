@@ -285,5 +285,6 @@ async def test_close_stops_listening_and_can_be_called_twice() -> None:
 
 def test_the_public_names_do_not_drift() -> None:
     assert sorted(n1mm.__all__) == sorted([
-        "DEFAULT_PORT", "FrequencyCallback", "N1MMListener", "N1MMPacketError", "N1MMStats",
+        "DEFAULT_PORT", "ContactCallback", "FrequencyCallback", "N1MMListener",
+        "N1MMPacketError", "N1MMStats",
         "RadioInfo", "RadioUpdate", "UpdateCallback", "parse_radio_info", "radio_info_packet"])

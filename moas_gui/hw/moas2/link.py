@@ -96,6 +96,7 @@ class SwitchLink:
         on_tr: Callable[[int, bool], None] | None = None,
         on_error: Callable[[str], None] | None = None,
         on_adopt: Callable[[int, Slots, bool], None] | None = None,
+        on_seen: Callable[[int, Slots], None] | None = None,
         indicate_tr: bool = True,
         timing: LinkTiming = REAL_TIMING,
         transport: Transport | None = None,
@@ -116,6 +117,9 @@ class SwitchLink:
         self._on_tr = on_tr
         self._on_error = on_error
         self._on_adopt = on_adopt
+        self._on_seen = on_seen
+        """Called with ``(station, slots)`` when the antennas the box reports in use for a
+        station change: what it confirmed, as it landed (the antenna log's "in force")."""
         events = DEFAULT_EVENTS if indicate_tr else (StateOp.ANTENNA_EVENTS_ON,)
         self.emulator: EmulatedBox | None = None
         if transport is None:
@@ -146,6 +150,8 @@ class SwitchLink:
         """Counts sessions: what a port delivers for an ended one is dropped."""
         self._answers: dict[int, asyncio.Future[Any]] = {}
         self.errors: deque[str] = deque(maxlen=50)
+        self._told_seen: tuple[Slots, ...] | None = None
+        """What ``on_seen`` was last told (None: nothing yet)."""
 
     # ------------------------------------------------------------------ public
 
@@ -372,8 +378,21 @@ class SwitchLink:
                 self._reached = self._reached or action.reached
                 if self._ended is not None:
                     self._ended.set()
+        self._tell_seen()
         if self._wake is not None and self._wake_needed():
             self._wake.set()
+
+    def _tell_seen(self) -> None:
+        """``on_seen`` for each station whose antennas in use the box reports anew."""
+        if self._on_seen is None or self.session.seen == self._told_seen:
+            return
+        seen, before = self.session.seen, self._told_seen
+        self._told_seen = seen
+        if seen is None:
+            return
+        for station, slots in enumerate(seen, start=1):
+            if before is None or before[station - 1] != slots:
+                self._call(self._on_seen, station, slots)
 
     def _wake_needed(self) -> bool:
         """Whether the supervisor must wake to sleep towards another deadline: the session

@@ -1,0 +1,140 @@
+"""``moas-server --headless`` with its antenna log, end to end: a separate process on the
+built-in emulator, the loggers' datagrams over a real UDP socket (not1mm's captured ones
+and N1MM Logger+'s documented ones, tests/antenna_log/fixtures), the journal read back
+by another process's read-only reader while the server writes it.
+
+The captured packets are replayed as they are but for their ``timestamp``, set to the
+time of the replay (the journal knows the station only from the server's start on)."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import re
+import shutil
+import signal
+import socket
+import sys
+import time
+from collections.abc import AsyncIterator
+from pathlib import Path
+
+import pytest
+import pytest_asyncio
+from helpers import free_port, until
+
+from moas_gui.antenna_log.journal import Journal, journal_path, open_reader
+from moas_gui.antenna_log.records import Period
+from moas_gui.config import load_config
+from moas_gui.sources.n1mm_packet import radio_info_packet
+
+pytestmark = [pytest.mark.realtime]
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+EVER = Period(0.0, 4e9)
+
+
+def fixture(name: str, when: float) -> bytes:
+    (path,) = FIXTURES.glob(f"{name}*.xml")
+    stamp = time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime(when)).encode()
+    return re.sub(rb"<timestamp>[^<]*</timestamp>", b"<timestamp>" + stamp + b"</timestamp>",
+                  path.read_bytes())
+
+
+class Server:
+    def __init__(self, process: asyncio.subprocess.Process, udp: int, config: Path) -> None:
+        self.process, self.udp, self.config = process, udp, config
+        self.lines: list[str] = []
+
+    def send(self, *packets: bytes) -> None:
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+            for packet in packets:
+                sock.sendto(packet, ("127.0.0.1", self.udp))
+
+
+@pytest_asyncio.fixture
+async def server(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> AsyncIterator[Server]:
+    config = tmp_path / "station.moas"
+    shutil.copy(EXAMPLES / "small-station.moas", config)
+    monkeypatch.setenv("XDG_DATA_HOME", str(tmp_path / "data"))  # the reader's, the server's
+    env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_STATE_HOME=str(tmp_path / "state"),
+               XDG_CONFIG_HOME=str(tmp_path / "config"))
+    udp = free_port(socket.SOCK_DGRAM)
+    process = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "moas_gui.cli.server", "--headless", str(config),
+        "--bind", "127.0.0.1", "--tcp-port", "0", "--web-port", "0", "--udp-port", str(udp),
+        "--udp-bind", "127.0.0.1", "--no-rotator-program", "--new-instance",
+        "--log-level", "info", stderr=asyncio.subprocess.PIPE, env=env)
+    running = Server(process, udp, config)
+
+    async def collect() -> None:
+        assert process.stderr is not None
+        async for line in process.stderr:
+            running.lines.append(line.decode(errors="replace"))
+    reading = asyncio.ensure_future(collect())
+    try:
+        await until(lambda: any("Serving " in line for line in running.lines)
+                    or process.returncode is not None, timeout=30, what="the server serving")
+        assert process.returncode is None, "".join(running.lines)
+        yield running
+    finally:
+        if process.returncode is None:
+            process.send_signal(signal.SIGTERM)
+            assert await asyncio.wait_for(process.wait(), 15) == 0, "".join(running.lines)
+        await reading
+
+
+def names(config: Path) -> dict[int, str]:
+    loaded = load_config(config).unwrap()
+    return {a.id: a.long_name or a.short_name for a in loaded.antennas}
+
+
+async def landed(reader: Journal, station: int, radio: int) -> str:
+    """The radio's transmit antenna once the journal has one, a second after it landed
+    (a logger's timestamp has whole seconds)."""
+    def found() -> bool:
+        spans = [s for s in reader.antenna_spans(EVER)
+                 if (s.station, s.radio, s.role) == (station, radio, "tx") and s.antenna]
+        return bool(spans) and time.time() > spans[-1].start + 1.1
+    await until(found, timeout=20, what=f"radio {station}/{radio}'s antenna in the journal")
+    return [s for s in reader.antenna_spans(EVER)
+            if (s.station, s.radio, s.role) == (station, radio, "tx")][-1].antenna
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_not1mm_and_n1mm_contacts_are_joined_to_the_journal(server: Server) -> None:
+    server.send(radio_info_packet(1, 14025.12), radio_info_packet(2, 7025.30))
+    await until(lambda: journal_path(server.config).is_file(), timeout=20)
+    reader = open_reader(server.config)
+    try:
+        radio1 = await landed(reader, 1, 1)
+        radio2 = await landed(reader, 1, 2)
+        assert radio1 in names(server.config).values() and radio1 != radio2
+        now = time.time()
+        # not1mm: three QSOs logged, the second edited, the third deleted; every one
+        # from radio 1 (not1mm's radionr), mapped by the sender's address to station 1
+        server.send(*(fixture(f"not1mm-{i}-", now) for i in range(1, 6)))
+        # N1MM: a QSO on radio 2, the same again from another computer, then edited
+        server.send(fixture("n1mm-1-", now), fixture("n1mm-3-", now), fixture("n1mm-2-", now))
+
+        def calls() -> list[str]:
+            return [c.call for c in reader.contacts(EVER)]
+        await until(lambda: sorted(calls()) == ["DL1ABC", "JA1XYW", "OH2BHX"], timeout=20,
+                    what="the contacts in the journal")
+        spans = reader.antenna_spans(EVER)
+        for qso in reader.contacts(EVER):
+            in_force = {s.role: s.antenna for s in spans
+                        if (s.station, s.radio) == (qso.station, qso.radio)
+                        and s.start <= qso.time < s.end}
+            assert (qso.tx_antenna, qso.rx_antenna) == (in_force["tx"], in_force["rx"]), qso
+            assert qso.tx_antenna == (radio1 if qso.radio == 1 else radio2), qso
+            assert qso.switch_path.startswith(f"switch 1 port {qso.radio} slot "), qso
+        (oh2bh,) = [c for c in reader.contacts(EVER) if c.call == "OH2BHX"]
+        assert (oh2bh.station, oh2bh.radio, oh2bh.operator, oh2bh.rx_khz) == (1, 2, "N1OP",
+                                                                           7025.30)
+        server.send(fixture("n1mm-4-", now))  # N1MM deletes it
+        await until(lambda: sorted(calls()) == ["DL1ABC", "JA1XYW"], timeout=20)
+    finally:
+        reader.close()

@@ -24,13 +24,13 @@ from moas_gui.hw.moas2.messages import (
     StateOp,
     UnitIdReply,
 )
+from moas_gui.hw.moas2.plan import Known, Plan, choose_plan
 from moas_gui.hw.moas2.replies import encode_reply
 from moas_gui.hw.moas2.session import (
     SURVEY_TRIES,
     Action,
     Adopt,
     End,
-    Initiative,
     LinkStatus,
     Phase,
     Reconcile,
@@ -96,19 +96,58 @@ def loaded_box(state: SwitchState) -> EmulatorModel:
 # ---------------------------------------------------------------------------- the rule
 
 def test_the_guard_refuses_every_reset_the_session_asks_for_itself() -> None:
+    # a reset that neither Reset Switches nor Stop Switches (an inactive target) asked
+    # for, from any state the session may know or believe
     reset = initialise(STATE_A)
-    for keyed in (None, frozenset(), frozenset({2})):
-        verdict = guard(reset, keyed, Initiative.AUTOMATIC, "switch 1")
-        assert verdict.plan.commands == () and "not resetting it" in verdict.refused
+    for known in (Known(box_active=True), Known(box_active=False),
+                  Known(box_active=True, believed=STATE_A),
+                  Known(box_active=True, sent=STATE_B)):
+        for keyed in (None, frozenset(), frozenset({2})):
+            verdict = guard(Plan(reset, STATE_A, known), keyed, "switch 1")
+            assert verdict.plan.commands == () and "not resetting it" in verdict.refused
 
 
 def test_the_guard_lets_the_operator_reset_and_names_who_transmits() -> None:
     reset = initialise(STATE_A)
-    assert guard(reset, frozenset(), Initiative.OPERATOR, "switch 1").warning == ""
-    verdict = guard(reset, frozenset({2, 5}), Initiative.OPERATOR, "switch 1")
+    pressed = Plan(reset, STATE_A, Known(box_active=True, reset_asked=True))
+    assert guard(pressed, frozenset(), "switch 1").warning == ""
+    verdict = guard(pressed, frozenset({2, 5}), "switch 1")
     assert verdict.plan == reset and "stations 2, 5 transmitting" in verdict.warning
-    verdict = guard(reset, None, Initiative.OPERATOR, "switch 1")
+    verdict = guard(pressed, None, "switch 1")
     assert "not known yet" in verdict.warning
+    # Stop Switches: the target is inactive, which only the operator asks for
+    stop = choose_plan(Known(box_active=True, sent=STATE_A), replace(STATE_A, active=False))
+    assert b"*0;" in stop.commands.encode()
+    verdict = guard(stop, frozenset({3}), "switch 1")
+    assert verdict.plan == stop.commands and "station 3 transmitting" in verdict.warning
+
+
+def test_the_plan_chooser_never_resets_unless_the_operator_asked() -> None:
+    active = replace(STATE_A, active=True)
+    for known in (Known(box_active=True), Known(box_active=False),
+                  Known(box_active=True, believed=STATE_B),
+                  Known(box_active=True, sent=STATE_B)):
+        plan = choose_plan(known, active)
+        assert b"*0;" not in plan.commands.encode(), known
+        assert guard(plan, frozenset({1}), "x").refused == ""
+    assert b"*0;" in choose_plan(Known(box_active=True, reset_asked=True),
+                                 active).commands.encode()
+
+
+def test_the_guard_holds_back_station_0_unless_the_operator_changed_it() -> None:
+    wanted = replace(STATE_A, station0=frozenset({61}))
+    # the session's own plans (a reconnection, a box found reset): held back while keyed
+    for known in (Known(box_active=True), Known(box_active=True, believed=STATE_A),
+                  Known(box_active=True, sent=replace(STATE_A, station0=frozenset({-1})))):
+        plan = choose_plan(known, wanted)
+        assert b"!0X" in plan.commands.encode()
+        for keyed in (None, frozenset({2})):
+            verdict = guard(plan, keyed, "x")
+            assert verdict.held_back and b"!0X" not in verdict.plan.encode()
+        assert not guard(plan, frozenset(), "x").held_back
+    # the engine changed them on a box that surely held the old ones: they go out
+    plan = choose_plan(Known(box_active=True, sent=STATE_A), wanted)
+    assert b"!0X" in guard(plan, frozenset({2}), "x").plan.encode()
 
 
 def test_a_load_as_values_holds_no_reset_and_no_plan_the_session_sends_does() -> None:
@@ -216,8 +255,8 @@ def test_station_0_relays_wait_while_a_station_transmits_on_a_reconnection() -> 
     wanted = replace(STATE_A, station0=frozenset({61}))
     played = connected(model, held=STATE_A, desired=wanted)
     assert b"!0X" not in played.wire and played.model.view().station0 == frozenset()
-    assert guard(initialise(wanted), frozenset({2}), Initiative.OPERATOR, "x").held_back \
-        is False
+    pressed = Plan(initialise(wanted), wanted, Known(box_active=True, reset_asked=True))
+    assert guard(pressed, frozenset({2}), "x").held_back is False
     played.key(2, False)
     assert b"!0X" in played.wire and played.model.view().station0 == {61}
 

@@ -71,8 +71,6 @@ from .messages import (
     ReceiveEvent,
     RelayStatus,
     RelayStatusRequest,
-    SetAntenna,
-    SetState,
     StateOp,
     StatusKind,
     StatusRequest,
@@ -82,17 +80,8 @@ from .messages import (
     UnitIdReply,
 )
 from .phases import Phase, PhaseEvent, next_phase
-from .sync import (
-    CommandPlan,
-    Reconciliation,
-    Slots,
-    Survey,
-    absolute,
-    difference,
-    initialise,
-    reconcile,
-    stopped,
-)
+from .plan import UNSURE_RELAYS, Known, Verdict, choose_plan, guard
+from .sync import Reconciliation, Slots, Survey, reconcile, stopped
 from .timing import REAL_TIMING, LinkTiming
 
 log = logging.getLogger(__name__)
@@ -108,16 +97,6 @@ class LinkStatus(str, Enum):
     OK = "ok"
     UNRESPONSIVE = "unresponsive"
     STOPPED = "stopped"
-
-
-class Initiative(Enum):
-    """Who asks for a plan to be written: the safety rule depends on it."""
-
-    OPERATOR = "operator"
-    """Reset Switches, Stop and Start Switches, and the engine's decisions (a press, a
-    logger's frequency)."""
-    AUTOMATIC = "automatic"
-    """The session itself: a (re)connection, a box found reset."""
 
 
 # ---------------------------------------------------------------------------- actions
@@ -187,56 +166,6 @@ Action = Write | StatusChanged | Transmit | BoxError | Adopt | Reconcile | Answe
 
 
 # ---------------------------------------------------------------------------- the rule
-
-@dataclass(frozen=True, slots=True)
-class Verdict:
-    plan: CommandPlan
-    refused: str = ""
-    """Why (part of) the plan was not sent ("" when all of it may go)."""
-    warning: str = ""
-    """What an allowed plan does to transmitting stations, for the log."""
-    held_back: bool = False
-    """The station-0 relays were taken out of the plan until nobody transmits."""
-
-
-def _resets(plan: CommandPlan) -> bool:
-    return any(isinstance(c, SetState) and StateOp.RESET in c.ops for c in plan.commands)
-
-
-def guard(plan: CommandPlan, keyed: frozenset[int] | None, initiative: Initiative,
-          where: str) -> Verdict:
-    """The safety rule, for every plan the session writes.
-
-    A reset (``*0``) opens every relay at once, whoever transmits: it is a hot switch of
-    every transmitting station.  The session never sends one on its own initiative (it
-    loads a box as values instead, :func:`.sync.absolute`), so an automatic plan that
-    holds one is refused whole.  An operator's reset goes out, and the returned warning
-    names the stations transmitting then (``keyed``; None: not known, which counts as
-    transmitting).  Every other command reaches a station's relays only through the
-    box's own wait or interrupt rules -- except the station-0 relays (``!0X``), which the
-    box sets at once: on the session's own initiative they wait, taken out of the plan,
-    while a station transmits or may (the session sends them when all receive)."""
-    if not _resets(plan):
-        if initiative is Initiative.AUTOMATIC and (keyed is None or keyed):
-            kept = tuple(c for c in plan.commands
-                         if not (isinstance(c, SetAntenna) and c.station == 0))
-            if len(kept) != len(plan.commands):
-                return Verdict(CommandPlan(kept, plan.problems), held_back=True)
-        return Verdict(plan)
-    if keyed is None:
-        on_air = "the stations' transmit states are not known yet"
-    elif keyed:
-        names = ", ".join(str(n) for n in sorted(keyed))
-        on_air = f"station{'s' if len(keyed) > 1 else ''} {names} transmitting"
-    else:
-        on_air = ""
-    if initiative is Initiative.AUTOMATIC:
-        return Verdict(CommandPlan(), refused=f"{where}: not resetting it on the server's own "
-                       f"initiative ({on_air or 'a reset is for the operator alone'})")
-    warning = f"{where}: reset by the operator with {on_air}: their relays open now" \
-        if on_air else ""
-    return Verdict(plan, warning=warning)
-
 
 # ---------------------------------------------------------------------------- questions
 
@@ -412,7 +341,7 @@ class SwitchSession:
                 self._answer(q.ticket, None, out)
         if self.ready and self._dwell.due(now):
             self._dwell.started(now)  # the latest wanted state lands, through guard
-            self._send_state(self.desired, Initiative.OPERATOR, out)
+            self._send_state(self.desired, out)
         if self.phase is Phase.RUNNING and self._next_ping is not None \
                 and now >= self._next_ping:
             if now - self._last_heard > self.timing.answer_timeout:
@@ -456,13 +385,13 @@ class SwitchSession:
             # stations stay inhibited (also when this state happens to need no relay
             # change: no inhibit goes on and off with every packet of a flood)
             self._dwell.waiting = True
-            self._send_state(interim(sent, target), Initiative.OPERATOR, out)
+            self._send_state(interim(sent, target), out)
             return
         if moves_relays(sent, target):
             self._dwell.started(now)
         elif not automatic:
             self._dwell.waiting = False  # a press sends everything: nothing waits
-        self._send_state(target, Initiative.OPERATOR, out)
+        self._send_state(target, out)
 
     def stop(self) -> list[Action]:
         """Stop Switches: all relays off (a reset, and a load without activation): the
@@ -479,10 +408,9 @@ class SwitchSession:
         if self.ready:
             log.info("%s: resetting and loading it again", self.where)
             self._dwell.drop()  # the whole wanted state goes out now
-            target = self.desired
-            if self._write_plan(initialise(target, events=self._events), Initiative.OPERATOR,
-                                out):
-                self._sent = self._told(target)
+            known = Known(box_active=True, sent=self._sent, reset_asked=True,
+                          events=self._events)
+            if self._send(known, self.desired, out):
                 self._seen = [(NO_ANTENNA,) * 3 for _ in STATIONS]
         return out
 
@@ -511,20 +439,10 @@ class SwitchSession:
         r, self._reconciliation = self._reconciliation, None
         if r is None or self.phase is not Phase.SURVEY:
             return out
-        target = self.desired
-        if self.stopped and not r.inactive:
-            # Stop Switches stands: only a reset deactivates a box (the operator's order)
-            plan, initiative = initialise(target, events=self._events), Initiative.OPERATOR
-        elif r.believed is None:
-            plan = absolute(target, box_active=not r.inactive, events=self._events)
-            initiative = Initiative.AUTOMATIC
-        else:
-            plan, initiative = difference(r.believed, target, events=self._events), \
-                Initiative.AUTOMATIC
-        if not self._write_plan(plan, initiative, out):
+        known = Known(box_active=not r.inactive, believed=r.believed, events=self._events)
+        if not self._send(known, self.desired, out):
             out += self._end_session()
             return out
-        self._sent = self._told(target)
         self._held = None
         self._move(PhaseEvent.SURVEYED)
         self._step = _Step()
@@ -643,20 +561,20 @@ class SwitchSession:
 
     # ------------------------------------------------------------------ writing
 
-    def _send_state(self, target: SwitchState, initiative: Initiative,
-                    out: list[Action]) -> None:
+    def _send_state(self, target: SwitchState, out: list[Action]) -> None:
+        """A running session: take the box from what it surely holds to ``target``."""
         assert self._sent is not None
-        if self._write_plan(difference(self._sent, target, events=self._events), initiative,
-                            out):
-            self._sent = self._told(target)
+        self._send(Known(box_active=self._sent.active, sent=self._sent, events=self._events),
+                   target, out)
 
-    def _write_plan(self, plan: CommandPlan, initiative: Initiative,
-                    out: list[Action]) -> bool:
-        """Every plan goes out here, through :func:`guard`; False when it was refused."""
+    def _send(self, known: Known, target: SwitchState, out: list[Action]) -> bool:
+        """Every plan goes out here: chosen by :func:`.plan.choose_plan`, passed through
+        :func:`.plan.guard`; then the box is taken to hold ``target`` (less what the
+        rule held back).  False when the rule refused the plan."""
         if not self._confirmed:  # never reached: every caller waits for confirmation
             log.error("%s: not sending to a box whose unit id is not confirmed", self.where)
             return False
-        verdict = guard(plan, self.keyed(), initiative, self.where)
+        verdict = guard(choose_plan(known, target), self.keyed(), self.where)
         if verdict.refused:
             log.error("%s", verdict.refused)
             self.refusals.append(verdict.refused)
@@ -675,12 +593,13 @@ class SwitchSession:
             data = b"".join(parts)
             self._write(data, out)
             self._batch.commands += parts
+        self._sent = self._told(target)
         return True
 
     def _told(self, target: SwitchState) -> SwitchState:
         """What the box was told of ``target``: all of it, or all but the station-0 relays
         the safety rule held back (marked unsure, so they go out later)."""
-        return replace(target, station0=frozenset({-1})) if self._station0_waits else target
+        return replace(target, station0=UNSURE_RELAYS) if self._station0_waits else target
 
     def _write(self, data: bytes, out: list[Action]) -> None:
         out.append(Write(data))
@@ -824,15 +743,10 @@ class SwitchSession:
             )
             for earlier, _ in self._pings:  # asked before the load: not to be judged
                 earlier.expect_active = None
-            target = self.desired
-            if pong.active:
-                # active while it should be stopped: only a reset stops it (Stop Switches)
-                plan, initiative = initialise(target, events=self._events), Initiative.OPERATOR
-            else:
-                plan = absolute(target, box_active=False, events=self._events)
-                initiative = Initiative.AUTOMATIC
-            if self._write_plan(plan, initiative, out):
-                self._sent = self._told(target)
+            # what it holds is not known: active while it should be stopped, a reset
+            # (Stop Switches stands); inactive, the whole state as values
+            if self._send(Known(box_active=pong.active, events=self._events), self.desired,
+                          out):
                 self._seen = [(NO_ANTENNA,) * 3 for _ in STATIONS]
 
     def _tr_changed(self, station: int, transmitting: bool, out: list[Action]) -> None:
@@ -844,7 +758,7 @@ class SwitchSession:
         if self._station0_waits and self.ready and self._sent is not None \
                 and self.keyed() == frozenset():
             # everyone receives: the station-0 relays held back go out now
-            self._send_state(self.desired, Initiative.AUTOMATIC, out)
+            self._send_state(self.desired, out)
 
     # ------------------------------------------------------------------ endings
 
@@ -935,7 +849,6 @@ __all__ = [
     "Answered",
     "BoxError",
     "End",
-    "Initiative",
     "LinkStatus",
     "Phase",
     "Reconcile",

@@ -9,7 +9,8 @@ A recording is a text file of JSON lines, one per event, written as it happens:
 * ``{"kind": "in", ...}``: bytes read from the box, in the pieces the port gave;
 * the other calls the link made on its session, each with its time ``t``:
   ``opened``, ``tick``, ``lost``, ``closed``, ``want`` (the engine's wanted state),
-  ``stop``, ``start``, ``reset``, ``reconcile`` and ``ask`` (a question).
+  ``stop``, ``start``, ``reset``, ``reconcile`` (with the wanted state it was
+  handed) and ``ask`` (a question).
 
 Bytes are written as text with ``\\xNN`` escapes (:func:`bytes_text`), so both
 directions read at a glance: ``"';"`` out, ``"!;"`` in.  Times are seconds on the
@@ -269,7 +270,12 @@ def _call(session: SwitchSession, line: dict[str, Any],
     if kind == "ask":
         command = parse_command(line["command"].removesuffix(";"))
         return session.ask(command, answer_type(command), now)[1]
-    if kind in ("opened", "tick", "reconcile"):
+    if kind == "reconcile":
+        state = line.get("state")
+        desired = session.desired if state is None else \
+            decode_state(state, f"line {line['line']}")
+        return session.reconcile(desired, now)
+    if kind in ("opened", "tick"):
         return list(getattr(session, kind)(now))
     if kind == "lost":
         return session.lost(line.get("reason", "lost"))

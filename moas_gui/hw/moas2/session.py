@@ -131,9 +131,18 @@ class BoxError:
 
 
 @dataclass(frozen=True, slots=True)
+class Log:
+    """A line for the log, at ``level`` (:mod:`logging`'s): the session decides what to
+    say and how loud, the driver writes it."""
+
+    level: int
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
 class Adopt:
     """What the box holds for ``station`` wins over the saved state: the engine should
-    take these slots as that port's antennas (then call :meth:`SwitchSession.apply`)."""
+    take these slots as that port's antennas.  Always followed by :class:`Reconcile`."""
 
     station: int
     slots: Slots
@@ -142,8 +151,10 @@ class Adopt:
 
 @dataclass(frozen=True, slots=True)
 class Reconcile:
-    """Call :meth:`SwitchSession.reconcile` once the actions before it are done (the
-    engine has adopted what it was asked to)."""
+    """The box was surveyed and some stations are to be adopted (the :class:`Adopt`
+    actions before this one): once the engine took them, call
+    :meth:`SwitchSession.reconcile` with the engine's wanted state.  A survey with
+    nothing to adopt reconciles at once, with the wanted state the session has."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -162,7 +173,7 @@ class End:
     reached: bool
 
 
-Action = Write | StatusChanged | Transmit | BoxError | Adopt | Reconcile | Answered | End
+Action = Write | Log | StatusChanged | Transmit | BoxError | Adopt | Reconcile | Answered | End
 
 
 # ---------------------------------------------------------------------------- the rule
@@ -345,8 +356,9 @@ class SwitchSession:
         if self.phase is Phase.RUNNING and self._next_ping is not None \
                 and now >= self._next_ping:
             if now - self._last_heard > self.timing.answer_timeout:
-                self.problem(logging.WARNING, f"{self.where} stopped answering (nothing for "
-                              f"{self.timing.answer_timeout:.1f} s); will retry")
+                out += self.problem(logging.WARNING, f"{self.where} stopped answering "
+                                    f"(nothing for {self.timing.answer_timeout:.1f} s); "
+                                    f"will retry")
                 out += self._end_session(reached=True)
                 return out
             self._ping(now, out)
@@ -406,7 +418,7 @@ class SwitchSession:
         """Reset Switches: the operator resets the box and it is loaded again."""
         out: list[Action] = []
         if self.ready:
-            log.info("%s: resetting and loading it again", self.where)
+            out.append(Log(logging.INFO, f"{self.where}: resetting and loading it again"))
             self._dwell.drop()  # the whole wanted state goes out now
             known = Known(box_active=True, sent=self._sent, reset_asked=True,
                           events=self._events)
@@ -432,13 +444,17 @@ class SwitchSession:
             return self._ping_question(now, out), out
         return self._question(command, reply_type, now, out), out
 
-    def reconcile(self, now: float) -> list[Action]:
-        """Bring the box to the wanted state (after the engine adopted what it was asked
-        to; see :class:`Reconcile`)."""
+    def reconcile(self, desired: SwitchState, now: float) -> list[Action]:
+        """Bring a surveyed box to ``desired``, the engine's wanted state once it took the
+        adopted stations (see :class:`Reconcile`): the plan :func:`.plan.choose_plan`
+        picks from what the survey found, through :func:`.plan.guard`, then a ping to
+        see it landed.  Returns the actions, for the driver to carry out in order (none
+        when no survey waits for it)."""
         out: list[Action] = []
         r, self._reconciliation = self._reconciliation, None
         if r is None or self.phase is not Phase.SURVEY:
             return out
+        self.desired = desired
         known = Known(box_active=not r.inactive, believed=r.believed, events=self._events)
         if not self._send(known, self.desired, out):
             out += self._end_session()
@@ -463,13 +479,13 @@ class SwitchSession:
     def _confirm(self, now: float, out: list[Action]) -> None:
         unit, pong = self._step.answers["unit"], self._step.answers["ping"]
         if unit is None or pong is None:
-            self.problem(logging.WARNING, f"{self.where} does not answer; will retry")
+            out += self.problem(logging.WARNING, f"{self.where} does not answer; will retry")
             out += self._end_session()
             return
         self.unit = unit
         refusal = self._refusal(self._foreign or unit)
         if refusal:
-            self.problem(logging.ERROR, refusal)
+            out += self.problem(logging.ERROR, refusal)
             out += self._end_session()
             return
         self._confirmed = True
@@ -493,18 +509,18 @@ class SwitchSession:
         a = self._step.answers
         if any(a[name] is None for name in ("ping", "box", "polarity", "relays")):
             if self._survey_tries < SURVEY_TRIES:
-                log.info("%s did not answer every status request; asking again (nothing is "
-                         "sent until it does)", self.where)
+                out.append(Log(logging.INFO, f"{self.where} did not answer every status "
+                               "request; asking again (nothing is sent until it does)"))
                 self._ask_survey(now, out, PhaseEvent.UNANSWERED)
                 return
-            self.problem(logging.WARNING, f"{self.where} did not answer every status "
+            out += self.problem(logging.WARNING, f"{self.where} did not answer every status "
                           f"request ({SURVEY_TRIES} tries): not driving it until it does; "
                           f"will retry")
             out += self._end_session()
             return
         box: BoxStatus = a["box"]
         if min(len(box.tx), len(box.rx), len(box.alt)) < len(STATIONS):
-            self.problem(logging.WARNING, f"{self.where} sent an incomplete box status; "
+            out += self.problem(logging.WARNING, f"{self.where} sent an incomplete box status; "
                           f"will retry")
             out += self._end_session()
             return
@@ -512,25 +528,34 @@ class SwitchSession:
         r = reconcile(self._held, self._seen, survey)
         self._reconciliation = r
         self._seen = [survey.slots(n) for n in STATIONS]
-        if self._held is None:
-            log.info("%s: %s: loading it (no reset)", self.where, r.why)
-        elif r.why:
-            log.info("%s does not hold the saved state (%s): %s", self.where, r.why,
-                     "loading it again (no reset)" if r.believed is None
-                     else "sending what differs")
+        out += self._survey_actions(r)
+        if r.adopt:
+            out.append(Reconcile())  # the driver hands the engine's state after adopting
         else:
-            log.info("%s still holds the saved state: carrying on without a reset%s",
-                     self.where, self._waiting_text(r))
+            out += self.reconcile(self.desired, now)
+
+    def _survey_actions(self, r: Reconciliation) -> list[Action]:
+        """What a survey found, as lines for the log and stations for the engine."""
+        if self._held is None:
+            said = f"{self.where}: {r.why}: loading it (no reset)"
+        elif r.why:
+            said = (f"{self.where} does not hold the saved state ({r.why}): " +
+                    ("loading it again (no reset)" if r.believed is None
+                     else "sending what differs"))
+        else:
+            said = (f"{self.where} still holds the saved state: carrying on without a "
+                    f"reset{self._waiting_text(r)}")
+        out: list[Action] = [Log(logging.INFO, said)]
         for n, slots in sorted(r.adopt.items()):
             on_air = n in r.keyed
-            log.warning(
-                "%s station %d %s antennas %s (transmit, receive, alternate slots), not the "
-                "saved %s: keeping what the box holds", self.where, n,
-                "is transmitting on" if on_air else "holds",
-                "/".join(str(s) for s in slots),
-                "/".join(str(s) for s in self._held_slots(n)))
+            out.append(Log(logging.WARNING, (
+                f"{self.where} station {n} "
+                f"{'is transmitting on' if on_air else 'holds'} antennas "
+                f"{'/'.join(str(s) for s in slots)} (transmit, receive, alternate slots), "
+                f"not the saved {'/'.join(str(s) for s in self._held_slots(n))}: keeping "
+                "what the box holds")))
             out.append(Adopt(n, slots, on_air))
-        out.append(Reconcile())
+        return out
 
     def _waiting_text(self, r: Reconciliation) -> str:
         if not r.waiting:
@@ -546,14 +571,14 @@ class SwitchSession:
 
     def _loaded(self, now: float, out: list[Action]) -> None:
         if self._step.answers["ping"] is None:
-            self.problem(logging.WARNING, f"{self.where} stopped answering while loading")
+            out += self.problem(logging.WARNING, f"{self.where} stopped answering while loading")
             out += self._end_session()
             return
         if not self._confirmed:  # another unit's id was heard meanwhile
             out += self._end_session()
             return
         if self._last_problem:
-            log.info("%s answers again", self.where)
+            out.append(Log(logging.INFO, f"{self.where} answers again"))
         self._last_problem = ""
         self._move(PhaseEvent.LOADED)
         self._next_ping = now + self.timing.ping_interval
@@ -572,22 +597,23 @@ class SwitchSession:
         :func:`.plan.guard`; then the box is taken to hold ``target`` (less what the
         rule held back).  False when the rule refused the plan."""
         if not self._confirmed:  # never reached: every caller waits for confirmation
-            log.error("%s: not sending to a box whose unit id is not confirmed", self.where)
+            out.append(Log(logging.ERROR, f"{self.where}: not sending to a box whose unit id "
+                           "is not confirmed"))
             return False
         verdict = guard(choose_plan(known, target), self.keyed(), self.where)
         if verdict.refused:
-            log.error("%s", verdict.refused)
+            out.append(Log(logging.ERROR, verdict.refused))
             self.refusals.append(verdict.refused)
             return False
         plan = verdict.plan
         self._station0_waits = verdict.held_back
         if verdict.held_back:
-            log.info("%s: its always-on (station 0) relays wait until no station transmits",
-                     self.where)
+            out.append(Log(logging.INFO, f"{self.where}: its always-on (station 0) relays wait "
+                           "until no station transmits"))
         if verdict.warning:
-            log.warning("%s", verdict.warning)
+            out.append(Log(logging.WARNING, verdict.warning))
         for problem in plan.problems:
-            log.error("switch %d: %s", self.switch_id, problem)
+            out.append(Log(logging.ERROR, f"switch {self.switch_id}: {problem}"))
         parts = [encode(part) for command in plan.commands for part in split(command)]
         if parts:
             data = b"".join(parts)
@@ -660,7 +686,7 @@ class SwitchSession:
             return
         self._foreign = self._foreign or reply
         if self._confirmed:
-            self.problem(logging.ERROR, self._refusal(reply))
+            out += self.problem(logging.ERROR, self._refusal(reply))
             self._confirmed = False
             out += self._end_session(reached=self.phase is Phase.RUNNING)
 
@@ -684,9 +710,7 @@ class SwitchSession:
             self._pong(message, out)
         elif isinstance(message, ErrorReply):
             commands = self._pings[0][0].commands if self._pings else self._batch.commands
-            text = blame(self.where, message, commands)
-            log.error("%s", text)
-            out.append(BoxError(text))
+            out.append(BoxError(blame(self.where, message, commands)))  # the driver logs it
         elif isinstance(message, TransmitEvent | ReceiveEvent):
             self._tr_changed(message.station, isinstance(message, TransmitEvent), out)
         elif isinstance(message, BoxStatus):
@@ -697,18 +721,17 @@ class SwitchSession:
                             if letter is TRState.INHIBITED}
             self._tr_known = len(message.tr) >= len(STATIONS)
         elif isinstance(message, AntennaEvent):
-            self._antenna_event(message)
+            self._antenna_event(message, out)
         if not isinstance(message, ErrorReply) and log.isEnabledFor(logging.DEBUG):
             log.debug("%s: %s", self.where, describe(message))  # words only when wanted
 
-    def _antenna_event(self, event: AntennaEvent) -> None:
+    def _antenna_event(self, event: AntennaEvent, out: list[Action]) -> None:
         status = event.status
         if status in (AntennaStatus.TX_CONFLICT, AntennaStatus.RX_CONFLICT):
             kind = "transmit" if status is AntennaStatus.TX_CONFLICT else "receive"
-            log.warning(
-                "%s holds station %d's %s antenna (slot %d): it conflicts with another "
-                "station's antenna", self.where, event.station, kind, event.antenna,
-            )
+            out.append(Log(logging.WARNING, (
+                f"{self.where} holds station {event.station}'s {kind} antenna (slot "
+                f"{event.antenna}): it conflicts with another station's antenna")))
             return
         if self._seen is None or event.station not in STATIONS:
             return
@@ -737,10 +760,9 @@ class SwitchSession:
                 log.debug("%s: dropped a late pong (its asker gave up)", self.where)
         if batch.expect_active is not None and pong.active != batch.expect_active \
                 and self.ready and self._sent is not None:
-            log.warning(
-                "%s says it is %s, which it should not be: it was reset or lost power; "
-                "loading it again", self.where, "active" if pong.active else "inactive",
-            )
+            out.append(Log(logging.WARNING, (
+                f"{self.where} says it is {'active' if pong.active else 'inactive'}, which "
+                "it should not be: it was reset or lost power; loading it again")))
             for earlier, _ in self._pings:  # asked before the load: not to be judged
                 earlier.expect_active = None
             # what it holds is not known: active while it should be stopped, a reset
@@ -812,14 +834,15 @@ class SwitchSession:
         self._set_status(LinkStatus.UNRESPONSIVE, out)
         return out
 
-    def problem(self, level: int, text: str) -> None:
-        """Log a problem once per outage: its first warning (and an error not said yet);
-        what the retries meet after it goes to the debug log, "answers again" ends it.
-        The driver logs what it meets (a port that cannot be opened) here too."""
+    def problem(self, level: int, text: str) -> list[Action]:
+        """A problem, said once per outage: its first warning (and an error not said yet)
+        at its level; what the retries meet after it at debug level; "answers again" ends
+        the outage.  The driver passes what it meets (a port that cannot be opened) here
+        too, and logs the :class:`Log` returned."""
         quiet = text == self._last_problem or (
             level <= logging.WARNING and bool(self._last_problem))
-        log.log(logging.DEBUG if quiet else level, "%s", text)
         self._last_problem = text
+        return [Log(logging.DEBUG if quiet else level, text)]
 
 
 
@@ -850,6 +873,7 @@ __all__ = [
     "BoxError",
     "End",
     "LinkStatus",
+    "Log",
     "Phase",
     "Reconcile",
     "StatusChanged",

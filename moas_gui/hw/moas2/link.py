@@ -59,6 +59,7 @@ from .messages import (
     UnitIdReply,
 )
 from .recording import SerialRecorder, command_text
+from .resync import Slots
 from .session import (
     Action,
     Adopt,
@@ -74,7 +75,7 @@ from .session import (
     Write,
     describe,
 )
-from .sync import DEFAULT_EVENTS, Slots
+from .sync import DEFAULT_EVENTS
 from .timing import REAL_TIMING, LinkTiming
 from .transport import SWITCH_PORT, EmulatorTransport, SerialTransport, Transport
 

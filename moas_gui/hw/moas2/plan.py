@@ -52,7 +52,7 @@ class Known:
     """What the box holds for sure: the session is running and told it this.  None
     while the session only believes what it holds (a reconnection, a box found reset)."""
     believed: SwitchState | None = None
-    """What a reconnected box is taken to hold (:class:`.sync.Reconciliation`), when
+    """What a reconnected box is taken to hold (:class:`.resync.Reconciliation`), when
     ``sent`` is None; both None: not known, so the whole state goes out as values."""
     reset_asked: bool = False
     """The operator pressed Reset Switches."""

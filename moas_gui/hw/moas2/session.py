@@ -23,7 +23,7 @@ A session's life:
 2. **Survey**: ask what the box holds and who transmits (ping, box status,
    inhibit polarity, relays), up to :data:`SURVEY_TRIES` times.  Until every
    answer is in, nothing is written that could move a relay.
-3. **Reconcile** (:func:`.sync.reconcile`): the difference from what the box
+3. **Reconcile** (:func:`.resync.reconcile`): the difference from what the box
    holds, or, when its contents are unsure, the whole state as values
    (:func:`.sync.absolute`); stations whose antennas on the box win over a stale
    saved state are first handed to the engine (:class:`Adopt`).
@@ -81,7 +81,8 @@ from .messages import (
 )
 from .phases import Phase, PhaseEvent, next_phase
 from .plan import UNSURE_RELAYS, Known, Verdict, choose_plan, guard
-from .sync import Reconciliation, Slots, Survey, reconcile, stopped
+from .resync import Reconciliation, Slots, Survey, reconcile
+from .sync import stopped
 from .timing import REAL_TIMING, LinkTiming
 
 log = logging.getLogger(__name__)

@@ -1,8 +1,9 @@
 """The switch link: the driver of one MOAS II's :class:`~.session.SwitchSession`.
 
 Every decision about the box (confirming the unit, what it holds after a
-restart, a replug or a stall, what to send, the safety rule) is the session's,
-a pure state machine in :mod:`.session`.  The link does the I/O around it:
+restart, a replug or a stall, what to send and the safety rule it passes, which
+:mod:`.plan` holds) is the session's, a pure state machine in :mod:`.session`.
+The link does the I/O around it:
 
 * ``connect()`` starts a task that opens the port (or the built-in emulator
   for the port name ``"emulator"``) for this link alone, tells the session,
@@ -19,8 +20,9 @@ a pure state machine in :mod:`.session`.  The link does the I/O around it:
   station) and, after the adoptions, the session's ``reconcile`` with the engine's
   wanted state then (``wanted``, asked of the engine; without one, the last state
   the link was given).
-* ``apply(state)`` hands the engine's wanted state over and writes the
-  difference at once.  ``stop()``, ``start()`` and ``reset()`` are the
+* ``apply(state)`` hands the engine's wanted state over and writes what the
+  session says: the difference at once, except an automatic relay change that
+  comes while the relay dwell runs (:mod:`.dwell`).  ``stop()``, ``start()`` and ``reset()`` are the
   operator's; ``save_data`` writes every status reply and the tables to a file.
 """
 

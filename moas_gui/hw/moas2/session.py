@@ -2,45 +2,56 @@
 
 :class:`SwitchSession` holds every decision the switch link makes about one
 MOAS II; :class:`~.link.SwitchLink` is the thin driver around it that opens
-the port, writes what the session says, calls the server back and waits for
-the session's next deadline.  The session never reads a clock, never touches
-a port and never awaits: the driver hands it ``now`` with every call, so a
-test can play any interleaving of bytes, silences and port losses against it.
+the port, carries out what the session returns and waits for the session's next
+deadline.  The session never reads a clock, never touches a port and never
+awaits: the driver hands it ``now`` with every call, so a test can play any
+interleaving of bytes, silences and port losses against it.
 
 Inputs: :meth:`~SwitchSession.opened` (a port is open), :meth:`~SwitchSession.feed`
 (bytes from the box), :meth:`~SwitchSession.tick` (the deadline came),
 :meth:`~SwitchSession.lost` (the port went away), :meth:`~SwitchSession.apply`
-(the engine's wanted state), :meth:`~SwitchSession.stop`, :meth:`~SwitchSession.start`,
-:meth:`~SwitchSession.reset` (the operator) and :meth:`~SwitchSession.ask` (a
-question of the driver's own).  Each returns a list of actions:
-:class:`Write`, :class:`StatusChanged`, :class:`Transmit`, :class:`BoxError`,
-:class:`Adopt`, :class:`Reconcile`, :class:`Answered` and :class:`End`.
+(the engine's wanted state), :meth:`~SwitchSession.reconcile` (the engine's wanted
+state after it adopted what a survey found), :meth:`~SwitchSession.stop`,
+:meth:`~SwitchSession.start`, :meth:`~SwitchSession.reset` (the operator) and
+:meth:`~SwitchSession.ask` (a question of the driver's own).  Each returns a list of
+actions, for the driver to carry out in order: :class:`Write`, :class:`Log`,
+:class:`StatusChanged`, :class:`Transmit`, :class:`BoxError`, :class:`Adopt`,
+:class:`Reconcile`, :class:`Answered` and :class:`End`.
 
-A session's life:
+A session's life (the phases' table is :mod:`.phases`):
 
 1. **Confirm**: ask the unit id and a ping; a box that answers with another unit
    (or says another unit's id before that ping's answer) is not driven.
 2. **Survey**: ask what the box holds and who transmits (ping, box status,
    inhibit polarity, relays), up to :data:`SURVEY_TRIES` times.  Until every
    answer is in, nothing is written that could move a relay.
-3. **Reconcile** (:func:`.resync.reconcile`): the difference from what the box
-   holds, or, when its contents are unsure, the whole state as values
-   (:func:`.sync.absolute`); stations whose antennas on the box win over a stale
-   saved state are first handed to the engine (:class:`Adopt`).
+3. **Reconcile** (:func:`.resync.reconcile` judges what the box holds): stations
+   whose antennas on the box win over a stale saved state come back as
+   :class:`Adopt` actions and a :class:`Reconcile`, after which the driver calls
+   :meth:`~SwitchSession.reconcile` with the engine's wanted state; with nothing to
+   adopt the session reconciles at once.  The plan is the difference from what the
+   box is believed to hold or, when its contents are unsure, the whole state as
+   values (:func:`.sync.absolute`), never a reset unless Stop Switches stands.
 4. **Run**: a ping every ``ping_interval``; silence past ``answer_timeout`` ends the
    session (the driver retries); a box that says it is inactive when it should be
    active lost its state and is loaded again as values.
 
-**The safety rule** is :func:`guard` (a function, not a method), the one gate
-every write of a plan goes through.  Its whole scope: the session never sends a
-reset (``*0``) on its own initiative (an operator's Reset or Stop Switches may,
-and the log then names the stations that were transmitting, or whose state was
-unknown, at that moment); and on its own initiative it holds back the
-station-0 relays (``!0X``, set by the box at once) while any station transmits
-or may.  Everything else the session sends changes a station's relays only
-through the box's own hot-switch rules (wait or interrupt mode) and the tables
-the engine loads; the only other bytes it writes are questions
-(:data:`QUESTIONS`).  The session does no I/O and reads no clock, but it logs.
+**The safety rule** is :func:`.plan.guard`, the one gate every plan goes through,
+and every plan is chosen by :func:`.plan.choose_plan` beside it (the session only
+says what it knows: what the box surely holds, what it is believed to hold, whether
+the operator pressed Reset).  ``guard``'s whole scope: a reset (``*0``) goes out only
+when the operator asked for it (Reset Switches, or Stop Switches: an inactive wanted
+state), with a warning naming the stations transmitting then, or whose state was
+unknown; and the station-0 relays (``!0X``, set by the box at once) are held back
+while any station transmits or may, unless the operator changed them from relays
+the box surely holds.  Everything else the session sends changes a station's relays
+only through the box's own hot-switch rules (wait or interrupt mode) and the tables
+the engine loads; the only other bytes it writes are questions (:data:`QUESTIONS`).
+
+The session says what to log as :class:`Log` actions, which the driver writes; it
+logs only its debug lines itself (a skipped malformed reply, a late answer dropped,
+each message in words), lazily, so that they cost nothing on the busy path while
+debug is off.
 """
 
 from __future__ import annotations

@@ -210,9 +210,10 @@ def replay(lines: list[dict[str, Any]], switch_id: int, *,
     recorded times, and compare everything it writes with the recorded ``out`` lines.
 
     The two streams are compared whole: a call's writes may be recorded after the
-    calls nested in it (an adopted station's wanted state comes back through the
-    engine while the box's answer is still being handled), so only the order of the
-    bytes, not which call each belongs to, is the session's answer."""
+    calls nested in it (the ``reconcile`` after an adoption, and an ``apply`` the
+    engine makes on adopting, come while the box's answer is still being handled),
+    so only the order of the bytes, not which call each belongs to, is the session's
+    answer."""
     result = ReplayResult(switch_id)
     session: SwitchSession | None = None
     recorded = bytearray()

@@ -26,6 +26,7 @@ from moas_gui.antenna_log.recorder import AntennaRecorder
 from moas_gui.config import Config
 from moas_gui.config.model import Antenna, RadioRef, Rotator, RotatorControl
 from moas_gui.engine import Engine
+from moas_gui.engine.switchstate import SwitchState
 from moas_gui.errors import HardwareError
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.recording import SerialRecorder
@@ -183,6 +184,12 @@ class Running:
         return not self.engine.running
 
 
+def _wanted(run: Running, switch_id: int) -> SwitchState:
+    """What the engine wants switch ``switch_id`` to hold now (after it adopted what a
+    reconnected box holds, the state the link reconciles the box to)."""
+    return run.engine.switch_states()[switch_id]
+
+
 def start_switches(run: Running, options: ServerOptions, saved: SavedState,
                    on_status: Callable[[int, LinkStatus], None],
                    on_tr: Callable[[int, int, bool], None],
@@ -208,6 +215,7 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
             on_tr=functools.partial(on_tr, switch.id),
             on_adopt=functools.partial(on_adopt, switch.id),
             on_seen=None if on_seen is None else functools.partial(on_seen, switch.id),
+            wanted=functools.partial(_wanted, run, switch.id),
             indicate_tr=switch.indicate_tr,
             held=saved.switches.get(switch.id),
             seen=saved.seen.get(switch.id),

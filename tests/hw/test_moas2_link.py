@@ -22,7 +22,8 @@ from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, remove_link, serve
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
-from moas_gui.hw.moas2.transport import SerialTransport
+from moas_gui.hw.moas2.sync import initialise
+from moas_gui.hw.moas2.transport import EmulatorTransport, SerialTransport
 
 pytestmark = pytest.mark.realtime
 
@@ -455,3 +456,36 @@ def test_the_debug_log_describes_box_messages_in_words() -> None:
     assert describe(UnitIdReply(version="100", unit=0)) == "unit id reply: version 100, unit 0"
     assert describe(InhibitReply(stations=frozenset({2, 1}))) == "inhibit reply: stations 1, 2"
     assert describe(InhibitReply(stations=frozenset())) == "inhibit reply: stations none"
+
+
+@pytest.mark.asyncio
+async def test_after_adopting_the_link_reconciles_to_the_engines_state_it_asks_for() -> None:
+    # The box holds B under a keyed station 1; the saved state says A.  The engine takes
+    # station 1's antennas (on_adopt) without calling the link back; the link asks the
+    # engine for its state then (wanted) and reconciles the box to it: nothing stale
+    # is sent for station 1 to land at its receive.
+    model = EmulatorModel()
+    model.feed(initialise(STATE_B).encode(), 0.0)
+    model.set_tr(1, True, 0.0)
+    box = EmulatedBox(model)
+    adopted: list[tuple[int, tuple[int, int, int], bool]] = []
+    engine = {"state": STATE_A}
+
+    def adopt(station: int, slots: tuple[int, int, int], transmitting: bool) -> None:
+        adopted.append((station, slots, transmitting))
+        engine["state"] = STATE_B  # what the engine decides; it does not call apply
+
+    link = SwitchLink(1, "emulator", timing=FAST, transport=EmulatorTransport(box),
+                      held=STATE_A, seen=[(1, 1, 63), (2, 2, 63)] + [(63, 63, 63)] * 4,
+                      on_adopt=adopt, wanted=lambda: engine["state"])
+    link.apply(STATE_A)  # the engine's state before it knew what the box holds
+    link.connect()
+    try:
+        await until(lambda: link.ready, what="the link ready")
+        assert adopted == [(1, (3, 3, 63), True)]
+        assert link.sent == STATE_B and link.session.desired == STATE_B
+        assert not model.stations[1].pending  # nothing waits for station 1's receive
+        box.set_tr(1, False)
+        assert await link.ask_relays() == {5, 8}
+    finally:
+        await link.close()

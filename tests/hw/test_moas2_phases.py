@@ -50,7 +50,7 @@ def drive(session: SwitchSession, model: EmulatorModel, actions: list[Action],
             if answer:
                 pending += session.feed(answer, now)
         elif isinstance(action, Reconcile):
-            pending += session.reconcile(now)
+            pending += session.reconcile(session.desired, now)
     return wire
 
 

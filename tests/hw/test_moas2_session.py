@@ -7,6 +7,7 @@ checked on its own and on every path that loads a box.
 
 from __future__ import annotations
 
+import logging
 from dataclasses import replace
 from itertools import pairwise
 
@@ -24,14 +25,15 @@ from moas_gui.hw.moas2.messages import (
     StateOp,
     UnitIdReply,
 )
+from moas_gui.hw.moas2.plan import Known, Plan, choose_plan
 from moas_gui.hw.moas2.replies import encode_reply
 from moas_gui.hw.moas2.session import (
     SURVEY_TRIES,
     Action,
     Adopt,
     End,
-    Initiative,
     LinkStatus,
+    Log,
     Phase,
     Reconcile,
     SwitchSession,
@@ -61,6 +63,9 @@ class Played:
         self.now = 0.0
         self.wire = bytearray()
         self.actions: list[Action] = []
+        self.after_adopting: SwitchState | None = None
+        """What the engine wants once it took the adopted stations (None: what the
+        session was last given): handed to ``reconcile`` as a driver does."""
 
     def run(self, actions: list[Action]) -> None:
         pending = list(actions)
@@ -73,7 +78,8 @@ class Played:
                 if answer:
                     pending += self.session.feed(answer, self.now)
             elif isinstance(action, Reconcile):
-                pending += self.session.reconcile(self.now)
+                desired = self.after_adopting or self.session.desired
+                pending += self.session.reconcile(desired, self.now)
 
     def key(self, station: int, on: bool) -> None:
         self.run(self.session.feed(self.model.set_tr(station, on, self.now), self.now))
@@ -96,19 +102,58 @@ def loaded_box(state: SwitchState) -> EmulatorModel:
 # ---------------------------------------------------------------------------- the rule
 
 def test_the_guard_refuses_every_reset_the_session_asks_for_itself() -> None:
+    # a reset that neither Reset Switches nor Stop Switches (an inactive target) asked
+    # for, from any state the session may know or believe
     reset = initialise(STATE_A)
-    for keyed in (None, frozenset(), frozenset({2})):
-        verdict = guard(reset, keyed, Initiative.AUTOMATIC, "switch 1")
-        assert verdict.plan.commands == () and "not resetting it" in verdict.refused
+    for known in (Known(box_active=True), Known(box_active=False),
+                  Known(box_active=True, believed=STATE_A),
+                  Known(box_active=True, sent=STATE_B)):
+        for keyed in (None, frozenset(), frozenset({2})):
+            verdict = guard(Plan(reset, STATE_A, known), keyed, "switch 1")
+            assert verdict.plan.commands == () and "not resetting it" in verdict.refused
 
 
 def test_the_guard_lets_the_operator_reset_and_names_who_transmits() -> None:
     reset = initialise(STATE_A)
-    assert guard(reset, frozenset(), Initiative.OPERATOR, "switch 1").warning == ""
-    verdict = guard(reset, frozenset({2, 5}), Initiative.OPERATOR, "switch 1")
+    pressed = Plan(reset, STATE_A, Known(box_active=True, reset_asked=True))
+    assert guard(pressed, frozenset(), "switch 1").warning == ""
+    verdict = guard(pressed, frozenset({2, 5}), "switch 1")
     assert verdict.plan == reset and "stations 2, 5 transmitting" in verdict.warning
-    verdict = guard(reset, None, Initiative.OPERATOR, "switch 1")
+    verdict = guard(pressed, None, "switch 1")
     assert "not known yet" in verdict.warning
+    # Stop Switches: the target is inactive, which only the operator asks for
+    stop = choose_plan(Known(box_active=True, sent=STATE_A), replace(STATE_A, active=False))
+    assert b"*0;" in stop.commands.encode()
+    verdict = guard(stop, frozenset({3}), "switch 1")
+    assert verdict.plan == stop.commands and "station 3 transmitting" in verdict.warning
+
+
+def test_the_plan_chooser_never_resets_unless_the_operator_asked() -> None:
+    active = replace(STATE_A, active=True)
+    for known in (Known(box_active=True), Known(box_active=False),
+                  Known(box_active=True, believed=STATE_B),
+                  Known(box_active=True, sent=STATE_B)):
+        plan = choose_plan(known, active)
+        assert b"*0;" not in plan.commands.encode(), known
+        assert guard(plan, frozenset({1}), "x").refused == ""
+    assert b"*0;" in choose_plan(Known(box_active=True, reset_asked=True),
+                                 active).commands.encode()
+
+
+def test_the_guard_holds_back_station_0_unless_the_operator_changed_it() -> None:
+    wanted = replace(STATE_A, station0=frozenset({61}))
+    # the session's own plans (a reconnection, a box found reset): held back while keyed
+    for known in (Known(box_active=True), Known(box_active=True, believed=STATE_A),
+                  Known(box_active=True, sent=replace(STATE_A, station0=frozenset({-1})))):
+        plan = choose_plan(known, wanted)
+        assert b"!0X" in plan.commands.encode()
+        for keyed in (None, frozenset({2})):
+            verdict = guard(plan, keyed, "x")
+            assert verdict.held_back and b"!0X" not in verdict.plan.encode()
+        assert not guard(plan, frozenset(), "x").held_back
+    # the engine changed them on a box that surely held the old ones: they go out
+    plan = choose_plan(Known(box_active=True, sent=STATE_A), wanted)
+    assert b"!0X" in guard(plan, frozenset({2}), "x").plan.encode()
 
 
 def test_a_load_as_values_holds_no_reset_and_no_plan_the_session_sends_does() -> None:
@@ -189,6 +234,34 @@ def test_a_keyed_station_showing_what_the_state_file_never_knew_is_adopted() -> 
     assert played.model.view().relays == {5}
 
 
+def test_reconciliation_is_data_the_driver_carries_out_in_order() -> None:
+    # the survey ends with the lines to log, the stations to adopt and Reconcile; the
+    # plan is chosen for the state the driver hands over then (the engine's, once it
+    # took station 1's antennas): no apply has to come back in between
+    model = loaded_box(STATE_B)
+    model.feed(b"*1;", 0.0)
+    model.set_tr(1, True, 0.0)
+    session = SwitchSession(1, events=DEFAULT_EVENTS, timing=TIMING, held=STATE_A,
+                            seen=[(1, 1, 63)] + [(63, 63, 63)] * 5)
+    session.apply(STATE_A)
+    played = Played(session, model)
+    played.after_adopting = STATE_B
+    played.run(session.opened(0.0))
+    kinds = [type(a).__name__ for a in played.actions if not isinstance(a, Write)]
+    at = kinds.index("Reconcile")
+    assert kinds[at - 1] == "Adopt" and "Log" in kinds[:at]
+    assert not any(isinstance(a, Write) and b"*0;" in a.data for a in played.actions)
+    assert session.desired == STATE_B and session.sent == STATE_B
+    assert played.model.view().relays == {5}
+    played.key(1, False)
+    played.run(session.feed(played.model.advance(1.0), 1.0))
+    assert played.model.view().relays == {5}  # nothing stale was left to land at receive
+    # a survey with nothing to adopt reconciles at once, with no Reconcile to carry out
+    again = connected(loaded_box(STATE_A), held=STATE_A, desired=STATE_A)
+    assert not any(isinstance(a, Reconcile) for a in again.actions)
+    assert again.session.phase is Phase.RUNNING
+
+
 def test_a_box_that_lost_power_is_loaded_as_values_even_under_a_keyed_station() -> None:
     model = EmulatorModel()
     model.set_tr(2, True, 0.0)
@@ -197,14 +270,16 @@ def test_a_box_that_lost_power_is_loaded_as_values_even_under_a_keyed_station() 
     assert played.session.status is LinkStatus.OK
 
 
-def test_stop_switches_is_the_operators_reset_and_says_who_was_keyed(caplog) -> None:  # type: ignore[no-untyped-def]
+def test_stop_switches_is_the_operators_reset_and_says_who_was_keyed() -> None:
     model = loaded_box(STATE_A)
     model.feed(b"*1;", 0.0)
     played = connected(model, held=STATE_A)
     played.key(2, True)
     played.run(played.session.stop())
     assert b"*0;" in played.wire
-    assert any("station 2 transmitting" in r.getMessage() for r in caplog.records)
+    # the session says it as a warning for its driver to log (no log call of its own)
+    assert any(isinstance(a, Log) and a.level == logging.WARNING
+               and "station 2 transmitting" in a.text for a in played.actions)
 
 
 def test_station_0_relays_wait_while_a_station_transmits_on_a_reconnection() -> None:
@@ -216,8 +291,8 @@ def test_station_0_relays_wait_while_a_station_transmits_on_a_reconnection() -> 
     wanted = replace(STATE_A, station0=frozenset({61}))
     played = connected(model, held=STATE_A, desired=wanted)
     assert b"!0X" not in played.wire and played.model.view().station0 == frozenset()
-    assert guard(initialise(wanted), frozenset({2}), Initiative.OPERATOR, "x").held_back \
-        is False
+    pressed = Plan(initialise(wanted), wanted, Known(box_active=True, reset_asked=True))
+    assert guard(pressed, frozenset({2}), "x").held_back is False
     played.key(2, False)
     assert b"!0X" in played.wire and played.model.view().station0 == {61}
 

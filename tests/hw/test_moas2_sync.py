@@ -12,7 +12,15 @@ from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.commands import MAX_COMMAND
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.station import SlotRole
-from moas_gui.hw.moas2.sync import POWER_ON, count_bytes, difference, initialise, stopped
+from moas_gui.hw.moas2.messages import SystemTable
+from moas_gui.hw.moas2.sync import (
+    POWER_ON,
+    absolute,
+    count_bytes,
+    difference,
+    initialise,
+    stopped,
+)
 
 IDLE = StationAntennas()
 
@@ -171,6 +179,37 @@ def test_values_outside_the_boxs_ranges_are_reported_and_made_safe() -> None:
     assert "inhibit time of 0 ms" in text and "interrupt delay of 500 ms" in text
     assert "(1, 80)" in text
     assert b"[1;" in plan.encode() and b"]99;" in plan.encode()
+
+
+def test_a_load_as_values_reports_what_it_leaves_out_as_the_difference_does() -> None:
+    # absolute() builds its commands with the same planner as difference() and
+    # initialise(): a system pair outside 0-63 is reported by each, never dropped silently
+    bad = replace(state(ant(70, {1, 99})), inhibit_time=0, systems=((2, 1), (70, 2), (5, 64)),
+                  conflicts=frozenset({(1, 80)}))
+    by_difference = set(difference(SwitchState(), bad).problems)
+    for box_active in (True, False):
+        plan = absolute(bad, box_active=box_active)
+        assert set(plan.problems) == by_difference == set(initialise(bad).problems)
+        text = " ".join(plan.problems)
+        assert "system pair (70, 2) is outside 0-63" in text
+        assert "system pair (5, 64) is outside 0-63" in text
+        assert SystemTable(False, ((2, 1),)) in plan.commands  # the good pair still goes
+
+
+def test_a_load_as_values_ends_where_a_reset_and_load_does_from_any_box() -> None:
+    wanted = state(ant(1, {1, 2}), ant(3, {5}, rx=4, rx_relays={6}), station0=frozenset({61}),
+                   conflicts=frozenset({(1, 3)}), fast=frozenset({(1, 1)}),
+                   systems=((1, 2), (3, 2)), interrupt=frozenset({2}),
+                   enable_low=frozenset({3}), inhibited=frozenset({4}))
+    other = state(ant(7, {9}), ant(8, {10}), conflicts=frozenset({(7, 8), (2, 2)}),
+                  fast=frozenset({(7, 7)}), systems=((7, 3),), interrupt=frozenset({1, 5}),
+                  inhibited=frozenset({2}))
+    fresh = load(initialise(wanted).encode())
+    for before in (POWER_ON, other):
+        box = load(initialise(before).encode())
+        box.feed(absolute(wanted, box_active=before.active).encode(), 0.0)
+        assert holding(box) == holding(fresh)
+        assert b"*0;" not in absolute(wanted, box_active=before.active).encode()
 
 
 # --------------------------------------------------------------------------- on the emulated box

@@ -169,7 +169,8 @@ def test_the_rules_see_late_imports_too(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("module", ["moas_gui.hw.moas2.messages", "moas_gui.hw.moas2.decoder",
-                                    "moas_gui.hw.moas2.sync", "moas_gui.engine",
+                                    "moas_gui.hw.moas2.sync", "moas_gui.hw.moas2.resync",
+                                    "moas_gui.hw.moas2.plan", "moas_gui.engine",
                                     "moas_gui.config"])
 def test_a_sans_io_codec_or_the_engine_loads_no_loop_and_no_serial_port(module: str) -> None:
     """Importing the codec (or the engine) loads neither asyncio nor pyserial: the switch

@@ -26,7 +26,8 @@ from moas_gui.engine.snapshot import SnapshotError, export_selections, restore_s
 from moas_gui.engine.switchstate import StationAntennas
 from moas_gui.hw.moas2.link import LinkTiming
 from moas_gui.hw.moas2.messages import BoxStatus, PolarityStatus, Pong, RelayStatus, TRState
-from moas_gui.hw.moas2.sync import UNSURE, Survey, reconcile
+from moas_gui.hw.moas2.resync import Survey, reconcile
+from moas_gui.hw.moas2.sync import UNSURE
 from moas_gui.sources.n1mm_packet import radio_info_packet
 from moas_gui.state_store import (
     SavedState,

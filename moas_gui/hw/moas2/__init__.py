@@ -5,8 +5,13 @@ firmware, and the switch link that drives one box for the server.
   :mod:`.decoder`: the codec (no ports, no clock).
 * :mod:`.emulator`: the firmware as a pure model, and the pieces that run it
   in real time on a pseudo-terminal or serial port.
-* :mod:`.sync`: the commands that take a box from one state to another.
-* :mod:`.transport`, :mod:`.link`: the port seam and the link itself.
+* :mod:`.sync`: the commands that take a box from one state to another (one planner).
+* :mod:`.resync`: what a box found on (re)connection is taken to hold.
+* :mod:`.plan`: which plan a session sends (:func:`.plan.choose_plan`) and the safety
+  rule every plan passes (:func:`.plan.guard`).
+* :mod:`.session`, :mod:`.phases`: every decision about one box, as a pure state machine.
+* :mod:`.transport`, :mod:`.link`: the port seam and the link itself (the session's
+  driver).
 """
 
 from __future__ import annotations

@@ -1,8 +1,9 @@
 """The switch link: the driver of one MOAS II's :class:`~.session.SwitchSession`.
 
 Every decision about the box (confirming the unit, what it holds after a
-restart, a replug or a stall, what to send, the safety rule) is the session's,
-a pure state machine in :mod:`.session`.  The link does the I/O around it:
+restart, a replug or a stall, what to send and the safety rule it passes, which
+:mod:`.plan` holds) is the session's, a pure state machine in :mod:`.session`.
+The link does the I/O around it:
 
 * ``connect()`` starts a task that opens the port (or the built-in emulator
   for the port name ``"emulator"``) for this link alone, tells the session,
@@ -13,11 +14,15 @@ a pure state machine in :mod:`.session`.  The link does the I/O around it:
   a box that does not answer, another unit), the link closes the port and tries
   again after 0.5 s, 1 s, 2 s ... up to 8 s (:class:`.timing.LinkTiming`).  The
   next session checks what the box holds before anything is written.
-* The session's actions are carried out in order: bytes written, the status,
-  T/R and error callbacks, and ``on_adopt`` (the engine takes what the box holds
-  for a station, then the session reconciles the rest).
-* ``apply(state)`` hands the engine's wanted state over and writes the
-  difference at once.  ``stop()``, ``start()`` and ``reset()`` are the
+* The session's actions are carried out in order: bytes written, lines logged
+  (the session decides what to say and how loud; the link writes it), the status,
+  T/R and error callbacks, ``on_adopt`` (the engine takes what the box holds for a
+  station) and, after the adoptions, the session's ``reconcile`` with the engine's
+  wanted state then (``wanted``, asked of the engine; without one, the last state
+  the link was given).
+* ``apply(state)`` hands the engine's wanted state over and writes what the
+  session says: the difference at once, except an automatic relay change that
+  comes while the relay dwell runs (:mod:`.dwell`).  ``stop()``, ``start()`` and ``reset()`` are the
   operator's; ``save_data`` writes every status reply and the tables to a file.
 """
 
@@ -57,6 +62,7 @@ from .messages import (
     UnitIdReply,
 )
 from .recording import SerialRecorder, command_text
+from .resync import Slots
 from .session import (
     Action,
     Adopt,
@@ -64,6 +70,7 @@ from .session import (
     BoxError,
     End,
     LinkStatus,
+    Log,
     Reconcile,
     StatusChanged,
     SwitchSession,
@@ -71,7 +78,7 @@ from .session import (
     Write,
     describe,
 )
-from .sync import DEFAULT_EVENTS, Slots
+from .sync import DEFAULT_EVENTS
 from .timing import REAL_TIMING, LinkTiming
 from .transport import SWITCH_PORT, EmulatorTransport, SerialTransport, Transport
 
@@ -97,6 +104,7 @@ class SwitchLink:
         on_error: Callable[[str], None] | None = None,
         on_adopt: Callable[[int, Slots, bool], None] | None = None,
         on_seen: Callable[[int, Slots], None] | None = None,
+        wanted: Callable[[], SwitchState] | None = None,
         indicate_tr: bool = True,
         timing: LinkTiming = REAL_TIMING,
         transport: Transport | None = None,
@@ -120,6 +128,8 @@ class SwitchLink:
         self._on_seen = on_seen
         """Called with ``(station, slots)`` when the antennas the box reports in use for a
         station change: what it confirmed, as it landed (the antenna log's "in force")."""
+        self._wanted = wanted
+        """The engine's wanted state now (what a reconciliation after adopting takes)."""
         events = DEFAULT_EVENTS if indicate_tr else (StateOp.ANTENNA_EVENTS_ON,)
         self.emulator: EmulatedBox | None = None
         if transport is None:
@@ -294,8 +304,8 @@ class SwitchLink:
                 lambda reason: self._on_port_lost(session, reason),
             )
         except PortError as exc:
-            self.session.problem(logging.WARNING,
-                                 f"{self.where}: cannot open the port: {exc}; will retry")
+            self._do(self.session.problem(
+                logging.WARNING, f"{self.where}: cannot open the port: {exc}; will retry"))
             self._record("closed")
             self._do(self.session.closed())
             return False
@@ -336,7 +346,8 @@ class SwitchLink:
     def _on_port_lost(self, session: int, reason: str) -> None:
         if session != self._session_no:
             return
-        self.session.problem(logging.WARNING, f"{self.where}: the port went away: {reason}")
+        self._do(self.session.problem(logging.WARNING,
+                                      f"{self.where}: the port went away: {reason}"))
         self._record("lost", reason=reason)
         self._do(self.session.lost(reason))
 
@@ -353,6 +364,8 @@ class SwitchLink:
         for action in actions:
             if isinstance(action, Write):
                 self._write(action.data)
+            elif isinstance(action, Log):
+                log.log(action.level, "%s", action.text)
             elif isinstance(action, StatusChanged):
                 log.info("%s is %s", self.where, action.status.value)
                 if self._on_status is not None:
@@ -361,6 +374,7 @@ class SwitchLink:
                 if self._on_tr is not None:
                     self._call(self._on_tr, action.station, action.transmitting)
             elif isinstance(action, BoxError):
+                log.error("%s", action.text)
                 self.errors.append(action.text)
                 if self._on_error is not None:
                     self._call(self._on_error, action.text)
@@ -368,20 +382,31 @@ class SwitchLink:
                 if self._on_adopt is not None:
                     self._call(self._on_adopt, action.station, action.slots,
                                action.transmitting)
-            elif isinstance(action, Reconcile):
-                self._do(self.session.reconcile(self._record("reconcile")))
-            elif isinstance(action, Answered):
-                future = self._answers.pop(action.ticket, None)
-                if future is not None and not future.done():
-                    future.set_result(action.reply)
-            elif isinstance(action, End):
-                self._reached = self._reached or action.reached
-                if self._ended is not None:
-                    self._ended.set()
+            elif isinstance(action, Reconcile):  # after the adoptions before it
+                self._reconcile()
+            else:
+                self._settle(action)
         self._tell_seen()
         if self._wake is not None and self._wake_needed():
             self._wake.set()
 
+    def _reconcile(self) -> None:
+        """The survey's adoptions were handed to the engine: reconcile the box to what
+        the engine wants now."""
+        desired = self._wanted() if self._wanted is not None else self.session.desired
+        now = self._record("reconcile", state=desired)
+        self._do(self.session.reconcile(desired, now))
+
+    def _settle(self, action: Action) -> None:
+        """An answer to the link's question, or the session's end."""
+        if isinstance(action, Answered):
+            future = self._answers.pop(action.ticket, None)
+            if future is not None and not future.done():
+                future.set_result(action.reply)
+        elif isinstance(action, End):
+            self._reached = self._reached or action.reached
+            if self._ended is not None:
+                self._ended.set()
     def _tell_seen(self) -> None:
         """``on_seen`` for each station whose antennas in use the box reports anew."""
         if self._on_seen is None or self.session.seen == self._told_seen:

@@ -9,7 +9,8 @@ A recording is a text file of JSON lines, one per event, written as it happens:
 * ``{"kind": "in", ...}``: bytes read from the box, in the pieces the port gave;
 * the other calls the link made on its session, each with its time ``t``:
   ``opened``, ``tick``, ``lost``, ``closed``, ``want`` (the engine's wanted state),
-  ``stop``, ``start``, ``reset``, ``reconcile`` and ``ask`` (a question).
+  ``stop``, ``start``, ``reset``, ``reconcile`` (with the wanted state it was
+  handed) and ``ask`` (a question).
 
 Bytes are written as text with ``\\xNN`` escapes (:func:`bytes_text`), so both
 directions read at a glance: ``"';"`` out, ``"!;"`` in.  Times are seconds on the
@@ -209,9 +210,10 @@ def replay(lines: list[dict[str, Any]], switch_id: int, *,
     recorded times, and compare everything it writes with the recorded ``out`` lines.
 
     The two streams are compared whole: a call's writes may be recorded after the
-    calls nested in it (an adopted station's wanted state comes back through the
-    engine while the box's answer is still being handled), so only the order of the
-    bytes, not which call each belongs to, is the session's answer."""
+    calls nested in it (the ``reconcile`` after an adoption, and an ``apply`` the
+    engine makes on adopting, come while the box's answer is still being handled),
+    so only the order of the bytes, not which call each belongs to, is the session's
+    answer."""
     result = ReplayResult(switch_id)
     session: SwitchSession | None = None
     recorded = bytearray()
@@ -269,7 +271,12 @@ def _call(session: SwitchSession, line: dict[str, Any],
     if kind == "ask":
         command = parse_command(line["command"].removesuffix(";"))
         return session.ask(command, answer_type(command), now)[1]
-    if kind in ("opened", "tick", "reconcile"):
+    if kind == "reconcile":
+        state = line.get("state")
+        desired = session.desired if state is None else \
+            decode_state(state, f"line {line['line']}")
+        return session.reconcile(desired, now)
+    if kind in ("opened", "tick"):
         return list(getattr(session, kind)(now))
     if kind == "lost":
         return session.lost(line.get("reason", "lost"))

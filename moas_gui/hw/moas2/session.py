@@ -2,45 +2,56 @@
 
 :class:`SwitchSession` holds every decision the switch link makes about one
 MOAS II; :class:`~.link.SwitchLink` is the thin driver around it that opens
-the port, writes what the session says, calls the server back and waits for
-the session's next deadline.  The session never reads a clock, never touches
-a port and never awaits: the driver hands it ``now`` with every call, so a
-test can play any interleaving of bytes, silences and port losses against it.
+the port, carries out what the session returns and waits for the session's next
+deadline.  The session never reads a clock, never touches a port and never
+awaits: the driver hands it ``now`` with every call, so a test can play any
+interleaving of bytes, silences and port losses against it.
 
 Inputs: :meth:`~SwitchSession.opened` (a port is open), :meth:`~SwitchSession.feed`
 (bytes from the box), :meth:`~SwitchSession.tick` (the deadline came),
 :meth:`~SwitchSession.lost` (the port went away), :meth:`~SwitchSession.apply`
-(the engine's wanted state), :meth:`~SwitchSession.stop`, :meth:`~SwitchSession.start`,
-:meth:`~SwitchSession.reset` (the operator) and :meth:`~SwitchSession.ask` (a
-question of the driver's own).  Each returns a list of actions:
-:class:`Write`, :class:`StatusChanged`, :class:`Transmit`, :class:`BoxError`,
-:class:`Adopt`, :class:`Reconcile`, :class:`Answered` and :class:`End`.
+(the engine's wanted state), :meth:`~SwitchSession.reconcile` (the engine's wanted
+state after it adopted what a survey found), :meth:`~SwitchSession.stop`,
+:meth:`~SwitchSession.start`, :meth:`~SwitchSession.reset` (the operator) and
+:meth:`~SwitchSession.ask` (a question of the driver's own).  Each returns a list of
+actions, for the driver to carry out in order: :class:`Write`, :class:`Log`,
+:class:`StatusChanged`, :class:`Transmit`, :class:`BoxError`, :class:`Adopt`,
+:class:`Reconcile`, :class:`Answered` and :class:`End`.
 
-A session's life:
+A session's life (the phases' table is :mod:`.phases`):
 
 1. **Confirm**: ask the unit id and a ping; a box that answers with another unit
    (or says another unit's id before that ping's answer) is not driven.
 2. **Survey**: ask what the box holds and who transmits (ping, box status,
    inhibit polarity, relays), up to :data:`SURVEY_TRIES` times.  Until every
    answer is in, nothing is written that could move a relay.
-3. **Reconcile** (:func:`.sync.reconcile`): the difference from what the box
-   holds, or, when its contents are unsure, the whole state as values
-   (:func:`.sync.absolute`); stations whose antennas on the box win over a stale
-   saved state are first handed to the engine (:class:`Adopt`).
+3. **Reconcile** (:func:`.resync.reconcile` judges what the box holds): stations
+   whose antennas on the box win over a stale saved state come back as
+   :class:`Adopt` actions and a :class:`Reconcile`, after which the driver calls
+   :meth:`~SwitchSession.reconcile` with the engine's wanted state; with nothing to
+   adopt the session reconciles at once.  The plan is the difference from what the
+   box is believed to hold or, when its contents are unsure, the whole state as
+   values (:func:`.sync.absolute`), never a reset unless Stop Switches stands.
 4. **Run**: a ping every ``ping_interval``; silence past ``answer_timeout`` ends the
    session (the driver retries); a box that says it is inactive when it should be
    active lost its state and is loaded again as values.
 
-**The safety rule** is :func:`guard` (a function, not a method), the one gate
-every write of a plan goes through.  Its whole scope: the session never sends a
-reset (``*0``) on its own initiative (an operator's Reset or Stop Switches may,
-and the log then names the stations that were transmitting, or whose state was
-unknown, at that moment); and on its own initiative it holds back the
-station-0 relays (``!0X``, set by the box at once) while any station transmits
-or may.  Everything else the session sends changes a station's relays only
-through the box's own hot-switch rules (wait or interrupt mode) and the tables
-the engine loads; the only other bytes it writes are questions
-(:data:`QUESTIONS`).  The session does no I/O and reads no clock, but it logs.
+**The safety rule** is :func:`.plan.guard`, the one gate every plan goes through,
+and every plan is chosen by :func:`.plan.choose_plan` beside it (the session only
+says what it knows: what the box surely holds, what it is believed to hold, whether
+the operator pressed Reset).  ``guard``'s whole scope: a reset (``*0``) goes out only
+when the operator asked for it (Reset Switches, or Stop Switches: an inactive wanted
+state), with a warning naming the stations transmitting then, or whose state was
+unknown; and the station-0 relays (``!0X``, set by the box at once) are held back
+while any station transmits or may, unless the operator changed them from relays
+the box surely holds.  Everything else the session sends changes a station's relays
+only through the box's own hot-switch rules (wait or interrupt mode) and the tables
+the engine loads; the only other bytes it writes are questions (:data:`QUESTIONS`).
+
+The session says what to log as :class:`Log` actions, which the driver writes; it
+logs only its debug lines itself (a skipped malformed reply, a late answer dropped,
+each message in words), lazily, so that they cost nothing on the busy path while
+debug is off.
 """
 
 from __future__ import annotations
@@ -71,8 +82,6 @@ from .messages import (
     ReceiveEvent,
     RelayStatus,
     RelayStatusRequest,
-    SetAntenna,
-    SetState,
     StateOp,
     StatusKind,
     StatusRequest,
@@ -82,17 +91,9 @@ from .messages import (
     UnitIdReply,
 )
 from .phases import Phase, PhaseEvent, next_phase
-from .sync import (
-    CommandPlan,
-    Reconciliation,
-    Slots,
-    Survey,
-    absolute,
-    difference,
-    initialise,
-    reconcile,
-    stopped,
-)
+from .plan import UNSURE_RELAYS, Known, Verdict, choose_plan, guard
+from .resync import Reconciliation, Slots, Survey, reconcile
+from .sync import stopped
 from .timing import REAL_TIMING, LinkTiming
 
 log = logging.getLogger(__name__)
@@ -108,16 +109,6 @@ class LinkStatus(str, Enum):
     OK = "ok"
     UNRESPONSIVE = "unresponsive"
     STOPPED = "stopped"
-
-
-class Initiative(Enum):
-    """Who asks for a plan to be written: the safety rule depends on it."""
-
-    OPERATOR = "operator"
-    """Reset Switches, Stop and Start Switches, and the engine's decisions (a press, a
-    logger's frequency)."""
-    AUTOMATIC = "automatic"
-    """The session itself: a (re)connection, a box found reset."""
 
 
 # ---------------------------------------------------------------------------- actions
@@ -152,9 +143,18 @@ class BoxError:
 
 
 @dataclass(frozen=True, slots=True)
+class Log:
+    """A line for the log, at ``level`` (:mod:`logging`'s): the session decides what to
+    say and how loud, the driver writes it."""
+
+    level: int
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
 class Adopt:
     """What the box holds for ``station`` wins over the saved state: the engine should
-    take these slots as that port's antennas (then call :meth:`SwitchSession.apply`)."""
+    take these slots as that port's antennas.  Always followed by :class:`Reconcile`."""
 
     station: int
     slots: Slots
@@ -163,8 +163,10 @@ class Adopt:
 
 @dataclass(frozen=True, slots=True)
 class Reconcile:
-    """Call :meth:`SwitchSession.reconcile` once the actions before it are done (the
-    engine has adopted what it was asked to)."""
+    """The box was surveyed and some stations are to be adopted (the :class:`Adopt`
+    actions before this one): once the engine took them, call
+    :meth:`SwitchSession.reconcile` with the engine's wanted state.  A survey with
+    nothing to adopt reconciles at once, with the wanted state the session has."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -183,60 +185,10 @@ class End:
     reached: bool
 
 
-Action = Write | StatusChanged | Transmit | BoxError | Adopt | Reconcile | Answered | End
+Action = Write | Log | StatusChanged | Transmit | BoxError | Adopt | Reconcile | Answered | End
 
 
 # ---------------------------------------------------------------------------- the rule
-
-@dataclass(frozen=True, slots=True)
-class Verdict:
-    plan: CommandPlan
-    refused: str = ""
-    """Why (part of) the plan was not sent ("" when all of it may go)."""
-    warning: str = ""
-    """What an allowed plan does to transmitting stations, for the log."""
-    held_back: bool = False
-    """The station-0 relays were taken out of the plan until nobody transmits."""
-
-
-def _resets(plan: CommandPlan) -> bool:
-    return any(isinstance(c, SetState) and StateOp.RESET in c.ops for c in plan.commands)
-
-
-def guard(plan: CommandPlan, keyed: frozenset[int] | None, initiative: Initiative,
-          where: str) -> Verdict:
-    """The safety rule, for every plan the session writes.
-
-    A reset (``*0``) opens every relay at once, whoever transmits: it is a hot switch of
-    every transmitting station.  The session never sends one on its own initiative (it
-    loads a box as values instead, :func:`.sync.absolute`), so an automatic plan that
-    holds one is refused whole.  An operator's reset goes out, and the returned warning
-    names the stations transmitting then (``keyed``; None: not known, which counts as
-    transmitting).  Every other command reaches a station's relays only through the
-    box's own wait or interrupt rules -- except the station-0 relays (``!0X``), which the
-    box sets at once: on the session's own initiative they wait, taken out of the plan,
-    while a station transmits or may (the session sends them when all receive)."""
-    if not _resets(plan):
-        if initiative is Initiative.AUTOMATIC and (keyed is None or keyed):
-            kept = tuple(c for c in plan.commands
-                         if not (isinstance(c, SetAntenna) and c.station == 0))
-            if len(kept) != len(plan.commands):
-                return Verdict(CommandPlan(kept, plan.problems), held_back=True)
-        return Verdict(plan)
-    if keyed is None:
-        on_air = "the stations' transmit states are not known yet"
-    elif keyed:
-        names = ", ".join(str(n) for n in sorted(keyed))
-        on_air = f"station{'s' if len(keyed) > 1 else ''} {names} transmitting"
-    else:
-        on_air = ""
-    if initiative is Initiative.AUTOMATIC:
-        return Verdict(CommandPlan(), refused=f"{where}: not resetting it on the server's own "
-                       f"initiative ({on_air or 'a reset is for the operator alone'})")
-    warning = f"{where}: reset by the operator with {on_air}: their relays open now" \
-        if on_air else ""
-    return Verdict(plan, warning=warning)
-
 
 # ---------------------------------------------------------------------------- questions
 
@@ -412,12 +364,13 @@ class SwitchSession:
                 self._answer(q.ticket, None, out)
         if self.ready and self._dwell.due(now):
             self._dwell.started(now)  # the latest wanted state lands, through guard
-            self._send_state(self.desired, Initiative.OPERATOR, out)
+            self._send_state(self.desired, out)
         if self.phase is Phase.RUNNING and self._next_ping is not None \
                 and now >= self._next_ping:
             if now - self._last_heard > self.timing.answer_timeout:
-                self.problem(logging.WARNING, f"{self.where} stopped answering (nothing for "
-                              f"{self.timing.answer_timeout:.1f} s); will retry")
+                out += self.problem(logging.WARNING, f"{self.where} stopped answering "
+                                    f"(nothing for {self.timing.answer_timeout:.1f} s); "
+                                    f"will retry")
                 out += self._end_session(reached=True)
                 return out
             self._ping(now, out)
@@ -456,13 +409,13 @@ class SwitchSession:
             # stations stay inhibited (also when this state happens to need no relay
             # change: no inhibit goes on and off with every packet of a flood)
             self._dwell.waiting = True
-            self._send_state(interim(sent, target), Initiative.OPERATOR, out)
+            self._send_state(interim(sent, target), out)
             return
         if moves_relays(sent, target):
             self._dwell.started(now)
         elif not automatic:
             self._dwell.waiting = False  # a press sends everything: nothing waits
-        self._send_state(target, Initiative.OPERATOR, out)
+        self._send_state(target, out)
 
     def stop(self) -> list[Action]:
         """Stop Switches: all relays off (a reset, and a load without activation): the
@@ -477,12 +430,11 @@ class SwitchSession:
         """Reset Switches: the operator resets the box and it is loaded again."""
         out: list[Action] = []
         if self.ready:
-            log.info("%s: resetting and loading it again", self.where)
+            out.append(Log(logging.INFO, f"{self.where}: resetting and loading it again"))
             self._dwell.drop()  # the whole wanted state goes out now
-            target = self.desired
-            if self._write_plan(initialise(target, events=self._events), Initiative.OPERATOR,
-                                out):
-                self._sent = self._told(target)
+            known = Known(box_active=True, sent=self._sent, reset_asked=True,
+                          events=self._events)
+            if self._send(known, self.desired, out):
                 self._seen = [(NO_ANTENNA,) * 3 for _ in STATIONS]
         return out
 
@@ -504,27 +456,21 @@ class SwitchSession:
             return self._ping_question(now, out), out
         return self._question(command, reply_type, now, out), out
 
-    def reconcile(self, now: float) -> list[Action]:
-        """Bring the box to the wanted state (after the engine adopted what it was asked
-        to; see :class:`Reconcile`)."""
+    def reconcile(self, desired: SwitchState, now: float) -> list[Action]:
+        """Bring a surveyed box to ``desired``, the engine's wanted state once it took the
+        adopted stations (see :class:`Reconcile`): the plan :func:`.plan.choose_plan`
+        picks from what the survey found, through :func:`.plan.guard`, then a ping to
+        see it landed.  Returns the actions, for the driver to carry out in order (none
+        when no survey waits for it)."""
         out: list[Action] = []
         r, self._reconciliation = self._reconciliation, None
         if r is None or self.phase is not Phase.SURVEY:
             return out
-        target = self.desired
-        if self.stopped and not r.inactive:
-            # Stop Switches stands: only a reset deactivates a box (the operator's order)
-            plan, initiative = initialise(target, events=self._events), Initiative.OPERATOR
-        elif r.believed is None:
-            plan = absolute(target, box_active=not r.inactive, events=self._events)
-            initiative = Initiative.AUTOMATIC
-        else:
-            plan, initiative = difference(r.believed, target, events=self._events), \
-                Initiative.AUTOMATIC
-        if not self._write_plan(plan, initiative, out):
+        self.desired = desired
+        known = Known(box_active=not r.inactive, believed=r.believed, events=self._events)
+        if not self._send(known, self.desired, out):
             out += self._end_session()
             return out
-        self._sent = self._told(target)
         self._held = None
         self._move(PhaseEvent.SURVEYED)
         self._step = _Step()
@@ -545,13 +491,13 @@ class SwitchSession:
     def _confirm(self, now: float, out: list[Action]) -> None:
         unit, pong = self._step.answers["unit"], self._step.answers["ping"]
         if unit is None or pong is None:
-            self.problem(logging.WARNING, f"{self.where} does not answer; will retry")
+            out += self.problem(logging.WARNING, f"{self.where} does not answer; will retry")
             out += self._end_session()
             return
         self.unit = unit
         refusal = self._refusal(self._foreign or unit)
         if refusal:
-            self.problem(logging.ERROR, refusal)
+            out += self.problem(logging.ERROR, refusal)
             out += self._end_session()
             return
         self._confirmed = True
@@ -575,18 +521,18 @@ class SwitchSession:
         a = self._step.answers
         if any(a[name] is None for name in ("ping", "box", "polarity", "relays")):
             if self._survey_tries < SURVEY_TRIES:
-                log.info("%s did not answer every status request; asking again (nothing is "
-                         "sent until it does)", self.where)
+                out.append(Log(logging.INFO, f"{self.where} did not answer every status "
+                               "request; asking again (nothing is sent until it does)"))
                 self._ask_survey(now, out, PhaseEvent.UNANSWERED)
                 return
-            self.problem(logging.WARNING, f"{self.where} did not answer every status "
+            out += self.problem(logging.WARNING, f"{self.where} did not answer every status "
                           f"request ({SURVEY_TRIES} tries): not driving it until it does; "
                           f"will retry")
             out += self._end_session()
             return
         box: BoxStatus = a["box"]
         if min(len(box.tx), len(box.rx), len(box.alt)) < len(STATIONS):
-            self.problem(logging.WARNING, f"{self.where} sent an incomplete box status; "
+            out += self.problem(logging.WARNING, f"{self.where} sent an incomplete box status; "
                           f"will retry")
             out += self._end_session()
             return
@@ -594,25 +540,34 @@ class SwitchSession:
         r = reconcile(self._held, self._seen, survey)
         self._reconciliation = r
         self._seen = [survey.slots(n) for n in STATIONS]
-        if self._held is None:
-            log.info("%s: %s: loading it (no reset)", self.where, r.why)
-        elif r.why:
-            log.info("%s does not hold the saved state (%s): %s", self.where, r.why,
-                     "loading it again (no reset)" if r.believed is None
-                     else "sending what differs")
+        out += self._survey_actions(r)
+        if r.adopt:
+            out.append(Reconcile())  # the driver hands the engine's state after adopting
         else:
-            log.info("%s still holds the saved state: carrying on without a reset%s",
-                     self.where, self._waiting_text(r))
+            out += self.reconcile(self.desired, now)
+
+    def _survey_actions(self, r: Reconciliation) -> list[Action]:
+        """What a survey found, as lines for the log and stations for the engine."""
+        if self._held is None:
+            said = f"{self.where}: {r.why}: loading it (no reset)"
+        elif r.why:
+            said = (f"{self.where} does not hold the saved state ({r.why}): " +
+                    ("loading it again (no reset)" if r.believed is None
+                     else "sending what differs"))
+        else:
+            said = (f"{self.where} still holds the saved state: carrying on without a "
+                    f"reset{self._waiting_text(r)}")
+        out: list[Action] = [Log(logging.INFO, said)]
         for n, slots in sorted(r.adopt.items()):
             on_air = n in r.keyed
-            log.warning(
-                "%s station %d %s antennas %s (transmit, receive, alternate slots), not the "
-                "saved %s: keeping what the box holds", self.where, n,
-                "is transmitting on" if on_air else "holds",
-                "/".join(str(s) for s in slots),
-                "/".join(str(s) for s in self._held_slots(n)))
+            out.append(Log(logging.WARNING, (
+                f"{self.where} station {n} "
+                f"{'is transmitting on' if on_air else 'holds'} antennas "
+                f"{'/'.join(str(s) for s in slots)} (transmit, receive, alternate slots), "
+                f"not the saved {'/'.join(str(s) for s in self._held_slots(n))}: keeping "
+                "what the box holds")))
             out.append(Adopt(n, slots, on_air))
-        out.append(Reconcile())
+        return out
 
     def _waiting_text(self, r: Reconciliation) -> str:
         if not r.waiting:
@@ -628,14 +583,14 @@ class SwitchSession:
 
     def _loaded(self, now: float, out: list[Action]) -> None:
         if self._step.answers["ping"] is None:
-            self.problem(logging.WARNING, f"{self.where} stopped answering while loading")
+            out += self.problem(logging.WARNING, f"{self.where} stopped answering while loading")
             out += self._end_session()
             return
         if not self._confirmed:  # another unit's id was heard meanwhile
             out += self._end_session()
             return
         if self._last_problem:
-            log.info("%s answers again", self.where)
+            out.append(Log(logging.INFO, f"{self.where} answers again"))
         self._last_problem = ""
         self._move(PhaseEvent.LOADED)
         self._next_ping = now + self.timing.ping_interval
@@ -643,44 +598,46 @@ class SwitchSession:
 
     # ------------------------------------------------------------------ writing
 
-    def _send_state(self, target: SwitchState, initiative: Initiative,
-                    out: list[Action]) -> None:
+    def _send_state(self, target: SwitchState, out: list[Action]) -> None:
+        """A running session: take the box from what it surely holds to ``target``."""
         assert self._sent is not None
-        if self._write_plan(difference(self._sent, target, events=self._events), initiative,
-                            out):
-            self._sent = self._told(target)
+        self._send(Known(box_active=self._sent.active, sent=self._sent, events=self._events),
+                   target, out)
 
-    def _write_plan(self, plan: CommandPlan, initiative: Initiative,
-                    out: list[Action]) -> bool:
-        """Every plan goes out here, through :func:`guard`; False when it was refused."""
+    def _send(self, known: Known, target: SwitchState, out: list[Action]) -> bool:
+        """Every plan goes out here: chosen by :func:`.plan.choose_plan`, passed through
+        :func:`.plan.guard`; then the box is taken to hold ``target`` (less what the
+        rule held back).  False when the rule refused the plan."""
         if not self._confirmed:  # never reached: every caller waits for confirmation
-            log.error("%s: not sending to a box whose unit id is not confirmed", self.where)
+            out.append(Log(logging.ERROR, f"{self.where}: not sending to a box whose unit id "
+                           "is not confirmed"))
             return False
-        verdict = guard(plan, self.keyed(), initiative, self.where)
+        verdict = guard(choose_plan(known, target), self.keyed(), self.where)
         if verdict.refused:
-            log.error("%s", verdict.refused)
+            out.append(Log(logging.ERROR, verdict.refused))
             self.refusals.append(verdict.refused)
             return False
         plan = verdict.plan
         self._station0_waits = verdict.held_back
         if verdict.held_back:
-            log.info("%s: its always-on (station 0) relays wait until no station transmits",
-                     self.where)
+            out.append(Log(logging.INFO, f"{self.where}: its always-on (station 0) relays wait "
+                           "until no station transmits"))
         if verdict.warning:
-            log.warning("%s", verdict.warning)
+            out.append(Log(logging.WARNING, verdict.warning))
         for problem in plan.problems:
-            log.error("switch %d: %s", self.switch_id, problem)
+            out.append(Log(logging.ERROR, f"switch {self.switch_id}: {problem}"))
         parts = [encode(part) for command in plan.commands for part in split(command)]
         if parts:
             data = b"".join(parts)
             self._write(data, out)
             self._batch.commands += parts
+        self._sent = self._told(target)
         return True
 
     def _told(self, target: SwitchState) -> SwitchState:
         """What the box was told of ``target``: all of it, or all but the station-0 relays
         the safety rule held back (marked unsure, so they go out later)."""
-        return replace(target, station0=frozenset({-1})) if self._station0_waits else target
+        return replace(target, station0=UNSURE_RELAYS) if self._station0_waits else target
 
     def _write(self, data: bytes, out: list[Action]) -> None:
         out.append(Write(data))
@@ -741,7 +698,7 @@ class SwitchSession:
             return
         self._foreign = self._foreign or reply
         if self._confirmed:
-            self.problem(logging.ERROR, self._refusal(reply))
+            out += self.problem(logging.ERROR, self._refusal(reply))
             self._confirmed = False
             out += self._end_session(reached=self.phase is Phase.RUNNING)
 
@@ -765,9 +722,7 @@ class SwitchSession:
             self._pong(message, out)
         elif isinstance(message, ErrorReply):
             commands = self._pings[0][0].commands if self._pings else self._batch.commands
-            text = blame(self.where, message, commands)
-            log.error("%s", text)
-            out.append(BoxError(text))
+            out.append(BoxError(blame(self.where, message, commands)))  # the driver logs it
         elif isinstance(message, TransmitEvent | ReceiveEvent):
             self._tr_changed(message.station, isinstance(message, TransmitEvent), out)
         elif isinstance(message, BoxStatus):
@@ -778,18 +733,17 @@ class SwitchSession:
                             if letter is TRState.INHIBITED}
             self._tr_known = len(message.tr) >= len(STATIONS)
         elif isinstance(message, AntennaEvent):
-            self._antenna_event(message)
+            self._antenna_event(message, out)
         if not isinstance(message, ErrorReply) and log.isEnabledFor(logging.DEBUG):
             log.debug("%s: %s", self.where, describe(message))  # words only when wanted
 
-    def _antenna_event(self, event: AntennaEvent) -> None:
+    def _antenna_event(self, event: AntennaEvent, out: list[Action]) -> None:
         status = event.status
         if status in (AntennaStatus.TX_CONFLICT, AntennaStatus.RX_CONFLICT):
             kind = "transmit" if status is AntennaStatus.TX_CONFLICT else "receive"
-            log.warning(
-                "%s holds station %d's %s antenna (slot %d): it conflicts with another "
-                "station's antenna", self.where, event.station, kind, event.antenna,
-            )
+            out.append(Log(logging.WARNING, (
+                f"{self.where} holds station {event.station}'s {kind} antenna (slot "
+                f"{event.antenna}): it conflicts with another station's antenna")))
             return
         if self._seen is None or event.station not in STATIONS:
             return
@@ -818,21 +772,15 @@ class SwitchSession:
                 log.debug("%s: dropped a late pong (its asker gave up)", self.where)
         if batch.expect_active is not None and pong.active != batch.expect_active \
                 and self.ready and self._sent is not None:
-            log.warning(
-                "%s says it is %s, which it should not be: it was reset or lost power; "
-                "loading it again", self.where, "active" if pong.active else "inactive",
-            )
+            out.append(Log(logging.WARNING, (
+                f"{self.where} says it is {'active' if pong.active else 'inactive'}, which "
+                "it should not be: it was reset or lost power; loading it again")))
             for earlier, _ in self._pings:  # asked before the load: not to be judged
                 earlier.expect_active = None
-            target = self.desired
-            if pong.active:
-                # active while it should be stopped: only a reset stops it (Stop Switches)
-                plan, initiative = initialise(target, events=self._events), Initiative.OPERATOR
-            else:
-                plan = absolute(target, box_active=False, events=self._events)
-                initiative = Initiative.AUTOMATIC
-            if self._write_plan(plan, initiative, out):
-                self._sent = self._told(target)
+            # what it holds is not known: active while it should be stopped, a reset
+            # (Stop Switches stands); inactive, the whole state as values
+            if self._send(Known(box_active=pong.active, events=self._events), self.desired,
+                          out):
                 self._seen = [(NO_ANTENNA,) * 3 for _ in STATIONS]
 
     def _tr_changed(self, station: int, transmitting: bool, out: list[Action]) -> None:
@@ -844,7 +792,7 @@ class SwitchSession:
         if self._station0_waits and self.ready and self._sent is not None \
                 and self.keyed() == frozenset():
             # everyone receives: the station-0 relays held back go out now
-            self._send_state(self.desired, Initiative.AUTOMATIC, out)
+            self._send_state(self.desired, out)
 
     # ------------------------------------------------------------------ endings
 
@@ -898,14 +846,15 @@ class SwitchSession:
         self._set_status(LinkStatus.UNRESPONSIVE, out)
         return out
 
-    def problem(self, level: int, text: str) -> None:
-        """Log a problem once per outage: its first warning (and an error not said yet);
-        what the retries meet after it goes to the debug log, "answers again" ends it.
-        The driver logs what it meets (a port that cannot be opened) here too."""
+    def problem(self, level: int, text: str) -> list[Action]:
+        """A problem, said once per outage: its first warning (and an error not said yet)
+        at its level; what the retries meet after it at debug level; "answers again" ends
+        the outage.  The driver passes what it meets (a port that cannot be opened) here
+        too, and logs the :class:`Log` returned."""
         quiet = text == self._last_problem or (
             level <= logging.WARNING and bool(self._last_problem))
-        log.log(logging.DEBUG if quiet else level, "%s", text)
         self._last_problem = text
+        return [Log(logging.DEBUG if quiet else level, text)]
 
 
 
@@ -935,8 +884,8 @@ __all__ = [
     "Answered",
     "BoxError",
     "End",
-    "Initiative",
     "LinkStatus",
+    "Log",
     "Phase",
     "Reconcile",
     "StatusChanged",

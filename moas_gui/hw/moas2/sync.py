@@ -1,7 +1,11 @@
 """What to send a switch to take it from one :class:`SwitchState` to another.
 
-Pure: states in, commands out.  The switch link calls :func:`initialise`
-when it (re)connects and :func:`difference` for every later state.
+Pure: states in, commands out, through one planner (``_Planner``):
+:func:`difference` (what changed), :func:`initialise` (a reset and a full load) and
+:func:`absolute` (the whole state as values, no reset) build their commands with the
+same methods, so a value the box cannot take is reported the same way by each.
+Which of them a session sends is :func:`.plan.choose_plan`'s choice; what a box
+found on (re)connection is taken to hold is :mod:`.resync`'s.
 
 The rules, in plain words:
 
@@ -25,15 +29,13 @@ The rules, in plain words:
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
-from types import MappingProxyType
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, replace
 
-from ...engine.switchstate import NO_ANTENNA, STATIONS, StationAntennas, SwitchState
+from ...engine.switchstate import STATIONS, StationAntennas, SwitchState
 from .commands import MAX_RELAYS, encode_all
 from .messages import (
     AntennaKind,
-    BoxStatus,
     Command,
     ConflictOp,
     ConflictTable,
@@ -46,16 +48,12 @@ from .messages import (
     InterruptDelay,
     Mode,
     PolarityOp,
-    PolarityStatus,
-    Pong,
     ReceiveDelay,
-    RelayStatus,
     SetAntenna,
     SetState,
     StateOp,
     StationMode,
     SystemTable,
-    TRState,
     Uninhibit,
     UseAlternate,
 )
@@ -151,7 +149,7 @@ class _Planner:
                 FastTable(FastOp.ALL_SLOW), FastTable(FastOp.ALL_FAST),
             )
         if old.systems != new.systems:
-            self._systems(dict(old.systems), dict(new.systems))
+            self._systems(old.systems, new.systems)
 
     def _pair_table(
         self,
@@ -162,38 +160,44 @@ class _Planner:
         empty: Command,
         full: Command,
     ) -> None:
-        def some(make: _PairCommand, pairs: Iterable[tuple[int, int]]) -> list[Command]:
-            chosen = tuple(sorted(pairs))
-            return [make(chosen)] if chosen else []
-
         options = [
-            some(on, new - old) + some(off, old - new),
-            [empty, *some(on, new)],
+            _some(on, new - old) + _some(off, old - new),
+            _reload(empty, on, new),
         ]
         if len(new) > ALL_PAIRS // 2:
-            options.append([full, *some(off, _EVERY_PAIR - new)])
+            options.append([full, *_some(off, _EVERY_PAIR - new)])
         self.commands += min(options, key=lambda cmds: len(encode_all(cmds)))
 
-    def _systems(self, old: Mapping[int, int], new: Mapping[int, int]) -> None:
-        def valid(table: Mapping[int, int]) -> dict[int, int]:
-            good = {}
-            for antenna, system in table.items():
-                if 0 <= antenna <= 63 and 0 <= system <= 63:
-                    good[antenna] = system
-                else:
-                    self.problems.append(f"system pair ({antenna}, {system}) is outside 0-63")
-            return good
+    def _system_pairs(self, table: Iterable[tuple[int, int]]) -> dict[int, int]:
+        """The system table's (antenna, system) pairs the box can take; each other pair
+        is reported as a problem and left out."""
+        good = {}
+        for antenna, system in table:
+            if 0 <= antenna <= 63 and 0 <= system <= 63:
+                good[antenna] = system
+            else:
+                self.problems.append(f"system pair ({antenna}, {system}) is outside 0-63")
+        return good
 
-        old, new = valid(old), valid(new)
+    def _systems(self, old_pairs: Iterable[tuple[int, int]],
+                 new_pairs: Iterable[tuple[int, int]]) -> None:
+        old, new = self._system_pairs(old_pairs), self._system_pairs(new_pairs)
         changed = tuple(
             (a, new.get(a, 0)) for a in sorted(set(old) | set(new)) if old.get(a, 0) != new.get(a, 0)
         )
         incremental: list[Command] = [SystemTable(False, changed)] if changed else []
-        reload: list[Command] = [SystemTable(True)]
-        loaded = tuple((a, s) for a, s in sorted(new.items()) if s)
-        if loaded:
-            reload.append(SystemTable(False, loaded))
-        self.commands += min(incremental, reload, key=lambda cmds: len(encode_all(cmds)))
+        self.commands += min(incremental, _system_reload(new),
+                             key=lambda cmds: len(encode_all(cmds)))
+
+    def load_tables(self, state: SwitchState) -> None:
+        """Every table cleared and loaded with ``state``'s, whatever the box held."""
+        self.commands += _reload(ConflictTable(ConflictOp.NONE),
+                                 lambda pairs: ConflictTable(ConflictOp.SET, pairs),
+                                 self._pairs(state.conflicts, "conflict"))
+        self.commands += _reload(FastTable(FastOp.ALL_SLOW),
+                                 lambda pairs: FastTable(FastOp.FAST, pairs),
+                                 self._pairs(state.fast, "fast"))
+        self.commands += _system_reload(self._system_pairs(state.systems))
 
     # ---------------------------------------------------------------- settings
 
@@ -221,6 +225,41 @@ class _Planner:
             if before != after:
                 ms = self._ms(after, 0, 9999, f"station {n} receive delay")
                 self.commands.append(ReceiveDelay(n, ms))
+
+    def load_settings(self, state: SwitchState) -> None:
+        """Every setting sent as a value: polarity, wait or interrupt mode of every
+        station, the inhibit time, the interrupt delay and every receive delay."""
+        low = self._stations(state.enable_low, "polarity")
+        self.commands.append(InhibitPolarity(PolarityOp.ALL_INHIBIT_LOW))
+        if low:
+            self.commands.append(InhibitPolarity(PolarityOp.ENABLE_LOW, low))
+        interrupt = self._stations(state.interrupt, "interrupt mode")
+        wait = frozenset(STATIONS) - interrupt
+        if wait:
+            self.commands.append(Mode(StationMode.WAIT, wait))
+        if interrupt:
+            self.commands.append(Mode(StationMode.INTERRUPT, interrupt))
+        self.commands.append(InhibitTime(self._ms(state.inhibit_time, 1, 9999, "inhibit time")))
+        self.commands.append(
+            InterruptDelay(self._ms(state.interrupt_delay, 0, 99, "interrupt delay")))
+        for n in STATIONS:
+            ms = self._ms(state.receive_delay[n - 1], 0, 9999, f"station {n} receive delay")
+            self.commands.append(ReceiveDelay(n, ms))
+
+    def load_interlocks(self, state: SwitchState) -> None:
+        """Every station's inhibit-others and alternate list, and who is inhibited,
+        sent as values."""
+        for n in STATIONS:
+            others = self._stations(state.inhibit_others[n - 1] - {n}, f"station {n} inhibits")
+            self.commands.append(InhibitOthers(n, others))
+        for n in STATIONS:
+            others = self._stations(state.use_alternate[n - 1] - {n}, f"station {n} alternates")
+            self.commands.append(UseAlternate(n, others))
+        inhibited = self._stations(state.inhibited, "inhibit")
+        if inhibited:
+            self.commands.append(Inhibit(inhibited))
+        if frozenset(STATIONS) - inhibited:
+            self.commands.append(Uninhibit(frozenset(STATIONS) - inhibited))
 
     def interlocks(self, old: SwitchState, new: SwitchState) -> None:
         for n in STATIONS:
@@ -286,6 +325,22 @@ class _Planner:
         return 63
 
 
+def _some(make: _PairCommand, pairs: Iterable[tuple[int, int]]) -> list[Command]:
+    chosen = tuple(sorted(pairs))
+    return [make(chosen)] if chosen else []
+
+
+def _reload(empty: Command, on: _PairCommand, pairs: Iterable[tuple[int, int]]) -> list[Command]:
+    """A pair table cleared (``empty``) and loaded with ``pairs``."""
+    return [empty, *_some(on, pairs)]
+
+
+def _system_reload(table: Mapping[int, int]) -> list[Command]:
+    """The system table cleared and loaded with ``table`` (system 0 is "none")."""
+    loaded = tuple((a, s) for a, s in sorted(table.items()) if s)
+    return [SystemTable(True), *([SystemTable(False, loaded)] if loaded else [])]
+
+
 def initialise(state: SwitchState, *, events: tuple[StateOp, ...] = DEFAULT_EVENTS) -> CommandPlan:
     """Everything a box needs after it is found: reset, tables, settings,
     event enables, antennas, and activation when ``state.active``."""
@@ -346,45 +401,9 @@ def absolute(
     p = _Planner()
     if box_active:
         p.commands.append(SetState((StateOp.RESOLVER_OFF,)))
-    p.commands += [ConflictTable(ConflictOp.NONE)]
-    conflicts = tuple(sorted(p._pairs(state.conflicts, "conflict")))
-    if conflicts:
-        p.commands.append(ConflictTable(ConflictOp.SET, conflicts))
-    p.commands.append(FastTable(FastOp.ALL_SLOW))
-    fast = tuple(sorted(p._pairs(state.fast, "fast")))
-    if fast:
-        p.commands.append(FastTable(FastOp.FAST, fast))
-    p.commands.append(SystemTable(True))
-    systems = tuple((a, n) for a, n in sorted(state.systems) if 0 <= a <= 63 and 1 <= n <= 63)
-    if systems:
-        p.commands.append(SystemTable(False, systems))
-    low = p._stations(state.enable_low, "polarity")
-    p.commands.append(InhibitPolarity(PolarityOp.ALL_INHIBIT_LOW))
-    if low:
-        p.commands.append(InhibitPolarity(PolarityOp.ENABLE_LOW, low))
-    interrupt = p._stations(state.interrupt, "interrupt mode")
-    wait = frozenset(STATIONS) - interrupt
-    if wait:
-        p.commands.append(Mode(StationMode.WAIT, wait))
-    if interrupt:
-        p.commands.append(Mode(StationMode.INTERRUPT, interrupt))
-    p.commands.append(InhibitTime(p._ms(state.inhibit_time, 1, 9999, "inhibit time")))
-    p.commands.append(
-        InterruptDelay(p._ms(state.interrupt_delay, 0, 99, "interrupt delay")))
-    for n in STATIONS:
-        ms = p._ms(state.receive_delay[n - 1], 0, 9999, f"station {n} receive delay")
-        p.commands.append(ReceiveDelay(n, ms))
-    for n in STATIONS:
-        others = p._stations(state.inhibit_others[n - 1] - {n}, f"station {n} inhibits")
-        p.commands.append(InhibitOthers(n, others))
-    for n in STATIONS:
-        others = p._stations(state.use_alternate[n - 1] - {n}, f"station {n} alternates")
-        p.commands.append(UseAlternate(n, others))
-    inhibited = p._stations(state.inhibited, "inhibit")
-    if inhibited:
-        p.commands.append(Inhibit(inhibited))
-    if frozenset(STATIONS) - inhibited:
-        p.commands.append(Uninhibit(frozenset(STATIONS) - inhibited))
+    p.load_tables(state)
+    p.load_settings(state)
+    p.load_interlocks(state)
     if events:
         p.commands.append(SetState(events))
     unsure = SwitchState(stations=(UNSURE,) * len(STATIONS), station0=frozenset({-1}))
@@ -394,151 +413,6 @@ def absolute(
     elif state.active:
         p.commands.append(SetState((StateOp.ACTIVATE,)))
     return p.plan()
-
-
-Slots = tuple[int, int, int]
-"""A station's transmit, receive and alternate antennas (switch slots)."""
-
-
-@dataclass(frozen=True, slots=True)
-class Survey:
-    """What a box answered when the link asked what it holds."""
-
-    pong: Pong
-    box: BoxStatus
-    polarity: PolarityStatus
-    relays: RelayStatus
-
-    def keyed(self) -> frozenset[int]:
-        """Stations that transmit, or may: a station shown inhibited by command (``I``)
-        does not say whether its key line is up, so it counts as transmitting."""
-        return frozenset(
-            n for n, letter in zip(STATIONS, self.box.tr, strict=False)
-            if letter is not TRState.RECEIVE
-        ) | frozenset(STATIONS[len(self.box.tr):])
-
-    def slots(self, station: int) -> Slots:
-        at = station - 1
-        return (self.box.tx[at], self.box.rx[at], self.box.alt[at])
-
-
-@dataclass(frozen=True, slots=True)
-class Reconciliation:
-    """How a box found on (re)connection is brought to the wanted state."""
-
-    keyed: frozenset[int]
-    """Stations transmitting (or that may be) when the box answered."""
-    believed: SwitchState | None
-    """What the box is taken to hold: the wanted state goes out as the difference from
-    it; None when the box's contents are not known well enough, and the whole state goes
-    out as values (:func:`absolute`), never as a reset."""
-    adopt: Mapping[int, Slots] = field(default_factory=lambda: MappingProxyType({}))
-    """Stations whose antennas on the box win over the saved state: the engine takes
-    them as the radio's antennas (the saved state is older than the box)."""
-    waiting: frozenset[int] = frozenset()
-    """Transmitting stations whose last change the box still holds back (wait mode):
-    consistent, and sent again so that it is surely what the box applies at receive."""
-    why: str = ""
-    """Why the box does not simply hold the saved state ("" when it does)."""
-    inactive: bool = False
-    """The box is inactive: reset or powered off since it was loaded."""
-
-
-def slots_of(station: StationAntennas) -> Slots:
-    return (station.tx, station.rx, station.alt)
-
-
-def reconcile(
-    held: SwitchState | None, seen: Sequence[Slots] | None, survey: Survey
-) -> Reconciliation:
-    """Compare what a box reports (``survey``) with what it was last told (``held``,
-    from this server or the saved state) and last seen holding (``seen``: the antennas
-    it reported as in use), station by station.
-
-    * An inactive box lost what it held (reset, power): it is loaded again as values.
-    * A station showing what it was told is consistent.
-    * A transmitting station showing what it was *seen* holding, not what it was told
-      since, has a change waiting for it to receive (wait mode): consistent.
-    * Any other station shows a change the saved state does not know (the state could
-      not be saved, or the box was driven from elsewhere): what the box holds wins and
-      the engine adopts it (stations transmitting always, receiving ones when a saved
-      state exists to be wrong).
-    * What cannot be judged station by station (inhibit polarity, closed relays that
-      the saved state cannot explain while nobody transmits) loads the box as values.
-    """
-    keyed = survey.keyed()
-    if not survey.pong.active:
-        return Reconciliation(keyed, None, why="it is inactive (reset or powered off since)",
-                              inactive=True)
-    if held is None or not held.active:
-        adopt = {n: survey.slots(n) for n in sorted(keyed)
-                 if survey.slots(n) != (NO_ANTENNA,) * 3}
-        why = "there is no saved state" if held is None else "the saved state is stopped"
-        return Reconciliation(keyed, None, MappingProxyType(adopt), why=why)
-    adopt, waiting = _compare_stations(held, seen, survey, keyed)
-    why = _unexplained(held, survey, keyed, adopt)
-    believed: SwitchState | None = None
-    if not why:
-        believed = _resend_antennas(held, keyed)
-    if adopt and not why:
-        why = "; ".join(f"station {n} holds other antennas" for n in sorted(adopt))
-    return Reconciliation(keyed, believed, MappingProxyType(adopt), frozenset(waiting), why)
-
-
-def _compare_stations(held: SwitchState, seen: Sequence[Slots] | None, survey: Survey,
-                      keyed: frozenset[int]) -> tuple[dict[int, Slots], set[int]]:
-    """Station by station: the stations whose antennas on the box win (a change the
-    saved state does not know), and the transmitting ones whose change waits for them
-    to receive (each antenna is the one told, or still the one seen before)."""
-    adopt: dict[int, Slots] = {}
-    waiting = set()
-    for n, station in zip(STATIONS, held.stations, strict=True):
-        found = survey.slots(n)
-        if found == slots_of(station):
-            continue
-        told, before = slots_of(station), tuple(seen[n - 1]) if seen is not None else None
-        if n in keyed and before is not None and all(
-                f in (t, b) for f, t, b in zip(found, told, before, strict=True)):
-            waiting.add(n)  # each antenna is the one told, or still the one seen before
-        else:
-            adopt[n] = found
-    return adopt, waiting
-
-
-def _unexplained(held: SwitchState, survey: Survey, keyed: frozenset[int],
-                 adopt: Mapping[int, Slots]) -> str:
-    """What cannot be judged station by station, so the box is loaded as values: another
-    inhibit polarity, or (while nobody transmits and every station is consistent) closed
-    relays the saved state cannot explain.  Empty when there is none."""
-    if survey.polarity.enable_low != held.enable_low:
-        return "its inhibit polarity differs"
-    if keyed or adopt:
-        return ""
-    possible = set(held.station0)
-    for station in held.stations:
-        possible |= station.tx_relays | station.rx_relays | station.alt_relays
-    if not survey.relays.relays <= possible | _extras(held) \
-            or not held.station0 <= survey.relays.relays:
-        return "its closed relays differ"
-    return ""
-
-
-def _resend_antennas(held: SwitchState, keyed: frozenset[int]) -> SwitchState:
-    """The box reports antennas (slots), not the relays behind them: a command lost on
-    the line leaves the right slot with other relays, which no status shows.  So every
-    station's antenna commands go again; the box takes the same antenna and relays as no
-    change, and anything else under its hot-switch rules.  A keyed station's extra relays
-    (closed while it transmits, at once) are not resent."""
-    return replace(held, stations=tuple(
-        replace(UNSURE, extra=s.extra) if n in keyed else UNSURE
-        for n, s in zip(STATIONS, held.stations, strict=True)))
-
-
-def _extras(state: SwitchState) -> set[int]:
-    found: set[int] = set()
-    for station in state.stations:
-        found |= station.extra
-    return found
 
 
 def count_bytes(old: SwitchState, new: SwitchState) -> int:
@@ -557,14 +431,9 @@ __all__ = [
     "POWER_ON",
     "UNSURE",
     "CommandPlan",
-    "Reconciliation",
-    "Slots",
-    "Survey",
     "absolute",
     "count_bytes",
     "difference",
     "initialise",
-    "reconcile",
-    "slots_of",
     "stopped",
 ]

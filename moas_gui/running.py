@@ -23,6 +23,7 @@ from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from moas_gui.antenna_log.recorder import AntennaRecorder
+from moas_gui.antenna_log.records import JournalReader
 from moas_gui.config import Config
 from moas_gui.config.model import Antenna, RadioRef, Rotator, RotatorControl
 from moas_gui.engine import Engine
@@ -349,7 +350,10 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
     if web_port is not None:  # the browser client: docs/web-client.md
         from moas_gui.net.web import start_web
 
-        run.web = await start_web(clients, options.bind, web_port)
+        def journal() -> JournalReader | None:  # the page's /report reads the journal now
+            return run.antenna_log.journal if run.antenna_log is not None else None
+
+        run.web = await start_web(clients, options.bind, web_port, journal=journal)
 
 
 async def close_parts(run: Running) -> None:

@@ -137,6 +137,13 @@ class ServerWindow(QMainWindow):
         self.action_save_data = file_menu.addAction("&Save Switch Data...", self.save_switch_data)
         self.action_export_log = file_menu.addAction("Export Antenna &Log...",
                                                      self.export_antenna_log)
+        self.action_antenna_log = file_menu.addAction("Keep an &Antenna Log")
+        """On: the antenna journal is written (docs/antenna-log.md); off for SD-card wear
+        or privacy, as ``--no-antenna-log`` starts it."""
+        self.action_antenna_log.setCheckable(True)
+        self.action_antenna_log.setChecked(self.app.antenna_log_on)
+        self.action_antenna_log.toggled.connect(
+            lambda on: self._spawn(self.app.set_antenna_log(on)))
         self.action_stop_start = file_menu.addAction("S&top Switches", self.toggle_switches)
         file_menu.addSeparator()
         self.action_restart = file_menu.addAction("Rest&art", self.restart)

@@ -9,6 +9,7 @@ time of the replay (the journal knows the station only from the server's start o
 from __future__ import annotations
 
 import asyncio
+import html
 import os
 import re
 import shutil
@@ -16,6 +17,7 @@ import signal
 import socket
 import sys
 import time
+import urllib.request
 from collections.abc import AsyncIterator
 from pathlib import Path
 
@@ -43,9 +45,18 @@ def fixture(name: str, when: float) -> bytes:
 
 
 class Server:
-    def __init__(self, process: asyncio.subprocess.Process, udp: int, config: Path) -> None:
-        self.process, self.udp, self.config = process, udp, config
+    def __init__(self, process: asyncio.subprocess.Process, udp: int, config: Path,
+                 web: int) -> None:
+        self.process, self.udp, self.config, self.web = process, udp, config, web
         self.lines: list[str] = []
+
+    async def report(self) -> str:
+        """The browser's /report page, as this computer asks for it (no token)."""
+        def fetch() -> str:
+            with urllib.request.urlopen(f"http://127.0.0.1:{self.web}/report",
+                                        timeout=30) as answer:
+                return answer.read().decode()  # type: ignore[no-any-return]
+        return await asyncio.to_thread(fetch)
 
     def send(self, *packets: bytes) -> None:
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
@@ -61,12 +72,14 @@ async def server(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> AsyncIterat
     env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_STATE_HOME=str(tmp_path / "state"),
                XDG_CONFIG_HOME=str(tmp_path / "config"))
     udp = free_port(socket.SOCK_DGRAM)
+    web = free_port()
     process = await asyncio.create_subprocess_exec(
         sys.executable, "-m", "moas_gui.cli.server", "--headless", str(config),
-        "--bind", "127.0.0.1", "--tcp-port", "0", "--web-port", "0", "--udp-port", str(udp),
+        "--bind", "127.0.0.1", "--tcp-port", "0", "--web-port", str(web),
+        "--udp-port", str(udp),
         "--udp-bind", "127.0.0.1", "--no-rotator-program", "--new-instance",
         "--log-level", "info", stderr=asyncio.subprocess.PIPE, env=env)
-    running = Server(process, udp, config)
+    running = Server(process, udp, config, web)
 
     async def collect() -> None:
         assert process.stderr is not None
@@ -136,5 +149,9 @@ async def test_not1mm_and_n1mm_contacts_are_joined_to_the_journal(server: Server
                                                                            7025.30)
         server.send(fixture("n1mm-4-", now))  # N1MM deletes it
         await until(lambda: sorted(calls()) == ["DL1ABC", "JA1XYW"], timeout=20)
+        # the browser's contest report reads the running server's journal
+        page = await server.report()
+        assert "<svg" in page and html.escape(radio1) in page, page[:2000]
+        assert "2 QSOs" in page, page[:2000]
     finally:
         reader.close()

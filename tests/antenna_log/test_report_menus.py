@@ -42,7 +42,8 @@ def test_view_contest_report_shows_the_servers_journal(
 ) -> None:
     async def scenario() -> None:
         window, app = make_window(tmp_path)
-        monkeypatch.setattr(app, "antenna_journal", contest_journal(), raising=False)
+        journal = contest_journal()
+        monkeypatch.setattr(type(app), "antenna_journal", property(lambda _self: journal))
         assert window.action_report.text() == "Contest &Report..."
         window.action_report.trigger()
         await window.idle()
@@ -76,7 +77,8 @@ def test_file_export_antenna_log_opens_the_export(
 ) -> None:
     async def scenario() -> None:
         window, app = make_window(tmp_path)
-        monkeypatch.setattr(app, "antenna_journal", contest_journal(), raising=False)
+        journal = contest_journal()
+        monkeypatch.setattr(type(app), "antenna_journal", property(lambda _self: journal))
         assert window.action_export_log.text() == "Export Antenna &Log..."
         window.action_export_log.trigger()
         await window.idle()
@@ -86,5 +88,32 @@ def test_file_export_antenna_log_opens_the_export(
         assert export.chooser.start.text() == "2026-11-18T11:00Z"
         await close(window, app)
         assert not export.isVisible()
+
+    run_on_qt(qapp, scenario())
+
+
+def test_file_keep_an_antenna_log_turns_the_running_journal_off_and_on(
+    qapp: Any, tmp_path: Path
+) -> None:
+    from helpers import until
+
+    examples = Path(__file__).resolve().parents[2] / "examples"
+
+    async def scenario() -> None:
+        window, app = make_window(tmp_path)
+        assert window.action_antenna_log.isChecked()
+        window.open_file(str(examples / "small-station.moas"))
+        await window.idle()
+        await until(lambda: app.antenna_journal is not None, what="the journal opened")
+        window.action_antenna_log.setChecked(False)  # as a click on the menu item does
+        await window.idle()
+        assert app.antenna_journal is None and not app.antenna_log_on
+        window.action_report.trigger()
+        await window.idle()
+        assert window.report_window is not None and window.report_window.report is None
+        window.action_antenna_log.setChecked(True)
+        await window.idle()
+        assert app.antenna_journal is not None and app.antenna_log_on
+        await close(window, app)
 
     run_on_qt(qapp, scenario())

@@ -158,7 +158,9 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
         print(f"moas-client: {problem}; on a computer without a screen, read a logger "
               "with moas-client --headless --station N --source KIND HOST", file=sys.stderr)
         return 1
-    import qasync
+    from moas_gui.ui.qt import load_qasync
+
+    qasync = load_qasync()
 
     from moas_gui.client.connection import ClientConnection
     from moas_gui.ui.client_sources import ClientSources

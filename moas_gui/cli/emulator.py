@@ -226,7 +226,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"moas-emulator: {problem}; run it without a window with --headless",
               file=sys.stderr)
         return 1
-    import qasync
+    from moas_gui.ui.qt import load_qasync
+
+    qasync = load_qasync()
     from PySide6.QtWidgets import QApplication
 
     from moas_gui.ui.main_thread_gc import MainThreadCollector

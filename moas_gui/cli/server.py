@@ -593,7 +593,9 @@ def run_window(args: argparse.Namespace) -> int:
 
 
 def _run_window(args: argparse.Namespace, instance: InstanceServer | None) -> int:
-    import qasync
+    from moas_gui.ui.qt import load_qasync
+
+    qasync = load_qasync()
 
     from moas_gui.app import ServerApp
     from moas_gui.ui.main_thread_gc import MainThreadCollector

@@ -6,6 +6,9 @@ module shows up in one file.
 
 from __future__ import annotations
 
+import os
+from types import ModuleType
+
 from PySide6.QtCore import (
     QByteArray,
     QEvent,
@@ -166,4 +169,16 @@ __all__ = [
     "QWidget",
     "Qt",
     "Signal",
+    "load_qasync",
 ]
+
+
+def load_qasync() -> ModuleType:
+    """qasync, on PySide6 whatever else is installed: qasync picks the first Qt binding
+    it finds (PyQt6 before PySide6, and a logger such as not1mm brings PyQt6), or the one
+    ``QT_API`` names; this process uses PySide6, so ``QT_API`` says so (matplotlib's Qt
+    canvas reads it too)."""
+    os.environ["QT_API"] = "pyside6"
+    import qasync
+
+    return qasync

@@ -36,6 +36,7 @@ from moas_gui import state_store
 from moas_gui.addresses import network_address
 from moas_gui.antenna_log.journal import Journal, journal_path
 from moas_gui.antenna_log.recorder import AntennaRecorder
+from moas_gui.antenna_log.records import ContactPacket
 from moas_gui.config import Config, LoadResult, load_config
 from moas_gui.config.model import RotatorControl
 from moas_gui.engine import Changes, Engine, NotRunning
@@ -59,6 +60,7 @@ from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.net.identity import current, enforce
+from moas_gui.net.server import ClientServer
 from moas_gui.rights import action_for
 from moas_gui.running import (
     ROTCTLD_HOST,
@@ -73,7 +75,6 @@ from moas_gui.running import (
 )
 from moas_gui.source_intake import RadioKey, ServerEvent, SourceIntake
 from moas_gui.sources.base import SourceEvent
-from moas_gui.sources.n1mm_contact import ContactPacket
 from moas_gui.sources.server import ServerSources
 from moas_gui.state_store import SavedState, StateKeeper
 from moas_gui.status import ServerStatus, overall_state
@@ -572,19 +573,24 @@ class ServerApp:
                     if heading is not None:
                         run.rotators.note_direction(rotator.id, heading)
         if run.clients is not None:
-            # with no client connected there is nobody to tell: no entry is even built
-            served = run.clients.client_count > 0
-            for ref in changes.radios:
-                if served:
-                    run.clients.publish_radio(self.radio_entry(ref.station, ref.radio))
-                published.add((ref.station, ref.radio))
-            if changes.layouts and served:
-                run.clients.layouts_may_have_changed()
+            published = self._tell_clients(run.clients, changes)
         if changes.radios:
             self._ag.radios_changed({(ref.station, ref.radio) for ref in changes.radios})
         if run.antenna_log is not None and run.antenna_log.switches_running(run.engine.running):
             self._land_all(run)
         return published
+
+    def _tell_clients(self, clients: ClientServer, changes: Changes) -> set[RadioKey]:
+        """The changed radios' entries and a layout refresh to the clients; the radios
+        published.  With no client connected there is nobody to tell: no entry is even
+        built."""
+        served = clients.client_count > 0
+        for ref in changes.radios:
+            if served:
+                clients.publish_radio(self.radio_entry(ref.station, ref.radio))
+        if changes.layouts and served:
+            clients.layouts_may_have_changed()
+        return {(ref.station, ref.radio) for ref in changes.radios}
 
     def _publish_radio(self, station: int, radio: int) -> None:
         """A radio's entry to the clients of the running configuration, when any are

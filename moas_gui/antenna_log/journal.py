@@ -44,12 +44,12 @@ from moas_gui import places
 from moas_gui.antenna_log.records import (
     AntennaSpan,
     Contact,
+    ContactPacket,
     HeadingMark,
     KeySpan,
     Period,
     Role,
 )
-from moas_gui.sources.n1mm_contact import ContactPacket
 
 log = logging.getLogger(__name__)
 

@@ -32,10 +32,9 @@ from collections.abc import Callable
 from typing import Final
 
 from moas_gui.antenna_log.journal import AntennaInfo, Journal
-from moas_gui.antenna_log.records import Role
+from moas_gui.antenna_log.records import ContactPacket, Role
 from moas_gui.config import Config
 from moas_gui.engine import NO_ANTENNA, Engine
-from moas_gui.sources.n1mm_contact import ContactPacket
 
 OPERATOR_WINDOW: Final = 10.0
 """Seconds an operator's request names the antenna changes that land after it."""

@@ -11,6 +11,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal, Protocol
 
+ContactKind = Literal["contactinfo", "contactreplace", "contactdelete"]
+"""The three contact messages of N1MM Logger+ (and not1mm)."""
+
 Role = Literal["tx", "rx", "alt", "sub"]
 """Which of a radio's antennas a span is: transmit, receive, alternate, sub receiver."""
 
@@ -79,6 +82,27 @@ class Contact:
     contest: str
     tx_khz: float | None
     rx_khz: float | None
+
+
+@dataclass(frozen=True, slots=True)
+class ContactPacket:
+    """What one logger's contact packet says (parsed by
+    :mod:`moas_gui.sources.n1mm_contact`).  ``time`` is POSIX seconds (UTC), ``None`` only
+    for a ``contactdelete`` without a timestamp; frequencies are kHz or ``None``."""
+
+    kind: ContactKind
+    contact_id: str
+    time: float | None
+    call: str = ""
+    band: str = ""
+    mode: str = ""
+    rx_khz: float | None = None
+    tx_khz: float | None = None
+    radio_nr: int = 1
+    station_name: str = ""
+    operator: str = ""
+    contest: str = ""
+    app: str = ""
 
 
 class JournalReader(Protocol):

@@ -27,9 +27,9 @@ from __future__ import annotations
 import calendar
 import re
 import time
-from dataclasses import dataclass
-from typing import Final, Literal
+from typing import Final
 
+from moas_gui.antenna_log.records import ContactKind, ContactPacket
 from moas_gui.sources.n1mm_packet import (
     MAX_PACKET_BYTES,
     MAX_RADIO_NR,
@@ -40,7 +40,6 @@ from moas_gui.sources.n1mm_packet import (
     _parse_xml,
 )
 
-ContactKind = Literal["contactinfo", "contactreplace", "contactdelete"]
 KINDS: Final[tuple[ContactKind, ...]] = ("contactinfo", "contactreplace", "contactdelete")
 
 MAX_ID_CHARS: Final = 64
@@ -51,26 +50,6 @@ MAX_TEXT_CHARS: Final = 64
 _ID: Final = re.compile(r"[0-9A-Za-z{}_-]{1,64}")
 _TIMESTAMP: Final = re.compile(
     r"([0-9]{4})-([0-9]{2})-([0-9]{2})[ T]([0-9]{2}):([0-9]{2}):([0-9]{2})(?:\.[0-9]{1,7})?Z?")
-
-
-@dataclass(frozen=True, slots=True)
-class ContactPacket:
-    """What one contact packet says.  ``time`` is POSIX seconds (UTC), ``None`` only
-    for a ``contactdelete`` without a timestamp; frequencies are kHz or ``None``."""
-
-    kind: ContactKind
-    contact_id: str
-    time: float | None
-    call: str = ""
-    band: str = ""
-    mode: str = ""
-    rx_khz: float | None = None
-    tx_khz: float | None = None
-    radio_nr: int = 1
-    station_name: str = ""
-    operator: str = ""
-    contest: str = ""
-    app: str = ""
 
 
 def _text(fields: dict[str, str], name: str) -> str:

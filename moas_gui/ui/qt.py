@@ -181,4 +181,5 @@ def load_qasync() -> ModuleType:
     os.environ["QT_API"] = "pyside6"
     import qasync
 
-    return qasync
+    module: ModuleType = qasync
+    return module

@@ -319,7 +319,7 @@ def _verdict(ok: bool) -> str:
 
 def child_env(settings: Path, window: bool) -> dict[str, str]:
     env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_CONFIG_HOME=str(settings),
-               XDG_STATE_HOME=str(settings / "state"))
+               XDG_STATE_HOME=str(settings / "state"), XDG_DATA_HOME=str(settings / "data"))
     if window:
         env["QT_QPA_PLATFORM"] = "offscreen"
     return env
@@ -600,7 +600,8 @@ class FloodResult:
 
 async def bench_flood(name: str, rate: int, seconds: float, work: Path,
                       trace: bool = False, dwell_ms: int = 0,
-                      profile: bool = False, costs: bool = False) -> FloodResult:
+                      profile: bool = False, costs: bool = False,
+                      extra: Sequence[str] = ()) -> FloodResult:
     from moas_gui.config import load_config
     from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
     from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
@@ -622,7 +623,7 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
 
         box.add_listener(stamp)
         terminals[switch.id] = terminal
-    stderr = work / f"flood-{name}-{rate}.log"
+    stderr = work / f"flood-{name}-{rate}{'-'.join(('',) + tuple(extra))}.log"
     env = child_env(work / "settings", False)
     stamps = work / f"stamps-{name}-{rate}.json"
     if trace:
@@ -635,7 +636,7 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
         env[quiet_path.COSTS_ENV] = str(counted)
     process, _ = await spawn_server(
         server_args(flood_config(name, work, links), True)
-        + ["--log-level", "info", "--relay-dwell", str(dwell_ms)], env, stderr)
+        + ["--log-level", "info", "--relay-dwell", str(dwell_ms), *extra], env, stderr)
     try:
         await read_marks(process, {"opened"}, timeout=30)
         found = None
@@ -926,6 +927,25 @@ def target_rows(quiet: list[FloodResult], parts: dict[str, dict[str, float]],
     return rows
 
 
+def antenna_log_rows(on: FloodResult, off: FloodResult) -> list[Row]:
+    """The antenna log's cost on the quiet path: the same flood with it on (the default)
+    and with ``--no-antenna-log``, in this one run (issue 34: it stays off the path)."""
+    def figures(result: FloodResult) -> tuple[float, float]:
+        lat = list(result.latencies.values())
+        return (statistics.median(lat) if lat else float("nan"),
+                1e3 * result.cpu["server"] / max(1, result.sent))
+
+    (lat_on, cpu_on), (lat_off, cpu_off) = figures(on), figures(off)
+    label = f"{on.name} {on.rate}/s"
+    return [
+        (f"Antenna log on / off ({label})", "", "", ""),
+        ("  packet to first byte, median",
+         f"{lat_on:.2f} ms / {lat_off:.2f} ms ({lat_on - lat_off:+.2f} ms)", "", ""),
+        ("  server CPU per packet",
+         f"{cpu_on:.2f} ms / {cpu_off:.2f} ms ({cpu_on - cpu_off:+.2f} ms)", "", ""),
+    ]
+
+
 # --------------------------------------------------------------------------- main
 
 
@@ -971,6 +991,10 @@ async def run(args: argparse.Namespace) -> None:
                 rows += flood_rows(result)
                 if rate <= QUIET_RATE:
                     quiet.append(result)
+                    if args.antenna_log:
+                        off = await bench_flood(name, rate, args.seconds, work,
+                                                extra=["--no-antenna-log"])
+                        rows += antenna_log_rows(result, off)
                 if rate == max(args.rate) and args.dwell:
                     worn = await bench_flood(name, rate, args.seconds, work,
                                              dwell_ms=args.dwell)
@@ -1040,6 +1064,9 @@ def main() -> int:
                         help="also measure the machine's floor at each rate: the same hops "
                              "with no work between them")
     parser.add_argument("--seconds", type=float, default=10.0, help="length of each flood")
+    parser.add_argument("--antenna-log", action="store_true",
+                        help="also run each quiet flood with --no-antenna-log and print what "
+                             "the antenna log costs on the path (issue 34)")
     parser.add_argument("--flood", type=_names, default=list(FLOODS),
                         help=f"floods to run, of {','.join(FLOODS)} (default all)")
     parser.add_argument("--no-window", action="store_true", help="skip the window start-ups")

@@ -102,7 +102,7 @@ wait_for 10 xdotool search --onlyvisible --class trayer
 udp=$("$python" "$helper" free-port udp 12060)
 tcp=$("$python" "$helper" free-port tcp 12059)
 mkdir -p "$work/config"
-XDG_CONFIG_HOME="$work/config" XDG_STATE_HOME="$work/state" QT_QPA_PLATFORM=xcb \
+XDG_CONFIG_HOME="$work/config" XDG_STATE_HOME="$work/state" XDG_DATA_HOME="$work/data" QT_QPA_PLATFORM=xcb \
     "$python" "$helper" serve examples/big-station.moas --bind 127.0.0.1 \
     --tcp-port "$tcp" --udp-port "$udp" --no-rotator-program --new-instance \
     >"$work/server.log" 2>&1 &
@@ -150,6 +150,6 @@ fi
 echo "screenshots: the server exited from its tray menu"
 
 # --- the client window's states and the web page's, 1024x600 and a phone ------------------
-XDG_CONFIG_HOME="$work/config" XDG_STATE_HOME="$work/state" QT_QPA_PLATFORM=xcb \
+XDG_CONFIG_HOME="$work/config" XDG_STATE_HOME="$work/state" XDG_DATA_HOME="$work/data" QT_QPA_PLATFORM=xcb \
     "$python" scripts/screenshot_client.py "$out"
 "$python" scripts/screenshot_web.py "$out"

@@ -21,6 +21,7 @@ import urllib.request
 from collections.abc import AsyncIterator
 from pathlib import Path
 
+import adif_io
 import pytest
 import pytest_asyncio
 from helpers import free_port, until
@@ -149,6 +150,20 @@ async def test_not1mm_and_n1mm_contacts_are_joined_to_the_journal(server: Server
                                                                            7025.30)
         server.send(fixture("n1mm-4-", now))  # N1MM deletes it
         await until(lambda: sorted(calls()) == ["DL1ABC", "JA1XYW"], timeout=20)
+        # moas-server --adif reads the journal the running server writes (WAL), and a
+        # real ADIF library reads the file back with each QSO's antennas
+        out = server.config.parent / "contest.adi"
+        export = await asyncio.create_subprocess_exec(
+            sys.executable, "-m", "moas_gui.cli.server", "--antenna-log", str(server.config),
+            "--adif", str(out), stderr=asyncio.subprocess.PIPE)
+        _, said = await asyncio.wait_for(export.communicate(), 60)
+        assert export.returncode == 0, said.decode()
+        qsos, _ = adif_io.read_from_file(str(out))
+        by_call = {q["CALL"]: q for q in qsos}
+        assert sorted(by_call) == ["DL1ABC", "JA1XYW"]
+        for qso in reader.contacts(EVER):
+            assert by_call[qso.call]["MY_ANTENNA"] == qso.tx_antenna
+            assert by_call[qso.call]["APP_MOAS_RXANT"] == qso.rx_antenna
         # the browser's contest report reads the running server's journal
         page = await server.report()
         assert "<svg" in page and html.escape(radio1) in page, page[:2000]

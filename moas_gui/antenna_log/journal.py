@@ -93,6 +93,10 @@ CREATE INDEX IF NOT EXISTS contacts_time ON contacts (time);
 """
 
 _STOP: Final = object()
+GATHER_S: Final = 0.5
+"""How long the writer lets rows gather after the first before it commits them together
+(one commit, not one a row: a band change on a big station lands as several rows).
+A flush (:meth:`Journal.flush`) or closing cuts the wait."""
 _Row: TypeAlias = tuple[Any, ...]
 """A row as SQLite gives it, or a queued write."""
 
@@ -149,6 +153,8 @@ class Journal:
         self._queued = self._written = self._failed = 0
         self._last_error = 0.0
         self._read_lock = threading.Lock()
+        self._hurry = threading.Event()
+        """Set by a flush or close: the writer stops gathering and writes at once."""
         self._thread: threading.Thread | None = None
         if read_only:
             uri = f"{self.path.resolve().as_uri()}?mode=ro"
@@ -171,6 +177,8 @@ class Journal:
             raise RuntimeError(f"{self.path} is open to read only")
         self._queued += 1
         self._queue.put(item)
+        if item is _STOP or (isinstance(item, tuple) and item[0] == "sync"):
+            self._hurry.set()
 
     def antenna(self, station: int, radio: int, role: Role, antenna: str, *, path: str = "",
                 operator: str | None = None, at: float | None = None) -> None:
@@ -203,6 +211,7 @@ class Journal:
             return True
         done = threading.Event()
         self._queue.put(("sync", done))
+        self._hurry.set()
         return done.wait(timeout)
 
     def close(self, timeout: float = 10.0) -> None:
@@ -210,6 +219,7 @@ class Journal:
         thread, self._thread = self._thread, None
         if thread is not None:
             self._queue.put(_STOP)
+            self._hurry.set()
             thread.join(timeout)
         with self._read_lock:
             self._reader.close()
@@ -226,10 +236,13 @@ class Journal:
                     last_prune = self.clock()
                     self._guarded(db, lambda: self._prune(db))
                 items = [self._queue.get()]
+                self._hurry.wait(GATHER_S)  # let a band change's rows gather (unless hurried)
                 with contextlib.suppress(queue.Empty):
                     while len(items) < 1000:
                         items.append(self._queue.get_nowait())
                 stop = any(item is _STOP for item in items)
+                if self._queue.empty() and self._thread is not None:  # hurried and done
+                    self._hurry.clear()
                 rows = [i for i in items if isinstance(i, tuple) and i[0] != "sync"]
                 if rows:
                     self._guarded(db, lambda: self._write(db, rows))  # noqa: B023

@@ -56,7 +56,11 @@ def loaded_relays(state: SwitchState) -> frozenset[int]:
 def test_the_engine_takes_every_port_a_switch_holds_anew_in_one_operation() -> None:
     engine = small_station(1830, 3700)
     assert pairs(engine) == ((VERTICAL, VERTICAL), (DIPOLE_80, DIPOLE_80))
-    slot = {a: engine.slot_of(1, a, 1, 1, as_partner_alt=False) for a in (TRIBANDER, VERTICAL)}
+    slot: dict[int, int] = {}
+    for a in (TRIBANDER, VERTICAL):
+        found = engine.slot_of(1, a, 1, 1, as_partner_alt=False)
+        assert found is not None
+        slot[a] = found
     changes = engine.keep_switch_antennas(1, {1: (slot[TRIBANDER], slot[TRIBANDER]),
                                               2: (slot[VERTICAL], slot[VERTICAL])})
     # radio 1's Tribander does not cover 1830 kHz, but the vertical it would go back

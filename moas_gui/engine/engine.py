@@ -29,6 +29,7 @@ from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, s
 from .ranges import nearest_range_relays
 from .relative import relative as relative_select
 from .relative import relative_list
+from .rules import unpermitted
 from .selection import recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
@@ -365,6 +366,7 @@ class Engine:
                                             "saved state)")
                 w.log.append(f"{radio_name(ref)}: kept the antennas switch {switch_id} "
                              f"holds for port {port} (newer than the saved state)")
+            _yield_to_the_box(w, {ref for _, ref, _, _ in taken}, switch_id)
         return self._run(op, now, need_running=False)
 
     def stop(self) -> Changes:
@@ -552,6 +554,20 @@ class Engine:
                          st.held.get(ref))
         old = self._views.get(ref)
         return old if old == view else view
+
+
+def _yield_to_the_box(w: Work, taken: set[RadioRef], switch_id: int) -> None:
+    """A radio the saved state has on an antenna that conflicts with one a radio took
+    from the box loses it and is selected again: the box holds the taken one, and the
+    engine never wants two radios on conflicting antennas (the box would refuse it)."""
+    for a, b, _x, _y in unpermitted(w.ix, w.st):
+        if (a in taken) == (b in taken):
+            continue  # both from the box (it let them be), or neither
+        loser = b if a in taken else a
+        if w.set_pair(loser, None, None, f"switch {switch_id} holds its antenna for "
+                      "another radio", Why(SWITCH, f"switch {switch_id} held its antenna "
+                                                   "for another radio after a restart")):
+            w.pending.append(loser)
 
 
 def _layout_inputs_changed(old: State, st: State) -> bool:

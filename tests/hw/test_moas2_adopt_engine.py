@@ -72,6 +72,21 @@ def test_the_engine_takes_every_port_a_switch_holds_anew_in_one_operation() -> N
     assert not any("freed it" in line for line in changes.log)
 
 
+def test_a_radio_the_saved_state_has_on_an_antenna_the_box_holds_for_another_yields_it(
+) -> None:
+    # only port 2 is taken from the box (its vertical), while the saved state still has
+    # radio 1 on the vertical: radio 1 loses it and is selected again (the 80 m dipole
+    # radio 2 left, the nearest: nothing else covers 1830 kHz), so the engine never
+    # wants both stations on the vertical
+    engine = small_station(1830, 3700)
+    vertical = engine.slot_of(1, VERTICAL, 1, 2, as_partner_alt=False)
+    assert vertical is not None
+    engine.keep_switch_antennas(1, {2: (vertical, vertical)})
+    assert pairs(engine) == ((DIPOLE_80, DIPOLE_80), (VERTICAL, VERTICAL))
+    assert engine.switch_states()[1].stations[1].tx == vertical
+    assert engine.switch_states()[1].stations[0].tx != vertical
+
+
 @pytest.mark.asyncio
 async def test_a_restart_adopting_two_keyed_stations_leaves_the_box_holding_the_engines_state(
 ) -> None:

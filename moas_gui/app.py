@@ -29,7 +29,7 @@ import functools
 import logging
 import sqlite3
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 from moas_gui import state_store
@@ -461,12 +461,14 @@ class ServerApp:
         if run is not None and run.antenna_log is not None:
             run.antenna_log.contact(packet, station, radio)
 
-    def _switch_antennas(self, switch_id: int, port: int, slots: tuple[int, int, int],
-                         transmitting: bool) -> None:
-        """A switch holds other antennas for ``port`` than the saved state says: the box
-        wins, and the engine takes them (the link logged which and why)."""
+    def _switch_antennas(self, switch_id: int, held: Mapping[int, tuple[int, int, int]],
+                         transmitting: frozenset[int]) -> None:
+        """A switch holds other antennas for some ports (``held``: slots by port) than
+        the saved state says: the box wins, and the engine takes them all in one
+        operation (the link logged which and why)."""
         if self._run is not None:
-            self.act(KeepSwitchAntennas(switch_id, port, slots[0], slots[1]))
+            self.act(KeepSwitchAntennas(switch_id, tuple(
+                (port, slots[0], slots[1]) for port, slots in sorted(held.items()))))
 
     def end_operator(self, name: str) -> int:
         """Ends the client sessions of operator ``name`` (just removed); how many."""

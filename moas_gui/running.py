@@ -18,7 +18,7 @@ from __future__ import annotations
 import asyncio
 import functools
 import logging
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
@@ -194,7 +194,8 @@ def _wanted(run: Running, switch_id: int) -> SwitchState:
 def start_switches(run: Running, options: ServerOptions, saved: SavedState,
                    on_status: Callable[[int, LinkStatus], None],
                    on_tr: Callable[[int, int, bool], None],
-                   on_adopt: Callable[[int, int, tuple[int, int, int], bool], None],
+                   on_adopt: Callable[[int, Mapping[int, tuple[int, int, int]], frozenset[int]],
+                                      None],
                    on_seen: Callable[[int, int, tuple[int, int, int]], None] | None = None,
                    ) -> None:
     """A link per configured switch, told what the engine wants and connecting: each

@@ -29,6 +29,7 @@ from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, s
 from .ranges import nearest_range_relays
 from .relative import relative as relative_select
 from .relative import relative_list
+from .rules import unpermitted
 from .selection import recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
@@ -310,46 +311,62 @@ class Engine:
             raise BadRequest(f"heading must be a number of degrees (not {heading!r})")
         return self._run(lambda w: select_direction(w, rotator_id, float(heading)), now)
 
-    def keep_switch_antennas(self, switch_id: int, port: int, tx_slot: int, rx_slot: int,
+    def keep_switch_antennas(self, switch_id: int, held: Mapping[int, tuple[int, int]],
                              now: float | None = None) -> Changes:
-        """What switch ``switch_id`` holds for ``port`` wins over the saved state.
+        """What switch ``switch_id`` holds for its ports wins over the saved state.
 
-        A restart (or a reconnection) found the box holding other antennas for that port
+        A restart (or a reconnection) found the box holding other antennas for some ports
         than the state this engine was restored from: the state could not be saved, or
-        the box was driven from elsewhere.  The box is the truth, above all for a station
-        that transmits on it, so the radio on that port takes the antennas its slots
+        the box was driven from elsewhere.  ``held`` gives, per port, the transmit and
+        receive slots the box holds.  The box is the truth, above all for a station
+        that transmits on it, so the radio on each port takes the antennas its slots
         stand for, as they are; its next frequency is decided afresh by the rules.
-        Nothing changes when the port has no radio or a slot stands for no antenna of
-        that radio (the switch link then sends the engine's own choice, which the box
+
+        Every port is taken in the one operation, its slots read against the one slot
+        map the box was loaded with: taken one port at a time, appendix F's restart rule
+        would run between two ports and could give a radio an antenna the box holds for
+        a port not taken yet (the box would then refuse the engine's state).  A port
+        with no radio, or a slot that stands for no antenna of that radio, is left to
+        the engine (the switch link then sends the engine's own choice, which the box
         applies under its hot-switch rules)."""
         ix = self._ix
-        ref = ix.port_radio.get((switch_id, port))
-        if ref is None or switch_id not in self._maps:
+        if switch_id not in self._maps:
             return NO_CHANGES
         slot_key = self._maps[switch_id].slot_key
 
-        def antenna(slot: int) -> int | None | bool:
+        def antenna(ref: RadioRef, slot: int) -> tuple[bool, int | None]:
+            """Whether ``slot`` stands for an antenna of ``ref`` (or none), and which."""
             if slot == NO_ANTENNA:
-                return None
+                return True, None
             key = slot_key.get(slot)
             for a in ix.antennas:
                 if key is not None and self._classes.key(a, ref) == key:
-                    return a
-            return False
+                    return True, a
+            return False, None
 
-        tx, rx = antenna(tx_slot), antenna(rx_slot)
-        if tx is False or rx is False:
-            return NO_CHANGES
-        rs = self._state.radios[ref]
-        if (rs.tx, rs.rx) == (tx, rx):
+        taken: list[tuple[int, RadioRef, int | None, int | None]] = []
+        for port, (tx_slot, rx_slot) in sorted(held.items()):
+            ref = ix.port_radio.get((switch_id, port))
+            if ref is None:
+                continue
+            (tx_known, tx), (rx_known, rx) = antenna(ref, tx_slot), antenna(ref, rx_slot)
+            if not (tx_known and rx_known):
+                continue
+            rs = self._state.radios[ref]
+            if (rs.tx, rs.rx) != (tx, rx):
+                taken.append((port, ref, tx, rx))
+        if not taken:
             return NO_CHANGES
 
         def op(w: Work) -> None:
-            w.st.radios[ref] = w.st.radios[ref].with_(tx=tx, rx=rx, note="")
-            w.st.why[ref] = Why(SWITCH, f"switch {switch_id} held these antennas for port "
-                                        f"{port} after a restart (newer than the saved state)")
-            w.log.append(f"{radio_name(ref)}: kept the antennas switch {switch_id} holds "
-                         f"for port {port} (newer than the saved state)")
+            for port, ref, tx, rx in taken:
+                w.st.radios[ref] = w.st.radios[ref].with_(tx=tx, rx=rx, note="")
+                w.st.why[ref] = Why(SWITCH, f"switch {switch_id} held these antennas for "
+                                            f"port {port} after a restart (newer than the "
+                                            "saved state)")
+                w.log.append(f"{radio_name(ref)}: kept the antennas switch {switch_id} "
+                             f"holds for port {port} (newer than the saved state)")
+            _yield_to_the_box(w, {ref for _, ref, _, _ in taken}, switch_id)
         return self._run(op, now, need_running=False)
 
     def stop(self) -> Changes:
@@ -537,6 +554,20 @@ class Engine:
                          st.held.get(ref))
         old = self._views.get(ref)
         return old if old == view else view
+
+
+def _yield_to_the_box(w: Work, taken: set[RadioRef], switch_id: int) -> None:
+    """A radio the saved state has on an antenna that conflicts with one a radio took
+    from the box loses it and is selected again: the box holds the taken one, and the
+    engine never wants two radios on conflicting antennas (the box would refuse it)."""
+    for a, b, _x, _y in unpermitted(w.ix, w.st):
+        if (a in taken) == (b in taken):
+            continue  # both from the box (it let them be), or neither
+        loser = b if a in taken else a
+        if w.set_pair(loser, None, None, f"switch {switch_id} holds its antenna for "
+                      "another radio", Why(SWITCH, f"switch {switch_id} held its antenna "
+                                                   "for another radio after a restart")):
+            w.pending.append(loser)
 
 
 def _layout_inputs_changed(old: State, st: State) -> bool:

@@ -87,13 +87,12 @@ class SelectDirection:
 
 @dataclass(frozen=True, slots=True)
 class KeepSwitchAntennas:
-    """A switch found holding other antennas for a port than the saved state says: the
-    radio on that port takes the box's antennas (switch slots)."""
+    """A switch found holding other antennas for some ports than the saved state says:
+    the radio on each of those ports takes the box's antennas, all in one operation.
+    ``held`` is ``(port, transmit slot, receive slot)`` for each such port."""
 
     switch_id: int
-    port: int
-    tx_slot: int
-    rx_slot: int
+    held: tuple[tuple[int, int, int], ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -132,8 +131,9 @@ def perform(engine: Engine, op: Operation, now: float) -> Changes:
             return engine.set_transmitting(switch_id, port, transmitting, now=now)
         case SelectDirection(rotator_id, heading):
             return engine.select_direction(rotator_id, heading, now=now)
-        case KeepSwitchAntennas(switch_id, port, tx_slot, rx_slot):
-            return engine.keep_switch_antennas(switch_id, port, tx_slot, rx_slot, now=now)
+        case KeepSwitchAntennas(switch_id, held):
+            return engine.keep_switch_antennas(
+                switch_id, {port: (tx, rx) for port, tx, rx in held}, now=now)
         case StopSwitches():
             return engine.stop()
         case StartSwitches():

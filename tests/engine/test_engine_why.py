@@ -198,7 +198,7 @@ def switch() -> Why:
     e.set_frequency(1, 1, 14025)
     slot = e.slot_of(1, 3, 1, 1, as_partner_alt=False)
     assert slot is not None
-    e.keep_switch_antennas(1, 1, slot, slot)
+    e.keep_switch_antennas(1, {1: (slot, slot)})
     assert pair(e, 1, 1) == (3, 3)
     return why(e, 1, 1)
 

@@ -17,10 +17,12 @@ import contextlib
 from pathlib import Path
 
 import pytest
-from fault_harness import FAULT_MARKS, SWITCH_TIMING
+from fault_harness import FAULT_MARKS, SWITCH_TIMING, reference_relays
 from helpers import until
 from keyed_resync import STALL_S, STEPS, ModelRun, Rig, violations
 
+from moas_gui.config import load_config
+from moas_gui.engine import Engine
 from moas_gui.hw.moas2.emulator.stepped import SteppedBox
 
 pytestmark = [mark for mark in FAULT_MARKS if mark.name != "asyncio"]
@@ -147,6 +149,49 @@ async def test_noisy_line_under_a_keyed_station_with_nothing_held(tmp_path: Path
         assert rig.box.station_relays(1) == HOLD_21
         await rig.box.key(1, False)
         await rig.holds_what_the_engine_says()
+        keyed_rule_kept(await rig.check(), rig)
+
+
+@pytest.mark.asyncio
+async def test_restart_finding_both_stations_keyed_on_antennas_newer_than_the_saved_state(
+        tmp_path: Path) -> None:
+    """A ``kill -9`` before the state was saved (the model walk's seed 7): the saved state
+    has radio 1 on the vertical (1.83 MHz) and radio 2 on the 80 m dipole; the box
+    holds the tribander for radio 1 and the vertical for radio 2, both keyed.  The new
+    server adopts both stations together, so the box ends up holding its state."""
+    async with Rig.up(tmp_path) as rig:
+        assert rig.box is not None
+        rig.band(1, 1830.0)
+        await rig.saved(1, 1830.0)
+        rig.band(2, 3700.0)
+        await rig.saved(2, 3700.0)
+        await rig.holds_what_the_engine_says()
+        rig.block_state(True)  # nothing newer reaches the state file
+        engine = Engine(load_config(rig.station.config).unwrap())  # what the server does
+        engine.set_frequency(1, 1, 1830.0)
+        engine.set_frequency(1, 2, 3700.0)
+        for radio, khz in ((1, 14200.0), (2, 1830.0)):  # the tribander, then the vertical
+            rig.band(radio, khz)
+            engine.set_frequency(1, radio, khz)
+            newer = reference_relays(engine.switch_states()[1])
+            await until(lambda newer=newer: rig.box is not None and rig.box.relays == newer,
+                        what=f"the box holding radio {radio} on {khz} kHz")
+        assert (engine.radio_view(1, 1).tx, engine.radio_view(1, 2).tx) == (0, 3)
+        assert rig.box.station_relays(1) == HOLD_14
+        assert rig.saved_khz(1) == 1830.0 and rig.saved_khz(2) == 3700.0
+        await rig.box.key(1, True)
+        await rig.box.key(2, True)
+        rig.state_blocked = False  # the new server may write it (the killed one never did)
+        await rig.restart()  # kill -9, and started again on the older state
+        await rig.switch_ok()
+        await asyncio.sleep(SOME_PINGS)
+        keyed_rule_kept(await rig.check(), rig)
+        assert rig.box.station_relays(1) == HOLD_14
+        await rig.box.key(1, False)
+        await rig.box.key(2, False)
+        await rig.holds_what_the_engine_says()
+        keyed_rule_kept(await rig.check(), rig)
+        await rig.settle()
         keyed_rule_kept(await rig.check(), rig)
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Mapping
 from dataclasses import replace
 from pathlib import Path
 
@@ -468,11 +468,11 @@ async def test_after_adopting_the_link_reconciles_to_the_engines_state_it_asks_f
     model.feed(initialise(STATE_B).encode(), 0.0)
     model.set_tr(1, True, 0.0)
     box = EmulatedBox(model)
-    adopted: list[tuple[int, tuple[int, int, int], bool]] = []
+    adopted: list[tuple[dict[int, tuple[int, int, int]], frozenset[int]]] = []
     engine = {"state": STATE_A}
 
-    def adopt(station: int, slots: tuple[int, int, int], transmitting: bool) -> None:
-        adopted.append((station, slots, transmitting))
+    def adopt(held: Mapping[int, tuple[int, int, int]], transmitting: frozenset[int]) -> None:
+        adopted.append((dict(held), transmitting))
         engine["state"] = STATE_B  # what the engine decides; it does not call apply
 
     link = SwitchLink(1, "emulator", timing=FAST, transport=EmulatorTransport(box),
@@ -482,7 +482,7 @@ async def test_after_adopting_the_link_reconciles_to_the_engines_state_it_asks_f
     link.connect()
     try:
         await until(lambda: link.ready, what="the link ready")
-        assert adopted == [(1, (3, 3, 63), True)]
+        assert adopted == [({1: (3, 3, 63)}, frozenset({1}))]
         assert link.sent == STATE_B and link.session.desired == STATE_B
         assert not model.stations[1].pending  # nothing waits for station 1's receive
         box.set_tr(1, False)

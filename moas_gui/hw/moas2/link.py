@@ -16,8 +16,9 @@ The link does the I/O around it:
   next session checks what the box holds before anything is written.
 * The session's actions are carried out in order: bytes written, lines logged
   (the session decides what to say and how loud; the link writes it), the status,
-  T/R and error callbacks, ``on_adopt`` (the engine takes what the box holds for a
-  station) and, after the adoptions, the session's ``reconcile`` with the engine's
+  T/R and error callbacks, ``on_adopt`` (the engine takes what the box holds for the
+  stations a survey adopts, all of them in one call: the slots by station and the
+  stations transmitting) and, after it, the session's ``reconcile`` with the engine's
   wanted state then (``wanted``, asked of the engine; without one, the last state
   the link was given).
 * ``apply(state)`` hands the engine's wanted state over and writes what the
@@ -33,7 +34,7 @@ import contextlib
 import logging
 import math
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -102,7 +103,7 @@ class SwitchLink:
         on_status: Callable[[LinkStatus], None] | None = None,
         on_tr: Callable[[int, bool], None] | None = None,
         on_error: Callable[[str], None] | None = None,
-        on_adopt: Callable[[int, Slots, bool], None] | None = None,
+        on_adopt: Callable[[Mapping[int, Slots], frozenset[int]], None] | None = None,
         on_seen: Callable[[int, Slots], None] | None = None,
         wanted: Callable[[], SwitchState] | None = None,
         indicate_tr: bool = True,
@@ -361,6 +362,8 @@ class SwitchLink:
 
     def _do(self, actions: list[Action]) -> None:
         """Carry out the session's actions, in order."""
+        adopted: dict[int, Slots] = {}
+        on_air: set[int] = set()
         for action in actions:
             if isinstance(action, Write):
                 self._write(action.data)
@@ -378,11 +381,15 @@ class SwitchLink:
                 self.errors.append(action.text)
                 if self._on_error is not None:
                     self._call(self._on_error, action.text)
-            elif isinstance(action, Adopt):
-                if self._on_adopt is not None:
-                    self._call(self._on_adopt, action.station, action.slots,
-                               action.transmitting)
+            elif isinstance(action, Adopt):  # gathered: the engine takes them together
+                adopted[action.station] = action.slots
+                if action.transmitting:
+                    on_air.add(action.station)
             elif isinstance(action, Reconcile):  # after the adoptions before it
+                if adopted and self._on_adopt is not None:
+                    self._call(self._on_adopt, dict(adopted), frozenset(on_air))
+                adopted.clear()
+                on_air.clear()
                 self._reconcile()
             else:
                 self._settle(action)

@@ -152,7 +152,23 @@ def _save_dialog(parent: QWidget) -> ChooseFile:
     return choose
 
 
-class ReportWindow(QWidget):
+class _JournalWindow(QWidget):
+    """What both windows on a journal have: its reader, the clock, a save dialog, a
+    notice line (no journal, an empty one, one that cannot be read) and a period."""
+
+    def __init__(self, title: str, reader: JournalReader | None, now: Callable[[], float],
+                 parent: QWidget | None) -> None:
+        super().__init__(parent)
+        self.setWindowTitle(title)
+        self.reader = reader
+        self._now = now
+        self.choose_file: ChooseFile = _save_dialog(self)
+        self.notice = QLabel()
+        self.notice.setWordWrap(True)
+        self.chooser = PeriodChooser()
+
+
+class ReportWindow(_JournalWindow):
     """The contest report of one journal (see the module docstring)."""
 
     def __init__(
@@ -162,15 +178,8 @@ class ReportWindow(QWidget):
         now: Callable[[], float] = time.time,
         parent: QWidget | None = None,
     ) -> None:
-        super().__init__(parent)
-        self.setWindowTitle("Contest report")
-        self.reader = reader
-        self._now = now
+        super().__init__("Contest report", reader, now, parent)
         self.report: ContestReport | None = None
-        self.choose_file: ChooseFile = _save_dialog(self)
-        self.notice = QLabel()
-        self.notice.setWordWrap(True)
-        self.chooser = PeriodChooser()
         self.summary = QLabel()
         self.tabs = QTabWidget()
         self.canvases: dict[str, FigureCanvasQTAgg] = {}
@@ -293,7 +302,7 @@ class ReportWindow(QWidget):
             log.info("Contest report saved to %s", path)
 
 
-class AdifExportWindow(QWidget):
+class AdifExportWindow(_JournalWindow):
     """File > Export antenna log: the contacts of a chosen period as an ADIF file."""
 
     def __init__(
@@ -303,14 +312,7 @@ class AdifExportWindow(QWidget):
         now: Callable[[], float] = time.time,
         parent: QWidget | None = None,
     ) -> None:
-        super().__init__(parent)
-        self.setWindowTitle("Export antenna log")
-        self.reader = reader
-        self._now = now
-        self.choose_file: ChooseFile = _save_dialog(self)
-        self.notice = QLabel()
-        self.notice.setWordWrap(True)
-        self.chooser = PeriodChooser()
+        super().__init__("Export antenna log", reader, now, parent)
         self.callsign = QLineEdit()
         self.callsign.setPlaceholderText("optional: written as STATION_CALLSIGN")
         self.save = QPushButton("&Save ADIF...")

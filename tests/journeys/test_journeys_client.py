@@ -123,7 +123,11 @@ def test_both_clients_tell_the_truth_through_stop_start_loss_and_return(
                 await page.until(f"return document.querySelector('.radio[data-radio=\"1\"] "
                                  f".rotator').value === '{rotator}'",
                                  f"the web chooser on rotator {rotator}")
-                assert await page.selected() == [str(antenna)]
+                # the buttons come with the layout event, which may follow the radio's
+                await page.until(f"return [...document.querySelectorAll('.radio[data-radio="
+                                 f"\"1\"] .grid button[data-state=\"selected\"]')]"
+                                 f".map(b => b.dataset.id).join() === '{antenna}'",
+                                 f"antenna {antenna} selected on the page")
             assert "\u25b8NW" in await page.js("return document.querySelector("
                                                "'.radio[data-radio=\"1\"] .rel-list').textContent")
 

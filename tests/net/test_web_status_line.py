@@ -6,12 +6,14 @@ to a phone's tap in view."""
 
 from __future__ import annotations
 
+import asyncio
 import sys
+from pathlib import Path
 from typing import Any
 
 import pytest
 from test_web_browser import js, page_until, run, tap
-from web_station import FakeWeb, browser_missing, viewport
+from web_station import FakeWeb, Protocol, Station, browser_missing, viewport
 
 MISSING = browser_missing()
 pytestmark = [
@@ -154,6 +156,44 @@ async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_i
                                  ".textContent") == ""
     finally:
         await page.close(browser)
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_prev_and_next_without_a_relative_list_say_why_and_send_nothing(
+        browser: Any, tmp_path: Path) -> None:
+    station = Station(tmp_path)  # the real headless server: its entries carry `relative`
+    await station.start_server()
+    tcp = await Protocol.connect(station.tcp)
+    try:
+        await tcp.call("frequency", station=1, radio=1, khz=18100.0)  # 17 m: no list there
+        await run(browser.get, station.url + "?station=1&radio=1")
+        await page_until(browser, f"return document.querySelector('{PANEL} .next') && "
+                                  f"document.querySelector('{PANEL} .next')"
+                                  ".getAttribute('aria-disabled') === 'true'",
+                         what="Next shown unavailable")
+        await tap(browser, f"{PANEL} .next")
+        text = await shows(browser, "no relative antenna list", "the tap answered")
+        assert text == "\u2139 Relative: there is no relative antenna list at 18100.0 kHz"
+        await tcp.call("frequency", station=1, radio=1, khz=14025.0)  # 20 m has one
+        await page_until(browser, f"return document.querySelector('{PANEL} .next')"
+                                  ".getAttribute('aria-disabled') === 'false'",
+                         what="Next usable again")
+        before = (await tcp.call("state"))["radios"][0]["tx"]
+        await tap(browser, f"{PANEL} .next")
+
+        async def moved() -> bool:
+            return (await tcp.call("state"))["radios"][0]["tx"] != before
+        for _ in range(100):
+            if await moved():
+                break
+            await asyncio.sleep(0.05)
+        else:
+            raise AssertionError("Next did not step to the next antenna")
+    finally:
+        await tcp.close()
+        await run(browser.get, "about:blank")
+        await station.close()
 
 
 @pytest.mark.asyncio

@@ -332,8 +332,16 @@
       const why = $(".why", el);
       why.hidden = !why.hidden || !why.textContent;
     });
-    $(".prev", el).addEventListener("click", () => send(p, { cmd: "relative", step: -1 }, "Relative"));
-    $(".next", el).addEventListener("click", () => send(p, { cmd: "relative", step: 1 }, "Relative"));
+    const step = (by) => {  // no relative list here: answered on the page, nothing sent
+      const r = radioView(p);
+      if (showsSelection() && r && noRelative(r)) {
+        say(p, `Relative: there is no relative antenna list at ${khzText(r.khz)}`, "info");
+        return;
+      }
+      send(p, { cmd: "relative", step: by }, "Relative");
+    };
+    $(".prev", el).addEventListener("click", () => step(-1));
+    $(".next", el).addEventListener("click", () => step(1));
     $(".rotator", el).addEventListener("change", (e) => { p.rotator = num(e.target.value); p.picked = true; showCompass(p); });
     $(".stop", el).addEventListener("click", () => {
       if (!connected) { say(p, "Stop: " + REFUSALS.reconnecting, "warning"); return; }
@@ -367,6 +375,9 @@
   function radioView(p) {
     return snapshot ? snapshot.radios.find(r => r.station === choice.station && r.radio === p.radio) || null : null;
   }
+  // the server said the radio has no relative list here (an entry without the field
+  // says nothing: the step is sent and the server answers)
+  function noRelative(r) { return "relative" in r && !(r.relative && r.relative.length); }
   function khzText(khz) { return khz == null ? "no frequency" : `${khz.toFixed(1)} kHz`; }
 
   function whyText(r) {
@@ -406,7 +417,12 @@
     if (!why.textContent) why.hidden = true;
     const rel = (r.relative || []).map(id => (id === r.tx ? "\u25b8" : "") + (antenna(id) ? antenna(id).short || antennaName(id) : id));
     $(".rel-list", el).textContent = rel.join("  ");
-    $(".prev", el).disabled = $(".next", el).disabled = !(r.relative && r.relative.length);
+    // without a relative list the steps look unavailable but answer a tap with why
+    const none = noRelative(r);
+    for (const b of [$(".prev", el), $(".next", el)]) {
+      b.setAttribute("aria-disabled", String(none));
+      b.title = none ? `no relative antenna list at ${khzText(r.khz)}` : "";
+    }
   }
 
   // -- buttons -----------------------------------------------------------------------------------

@@ -19,7 +19,7 @@ from moas_gui.config.model import Config, RadioRef
 
 from .changes import NO_CHANGES, Changes
 from .derive import alternates, inhibit_reason
-from .errors import BadRequest, NotFound, NotRunning
+from .errors import BadRequest, EngineError, NotFound, NotRunning
 from .functions import extra_relays, function, is_on, refresh_relays, run, status
 from .guards import interlock_guard, same_band_guard
 from .index import ConfigIndex, RadioKind
@@ -427,8 +427,10 @@ class Engine:
         w = Work(self._ix, self._state.clone())
         try:
             op(w)
-        except Exception as exc:  # noqa: BLE001 - any refusal means "unavailable"
-            return str(exc) or type(exc).__name__
+        except EngineError as exc:  # the rules' refusal, in words for the operator
+            return str(exc) or f"{type(exc).__name__} (the engine gave no reason)"
+        except Exception as exc:  # noqa: BLE001 - a fault must not take the layout down
+            return f"the server could not tell: {type(exc).__name__} ({exc})"
         return ""
 
     def _run(self, op: Callable[[Work], None], now: float | None,

@@ -72,6 +72,8 @@ class AntennaRecorder:
         self._main_of = {(r.station, r.sub_receiver): (r.station, r.radio)
                          for r in config.radios if r.sub_receiver is not None}
         """Each sub receiver's main radio: its antenna is the main radio's ``sub`` role."""
+        self._radios = frozenset((r.station, r.radio) for r in config.radios)
+        """The configuration's radios (a contact of any other maps to none)."""
 
     def name(self, antenna: int) -> str:
         return self._names.get(antenna, f"Antenna {antenna}")
@@ -149,10 +151,8 @@ class AntennaRecorder:
 
     def contact(self, packet: ContactPacket, station: int | None, radio: int | None) -> None:
         """A logger's contact; a radio this configuration does not have maps to none."""
-        if station is not None and radio is not None:
-            known = {(v.station, v.radio) for v in self._engine.radios()}
-            if (station, radio) not in known:
-                station = radio = None
+        if (station, radio) not in self._radios:
+            station = radio = None
         self.journal.contact(packet, station, radio, at=self._clock())
 
     def stopping(self) -> None:

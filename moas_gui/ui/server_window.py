@@ -137,7 +137,7 @@ class ServerWindow(QMainWindow):
         self.action_save_data = file_menu.addAction("&Save Switch Data...", self.save_switch_data)
         self.action_export_log = file_menu.addAction("Export Antenna &Log...",
                                                      self.export_antenna_log)
-        self.action_antenna_log = file_menu.addAction("Keep an &Antenna Log")
+        self.action_antenna_log = file_menu.addAction("&Keep an Antenna Log")
         """On: the antenna journal is written (docs/antenna-log.md); off for SD-card wear
         or privacy, as ``--no-antenna-log`` starts it."""
         self.action_antenna_log.setCheckable(True)
@@ -168,7 +168,7 @@ class ServerWindow(QMainWindow):
         self.action_client = view.addAction("&Client", self.open_client)
         self.action_plan = view.addAction("Station &Plan", self.open_plan)
         self.action_report = view.addAction("Contest &Report...", self.open_report)
-        self.action_pair = view.addAction("Pair a &Device...", self.pair_device)
+        self.action_pair = view.addAction("P&air a Device...", self.pair_device)
         self.emulator_menu = view.addMenu("E&mulator")
 
         help_menu = bar.addMenu("&Help")

@@ -6,7 +6,9 @@
 # --rotator-port ID=LINK: the example itself is opened, unchanged, so Recent Files
 # and every message name it and its saved state comes back at the next run.  The
 # server listens on this computer only
-# (127.0.0.1) unless --bind or --udp-bind is given.  When no display can be opened
+# (127.0.0.1) unless --bind or --udp-bind is given.  The browser page is served too
+# (on port 8080 unless the options or the file name one), and the page's address and
+# the desktop client's command are printed before the server starts.  When no display can be opened
 # (a server over ssh, or a DISPLAY that does not answer), it runs the same server
 # headless instead.
 set -euo pipefail
@@ -30,9 +32,14 @@ done <"$private/rotator-ports"
 bind=()
 case " $* " in *" --bind"*) ;; *) bind+=(--bind 127.0.0.1) ;; esac
 case " $* " in *" --udp-bind"*) ;; *) bind+=(--udp-bind 127.0.0.1) ;; esac
+web=()
+while read -r line; do
+    [ -n "$line" ] && web+=("$line")
+done < <(.venv/bin/python scripts/example_addresses.py "$opened" "${bind[@]}" "$@")
 if problem=$(.venv/bin/python -m moas_gui.ui.display); then
-    .venv/bin/moas-server "$opened" "${bind[@]}" ${moved[@]+"${moved[@]}"} "$@"
+    .venv/bin/moas-server "$opened" "${bind[@]}" ${web[@]+"${web[@]}"} ${moved[@]+"${moved[@]}"} "$@"
 else
     echo "run-example: $problem; running the server headless (Ctrl+C stops it)" >&2
-    .venv/bin/moas-server --headless "$opened" "${bind[@]}" ${moved[@]+"${moved[@]}"} "$@"
+    .venv/bin/moas-server --headless "$opened" "${bind[@]}" ${web[@]+"${web[@]}"} \
+        ${moved[@]+"${moved[@]}"} "$@"
 fi

@@ -36,6 +36,10 @@ py="${PYTHON:-python3}"
 extra=""
 [ "$want_test" = 1 ] && extra="[test]"
 stamp=".venv/.installed$extra"
+# what the test set-up installed includes the plain one
+if [ -z "$extra" ] && [ ! -f "$stamp" ] && [ -f ".venv/.installed[test]" ]; then
+    stamp=".venv/.installed[test]"
+fi
 if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
     .venv/bin/python -m pip install -q --disable-pip-version-check -e ".$extra"
     touch "$stamp"

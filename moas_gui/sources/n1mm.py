@@ -25,7 +25,9 @@ docs/sources.md).  The listener
 - hands the optional ``on_contact(packet, station, radio)`` each contact packet
   (``contactinfo``, ``contactreplace``, ``contactdelete``: :mod:`.n1mm_contact`) with
   the station and radio the same mapping gives (``None, None`` when its sender maps
-  to no station): the antenna log joins them to its journal;
+  to no station); a contact whose StationName matches no entry takes the station its
+  sender's RadioInfo last mapped to (not1mm names its host in a contact but its
+  configured station name in RadioInfo): the antenna log joins them to its journal;
 - ignores packets from senders it cannot map (a debug line, at most one per
   sender a minute) and counts every packet it refuses, by reason
   (:data:`~moas_gui.sources.n1mm_packet.REASONS`), in :meth:`N1MMListener.stats`.
@@ -46,6 +48,7 @@ import ipaddress
 import logging
 import socket
 import time
+from collections import OrderedDict
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Final
@@ -75,6 +78,8 @@ log = logging.getLogger(__name__)
 DEFAULT_PORT: Final = 12060
 LOG_INTERVAL: Final = 60.0
 """Seconds between two debug lines about the same sender and reason."""
+SENDERS_KEPT: Final = 256
+"""Senders whose RadioInfo's station is remembered for their contacts."""
 
 FrequencyCallback = Callable[[int, int, float, float], object]
 """``on_frequency(station, radio, khz, tx_khz)``."""
@@ -223,6 +228,9 @@ class N1MMListener(DatagramSource):
         self._received = self._accepted = self._delivered = self._superseded = 0
         self._no_frequency = self._unknown = self._callback_errors = 0
         self._refused = dict.fromkeys(REASONS, 0)
+        self._senders: OrderedDict[str, int] = OrderedDict()
+        """The station each sender's RadioInfo last mapped to (the last SENDERS_KEPT
+        senders): a contact whose StationName matches no entry takes its sender's."""
 
     @classmethod
     def from_config(
@@ -291,6 +299,8 @@ class N1MMListener(DatagramSource):
                           held_text(held))
             return True
         station = self._station_of(key, None, packet.station_name)
+        if station is None:  # not1mm: the host name here, its configured name in RadioInfo
+            station = self._senders.get(key)
         self._contacts += 1
         if self._on_contact is not None:
             self._call(self._on_contact, packet, station,
@@ -312,6 +322,7 @@ class N1MMListener(DatagramSource):
 
     def _accept(self, station: int, address: str, info: RadioInfo) -> RadioUpdate:
         radio_key = (station, info.radio_nr)
+        self._remember_sender(_address_key(address), station)
         self._heard[radio_key] = self._clock()
         origin = self._origin(info, address)
         self._focus_events(station, origin, info)
@@ -336,6 +347,16 @@ class N1MMListener(DatagramSource):
         if self._on_update is not None:
             self._call(self._on_update, update)
         return update
+
+    def _remember_sender(self, key: str, station: int) -> None:
+        senders = self._senders
+        if senders.get(key) == station:
+            senders.move_to_end(key)
+            return
+        senders[key] = station
+        senders.move_to_end(key)
+        while len(senders) > SENDERS_KEPT:
+            senders.popitem(last=False)
 
     def _focus_events(self, station: int, origin: str, info: RadioInfo) -> None:
         for name, value, event_type in (

@@ -9,6 +9,7 @@ time of the replay (the journal knows the station only from the server's start o
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import html
 import os
 import re
@@ -69,6 +70,26 @@ class Server:
 async def server(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> AsyncIterator[Server]:
     config = tmp_path / "station.moas"
     shutil.copy(EXAMPLES / "small-station.moas", config)
+    async with serving(config, tmp_path, monkeypatch) as running:
+        yield running
+
+
+@pytest_asyncio.fixture
+async def named_server(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> AsyncIterator[Server]:
+    """small-station with its logger mapped by StationName, as docs/n1mm.md suggests."""
+    config = tmp_path / "station.moas"
+    text = (EXAMPLES / "small-station.moas").read_text(encoding="utf-8")
+    listed = '"N1MMLogger": [{"Address": "127.0.0.1", "Station": 1}]'
+    assert listed in text
+    config.write_text(text.replace(listed, '"N1MMLogger": [{"StationName": "RUN", "Station": 1}]'),
+                      encoding="utf-8")
+    async with serving(config, tmp_path, monkeypatch) as running:
+        yield running
+
+
+@contextlib.asynccontextmanager
+async def serving(config: Path, tmp_path: Path,
+                  monkeypatch: pytest.MonkeyPatch) -> AsyncIterator[Server]:
     monkeypatch.setenv("XDG_DATA_HOME", str(tmp_path / "data"))  # the reader's, the server's
     env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_STATE_HOME=str(tmp_path / "state"),
                XDG_CONFIG_HOME=str(tmp_path / "config"))
@@ -168,5 +189,28 @@ async def test_not1mm_and_n1mm_contacts_are_joined_to_the_journal(server: Server
         page = await server.report()
         assert "<svg" in page and html.escape(radio1) in page, page[:2000]
         assert "2 QSOs" in page, page[:2000]
+    finally:
+        reader.close()
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_not1mm_contacts_named_for_their_host_find_the_station_of_their_radio_info(
+        named_server: Server) -> None:
+    """not1mm's real shapes: RadioInfo with its configured station name (RUN, in the
+    file), contacts with its computer's host name (NOT1MM-PC, in no entry): both QSOs
+    get the antennas of the station the sender's RadioInfo maps to."""
+    server = named_server
+    server.send(radio_info_packet(1, 14025.12, station_name="RUN", app="NOT1MM"))
+    await until(lambda: journal_path(server.config).is_file(), timeout=20)
+    reader = open_reader(server.config)
+    try:
+        radio1 = await landed(reader, 1, 1)
+        now = time.time()
+        server.send(fixture("not1mm-1-", now), fixture("not1mm-2-", now))
+        await until(lambda: sorted(c.call for c in reader.contacts(EVER))
+                    == ["DL1ABC", "JA1XYZ"], timeout=20, what="both QSOs in the journal")
+        for qso in reader.contacts(EVER):
+            assert (qso.station, qso.radio, qso.tx_antenna) == (1, 1, radio1), qso
     finally:
         reader.close()

@@ -16,7 +16,7 @@ from moas_gui.sources.n1mm_contact import (
     parse_contact,
     parse_timestamp,
 )
-from moas_gui.sources.n1mm_packet import MAX_PACKET_BYTES, N1MMPacketError
+from moas_gui.sources.n1mm_packet import MAX_PACKET_BYTES, N1MMPacketError, radio_info_packet
 
 FIXTURES = Path(__file__).resolve().parent / "fixtures"
 
@@ -124,3 +124,25 @@ def test_without_a_contact_callback_contacts_are_not_ours() -> None:
     listener.handle(fixture("not1mm-1-"), "10.0.0.5")
     assert listener.stats().contacts == 0
     assert listener.stats().refused == {"not_radio_info": 1}
+
+
+def test_a_contact_named_for_its_host_takes_the_station_its_senders_radio_info_maps_to() -> None:
+    """not1mm: RadioInfo carries its configured station name (mapped by the file), a
+    contact its computer's host name (NOT1MM-PC in the captures, matching no entry)."""
+    got: list[tuple[str, int | None, int | None]] = []
+    listener = N1MMListener({}, names={"RUN": 1, "MULT": 2},
+                            on_contact=lambda p, s, r: got.append((p.call, s, r)))
+    listener.handle(fixture("not1mm-1-"), "10.0.0.5")  # before any RadioInfo: unknown
+    listener.handle(radio_info_packet(1, 14025.0, station_name="RUN", app="NOT1MM"), "10.0.0.5")
+    listener.handle(radio_info_packet(1, 7025.0, station_name="MULT", app="NOT1MM"), "10.0.0.6")
+    listener.handle(fixture("not1mm-2-"), "10.0.0.5")  # the run computer's QSO
+    listener.handle(fixture("not1mm-3-"), "10.0.0.6")  # the mult computer's
+    listener.handle(fixture("not1mm-4-"), "10.0.0.7")  # a computer that never said its name
+    assert got == [("DL1ABC", None, None), ("JA1XYZ", 1, 1), ("PY2AA", 2, 1),
+                   ("JA1XYW", None, None)]
+    # a contact's own StationName, where the file names it, still decides
+    named = N1MMListener({}, names={"NOT1MM-PC": 2, "RUN": 1},
+                         on_contact=lambda p, s, r: got.append((p.call, s, r)))
+    named.handle(radio_info_packet(1, 14025.0, station_name="RUN"), "10.0.0.5")
+    named.handle(fixture("not1mm-2-"), "10.0.0.5")
+    assert got[-1] == ("JA1XYZ", 2, 1)

@@ -97,6 +97,25 @@ async def test_the_probe_warns_of_a_keyed_station(box: Box) -> None:
 
 
 @pytest.mark.asyncio
+async def test_the_probe_of_a_box_not_yet_loaded_says_it_cannot_know_who_is_keyed(
+        box: Box) -> None:
+    """First contact is with an inactive box, whose status the emulator (like the
+    programming guide) gives no key state for: the report asks to unkey first."""
+    box.box.set_tr(1, True)
+    text = (await probe(box.path)).text()
+    assert "the box is inactive" in text
+    assert "CANNOT KNOW whether a station is keyed" in text
+    assert "Unkey every radio" in text
+    # an active box reports its key lines: the warning is the plain one, no doubt said
+    box.box.set_tr(1, False)
+    await load(box)
+    box.box.set_tr(2, True)
+    text = (await probe(box.path)).text()
+    assert "WARNING: station 2 transmits now." in text
+    assert "CANNOT KNOW" not in text
+
+
+@pytest.mark.asyncio
 async def test_a_port_a_running_link_holds_is_refused_saying_so(box: Box) -> None:
     link = SwitchLink(1, box.path, timing=FAST)
     link.apply(LOADED)

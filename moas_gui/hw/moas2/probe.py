@@ -61,6 +61,15 @@ ANSWER_TIMEOUT = 1.0
 TRIES = 2
 """How many times each question is asked before it counts as unanswered."""
 
+UNKNOWN_KEYS = (
+    "CANNOT KNOW whether a station is keyed: the box is not active (or did not say",
+    "whether it is), and the MOAS II programming guide does not say that an inactive",
+    "box reports its key (T/R) lines, so a station shown receiving may be transmitting.",
+    "Unkey every radio (amplifiers to standby) before a server loads this box: loading",
+    "activates it, and a keyed station then stays on the air where it stands.",
+)
+"""Said under the stations of a box that is not known to be active."""
+
 _TR_WORDS = {TRState.TRANSMIT: "TRANSMITTING", TRState.RECEIVE: "receiving",
              TRState.INHIBITED: "inhibited by command"}
 
@@ -142,6 +151,9 @@ class ProbeReport:
                        f"RX {_slot(rx):>4}  alternate RX {_slot(alt):>4}")
         if keyed:
             out.append("  WARNING: station " + ", ".join(map(str, keyed)) + " transmits now.")
+        pong = self.answers.get(Pong)
+        if not (isinstance(pong, Pong) and pong.active):
+            out += [f"  {line}" for line in UNKNOWN_KEYS]
         return out
 
 

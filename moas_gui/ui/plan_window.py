@@ -11,9 +11,12 @@ from moas_gui.plan import FINDING_KINDS, Outcome, PairNote, Plan, RadioRef
 
 from .qt import (
     QComboBox,
+    QEvent,
     QHBoxLayout,
     QLabel,
+    QObject,
     QResizeEvent,
+    Qt,
     QTableWidget,
     QTableWidgetItem,
     QVBoxLayout,
@@ -23,8 +26,12 @@ from .screen_fit import fit_to_screen
 
 COLUMNS = ("Scenario", "Band", "kHz", "Radio", "TX", "RX", "Why", "Transmit")
 FINDING_COLUMNS = ("Line", "Finding", "What to look at")
-WIDEST = (190, 70, 55, 115, 130, 130, 330, 200)
-"""The widest each column opens (the whole text is in each cell's tooltip)."""
+FITTED = (1, 2, 3)
+"""Columns as wide as their texts (band, kHz, radio: short)."""
+SHARES = {0: 1.3, 4: 1.2, 5: 1.2, 6: 2.4, 7: 0.9}
+"""How the rest of the table's width is shared; their texts wrap, never cut, so the
+whole table fits the window's width (no column off-screen at 1024x600)."""
+NARROWEST = 70
 SIZE = (1000, 540)
 """The size the window asks for: within a 1024x600 screen, less its frame and a panel."""
 
@@ -72,11 +79,12 @@ class PlanWindow(QWidget):
         for a, b, _meet, scenarios in plan.pairs:
             for note in plan.pair_notes(a, b, scenarios):
                 self._add_note(a, b, note)
-        self.table.setWordWrap(False)
-        self.table.verticalHeader().setDefaultSectionSize(self.fontMetrics().height() + 8)
+        self.table.setWordWrap(True)
+        self.table.setTextElideMode(Qt.TextElideMode.ElideNone)
+        self.table.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.table.horizontalHeader().setStretchLastSection(False)
         self.table.resizeColumnsToContents()
-        for column, widest in enumerate(WIDEST):  # long texts: cut, whole in the tooltip
-            self.table.setColumnWidth(column, min(self.table.columnWidth(column), widest))
+        self.table.viewport().installEventFilter(self)
         layout.addWidget(self.table, 3)
 
         layout.addWidget(QLabel(f"Findings ({len(plan.findings)})", self))
@@ -108,6 +116,25 @@ class PlanWindow(QWidget):
     def resizeEvent(self, event: QResizeEvent) -> None:
         super().resizeEvent(event)
         self.findings.resizeRowsToContents()  # wrapped to the findings' new width
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:
+        if watched is self.table.viewport() and event.type() == QEvent.Type.Resize:
+            self.fit_columns()  # the table's own width, once the layout has set it
+        return super().eventFilter(watched, event)
+
+    def fit_columns(self) -> None:
+        """Share the table's width between its columns so that all of them show, and
+        let the long texts (antenna names, reasons) wrap onto more lines."""
+        table = self.table
+        fitted = 0
+        for column in FITTED:
+            table.resizeColumnToContents(column)
+            fitted += table.columnWidth(column)
+        rest = max(0, table.viewport().width() - fitted)
+        total = sum(SHARES.values())
+        for column, share in SHARES.items():
+            table.setColumnWidth(column, max(NARROWEST, int(rest * share / total)))
+        table.resizeRowsToContents()
 
     def _add_row(self, values: tuple[str, ...], tips: dict[int, str],
                  radios: frozenset[RadioRef], bands: frozenset[str]) -> None:

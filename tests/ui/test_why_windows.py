@@ -154,3 +154,43 @@ def test_the_plan_window_names_what_it_does_not_plan_and_fits_its_screen(qapp: A
     area = window.screen().availableGeometry()
     assert area.contains(window.frameGeometry())
     window.close()
+
+
+def test_the_plan_window_shows_every_column_and_every_name_whole_at_1024x600(
+        qapp: Any) -> None:
+    """big-station's long antenna names ("40 m 3 element rotatable yagi") at the size the
+    window takes on a 1024x600 screen: no column beyond the table's width, no text cut
+    (long texts wrap onto more lines; each row is as tall as its wrapped text)."""
+    from moas_gui.config import load_config
+    from moas_gui.plan import plan_of
+    from moas_gui.ui.plan_window import SIZE, PlanWindow
+    from moas_gui.ui.qt import Qt
+
+    path = EXAMPLES / "big-station.moas"
+    plan, error = plan_of(load_config(path).unwrap(), path)
+    assert plan is not None, error
+    window = PlanWindow(plan)
+    window.resize(*SIZE)
+    window.show()
+    qapp.processEvents()
+    table = window.table
+    try:
+        widths = [table.columnWidth(c) for c in range(len(COLUMNS))]
+        assert sum(widths) <= table.viewport().width(), (widths, table.viewport().width())
+        assert table.wordWrap() and table.textElideMode() is Qt.TextElideMode.ElideNone
+        metrics = table.fontMetrics()
+        names = 0
+        for row in range(table.rowCount()):
+            for column in range(len(COLUMNS)):
+                item = table.item(row, column)
+                text = item.text() if item is not None else ""
+                if not text:
+                    continue
+                room = widths[column] - 8  # the cell's margins
+                needed = metrics.boundingRect(0, 0, room, 10_000,
+                                              int(Qt.TextFlag.TextWordWrap), text).height()
+                assert needed <= table.rowHeight(row), (text, needed, table.rowHeight(row))
+                names += "rotatable yagi" in text
+        assert names > 0, "the long names were looked at"
+    finally:
+        window.close()

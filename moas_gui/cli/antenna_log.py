@@ -56,7 +56,7 @@ def wants_export(args: argparse.Namespace) -> bool:
 
 def open_journal(config: Path) -> JournalReader:
     """The journal kept for ``config``; ``FileNotFoundError`` when there is none yet."""
-    from moas_gui.antenna_log.journal import open_reader  # type: ignore[import-not-found,unused-ignore]
+    from moas_gui.antenna_log.journal import open_reader
 
     reader: JournalReader = open_reader(config)
     return reader

@@ -44,9 +44,18 @@
     box.hidden = false;
     $("#token").focus();
   }
+  // a station's words to an operator (never the protocol's), as the desktop client says them
+  const TOKEN_ASKED = "This station asks for an operator's token: ask its admin, or scan its pairing code.";
+  const TOKEN_REFUSED = "This station did not take that token (it may have been removed): " +
+    "ask its admin for a new one, or scan its pairing code.";
+  function tokenOf(text) {  // a pasted pairing link gives its token; anything else is the token
+    if (!text.includes("://")) return text;
+    try { return new URLSearchParams(new URL(text).hash.slice(1)).get("token") || ""; }
+    catch { return ""; }
+  }
   function takeToken() {
-    const text = $("#token").value.trim();
-    if (!text) return;
+    const text = tokenOf($("#token").value.trim());
+    if (!text) { $(".why", $("#signin")).textContent = TOKEN_ASKED; return; }
     localStorage.setItem(TOKEN_KEY, text);
     $("#token").value = "";
     $("#signin").hidden = true;
@@ -73,10 +82,10 @@
       const token = localStorage.getItem(TOKEN_KEY);
       if (token) hello.token = token;
       request(hello).catch(e => {
-        showLink(false, e.message);
+        showLink(false, e.code === "forbidden" ? "waiting for an operator's token" : e.message);
         if (e.code === "forbidden") {
           if (token) localStorage.removeItem(TOKEN_KEY);
-          askToken(e.message);
+          askToken(token ? TOKEN_REFUSED : TOKEN_ASKED);
         }
       });
     };

@@ -270,8 +270,12 @@ def draw_chart(kind: str, figure: Figure, report: ContestReport,
 def chart_figure(kind: str, report: ContestReport, size: tuple[float, float] = (8, 4.2),
                  compact: bool = False) -> Figure:
     """A new figure (``size`` in inches) with the chart ``kind``."""
+    from matplotlib import rc_context
+
     figure = Figure(figsize=size)
-    draw_chart(kind, figure, report, compact)
+    # a compact chart is shown small (a phone): its text is drawn larger to read there
+    with rc_context({"font.size": 12.5} if compact else {}):
+        draw_chart(kind, figure, report, compact)
     return figure
 
 

@@ -112,6 +112,8 @@ class PairDialog(QDialog):
         for address in self.addresses:
             self.address_box.addItem(address)
         self.address_box.setToolTip("The station's address on the network the phone is on")
+        self.address_box.setPlaceholderText("none a phone can reach")
+        self.address_box.setEnabled(bool(self.addresses))
         form.addRow("The phone opens:", self.address_box)
         self.fingerprint = QLabel(self)
         self.fingerprint.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
@@ -121,7 +123,7 @@ class PairDialog(QDialog):
             self.fingerprint.setToolTip("The SHA-256 fingerprint of the page's certificate: "
                                         "the phone's browser shows the same one for the page "
                                         "it opens (docs/security.md)")
-            form.addRow("Certificate:", self.fingerprint)
+            form.addRow("Certificate (SHA-256):", self.fingerprint)
         layout.addLayout(form)
         self.message = QLabel(self)
         self.message.setWordWrap(True)
@@ -191,7 +193,7 @@ class PairDialog(QDialog):
         self.url = pairing_url(host, self.page.port, self.page.tls, self._token)
         self.code.setPixmap(qr_pixmap(self.url, module=5))
         self.code.show()
-        compare = (" The browser warns about the certificate once: its fingerprint must be "
+        compare = ("The browser warns about the certificate once: its fingerprint must be "
                    "the one above." if self.page.fingerprint else "")
         self.address.setText(f"Scan it with the phone's camera, or open:\n{self.url}\n{compare}")
         self.address.show()

@@ -29,6 +29,7 @@ from moas_gui.ui.token_dialog import token_from_text
 pytestmark = pytest.mark.realtime
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+SCREENSHOTS = os.environ.get("MOAS_SCREENSHOTS")
 
 
 def _environment(tmp_path: Path, runtime: Path) -> dict[str, str]:
@@ -82,7 +83,10 @@ def test_the_window_asks_for_a_token_checks_keeps_and_forgets_it(
         assert "asks for an operator's token: ask its admin, or scan its pairing code" in said
         assert "hello" not in said and "forbidden" not in said
         assert "asks for an operator's token" in window.link_label.text()
+        assert dialog.width() <= 1024 and dialog.height() <= 600
         dialog.grab().save(str(tmp_path / "token-request.png"))
+        if SCREENSHOTS:
+            dialog.grab().save(str(Path(SCREENSHOTS) / "client-token-request.png"))
 
         dialog.field.setText("moas1.not.a-real-token")  # a wrong token: said in words
         dialog.sign_in.click()
@@ -92,6 +96,8 @@ def test_the_window_asks_for_a_token_checks_keeps_and_forgets_it(
         assert dialog.isVisible() and dialog.field.isEnabled() and dialog.field.text() == ""
         assert connection.link is not LinkState.CONNECTED and keys.token(station) is None
         assert "forbidden" not in dialog.message.text()
+        if SCREENSHOTS:
+            dialog.grab().save(str(Path(SCREENSHOTS) / "client-token-refused.png"))
 
         clipboard = QApplication.clipboard()
         clipboard.setText(f"https://192.168.1.5:8443/#token={token}")

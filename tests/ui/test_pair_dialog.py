@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import os
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -23,6 +24,9 @@ from moas_gui.tls import default_paths, fingerprint
 from moas_gui.ui.pair_dialog import PairDialog, fingerprint_lines, pairing_url, qr_pixmap
 from moas_gui.ui.qt import QSettings
 from moas_gui.ui.server_window import ServerWindow
+
+
+SCREENSHOTS = os.environ.get("MOAS_SCREENSHOTS")
 
 
 @pytest.fixture(autouse=True)
@@ -57,6 +61,8 @@ def test_pairing_adds_an_operator_and_shows_its_token_only_in_the_code(
         assert not dialog.create_button.isEnabled() and dialog.address_box.count() == 0
         assert dialog.fingerprint.text().replace("\n", ":") == seen
         assert app.options.bind == "127.0.0.1"  # nothing changed the bind
+        if SCREENSHOTS:
+            dialog.grab().save(str(Path(SCREENSHOTS) / "pair-loopback-only.png"))
         dialog.close()
         page = app.web_page
         assert page is not None and page.fingerprint == seen and page.tls
@@ -76,7 +82,10 @@ def test_pairing_adds_an_operator_and_shows_its_token_only_in_the_code(
         assert operator.role is Role.OPERATE
         assert not dialog.code.pixmap().isNull() and dialog.code.pixmap().width() > 150
         dialog.adjustSize()
+        assert dialog.width() <= 1024 and dialog.height() <= 600  # a small station laptop
         dialog.grab().save(str(tmp_path / "pair.png"))
+        if SCREENSHOTS:
+            dialog.grab().save(str(Path(SCREENSHOTS) / "pair-a-device.png"))
         window.grab().save(str(tmp_path / "window.png"))
         dialog.close()
         window.action_client.trigger()  # the built-in client: TLS, pinned to this server

@@ -4,6 +4,7 @@ configuration's rotator ``Address`` and for ``moas-client HOST[:PORT]``."""
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 
 
@@ -64,6 +65,8 @@ ANY_ADDRESS = ("0.0.0.0", "", "::")
 
 def _linux_ipv4(names: list[str]) -> list[str]:
     """Each named interface's IPv4 address (Linux's SIOCGIFADDR), those that have one."""
+    if sys.platform != "linux":
+        return []
     import fcntl
     import socket
     import struct
@@ -105,10 +108,9 @@ def interface_addresses() -> list[str]:
     """This computer's addresses, every interface's (loopback ones included), IPv4 first:
     what a server listening on every interface (``0.0.0.0``) can be reached at."""
     import socket
-    import sys
 
     found: list[str] = ["127.0.0.1"]
-    if sys.platform.startswith("linux"):
+    if sys.platform == "linux":
         found += _linux_ipv4([name for _index, name in socket.if_nameindex()])
         found += _linux_ipv6()
     else:  # elsewhere: what the host name resolves to, and the routed address

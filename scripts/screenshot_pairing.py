@@ -20,6 +20,7 @@ Usage: .venv/bin/python scripts/screenshot_pairing.py [FOLDER]   (default docs/i
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import sys
 import tempfile
 from pathlib import Path
@@ -34,11 +35,9 @@ from tests.web_station import browser_missing, chrome
 
 async def until(driver: Any, script: str, what: str) -> None:
     for _ in range(300):
-        try:
+        with contextlib.suppress(Exception):  # the page may change under the script
             if await asyncio.to_thread(driver.execute_script, script):
                 return
-        except Exception:  # noqa: BLE001 - the page is changing under the script
-            pass
         await asyncio.sleep(0.05)
     raise RuntimeError(f"screenshot_pairing: the page never showed {what}")
 

@@ -27,7 +27,7 @@ import zlib
 from collections.abc import Callable
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import matplotlib.dates as mdates
 import numpy
@@ -39,7 +39,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.ticker import MaxNLocator
-from matplotlib.transforms import offset_copy
+from matplotlib.transforms import ScaledTranslation
 
 from moas_gui import __version__
 from moas_gui.files import write_atomic, write_text_atomic
@@ -152,7 +152,7 @@ def _draw_qsos(ax: Axes, report: ContestReport, compact: bool = False) -> None:
     ax.tick_params(axis="x", labelrotation=20)
 
 
-_STYLES = ("-", "--", "-.", ":")
+_STYLES: tuple[Literal["-", "--", "-.", ":"], ...] = ("-", "--", "-.", ":")
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
 _NUDGE_POINTS = 2.0
 """How far apart (in points, up and right) lines of equal rate are drawn."""
@@ -173,7 +173,8 @@ def _draw_rate(ax: Axes, report: ContestReport, compact: bool = False) -> None:
         # equal rates stay told apart: a line style and a marker each, and each line
         # nudged a little from the others (in points: the numbers read the same)
         nudge = (number - middle) * _NUDGE_POINTS
-        shifted = offset_copy(ax.transData, fig=ax.figure, x=nudge, y=nudge, units="points")
+        shifted = ax.transData + ScaledTranslation(nudge / 72, nudge / 72,
+                                                   ax.figure.dpi_scale_trans)
         ax.step(times, [*counts, counts[-1]], where="post", color=colours[name], label=name,
                 linestyle=_STYLES[number % len(_STYLES)], linewidth=1.8, transform=shifted)
         ax.plot(middles, counts, linestyle="", marker=_MARKERS[number % len(_MARKERS)],

@@ -25,7 +25,6 @@ from moas_gui.ui.pair_dialog import PairDialog, fingerprint_lines, pairing_url, 
 from moas_gui.ui.qt import QSettings
 from moas_gui.ui.server_window import ServerWindow
 
-
 SCREENSHOTS = os.environ.get("MOAS_SCREENSHOTS")
 
 

@@ -359,15 +359,16 @@ class ClientConnection:
             args["radio"] = self.radio
         if self.want_log:
             args["log"] = True
-        if self.token:
-            args["token"] = self.token
+        sent = self.token  # the one this hello says (another may be given meanwhile)
+        if sent:
+            args["token"] = sent
         try:
             self.server = await self.request("hello", args)
         except ServerError as exc:
             if exc.code != "forbidden":  # hello is refused only for its token
                 self._last_problem = f"{self.address} did not answer hello: {exc}"
                 return False
-            refused = bool(self.token)
+            refused = bool(sent)
             self._last_problem = TOKEN_REFUSED if refused else TOKEN_ASKED
             log.info("%s refused this client's hello: %s", self.address, exc.message)
             self._emit(TokenWanted(refused, exc.message))

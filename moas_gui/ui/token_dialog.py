@@ -23,6 +23,7 @@ from moas_gui.client.events import (
     ClientEvent,
     LinkChanged,
     LinkState,
+    StateReceived,
     TokenWanted,
 )
 from moas_gui.client.keys import ClientKeys
@@ -174,6 +175,10 @@ class TokenKeeper:
         """A token given in the dialog, not yet taken by the station."""
         self.dismissed = False
         """The request was cancelled: not opened again until asked from the menu."""
+        self._note = ""
+        """What to say once the station's state arrives (where the token was kept)."""
+        self._state_seen = False
+        """The connection's state came (it may come just before its link is up)."""
         menu = window.menuBar().addMenu("&Operator")
         self.menu = menu
         self.give_action = QAction("&Give a Token\u2026", window)
@@ -188,10 +193,25 @@ class TokenKeeper:
     def _on_event(self, event: ClientEvent) -> None:
         if isinstance(event, TokenWanted):
             self._wanted(event.refused)
-        elif isinstance(event, LinkChanged) and event.state is LinkState.CONNECTED:
-            self._taken()
+        elif isinstance(event, LinkChanged):
+            if event.state is LinkState.CONNECTED:
+                self._taken()
+            else:
+                self._state_seen = False
+        elif isinstance(event, StateReceived):
+            # the window clears its status line for a new state (this listener comes after
+            # the window's): what the keeper says comes after the connection's first state
+            self._state_seen = True
+            self._say()
+
+    def _say(self) -> None:
+        if self._note and self._state_seen:
+            note, self._note = self._note, ""
+            self.window.tell(note)
 
     def _wanted(self, refused: bool) -> None:
+        if self.offered is not None and not refused:
+            return  # a hello sent before the token was given: its answer is coming
         if self.offered is not None:  # the station answered the token just given
             self.offered = None
             self.connection.token = None  # not said again until another is given
@@ -237,10 +257,11 @@ class TokenKeeper:
         try:
             where = self.keys.set_token(self.server, token)
         except OSError as exc:
-            self.window.tell(f"Signed in; the token could not be kept ({exc.strerror or exc}): "
-                             "this client asks for it again next time")
-            return
-        self.window.tell(f"Signed in; the token is kept in {where}")
+            self._note = (f"Signed in; the token could not be kept ({exc.strerror or exc}): "
+                          "this client asks for it again next time")
+        else:
+            self._note = f"Signed in; the token is kept in {where}"
+        self._say()
 
     def forget(self) -> None:
         """Operator > Forget the Token: gone from the keyring and the file; the station

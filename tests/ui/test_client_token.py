@@ -20,10 +20,10 @@ from client_support import run_on_qt
 from helpers import free_port, until
 
 from moas_gui.client.connection import ClientConnection
-from moas_gui.client.events import LinkState
+from moas_gui.client.events import LinkState, TokenWanted
 from moas_gui.client.keys import ClientKeys
 from moas_gui.ui.client_window import ClientWindow
-from moas_gui.ui.qt import QApplication
+from moas_gui.ui.qt import QApplication, QDialogButtonBox
 from moas_gui.ui.token_dialog import token_from_text
 
 pytestmark = pytest.mark.realtime
@@ -108,13 +108,25 @@ def test_the_window_asks_for_a_token_checks_keeps_and_forgets_it(
                     what="the signed-in connection")
         await until(lambda: not dialog.isVisible())
         assert keys.token(station) == token
-        assert "Signed in; the token is kept in" in window.status_text()
-        await until(lambda: window.snapshot is not None)
+        await until(lambda: "Signed in; the token is kept in" in window.status_text(),
+                    what="where the token is kept, in the status line")
+        assert window.snapshot is not None
 
         tokens.forget_action.trigger()  # forgotten: the station asks again
         assert keys.token(station) is None and connection.token is None
         await until(lambda: dialog.isVisible(), timeout=30, what="the request again")
         assert "asks for an operator's token" in dialog.message.text()
+
+        asked: list[TokenWanted] = []
+        connection.subscribe(lambda e: asked.append(e) if isinstance(e, TokenWanted) else None)
+        dialog.buttons.button(QDialogButtonBox.StandardButton.Cancel).click()  # not now
+        assert not dialog.isVisible()
+        await until(lambda: len(asked) >= 1, timeout=30, what="the station asking again")
+        await asyncio.sleep(0.05)
+        assert not dialog.isVisible()  # cancelled: not opened again by itself
+        assert "asks for an operator's token" in window.link_label.text()
+        tokens.give_action.trigger()  # Operator > Give a Token...
+        assert dialog.isVisible() and dialog.field.isEnabled()
 
         dialog.field.setText(token)  # typed
         dialog.field.returnPressed.emit()

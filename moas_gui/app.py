@@ -33,7 +33,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 
 from moas_gui import state_store
-from moas_gui.addresses import network_address
+from moas_gui.addresses import WebPage, network_address
 from moas_gui.antenna_log.journal import Journal, journal_path
 from moas_gui.antenna_log.recorder import AntennaRecorder
 from moas_gui.antenna_log.records import ContactPacket
@@ -150,6 +150,16 @@ class ServerApp:
         if host in ("0.0.0.0", "", "::"):
             host = network_address()
         return host, int(run.web.port), run.clients.tls is not None
+
+    @property
+    def web_page(self) -> WebPage | None:
+        """The browser page as View > Pair a device shows it: the address it listens on
+        (as bound), its port, TLS and the certificate's fingerprint; None when not served."""
+        run = self._run
+        if run is None or run.web is None or run.clients is None:
+            return None
+        return WebPage(self.options.bind, int(run.web.port), run.clients.tls is not None,
+                       self.client_fingerprint)
 
     @property
     def client_fingerprint(self) -> str | None:

@@ -319,10 +319,13 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
     each = options.max_per_address
     tls, seen = None, None
     if options.tls:
+        from moas_gui.addresses import listen_addresses
         from moas_gui.tls import TLSError, ensure_certificate, fingerprint, server_context
 
-        try:
-            certificate = ensure_certificate(options.tls_cert, options.tls_key)
+        try:  # a self-signed one names the addresses listened on (made off the loop)
+            certificate = await asyncio.to_thread(
+                ensure_certificate, options.tls_cert, options.tls_key,
+                listen_addresses(options.bind))
             tls = server_context(certificate)
             seen = fingerprint(certificate)
         except (TLSError, OSError) as exc:  # a certificate that cannot be used or made

@@ -18,10 +18,13 @@ from __future__ import annotations
 import datetime
 import hashlib
 import hmac
+import ipaddress
+import logging
 import os
 import socket
 import ssl
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Final
@@ -29,6 +32,8 @@ from typing import Final
 from moas_gui.errors import MoasError
 from moas_gui.files import write_atomic
 from moas_gui.places import config_dir
+
+log = logging.getLogger(__name__)
 
 CERT_NAME: Final = "tls-cert.pem"
 KEY_NAME: Final = "tls-key.pem"
@@ -50,42 +55,85 @@ def default_paths() -> Certificate:
     return Certificate(base / CERT_NAME, base / KEY_NAME)
 
 
-def make_self_signed(where: Certificate, host: str | None = None) -> None:
-    """A new self-signed certificate and key (EC P-256) at ``where``."""
+def certificate_names(host: str | None = None,
+                      addresses: Sequence[str] = ()) -> tuple[list[str], list[str]]:
+    """The names and IP addresses a self-signed certificate carries: ``localhost``,
+    this computer's name, and ``addresses`` (the ones the server listens on)."""
+    name = host or socket.gethostname() or "moas-server"
+    names = ["localhost"] + ([name] if name != "localhost" else [])
+    ips: list[str] = []
+    for text in addresses:
+        try:
+            ips.append(str(ipaddress.ip_address(text.split("%")[0])))
+        except ValueError:  # a name given as the bind address
+            if text and text not in names:
+                names.append(text)
+    return names, list(dict.fromkeys(ips))
+
+
+def carried_names(path: Path) -> tuple[list[str], list[str]] | None:
+    """The names and IP addresses the certificate at ``path`` carries as subject
+    alternative names; None when it cannot be read."""
+    from cryptography import x509
+
+    try:
+        cert = x509.load_pem_x509_certificate(path.read_bytes())
+        sans = cert.extensions.get_extension_for_class(x509.SubjectAlternativeName).value
+    except (OSError, ValueError, x509.ExtensionNotFound):
+        return None
+    return ([str(n) for n in sans.get_values_for_type(x509.DNSName)],
+            [str(a) for a in sans.get_values_for_type(x509.IPAddress)])
+
+
+def make_self_signed(where: Certificate, host: str | None = None,
+                     addresses: Sequence[str] = (), *, reuse_key: bool = False) -> None:
+    """A new self-signed certificate (EC P-256) at ``where``, for this computer's name,
+    ``localhost`` and ``addresses``; with ``reuse_key`` the key already at ``where`` signs
+    it (a renewal: the key does not change), else a new key is made."""
     from cryptography import x509
     from cryptography.hazmat.primitives import hashes, serialization
     from cryptography.hazmat.primitives.asymmetric import ec
     from cryptography.x509.oid import NameOID
 
-    name = host or socket.gethostname() or "moas-server"
-    key = ec.generate_private_key(ec.SECP256R1())
-    subject = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, f"moas-server {name}"[:64])])
+    names, ips = certificate_names(host, addresses)
+    if reuse_key:
+        loaded = serialization.load_pem_private_key(where.key.read_bytes(), password=None)
+        if not isinstance(loaded, ec.EllipticCurvePrivateKey):
+            raise TLSError(f"{where.key} is not the EC key this server makes")
+        key = loaded
+    else:
+        key = ec.generate_private_key(ec.SECP256R1())
+    subject = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME,
+                                            f"moas-server {names[-1]}"[:64])])
     now = datetime.datetime.now(datetime.UTC)
-    names: list[x509.GeneralName] = [x509.DNSName("localhost")]
-    if name != "localhost":
-        names.append(x509.DNSName(name))
+    general: list[x509.GeneralName] = [x509.DNSName(n) for n in names]
+    general += [x509.IPAddress(ipaddress.ip_address(a)) for a in ips]
     cert = (x509.CertificateBuilder().subject_name(subject).issuer_name(subject)
             .public_key(key.public_key()).serial_number(x509.random_serial_number())
             .not_valid_before(now - datetime.timedelta(days=1))
             .not_valid_after(now + datetime.timedelta(days=VALID_DAYS))
-            .add_extension(x509.SubjectAlternativeName(names), critical=False)
+            .add_extension(x509.SubjectAlternativeName(general), critical=False)
             .add_extension(x509.BasicConstraints(ca=False, path_length=None), critical=True)
             .sign(key, hashes.SHA256()))
     where.cert.parent.mkdir(parents=True, exist_ok=True)
-    key_bytes = key.private_bytes(serialization.Encoding.PEM,
-                                  serialization.PrivateFormat.PKCS8,
-                                  serialization.NoEncryption())
-    if not where.key.exists():
-        os.close(os.open(where.key, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
-    write_atomic(where.key, key_bytes)
-    if sys.platform != "win32":
-        os.chmod(where.key, 0o600)
+    if not reuse_key:
+        key_bytes = key.private_bytes(serialization.Encoding.PEM,
+                                      serialization.PrivateFormat.PKCS8,
+                                      serialization.NoEncryption())
+        if not where.key.exists():
+            os.close(os.open(where.key, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+        write_atomic(where.key, key_bytes)
+        if sys.platform != "win32":
+            os.chmod(where.key, 0o600)
     write_atomic(where.cert, cert.public_bytes(serialization.Encoding.PEM))
 
 
-def ensure_certificate(cert: str | None = None, key: str | None = None) -> Certificate:
+def ensure_certificate(cert: str | None = None, key: str | None = None,
+                       addresses: Sequence[str] | None = None) -> Certificate:
     """The certificate to serve: the files given, or the kept self-signed one (made now
-    when there is none).  :class:`TLSError` says what is wrong."""
+    when there is none).  With ``addresses`` (those the server listens on), a kept
+    certificate that does not carry exactly them and this computer's names is renewed
+    with the same key.  :class:`TLSError` says what is wrong."""
     if (cert is None) != (key is None):
         raise TLSError("--tls-cert and --tls-key go together")
     if cert is not None and key is not None:
@@ -96,8 +144,28 @@ def ensure_certificate(cert: str | None = None, key: str | None = None) -> Certi
         return given
     kept = default_paths()
     if not (kept.cert.is_file() and kept.key.is_file()):
-        make_self_signed(kept)
+        make_self_signed(kept, addresses=addresses or ())
+        log.info("Made a self-signed TLS certificate for %s",
+                 _listed(certificate_names(None, addresses or ())))
+        return kept
+    if addresses is None:
+        return kept
+    wanted = certificate_names(None, addresses)
+    carried = carried_names(kept.cert)
+    if carried is None or (set(carried[0]), set(carried[1])) != (set(wanted[0]),
+                                                                  set(wanted[1])):
+        try:
+            make_self_signed(kept, addresses=addresses, reuse_key=True)
+        except ValueError as exc:  # a key file that cannot be read
+            raise TLSError(f"cannot renew the certificate with the key {kept.key}: "
+                           f"{exc}") from None
+        log.info("Renewed the self-signed TLS certificate with the same key: it now names "
+                 "%s (its fingerprint changed)", _listed(wanted))
     return kept
+
+
+def _listed(names: tuple[list[str], list[str]]) -> str:
+    return ", ".join([*names[0], *names[1]])
 
 
 def server_context(where: Certificate) -> ssl.SSLContext:
@@ -162,6 +230,8 @@ __all__ = [
     "KEY_NAME",
     "Certificate",
     "TLSError",
+    "carried_names",
+    "certificate_names",
     "check_pin",
     "client_context",
     "default_paths",

@@ -2,7 +2,8 @@
 # Screenshots for the docs, on a 1024x600 screen (a small station laptop) and at a
 # phone's size: the server window and its tray menu (docs/server.md), then the client
 # window's states (scripts/screenshot_client.py, docs/client.md) and the web page's at
-# 1024x600 and 390x844 (scripts/screenshot_web.py, docs/web-client.md).  Look at them.
+# 1024x600 and 390x844 (scripts/screenshot_web.py, docs/web-client.md), and what a phone
+# shows when pairing (scripts/screenshot_pairing.py, docs/security.md).  Look at them.
 #
 # Runs everything on a virtual X display of its own (Xvfb), with a small window
 # manager (openbox, for title bars, when installed) and a system tray (trayer):
@@ -153,3 +154,4 @@ echo "screenshots: the server exited from its tray menu"
 XDG_CONFIG_HOME="$work/config" XDG_STATE_HOME="$work/state" XDG_DATA_HOME="$work/data" QT_QPA_PLATFORM=xcb \
     "$python" scripts/screenshot_client.py "$out"
 "$python" scripts/screenshot_web.py "$out"
+"$python" scripts/screenshot_pairing.py "$out"

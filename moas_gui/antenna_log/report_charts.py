@@ -9,7 +9,10 @@
 The four charts (:data:`CHARTS`): contacts per antenna per band (stacked bars), the
 rate per clock hour per antenna (steps), minutes transmitted per antenna (bars), and
 each radio's antennas over time (one row per radio and role).  An antenna keeps its
-colour in every chart.  Times are UTC.
+colour in every chart; a band keeps its colour in every report (:data:`BAND_COLOURS`).
+Counts are whole numbers on their axes; antennas at the same rate are told apart by
+line style, marker and a small nudge.  The HTML page's charts are compact (legends
+under them) so that they read on a phone.  Times are UTC.
 
 Only matplotlib's object API is used (no pyplot, no display): the PNG comes from the
 Agg canvas, the SVG from the SVG canvas with text kept as text, so the HTML page is
@@ -20,9 +23,11 @@ from __future__ import annotations
 
 import html
 import io
+import zlib
 from collections.abc import Callable
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import Any, Literal
 
 import matplotlib.dates as mdates
 import numpy
@@ -31,7 +36,10 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.backends.backend_svg import FigureCanvasSVG
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
+from matplotlib.ticker import MaxNLocator
+from matplotlib.transforms import ScaledTranslation
 
 from moas_gui import __version__
 from moas_gui.files import write_atomic, write_text_atomic
@@ -39,7 +47,9 @@ from moas_gui.files import write_atomic, write_text_atomic
 from .report import ContestReport
 
 __all__ = [
+    "BAND_COLOURS",
     "CHARTS",
+    "band_colour",
     "chart_figure",
     "draw_chart",
     "period_text",
@@ -80,9 +90,27 @@ def _colours(report: ContestReport) -> dict[str, tuple[float, float, float, floa
     return {name: palette[i % len(palette)] for i, name in enumerate(sorted(names))}
 
 
-def _band_colours(report: ContestReport) -> dict[str, tuple[float, float, float, float]]:
-    palette = colormaps["Set2"]  # not the antennas' colours: a band is not an antenna
-    return {band: palette(i % 8) for i, band in enumerate(report.bands)}
+BAND_COLOURS: dict[str, str] = {
+    "2190m": "#5b4a3f", "630m": "#7b6a5e", "560m": "#9c8b7f",
+    "160m": "#8c564b", "80m": "#d62728", "60m": "#e377c2", "40m": "#ff7f0e",
+    "30m": "#bcbd22", "20m": "#1f77b4", "17m": "#17becf", "15m": "#2ca02c",
+    "12m": "#9467bd", "10m": "#393b79", "8m": "#ad494a", "6m": "#e7ba52",
+    "5m": "#8ca252", "4m": "#637939", "2m": "#98df8a", "1.25m": "#6b6ecf",
+    "70cm": "#c5b0d5", "33cm": "#f7b6d2", "23cm": "#c49c94", "13cm": "#9edae5",
+    "9cm": "#dbdb8d", "6cm": "#ff9896", "3cm": "#aec7e8",
+}
+"""Each band's colour, the same in every report whatever other bands it has (ADIF's
+band names)."""
+_OTHER_BANDS = ("#7f7f7f", "#a5a5a5", "#595959", "#c7c7c7")
+"""A band ADIF does not name: a grey, chosen by its name (so it too keeps it)."""
+
+
+def band_colour(band: str) -> str:
+    """The colour of ``band`` in every report (:data:`BAND_COLOURS`)."""
+    known = BAND_COLOURS.get(band)
+    if known is not None:
+        return known
+    return _OTHER_BANDS[zlib.crc32(band.encode("utf-8")) % len(_OTHER_BANDS)]
 
 
 def _nothing(ax: Axes, text: str) -> None:
@@ -105,26 +133,32 @@ def _time_axis(ax: Axes) -> None:
     ax.set_xlabel("UTC")
 
 
-def _draw_qsos(ax: Axes, report: ContestReport) -> None:
+def _draw_qsos(ax: Axes, report: ContestReport, compact: bool = False) -> None:
     antennas = sorted(report.qsos, key=lambda name: (-report.antenna_qsos(name), name))
     if not antennas:
         _nothing(ax, "No contacts in this period")
         return
-    colours = _band_colours(report)
     bottoms = [0] * len(antennas)
     for band in report.bands:
         counts = [report.qsos[name].get(band, 0) for name in antennas]
-        ax.bar(antennas, counts, bottom=bottoms, label=band, color=colours[band])
+        ax.bar(antennas, counts, bottom=bottoms, label=band, color=band_colour(band))
         bottoms = [b + c for b, c in zip(bottoms, counts, strict=True)]
     for x, total in enumerate(bottoms):
         ax.annotate(str(total), (x, total), ha="center", va="bottom", fontsize="small")
     ax.set_ylabel("QSOs")
     ax.set_ylim(0, max(bottoms) * 1.15)
-    ax.legend(title="Band", fontsize="small")
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True))  # counts: whole numbers
+    _legend(ax, compact, title="Band", outside=False)
     ax.tick_params(axis="x", labelrotation=20)
 
 
-def _draw_rate(ax: Axes, report: ContestReport) -> None:
+_STYLES: tuple[Literal["-", "--", "-.", ":"], ...] = ("-", "--", "-.", ":")
+_MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
+_NUDGE_POINTS = 2.0
+"""How far apart (in points, up and right) lines of equal rate are drawn."""
+
+
+def _draw_rate(ax: Axes, report: ContestReport, compact: bool = False) -> None:
     if not report.rate:
         _nothing(ax, "No contacts in this period")
         return
@@ -132,30 +166,47 @@ def _draw_rate(ax: Axes, report: ContestReport) -> None:
     edges = [*report.hours, report.hours[-1] + 3600.0]
     times = [_when(t) for t in edges]
     middles = [_when(t + 1800.0) for t in report.hours]
-    styles = ("-", "--", "-.", ":")
     order = sorted(report.rate, key=lambda n: (-sum(report.rate[n]), n))
+    middle = (len(order) - 1) / 2
     for number, name in enumerate(order):
         counts = report.rate[name]
-        # a line style each and a dot per hour, so equal rates stay told apart
-        style = styles[number % len(styles)]
-        ax.step(
-            times,
-            [*counts, counts[-1]],
-            where="post",
-            color=colours[name],
-            label=name,
-            linestyle=style,
-            linewidth=1.8,
-            marker="",
-        )
-        ax.plot(middles, counts, "o", color=colours[name], markersize=4)
+        # equal rates stay told apart: a line style and a marker each, and each line
+        # nudged a little from the others (in points: the numbers read the same)
+        nudge = (number - middle) * _NUDGE_POINTS
+        shifted = ax.transData + ScaledTranslation(nudge / 72, nudge / 72,
+                                                   ax.figure.dpi_scale_trans)
+        ax.step(times, [*counts, counts[-1]], where="post", color=colours[name], label=name,
+                linestyle=_STYLES[number % len(_STYLES)], linewidth=1.8, transform=shifted)
+        ax.plot(middles, counts, linestyle="", marker=_MARKERS[number % len(_MARKERS)],
+                color=colours[name], markersize=5, transform=shifted)
     ax.set_ylabel("QSOs per hour")
-    ax.set_ylim(bottom=0)
+    # nudged lines are not counted in the data limits: the axes get them here
+    most = max(max(counts) for counts in report.rate.values())
+    ax.set_xlim(times[0], times[-1])
+    ax.set_ylim(0, max(most * 1.12, most + 0.5))
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True))  # no half QSOs
     _time_axis(ax)
-    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    _legend(ax, compact, handles=[
+        Line2D([], [], color=colours[name], linestyle=_STYLES[i % len(_STYLES)],
+               marker=_MARKERS[i % len(_MARKERS)], markersize=5, label=name)
+        for i, name in enumerate(order)])
 
 
-def _draw_transmit(ax: Axes, report: ContestReport) -> None:
+def _legend(ax: Axes, compact: bool, *, title: str | None = None,
+            handles: list[Any] | None = None, outside: bool = True) -> None:
+    """The legend: beside the axes, or under them on a compact (narrow) chart."""
+    extra: dict[str, Any] = {"fontsize": "small", "title": title}
+    if handles is not None:
+        extra["handles"] = handles
+    if compact:
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.22), ncol=3, **extra)
+    elif outside:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), **extra)
+    else:
+        ax.legend(**extra)
+
+
+def _draw_transmit(ax: Axes, report: ContestReport, compact: bool = False) -> None:
     if not report.transmit:
         _nothing(ax, "No transmissions in this period")
         return
@@ -176,7 +227,7 @@ def _draw_transmit(ax: Axes, report: ContestReport) -> None:
     ax.set_xlim(0, max(minutes) * 1.2 or 1)
 
 
-def _draw_timeline(ax: Axes, report: ContestReport) -> None:
+def _draw_timeline(ax: Axes, report: ContestReport, compact: bool = False) -> None:
     rows = [
         (f"{timeline.label} {_ROLE_NAMES[role]}", spans)
         for timeline in report.timelines
@@ -194,15 +245,11 @@ def _draw_timeline(ax: Axes, report: ContestReport) -> None:
     ax.set_yticks(range(len(rows)), [label for label, _spans in reversed(rows)])
     ax.set_xlim(_when(report.period.start), _when(report.period.end))
     _time_axis(ax)
-    ax.legend(
-        handles=[Patch(color=colours[name], label=name) for name in sorted(used)],
-        fontsize="small",
-        loc="upper left",
-        bbox_to_anchor=(1.0, 1.0),
-    )
+    _legend(ax, compact, handles=[Patch(color=colours[name], label=name)
+                                  for name in sorted(used)])
 
 
-_DRAW: dict[str, Callable[[Axes, ContestReport], None]] = {
+_DRAW: dict[str, Callable[[Axes, ContestReport, bool], None]] = {
     "qsos": _draw_qsos,
     "rate": _draw_rate,
     "transmit": _draw_transmit,
@@ -210,19 +257,26 @@ _DRAW: dict[str, Callable[[Axes, ContestReport], None]] = {
 }
 
 
-def draw_chart(kind: str, figure: Figure, report: ContestReport) -> None:
-    """Clears ``figure`` and draws the chart ``kind`` (a key of :data:`CHARTS`) on it."""
+def draw_chart(kind: str, figure: Figure, report: ContestReport,
+               compact: bool = False) -> None:
+    """Clears ``figure`` and draws the chart ``kind`` (a key of :data:`CHARTS`) on it;
+    ``compact`` puts the legend under the chart (for a narrow screen)."""
     figure.clear()
     ax = figure.add_subplot()
-    _DRAW[kind](ax, report)
+    _DRAW[kind](ax, report, compact)
     ax.set_title(CHARTS[kind])
     figure.set_layout_engine("constrained")
 
 
-def chart_figure(kind: str, report: ContestReport, size: tuple[float, float] = (8, 4.2)) -> Figure:
+def chart_figure(kind: str, report: ContestReport, size: tuple[float, float] = (8, 4.2),
+                 compact: bool = False) -> Figure:
     """A new figure (``size`` in inches) with the chart ``kind``."""
+    from matplotlib import rc_context
+
     figure = Figure(figsize=size)
-    draw_chart(kind, figure, report)
+    # a compact chart is shown small (a phone): its text is drawn larger to read there
+    with rc_context({"font.size": 12.5} if compact else {}):
+        draw_chart(kind, figure, report, compact)
     return figure
 
 
@@ -233,7 +287,7 @@ def report_figure(report: ContestReport) -> Figure:
     assert isinstance(subs, numpy.ndarray)
     for sub, kind in zip(subs.flat, CHARTS, strict=True):
         ax = sub.add_subplot()
-        _DRAW[kind](ax, report)
+        _DRAW[kind](ax, report, False)
         ax.set_title(CHARTS[kind])
     figure.suptitle(f"Contest report, {period_text(report)}")
     return figure
@@ -269,18 +323,29 @@ def _svg(figure: Figure) -> str:
     return text[text.index("<svg") :].strip()  # the element alone, for an HTML page
 
 
+COMPACT_SIZE = (5.0, 4.4)
+"""The page's charts, in inches: drawn narrow (legends under them) so that scaled to a
+phone's width (390 px) their text still reads."""
+
+
 def report_svgs(report: ContestReport) -> dict[str, str]:
-    """Each chart as an ``<svg>`` element, by key."""
-    return {kind: _svg(chart_figure(kind, report)) for kind in CHARTS}
+    """Each chart as an ``<svg>`` element, by key (compact: they scale to a phone)."""
+    return {kind: _svg(chart_figure(kind, report, COMPACT_SIZE, compact=True))
+            for kind in CHARTS}
 
 
 _STYLE = """
 body { font-family: sans-serif; margin: 1em auto; max-width: 60em; padding: 0 1em; }
+.numbers { overflow-x: auto; max-width: 100%; }
 table { border-collapse: collapse; margin: 1em 0; }
 th, td { border: 1px solid #bbb; padding: 0.2em 0.6em; text-align: right; }
 th:first-child, td:first-child { text-align: left; }
 figure { margin: 1.5em 0; }
-figure svg { max-width: 100%; height: auto; }
+figure svg { width: 100%; max-width: 36em; height: auto; }
+@media (max-width: 30em) {
+  body { padding: 0 0.5em; }
+  th, td { padding: 0.2em 0.3em; font-size: 0.9em; }
+}
 """
 
 
@@ -295,10 +360,10 @@ def _table(report: ContestReport) -> str:
             f"<tr><td>{html.escape(name)}</td><td>{report.antenna_qsos(name)}</td>{per_band}"
             f"<td>{minutes:.1f}</td></tr>"
         )
-    return (
-        '<table id="antennas"><thead><tr><th>Antenna</th><th>QSOs</th>'
+    return (  # in a box of its own that scrolls sideways when a phone is too narrow
+        '<div class="numbers"><table id="antennas"><thead><tr><th>Antenna</th><th>QSOs</th>'
         f"{head}<th>Minutes transmitted</th></tr></thead>"
-        f"<tbody>{''.join(rows)}</tbody></table>"
+        f"<tbody>{''.join(rows)}</tbody></table></div>"
     )
 
 

@@ -163,6 +163,7 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
     qasync = load_qasync()
 
     from moas_gui.client.connection import ClientConnection
+    from moas_gui.client.keys import ClientKeys
     from moas_gui.ui.client_sources import ClientSources
     from moas_gui.ui.client_window import ClientWindow
     from moas_gui.ui.main_thread_gc import MainThreadCollector
@@ -184,7 +185,7 @@ def run(host: str, port: int, args: argparse.Namespace) -> int:
         connection = ClientConnection(host, port, name=args.name, station=args.station,
                                       radio=args.radio, **args.security)
         window = ClientWindow(connection, station=args.station, radio=args.radio,
-                              rows=args.rows, columns=args.columns)
+                              rows=args.rows, columns=args.columns, keys=ClientKeys())
         window.closed.connect(done.set)
         sources = ClientSources(window, QSettings())
         for text in args.source:

@@ -160,8 +160,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--tls-cert", metavar="FILE", help="the TLS certificate (PEM)")
     parser.add_argument("--tls-key", metavar="FILE", help="the TLS certificate's key (PEM)")
     parser.add_argument("--fingerprint", action="store_true",
-                        help="print the SHA-256 fingerprint of the TLS certificate (made now "
-                             "if there is none) and exit")
+                        help="print the SHA-256 fingerprint of the TLS certificate a server "
+                             "with the same --bind serves (made or renewed now if need be) "
+                             "and exit")
     parser.add_argument("--add-operator", metavar="NAME",
                         help="add an operator, print its token (shown once) and exit")
     parser.add_argument("--role", choices=("view", "operate", "admin"), default=None,
@@ -673,10 +674,12 @@ def _security_command(args: argparse.Namespace) -> int | None:
         return operators_command(args, INSTANCE_NAME)
     if not args.fingerprint:
         return None
+    from moas_gui.addresses import listen_addresses
     from moas_gui.tls import TLSError, ensure_certificate, fingerprint
 
-    try:
-        print(fingerprint(ensure_certificate(args.tls_cert, args.tls_key)))
+    try:  # the certificate a server with the same --bind serves (renewed for it if need be)
+        addresses = listen_addresses(args.bind or "0.0.0.0")
+        print(fingerprint(ensure_certificate(args.tls_cert, args.tls_key, addresses)))
     except (TLSError, OSError) as exc:
         print(f"moas-server: {exc}", file=sys.stderr)
         return 1

@@ -35,6 +35,7 @@ from .events import (
     RotatorChanged,
     StateReceived,
     SwitchChanged,
+    TokenWanted,
 )
 from .model import (
     AntennaView,
@@ -77,5 +78,6 @@ __all__ = [
     "StateReceived",
     "SwitchChanged",
     "SwitchView",
+    "TokenWanted",
     "parse_address",
 ]

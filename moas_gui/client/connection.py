@@ -39,6 +39,8 @@ from moas_gui.retry import Backoff, keep_trying
 
 from .codec import ClientCodec, Event, Garbled, Reply
 from .events import (
+    TOKEN_ASKED,
+    TOKEN_REFUSED,
     ClientEvent,
     LayoutChanged,
     LinkChanged,
@@ -49,6 +51,7 @@ from .events import (
     RotatorChanged,
     StateReceived,
     SwitchChanged,
+    TokenWanted,
 )
 from .model import (
     LayoutView,
@@ -134,8 +137,11 @@ class ClientConnection:
         tls: bool = False,
         pin: str | None = None,
         trust: Callable[[str], bool] | None = None,
+        local_host: str | None = None,
     ) -> None:
         self.host = host
+        self.local_host = local_host
+        """The local address to connect from (None: the system's choice)."""
         self.token = token
         """An operator's token, said in ``hello`` (docs/security.md); never logged."""
         self.tls = tls
@@ -296,12 +302,22 @@ class ClientConnection:
         return greeted
 
     async def _open(self) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
+        local = (self.local_host, 0) if self.local_host is not None else None
         if not self.tls:
-            return await asyncio.open_connection(self.host, self.port)
+            return await asyncio.open_connection(self.host, self.port, local_addr=local)
         from moas_gui.tls import client_context
 
         return await asyncio.open_connection(self.host, self.port, ssl=client_context(),
-                                             server_hostname=self.host)
+                                             server_hostname=self.host, local_addr=local)
+
+    def use_token(self, token: str | None) -> None:
+        """Says ``token`` (None: none) in the next ``hello``, which comes at once: a
+        waiting attempt stops waiting, and a greeted connection is dropped so that the
+        server judges the new token (a forgotten one no longer acts for its operator)."""
+        self.token = token or None
+        self._wake.set()
+        if self._writer is not None and self._connected.is_set():
+            self._writer.close()
 
     def _judge_certificate(self, writer: asyncio.StreamWriter) -> str | None:
         """Why the server's TLS certificate is not to be trusted, or None."""
@@ -343,10 +359,20 @@ class ClientConnection:
             args["radio"] = self.radio
         if self.want_log:
             args["log"] = True
-        if self.token:
-            args["token"] = self.token
+        sent = self.token  # the one this hello says (another may be given meanwhile)
+        if sent:
+            args["token"] = sent
         try:
             self.server = await self.request("hello", args)
+        except ServerError as exc:
+            if exc.code != "forbidden":  # hello is refused only for its token
+                self._last_problem = f"{self.address} did not answer hello: {exc}"
+                return False
+            refused = bool(sent)
+            self._last_problem = TOKEN_REFUSED if refused else TOKEN_ASKED
+            log.info("%s refused this client's hello: %s", self.address, exc.message)
+            self._emit(TokenWanted(refused, exc.message))
+            return False
         except ClientError as exc:
             self._last_problem = f"{self.address} did not answer hello: {exc}"
             return False

@@ -11,6 +11,7 @@ server sent them, on the event loop's thread::
     LayoutChanged    a followed layout changed
     LogReceived      a log line (only when the connection asked for the log)
     ProblemSeen      the server sent something this client could not use
+    TokenWanted      the server refused hello: it wants an operator's token (or another)
 """
 
 from __future__ import annotations
@@ -31,7 +32,16 @@ __all__ = [
     "RotatorChanged",
     "StateReceived",
     "SwitchChanged",
+    "TokenWanted",
 ]
+
+TOKEN_ASKED = ("This station asks for an operator's token: ask its admin, or scan its "
+               "pairing code")
+"""What a client says when a station wants a token it was not given (an operator's
+words, not the protocol's)."""
+TOKEN_REFUSED = ("This station did not take that token (it may have been removed): ask its "
+                 "admin for a new one, or scan its pairing code")
+"""What a client says when a station refused the token it was given."""
 
 
 class LinkState(StrEnum):
@@ -90,7 +100,18 @@ class ProblemSeen:
     message: str
 
 
+@dataclass(frozen=True, slots=True)
+class TokenWanted:
+    """The server refused ``hello`` (``forbidden``): this address needs an operator's
+    token and none was given (``refused`` False), or the one given was not taken."""
+
+    refused: bool
+    message: str
+    """The server's own sentence (for the log; an operator reads :data:`TOKEN_ASKED` or
+    :data:`TOKEN_REFUSED`)."""
+
+
 ClientEvent = (
     LinkChanged | StateReceived | RadioChanged | RotatorChanged | SwitchChanged
-    | LayoutChanged | LogReceived | ProblemSeen
+    | LayoutChanged | LogReceived | ProblemSeen | TokenWanted
 )

@@ -101,6 +101,22 @@ class ClientKeys:
         _write_private(path, data)
         return str(path)
 
+    def forget_token(self, server: str) -> bool:
+        """Forgets the token kept for ``server`` (keyring and file); True when one was."""
+        forgot = False
+        if self.use_keyring:
+            import keyring
+
+            with contextlib.suppress(Exception):  # none kept there: nothing to delete
+                keyring.delete_password(SERVICE, self._user(server))
+                forgot = True
+        path = self.directory / TOKENS_FILE
+        data = _read(path)
+        if data.pop(server, None) is not None:
+            _write_private(path, data)
+            forgot = True
+        return forgot
+
     def pin(self, server: str) -> str | None:
         return _read(self.directory / KNOWN_FILE).get(server)
 

@@ -39,6 +39,7 @@ from moas_gui.client.events import (
     StateReceived,
     SwitchChanged,
 )
+from moas_gui.client.keys import ClientKeys
 from moas_gui.client.model import (
     ButtonState,
     ButtonType,
@@ -85,6 +86,7 @@ from .qt import (
     Signal,
 )
 from .screen_fit import fit_to_screen
+from .token_dialog import TokenKeeper
 
 __all__ = ["ClientWindow", "open_builtin_client"]
 
@@ -137,7 +139,7 @@ class ClientWindow(QMainWindow):
 
     def __init__(self, connection: ClientConnection, *, station: int | None = None,
                  radio: int | None = None, rows: int = 4, columns: int = 3,
-                 parent: QWidget | None = None) -> None:
+                 parent: QWidget | None = None, keys: ClientKeys | None = None) -> None:
         super().__init__(parent)
         self.connection = connection
         self.snapshot: Snapshot | None = None
@@ -160,6 +162,9 @@ class ClientWindow(QMainWindow):
         self._darken_inputs()
         self._show_link(connection.link, "")
         self._unsubscribe = connection.subscribe(self._on_event)
+        self.tokens = TokenKeeper(self, keys) if keys is not None else None
+        """The Operator menu and the token request (moas-client; the built-in client on
+        this computer needs no token)."""
         fit_to_screen(self, 1040, 660)
 
     # -- building ---------------------------------------------------------------------------------
@@ -697,6 +702,10 @@ class ClientWindow(QMainWindow):
 
     def _error(self, message: str) -> None:
         self._say(message, Tone.WARNING)
+
+    def tell(self, text: str) -> None:
+        """Says ``text`` in the status line (as information, not a warning)."""
+        self._say(text, Tone.INFO)
 
     def _say(self, text: str, tone: Tone) -> None:
         """Shows one message in the status line, tied to the state and radio now."""

@@ -449,7 +449,7 @@ class ServerWindow(QMainWindow):
 
         if self.pair_dialog is not None:
             self.pair_dialog.close()
-        self.pair_dialog = PairDialog(self, self.app.web_address)
+        self.pair_dialog = PairDialog(self, self.app.web_page)
         self.pair_dialog.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose, False)
         self.pair_dialog.open()
 

@@ -10,6 +10,7 @@ from html.parser import HTMLParser
 
 import pytest
 from antenna_log_support import T0, contest_journal
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.image import imread
 
@@ -152,3 +153,57 @@ def test_a_chart_redraws_on_the_same_figure(report) -> None:
 
 def test_the_period_in_words(report) -> None:
     assert period_text(report) == "2026-11-18 11:00 – 2026-11-18 12:59 UTC"
+
+
+def _made(qsos: dict[str, dict[str, int]], rate: dict[str, list[int]]):
+    from moas_gui.antenna_log.report import ContestReport
+
+    return ContestReport(period=Period(T0, T0 + 2 * HOUR), contacts=sum(map(sum, rate.values())),
+                         qsos=qsos, hours=[T0, T0 + HOUR], rate=rate, transmit={})
+
+
+def _bar_colours(figure: Figure) -> dict[str, tuple[float, ...]]:
+    """Each band's bar colour, by the legend's label."""
+    ax = figure.axes[0]
+    return {str(label): tuple(container.patches[0].get_facecolor())
+            for container, label in zip(ax.containers, [t.get_text() for t in
+                                                        ax.get_legend().get_texts()],
+                                        strict=True)}
+
+
+def test_a_band_keeps_its_colour_in_every_report() -> None:
+    from moas_gui.antenna_log.report_charts import band_colour, chart_figure
+
+    alone = _bar_colours(chart_figure("qsos", _made({"Yagi": {"20m": 3}}, {"Yagi": [3, 0]})))
+    both = _bar_colours(chart_figure("qsos", _made({"Yagi": {"20m": 3}, "Dipole": {"80m": 2}},
+                                                   {"Yagi": [3, 0], "Dipole": [0, 2]})))
+    assert alone["20m"] == both["20m"] != both["80m"]
+    assert band_colour("20m") == band_colour("20m") and band_colour("odd") == band_colour("odd")
+
+
+def test_counts_are_whole_numbers_on_their_axes() -> None:
+    from moas_gui.antenna_log.report_charts import chart_figure
+
+    few = _made({"Yagi": {"20m": 1}, "Dipole": {"20m": 1}}, {"Yagi": [1, 0], "Dipole": [1, 0]})
+    for kind in ("qsos", "rate"):
+        figure = chart_figure(kind, few)
+        FigureCanvasAgg(figure).draw()
+        ticks = [t for t in figure.axes[0].get_yticks()
+                 if figure.axes[0].get_ylim()[0] <= t <= figure.axes[0].get_ylim()[1]]
+        assert ticks and all(float(t).is_integer() for t in ticks), (kind, ticks)
+
+
+def test_antennas_at_the_same_rate_draw_lines_told_apart() -> None:
+    from moas_gui.antenna_log.report_charts import chart_figure
+
+    same = _made({"Yagi": {"20m": 5}, "Dipole": {"20m": 5}}, {"Yagi": [3, 2], "Dipole": [3, 2]})
+    figure = chart_figure("rate", same)
+    FigureCanvasAgg(figure).draw()
+    steps = [line for line in figure.axes[0].get_lines() if line.get_linestyle() != "None"]
+    dots = [line for line in figure.axes[0].get_lines() if line.get_linestyle() == "None"]
+    assert len(steps) == 2 and len(dots) == 2
+    assert steps[0].get_linestyle() != steps[1].get_linestyle()
+    assert dots[0].get_marker() != dots[1].get_marker()
+    drawn = [line.get_transform().transform(line.get_xydata()) for line in steps]
+    assert (drawn[0] != drawn[1]).all()  # not on top of each other on the screen
+    assert list(steps[0].get_ydata()) == list(steps[1].get_ydata())  # the same numbers

@@ -105,6 +105,6 @@ def test_the_client_packages_public_names_are_frozen() -> None:
         "LayoutView", "LinkChanged", "LinkState", "LogReceived", "NotConnected", "ProblemSeen",
         "RadioChanged", "RadioView", "RequestTimeout", "RotatorChanged", "RotatorView",
         "Selection", "ServerError", "Snapshot", "StateReceived", "SwitchChanged", "SwitchView",
-        "parse_address",
+        "TokenWanted", "parse_address",
     ])
     assert all(hasattr(client, name) for name in client.__all__)

@@ -25,7 +25,8 @@ PUBLIC = {
         "check", "current", "enforce", "is_local", "serving", "token_needed",
     ],
     "moas_gui.tls": [
-        "CERT_NAME", "KEY_NAME", "Certificate", "TLSError", "check_pin", "client_context",
+        "CERT_NAME", "KEY_NAME", "Certificate", "TLSError", "carried_names",
+        "certificate_names", "check_pin", "client_context",
         "default_paths", "ensure_certificate", "fingerprint", "format_fingerprint",
         "make_self_signed", "normalize_pin", "peer_fingerprint", "server_context",
     ],

@@ -93,14 +93,16 @@ async def test_the_page_over_https_asks_for_a_token_once_and_keeps_it(tmp_path: 
     try:
         await asyncio.to_thread(driver.get, url)
         await page_until(driver, ASKING, "the token prompt")
-        assert "token" in await js(driver, "return document.querySelector('#signin .why')"
-                                           ".textContent")
+        asked = await js(driver, "return document.querySelector('#signin .why').textContent")
+        assert asked.startswith("This station asks for an operator's token: ask its admin, "
+                                "or scan its pairing code")
+        assert "hello" not in asked and "forbidden" not in asked
         await asyncio.to_thread(driver.save_screenshot, str(tmp_path / "web-token.png"))
         assert (tmp_path / "web-token.png").stat().st_size > 0
         await type_token(driver, token[:-3] + "xyz")  # a wrong one: asked again
         await page_until(driver, ASKING + " && document.querySelector('#signin .why')"
-                         ".textContent.includes('not one of')", "the refusal")
-        await type_token(driver, token)
+                         ".textContent.includes('did not take that token')", "the refusal")
+        await type_token(driver, f"https://192.168.1.5:8443/#token={token}")  # a pasted link
         await page_until(driver, CONNECTED, "a connection")
         assert await js(driver, "return localStorage.getItem('moas-token')") == token
         names = {c.name for c in clients.clients()}

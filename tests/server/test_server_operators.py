@@ -184,7 +184,7 @@ def test_remove_operator_reaches_the_running_server_and_ends_its_session(
 def test_both_ports_serve_tls_to_openssl_and_the_client_pins_the_fingerprint(
         tmp_path: Path, runtime_dir: Path) -> None:
     env = environment(tmp_path, runtime_dir)
-    printed = server(env, "--fingerprint")
+    printed = server(env, "--fingerprint", "--bind", "127.0.0.1")  # as the server binds
     assert printed.returncode == 0, printed.stderr
     pin = printed.stdout.strip()
     assert len(pin) == 95 and pin.count(":") == 31
@@ -212,6 +212,10 @@ def test_both_ports_serve_tls_to_openssl_and_the_client_pins_the_fingerprint(
         der = subprocess.run(["openssl", "x509", "-outform", "DER"], input=seen.stdout,
                              capture_output=True, timeout=30, check=True).stdout
         assert format_fingerprint(der) == pin
+        names = subprocess.run(["openssl", "x509", "-noout", "-ext", "subjectAltName"],
+                               input=seen.stdout, capture_output=True, timeout=30,
+                               check=True).stdout.decode()
+        assert "IP Address:127.0.0.1" in names and "DNS:localhost" in names, names
         asyncio.run(_pinned_client(tcp, pin))
     finally:
         first.terminate()

@@ -44,9 +44,18 @@
     box.hidden = false;
     $("#token").focus();
   }
+  // a station's words to an operator (never the protocol's), as the desktop client says them
+  const TOKEN_ASKED = "This station asks for an operator's token: ask its admin, or scan its pairing code.";
+  const TOKEN_REFUSED = "This station did not take that token (it may have been removed): " +
+    "ask its admin for a new one, or scan its pairing code.";
+  function tokenOf(text) {  // a pasted pairing link gives its token; anything else is the token
+    if (!text.includes("://")) return text;
+    try { return new URLSearchParams(new URL(text).hash.slice(1)).get("token") || ""; }
+    catch { return ""; }
+  }
   function takeToken() {
-    const text = $("#token").value.trim();
-    if (!text) return;
+    const text = tokenOf($("#token").value.trim());
+    if (!text) { $(".why", $("#signin")).textContent = TOKEN_ASKED; return; }
     localStorage.setItem(TOKEN_KEY, text);
     $("#token").value = "";
     $("#signin").hidden = true;
@@ -54,6 +63,54 @@
   }
   $("#token-go").addEventListener("click", takeToken);
   $("#token").addEventListener("keydown", e => { if (e.key === "Enter") takeToken(); });
+
+  // the contest report: fetched with this browser's token in the Authorization header
+  // (never in an address the server logs) and shown here; its charts become images
+  // (this page's policy allows no inline style, an image's own document may have it)
+  async function showReport(event) {
+    event.preventDefault();
+    const body = $("#report-body");
+    body.textContent = "Making the report\u2026";
+    $("#report").hidden = false;
+    document.body.classList.add("reading");
+    const token = localStorage.getItem(TOKEN_KEY);
+    try {
+      const answer = await fetch("/report", { cache: "no-store",
+        headers: token ? { Authorization: "Bearer " + token } : {} });
+      const text = await answer.text();
+      if (answer.status === 401) body.textContent = token ? TOKEN_REFUSED : TOKEN_ASKED;
+      else if (!answer.ok) body.textContent = text.trim() || "The report could not be made.";
+      else showReportPage(body, text);
+    } catch (e) {
+      body.textContent = "The report could not be fetched: " + e.message;
+    }
+  }
+  function showReportPage(body, text) {
+    const doc = new DOMParser().parseFromString(text, "text/html");
+    const shown = [];
+    for (const node of doc.body.children) {
+      if (node.tagName === "H1" || node.tagName === "FOOTER") continue;
+      const svg = node.tagName === "FIGURE" ? node.querySelector("svg") : null;
+      if (node.tagName === "FIGURE" && !svg) continue;
+      if (!svg) { shown.push(document.importNode(node, true)); continue; }
+      const figure = document.createElement("figure");
+      const image = document.createElement("img");
+      image.alt = svg.querySelector("title") ? svg.querySelector("title").textContent : node.id;
+      image.src = "data:image/svg+xml;charset=utf-8," +
+        encodeURIComponent(new XMLSerializer().serializeToString(svg));
+      figure.id = "report-" + node.id;
+      figure.append(image);
+      shown.push(figure);
+    }
+    body.replaceChildren(...shown);
+  }
+  function hideReport() {
+    $("#report").hidden = true;
+    document.body.classList.remove("reading");
+  }
+  $("#report-link").addEventListener("click", showReport);
+  $("#report-back").addEventListener("click", hideReport);
+  document.addEventListener("keydown", e => { if (e.key === "Escape" && !$("#report").hidden) hideReport(); });
 
   let ws = null, connected = false, snapshot = null, nextId = 1, retry = 500, lastHeard = 0, lastSent = 0;
   let firstState = true;
@@ -73,10 +130,10 @@
       const token = localStorage.getItem(TOKEN_KEY);
       if (token) hello.token = token;
       request(hello).catch(e => {
-        showLink(false, e.message);
+        showLink(false, e.code === "forbidden" ? "waiting for an operator's token" : e.message);
         if (e.code === "forbidden") {
           if (token) localStorage.removeItem(TOKEN_KEY);
-          askToken(e.message);
+          askToken(token ? TOKEN_REFUSED : TOKEN_ASKED);
         }
       });
     };

@@ -36,8 +36,8 @@ from moas_gui.net.backend import (
     SwitchAction,
     Target,
 )
-from moas_gui.net.identity import Action, enforce
-from moas_gui.rights import rotator_radios
+from moas_gui.net.identity import Action, Forbidden, check, current, enforce
+from moas_gui.rights import action_for, rotator_radios
 from moas_gui.status import ServerStatus
 
 T = TypeVar("T")
@@ -226,6 +226,13 @@ class AgEngineBackend:
         if engine is None:
             raise RequestError(ErrorCode.NOT_RUNNING, "No configuration is open")
         ops = operations(request)
+        # the role first, for every operation: a command partly refused changes nothing
+        who = current()
+        for op in ops:
+            action = action_for(op, engine.config)
+            refusal = None if action is None else check(who, action)
+            if refusal is not None:
+                raise Forbidden(refusal)
         trial = engine.clone()
         now = asyncio.get_running_loop().time()  # the clock the server's door stamps with
         for op in ops:

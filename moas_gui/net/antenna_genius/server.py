@@ -43,7 +43,16 @@ from . import codec
 from .access import AgAccess, AuthFailures, SimpleAccess
 from .codec import Command, CommandReader, Malformed, PortStatus
 from .discovery import Announcement, Announcer
-from .mapping import BANDS, AgAntenna, Device, ag_antennas, band_of, devices, serial_for
+from .mapping import (
+    BANDS,
+    AgAntenna,
+    Device,
+    ag_antennas,
+    ag_words,
+    band_of,
+    devices,
+    serial_for,
+)
 
 log = logging.getLogger(__name__)
 
@@ -529,9 +538,10 @@ class AgServer:
                 self.radios_changed(changed)
         except RequestRefused as exc:
             code = codec.NOT_RUNNING if exc.code == "not_running" else codec.REFUSED
+            said = ag_words(exc.message, self.antennas, session.device.device)
             self._trouble(logging.INFO, "refused", "Antenna Genius: %s port set %d refused: %s",
-                          session.peer, port, exc.message)
-            return codec.reply(item.seq, code, exc.message)
+                          session.peer, port, said)
+            return codec.reply(item.seq, code, said)
         return codec.reply(item.seq)
 
     def _request(self, session: _Session, item: Command,
@@ -550,19 +560,17 @@ class AgServer:
                 if not text.isdigit() or not 0 <= int(text) <= top:
                     return f"{key}={text} is out of range (0-{top})"
                 values[key] = int(text)
-        for key in ("rxant", "txant"):
-            if values.get(key) == 0:
-                return f"{key}=0: a MOAS radio cannot be left without an antenna this way"
-        band = values.get("band")
-        if band is not None and (band == 0 or not BANDS[band].high_khz):
+        # 0 is the AG's "none": no band, no antenna chosen for that side (a MOAS radio
+        # keeps the antennas its engine gives it: docs/antenna-genius.md)
+        band = values.get("band") or None
+        if band is not None and not BANDS[band].high_khz:
             return f"band={band} is not a band of this station"
         ids = {a.number: a.id for a in self.antennas}
         who = session.operator or "an Antenna Genius client"
         return PortRequest(
             ref.station, ref.radio, release=values.get("auto") == 1,
             khz=None if band is None else BANDS[band].middle_khz,
-            tx=ids.get(values["txant"]) if "txant" in values else None,
-            rx=ids.get(values["rxant"]) if "rxant" in values else None,
+            tx=ids.get(values.get("txant", 0)), rx=ids.get(values.get("rxant", 0)),
             hold_by=f"{who} at {session.host}" if values.get("auto") == 0 else None)
 
     def _sub(self, session: _Session, item: Command) -> bytes:

@@ -174,6 +174,12 @@ class FakeBackend:
         self._changed([r] if r.view() != before else [])
         return {"tx": r.tx, "rx": r.rx}
 
+    def release(self, station: int, radio: int) -> None:
+        self.calls.append(("release", (station, radio)))
+        _may(Action(f"releasing the hold of radio {station}/{radio}",
+                    frozenset({(station, radio)})))
+        self.set_held(station, radio, None)
+
     def function(self, station: int, radio: int, function: int) -> None:
         self.calls.append(("function", (station, radio, function)))
         _may(Action(f"function {function} for radio {station}/{radio}",

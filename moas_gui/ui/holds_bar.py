@@ -12,7 +12,7 @@ from datetime import datetime
 
 from moas_gui.engine.views import RadioView
 
-from .qt import QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWidget, Signal
+from .qt import QHBoxLayout, QLabel, QPushButton, Qt, QVBoxLayout, QWidget, Signal
 
 
 def since_text(seconds: float | None) -> str:
@@ -40,7 +40,7 @@ class HoldsBar(QWidget):
         self.setObjectName("holdsBar")
         self.setStyleSheet("#holdsBar { background: #3a2a10; }"
                            "#holdsBar QLabel { color: #ffcc80; font-weight: bold; }")
-        self.setAutoFillBackground(True)
+        self.setAttribute(Qt.WidgetAttribute.WA_StyledBackground, True)
         self._rows = QVBoxLayout(self)
         self._rows.setContentsMargins(8, 4, 8, 4)
         self._rows.setSpacing(2)

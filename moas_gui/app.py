@@ -55,6 +55,7 @@ from moas_gui.engine.operations import (
 from moas_gui.engine.snapshot import export_selections
 from moas_gui.engine.views import RadioView
 from moas_gui.engine_backend import AgEngineBackend, EngineBackend
+from moas_gui.errors import RequestRefused
 from moas_gui.files import write_text_atomic
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
@@ -228,15 +229,20 @@ class ServerApp:
         engine = self.engine
         return () if engine is None else tuple(v for v in engine.radios() if v.held_by)
 
-    def release_hold(self, station: int, radio: int) -> None:
-        """The server window's Release: the hold goes, the frequency chooses again."""
-        engine = self.engine
-        view = None if engine is None else engine.radio_view(station, radio)
-        if view is None or view.held_by is None:
-            return
-        self.act(Hold(station, radio, None))
-        log.info("The server window released the hold of radio %d/%d (held by %s)",
-                 station, radio, view.held_by)
+    def release_hold(self, station: int, radio: int) -> str | None:
+        """The server window's Release: the hold goes, the frequency chooses again.
+        Returns why it could not be done, or None."""
+        try:
+            engine = self._running().engine
+            held_by = engine.radio_view(station, radio).held_by
+            if held_by is not None:
+                self.act(Hold(station, radio, None))
+        except RequestRefused as exc:
+            return exc.message
+        if held_by is not None:
+            log.info("The server window released the hold of radio %d/%d (held by %s)",
+                     station, radio, held_by)
+        return None
 
     def _tell_holds(self) -> None:
         holds = self.holds()

@@ -9,10 +9,25 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from datetime import datetime
-
-from moas_gui.engine.views import RadioView
+from typing import Protocol
 
 from .qt import QHBoxLayout, QLabel, QPushButton, Qt, QVBoxLayout, QWidget, Signal
+
+
+class HeldRadio(Protocol):
+    """What the bar reads of a held radio (the server's radio views are such)."""
+
+    @property
+    def station(self) -> int: ...
+
+    @property
+    def radio(self) -> int: ...
+
+    @property
+    def held_by(self) -> str | None: ...
+
+    @property
+    def held_since(self) -> float | None: ...
 
 
 def since_text(seconds: float | None) -> str:
@@ -24,7 +39,7 @@ def since_text(seconds: float | None) -> str:
     return " since " + moment.strftime("%H:%M" if moment.date() == today else "%Y-%m-%d %H:%M")
 
 
-def hold_text(view: RadioView) -> str:
+def hold_text(view: HeldRadio) -> str:
     return (f"Station {view.station} radio {view.radio}: held by {view.held_by}"
             f"{since_text(view.held_since)}; its antennas do not follow its frequency")
 
@@ -48,7 +63,7 @@ class HoldsBar(QWidget):
         self.buttons: list[QPushButton] = []
         self.hide()
 
-    def show_holds(self, holds: Sequence[RadioView]) -> None:
+    def show_holds(self, holds: Sequence[HeldRadio]) -> None:
         while self._rows.count():
             item = self._rows.takeAt(0)
             row = item.widget() if item is not None else None
@@ -75,4 +90,4 @@ class HoldsBar(QWidget):
         self.setVisible(bool(holds))
 
 
-__all__ = ["HoldsBar", "hold_text", "since_text"]
+__all__ = ["HeldRadio", "HoldsBar", "hold_text", "since_text"]

@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING, Any
 
 from moas_gui import __version__
 from moas_gui.aio import BackgroundTasks
-from moas_gui.errors import MoasError
 from moas_gui.log_repeats import fold_repeats
 from moas_gui.status import ServerState, ServerStatus
 
@@ -236,10 +235,9 @@ class ServerWindow(QMainWindow):
 
     def release_hold(self, station: int, radio: int) -> None:
         """A hold's Release: the server window may release any (it is this computer)."""
-        try:
-            self.app.release_hold(station, radio)
-        except MoasError as exc:
-            self._message(QMessageBox.Icon.Warning, "Release", str(exc))
+        refusal = self.app.release_hold(station, radio)
+        if refusal is not None:
+            self._message(QMessageBox.Icon.Warning, "Release", refusal)
 
     def alert(self, title: str, message: str) -> None:
         """A critical event (a switch lost): a tray message when there is a tray."""

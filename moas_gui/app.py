@@ -53,7 +53,9 @@ from moas_gui.engine.operations import (
     perform,
 )
 from moas_gui.engine.snapshot import export_selections
+from moas_gui.engine.views import RadioView
 from moas_gui.engine_backend import AgEngineBackend, EngineBackend
+from moas_gui.errors import RequestRefused
 from moas_gui.files import write_text_atomic
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
@@ -94,6 +96,8 @@ class ServerApp:
         errors): ``--headless`` started it rather than nothing."""
         self._status_listeners: list[Callable[[ServerStatus], None]] = []
         self._alert_listeners: list[Callable[[str, str], None]] = []
+        self._hold_listeners: list[Callable[[tuple[RadioView, ...]], None]] = []
+        self._holds: tuple[tuple[int, int, str | None, float | None], ...] = ()
         self._status = ServerStatus()
         self._lock = asyncio.Lock()
         self._ag = AntennaGenius()
@@ -225,6 +229,38 @@ class ServerApp:
 
     def add_alert_listener(self, listener: Callable[[str, str], None]) -> None:
         self._alert_listeners.append(listener)
+
+    def add_hold_listener(self, listener: Callable[[tuple[RadioView, ...]], None]) -> None:
+        """``listener`` is told the held radios (:meth:`holds`) whenever they change."""
+        self._hold_listeners.append(listener)
+
+    def holds(self) -> tuple[RadioView, ...]:
+        """The radios whose antennas someone holds now (``held_by``, ``held_since``)."""
+        engine = self.engine
+        return () if engine is None else tuple(v for v in engine.radios() if v.held_by)
+
+    def release_hold(self, station: int, radio: int) -> str | None:
+        """The server window's Release: the hold goes, the frequency chooses again.
+        Returns why it could not be done, or None."""
+        try:
+            engine = self._running().engine
+            held_by = engine.radio_view(station, radio).held_by
+            if held_by is not None:
+                self.act(Hold(station, radio, None))
+        except RequestRefused as exc:
+            return exc.message
+        if held_by is not None:
+            log.info("The server window released the hold of radio %d/%d (held by %s)",
+                     station, radio, held_by)
+        return None
+
+    def _tell_holds(self) -> None:
+        holds = self.holds()
+        said = tuple((v.station, v.radio, v.held_by, v.held_since) for v in holds)
+        if said != self._holds:  # who holds what since when, not each radio's frequency
+            self._holds = said
+            for listener in self._hold_listeners:
+                listener(holds)
 
     # -- opening and closing -----------------------------------------------------------
     async def open(self, path: str | Path, *, last_good: bool = False) -> LoadResult:
@@ -588,6 +624,7 @@ class ServerApp:
             published = self._tell_clients(run.clients, changes)
         if changes.radios:
             self._ag.radios_changed({(ref.station, ref.radio) for ref in changes.radios})
+            self._tell_holds()
         if run.antenna_log is not None and run.antenna_log.switches_running(run.engine.running):
             self._land_all(run)
         return published
@@ -664,6 +701,7 @@ class ServerApp:
 
     # -- status ----------------------------------------------------------------------------
     def _update_status(self) -> None:
+        self._tell_holds()  # a configuration opened or closed: no hold outlives it
         run = self._run
         if run is not None and not run.serving:
             return  # still starting: nothing shown runs before its ports listen

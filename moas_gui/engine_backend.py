@@ -11,6 +11,8 @@ the engine's views.  Engine and rotator refusals keep their code and sentence.
 from __future__ import annotations
 
 import asyncio
+import logging
+import time
 from collections.abc import Callable
 from typing import Protocol, TypeVar
 
@@ -36,11 +38,13 @@ from moas_gui.net.backend import (
     SwitchAction,
     Target,
 )
-from moas_gui.net.identity import Action, enforce
-from moas_gui.rights import rotator_radios
+from moas_gui.net.identity import Action, Forbidden, check, current, enforce
+from moas_gui.rights import action_for, rotator_radios
 from moas_gui.status import ServerStatus
 
 T = TypeVar("T")
+
+log = logging.getLogger(__name__)
 
 
 class ServerCore(Protocol):
@@ -154,6 +158,16 @@ class EngineBackend:
     def function(self, station: int, radio: int, function: int) -> None:
         self._act(RunFunction(station, radio, function))
 
+    def release(self, station: int, radio: int) -> None:
+        held_by = _refused(lambda: self._engine().radio_view(station, radio)).held_by
+        if held_by is None:
+            return  # nothing held: nothing to do
+        self._act(Hold(station, radio, None))
+        who = current()
+        if who is None or not who.is_operator:  # an operator's is logged by the role check
+            log.info("%s released the hold of radio %d/%d (held by %s)",
+                     who or "the server", station, radio, held_by)
+
     def relative(self, station: int, radio: int, step: int | None,
                  index: int | None) -> JSONObject:
         self._act(Relative(station, radio, step, index))
@@ -226,6 +240,13 @@ class AgEngineBackend:
         if engine is None:
             raise RequestError(ErrorCode.NOT_RUNNING, "No configuration is open")
         ops = operations(request)
+        # the role first, for every operation: a command partly refused changes nothing
+        who = current()
+        for op in ops:
+            action = action_for(op, engine.config)
+            refusal = None if action is None else check(who, action)
+            if refusal is not None:
+                raise Forbidden(refusal)
         trial = engine.clone()
         now = asyncio.get_running_loop().time()  # the clock the server's door stamps with
         for op in ops:
@@ -250,7 +271,7 @@ def operations(request: PortRequest) -> list[Operation]:
         if request.rx is not None:
             ops.append(Select(station, radio, request.rx, "rx", True))
     if request.hold_by is not None:
-        ops.append(Hold(station, radio, request.hold_by))
+        ops.append(Hold(station, radio, request.hold_by, since=time.time()))
     return ops
 
 

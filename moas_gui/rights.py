@@ -12,6 +12,7 @@ from __future__ import annotations
 from moas_gui.config.model import Config
 from moas_gui.engine import Engine
 from moas_gui.engine.operations import (
+    Hold,
     Operation,
     Relative,
     RunFunction,
@@ -57,6 +58,10 @@ def action_for(op: Operation, config: Config) -> Action | None:
             return Action(f"tuning radio {s}/{r}", frozenset({(s, r)}))
         case Select(station=s, radio=r) | Relative(station=s, radio=r):
             return Action(f"selecting antennas of radio {s}/{r}", frozenset({(s, r)}))
+        case Hold(station=s, radio=r, by=None):
+            return Action(f"releasing the hold of radio {s}/{r}", frozenset({(s, r)}))
+        case Hold(station=s, radio=r):
+            return Action(f"holding radio {s}/{r}", frozenset({(s, r)}))
         case RunFunction(station=s, radio=r, function=f):
             return Action(f"function {f} for radio {s}/{r}", function_radios(config, s, r, f))
         case StopSwitches() | StartSwitches():

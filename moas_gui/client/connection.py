@@ -536,6 +536,10 @@ class ClientConnection:
             args["exclusive"] = True
         return _selection("select", await self.request("select", args))
 
+    async def release(self, station: int, radio: int) -> None:
+        """Releases the hold on the radio's antennas (docs/client-protocol.md)."""
+        await self.request("release", {"station": station, "radio": radio})
+
     async def function(self, station: int, radio: int, function: int) -> None:
         await self.request("function", {"station": station, "radio": radio,
                                         "function": function})

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
+from datetime import datetime
 from enum import StrEnum
 from typing import Any, TypeVar
 
@@ -51,6 +52,8 @@ __all__ = [
     "SwitchView",
     "WhyView",
     "explain",
+    "local_time",
+    "may_release",
     "parse_antenna",
     "parse_layout",
     "parse_radio",
@@ -210,13 +213,17 @@ class RadioView:
     held_by: str | None = None
     """Who holds the radio's antennas against its frequency changes (an Antenna Genius
     client's ``auto=0``), None when they follow the frequency."""
+    held_since: str | None = None
+    """When that hold began (ISO 8601 in UTC, as the server says it), None when not held."""
 
     @property
     def held_text(self) -> str:
         """The hold in words for a display line, empty when none."""
         if not self.held_by:
             return ""
-        return f"Held by {self.held_by}: the antennas do not follow the frequency"
+        since = local_time(self.held_since)
+        return (f"Held by {self.held_by}{f' since {since}' if since else ''}: "
+                "the antennas do not follow the frequency")
 
     @property
     def key(self) -> RadioKey:
@@ -403,7 +410,37 @@ def parse_radio(obj: object, where: str = "radio") -> RadioView:
         focus=f.flag("focus"),
         why=_parse_why(obj.get("why") if isinstance(obj, Mapping) else None, f"{where}: why"),
         held_by=f.text("held_by") or None,
+        held_since=f.text("held_since") or None,
     )
+
+
+def local_time(utc: str | None) -> str:
+    """A moment the server gave in UTC (``2026-11-29T08:14:03Z``) as this computer's
+    clock shows it (``09:14``, with the date when it is not today); empty when there
+    is none or it cannot be read."""
+    if not utc:
+        return ""
+    try:
+        moment = datetime.fromisoformat(utc).astimezone()  # Python 3.11 reads the Z
+    except ValueError:
+        return ""
+    today = datetime.now().astimezone().date()
+    return moment.strftime("%H:%M" if moment.date() == today else "%Y-%m-%d %H:%M")
+
+
+def may_release(operator: Mapping[str, Any] | None, station: int, radio: int) -> bool:
+    """Whether the one a client acts as may release a hold on that radio: anonymous
+    (no ``operator`` in the hello's result: this computer, or an open LAN) yes; an
+    operator by its role, ``admin`` always, ``operate`` on its radios, ``view`` never."""
+    if not isinstance(operator, Mapping):
+        return True
+    role = operator.get("role")
+    if role == "admin":
+        return True
+    if role != "operate":
+        return False
+    radios = operator.get("radios")
+    return radios is None or (isinstance(radios, list) and [station, radio] in radios)
 
 
 def _parse_why(obj: object, where: str) -> WhyView | None:

@@ -30,7 +30,10 @@ The rules, in the order they are applied to a newcomer:
    say who it is: a client's own connections, opened a moment ago, are the last to
    go), else the ``GREETED`` one idle the longest of the address holding the most.
    A ``NEW`` connection that has waited :data:`PATIENCE` seconds may also give its
-   place to a newcomer from an address holding as many as its own.  The connection so chosen is closed
+   place to a newcomer from an address holding as many as its own.  One younger than
+   :data:`GRACE` goes last of all (it has had no time to say who it is: under a crowd
+   that comes back as fast as it is closed, an operator's new connection would
+   otherwise never live to give its token).  The connection so chosen is closed
    (its front tells it why) and its place given at once.  A newcomer whose address holds
    as many as any other is refused.
 
@@ -82,6 +85,10 @@ PATIENCE: Final = 0.5
 newcomer from any other address, even one holding as many (a client says hello within
 milliseconds; a silent crowd spread one connection to an address would otherwise keep
 every client to a single connection)."""
+
+GRACE: Final = 0.1
+"""Seconds a new connection has to say who it is before it is the first to make room
+for a newcomer (a hello, an ``auth`` line, within one round trip on a LAN)."""
 
 SWEEP_EVERY: Final = 1.0
 """Seconds between two checks of the deadlines."""
@@ -339,7 +346,8 @@ class Admission:
         place of."""
         best: Ticket | None = None
         best_rank: tuple[int, int, float] | None = None
-        patient = self.clock.now() - PATIENCE
+        now = self.clock.now()
+        patient, young = now - PATIENCE, now - GRACE
         for other, tickets in self._by_address.items():
             size = len(tickets)
             if other == key:
@@ -351,9 +359,10 @@ class Admission:
                     continue
                 # one waiting to say who it is: the longest waiting, whatever its address
                 # holds (a client's own connections, opened together, are the youngest);
-                # else the idlest of the address holding the most
+                # else the idlest of the address holding the most; one just opened last
                 new = ticket.standing is Standing.NEW
-                rank = (int(ticket.standing), 0 if new else -size, ticket.last_active)
+                order = 2 if new and ticket.admitted_at > young else int(ticket.standing)
+                rank = (order, 0 if new else -size, ticket.last_active)
                 if best_rank is None or rank < best_rank:
                     best, best_rank = ticket, rank
         return best
@@ -448,6 +457,7 @@ __all__ = [
     "DEFAULT_BEFORE_HELLO",
     "DEFAULT_OPERATORS",
     "DEFAULT_PER_ADDRESS",
+    "GRACE",
     "NO_DEADLINES",
     "PATIENCE",
     "SWEEP_EVERY",

@@ -217,11 +217,12 @@ class Engine:
         return self._run(op, now, need_running=False)
 
     def hold(self, station: int, radio: int, by: str | None,
-             now: float | None = None) -> Changes:
+             now: float | None = None, since: float | None = None) -> Changes:
         """Hold the radio's antennas against its frequency changes (``by`` says who holds
         them, e.g. "AetherSDR at 192.168.1.20"), or release them (``by`` None): a held
         radio's frequency is kept but chooses no antennas; presses still do.  Releasing
-        selects for the frequency it has now."""
+        selects for the frequency it has now.  ``since``: when the hold began, in seconds
+        since the epoch, shown to people (kept when the same holder holds again)."""
         ref = self._radio(station, radio)
         if by is not None and (not isinstance(by, str) or not by.strip()):
             raise BadRequest(f"who holds the antennas must be said (not {by!r})")
@@ -231,8 +232,12 @@ class Engine:
             if by is not None:
                 if st.held.get(ref) != by:
                     st.held[ref] = by
+                    st.held_since.pop(ref, None)
                     w.log.append(f"{radio_name(ref)}: antennas held by {by}")
+                if since is not None:
+                    st.held_since.setdefault(ref, since)
                 return
+            st.held_since.pop(ref, None)
             if st.held.pop(ref, None) is None:
                 return
             w.log.append(f"{radio_name(ref)}: antennas released, they follow the frequency")
@@ -553,7 +558,7 @@ class Engine:
                          rs.tx, rs.rx, alt, rs.transmitting, inhibited, note,
                          None if listed is None else listed[1].ids,
                          path is not None and path.radio_rx_antenna, st.why.get(ref),
-                         st.held.get(ref))
+                         st.held.get(ref), st.held_since.get(ref))
         old = self._views.get(ref)
         return old if old == view else view
 

@@ -47,6 +47,9 @@ class Hold:
     station: int
     radio: int
     by: str | None
+    since: float | None = None
+    """When the hold began, in seconds since the epoch (the asker's wall clock), for
+    people; a hold taken again by the same holder keeps its first time."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,8 +124,8 @@ def perform(engine: Engine, op: Operation, now: float) -> Changes:
             return engine.set_frequency(station, radio, khz, tx_khz, now=now)
         case Select(station, radio, antenna, target, exclusive):
             return engine.select(station, radio, antenna, target, exclusive, now=now)
-        case Hold(station, radio, by):
-            return engine.hold(station, radio, by, now=now)
+        case Hold(station, radio, by, since):
+            return engine.hold(station, radio, by, now=now, since=since)
         case RunFunction(station, radio, function):
             return engine.run_function(station, radio, function, now=now)
         case Relative(station, radio, step, index):

@@ -51,6 +51,7 @@ class State:
         "busses",
         "extra_on",
         "held",
+        "held_since",
         "history",
         "latched",
         "now",
@@ -89,6 +90,9 @@ class State:
         self.held: dict[RadioRef, str] = {}
         """Radios whose antennas an operator holds against frequency changes, and who
         holds them ("AetherSDR at 192.168.1.20"): their frequency is kept, no selection."""
+        self.held_since: dict[RadioRef, float] = {}
+        """When each hold began, in seconds since the epoch (the wall clock of the one
+        who asked), for people: "held since 14:32".  Not the engine's clock."""
 
     def clone(self) -> State:
         c = State.__new__(State)
@@ -108,6 +112,7 @@ class State:
         c.now = self.now
         c.why = dict(self.why)
         c.held = dict(self.held)
+        c.held_since = dict(self.held_since)
         return c
 
     def remember(self, ref: RadioRef, band: Segment,

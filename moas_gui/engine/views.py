@@ -4,9 +4,16 @@ protocol's shapes (``to_dict()`` gives the JSON object of the protocol)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from datetime import UTC, datetime
 from typing import Any
 
 from .why import Why
+
+
+def utc_text(seconds: float) -> str:
+    """A moment as the client protocol gives it: ISO 8601 in UTC to the second
+    (``2026-11-29T08:14:03Z``)."""
+    return datetime.fromtimestamp(seconds, UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
 @dataclass(frozen=True, slots=True)
@@ -33,6 +40,8 @@ class RadioView:
     held_by: str | None = None
     """Who holds this radio's antennas against frequency changes (:meth:`Engine.hold`),
     None when its antennas follow its frequency."""
+    held_since: float | None = None
+    """When that hold began, seconds since the epoch (None: not held, or not known)."""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -43,6 +52,7 @@ class RadioView:
             "radio_rx_antenna": self.radio_rx_antenna,
             "why": None if self.why is None else self.why.to_dict(full=False),
             "held_by": self.held_by,
+            "held_since": None if self.held_since is None else utc_text(self.held_since),
         }
 
 

@@ -117,6 +117,11 @@ class ClientBackend(Protocol):
         returns ``{"tx": ..., "rx": ...}``.  Exactly one of ``step`` and ``index`` is given."""
         ...
 
+    def release(self, station: int, radio: int) -> None:
+        """Releases the hold on the radio's antennas (whoever set it): they follow its
+        frequency again.  Nothing to do when it is not held."""
+        ...
+
     def layout(self, station: int, radio: int, rows: int, columns: int) -> JSONObject:
         """The closest layout: ``station``, ``radio``, ``rows``, ``columns``, ``buttons``."""
         ...

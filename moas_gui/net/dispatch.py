@@ -102,7 +102,10 @@ def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
     if operator is not None:
         serves += f' (operator "{operator.name}", role {operator.role.value})'
     conn.note('Client at %s is "%s"%s', conn.address, conn.name, serves)
-    conn.reply(request.id, request.cmd, hello_result())
+    shown = None if operator is None else {
+        "name": operator.name, "role": operator.role.value,
+        "radios": None if operator.radios is None else sorted(list(r) for r in operator.radios)}
+    conn.reply(request.id, request.cmd, hello_result(shown))
     conn.greeted = True
     if conn.ticket is not None:
         conn.ticket.greeted()  # out of its address's reserve for newcomers (admission)
@@ -143,6 +146,11 @@ def _select(backend: ClientBackend, conn: Connection, request: Request) -> None:
 def _function(backend: ClientBackend, conn: Connection, request: Request) -> None:
     a = request.args
     backend.function(a["station"], a["radio"], a["function"])
+    conn.reply(request.id, request.cmd, {})
+
+
+def _release(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    backend.release(request.args["station"], request.args["radio"])
     conn.reply(request.id, request.cmd, {})
 
 
@@ -187,6 +195,7 @@ HANDLERS: dict[str, Handler] = {
     "select": _select,
     "function": _function,
     "relative": _relative,
+    "release": _release,
     "layout": _layout,
     "rotate": _rotate,
     "stop": _stop,

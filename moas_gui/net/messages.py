@@ -40,8 +40,13 @@ def encode(message: Mapping[str, Any]) -> bytes:
         return json.dumps(message, ensure_ascii=True).encode("ascii") + b"\n"
 
 
-def hello_result() -> dict[str, Any]:
-    return {"server": SERVER_NAME, "version": __version__, "protocol": PROTOCOL_VERSION}
+def hello_result(operator: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """The hello's result; ``operator`` (``name``, ``role``, ``radios``) when the hello's
+    token named one, so that a client offers only what its role allows."""
+    result = {"server": SERVER_NAME, "version": __version__, "protocol": PROTOCOL_VERSION}
+    if operator is not None:
+        result["operator"] = dict(operator)
+    return result
 
 
 def reply_ok(request_id: Any, result: Any) -> bytes:

@@ -146,6 +146,13 @@ COMMANDS: dict[str, Command] = {
             "runs one of the configuration's functions for the radio",
         ),
         Command(
+            "release",
+            (_STATION, _RADIO),
+            "{}",
+            "releases the hold on a radio's antennas, whoever set it: they follow its "
+            "frequency again",
+        ),
+        Command(
             "relative",
             (
                 _STATION,

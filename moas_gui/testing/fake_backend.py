@@ -56,10 +56,13 @@ class _Radio:
     active: bool = False
     focus: bool = False
     held_by: str | None = None
+    held_since: str | None = None
 
     def view(self) -> JSONObject:
         inhibited = self.tx is None
-        held = {"held_by": self.held_by} if self.held_by is not None else {}
+        held: JSONObject = {"held_by": self.held_by} if self.held_by is not None else {}
+        if self.held_since is not None:
+            held["held_since"] = self.held_since
         return {
             "station": self.station, "radio": self.radio, "khz": self.khz,
             "tx_khz": self.tx_khz, "tx": self.tx, "rx": self.rx, "alt": None,
@@ -174,6 +177,12 @@ class FakeBackend:
         self._changed([r] if r.view() != before else [])
         return {"tx": r.tx, "rx": r.rx}
 
+    def release(self, station: int, radio: int) -> None:
+        self.calls.append(("release", (station, radio)))
+        _may(Action(f"releasing the hold of radio {station}/{radio}",
+                    frozenset({(station, radio)})))
+        self.set_held(station, radio, None)
+
     def function(self, station: int, radio: int, function: int) -> None:
         self.calls.append(("function", (station, radio, function)))
         _may(Action(f"function {function} for radio {station}/{radio}",
@@ -273,11 +282,14 @@ class FakeBackend:
             r.transmitting = transmitting
             self._changed([r])
 
-    def set_held(self, station: int, radio: int, by: str | None) -> None:
-        """An operator holds the radio's antennas (``by``), or releases them (None)."""
+    def set_held(self, station: int, radio: int, by: str | None,
+                 since: str | None = None) -> None:
+        """An operator holds the radio's antennas (``by``, since ``since``: ISO 8601 UTC),
+        or releases them (None)."""
         r = self._radio(station, radio)
-        if r.held_by != by:
-            r.held_by = by
+        since = since if by is not None else None
+        if (r.held_by, r.held_since) != (by, since):
+            r.held_by, r.held_since = by, since
             self._changed([r])
 
     def set_switch_status(self, switch: int, status: str) -> None:

@@ -48,6 +48,7 @@ from moas_gui.client.model import (
     RadioView,
     Snapshot,
     explain,
+    may_release,
 )
 from moas_gui.client.screen import (
     Screen,
@@ -261,7 +262,17 @@ class ClientWindow(QMainWindow):
         self.note_label.setStyleSheet("color: #ffab40; font-weight: bold;")
         self.note_label.setWordWrap(True)
         self.note_label.hide()
-        outer.addWidget(self.note_label)
+        note_row = QHBoxLayout()
+        note_row.addWidget(self.note_label, 1)
+        self.release_button = QPushButton("Release", root)
+        """Shown while the radio is held and this client may release it: the hold goes,
+        the antennas follow the frequency again (docs/antenna-genius.md)."""
+        self.release_button.setToolTip("Release the hold: the antennas follow the "
+                                       "radio's frequency again")
+        self.release_button.hide()
+        self.release_button.clicked.connect(self._release)
+        note_row.addWidget(self.release_button, 0, Qt.AlignmentFlag.AlignTop)
+        outer.addLayout(note_row)
 
         body = QHBoxLayout()
         left = QVBoxLayout()
@@ -549,6 +560,7 @@ class ClientWindow(QMainWindow):
             self.badge_active.hide()
             self.badge_focus.hide()
             self.note_label.hide()
+            self.release_button.hide()
             self.display.set_detail("")
             return
         parts = [frequency_text(radio)]
@@ -568,6 +580,8 @@ class ClientWindow(QMainWindow):
         note = "\n".join(text for text in (radio.note, radio.held_text) if text)
         self.note_label.setText(note)
         self.note_label.setVisible(bool(note))
+        self.release_button.setVisible(bool(radio.held_by) and may_release(
+            self.connection.server.get("operator"), radio.station, radio.radio))
         self.relative_strip.show_list(radio, snapshot)
 
     def why_text(self) -> str:
@@ -647,6 +661,11 @@ class ClientWindow(QMainWindow):
             return
         self._spawn(self.connection.select(station, radio, view.id, self.target, exclusive),
                     f"Select {view.label}")
+
+    def _release(self) -> None:
+        if self._refused("Release") or self.station is None or self.radio is None:
+            return
+        self._spawn(self.connection.release(self.station, self.radio), "Release")
 
     def _relative(self, *, step: int | None = None, index: int | None = None) -> None:
         if self._refused("Relative") or self.station is None or self.radio is None:

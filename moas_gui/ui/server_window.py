@@ -21,6 +21,7 @@ from moas_gui.log_repeats import fold_repeats
 from moas_gui.status import ServerState, ServerStatus
 
 from .dialogs import ask_yes_no, choose_file, docs_path, show_message, show_problems
+from .holds_bar import HoldsBar
 from .icons import app_icon, status_icon
 from .log_view import LogLevel, LogView, QtLogHandler
 from .manual_window import ManualWindow
@@ -39,6 +40,7 @@ from .qt import (
     QSettings,
     QSystemTrayIcon,
     Qt,
+    QVBoxLayout,
     QWidget,
 )
 from .screen_fit import fit_to_screen
@@ -101,7 +103,15 @@ class ServerWindow(QMainWindow):
         self.setWindowTitle("MOAS Server")
         fit_to_screen(self, 760, 420)
         self.log_view = LogView(self)
-        self.setCentralWidget(self.log_view)
+        self.holds_bar = HoldsBar(self)
+        """Each held radio, who holds it since when, and its Release (docs/antenna-genius.md)."""
+        central = QWidget(self)
+        column = QVBoxLayout(central)
+        column.setContentsMargins(0, 0, 0, 0)
+        column.setSpacing(0)
+        column.addWidget(self.holds_bar)
+        column.addWidget(self.log_view, 1)
+        self.setCentralWidget(central)
         self.log_handler = fold_repeats(QtLogHandler())
         self.log_handler.bridge.record.connect(self.log_view.add_record)
         product_log = logging.getLogger("moas_gui")
@@ -123,6 +133,9 @@ class ServerWindow(QMainWindow):
         self.set_log_level(level)
         app.add_status_listener(self.show_status)
         app.add_alert_listener(self.alert)
+        app.add_hold_listener(self.holds_bar.show_holds)
+        self.holds_bar.release_requested.connect(self.release_hold)
+        self.holds_bar.show_holds(app.holds())
         self.show_status(app.status)
 
     # -- menus -------------------------------------------------------------------
@@ -219,6 +232,12 @@ class ServerWindow(QMainWindow):
             self.statusBar().showMessage(self._summary)
             return True
         return super().event(event)
+
+    def release_hold(self, station: int, radio: int) -> None:
+        """A hold's Release: the server window may release any (it is this computer)."""
+        refusal = self.app.release_hold(station, radio)
+        if refusal is not None:
+            self._message(QMessageBox.Icon.Warning, "Release", refusal)
 
     def alert(self, title: str, message: str) -> None:
         """A critical event (a switch lost): a tray message when there is a tray."""

@@ -53,7 +53,7 @@ def test_radio_entry_has_the_protocol_fields() -> None:
         "radio_rx_antenna": False,
         "why": {"rule": "f4_lowest", "text": "lowest-numbered antenna covering 14025 kHz",
                 "passed_over": []},
-        "held_by": None}
+        "held_by": None, "held_since": None}
     assert e.antenna_views()[0].to_dict() == {"id": 0, "short": "Tri", "long": "Tribander",
                                               "rotator": None, "offset": 0}
 

@@ -66,3 +66,18 @@ def test_hold_of_no_radio_or_by_nobody_is_refused_and_changes_nothing() -> None:
         perform(engine, Hold(1, 1, "  "), now=1.0)
     assert engine.radio_view(1, 1).held_by is None
     assert perform(engine, Hold(1, 1, None), now=1.0).log == ()
+
+
+def test_a_hold_keeps_its_first_time_and_a_release_forgets_it() -> None:
+    engine = small()
+    perform(engine, Hold(1, 1, "AetherSDR at 127.0.0.1", since=1_800_000_000.0), now=1.0)
+    view = engine.radio_view(1, 1)
+    assert view.held_since == 1_800_000_000.0
+    assert view.to_dict()["held_since"] == "2027-01-15T08:00:00Z"
+    perform(engine, Hold(1, 1, "AetherSDR at 127.0.0.1", since=1_800_000_060.0), now=2.0)
+    assert engine.radio_view(1, 1).held_since == 1_800_000_000.0  # the same holder: kept
+    perform(engine, Hold(1, 1, "Log4YM at 127.0.0.1", since=1_800_000_120.0), now=3.0)
+    assert engine.radio_view(1, 1).held_since == 1_800_000_120.0  # another holder: anew
+    perform(engine, Hold(1, 1, None), now=4.0)
+    released = engine.radio_view(1, 1)
+    assert released.held_since is None and released.to_dict()["held_since"] is None

@@ -4,6 +4,7 @@ list terminator, the numbering of bands, antennas and ports."""
 from __future__ import annotations
 
 import json
+import time
 from dataclasses import replace
 from pathlib import Path
 
@@ -167,11 +168,33 @@ def test_a_port_set_becomes_the_engines_operations_in_order() -> None:
     from moas_gui.engine_backend import operations
     from moas_gui.net.antenna_genius.server import PortRequest
 
-    assert operations(PortRequest(1, 2, release=True, khz=14175.0, tx=3, rx=3,
-                                  hold_by="x")) == [
+    before = time.time()
+    ops = operations(PortRequest(1, 2, release=True, khz=14175.0, tx=3, rx=3, hold_by="x"))
+    held = ops[-1]
+    assert isinstance(held, Hold) and held.since is not None
+    assert before <= held.since <= time.time()  # the wall clock: "held since 09:14"
+    assert ops == [
         Hold(1, 2, None), SetFrequency(1, 2, 14175.0), Select(1, 2, 3, "both", True),
-        Hold(1, 2, "x")]
+        Hold(1, 2, "x", since=held.since)]
     assert operations(PortRequest(1, 1, tx=0, rx=2)) == [Select(1, 1, 0, "tx", True),
                                                         Select(1, 1, 2, "rx", True)]
     assert operations(PortRequest(1, 1, rx=2)) == [Select(1, 1, 2, "rx", True)]
     assert operations(PortRequest(1, 1)) == []
+
+
+def test_an_engines_sentence_in_the_ags_words() -> None:
+    from moas_gui.net.antenna_genius.mapping import ag_words
+
+    config = load_config(EXAMPLES / "small-station.moas").unwrap()
+    antennas = ag_antennas(config)
+    device = devices(config)[0]
+    # the engine's "Antenna <ID> (<label>)" and a title alone both become the AG's number
+    # and antenna-list name; a radio on this device gets its port, another none
+    assert ag_words("Antenna 2 (80 Dipole) does not cover 14025 kHz for station 1 radio 1",
+                    antennas, device) == ("AG antenna 3 (80_m_dipole) does not cover 14025 kHz"
+                                          " for station 1 radio 1 (port 1)")
+    assert ag_words("All-band vertical is in use by Station 2 radio 1", antennas, device) \
+        == "AG antenna 4 (All-band_vertical) is in use by Station 2 radio 1"
+    assert ag_words("Antenna 0 (Tribander) and Antenna 1 (40 Dipole)", antennas) \
+        == "AG antenna 1 (Triband_Yagi_20-15-10) and AG antenna 2 (40_m_dipole_(also_15_m))"
+    assert ag_words("nothing to say", antennas, device) == "nothing to say"

@@ -13,7 +13,7 @@ import socket
 import pytest
 
 from moas_gui.clock import FakeClock
-from moas_gui.edge.admission import Admission, Deadlines, Refused, Standing, Ticket
+from moas_gui.edge.admission import GRACE, Admission, Deadlines, Refused, Standing, Ticket
 from moas_gui.edge.listener import BACKOFF_MOST, Listener, bind
 from moas_gui.edge.log_limit import LogLimiter
 
@@ -221,3 +221,22 @@ async def test_the_accept_loop_backs_off_when_out_of_file_handles(
         assert len(lines) == 1 and "Too many open files" in lines[0]
     finally:
         await listener.close()
+
+
+def test_a_connection_just_opened_goes_last_so_that_it_can_say_who_it_is() -> None:
+    """A crowd that comes back as fast as it is closed: the newest connection of an
+    address holding more is not the first to go while it has had no time to say hello
+    (:data:`GRACE`); greeted ones go first, and once its grace is over it goes first."""
+    pool = Pool(3)
+    crowd = [pool.admit(f"127.0.3.{n}", f"crowd{n}") for n in (1, 2)]
+    for ticket in crowd:
+        ticket.greeted()
+    pool.later(5)
+    fresh = pool.admit("127.0.0.2", "operator, about to say who it is")
+    pool.later(GRACE / 2)
+    pool.admit("127.0.3.9", "newcomer")
+    assert [name for name, _ in pool.closed] == ["crowd1"]
+    assert not fresh.released
+    pool.later(GRACE)
+    pool.admit("127.0.3.8", "another")
+    assert pool.closed[-1][0] == "operator, about to say who it is"

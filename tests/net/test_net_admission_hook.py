@@ -16,7 +16,7 @@ from test_net_fairness import closed, from_address, shut
 from test_net_server import HOST, dispose, make_rig
 from test_net_web import make_web, receive
 
-from moas_gui.edge.admission import Standing, Ticket
+from moas_gui.edge.admission import GRACE, Standing, Ticket
 
 
 def tickets_of(tickets: list[Ticket], host: str) -> list[Ticket]:
@@ -54,6 +54,7 @@ async def test_a_connection_evicted_to_make_room_is_told_why() -> None:
         await first[0].readline()  # the hello's reply
         second = await from_address(rig.server.port, "127.0.0.2")
         await until(lambda: rig.server.admission.count == 2)
+        await asyncio.sleep(GRACE)  # past the grace a connection just opened has
         newcomer = await rig.connect("newcomer")  # 127.0.0.1 holds none: it takes a place
         said = (await closed(second[0])).decode()
         told = [json.loads(line) for line in said.splitlines() if '"error"' in line]

@@ -7,6 +7,7 @@ answering the server meanwhile."""
 from __future__ import annotations
 
 import asyncio
+import re
 import sys
 from collections.abc import AsyncIterator, Callable
 from pathlib import Path
@@ -335,13 +336,26 @@ async def test_an_antenna_genius_hold_is_shown_on_the_page_with_who_holds_it(
         ag = await AgClient.connect(ag_port)
         assert (await ag.ask("port set 1 band=6")).code == 0  # 14175 kHz, no note
         await page_until(browser, f"return {note}.hidden", what="radio 1 on 20 m")
+        release = "document.querySelector('.radio[data-radio=\"1\"] .release')"
+        assert await js(browser, f"return {release}.hidden")
         assert (await ag.ask("port set 1 auto=0")).code == 0
         await page_until(browser, f"return !{note}.hidden", what="the hold")
         text = await js(browser, f"return {note}.textContent")
-        assert text == ("Held by an Antenna Genius client at 127.0.0.1: the antennas do not "
-                        "follow the frequency")
+        assert re.fullmatch(r"Held by an Antenna Genius client at 127\.0\.0\.1 since "
+                            r"\d\d:\d\d: the antennas do not follow the frequency", text), text
         assert (await ag.ask("port set 1 auto=1")).code == 0
         await page_until(browser, f"return {note}.hidden", what="the hold released")
+        # the program holds again and goes away: the page releases the radio it pinned
+        assert (await ag.ask("port set 1 auto=0")).code == 0
+        await ag.close()
+        ag = None
+        await page_until(browser, f"return !{release}.hidden", what="Release offered")
+        await tap(browser, '.radio[data-radio="1"] .release')
+        await page_until(browser, f"return {note}.hidden && {release}.hidden",
+                         what="the hold released from the page")
+        ag = await AgClient.connect(ag_port)
+        port = (await ag.ask("port get 1", listing=True)).message
+        assert " auto=1 " in port, port
     finally:
         if ag is not None:
             await ag.close()
@@ -365,4 +379,46 @@ async def test_a_station_with_one_radio_shows_no_second_radio_selector(
         await page_until(browser, shown, what="the second radio's selector on station 1")
     finally:
         await run(browser.get, "about:blank")
+        await made.close()
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_release_is_offered_on_the_page_only_to_an_operator_whose_role_covers_the_radio(
+        tmp_path: Path, browser: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 40: a paired page acts as its operator; a view operator's page shows the hold
+    but no Release, an operate operator's page for that radio offers it."""
+    from ag_client import AgClient
+    from web_station import free_port
+
+    from moas_gui.operators import OperatorBook, Role
+
+    made = Station(tmp_path)
+    monkeypatch.setenv("XDG_CONFIG_HOME", made.env["XDG_CONFIG_HOME"])
+    book = OperatorBook()
+    tokens = {"Vic": book.add("Vic", Role.VIEW)[1],
+              "Ann": book.add("Ann", Role.OPERATE, frozenset({(1, 1)}))[1]}
+    ag_port = free_port()
+    ag: AgClient | None = None
+    note = "document.querySelector('.radio[data-radio=\"1\"] .note')"
+    release = "document.querySelector('.radio[data-radio=\"1\"] .release')"
+    try:
+        await made.start_server("--ag-port", str(ag_port))
+        ag = await AgClient.connect(ag_port)
+        assert (await ag.ask("port set 1 band=6 auto=0")).code == 0
+        for name, offered in (("Vic", False), ("Ann", True)):
+            await run(browser.get, "about:blank")  # a new page each time, not a new fragment
+            await run(browser.get, made.url + f"?station=1&radio=1#token={tokens[name]}")
+            await page_until(browser, f"return {note} !== null && !{note}.hidden",
+                             what=f"the hold on {name}'s page")
+            await asyncio.sleep(0.3)  # the hello's result has come with the state
+            assert await js(browser, f"return {release}.hidden") is (not offered), name
+        await tap(browser, '.radio[data-radio="1"] .release')
+        await page_until(browser, f"return {note}.hidden", what="released by Ann")
+        assert " auto=1 " in (await ag.ask("port get 1", listing=True)).message
+        assert any("Ann at 127.0.0.1:" in line and "releasing the hold of radio 1/1" in line
+                   for line in made.log)
+    finally:
+        if ag is not None:
+            await ag.close()
         await made.close()

@@ -165,10 +165,14 @@ async def test_what_the_engine_refuses_gets_its_reason_and_changes_nothing(
     # radio 1 holds the tribander: radio 2's press for it is refused, with the reason
     answer = await client.ask("port set 2 rxant=1 txant=1")
     assert answer.code == 0x20
-    assert answer.message == "Antenna 0 (Tribander) is in use by station 1 radio 1"
-    # the 80 m dipole cannot work on 20 m
+    # in the AG's words: its antenna number and name, the port of the radio
+    assert answer.message == ("AG antenna 1 (Triband_Yagi_20-15-10) is in use by station 1 "
+                              "radio 1 (port 1)")
+    # the 80 m dipole (AG antenna 3) cannot work on 20 m
     answer = await client.ask("port set 1 rxant=3 txant=3")
-    assert answer.code == 0x20 and "does not cover 14025 kHz" in answer.message
+    assert answer.code == 0x20
+    assert answer.message == ("AG antenna 3 (80_m_dipole) does not cover 14025 kHz for "
+                              "station 1 radio 1 (port 1)")
     # a band with a press the engine refuses: neither is done
     answer = await client.ask("port set 1 band=2 rxant=1")
     assert answer.code == 0x20
@@ -514,3 +518,34 @@ def test_an_ag_code_is_kept_as_a_hash_and_must_be_digits(tmp_path: Path) -> None
         book.add("Bob", Role.VIEW, ag_code="12a4")
     with pytest.raises(OperatorError, match="another operator has that"):
         book.add("Bob", Role.VIEW, ag_code="4711")
+
+
+@pytest.mark.asyncio
+async def test_zero_is_the_ags_none_no_band_no_antenna_and_the_release_pattern_releases(
+        app: ServerApp, client: AgClient) -> None:
+    """The public API: ``<antenna> = 0-xx (0 = none)``, ``band 0-15`` (0 = None).  A
+    program that lets go of its port sends ``auto=1 source=AUTO band=0 rxant=0 txant=0``:
+    the hold goes, the frequency stays, the engine chooses; a MOAS radio is never left
+    without an antenna."""
+    engine = app.engine
+    assert engine is not None
+    logger_band(app, 14025.0)
+    await until(lambda: engine.radio_view(1, 1).khz == 14025.0)
+    assert (await client.ask("sub port all")).code == 0
+    assert (await client.ask("port set 1 auto=0 rxant=4 txant=4")).code == 0
+    await client.status("port 1 ")
+    held = engine.radio_view(1, 1)
+    assert held.held_by is not None and held.tx == 3
+    # none for one side, or for both: nothing is pressed, nothing changes
+    for command in ("port set 1 txant=0", "port set 1 rxant=0 txant=0", "port set 1 band=0"):
+        assert (await client.ask(command)).code == 0, command
+        assert engine.radio_view(1, 1) == held, command
+    answer = await client.ask("port set 1 auto=1 source=AUTO band=0 rxant=0 txant=0")
+    assert answer.code == 0, answer
+    said = fields(await client.status("port 1 "))
+    released = engine.radio_view(1, 1)
+    assert said["auto"] == "1" and released.held_by is None and released.khz == 14025.0
+    assert released.tx is not None and released.rx is not None
+    # a press with the other side none: only the side asked for is pressed
+    assert (await client.ask("port set 1 txant=1 rxant=0")).code == 0
+    assert engine.radio_view(1, 1).tx == 0

@@ -16,6 +16,7 @@
 
 from __future__ import annotations
 
+import re
 import zlib
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -106,6 +107,13 @@ class AgAntenna:
     tx: int
     rx: int
     inband: int = 0
+    label: str = ""
+    """The antenna's button name (the engine's sentences say ``Antenna <ID> (<label>)``)."""
+
+    @property
+    def ag_name(self) -> str:
+        """The name as ``antenna list`` gives it."""
+        return name_text(self.name)
 
     def text(self) -> str:
         """``antenna N name=... tx=HHHH rx=HHHH inband=HHHH``."""
@@ -124,7 +132,8 @@ def ag_antennas(config: Config) -> tuple[AgAntenna, ...]:
                 if band.number and band.high_khz and any(_overlaps(r, band) for r in ranges):
                     mask |= 1 << band.number
         out.append(AgAntenna(number, antenna.id, antenna.title,
-                             0 if antenna.rx_only else mask, 0 if antenna.tx_only else mask))
+                             0 if antenna.rx_only else mask, 0 if antenna.tx_only else mask,
+                             label=antenna.label))
     return tuple(out)
 
 
@@ -191,6 +200,30 @@ def devices(config: Config, chosen: Sequence[RadioRef] | None = None) -> tuple[D
     return tuple(out)
 
 
+def ag_words(message: str, antennas: Sequence[AgAntenna], device: Device | None = None) -> str:
+    """An engine's sentence in the AG's words: each antenna it names (``Antenna 2 (80
+    Dipole)``, or its title alone) becomes ``AG antenna 3 (80_m_Dipole)``, the number and
+    name ``antenna list`` gives; a radio on one of ``device``'s ports gets that port
+    (``station 1 radio 2 (port 2)``)."""
+    words: dict[str, str] = {}
+    for antenna in antennas:
+        ag = f"AG antenna {antenna.number} ({antenna.ag_name})"
+        words.setdefault(f"Antenna {antenna.id} ({antenna.label})", ag)
+        if antenna.name:
+            words.setdefault(antenna.name, ag)
+    if words:
+        # the engine's ``Antenna ID (label)`` first, then titles alone, longest first
+        keys = sorted(words, key=lambda k: (not k.startswith("Antenna "), -len(k)))
+        pattern = re.compile("|".join(rf"(?<!\w){re.escape(k)}(?!\w)" for k in keys))
+        message = pattern.sub(lambda m: words[m.group(0)], message)
+    if device is not None:
+        def port(m: re.Match[str]) -> str:
+            found = device.port_of(RadioRef(int(m.group(1)), int(m.group(2))))
+            return m.group(0) if found is None else f"{m.group(0)} (port {found})"
+        message = re.sub(r"(?i)\bstation (\d+) radio (\d+)\b", port, message)
+    return message
+
+
 def serial_for(name: str, port: int) -> str:
     """A serial number as the AG gives one (``XX-XX-XX``), stable for a station's name
     and port, different between the devices of one server."""
@@ -205,6 +238,7 @@ __all__ = [
     "Band",
     "Device",
     "ag_antennas",
+    "ag_words",
     "antenna_ranges",
     "band_of",
     "devices",

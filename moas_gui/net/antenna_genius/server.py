@@ -34,6 +34,7 @@ from moas_gui.config import Config
 from moas_gui.config.model import RadioRef
 from moas_gui.edge.gate import gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
+from moas_gui.edge.log_limit import LogLimiter, held_text
 from moas_gui.errors import RequestRefused
 from moas_gui.net.connection import format_peer
 from moas_gui.net.identity import Identity, serving
@@ -42,7 +43,16 @@ from . import codec
 from .access import AgAccess, AuthFailures, SimpleAccess
 from .codec import Command, CommandReader, Malformed, PortStatus
 from .discovery import Announcement, Announcer
-from .mapping import BANDS, AgAntenna, Device, ag_antennas, band_of, devices, serial_for
+from .mapping import (
+    BANDS,
+    AgAntenna,
+    Device,
+    ag_antennas,
+    ag_words,
+    band_of,
+    devices,
+    serial_for,
+)
 
 log = logging.getLogger(__name__)
 
@@ -50,6 +60,10 @@ UNSUPPORTED_VERBS = frozenset({"stack", "group", "output", "flex", "conf", "ante
                                "band set", "port reset", "sub group", "sub output",
                                "sub stack", "sub flex", "fw", "reboot"})
 """Commands of the real device this front does not do: answered with an error code."""
+
+MAX_PENDING = 1 << 20
+"""Bytes that may wait to be sent to one client (answers and pushes), as on the client
+port: a client that stops reading is cut once more than this waits."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -137,6 +151,10 @@ class _Session:
     identity: Identity | None = None
     """Who its commands act as (the roles' rules, :mod:`moas_gui.net.identity`)."""
     closing: bool = field(default=False)
+    cut: Callable[[_Session, int], None] | None = None
+    """Told when more than :attr:`max_pending` bytes wait for this client (it is then
+    aborted): the server's one log line a minute about it."""
+    max_pending: int = MAX_PENDING
 
     def deadline(self, timing: AgTiming) -> float:
         if self.last is None:
@@ -144,8 +162,18 @@ class _Session:
         return self.last + (timing.keepalive if self.keepalive else timing.idle)
 
     def send(self, data: bytes) -> None:
-        if not self.writer.is_closing():
-            self.writer.write(data)
+        """Queues ``data`` without waiting; a client with more than :attr:`max_pending`
+        bytes waiting (it stopped reading) is aborted, its queue dropped."""
+        transport = self.writer.transport
+        if transport.is_closing():
+            return
+        transport.write(data)
+        pending = transport.get_write_buffer_size()
+        if pending > self.max_pending:
+            self.closing = True
+            transport.abort()
+            if self.cut is not None:
+                self.cut(self, pending)
 
 
 class _Device:
@@ -179,8 +207,10 @@ class AgServer:
     def __init__(self, backend: AgBackend, host: str, port: int, *,
                  radios: Sequence[RadioRef] | None = None, access: AgAccess | None = None,
                  name: str = "MOAS", timing: AgTiming | None = None,
-                 discovery: tuple[str, int] | None = None) -> None:
+                 discovery: tuple[str, int] | None = None,
+                 max_pending: int = MAX_PENDING) -> None:
         self.backend = backend
+        self.max_pending = max_pending
         self.host, self.port = host, port
         self.chosen = tuple(radios) if radios is not None else None
         self.access: AgAccess = access or SimpleAccess()
@@ -188,6 +218,10 @@ class AgServer:
         self.timing = timing or AgTiming()
         self.discovery_target = discovery
         self.failures = AuthFailures()
+        self.trouble = LogLimiter()
+        """One line a minute per kind of trouble an outside party can cause (a line that
+        is no command, a refused ``port set``, a client that stops reading...), with the
+        count of those left out."""
         self.started = time.monotonic()
         self.antennas: tuple[AgAntenna, ...] = ()
         self.devices: list[_Device] = []
@@ -345,12 +379,14 @@ class AgServer:
             return
         refusal = self.access.allowed(host)
         if refusal is not None:
-            log.warning("Antenna Genius: refused %s: %s", format_peer(peer), refusal)
+            self._trouble(logging.WARNING, "not allowed", "Antenna Genius: refused %s: %s",
+                          format_peer(peer), refusal)
             writer.close()
             return
         self._tasks.add(task)
         needs = self.access.needs_token(host)
-        session = _Session(served, writer, host, format_peer(peer), not needs, loop.time())
+        session = _Session(served, writer, host, format_peer(peer), not needs, loop.time(),
+                           cut=self._cut, max_pending=self.max_pending)
         session.identity = self.access.identity(host, session.peer, None)
         served.sessions.add(session)
         try:
@@ -373,8 +409,9 @@ class AgServer:
             try:
                 data = await asyncio.wait_for(reader.read(4096), max(left, 0.0))
             except TimeoutError:
-                log.info("Antenna Genius: closed %s: %s", session.peer,
-                         "no command came" if session.last is None else "it fell silent")
+                self._trouble(logging.INFO, ("silent", session.last is None),
+                              "Antenna Genius: closed %s: %s", session.peer,
+                              "no command came" if session.last is None else "it fell silent")
                 return
             if not data:
                 return
@@ -393,11 +430,25 @@ class AgServer:
                     break
             await session.writer.drain()
 
+    def _trouble(self, level: int, kind: object, message: str, *args: object) -> None:
+        """A log line of a kind an outside party can cause: one a minute per kind, the
+        next one saying how many were left out meanwhile."""
+        held = self.trouble.allow(kind)
+        if held is not None:
+            log.log(level, message + "%s", *args, held_text(held, "more like it"))
+
+    def _cut(self, session: _Session, pending: int) -> None:
+        self._trouble(logging.WARNING, "stopped reading",
+                      "Antenna Genius: disconnected %s: it stopped reading (%s bytes waiting "
+                      "to be sent, over the %s-byte limit)", session.peer, f"{pending:,}",
+                      f"{session.max_pending:,}")
+
     # -- commands --------------------------------------------------------------------------
     def answer(self, session: _Session, item: Command | Malformed) -> bytes:
         """The bytes that answer one line."""
         if isinstance(item, Malformed):
-            log.info("Antenna Genius: %s sent %s", session.peer, item.reason)
+            self._trouble(logging.INFO, "malformed", "Antenna Genius: %s sent %s",
+                          session.peer, item.reason)
             return codec.reply(item.seq, codec.BAD_COMMAND, item.reason)
         verb = item.verb
         if verb == "auth" or item.words[:1] == ("auth",):
@@ -430,7 +481,15 @@ class AgServer:
         session.authed, session.operator = True, operator
         session.identity = self.access.identity(session.host, session.peer, operator)
         log.info("Antenna Genius: %s authenticated as %s", session.peer, operator)
+        self._operators_pool(session)
         return codec.reply(item.seq)
+
+    def _operators_pool(self, session: _Session) -> None:
+        """An operator's connection moves to the operators' own capacity, as on the client
+        port: no crowd of other addresses can take its place from then on."""
+        ticket = ticket_of(session.writer)
+        if ticket is not None and session.identity is not None and session.identity.is_operator:
+            ticket.operator()  # False when that capacity is full: the admission says so
 
     def _info(self, session: _Session, item: Command) -> bytes:
         if item.words[1:2] != ("get",):
@@ -479,9 +538,10 @@ class AgServer:
                 self.radios_changed(changed)
         except RequestRefused as exc:
             code = codec.NOT_RUNNING if exc.code == "not_running" else codec.REFUSED
-            log.info("Antenna Genius: %s port set %d refused: %s", session.peer, port,
-                     exc.message)
-            return codec.reply(item.seq, code, exc.message)
+            said = ag_words(exc.message, self.antennas, session.device.device)
+            self._trouble(logging.INFO, "refused", "Antenna Genius: %s port set %d refused: %s",
+                          session.peer, port, said)
+            return codec.reply(item.seq, code, said)
         return codec.reply(item.seq)
 
     def _request(self, session: _Session, item: Command,
@@ -500,19 +560,17 @@ class AgServer:
                 if not text.isdigit() or not 0 <= int(text) <= top:
                     return f"{key}={text} is out of range (0-{top})"
                 values[key] = int(text)
-        for key in ("rxant", "txant"):
-            if values.get(key) == 0:
-                return f"{key}=0: a MOAS radio cannot be left without an antenna this way"
-        band = values.get("band")
-        if band is not None and (band == 0 or not BANDS[band].high_khz):
+        # 0 is the AG's "none": no band, no antenna chosen for that side (a MOAS radio
+        # keeps the antennas its engine gives it: docs/antenna-genius.md)
+        band = values.get("band") or None
+        if band is not None and not BANDS[band].high_khz:
             return f"band={band} is not a band of this station"
         ids = {a.number: a.id for a in self.antennas}
         who = session.operator or "an Antenna Genius client"
         return PortRequest(
             ref.station, ref.radio, release=values.get("auto") == 1,
             khz=None if band is None else BANDS[band].middle_khz,
-            tx=ids.get(values["txant"]) if "txant" in values else None,
-            rx=ids.get(values["rxant"]) if "rxant" in values else None,
+            tx=ids.get(values.get("txant", 0)), rx=ids.get(values.get("rxant", 0)),
             hold_by=f"{who} at {session.host}" if values.get("auto") == 0 else None)
 
     def _sub(self, session: _Session, item: Command) -> bytes:

@@ -114,6 +114,7 @@
 
   let ws = null, connected = false, snapshot = null, nextId = 1, retry = 500, lastHeard = 0, lastSent = 0;
   let firstState = true;
+  let operator = null;  // who this page acts as, from hello's result (null: anonymous)
   const pending = new Map();
   const panels = [];
 
@@ -129,7 +130,10 @@
       if (choice.radios[0] != null) hello.radio = choice.radios[0];
       const token = localStorage.getItem(TOKEN_KEY);
       if (token) hello.token = token;
-      request(hello).catch(e => {
+      request(hello).then(result => {
+        operator = result && result.operator ? result.operator : null;
+        for (const p of panels) showRadio(p);
+      }).catch(e => {
         showLink(false, e.code === "forbidden" ? "waiting for an operator's token" : e.message);
         if (e.code === "forbidden") {
           if (token) localStorage.removeItem(TOKEN_KEY);
@@ -397,6 +401,8 @@
       }
       send(p, { cmd: "relative", step: by }, "Relative");
     };
+    // a hold outlives the program that set it: an operator whose role covers the radio frees it
+    $(".release", el).addEventListener("click", () => send(p, { cmd: "release" }, "Release"));
     $(".prev", el).addEventListener("click", () => step(-1));
     $(".next", el).addEventListener("click", () => step(1));
     $(".rotator", el).addEventListener("change", (e) => { p.rotator = num(e.target.value); p.picked = true; showCompass(p); });
@@ -434,6 +440,24 @@
   }
   // the server said the radio has no relative list here (an entry without the field
   // says nothing: the step is sent and the server answers)
+  // a moment the server gave in UTC, as this device's clock shows it: 09:14 (with the date when not today)
+  function localTime(utc) {
+    if (!utc) return "";
+    const t = new Date(utc);
+    if (Number.isNaN(t.getTime())) return "";
+    const two = (n) => String(n).padStart(2, "0");
+    const time = `${two(t.getHours())}:${two(t.getMinutes())}`;
+    const now = new Date();
+    return t.toDateString() === now.toDateString() ? time
+      : `${t.getFullYear()}-${two(t.getMonth() + 1)}-${two(t.getDate())} ${time}`;
+  }
+  // an anonymous page (this computer, an open LAN) may; an operator by its role
+  function mayRelease(r) {
+    if (!operator) return true;
+    if (operator.role === "admin") return true;
+    if (operator.role !== "operate") return false;
+    return operator.radios == null || operator.radios.some(([s, n]) => s === r.station && n === r.radio);
+  }
   function noRelative(r) { return "relative" in r && !(r.relative && r.relative.length); }
   function khzText(khz) { return khz == null ? "no frequency" : `${khz.toFixed(1)} kHz`; }
 
@@ -456,6 +480,7 @@
       }[screenState()] || "no radio";
       tx.textContent = rx.textContent = "";
       $(".transmitting", el).hidden = $(".inhibited", el).hidden = note.hidden = true;
+      $(".release", el).hidden = true;
       if (r) $(".rel-list", el).textContent = (r.relative || []).map(id => antenna(id) ? antenna(id).short || antennaName(id) : id).join("  ");
       return;
     }
@@ -465,9 +490,11 @@
     rx.textContent = `RX ${antennaName(r.rx)}` + (r.alt != null ? ` \u00b7 ALT ${antennaName(r.alt)}` : "");
     $(".transmitting", el).hidden = !r.transmitting;
     $(".inhibited", el).hidden = !r.inhibited;
-    const held = r.held_by ? `Held by ${r.held_by}: the antennas do not follow the frequency` : "";
+    const since = localTime(r.held_since);
+    const held = r.held_by ? `Held by ${r.held_by}${since ? " since " + since : ""}: the antennas do not follow the frequency` : "";
     note.textContent = [r.note || "", held].filter(Boolean).join(" \u00b7 ");
     note.hidden = !note.textContent;
+    $(".release", el).hidden = !(r.held_by && mayRelease(r));
     const why = $(".why", el);
     why.textContent = whyText(r);
     $(".display", el).title = why.textContent;

@@ -374,6 +374,11 @@ class SecretGuard:
             self._watch.cancel()
             self._watch = None
 
+    @property
+    def watched(self) -> bool:
+        """The watcher has read the operators file at least once."""
+        return self._seen is not None
+
     def end_operator(self, name: str) -> int:
         """Ends ``name``'s sessions on every front now; how many."""
         ended = 0

@@ -39,7 +39,6 @@ from moas_gui.antenna_log.recorder import AntennaRecorder
 from moas_gui.antenna_log.records import ContactPacket
 from moas_gui.config import Config, LoadResult, load_config
 from moas_gui.config.model import RotatorControl
-from moas_gui.edge.secrets import SecretGuard
 from moas_gui.engine import Changes, Engine, NotRunning
 from moas_gui.engine.focus import FocusKind
 from moas_gui.engine.operations import (
@@ -61,8 +60,8 @@ from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.net.identity import current, enforce
+from moas_gui.net.secrets import SecretGuard
 from moas_gui.net.server import ClientServer
-from moas_gui.operators import OperatorBook
 from moas_gui.rights import action_for
 from moas_gui.running import (
     ROTCTLD_HOST,
@@ -100,10 +99,10 @@ class ServerApp:
         self._lock = asyncio.Lock()
         self._ag = AntennaGenius()
         """The Antenna Genius front: it outlives a configuration, closed by :meth:`close`."""
-        self.secrets = SecretGuard(OperatorBook())
+        self.secrets = SecretGuard.station()
         """The one place tokens and AG codes are checked (off the loop, budgeted), shared
         by every front; it also watches the operators file and ends a removed operator's
-        sessions on all of them (moas_gui/edge/secrets.py)."""
+        sessions on all of them (moas_gui/net/secrets.py)."""
         self._antenna_log_on = self.options.antenna_log
         """The antenna journal is written (``--no-antenna-log`` and the menu turn it off)."""
 

@@ -18,7 +18,7 @@ The file is read as the saved state is: a regular file only (a FIFO, a device or
 directory there is refused, never waited on), at most :data:`MAX_FILE_BYTES`, and
 kept in memory until its modification time, size or inode changes (one ``stat`` per
 check).  The checks hash (a few ms each): the server runs them, and so every read of
-the file, on its one secret-check thread (:mod:`moas_gui.edge.secrets`), never on
+the file, on its one secret-check thread (:mod:`moas_gui.net.secrets`), never on
 its event loop.
 
 Roles (what :mod:`moas_gui.net.identity` enforces):

@@ -26,7 +26,6 @@ from moas_gui.antenna_log.recorder import AntennaRecorder
 from moas_gui.antenna_log.records import JournalReader
 from moas_gui.config import Config
 from moas_gui.config.model import Antenna, RadioRef, Rotator, RotatorControl
-from moas_gui.edge.secrets import SecretGuard
 from moas_gui.engine import Engine
 from moas_gui.engine.switchstate import SwitchState
 from moas_gui.errors import HardwareError
@@ -49,6 +48,7 @@ from moas_gui.net.antenna_genius.server import AgBackend, AgServer
 from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
+from moas_gui.net.secrets import SecretGuard
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
 from moas_gui.source_intake import SourceIntake
 from moas_gui.sources.base import SourceSink

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from moas_gui.edge.admission import Ticket
-from moas_gui.edge.secrets import Verdict
+from moas_gui.net.secrets import Verdict
 
 from .backend import ErrorCode
 from .framing import request_framer
@@ -123,7 +123,7 @@ class Connection:
         """Told the new identity when a hello's token makes this connection an operator
         (the admission policy may move it to the operators' own capacity then)."""
         self.authenticate: Callable[[str], Awaitable[Verdict]] | None = None
-        """Checks a hello's token off the loop (:meth:`~moas_gui.edge.secrets.SecretGuard.
+        """Checks a hello's token off the loop (:meth:`~moas_gui.net.secrets.SecretGuard.
         check_token`: the operator, or why not); None here when this server has no
         operators."""
         self.chatter: Callable[[], int | None] | None = None

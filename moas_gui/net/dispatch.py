@@ -74,6 +74,7 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> W
             parsed.id, ErrorCode.INTERNAL,
             f"the server failed on {parsed.cmd}: {type(e).__name__}: {e}",
         )
+    return None
 
 
 def _identify(conn: Connection, token: str | None) -> str | None:
@@ -89,7 +90,7 @@ def _identify(conn: Connection, token: str | None) -> str | None:
 
 async def _hello_with_token(backend: ClientBackend, conn: Connection, request: Request,
                             token: str) -> None:
-    """A hello with a token: the check runs off the loop (:mod:`moas_gui.edge.secrets`),
+    """A hello with a token: the check runs off the loop (:mod:`moas_gui.net.secrets`),
     and this connection's next line waits for it."""
     assert conn.authenticate is not None
     verdict = await conn.authenticate(token)

@@ -47,8 +47,8 @@ from typing import Any
 
 from moas_gui.edge.gate import ForwardingGate
 from moas_gui.edge.listener import Listener
-from moas_gui.edge.secrets import SecretGuard
 from moas_gui.errors import HardwareError
+from moas_gui.net.secrets import SecretGuard
 from moas_gui.operators import OperatorBook
 
 from .access import allowed_networks, is_allowed

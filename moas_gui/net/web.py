@@ -43,8 +43,8 @@ from typing import TYPE_CHECKING
 from aiohttp import web
 
 from moas_gui.edge.listener import Listener
-from moas_gui.edge.secrets import Verdict
 from moas_gui.errors import HardwareError
+from moas_gui.net.secrets import Verdict
 
 from .admission import REQUEST_DEADLINE
 from .connection import format_peer

@@ -1,5 +1,5 @@
 """Secret checks off the loop, on one bounded worker, budgeted per address and per
-operator (moas_gui/edge/secrets.py), through a real client server on real sockets: a
+operator (moas_gui/net/secrets.py), through a real client server on real sockets: a
 flood of wrong hellos carrying a real key id leaves the loop serving, a known device
 is not held back by a guesser, a full worker answers "busy", an unknown key id costs
 the hash a known one does, and an operators file that is a FIFO or 1 GB neither hangs
@@ -18,7 +18,9 @@ import pytest
 from helpers import until
 
 import moas_gui.operators as operators_module
-from moas_gui.edge.secrets import (
+from moas_gui.net.backend import ErrorCode, RequestError
+from moas_gui.net.client import ProtocolClient
+from moas_gui.net.secrets import (
     ADDRESS_FREE,
     BACKOFF_CAP,
     Backoff,
@@ -27,8 +29,6 @@ from moas_gui.edge.secrets import (
     budget_key,
     delay,
 )
-from moas_gui.net.backend import ErrorCode, RequestError
-from moas_gui.net.client import ProtocolClient
 from moas_gui.net.server import ClientServer
 from moas_gui.operators import OperatorBook, Role
 from moas_gui.testing.fake_backend import FakeBackend
@@ -296,7 +296,7 @@ async def test_a_full_worker_answers_busy_at_once_and_the_hello_may_try_again(
 @pytest.mark.asyncio
 async def test_a_wrong_token_is_one_log_line_a_minute_however_many_come(
         tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
-    caplog.set_level("INFO", logger="moas_gui.edge.secrets")
+    caplog.set_level("INFO", logger="moas_gui.net.secrets")
     book = OperatorBook(tmp_path / "operators.json")
     _op, token = book.add("otto", Role.OPERATE)
     server = await serve(book)
@@ -307,7 +307,7 @@ async def test_a_wrong_token_is_one_log_line_a_minute_however_many_come(
             assert reply["error"]["code"] == "forbidden"
     finally:
         await server.close()
-    lines = [r.getMessage() for r in caplog.records if r.name == "moas_gui.edge.secrets"]
+    lines = [r.getMessage() for r in caplog.records if r.name == "moas_gui.net.secrets"]
     assert sum("A wrong token" in m for m in lines) == 1
     assert sum("too many wrong tokens" in m for m in lines) == 1
     assert token.rsplit(".", 1)[1][:10] not in " ".join(lines)

@@ -18,10 +18,10 @@ import pytest_asyncio
 from ag_client import AgClient
 
 from moas_gui.app import ServerApp, ServerOptions
-from moas_gui.edge.secrets import ADDRESS_FREE, SecretGuard
 from moas_gui.engine_backend import AgEngineBackend
 from moas_gui.net.antenna_genius.access import SimpleAccess
 from moas_gui.net.antenna_genius.server import AgServer
+from moas_gui.net.secrets import ADDRESS_FREE, SecretGuard
 
 CODE = "471100"
 

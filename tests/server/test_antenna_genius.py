@@ -251,8 +251,8 @@ async def test_keepalive_drops_a_silent_client_and_a_pinging_one_stays() -> None
 
 @pytest.mark.asyncio
 async def test_auth_needed_wrong_code_gets_ff_and_too_many_lock_the_address_out() -> None:
-    from moas_gui.edge.secrets import ADDRESS_FREE, SecretGuard
     from moas_gui.net.antenna_genius.access import SimpleAccess
+    from moas_gui.net.secrets import ADDRESS_FREE, SecretGuard
 
     class Lan(SimpleAccess):
         def needs_token(self, host: str) -> bool:  # as for a LAN peer with --require-token

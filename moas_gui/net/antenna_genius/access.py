@@ -13,7 +13,7 @@ networks, never beyond.  Everything the front asks about access goes through one
 * :meth:`~AgAccess.needs_token` -- whether that peer gets ``V... AG AUTH`` and must send
   ``auth code=N`` before anything else;
 * :meth:`~AgAccess.check_code` -- the operator an ``auth`` code stands for, or why not,
-  from the server's one secret check (:class:`~moas_gui.edge.secrets.SecretGuard`: off
+  from the server's one secret check (:class:`~moas_gui.net.secrets.SecretGuard`: off
   the loop, failures budgeted per address -- an IPv6 /64 being one -- and per operator
   from every address together, with a back-off that grows per failure, asked at every
   ``auth``, open sessions included);
@@ -31,9 +31,9 @@ from collections.abc import Callable, Iterable, Mapping
 from typing import Protocol
 
 from moas_gui.edge.admission import Admission
-from moas_gui.edge.secrets import SecretGuard, Verdict, budget_key
 from moas_gui.net.access import allowed_networks, is_allowed, peer_address
 from moas_gui.net.identity import Identity, is_local
+from moas_gui.net.secrets import SecretGuard, Verdict, budget_key
 
 
 class AgAccess(Protocol):

@@ -48,10 +48,9 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Final, TypeVar
 
+from moas_gui.edge.admission import DEFAULT_BEFORE_HELLO
+from moas_gui.edge.log_limit import LogLimiter, held_text
 from moas_gui.operators import Operator, OperatorBook, OperatorError, file_signature
-
-from .admission import DEFAULT_BEFORE_HELLO
-from .log_limit import LogLimiter, held_text
 
 log = logging.getLogger(__name__)
 
@@ -227,7 +226,10 @@ class SecretGuard:
         self.worker = worker or SecretWorker()
         self.addresses = Backoff(ADDRESS_FREE)
         self.keys = Backoff()
-        """Per operator: a token's key id, or :data:`AG_KEY` for every AG code."""
+        """Per operator: a token's key id (whether or not an operator has it)."""
+        self.ag_codes = Backoff()
+        """Per operator for AG codes: every operator's together (:data:`AG_KEY`), in a
+        table of its own, which no flood of made-up key ids can push out."""
         self._known: OrderedDict[tuple[str, str], None] = OrderedDict()
         self._known_ag: OrderedDict[str, None] = OrderedDict()
         self.trouble = LogLimiter()
@@ -238,6 +240,11 @@ class SecretGuard:
         self._signature: object = None
         self.ended: dict[str, tuple[int, float]] = {}
         """Sessions ended per operator name (lower case) when its removal was noticed."""
+
+    @classmethod
+    def station(cls) -> SecretGuard:
+        """The guard of the station's own operators file (the configuration directory's)."""
+        return cls(OperatorBook())
 
     # -- known devices ------------------------------------------------------------------
     def known(self, host: str, name: str) -> bool:
@@ -312,7 +319,7 @@ class SecretGuard:
         now = self.clock()
         wait = self.addresses.wait(budget_key(host), now)
         if wait <= 0 and key is not None:
-            wait = self.keys.wait(key, now)
+            wait = self._table(key).wait(key, now)
         if wait <= 0:
             return None
         self._line(("throttled", whose), logging.WARNING,
@@ -325,7 +332,7 @@ class SecretGuard:
         address = budget_key(host)
         self.addresses.checking(address, 1)
         if key is not None:
-            self.keys.checking(key, 1)
+            self._table(key).checking(key, 1)
         try:
             return await self.worker.run(job, known=known)
         except Busy:
@@ -336,15 +343,18 @@ class SecretGuard:
         finally:
             self.addresses.checking(address, -1)
             if key is not None:
-                self.keys.checking(key, -1)
+                self._table(key).checking(key, -1)
 
     def _failed(self, host: str, key: str | None, what: str) -> None:
         now = self.clock()
         address = budget_key(host)
         self.addresses.failed(address, now)
         if key is not None:
-            self.keys.failed(key, now)
+            self._table(key).failed(key, now)
         self._line(("wrong", what), logging.INFO, "A wrong %s from %s", what, address)
+
+    def _table(self, key: str) -> Backoff:
+        return self.ag_codes if key == AG_KEY else self.keys
 
     def _signed_in(self, host: str, name: str, key: str | None, *, ag: bool = False) -> None:
         self._remember(host, name)

@@ -74,7 +74,11 @@
       if (token) hello.token = token;
       request(hello).catch(e => {
         showLink(false, e.message);
-        if (e.code === "forbidden") {
+        // too many wrong tokens lately (anyone's): the token was not checked; try it again then
+        const later = /try again in (\d+) s/.exec(e.message);
+        if (e.code === "forbidden" && token && later) {
+          setTimeout(() => { if (ws === socket) socket.close(); }, Number(later[1]) * 1000);
+        } else if (e.code === "forbidden") {
           if (token) localStorage.removeItem(TOKEN_KEY);
           askToken(e.message);
         }

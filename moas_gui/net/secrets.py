@@ -231,7 +231,8 @@ class SecretGuard:
         """Per operator for AG codes: every operator's together (:data:`AG_KEY`), in a
         table of its own, which no flood of made-up key ids can push out."""
         self._known: OrderedDict[tuple[str, str], None] = OrderedDict()
-        self._known_ag: OrderedDict[str, None] = OrderedDict()
+        self._known_ag: OrderedDict[str, set[str]] = OrderedDict()
+        """Addresses that signed in by AG code, with whom as."""
         self.trouble = LogLimiter()
         """One line a minute per kind (wrong token, wrong code, throttled, busy)."""
         self._listeners: list[Callable[[str], int]] = []
@@ -285,7 +286,7 @@ class SecretGuard:
             if not known:
                 self._failed(host, key, "token")
             return Verdict(refusal=WRONG_TOKEN)
-        self._signed_in(host, operator.name, key)
+        self._signed_in(host, operator.name)
         return Verdict(operator, operator.name)
 
     # -- Antenna Genius codes -------------------------------------------------------------
@@ -298,7 +299,7 @@ class SecretGuard:
             return refused
         named = self.codes.get(code)
         if named is not None:  # a test's own table: no hash
-            self._signed_in(host, named, AG_KEY, ag=True)
+            self._signed_in(host, named, ag=True)
             return Verdict(name=named)
         book = self.book
         if book is None:
@@ -311,7 +312,7 @@ class SecretGuard:
         if result is None:
             self._failed(host, None if known else AG_KEY, "code")
             return Verdict(refusal=WRONG_CODE)
-        self._signed_in(host, result.name, AG_KEY, ag=True)
+        self._signed_in(host, result.name, ag=True)
         return Verdict(result, result.name)
 
     # -- the rules ------------------------------------------------------------------------
@@ -356,10 +357,11 @@ class SecretGuard:
     def _table(self, key: str) -> Backoff:
         return self.ag_codes if key == AG_KEY else self.keys
 
-    def _signed_in(self, host: str, name: str, key: str | None, *, ag: bool = False) -> None:
+    def _signed_in(self, host: str, name: str, *, ag: bool = False) -> None:
         self._remember(host, name)
         if ag:
-            self._known_ag[budget_key(host)] = None
+            self._known_ag.setdefault(budget_key(host), set()).add(name.lower())
+            self._known_ag.move_to_end(budget_key(host))
             while len(self._known_ag) > MAX_TRACKED:
                 self._known_ag.popitem(last=False)
 
@@ -443,8 +445,13 @@ class SecretGuard:
                      "" if ended == 1 else "s")
 
     def _forget_known(self, name: str) -> None:
+        """A removed operator's devices are known no more (``name`` in lower case)."""
         for key in [k for k in self._known if k[1] == name]:
             del self._known[key]
+        for address, names in list(self._known_ag.items()):
+            names.discard(name)
+            if not names:
+                del self._known_ag[address]
 
     def close(self) -> None:
         if self._watch is not None:

@@ -211,6 +211,8 @@ async def test_the_loop_serves_while_80_wrong_hellos_a_second_carry_a_real_key_i
     server = await serve(book)
     hashes = HashCount(monkeypatch)
     try:
+        assert server.secrets is not None
+        await until(lambda: server.secrets is not None and server.secrets.watched)
         assert (await hello(server.port, token, DEVICE))["ok"]  # otto's device, known
         sent: list[dict[str, Any]] = []
 

@@ -49,9 +49,13 @@ from typing import Any, Final
 
 from moas_gui.errors import MoasError
 from moas_gui.files import write_atomic
-from moas_gui.places import config_dir
+from moas_gui.places import config_dir, state_dir
 
 FILE_NAME: Final = "operators.json"
+KNOWN_DEVICES_FILE: Final = "known-devices.json"
+"""In the state directory: the addresses each operator has signed in from (a guesser's
+failures never hold those back, docs/security.md), kept across restarts."""
+MAX_KNOWN_DEVICES: Final = 4096
 TOKEN_PREFIX: Final = "moas1"
 _SCRYPT = {"n": 1 << 12, "r": 8, "p": 1, "dklen": 32}
 """Cheap enough for every hello (a few ms), ample for 256-bit random secrets."""
@@ -176,7 +180,7 @@ def read_operators_file(path: Path, limit: int = MAX_FILE_BYTES) -> bytes | None
     """The file's bytes, or None when there is none; :class:`OperatorError` naming the
     file for anything that is not a regular file of at most ``limit`` bytes.  Opening
     never waits (a FIFO with no writer would block for ever) and no more than ``limit``
-    bytes are read."""
+    bytes are read.  (The known devices' file is read the same way.)"""
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
     except FileNotFoundError:
@@ -327,6 +331,41 @@ class OperatorBook:
         return None
 
 
+Device = tuple[str, str]
+"""An address (as the failure budgets count it) and an operator's name in lower case."""
+
+
+class KnownDevices:
+    """The file of known devices (:data:`KNOWN_DEVICES_FILE`): at most
+    :data:`MAX_KNOWN_DEVICES` pairs, the newest last; read and written by the secret
+    checks' worker, never the event loop.  A file that cannot be read counts as empty
+    (the server says so once) -- the devices are then known again at their next
+    sign-in."""
+
+    def __init__(self, path: Path | None = None) -> None:
+        self.path = path if path is not None else state_dir() / KNOWN_DEVICES_FILE
+
+    def load(self) -> list[Device]:
+        data = read_operators_file(self.path, MAX_FILE_BYTES // 4)
+        if data is None:
+            return []
+        try:
+            pairs = json.loads(data)["devices"]
+            return [(str(a), str(n).lower()) for a, n in pairs][-MAX_KNOWN_DEVICES:]
+        except (ValueError, KeyError, TypeError) as exc:
+            raise OperatorError(f"{self.path} is not a file of known devices: {exc}") from None
+
+    def save(self, devices: list[Device]) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        text = json.dumps({"devices": [list(d) for d in devices[-MAX_KNOWN_DEVICES:]]})
+        if not self.path.exists():  # made private before anything is in it
+            fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            os.close(fd)
+        write_atomic(self.path, text.encode("utf-8"))
+        if sys.platform != "win32":
+            os.chmod(self.path, 0o600)
+
+
 def check_ag_code(code: str) -> str:
     """A new Antenna Genius code: 6 to 9 digits (AG clients send a number; fewer could
     be guessed in a contest weekend, docs/security.md); else :class:`OperatorError`
@@ -343,8 +382,12 @@ def check_ag_code(code: str) -> str:
 __all__ = [
     "AG_CODE_DIGITS",
     "FILE_NAME",
+    "KNOWN_DEVICES_FILE",
     "MAX_FILE_BYTES",
+    "MAX_KNOWN_DEVICES",
     "MAX_OPERATORS",
+    "Device",
+    "KnownDevices",
     "Operator",
     "OperatorBook",
     "OperatorError",

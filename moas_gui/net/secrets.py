@@ -19,12 +19,13 @@ port, the WebSocket, the contest report's token and the Antenna Genius front):
   (which do not say whose they are), every operator's code at once.  That back-off
   starts at :data:`BACKOFF_FIRST` seconds at the first failure and doubles to
   :data:`BACKOFF_CAP`;
-* a **known device** -- an address that has signed in as that operator before (since
-  the server started) -- is exempt from the per-operator back-off, so a guesser
-  elsewhere cannot lock a real operator out; a token from a known device is never
-  throttled at all (a token is 256 random bits: its own address guessing it is
-  hopeless), an AG code from one still keeps its address's budget (a code is six
-  digits).
+* a **known device** -- an address that has signed in as that operator before (kept
+  across restarts in the state directory, :class:`~moas_gui.operators.KnownDevices`)
+  -- is exempt from the per-operator back-off, so a guesser elsewhere cannot lock a
+  real operator out; a token from a known device is never throttled at all (a token is
+  256 random bits: its own address guessing it is hopeless).  For AG codes, which do
+  not say whose they are, an address that has signed in as anyone is known, and still
+  keeps its address's budget (a code is six digits).
 
 While a back-off runs, a check is refused without hashing ("try again in N s"); a
 failure's count is forgotten after :data:`FORGET_AFTER` quiet seconds.  Every table
@@ -50,7 +51,14 @@ from typing import Final, TypeVar
 
 from moas_gui.edge.admission import DEFAULT_BEFORE_HELLO
 from moas_gui.edge.log_limit import LogLimiter, held_text
-from moas_gui.operators import Operator, OperatorBook, OperatorError, file_signature
+from moas_gui.operators import (
+    Device,
+    KnownDevices,
+    Operator,
+    OperatorBook,
+    OperatorError,
+    file_signature,
+)
 
 log = logging.getLogger(__name__)
 
@@ -219,7 +227,8 @@ class SecretGuard:
     def __init__(self, book: OperatorBook | None = None, *,
                  codes: dict[str, str] | None = None,
                  clock: Callable[[], float] = time.monotonic,
-                 worker: SecretWorker | None = None) -> None:
+                 worker: SecretWorker | None = None,
+                 devices: KnownDevices | None = None) -> None:
         self.book = book
         self.codes = dict(codes or {})
         self.clock = clock
@@ -230,9 +239,13 @@ class SecretGuard:
         self.ag_codes = Backoff()
         """Per operator for AG codes: every operator's together (:data:`AG_KEY`), in a
         table of its own, which no flood of made-up key ids can push out."""
-        self._known: OrderedDict[tuple[str, str], None] = OrderedDict()
-        self._known_ag: OrderedDict[str, set[str]] = OrderedDict()
-        """Addresses that signed in by AG code, with whom as."""
+        self._known: OrderedDict[Device, None] = OrderedDict()
+        self._addresses_known: dict[str, int] = {}
+        """How many operators each known address has signed in as."""
+        self.devices = devices
+        """Where the known devices are kept across restarts (None: nowhere)."""
+        self._devices_read = devices is None
+        self._devices_dirty = False
         self.trouble = LogLimiter()
         """One line a minute per kind (wrong token, wrong code, throttled, busy)."""
         self._listeners: list[Callable[[str], int]] = []
@@ -245,18 +258,31 @@ class SecretGuard:
     @classmethod
     def station(cls) -> SecretGuard:
         """The guard of the station's own operators file (the configuration directory's)."""
-        return cls(OperatorBook())
+        return cls(OperatorBook(), devices=KnownDevices())
 
     # -- known devices ------------------------------------------------------------------
     def known(self, host: str, name: str) -> bool:
         return (budget_key(host), name.lower()) in self._known
 
     def _remember(self, host: str, name: str) -> None:
-        key = (budget_key(host), name.lower())
-        self._known[key] = None
-        self._known.move_to_end(key)
+        self._add_known((budget_key(host), name.lower()))
+
+    def _add_known(self, device: Device) -> None:
+        if device in self._known:
+            self._known.move_to_end(device)
+            return
+        self._known[device] = None
+        self._addresses_known[device[0]] = self._addresses_known.get(device[0], 0) + 1
+        self._devices_dirty = True
         while len(self._known) > MAX_TRACKED:
-            self._known.popitem(last=False)
+            self._drop_known(next(iter(self._known)))
+
+    def _drop_known(self, device: Device) -> None:
+        del self._known[device]
+        left = self._addresses_known.pop(device[0], 1) - 1
+        if left > 0:
+            self._addresses_known[device[0]] = left
+        self._devices_dirty = True
 
     def _known_key(self, key: str | None, host: str) -> bool:
         """Whether ``host`` has signed in with the operator whose key id is ``key``."""
@@ -286,20 +312,20 @@ class SecretGuard:
             if not known:
                 self._failed(host, key, "token")
             return Verdict(refusal=WRONG_TOKEN)
-        self._signed_in(host, operator.name)
+        self._remember(host, operator.name)
         return Verdict(operator, operator.name)
 
     # -- Antenna Genius codes -------------------------------------------------------------
     async def check_code(self, code: str, host: str) -> Verdict:
         """Whose AG code (or token, which AG clients may send as well) this is."""
         code = code.strip()
-        known = budget_key(host) in self._known_ag
+        known = budget_key(host) in self._addresses_known
         refused = self._throttled(host, None if known else AG_KEY, "codes")
         if refused is not None:
             return refused
         named = self.codes.get(code)
         if named is not None:  # a test's own table: no hash
-            self._signed_in(host, named, ag=True)
+            self._remember(host, named)
             return Verdict(name=named)
         book = self.book
         if book is None:
@@ -312,7 +338,7 @@ class SecretGuard:
         if result is None:
             self._failed(host, None if known else AG_KEY, "code")
             return Verdict(refusal=WRONG_CODE)
-        self._signed_in(host, result.name, ag=True)
+        self._remember(host, result.name)
         return Verdict(result, result.name)
 
     # -- the rules ------------------------------------------------------------------------
@@ -357,13 +383,6 @@ class SecretGuard:
     def _table(self, key: str) -> Backoff:
         return self.ag_codes if key == AG_KEY else self.keys
 
-    def _signed_in(self, host: str, name: str, *, ag: bool = False) -> None:
-        self._remember(host, name)
-        if ag:
-            self._known_ag.setdefault(budget_key(host), set()).add(name.lower())
-            self._known_ag.move_to_end(budget_key(host))
-            while len(self._known_ag) > MAX_TRACKED:
-                self._known_ag.popitem(last=False)
 
     def _line(self, kind: object, level: int, message: str, *args: object) -> None:
         held = self.trouble.allow(kind)
@@ -418,16 +437,57 @@ class SecretGuard:
         book = self.book
         assert book is not None
         while True:
-            signature = file_signature(book.path)  # one stat: nothing is read on the loop
-            if signature != self._signature or self._seen is None:
-                self._signature = signature
-                try:
-                    now = await self.worker.run(lambda: _entries(book), known=True)
-                except Busy:
-                    self._signature = None  # look again next time
-                else:
-                    self._compare(now)
+            try:
+                await self._look(book)
+                await self._keep_devices()
+            except Busy:
+                pass  # the worker is full: next time
             await asyncio.sleep(WATCH_EVERY)
+
+    async def _look(self, book: OperatorBook) -> None:
+        """Reads the operators file again (on the worker) when its ``stat`` changed."""
+        signature = file_signature(book.path)  # one stat: nothing is read on the loop
+        if signature == self._signature and self._seen is not None:
+            return
+        now = await self.worker.run(lambda: _entries(book), known=True)
+        self._signature = signature
+        self._compare(now)
+
+    async def _keep_devices(self) -> None:
+        """Reads the known devices once, then writes them when they changed (both on
+        the worker)."""
+        devices = self.devices
+        if devices is None:
+            return
+        if not self._devices_read:
+            loaded = await self.worker.run(lambda: self._read_devices(devices), known=True)
+            self._devices_read = True
+            newer = list(self._known)  # signed in since the start: the newest
+            for device in [*loaded, *newer]:
+                if self._seen is None or device[1] in self._seen:
+                    self._add_known(device)
+            self._devices_dirty = bool(newer)
+            return
+        if self._devices_dirty:
+            self._devices_dirty = False
+            snapshot = list(self._known)
+            try:
+                await self.worker.run(lambda: devices.save(snapshot), known=True)
+            except Busy:
+                self._devices_dirty = True
+                raise
+            except OSError as exc:
+                self._line("devices not saved", logging.WARNING,
+                           "Cannot keep the known devices in %s: %s", devices.path,
+                           exc.strerror or exc)
+
+    def _read_devices(self, devices: KnownDevices) -> list[Device]:
+        try:
+            return devices.load()
+        except (OperatorError, OSError) as exc:
+            self._line("devices not read", logging.WARNING,
+                       "%s; each device is known again at its next sign-in", exc)
+            return []
 
     def _compare(self, now: dict[str, tuple[object, ...]]) -> None:
         before, self._seen = self._seen, now
@@ -446,12 +506,8 @@ class SecretGuard:
 
     def _forget_known(self, name: str) -> None:
         """A removed operator's devices are known no more (``name`` in lower case)."""
-        for key in [k for k in self._known if k[1] == name]:
-            del self._known[key]
-        for address, names in list(self._known_ag.items()):
-            names.discard(name)
-            if not names:
-                del self._known_ag[address]
+        for device in [d for d in self._known if d[1] == name]:
+            self._drop_known(device)
 
     def close(self) -> None:
         if self._watch is not None:

@@ -30,7 +30,7 @@ from moas_gui.net.secrets import (
     delay,
 )
 from moas_gui.net.server import ClientServer
-from moas_gui.operators import OperatorBook, Role
+from moas_gui.operators import KnownDevices, OperatorBook, Role
 from moas_gui.testing.fake_backend import FakeBackend
 
 HOST = "127.0.0.1"
@@ -264,6 +264,37 @@ async def test_a_known_device_is_not_throttled_by_a_guessers_failures(tmp_path: 
             assert (await hello(server.port, token, DEVICE))["ok"]
     finally:
         await server.close()
+
+
+@pytest.mark.asyncio
+async def test_a_known_device_stays_known_after_a_restart(tmp_path: Path) -> None:
+    book = OperatorBook(tmp_path / "operators.json")
+    _op, token = book.add("otto", Role.OPERATE)
+    devices = KnownDevices(tmp_path / "state" / "known-devices.json")
+    first_guard = SecretGuard(book, devices=devices)
+    first = await serve(book, secrets=first_guard)
+    try:
+        assert (await hello(first.port, token, DEVICE))["ok"]
+        await until(lambda: devices.path.exists() and DEVICE in devices.path.read_text(),
+                    what="the known devices written")
+    finally:
+        await first.close()
+        first_guard.close()
+    if os.name == "posix":
+        assert devices.path.stat().st_mode & 0o777 == 0o600
+    guard = SecretGuard(book, devices=devices)  # the server started again
+    second = await serve(book, secrets=guard)
+    try:
+        await until(lambda: guard.known(DEVICE, "otto"), what="the known devices read back")
+        for n in range(4):
+            reply = await hello(second.port, wrong_secret(token, n), GUESSER)
+            assert reply["error"]["code"] == "forbidden"
+        assert "try again in" in (await hello(second.port, token, "127.0.0.4"))["error"][
+            "message"]
+        assert (await hello(second.port, token, DEVICE))["ok"]  # at once
+    finally:
+        await second.close()
+        guard.close()
 
 
 @pytest.mark.asyncio

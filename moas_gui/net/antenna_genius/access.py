@@ -18,7 +18,9 @@ networks, never beyond.  Everything the front asks about access goes through one
   from every address together, with a back-off that grows per failure, asked at every
   ``auth``, open sessions included);
 * :meth:`~AgAccess.waiting` -- at accept: seconds an address must still wait after
-  too many wrong codes (0: none).
+  too many wrong codes (0: none);
+* :meth:`~AgAccess.watch_removals` -- how the front ends a removed operator's sessions
+  (the guard calls it when the operators file no longer has that operator).
 
 :class:`SimpleAccess` is what runs today: loopback never needs a code; another
 allowed address needs one only when ``require_token`` is set; codes map to
@@ -49,7 +51,7 @@ class AgAccess(Protocol):
 
     def waiting(self, host: str) -> float: ...
 
-    def end_operator(self, end: Callable[[str], int] | None) -> None: ...
+    def watch_removals(self, end: Callable[[str], int] | None) -> None: ...
 
 
 def is_loopback(host: str) -> bool:
@@ -97,7 +99,7 @@ class SimpleAccess:
     def waiting(self, host: str) -> float:
         return self.guard.addresses.wait(budget_key(host), self.guard.clock())
 
-    def end_operator(self, end: Callable[[str], int] | None) -> None:
+    def watch_removals(self, end: Callable[[str], int] | None) -> None:
         """The front's way to end an operator's sessions (None: the front closed):
         called when the operators file no longer has that operator."""
         if self._end is not None:

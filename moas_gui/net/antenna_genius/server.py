@@ -218,7 +218,7 @@ class AgServer:
         cannot be bound; a further one that cannot is logged and left out."""
         for device in self._layout(config):
             await self._open(device)
-        self.access.end_operator(self.end_operator)
+        self.access.watch_removals(self.end_operator)
         self._announce()
         return [d.port for d in self.devices]
 
@@ -288,7 +288,7 @@ class AgServer:
         return ended
 
     async def close(self) -> None:
-        self.access.end_operator(None)
+        self.access.watch_removals(None)
         if self._announcer is not None:
             self._announcer.close()
             self._announcer = None

@@ -62,6 +62,7 @@ from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.net.identity import current, enforce
+from moas_gui.net.secrets import SecretGuard
 from moas_gui.net.server import ClientServer
 from moas_gui.rights import action_for
 from moas_gui.running import (
@@ -102,6 +103,10 @@ class ServerApp:
         self._lock = asyncio.Lock()
         self._ag = AntennaGenius()
         """The Antenna Genius front: it outlives a configuration, closed by :meth:`close`."""
+        self.secrets = SecretGuard.station()
+        """The one place tokens and AG codes are checked (off the loop, budgeted), shared
+        by every front; it also watches the operators file and ends a removed operator's
+        sessions on all of them (moas_gui/net/secrets.py)."""
         self._antenna_log_on = self.options.antenna_log
         """The antenna journal is written (``--no-antenna-log`` and the menu turn it off)."""
 
@@ -330,6 +335,8 @@ class ServerApp:
             if self._run is not None:
                 await self._close_running()
             await self._ag.close()
+            self.secrets.close()
+            self.secrets = SecretGuard(self.secrets.book)  # a server opened again starts afresh
             self._path = None
             self._update_status()
 
@@ -348,10 +355,11 @@ class ServerApp:
         # before clients are accepted, so nothing a client sees as "ready" can miss a packet
         await start_rotators(run, self.options, self._rotator_changed, self._select_direction)
         await start_sources(run, self.options, self._source_event, self._contact)
-        await start_clients(run, self.options, EngineBackend(self))
+        await start_clients(run, self.options, EngineBackend(self), self.secrets)
         await self._ag.sync(self.options, config, AgEngineBackend(self),
                             f"MOAS_{self._path.stem}" if self._path is not None else "MOAS",
-                            lambda: self.config.client_allow if self.config else None)
+                            lambda: self.config.client_allow if self.config else None,
+                            self.secrets)
         run.serving = True
         self._update_status()
         run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
@@ -517,14 +525,15 @@ class ServerApp:
                 (port, slots[0], slots[1]) for port, slots in sorted(held.items()))))
 
     def end_operator(self, name: str) -> int:
-        """Ends the client sessions of operator ``name`` (just removed); how many."""
-        run = self._run
-        if run is None or run.clients is None:
-            return 0
-        ended = run.clients.end_operator(name)
-        log.info('Operator "%s" was removed: %d session%s ended', name, ended,
-                 "" if ended == 1 else "s")
-        return ended
+        """Ends the sessions of operator ``name`` (just removed) on every front; how many,
+        those the server had already ended itself on noticing the file's change
+        included."""
+        earlier = self.secrets.recently_ended(name)
+        ended = self.secrets.end_operator(name)
+        if ended or not earlier:
+            log.info('Operator "%s" was removed: %d session%s ended', name, ended + earlier,
+                     "" if ended + earlier == 1 else "s")
+        return ended + earlier
 
     def reset_switches(self) -> None:
         """File > Reset Switches: reset every switch and set the antennas in use again."""

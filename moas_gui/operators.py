@@ -10,7 +10,16 @@ A token reads ``moas1.<id>.<secret>``: the id (8 hex digits, not secret) finds t
 one operator whose hash is checked, so a hello costs one hash however many operators
 there are; the secret is 32 random bytes (URL-safe base64), so a guess is hopeless
 and a fast hash would do -- scrypt is used anyway, with small parameters.  The check
-compares in constant time.  Nothing here logs a token.
+compares in constant time, and an id no operator has costs the same hash (against a
+dummy), so the time a check takes does not tell whether an id exists.  Nothing here
+logs a token.
+
+The file is read as the saved state is: a regular file only (a FIFO, a device or a
+directory there is refused, never waited on), at most :data:`MAX_FILE_BYTES`, and
+kept in memory until its modification time, size or inode changes (one ``stat`` per
+check).  The checks hash (a few ms each): the server runs them, and so every read of
+the file, on its one secret-check thread (:mod:`moas_gui.net.secrets`), never on
+its event loop.
 
 Roles (what :mod:`moas_gui.net.identity` enforces):
 
@@ -30,7 +39,9 @@ import json
 import os
 import re
 import secrets
+import stat
 import sys
+import threading
 from dataclasses import dataclass, replace
 from enum import StrEnum
 from pathlib import Path
@@ -38,14 +49,23 @@ from typing import Any, Final
 
 from moas_gui.errors import MoasError
 from moas_gui.files import write_atomic
-from moas_gui.places import config_dir
+from moas_gui.places import config_dir, state_dir
 
 FILE_NAME: Final = "operators.json"
+KNOWN_DEVICES_FILE: Final = "known-devices.json"
+"""In the state directory: the addresses each operator has signed in from (a guesser's
+failures never hold those back, docs/security.md), kept across restarts."""
+MAX_KNOWN_DEVICES: Final = 4096
 TOKEN_PREFIX: Final = "moas1"
 _SCRYPT = {"n": 1 << 12, "r": 8, "p": 1, "dklen": 32}
 """Cheap enough for every hello (a few ms), ample for 256-bit random secrets."""
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9 ._@-]{0,39}$")
 MAX_OPERATORS: Final = 1000
+MAX_FILE_BYTES: Final = 2 << 20
+"""The largest operators file read: :data:`MAX_OPERATORS` entries take under 500 kB."""
+AG_CODE_DIGITS: Final = (6, 9)
+"""An Antenna Genius code's least and most digits (``--add-operator --ag-code``)."""
+_DUMMY_SALT: Final = bytes(16)
 
 RadioRef = tuple[int, int]
 
@@ -135,27 +155,93 @@ def _from_json(item: Any) -> Operator:
         str(item.get("ag_salt", "")), str(item.get("ag_hash", "")))
 
 
+def _kind_of(mode: int) -> str:
+    kinds = ((stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
+             (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"),
+             (stat.S_ISDIR, "a directory"))
+    return next((words for test, words in kinds if test(mode)), "not a regular file")
+
+
+Signature = tuple[int, int, int, int]
+"""What tells one version of the file from another: (mtime ns, size, inode, device)."""
+
+
+def file_signature(path: Path) -> Signature | None:
+    """The file's :data:`Signature` now (one ``stat``, which never waits on a FIFO), or
+    None when there is none."""
+    try:
+        info = os.stat(path)
+    except OSError:
+        return None
+    return (info.st_mtime_ns, info.st_size, info.st_ino, info.st_dev)
+
+
+def read_operators_file(path: Path, limit: int = MAX_FILE_BYTES) -> bytes | None:
+    """The file's bytes, or None when there is none; :class:`OperatorError` naming the
+    file for anything that is not a regular file of at most ``limit`` bytes.  Opening
+    never waits (a FIFO with no writer would block for ever) and no more than ``limit``
+    bytes are read.  (The known devices' file is read the same way.)"""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        raise OperatorError(f"cannot read {path}: {exc.strerror or exc}") from None
+    with os.fdopen(fd, "rb") as opened:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise OperatorError(f"cannot read {path}: it is {_kind_of(info.st_mode)}, not a "
+                                "regular file")
+        if info.st_size > limit:
+            raise OperatorError(f"cannot read {path}: it holds {info.st_size:,} bytes, more "
+                                f"than an operators file ever does (at most {limit:,})")
+        data = opened.read(limit + 1)
+    if len(data) > limit:
+        raise OperatorError(f"cannot read {path}: it holds more than {limit:,} bytes")
+    return data
+
+
 class OperatorBook:
-    """The operators file: read at each change and each check, so that a second
-    process (``moas-server --add-operator`` beside a running server) is seen at once."""
+    """The operators file, read again whenever it changed (its :data:`Signature`), so
+    that a second process (``moas-server --add-operator`` beside a running server) is
+    seen at the next check.  Safe to use from two threads."""
 
     def __init__(self, path: Path | None = None) -> None:
         self.path = path if path is not None else config_dir() / FILE_NAME
+        self._lock = threading.Lock()
+        self._cached: tuple[Signature | None, tuple[Operator, ...] | OperatorError] | None = None
 
     def operators(self) -> tuple[Operator, ...]:
         """Every operator, in the file's order; none when there is no file.  A file that
-        cannot be read raises :class:`OperatorError` saying where and why."""
+        cannot be read raises :class:`OperatorError` saying where and why.  Read from
+        the disk only when it changed since the last call."""
+        with self._lock:
+            signature = file_signature(self.path)
+            cached = self._cached
+            if cached is None or cached[0] != signature or signature is None:
+                cached = self._cached = (signature, self._load())
+        if isinstance(cached[1], OperatorError):
+            raise cached[1]
+        return cached[1]
+
+    def cached(self) -> tuple[Operator, ...]:
+        """The operators as last read (no file access: for the event loop); none before
+        the first read or while the file cannot be read."""
+        cached = self._cached
+        return () if cached is None or isinstance(cached[1], OperatorError) else cached[1]
+
+    def _load(self) -> tuple[Operator, ...] | OperatorError:
         try:
-            data = self.path.read_bytes()
-        except FileNotFoundError:
+            data = read_operators_file(self.path)
+        except OperatorError as exc:
+            return exc
+        if data is None:
             return ()
-        except OSError as exc:
-            raise OperatorError(f"cannot read {self.path}: {exc.strerror or exc}") from None
         try:
             entries = json.loads(data)["operators"]
             return tuple(_from_json(item) for item in entries)
         except (ValueError, KeyError, TypeError) as exc:
-            raise OperatorError(f"{self.path} is not an operators file: {exc}") from None
+            return OperatorError(f"{self.path} is not an operators file: {exc}")
 
     def _write(self, operators: tuple[Operator, ...]) -> None:
         self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -214,13 +300,20 @@ class OperatorBook:
             return None
         key, secret = parts
         try:
-            candidates = [op for op in self.operators() if op.key == key]
+            found = next((op for op in self.operators() if op.key == key), None)
         except OperatorError:
+            found = None
+        if found is None:  # the same hash against nothing: an unknown id takes as long
+            hmac.compare_digest(_hash(secret, _DUMMY_SALT).hex(), "0" * 64)
             return None
-        for op in candidates:
-            if hmac.compare_digest(_hash(secret, bytes.fromhex(op.salt)).hex(), op.digest):
-                return op
+        if hmac.compare_digest(_hash(secret, bytes.fromhex(found.salt)).hex(), found.digest):
+            return found
         return None
+
+    def key_of(self, token: str) -> str | None:
+        """The id a token names (whether or not an operator has it), or None."""
+        parts = split_token(token)
+        return None if parts is None else parts[0]
 
     def check_ag_code(self, code: str) -> Operator | None:
         """The operator whose Antenna Genius code this is, or None."""
@@ -238,22 +331,71 @@ class OperatorBook:
         return None
 
 
+Device = tuple[str, str]
+"""An address (as the failure budgets count it) and an operator's name in lower case."""
+
+
+class KnownDevices:
+    """The file of known devices (:data:`KNOWN_DEVICES_FILE`): at most
+    :data:`MAX_KNOWN_DEVICES` pairs, the newest last; read and written by the secret
+    checks' worker, never the event loop.  A file that cannot be read counts as empty
+    (the server says so once) -- the devices are then known again at their next
+    sign-in."""
+
+    def __init__(self, path: Path | None = None) -> None:
+        self.path = path if path is not None else state_dir() / KNOWN_DEVICES_FILE
+
+    def load(self) -> list[Device]:
+        data = read_operators_file(self.path, MAX_FILE_BYTES // 4)
+        if data is None:
+            return []
+        try:
+            pairs = json.loads(data)["devices"]
+            return [(str(a), str(n).lower()) for a, n in pairs][-MAX_KNOWN_DEVICES:]
+        except (ValueError, KeyError, TypeError) as exc:
+            raise OperatorError(f"{self.path} is not a file of known devices: {exc}") from None
+
+    def save(self, devices: list[Device]) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        text = json.dumps({"devices": [list(d) for d in devices[-MAX_KNOWN_DEVICES:]]})
+        if not self.path.exists():  # made private before anything is in it
+            fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            os.close(fd)
+        write_atomic(self.path, text.encode("utf-8"))
+        if sys.platform != "win32":
+            os.chmod(self.path, 0o600)
+
+
 def check_ag_code(code: str) -> str:
-    """An Antenna Genius code: 4 to 9 digits (AG clients send a number); else
-    :class:`OperatorError` saying so."""
-    if not (code.isdigit() and 4 <= len(code) <= 9):
-        raise OperatorError(f"an Antenna Genius code is 4 to 9 digits, not {code!r}")
+    """A new Antenna Genius code: 6 to 9 digits (AG clients send a number; fewer could
+    be guessed in a contest weekend, docs/security.md); else :class:`OperatorError`
+    saying so."""
+    least, most = AG_CODE_DIGITS
+    if not (code.isdigit() and least <= len(code) <= most):
+        why = (f"{len(code)} digits are too few to resist guessing" if code.isdigit()
+               and len(code) < least else "it must be digits only")
+        raise OperatorError(f"an Antenna Genius code is {least} to {most} digits, not "
+                            f"{code!r}: {why}")
     return code
 
 
 __all__ = [
+    "AG_CODE_DIGITS",
     "FILE_NAME",
+    "KNOWN_DEVICES_FILE",
+    "MAX_FILE_BYTES",
+    "MAX_KNOWN_DEVICES",
     "MAX_OPERATORS",
+    "Device",
+    "KnownDevices",
     "Operator",
     "OperatorBook",
     "OperatorError",
     "Role",
+    "check_ag_code",
     "check_name",
+    "file_signature",
     "parse_radios",
+    "read_operators_file",
     "split_token",
 ]

@@ -48,6 +48,7 @@ from moas_gui.net.antenna_genius.server import AgBackend, AgServer
 from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
+from moas_gui.net.secrets import SecretGuard
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
 from moas_gui.source_intake import SourceIntake
 from moas_gui.sources.base import SourceSink
@@ -311,7 +312,8 @@ async def start_rotators(run: Running, options: ServerOptions,
     run.rotctld = await start_rotctld_servers(run.rotators, run.config.rotators, ROTCTLD_HOST)
 
 
-async def start_clients(run: Running, options: ServerOptions, backend: ClientBackend) -> None:
+async def start_clients(run: Running, options: ServerOptions, backend: ClientBackend,
+                        secrets: SecretGuard | None = None) -> None:
     """The client server (clients that asked for the log get it as events), then the
     browser client's web server on top of it when a web port is set."""
     port = options.tcp_port if options.tcp_port is not None else run.config.tcp_port
@@ -336,8 +338,9 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
                            allow=run.config.client_allow,
                            max_clients=DEFAULT_MAX_CLIENTS if most is None else most,
                            per_address=DEFAULT_PER_ADDRESS if each is None else each,
-                           require_token=options.require_token, operators=OperatorBook(),
-                           tls=tls)
+                           require_token=options.require_token,
+                           operators=secrets.book if secrets is not None else OperatorBook(),
+                           tls=tls, secrets=secrets)
     clients.fingerprint = seen if tls is not None else None
     try:
         await clients.start()
@@ -398,7 +401,8 @@ class AntennaGenius:
         return [] if self.server is None else [d.port for d in self.server.devices]
 
     async def sync(self, options: ServerOptions, config: Config, backend: AgBackend,
-                   name: str, allow: Callable[[], Sequence[str] | None]) -> None:
+                   name: str, allow: Callable[[], Sequence[str] | None],
+                   guard: SecretGuard) -> None:
         """Serve the API for ``config`` (started, told of the new configuration, moved
         to another port, or closed when no port is set)."""
         port = options.ag_port if options.ag_port is not None else config.ag_port
@@ -411,16 +415,13 @@ class AntennaGenius:
         if server is not None:
             await server.reload(config)
             return
-        book = OperatorBook()
-
-        def check(code: str) -> str | None:
-            operator = book.check_ag_code(code) or book.check(code)
-            return None if operator is None else operator.name
-
-        access = SimpleAccess(allow, require_token=options.require_token, check=check)
+        book = guard.book
+        access = SimpleAccess(allow, require_token=options.require_token, guard=guard)
 
         def identify(host: str, address: str, named: str | None) -> Identity | None:
-            operator = None if named is None else book.find(named)
+            # the book as last read (no file access on the loop): the check just read it
+            operator = None if named is None or book is None else next(
+                (op for op in book.cached() if op.name.lower() == named.lower()), None)
             if operator is not None:
                 return as_operator(operator, address)
             return anonymous(host, address, allowed_networks(allow()), options.require_token)

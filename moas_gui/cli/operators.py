@@ -3,7 +3,10 @@
 ``--add-operator NAME --role ROLE [--radios 1/1,1/2]`` prints what was made, then the
 token alone on the last line of standard output (shown this once: only its hash is
 kept).  ``--remove-operator NAME`` also tells a running server, through the
-single-instance channel, which ends that operator's sessions at once.
+single-instance channel, which ends that operator's sessions at once.  A server the
+channel cannot reach (one started with ``--new-instance``, or this launch's own
+``--new-instance``) notices the file's change itself within a second and ends them
+then; the command says which happened.
 """
 
 from __future__ import annotations
@@ -56,10 +59,16 @@ def _add(book: OperatorBook, args: argparse.Namespace) -> int:
     return 0
 
 
+_NOTICES = ("a server running with this operators file (one started with --new-instance "
+            "too) notices the change itself and ends that operator's sessions within a "
+            "second")
+
+
 def _remove(book: OperatorBook, name: str, instance_name: str, alone: bool) -> int:
     operator = book.remove(name)
     print(f'Operator "{operator.name}" removed from {book.path}.')
     if alone:
+        print(f"No running server was told (--new-instance); {_NOTICES}.")
         return 0
     from moas_gui.single_instance import InstanceError, offer
 
@@ -67,12 +76,14 @@ def _remove(book: OperatorBook, name: str, instance_name: str, alone: bool) -> i
         answer = offer(instance_name, None, {"command": "remove_operator",
                                              "name": operator.name}, timeout=5.0)
     except (InstanceError, OSError):  # no instance directory: nothing runs
-        return 0
-    if answer.done is not None:
+        answer = None
+    if answer is not None and answer.done is not None:
         print(f"The running server: {answer.done}.")
-    elif answer.running:
-        print("A server is running but did not answer; its sessions of that operator "
-              "end when they reconnect.", file=sys.stderr)
+    elif answer is not None and answer.running:
+        print(f"A server is running but did not answer; {_NOTICES}.", file=sys.stderr)
+    else:
+        print(f"No running server could be reached through the single-instance channel; "
+              f"{_NOTICES}.")
     return 0
 
 

@@ -171,11 +171,13 @@ def _parser() -> argparse.ArgumentParser:
                         help="with --add-operator: the radios it may act on, e.g. 1/1,1/2 "
                              "(default: all)")
     parser.add_argument("--ag-code", metavar="N",
-                        help="with --add-operator: a number of 4-9 digits the operator's "
+                        help="with --add-operator: a number of 6-9 digits the operator's "
                              "Antenna Genius clients authenticate with (auth code=N) where "
                              "--require-token asks for one")
     parser.add_argument("--remove-operator", metavar="NAME",
-                        help="remove an operator (a running server ends its sessions) and exit")
+                        help="remove an operator and exit; a running server ends its "
+                             "sessions on every front (told at once, or noticing the "
+                             "file's change within a second)")
     parser.add_argument("--list-operators", action="store_true",
                         help="list the operators and exit")
     add_antenna_log_arguments(parser)

@@ -13,11 +13,12 @@ from __future__ import annotations
 
 import logging
 from collections import OrderedDict
-from collections.abc import Callable, Iterable
+from collections.abc import Awaitable, Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, Protocol
 
 from moas_gui.edge.admission import Ticket
+from moas_gui.net.secrets import Verdict
 
 from .backend import ErrorCode
 from .framing import request_framer
@@ -121,9 +122,10 @@ class Connection:
         self.identified: Callable[[Identity], None] | None = None
         """Told the new identity when a hello's token makes this connection an operator
         (the admission policy may move it to the operators' own capacity then)."""
-        self.authenticate: Callable[[str], Any] | None = None
-        """Turns a hello's token into an :class:`~moas_gui.operators.Operator` (None: a
-        wrong token); None here when this server has no operators."""
+        self.authenticate: Callable[[str], Awaitable[Verdict]] | None = None
+        """Checks a hello's token off the loop (:meth:`~moas_gui.net.secrets.SecretGuard.
+        check_token`: the operator, or why not); None here when this server has no
+        operators."""
         self.chatter: Callable[[], int | None] | None = None
         """Asked before each Info line about this client (its hello, its leaving): None
         to stay quiet, else how many were left out -- all clients together have a share

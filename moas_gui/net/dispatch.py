@@ -10,7 +10,7 @@ Error log line with the traceback, and the connection carries on.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Coroutine
 from typing import Any
 
 from .backend import ClientBackend, ErrorCode, RequestError
@@ -26,8 +26,15 @@ MAX_BAD_LINES = 3
 """Bad lines in a row after which a connection is closed."""
 
 
-def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> None:
-    """Answers one line."""
+Waiting = Coroutine[Any, Any, None]
+"""What :func:`answer` returns for a line whose answer waits (a hello's token, checked
+off the loop): the caller awaits it before it reads the connection's next line."""
+
+
+def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> Waiting | None:
+    """Answers one line; None, or what to await for the answer (a token to check)."""
+    if conn.closed:  # ended meanwhile (an operator removed): nothing more is obeyed
+        return None
     if isinstance(item, LongLine):
         parsed: Request | InvalidRequest | BadLine | None = BadLine(
             f"the line is longer than {MAX_LINE:,} bytes"
@@ -35,24 +42,26 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> N
     else:
         parsed = parse_line(item.data)
     if parsed is None:
-        return
+        return None
     if isinstance(parsed, BadLine):
         conn.bad_lines += 1
         log.debug("Bad line from %s: %s", conn, parsed.message)
         conn.reply_error(None, ErrorCode.BAD_REQUEST, parsed.message)
         if conn.bad_lines >= MAX_BAD_LINES:
             conn.close(f"{MAX_BAD_LINES} bad lines in a row")
-        return
+        return None
     conn.bad_lines = 0
     if isinstance(parsed, InvalidRequest):
         log.debug("Refused a request from %s: %s", conn, parsed.message)
         conn.reply_error(parsed.id, parsed.code, parsed.message)
-        return
+        return None
     if conn.identity.kind is Party.NOBODY and parsed.cmd != "hello":
         log.debug("Refused %s from %s: no token yet", parsed.cmd, conn)
         conn.reply_error(parsed.id, ErrorCode.FORBIDDEN, "this address needs an operator's "
                          'token: say hello with "token" first')
-        return
+        return None
+    if parsed.cmd == "hello" and parsed.args["token"] and conn.authenticate is not None:
+        return _hello_with_token(backend, conn, parsed, parsed.args["token"])
     try:
         with serving(conn.identity):
             HANDLERS[parsed.cmd](backend, conn, parsed)
@@ -65,22 +74,38 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> N
             parsed.id, ErrorCode.INTERNAL,
             f"the server failed on {parsed.cmd}: {type(e).__name__}: {e}",
         )
+    return None
 
 
 def _identify(conn: Connection, token: str | None) -> str | None:
-    """Settles who a saying-hello connection is; the refusal's sentence, or None."""
+    """Settles who a saying-hello connection without a token check is; the refusal's
+    sentence, or None."""
     if token is None:
         if conn.identity.kind is Party.NOBODY:
             return ("this address needs an operator's token (moas-server --add-operator "
                     'makes one; give it as "token" in hello)')
         return None
-    operator = conn.authenticate(token) if conn.authenticate is not None else None
-    if operator is None:
-        return "that token is not one of this station's operators (it may have been removed)"
-    conn.identity = as_operator(operator, conn.address)
+    return "that token is not one of this station's operators (it may have been removed)"
+
+
+async def _hello_with_token(backend: ClientBackend, conn: Connection, request: Request,
+                            token: str) -> None:
+    """A hello with a token: the check runs off the loop (:mod:`moas_gui.net.secrets`),
+    and this connection's next line waits for it."""
+    assert conn.authenticate is not None
+    verdict = await conn.authenticate(token)
+    if conn.closed:
+        return
+    if verdict.operator is None:
+        refusal = verdict.refusal or "that token is not one of this station's operators"
+        conn.note("Refused the hello of %s: %s", conn, refusal)
+        conn.reply_error(request.id, ErrorCode.UNAVAILABLE if verdict.busy
+                         else ErrorCode.FORBIDDEN, refusal)
+        return
+    conn.identity = as_operator(verdict.operator, conn.address)
     if conn.identified is not None:
         conn.identified(conn.identity)
-    return None
+    _greet(backend, conn, request)
 
 
 def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
@@ -90,6 +115,11 @@ def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
         conn.note("Refused the hello of %s: %s", conn, refusal)
         conn.reply_error(request.id, ErrorCode.FORBIDDEN, refusal)
         return
+    _greet(backend, conn, request)
+
+
+def _greet(backend: ClientBackend, conn: Connection, request: Request) -> None:
+    args = request.args
     conn.name = clean_name(args["client"])
     conn.station, conn.radio = args["station"], args["radio"]
     conn.wants_log = args["log"]

@@ -48,6 +48,7 @@ from typing import Any
 from moas_gui.edge.gate import ForwardingGate
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
+from moas_gui.net.secrets import SecretGuard
 from moas_gui.operators import OperatorBook
 
 from .access import allowed_networks, is_allowed
@@ -137,6 +138,7 @@ class ClientServer:
         require_token: bool = False,
         operators: OperatorBook | None = None,
         tls: ssl.SSLContext | None = None,
+        secrets: SecretGuard | None = None,
     ) -> None:
         if max_clients < 1:
             raise ValueError(f"max_clients must be at least 1, not {max_clients}")
@@ -166,6 +168,11 @@ class ClientServer:
         """Clients from ``ClientAllow`` networks need an operator's token too."""
         self.operators = operators
         """The station's operators (None: no token is ever valid)."""
+        self.secrets = secrets if secrets is not None or operators is None \
+            else SecretGuard(operators)
+        """Where tokens are checked, off the loop and budgeted (the server's one guard,
+        shared with the other fronts; a guard of its own when only a book is given)."""
+        self._own_secrets = secrets is None and self.secrets is not None
         self.local_addresses: tuple[object, ...] = LOCAL_ADDRESSES
         """The addresses that are this computer (never need a token); a test driving a
         browser (which connects from ``127.0.0.1``) empties it to play a LAN peer."""
@@ -213,6 +220,8 @@ class ClientServer:
                 "(is another moas-server running? TCPPort in the configuration sets the port)"
             ) from e
         self.port = self._server.port
+        if self.secrets is not None:  # a removed operator's sessions end, whoever removed it
+            self.secrets.listen(self.end_operator)
         where = self.host if self.host is not None else "every interface"
         log.info("Accepting clients on TCP port %d (%s)%s", self.port, where,
                  " over TLS" if self.tls is not None else "")
@@ -227,6 +236,10 @@ class ClientServer:
             await self._server.close()
             self._server = None
         self.admission.close()
+        if self.secrets is not None:
+            self.secrets.unlisten(self.end_operator)
+            if self._own_secrets:
+                self.secrets.close()
         for conn in tuple(self._connections):
             conn.close("the server is closing")
         if self._layout_refresh is not None:
@@ -264,9 +277,9 @@ class ClientServer:
         """Gives a new connection its identity before hello (:mod:`.identity`)."""
         conn.identity = anonymous(host, conn.address, self._allowed, self.require_token,
                                   self.local_addresses)
-        book = self.operators
-        if book is not None:
-            conn.authenticate = book.check
+        guard = self.secrets
+        if guard is not None:
+            conn.authenticate = lambda token: guard.check_token(token, host)
 
     def end_operator(self, name: str) -> int:
         """Closes every connection of the operator ``name`` (just removed); how many."""
@@ -540,7 +553,9 @@ class ClientServer:
         answered = 0
         for start in range(0, len(data), _FEED):
             for item in conn.splitter.feed(data[start : start + _FEED]):
-                answer(self.backend, conn, item)
+                waiting = answer(self.backend, conn, item)
+                if waiting is not None:  # a token checked off the loop; the next line waits
+                    await waiting
                 if conn.closed:
                     return
                 answered += 1

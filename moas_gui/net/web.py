@@ -44,6 +44,7 @@ from aiohttp import web
 
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
+from moas_gui.net.secrets import Verdict
 
 from .admission import REQUEST_DEADLINE
 from .connection import format_peer
@@ -256,7 +257,16 @@ class WebServer:
     async def _report(self, request: web.Request) -> web.StreamResponse:
         peer = request.transport.get_extra_info("peername") if request.transport else None
         host = str(peer[0]) if isinstance(peer, tuple) else str(request.remote or "")
-        if self.clients.needs_token(host) and not await self._token_shown(request):
+        shown = None
+        if self.clients.needs_token(host):
+            shown = await self._token_shown(request, host)
+        if shown is not None and shown.busy:
+            raise web.HTTPServiceUnavailable(text=f"{shown.refusal}.\n",
+                                             headers={"Retry-After": "1"})
+        if shown is not None and shown.wait > 0:  # too many wrong tokens: no check was made
+            raise web.HTTPTooManyRequests(text=f"{shown.refusal}.\n",
+                                          headers={"Retry-After": str(round(shown.wait + 0.5))})
+        if shown is not None and not shown.ok:
             self.clients.trouble_line(
                 "report token", logging.WARNING,
                 "Refused the contest report to %s: it needs an operator's token",
@@ -267,16 +277,20 @@ class WebServer:
                 headers={"WWW-Authenticate": 'Bearer realm="moas-server"'})
         reader = self.journal() if self.journal is not None else None
         page = await self._report_page(reader, request.query)
+        guard = self.clients.secrets
+        if shown is not None and guard is not None and not guard.current(shown.operator):
+            raise web.HTTPForbidden(text="The operator this token was for has been removed.\n")
         return web.Response(text=page, content_type="text/html", charset="utf-8",
                             headers=_REPORT_HEADERS)
 
-    async def _token_shown(self, request: web.Request) -> bool:
-        book = self.clients.operators
+    async def _token_shown(self, request: web.Request, host: str) -> Verdict:
+        """The operator the request's bearer token names, or why not: the server's one
+        secret check (off the loop, budgeted per address and per operator)."""
+        guard = self.clients.secrets
         scheme, _, token = request.headers.get("Authorization", "").partition(" ")
-        if book is None or scheme.lower() != "bearer" or not token.strip():
-            return False
-        # the operators file is read and the token hashed off the loop
-        return await asyncio.to_thread(book.check, token.strip()) is not None
+        if guard is None or scheme.lower() != "bearer" or not token.strip():
+            return Verdict(refusal="no token")
+        return await guard.check_token(token.strip(), host)
 
     async def _report_page(self, reader: JournalReader | None,
                            query: Mapping[str, str]) -> str:

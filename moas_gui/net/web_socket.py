@@ -163,7 +163,11 @@ async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: st
                 break
             greeted = conn.greeted
             for item in conn.splitter.feed(data + b"\n"):
-                answer(clients.backend, conn, item)
+                if conn.closed:  # ended meanwhile (its operator removed): nothing obeyed
+                    break
+                waiting = answer(clients.backend, conn, item)
+                if waiting is not None:  # a token checked off the loop
+                    await waiting
                 if conn.closed:
                     break
             if conn.greeted and not greeted:

@@ -113,7 +113,16 @@ async def test_a_wrong_token_is_refused_and_never_logged(
         assert "not one of this station's operators" in await forbidden(
             client, "hello", client="guess", token=wrong)
         assert "token" in await forbidden(client, "select", station=1, radio=1, antenna=2)
-        await client.request("hello", client="right", token=token)  # it may try again
+        # it may try again, once the back-off of that key id (1 s after a failure) is over
+        assert "try again in 1 s" in await forbidden(client, "hello", client="right",
+                                                     token=token)
+        while True:
+            try:
+                await client.request("hello", client="right", token=token)
+                break
+            except RequestError as refused:
+                assert "try again" in refused.message
+                await asyncio.sleep(0.1)
         assert (await client.request("select", station=1, radio=1, antenna=2))["tx"] == 2
     finally:
         await client.close()

@@ -256,13 +256,16 @@ async def test_keepalive_drops_a_silent_client_and_a_pinging_one_stays() -> None
 @pytest.mark.asyncio
 async def test_auth_needed_wrong_code_gets_ff_and_too_many_lock_the_address_out() -> None:
     from moas_gui.net.antenna_genius.access import SimpleAccess
+    from moas_gui.net.secrets import ADDRESS_FREE, SecretGuard
 
     class Lan(SimpleAccess):
         def needs_token(self, host: str) -> bool:  # as for a LAN peer with --require-token
             return True
 
+    now = [0.0]
+    guard = SecretGuard(codes={"471100": "Ann"}, clock=lambda: now[0])
     core = AgEngineBackend(ServerApp(options(ag_port=None)))
-    ag = AgServer(core, "127.0.0.1", 0, access=Lan(codes={"4711": "Ann"}))
+    ag = AgServer(core, "127.0.0.1", 0, access=Lan(guard=guard))
     await ag.start(None)
     try:
         c = await AgClient.connect(ag.port)
@@ -270,15 +273,19 @@ async def test_auth_needed_wrong_code_gets_ff_and_too_many_lock_the_address_out(
         assert (await c.ask("info get")).code == 0xFF
         assert (await c.ask("auth code=1234")).code == 0xFF
         assert (await c.ask("port get 1", listing=False)).code == 0xFF
-        assert (await c.ask("auth code=4711")).code == 0
+        throttled = await c.ask("auth code=471100")  # every code waits 1 s after a failure
+        assert throttled.code == 0xFF and "try again in 1 s" in throttled.message
+        now[0] += 1.0
+        assert (await c.ask("auth code=471100")).code == 0
         assert (await c.ask("info get")).code == 0
         await c.close()
+        # this address has signed in: other addresses' failures do not hold it back, but
+        # its own budget still counts: past it, its sessions end and it is refused
         d = await AgClient.connect(ag.port)
-        for _ in range(4):
+        for _ in range(ADDRESS_FREE):  # with the one above, one more than its budget
             assert (await d.ask("auth code=0")).code == 0xFF
-        assert (await d.ask("auth code=0")).code == 0xFF
         assert await d.closed()
-        e = await AgClient.connect(ag.port)  # the address is locked out: closed at once
+        e = await AgClient.connect(ag.port)  # the address must wait: closed at once
         assert e.greeting == ""
         await d.close()
         await e.close()
@@ -474,7 +481,7 @@ async def test_with_require_token_a_lan_client_needs_an_operators_ag_code_and_ke
 
     monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
     book = OperatorBook()
-    book.add("Ann", Role.OPERATE, frozenset({(1, 1)}), ag_code="4711")
+    book.add("Ann", Role.OPERATE, frozenset({(1, 1)}), ag_code="471100")
     server = ServerApp(options(require_token=True))
     assert (await server.open(EXAMPLES / "small-station.moas")).ok
     await until(lambda: server.status.state is ServerState.NORMAL)
@@ -486,7 +493,9 @@ async def test_with_require_token_a_lan_client_needs_an_operators_ag_code_and_ke
         assert lan.greeting == "V4.1.0 AG AUTH"
         assert (await lan.ask("port set 1 rxant=4 txant=4")).code == 0xFF
         assert (await lan.ask("auth code=1234")).code == 0xFF
-        assert (await lan.ask("auth code=4711")).code == 0
+        while "try again" in (answer := await lan.ask("auth code=471100")).message:
+            await asyncio.sleep(0.1)  # the back-off after a wrong code: 1 s
+        assert answer.code == 0, answer
         logger_band(server, 14025.0, radio=1)
         engine = server.engine
         assert engine is not None
@@ -509,15 +518,17 @@ def test_an_ag_code_is_kept_as_a_hash_and_must_be_digits(tmp_path: Path) -> None
     from moas_gui.operators import OperatorBook, OperatorError, Role
 
     book = OperatorBook(tmp_path / "operators.json")
-    book.add("Ann", Role.ADMIN, ag_code="4711")
-    assert "4711" not in (tmp_path / "operators.json").read_text()
-    found = book.check_ag_code("4711")
+    book.add("Ann", Role.ADMIN, ag_code="471100")
+    assert "471100" not in (tmp_path / "operators.json").read_text()
+    found = book.check_ag_code("471100")
     assert found is not None and found.name == "Ann"
-    assert book.check_ag_code("4712") is None
-    with pytest.raises(OperatorError, match="4 to 9 digits"):
-        book.add("Bob", Role.VIEW, ag_code="12a4")
-    with pytest.raises(OperatorError, match="another operator has that"):
+    assert book.check_ag_code("471101") is None
+    with pytest.raises(OperatorError, match="6 to 9 digits.*digits only"):
+        book.add("Bob", Role.VIEW, ag_code="12a456")
+    with pytest.raises(OperatorError, match="6 to 9 digits.*4 digits are too few"):
         book.add("Bob", Role.VIEW, ag_code="4711")
+    with pytest.raises(OperatorError, match="another operator has that"):
+        book.add("Bob", Role.VIEW, ag_code="471100")
 
 
 @pytest.mark.asyncio

@@ -12,12 +12,19 @@ networks, never beyond.  Everything the front asks about access goes through one
   address and in total, the fair share, the reserve before a first command);
 * :meth:`~AgAccess.needs_token` -- whether that peer gets ``V... AG AUTH`` and must send
   ``auth code=N`` before anything else;
-* :meth:`~AgAccess.check_code` -- the operator an ``auth`` code stands for, or None.
+* :meth:`~AgAccess.check_code` -- the operator an ``auth`` code stands for, or why not,
+  from the server's one secret check (:class:`~moas_gui.net.secrets.SecretGuard`: off
+  the loop, failures budgeted per address -- an IPv6 /64 being one -- and per operator
+  from every address together, with a back-off that grows per failure, asked at every
+  ``auth``, open sessions included);
+* :meth:`~AgAccess.waiting` -- at accept: seconds an address must still wait after
+  too many wrong codes (0: none);
+* :meth:`~AgAccess.watch_removals` -- how the front ends a removed operator's sessions
+  (the guard calls it when the operators file no longer has that operator).
 
 :class:`SimpleAccess` is what runs today: loopback never needs a code; another
 allowed address needs one only when ``require_token`` is set; codes map to
-operators' names.  Failed ``auth`` attempts are limited per address
-(:class:`AuthFailures`).
+operators' names.
 """
 
 from __future__ import annotations
@@ -25,14 +32,10 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Mapping
 from typing import Protocol
 
-from moas_gui.edge.admission import Admission, address_key
+from moas_gui.edge.admission import Admission
 from moas_gui.net.access import allowed_networks, is_allowed, peer_address
 from moas_gui.net.identity import Identity, is_local
-
-MAX_AUTH_FAILURES = 5
-"""Wrong ``auth`` codes one address may send before it is shut out for a while."""
-AUTH_LOCKOUT = 300.0
-"""Seconds an address that sent too many wrong codes is refused."""
+from moas_gui.net.secrets import SecretGuard, Verdict, budget_key
 
 
 class AgAccess(Protocol):
@@ -44,7 +47,11 @@ class AgAccess(Protocol):
 
     def needs_token(self, host: str) -> bool: ...
 
-    def check_code(self, code: str) -> str | None: ...
+    async def check_code(self, code: str, host: str) -> Verdict: ...
+
+    def waiting(self, host: str) -> float: ...
+
+    def watch_removals(self, end: Callable[[str], int] | None) -> None: ...
 
 
 def is_loopback(host: str) -> bool:
@@ -58,14 +65,14 @@ class SimpleAccess:
 
     def __init__(self, client_allow: Callable[[], Iterable[str] | None] = lambda: None, *,
                  require_token: bool = False, codes: Mapping[str, str] | None = None,
-                 check: Callable[[str], str | None] | None = None,
+                 guard: SecretGuard | None = None,
                  total: int = 64, per_address: int = 16) -> None:
         self.client_allow = client_allow
         self.require_token = require_token
-        self.codes = dict(codes or {})
-        self.check = check
-        """The station's own check of a code: an operator's AG code or token -> its
-        name (the server passes the operators book's)."""
+        self.guard = guard if guard is not None else SecretGuard(codes=dict(codes or {}))
+        """The station's one secret check (the server's, with its operators book; a
+        test's own with ``codes``: code -> name)."""
+        self._end: Callable[[str], int] | None = None
         self.identify: Callable[[str, str, str | None], Identity | None] | None = None
         """Who a connection is for the roles' rules (:mod:`moas_gui.net.identity`): the
         server's; None (tests): nobody in particular, which the rules let through."""
@@ -86,40 +93,20 @@ class SimpleAccess:
         from the LAN (other loopback addresses count as the LAN) with ``require_token``."""
         return self.require_token and not is_local(host)
 
-    def check_code(self, code: str) -> str | None:
-        named = self.codes.get(code.strip())
-        if named is None and self.check is not None:
-            named = self.check(code.strip())
-        return named
+    async def check_code(self, code: str, host: str) -> Verdict:
+        return await self.guard.check_code(code, host)
+
+    def waiting(self, host: str) -> float:
+        return self.guard.addresses.wait(budget_key(host), self.guard.clock())
+
+    def watch_removals(self, end: Callable[[str], int] | None) -> None:
+        """The front's way to end an operator's sessions (None: the front closed):
+        called when the operators file no longer has that operator."""
+        if self._end is not None:
+            self.guard.unlisten(self._end)
+        self._end = end
+        if end is not None:
+            self.guard.listen(end)
 
 
-class AuthFailures:
-    """Wrong ``auth`` codes per address: after :data:`MAX_AUTH_FAILURES` the address is
-    refused for :data:`AUTH_LOCKOUT` seconds (``now`` is the caller's clock)."""
-
-    def __init__(self, limit: int = MAX_AUTH_FAILURES, lockout: float = AUTH_LOCKOUT) -> None:
-        self.limit, self.lockout = limit, lockout
-        self._failed: dict[str, tuple[int, float]] = {}
-
-    def failed(self, host: str, now: float) -> bool:
-        """Counts a wrong code; True when the address is now locked out."""
-        key = address_key(host)
-        count, _ = self._failed.get(key, (0, now))
-        self._failed[key] = (count + 1, now)
-        return count + 1 >= self.limit
-
-    def locked(self, host: str, now: float) -> bool:
-        key = address_key(host)
-        count, when = self._failed.get(key, (0, now))
-        if count >= self.limit and now - when < self.lockout:
-            return True
-        if count >= self.limit:
-            del self._failed[key]
-        return False
-
-    def succeeded(self, host: str) -> None:
-        self._failed.pop(address_key(host), None)
-
-
-__all__ = ["AUTH_LOCKOUT", "MAX_AUTH_FAILURES", "AgAccess", "AuthFailures", "SimpleAccess",
-           "is_loopback"]
+__all__ = ["AgAccess", "SimpleAccess", "is_loopback"]

@@ -17,7 +17,10 @@ pushes ``S0|port ...`` to subscribers when a port's line changes and
 ``S0|antenna reload`` when a configuration opens.
 
 Access goes through :class:`~.access.AgAccess` (one call at accept, one question for
-the token, one for a code); the front has its own deadlines (:class:`AgTiming`).
+the token, one for a code, checked off the loop: the reader of that connection waits
+for the answer, nobody else does); the front has its own deadlines (:class:`AgTiming`).
+An operator removed from the operators file has its sessions here ended
+(:meth:`AgServer.end_operator`), as on every front.
 """
 
 from __future__ import annotations
@@ -40,7 +43,7 @@ from moas_gui.net.connection import format_peer
 from moas_gui.net.identity import Identity, serving
 
 from . import codec
-from .access import AgAccess, AuthFailures, SimpleAccess
+from .access import AgAccess, SimpleAccess
 from .codec import Command, CommandReader, Malformed, PortStatus
 from .discovery import Announcement, Announcer
 from .mapping import (
@@ -217,11 +220,12 @@ class AgServer:
         self.name = name
         self.timing = timing or AgTiming()
         self.discovery_target = discovery
-        self.failures = AuthFailures()
         self.trouble = LogLimiter()
         """One line a minute per kind of trouble an outside party can cause (a line that
         is no command, a refused ``port set``, a client that stops reading...), with the
         count of those left out."""
+        self._refused = LogLimiter()
+        """One line a minute about addresses refused for their wrong codes."""
         self.started = time.monotonic()
         self.antennas: tuple[AgAntenna, ...] = ()
         self.devices: list[_Device] = []
@@ -247,6 +251,7 @@ class AgServer:
         cannot be bound; a further one that cannot is logged and left out."""
         for device in self._layout(config):
             await self._open(device)
+        self.access.watch_removals(self.end_operator)
         self._announce()
         return [d.port for d in self.devices]
 
@@ -304,7 +309,19 @@ class AgServer:
                              len(self.antennas), int(time.monotonic() - self.started))
                 for d in self.devices]
 
+    def end_operator(self, name: str) -> int:
+        """Ends every session of operator ``name`` (removed); how many."""
+        ended = 0
+        for served in self.devices:
+            for session in list(served.sessions):
+                if session.operator is not None and session.operator.lower() == name.lower():
+                    session.closing = True
+                    session.writer.transport.abort()
+                    ended += 1
+        return ended
+
     async def close(self) -> None:
+        self.access.watch_removals(None)
         if self._announcer is not None:
             self._announcer.close()
             self._announcer = None
@@ -372,9 +389,12 @@ class AgServer:
         peer = writer.get_extra_info("peername")
         host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
         loop = asyncio.get_running_loop()
-        if self.failures.locked(host, loop.time()):
-            log.warning("Antenna Genius: refused %s: too many wrong auth codes lately",
-                        format_peer(peer))
+        wait = self.access.waiting(host)
+        if wait > 0:
+            held = self._refused.allow("locked")
+            if held is not None:
+                log.warning("Antenna Genius: refused %s: too many wrong auth codes lately "
+                            "(%.0f s to wait)%s", format_peer(peer), wait, held_text(held))
             writer.close()
             return
         refusal = self.access.allowed(host)
@@ -421,6 +441,11 @@ class AgServer:
                 ticket.greeted()
                 ticket.touch()
             for item in lines.feed(data):
+                if session.closing:
+                    break
+                if isinstance(item, Command) and _is_auth(item):  # checked off the loop
+                    session.send(await self._auth(session, item))
+                    continue
                 if session.identity is None:
                     session.send(self.answer(session, item))
                     continue
@@ -451,8 +476,8 @@ class AgServer:
                           session.peer, item.reason)
             return codec.reply(item.seq, codec.BAD_COMMAND, item.reason)
         verb = item.verb
-        if verb == "auth" or item.words[:1] == ("auth",):
-            return self._auth(session, item)
+        if _is_auth(item):  # the reader checks it (off the loop) before it gets here
+            return codec.reply(item.seq, codec.NO_AUTH)
         if not session.authed:
             return codec.reply(item.seq, codec.NO_AUTH)
         handler = _HANDLERS.get(verb) or _HANDLERS.get(item.words[0] if item.words else "")
@@ -463,21 +488,18 @@ class AgServer:
                                f"{verb} is not supported by this MOAS station")
         return codec.reply(item.seq, codec.BAD_COMMAND, f"unknown command {item.text[:40]}")
 
-    def _auth(self, session: _Session, item: Command) -> bytes:
+    async def _auth(self, session: _Session, item: Command) -> bytes:
+        """Every ``auth`` is checked (an open session's too), through the server's one
+        secret check: budgeted per address and per operator (docs/security.md); wrong
+        codes are logged there, one line a minute."""
         if session.authed and not self.access.needs_token(session.host):
             return codec.reply(item.seq)
-        code = item.args.get("code", "")
-        operator = self.access.check_code(code) if code else None
-        loop = asyncio.get_running_loop()
-        if operator is None:
-            if self.failures.failed(session.host, loop.time()):
-                log.warning("Antenna Genius: %s sent too many wrong auth codes; its "
-                            "address is refused for a while", session.peer)
+        verdict = await self.access.check_code(item.args.get("code", ""), session.host)
+        operator = verdict.name
+        if operator is None or session.closing:
+            if self.access.waiting(session.host) > 0:  # its address must wait: no more tries
                 session.closing = True
-            else:
-                log.info("Antenna Genius: %s sent a wrong auth code", session.peer)
-            return codec.reply(item.seq, codec.NO_AUTH)
-        self.failures.succeeded(session.host)
+            return codec.reply(item.seq, codec.NO_AUTH, verdict.refusal or "")
         session.authed, session.operator = True, operator
         session.identity = self.access.identity(session.host, session.peer, operator)
         log.info("Antenna Genius: %s authenticated as %s", session.peer, operator)
@@ -615,6 +637,10 @@ _HANDLERS: dict[str, _Handler] = {
     "keepalive": AgServer._keepalive,
     "ping": AgServer._ping,
 }
+
+
+def _is_auth(item: Command) -> bool:
+    return item.verb == "auth" or item.words[:1] == ("auth",)
 
 
 def _radios_text(device: Device) -> str:

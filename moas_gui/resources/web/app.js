@@ -135,7 +135,12 @@
         for (const p of panels) showRadio(p);
       }).catch(e => {
         showLink(false, e.code === "forbidden" ? "waiting for an operator's token" : e.message);
-        if (e.code === "forbidden") {
+        // too many wrong tokens lately (anyone's): the token was not checked; try it again then
+        const later = /try again in (\d+) s/.exec(e.message);
+        if (e.code === "forbidden" && token && later) {
+          showLink(false, e.message);
+          setTimeout(() => { if (ws === socket) socket.close(); }, Number(later[1]) * 1000);
+        } else if (e.code === "forbidden") {
           if (token) localStorage.removeItem(TOKEN_KEY);
           askToken(token ? TOKEN_REFUSED : TOKEN_ASKED);
         }

@@ -21,7 +21,8 @@ import asyncio
 import logging
 from collections.abc import Awaitable, Callable
 
-from .admission import NO_DEADLINES, Admission, Deadlines, Refused, Ticket
+from .admission import NO_DEADLINES, Admission, Deadlines, Evict, Refused, Ticket
+from .listener import EarlyAdmitted
 from .log_limit import held_text
 
 log = logging.getLogger(__name__)
@@ -74,7 +75,7 @@ class ForwardingGate(asyncio.Protocol):
             inner.connection_lost(exc)
 
 
-class StreamGate(ForwardingGate):
+class StreamGate(ForwardingGate, EarlyAdmitted):
     """One connection of a stream front (see the module notes)."""
 
     def __init__(
@@ -94,16 +95,10 @@ class StreamGate(ForwardingGate):
         self.refusal = refusal
         self.limit = limit
 
-    def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        host, address = peer_host(transport)
+    def _admit(self, host: str, address: str, evict: Evict) -> Refused | None:
         try:
             self.ticket = self.admission.admit(
-                host,
-                lambda _why: transport.abort(),
-                front=self.front,
-                deadlines=self.deadlines,
-                address=address,
+                host, evict, front=self.front, deadlines=self.deadlines, address=address
             )
         except Refused as refused:
             held = self.admission.trouble.allow(("refused", self.front, refused.limit))
@@ -115,10 +110,30 @@ class StreamGate(ForwardingGate):
                     refused.reason,
                     held_text(held, "more refused for the same reason"),
                 )
-            if self.refusal is not None:
-                transport.write(self.refusal(refused.reason))
-            transport.close()
-            return
+            return refused
+        return None
+
+    def admit_early(self, peer: object, evict: Evict) -> Ticket | None:
+        if isinstance(peer, tuple) and len(peer) >= 2:
+            host = str(peer[0])
+            address = f"[{host}]:{peer[1]}" if ":" in host else f"{host}:{peer[1]}"
+        else:
+            host = address = str(peer)
+        self._admit(host, address, evict)
+        return self.ticket
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        if self.ticket is not None:  # admitted before a TLS handshake
+            self.ticket.set_evict(lambda _why: transport.abort())
+        else:
+            host, address = peer_host(transport)
+            refused = self._admit(host, address, lambda _why: transport.abort())
+            if refused is not None:
+                if self.refusal is not None:
+                    transport.write(self.refusal(refused.reason))
+                transport.close()
+                return
         self.open_streams(transport, self.serve, self.limit)
 
 

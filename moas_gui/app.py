@@ -59,6 +59,7 @@ from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.loop_watch import LoopWatch
 from moas_gui.net.identity import current, enforce
 from moas_gui.net.server import ClientServer
 from moas_gui.rights import action_for
@@ -100,6 +101,9 @@ class ServerApp:
         """The Antenna Genius front: it outlives a configuration, closed by :meth:`close`."""
         self._antenna_log_on = self.options.antenna_log
         """The antenna journal is written (``--no-antenna-log`` and the menu turn it off)."""
+        self.loop_watch = LoopWatch()
+        """How late the event loop runs: watched from the first :meth:`open` on, its
+        largest lag in the status (:mod:`moas_gui.loop_watch`)."""
 
     # -- what the window and tests read ---------------------------------------------
     @property
@@ -223,6 +227,7 @@ class ServerApp:
         Each file that opens is kept beside its saved state (:func:`state_store.last_good_path`);
         ``last_good`` runs that kept copy instead of ``path`` (which has errors), under
         ``path``'s name and saved state, saying so in the log and the status."""
+        self.loop_watch.start()
         async with self._lock:
             started = time.perf_counter()
             source = state_store.last_good_path(Path(path)) if last_good else Path(path)
@@ -286,6 +291,7 @@ class ServerApp:
             await self._ag.close()
             self._path = None
             self._update_status()
+            self.loop_watch.stop()
 
     async def _start(self, config: Config) -> None:
         loop = asyncio.get_running_loop()
@@ -658,7 +664,7 @@ class ServerApp:
         if run is not None and not run.serving:
             return  # still starting: nothing shown runs before its ports listen
         if run is None:
-            status = ServerStatus()
+            status = ServerStatus(loop_lag_ms=self.loop_watch.largest_ms)
         else:
             switches = tuple(sorted(run.switch_status.items()))
             shown = tuple((i, "stopped" if run.stopped else s) for i, s in switches)
@@ -669,6 +675,7 @@ class ServerApp:
                          if self._last_good else "")),
                 switches=shown,
                 clients=run.clients.client_count if run.clients is not None else 0,
+                loop_lag_ms=self.loop_watch.largest_ms,
             )
         if status != self._status:
             self._status = status

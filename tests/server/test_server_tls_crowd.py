@@ -50,7 +50,12 @@ def tls_server(tmp_path: Path, runtime_dir: Path) -> Iterator[tuple[int, int, Pa
         yield tcp, web, log
     finally:
         process.terminate()
-        process.wait(timeout=15)
+        try:
+            process.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait(timeout=15)
+            raise
 
 
 def silent(port: int, source: str) -> socket.socket:

@@ -10,8 +10,9 @@ For a front that serves ``async def serve(reader, writer)`` the way
         host, port, what="rotctld connections")
 
 ``serve`` finds its connection's ticket with :func:`ticket_of` (to call
-:meth:`~.admission.Ticket.greeted` and :meth:`~.admission.Ticket.touch`).  A connection
-refused is told ``refusal(reason)`` (nothing when that is ``None``) and closed; one the
+:meth:`~.admission.Ticket.greeted` and :meth:`~.admission.Ticket.touch`).  A front may
+turn addresses away altogether before the admission's limits (``allows``: the rotctld
+ports under ``--require-token``).  A connection refused is told ``refusal(reason)`` (nothing when that is ``None``) and closed; one the
 admission closes (a deadline, or another's fair share) is aborted.
 """
 
@@ -28,6 +29,10 @@ from .log_limit import held_text
 log = logging.getLogger(__name__)
 
 Serve = Callable[[asyncio.StreamReader, asyncio.StreamWriter], Awaitable[None]]
+
+Allows = Callable[[str], "str | None"]
+"""Whether a front takes a peer at all, by its host: ``None`` if it does, else why not
+(one sentence); asked before the admission's limits."""
 
 
 def peer_host(transport: asyncio.BaseTransport) -> tuple[str, str]:
@@ -87,8 +92,10 @@ class StreamGate(ForwardingGate, EarlyAdmitted):
         deadlines: Deadlines,
         refusal: Callable[[str], bytes] | None,
         limit: int,
+        allows: Allows | None = None,
     ) -> None:
         self.admission = admission
+        self.allows = allows
         self.serve = serve
         self.front = front
         self.deadlines = deadlines
@@ -96,6 +103,13 @@ class StreamGate(ForwardingGate, EarlyAdmitted):
         self.limit = limit
 
     def _admit(self, host: str, address: str, evict: Evict) -> Refused | None:
+        why = self.allows(host) if self.allows is not None else None
+        if why is not None:
+            held = self.admission.trouble.allow(("not allowed", self.front))
+            if held is not None:
+                log.warning("Refused a %s from %s: %s%s", self.front, address, why,
+                            held_text(held, "more refused that were not allowed"))
+            return Refused(why, "allowed")
         try:
             self.ticket = self.admission.admit(
                 host, evict, front=self.front, deadlines=self.deadlines, address=address
@@ -145,10 +159,13 @@ def gate_factory(
     deadlines: Deadlines = NO_DEADLINES,
     refusal: Callable[[str], bytes] | None = None,
     limit: int = 65_536,
+    allows: Allows | None = None,
 ) -> Callable[[], StreamGate]:
-    """The protocol factory of a stream front behind ``admission``."""
+    """The protocol factory of a stream front behind ``admission``; ``allows``, when
+    given, is asked first and refuses an address by saying why."""
     return lambda: StreamGate(
-        admission, serve, front=front, deadlines=deadlines, refusal=refusal, limit=limit
+        admission, serve, front=front, deadlines=deadlines, refusal=refusal, limit=limit,
+        allows=allows,
     )
 
 
@@ -158,4 +175,4 @@ def ticket_of(writer: asyncio.StreamWriter) -> Ticket | None:
     return protocol.ticket if isinstance(protocol, StreamGate) else None
 
 
-__all__ = ["ForwardingGate", "Serve", "StreamGate", "gate_factory", "peer_host", "ticket_of"]
+__all__ = ["Allows", "ForwardingGate", "Serve", "StreamGate", "gate_factory", "peer_host", "ticket_of"]

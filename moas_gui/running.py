@@ -313,6 +313,12 @@ async def start_rotators(run: Running, options: ServerOptions,
     )
     await run.rotators.start()
     # rotators with a RotctldPort answer rotctld's protocol there (Hamlib's rotctl -m 2)
+    await start_rotctld(run, options)
+
+
+async def start_rotctld(run: Running, options: ServerOptions) -> None:
+    """The rotctld-compatible listeners of the rotators with a ``RotctldPort``, taking
+    the peers ``--require-token`` and ``--rotctld-allow`` leave them."""
     allows = rotctld_peers(options.require_token, None if options.rotctld_allow is None
                            else parse_allow_list(options.rotctld_allow))
     # this computer's programs only, unless other computers are listed: then where the

@@ -313,10 +313,10 @@ async def start_rotators(run: Running, options: ServerOptions,
     )
     await run.rotators.start()
     # rotators with a RotctldPort answer rotctld's protocol there (Hamlib's rotctl -m 2)
-    await start_rotctld(run, options)
+    await start_rotctld(run, run.rotators, options)
 
 
-async def start_rotctld(run: Running, options: ServerOptions) -> None:
+async def start_rotctld(run: Running, rotators: RotatorManager, options: ServerOptions) -> None:
     """The rotctld-compatible listeners of the rotators with a ``RotctldPort``, taking
     the peers ``--require-token`` and ``--rotctld-allow`` leave them."""
     allows = rotctld_peers(options.require_token, None if options.rotctld_allow is None
@@ -324,7 +324,7 @@ async def start_rotctld(run: Running, options: ServerOptions) -> None:
     # this computer's programs only, unless other computers are listed: then where the
     # client port listens (--bind), taking this computer and those alone
     host = ROTCTLD_HOST if not options.rotctld_allow else options.bind
-    run.rotctld = await start_rotctld_servers(run.rotators, run.config.rotators, host, allows)
+    run.rotctld = await start_rotctld_servers(rotators, run.config.rotators, host, allows)
     if run.rotctld and allows is not None:
         log.info("The rotctld ports take only this computer%s",
                  f" and {', '.join(options.rotctld_allow)} (--rotctld-allow)"

@@ -515,6 +515,9 @@ async def edge_figures(scenario: str, args: argparse.Namespace, station: Station
           f"unresponsive: {unresponsive}")
     for kind, count in sorted(kinds.items(), key=lambda item: -item[1])[:4]:
         print(f"    {count:6,} x {kind[:100]}")
+    for line in server.lines:
+        if "event loop ran" in line:
+            print(f"    {line[:300]}")
     most = max(1, int((args.hold + args.settle) // 60) + 1)
     ok = ok and lag is not None and lag <= 50 and unresponsive == 0
     return ok and all(count <= most for count in kinds.values())

@@ -102,8 +102,8 @@ class ServerApp:
         self._antenna_log_on = self.options.antenna_log
         """The antenna journal is written (``--no-antenna-log`` and the menu turn it off)."""
         self.loop_watch = LoopWatch()
-        """How late the event loop runs: watched from the first :meth:`open` on, its
-        largest lag in the status (:mod:`moas_gui.loop_watch`)."""
+        """How late the event loop runs: watched from the first :meth:`open` on (but not
+        while a file opens), its largest lag in the status (:mod:`moas_gui.loop_watch`)."""
 
     # -- what the window and tests read ---------------------------------------------
     @property
@@ -226,8 +226,17 @@ class ServerApp:
 
         Each file that opens is kept beside its saved state (:func:`state_store.last_good_path`);
         ``last_good`` runs that kept copy instead of ``path`` (which has errors), under
-        ``path``'s name and saved state, saying so in the log and the status."""
-        self.loop_watch.start()
+        ``path``'s name and saved state, saying so in the log and the status.
+
+        The loop's watch (:attr:`loop_watch`) pauses meanwhile: loading a file, building
+        its engine and opening every port is the operator's pause, not the loop's lag."""
+        self.loop_watch.stop()
+        try:
+            return await self._open(path, last_good)
+        finally:
+            self.loop_watch.start()
+
+    async def _open(self, path: str | Path, last_good: bool) -> LoadResult:
         async with self._lock:
             started = time.perf_counter()
             source = state_store.last_good_path(Path(path)) if last_good else Path(path)

@@ -24,7 +24,8 @@ class ServerStatus:
     clients: int = 0
     loop_lag_ms: int = 0
     """The largest lag of the event loop since the server started, in milliseconds: how
-    late its 100 ms timer ran at worst (:mod:`moas_gui.loop_watch`)."""
+    late its 100 ms timer ran at worst, the opening of a configuration not counted
+    (:mod:`moas_gui.loop_watch`)."""
 
     @property
     def summary(self) -> str:

@@ -248,12 +248,11 @@ class Listener:
                 ticket.release()  # the protocol never saw a connection: its place is free
             held = self.trouble.allow(("handshake", self.what))
             if held is not None:
-                log.info(
-                    "A connection to %s ended before it began: %s%s",
-                    self.what,
-                    exc or type(exc).__name__,
-                    held_text(held),
-                )
+                why = ("closed by the admission during its handshake"
+                       if isinstance(exc, asyncio.CancelledError)
+                       else str(exc) or type(exc).__name__)
+                log.info("A connection to %s ended before it began: %s%s", self.what, why,
+                         held_text(held))
             return None
 
     async def close(self) -> None:

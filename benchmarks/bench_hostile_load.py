@@ -424,10 +424,17 @@ def describe_tries(name: str, tries: list[float | None]) -> bool:
     return quick >= 0.99
 
 
+DECISION = re.compile(r"Station \d+ radio \d+: ")
+"""The engine's Info line for each antenna decision (a logger's band change): what the
+station asked for, never limited."""
+
+
 def edge_kinds(lines: list[str]) -> dict[str, int]:
-    """:func:`trouble_kinds` without the measuring clients' own lines."""
+    """:func:`trouble_kinds` without the measuring clients' own lines and the engine's
+    decisions."""
     return trouble_kinds([line for line in lines if '"legit"' not in line
-                          and '"lag"' not in line and f"{OPERATOR}:" not in line])
+                          and '"lag"' not in line and f"{OPERATOR}:" not in line
+                          and not DECISION.search(line)])
 
 
 async def start_edge_server(station: Station, scenario: str, args: argparse.Namespace,

@@ -225,8 +225,10 @@ class Listener:
         if ticket is None:
             conn.close()  # refused before a byte of TLS: no handshake spent on it
             return
-        handshake.append(self._start(self._connect(conn, lambda: protocol, ticket),
-                                     self._handshakes))
+        task = self._start(self._connect(conn, lambda: protocol, ticket), self._handshakes)
+        # cancelled before it even began (evicted at once): nothing else closes the socket
+        task.add_done_callback(lambda done: conn.close() if done.cancelled() else None)
+        handshake.append(task)
 
     def _start(self, work: Coroutine[object, object, object], into: set[asyncio.Task[object]]
                ) -> asyncio.Task[object]:

@@ -147,3 +147,26 @@ async def test_silent_crowds_hold_neither_port_while_a_loopback_client_is_served
             sock.close()
         await web.close()
         await server.close()
+
+
+@pytest.mark.asyncio
+async def test_a_handshake_under_way_gives_its_place_to_the_fair_share(tmp_path: Path) -> None:
+    # the server full of handshakes from one address: a newcomer from another takes the
+    # place of the one waiting longest, whose handshake is ended there and then
+    server = ClientServer(FakeBackend(), host=HOST, port=0, tls=tls_context(tmp_path),
+                          max_clients=3, hello_deadline=120.0)
+    port = await server.start()
+    held: list[socket.socket] = []
+    try:
+        held += [await silent(port, "127.0.0.6") for _ in range(3)]
+        await until(lambda: server.admission.open_from("127.0.0.6") == 3, timeout=30,
+                    what="three handshakes admitted")
+        reply = await tls_hello(port, "127.0.0.7")
+        assert reply["ok"] is True, reply
+        async with asyncio.timeout(30):
+            assert await closed_by_server(held[0])  # the one waiting longest
+        assert server.admission.open_from("127.0.0.6") == 2
+    finally:
+        for sock in held:
+            sock.close()
+        await server.close()

@@ -1,4 +1,4 @@
-"""Fair service under a hostile load: the full figures of issues 20 and 31.
+"""Fair service under a hostile load: the full figures of issues 20, 31 and 38.
 
     .venv/bin/python benchmarks/bench_hostile_load.py [--idle 1500] [--slow 1100]
         [--malformed 300] [--hold 30] [--files 1024]

@@ -61,6 +61,7 @@ from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.link import LinkStatus
 from moas_gui.hw.rotators.base import RotatorView
 from moas_gui.hw.rotators.manager import RotatorManager
+from moas_gui.loop_watch import LoopWatch
 from moas_gui.net.identity import current, enforce
 from moas_gui.net.secrets import SecretGuard
 from moas_gui.net.server import ClientServer
@@ -109,6 +110,9 @@ class ServerApp:
         sessions on all of them (moas_gui/net/secrets.py)."""
         self._antenna_log_on = self.options.antenna_log
         """The antenna journal is written (``--no-antenna-log`` and the menu turn it off)."""
+        self.loop_watch = LoopWatch()
+        """How late the event loop runs: watched from the first :meth:`open` on (but not
+        while a file opens), its largest lag in the status (:mod:`moas_gui.loop_watch`)."""
 
     # -- what the window and tests read ---------------------------------------------
     @property
@@ -273,7 +277,17 @@ class ServerApp:
 
         Each file that opens is kept beside its saved state (:func:`state_store.last_good_path`);
         ``last_good`` runs that kept copy instead of ``path`` (which has errors), under
-        ``path``'s name and saved state, saying so in the log and the status."""
+        ``path``'s name and saved state, saying so in the log and the status.
+
+        The loop's watch (:attr:`loop_watch`) pauses meanwhile: loading a file, building
+        its engine and opening every port is the operator's pause, not the loop's lag."""
+        self.loop_watch.stop()
+        try:
+            return await self._open(path, last_good)
+        finally:
+            self.loop_watch.start()
+
+    async def _open(self, path: str | Path, last_good: bool) -> LoadResult:
         async with self._lock:
             started = time.perf_counter()
             source = state_store.last_good_path(Path(path)) if last_good else Path(path)
@@ -339,6 +353,7 @@ class ServerApp:
             self.secrets = SecretGuard(self.secrets.book)  # a server opened again starts afresh
             self._path = None
             self._update_status()
+            self.loop_watch.stop()
 
     async def _start(self, config: Config) -> None:
         loop = asyncio.get_running_loop()
@@ -715,7 +730,7 @@ class ServerApp:
         if run is not None and not run.serving:
             return  # still starting: nothing shown runs before its ports listen
         if run is None:
-            status = ServerStatus()
+            status = ServerStatus(loop_lag_ms=self.loop_watch.largest_ms)
         else:
             switches = tuple(sorted(run.switch_status.items()))
             shown = tuple((i, "stopped" if run.stopped else s) for i, s in switches)
@@ -726,6 +741,7 @@ class ServerApp:
                          if self._last_good else "")),
                 switches=shown,
                 clients=run.clients.client_count if run.clients is not None else 0,
+                loop_lag_ms=self.loop_watch.largest_ms,
             )
         if status != self._status:
             self._status = status

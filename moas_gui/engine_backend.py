@@ -130,7 +130,8 @@ class EngineBackend:
         core = self.core
         engine = core.engine
         if engine is None:
-            return {"config": None, "radios": [], "antennas": [], "rotators": [], "switches": []}
+            return {"config": None, "radios": [], "antennas": [], "rotators": [], "switches": [],
+                    "loop_lag_ms": core.status.loop_lag_ms}
         manager = core.rotator_manager
         rotators = manager.views() if manager is not None else []
         return {
@@ -139,6 +140,7 @@ class EngineBackend:
             "antennas": [v.to_dict() for v in engine.antenna_views()],
             "rotators": [v.to_json() for v in rotators],
             "switches": [{"id": i, "status": s} for i, s in core.status.switches],
+            "loop_lag_ms": core.status.loop_lag_ms,
         }
 
     def frequency(self, station: int, radio: int, khz: float, tx_khz: float | None) -> None:

@@ -47,7 +47,7 @@ from moas_gui.net.antenna_genius.access import SimpleAccess
 from moas_gui.net.antenna_genius.server import AgBackend, AgServer
 from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
-from moas_gui.net.rotctld_server import RotctldServer, start_rotctld_servers
+from moas_gui.net.rotctld_server import RotctldServer, rotctld_peers, start_rotctld_servers
 from moas_gui.net.secrets import SecretGuard
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
 from moas_gui.source_intake import SourceIntake
@@ -60,7 +60,7 @@ from moas_gui.state_store import SavedState, StateKeeper, switch_to_data
 if TYPE_CHECKING:  # the web server (aiohttp) is loaded only when a station asks for it
     from moas_gui.net.web import WebServer
 
-from moas_gui.net.access import allowed_networks
+from moas_gui.net.access import allowed_networks, parse_allow_list
 from moas_gui.net.identity import Identity, anonymous, as_operator
 from moas_gui.operators import OperatorBook
 
@@ -107,7 +107,12 @@ class ServerOptions:
     max_per_address: int | None = None
     """Connections one address may hold at once; None for the default."""
     require_token: bool = False
-    """Clients from ``ClientAllow`` networks need an operator's token too."""
+    """Clients from ``ClientAllow`` networks need an operator's token too (and the
+    rotctld ports, which have no token, take only this computer and ``rotctld_allow``)."""
+    rotctld_allow: tuple[str, ...] | None = None
+    """``--rotctld-allow``: the addresses and networks the rotctld ports take besides
+    this computer (None: with ``require_token`` none, without it whoever reaches them);
+    given, the ports listen on ``bind`` rather than on 127.0.0.1 alone."""
     tls: bool = False
     """Serve the client port and the web page over TLS (docs/security.md)."""
     tls_cert: str | None = None
@@ -309,7 +314,22 @@ async def start_rotators(run: Running, options: ServerOptions,
     )
     await run.rotators.start()
     # rotators with a RotctldPort answer rotctld's protocol there (Hamlib's rotctl -m 2)
-    run.rotctld = await start_rotctld_servers(run.rotators, run.config.rotators, ROTCTLD_HOST)
+    await start_rotctld(run, run.rotators, options)
+
+
+async def start_rotctld(run: Running, rotators: RotatorManager, options: ServerOptions) -> None:
+    """The rotctld-compatible listeners of the rotators with a ``RotctldPort``, taking
+    the peers ``--require-token`` and ``--rotctld-allow`` leave them."""
+    allows = rotctld_peers(options.require_token, None if options.rotctld_allow is None
+                           else parse_allow_list(options.rotctld_allow))
+    # this computer's programs only, unless other computers are listed: then where the
+    # client port listens (--bind), taking this computer and those alone
+    host = ROTCTLD_HOST if not options.rotctld_allow else options.bind
+    run.rotctld = await start_rotctld_servers(rotators, run.config.rotators, host, allows)
+    if run.rotctld and allows is not None:
+        log.info("The rotctld ports take only this computer%s",
+                 f" and {', '.join(options.rotctld_allow)} (--rotctld-allow)"
+                 if options.rotctld_allow else " (--require-token: rotctld has no token)")
 
 
 async def start_clients(run: Running, options: ServerOptions, backend: ClientBackend,

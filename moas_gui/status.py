@@ -22,6 +22,10 @@ class ServerStatus:
     switches: tuple[tuple[int, str], ...] = ()
     """``(switch id, status)`` with status ``connecting``, ``ok``, ``unresponsive`` or ``stopped``."""
     clients: int = 0
+    loop_lag_ms: int = 0
+    """The largest lag of the event loop since the server started, in milliseconds: how
+    late its 100 ms timer ran at worst, the opening of a configuration not counted
+    (:mod:`moas_gui.loop_watch`)."""
 
     @property
     def summary(self) -> str:
@@ -34,6 +38,7 @@ class ServerStatus:
         else:
             parts.append("no switches")
         parts.append(f"{self.clients} client{'s' if self.clients != 1 else ''}")
+        parts.append(f"loop lag {self.loop_lag_ms} ms at most")
         return " \u2014 ".join(parts)
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import ipaddress
 import logging
 import sys
 import time
@@ -151,7 +152,15 @@ def _parser() -> argparse.ArgumentParser:
                              "delayed")
     parser.add_argument("--require-token", action="store_true",
                         help="clients from the allowed networks (ClientAllow) need an "
-                             "operator's token too (programs on this computer never do)")
+                             "operator's token too (programs on this computer never do); "
+                             "the rotctld ports, which have no token, then take only this "
+                             "computer and --rotctld-allow's addresses")
+    parser.add_argument("--rotctld-allow", type=_networks, metavar="ADDR[,NET...]",
+                        help="the rotctld ports listen where the client port does "
+                             "(--bind) and take only this computer and these addresses or "
+                             "networks (e.g. 192.168.1.20,10.0.0.0/24); without it they "
+                             "listen on 127.0.0.1, and take only this computer with "
+                             "--require-token")
     parser.add_argument("--tls", action="store_true",
                         help="serve the client port and the web page over TLS (a self-signed "
                              "certificate kept in the configuration directory, unless "
@@ -185,6 +194,19 @@ def _parser() -> argparse.ArgumentParser:
     # no options: only the test hooks set these (main)
     parser.set_defaults(switch_timing=None, rotator_timing=None)
     return parser
+
+
+def _networks(text: str) -> tuple[str, ...]:
+    entries = tuple(part.strip() for part in text.split(",") if part.strip())
+    for entry in entries:
+        try:
+            ipaddress.ip_network(entry, strict=False)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{entry!r} is not an address or network such as 192.168.1.0/24") from None
+    if not entries:
+        raise argparse.ArgumentTypeError("no address or network given")
+    return entries
 
 
 def _positive(text: str) -> int:
@@ -400,6 +422,7 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          max_clients=args.max_clients,
                          max_per_address=args.max_per_address,
                          require_token=args.require_token, tls=args.tls,
+                         rotctld_allow=args.rotctld_allow,
                          tls_cert=args.tls_cert, tls_key=args.tls_key,
                          start_rotator_program=False if args.no_rotator_program else None,
                          use_rotator_program=not args.no_rotator_program,

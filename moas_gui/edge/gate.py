@@ -10,8 +10,9 @@ For a front that serves ``async def serve(reader, writer)`` the way
         host, port, what="rotctld connections")
 
 ``serve`` finds its connection's ticket with :func:`ticket_of` (to call
-:meth:`~.admission.Ticket.greeted` and :meth:`~.admission.Ticket.touch`).  A connection
-refused is told ``refusal(reason)`` (nothing when that is ``None``) and closed; one the
+:meth:`~.admission.Ticket.greeted` and :meth:`~.admission.Ticket.touch`).  A front may
+turn addresses away altogether before the admission's limits (``allows``: the rotctld
+ports under ``--require-token``).  A connection refused is told ``refusal(reason)`` (nothing when that is ``None``) and closed; one the
 admission closes (a deadline, or another's fair share) is aborted.
 """
 
@@ -21,12 +22,17 @@ import asyncio
 import logging
 from collections.abc import Awaitable, Callable
 
-from .admission import NO_DEADLINES, Admission, Deadlines, Refused, Ticket
+from .admission import NO_DEADLINES, Admission, Deadlines, Evict, Refused, Ticket
+from .listener import EarlyAdmitted
 from .log_limit import held_text
 
 log = logging.getLogger(__name__)
 
 Serve = Callable[[asyncio.StreamReader, asyncio.StreamWriter], Awaitable[None]]
+
+Allows = Callable[[str], "str | None"]
+"""Whether a front takes a peer at all, by its host: ``None`` if it does, else why not
+(one sentence); asked before the admission's limits."""
 
 
 def peer_host(transport: asyncio.BaseTransport) -> tuple[str, str]:
@@ -74,7 +80,7 @@ class ForwardingGate(asyncio.Protocol):
             inner.connection_lost(exc)
 
 
-class StreamGate(ForwardingGate):
+class StreamGate(ForwardingGate, EarlyAdmitted):
     """One connection of a stream front (see the module notes)."""
 
     def __init__(
@@ -86,24 +92,27 @@ class StreamGate(ForwardingGate):
         deadlines: Deadlines,
         refusal: Callable[[str], bytes] | None,
         limit: int,
+        allows: Allows | None = None,
     ) -> None:
         self.admission = admission
+        self.allows = allows
         self.serve = serve
         self.front = front
         self.deadlines = deadlines
         self.refusal = refusal
         self.limit = limit
 
-    def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        host, address = peer_host(transport)
+    def _admit(self, host: str, address: str, evict: Evict) -> Refused | None:
+        why = self.allows(host) if self.allows is not None else None
+        if why is not None:
+            held = self.admission.trouble.allow(("not allowed", self.front))
+            if held is not None:
+                log.warning("Refused a %s from %s: %s%s", self.front, address, why,
+                            held_text(held, "more refused that were not allowed"))
+            return Refused(why, "allowed")
         try:
             self.ticket = self.admission.admit(
-                host,
-                lambda _why: transport.abort(),
-                front=self.front,
-                deadlines=self.deadlines,
-                address=address,
+                host, evict, front=self.front, deadlines=self.deadlines, address=address
             )
         except Refused as refused:
             held = self.admission.trouble.allow(("refused", self.front, refused.limit))
@@ -115,10 +124,30 @@ class StreamGate(ForwardingGate):
                     refused.reason,
                     held_text(held, "more refused for the same reason"),
                 )
-            if self.refusal is not None:
-                transport.write(self.refusal(refused.reason))
-            transport.close()
-            return
+            return refused
+        return None
+
+    def admit_early(self, peer: object, evict: Evict) -> Ticket | None:
+        if isinstance(peer, tuple) and len(peer) >= 2:
+            host = str(peer[0])
+            address = f"[{host}]:{peer[1]}" if ":" in host else f"{host}:{peer[1]}"
+        else:
+            host = address = str(peer)
+        self._admit(host, address, evict)
+        return self.ticket
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        if self.ticket is not None:  # admitted before a TLS handshake
+            self.ticket.set_evict(lambda _why: transport.abort())
+        else:
+            host, address = peer_host(transport)
+            refused = self._admit(host, address, lambda _why: transport.abort())
+            if refused is not None:
+                if self.refusal is not None:
+                    transport.write(self.refusal(refused.reason))
+                transport.close()
+                return
         self.open_streams(transport, self.serve, self.limit)
 
 
@@ -130,10 +159,13 @@ def gate_factory(
     deadlines: Deadlines = NO_DEADLINES,
     refusal: Callable[[str], bytes] | None = None,
     limit: int = 65_536,
+    allows: Allows | None = None,
 ) -> Callable[[], StreamGate]:
-    """The protocol factory of a stream front behind ``admission``."""
+    """The protocol factory of a stream front behind ``admission``; ``allows``, when
+    given, is asked first and refuses an address by saying why."""
     return lambda: StreamGate(
-        admission, serve, front=front, deadlines=deadlines, refusal=refusal, limit=limit
+        admission, serve, front=front, deadlines=deadlines, refusal=refusal, limit=limit,
+        allows=allows,
     )
 
 
@@ -143,4 +175,4 @@ def ticket_of(writer: asyncio.StreamWriter) -> Ticket | None:
     return protocol.ticket if isinstance(protocol, StreamGate) else None
 
 
-__all__ = ["ForwardingGate", "Serve", "StreamGate", "gate_factory", "peer_host", "ticket_of"]
+__all__ = ["Allows", "ForwardingGate", "Serve", "StreamGate", "gate_factory", "peer_host", "ticket_of"]

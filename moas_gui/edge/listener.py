@@ -14,7 +14,19 @@ It accepts one connection a turn of the event loop, and waits while
 it is accepted instead of taking every file handle first.  Each accepted socket is
 handed to asyncio as a transport with the listener's protocol
 (``make_protocol``), which decides at once whether it may stay (an admission gate,
-:mod:`.admission`).  ``ssl`` serves TLS on it.  A new front listens with::
+:mod:`.admission`).
+
+``ssl`` serves TLS on it, and then the admission comes *before* the handshake: the
+protocol is made as soon as the socket is accepted and, being an :class:`EarlyAdmitted`,
+asks for its place (the address's reserve, the fair share) on the bare socket; a socket
+refused is closed there and then, without a handshake (nothing can be said to it before
+one).  The handshake of one admitted runs in a task of its own, never counted among
+those being handed over (a silent or slow peer cannot hold the accept loop), within
+``handshake_deadline`` seconds (:data:`HANDSHAKE_DEADLINE`, the client protocol's hello
+deadline's size); it holds its admission ticket meanwhile, as a connection that has not
+said who it is, so the admission's limits and evictions count it and may end it (the
+handshake is then cancelled).  A handshake that fails or runs out of time gives the
+ticket back.  A new front listens with::
 
     listener = await Listener.open(make_protocol, host, port, what="the rotctld port")
     ...
@@ -23,6 +35,7 @@ handed to asyncio as a transport with the listener's protocol
 
 from __future__ import annotations
 
+import abc
 import asyncio
 import contextlib
 import errno
@@ -30,9 +43,10 @@ import logging
 import os
 import socket
 import ssl as ssl_module
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Coroutine
 from typing import Final
 
+from .admission import Evict, Ticket
 from .log_limit import LogLimiter, held_text
 
 log = logging.getLogger(__name__)
@@ -45,7 +59,12 @@ BACKOFF_FIRST: Final = 0.1
 BACKOFF_MOST: Final = 2.0
 
 HANDING_MOST: Final = 8
-"""Accepted connections being handed to asyncio at once, at most, per listening socket."""
+"""Accepted connections being handed to asyncio at once, at most, per listening socket
+(a TLS handshake is not counted: it runs beside the accept loop, admitted first)."""
+
+HANDSHAKE_DEADLINE: Final = 5.0
+"""Seconds a TLS handshake may take before the connection is closed: the client
+protocol's hello deadline's size (asyncio's own default is a minute)."""
 
 OUT_OF_RESOURCES: Final = frozenset(
     code
@@ -53,6 +72,19 @@ OUT_OF_RESOURCES: Final = frozenset(
     if code is not None
 )
 """Errors of accept() that say the system has nothing left for a new connection now."""
+
+class EarlyAdmitted(abc.ABC):
+    """A listener's protocol that takes its connection's admission ticket on the bare
+    socket, before a TLS handshake (see the module notes); once the handshake is done
+    its ``connection_made`` keeps that ticket instead of asking again."""
+
+    @abc.abstractmethod
+    def admit_early(self, peer: object, evict: Evict) -> Ticket | None:
+        """The admission ticket of an accepted socket from ``peer`` (its address as
+        ``accept()`` gives it), ``evict`` being how the admission ends it before its
+        handshake is done; ``None`` when it is refused (the refusal logged as the front
+        logs them): the listener then closes it."""
+
 
 Accept = Callable[[socket.socket], Awaitable[tuple[socket.socket, object]]]
 Sleep = Callable[[float], Awaitable[None]]
@@ -98,11 +130,13 @@ class Listener:
         trouble: LogLimiter | None = None,
         accept: Accept | None = None,
         sleep: Sleep = asyncio.sleep,
+        handshake_deadline: float = HANDSHAKE_DEADLINE,
     ) -> None:
         self.make_protocol = make_protocol
         self.sockets = sockets
         self.what = what
         self.ssl = ssl
+        self.handshake_deadline = handshake_deadline
         self.trouble = trouble if trouble is not None else LogLimiter()
         self._loop = asyncio.get_running_loop()
         self._accept = accept if accept is not None else self._loop.sock_accept
@@ -110,6 +144,8 @@ class Listener:
         self.pauses: list[float] = []
         """Every wait after a refused accept, in order (what the tests read)."""
         self._handing: set[asyncio.Task[object]] = set()
+        self._handshakes: set[asyncio.Task[object]] = set()
+        """TLS handshakes under way (admitted, not counted in :data:`HANDING_MOST`)."""
         self._tasks = [
             self._loop.create_task(self._accept_forever(sock), name=f"accept {what}")
             for sock in sockets
@@ -170,30 +206,63 @@ class Listener:
 
     def _hand_over(self, conn: socket.socket, peer: object) -> None:
         conn.setblocking(False)
-        task = self._loop.create_task(self._connect(conn))
-        self._handing.add(task)
-        task.add_done_callback(self._handing.discard)
+        if self.ssl is None:
+            self._start(self._connect(conn, self.make_protocol, None), self._handing)
+            return
+        protocol = self.make_protocol()
+        if not isinstance(protocol, EarlyAdmitted):
+            self._start(self._connect(conn, lambda: protocol, None), self._handing)
+            return
+        handshake: list[asyncio.Task[object]] = []
 
-    async def _connect(self, conn: socket.socket) -> object:
+        def evict(_why: str) -> None:
+            if handshake and not handshake[0].done():
+                handshake[0].cancel()  # asyncio closes the socket as it gives up
+            elif not handshake:
+                conn.close()
+
+        ticket = protocol.admit_early(peer, evict)
+        if ticket is None:
+            conn.close()  # refused before a byte of TLS: no handshake spent on it
+            return
+        task = self._start(self._connect(conn, lambda: protocol, ticket), self._handshakes)
+        # cancelled before it even began (evicted at once): nothing else closes the socket
+        task.add_done_callback(lambda done: conn.close() if done.cancelled() else None)
+        handshake.append(task)
+
+    def _start(self, work: Coroutine[object, object, object], into: set[asyncio.Task[object]]
+               ) -> asyncio.Task[object]:
+        task: asyncio.Task[object] = self._loop.create_task(work)
+        into.add(task)
+        task.add_done_callback(into.discard)
+        return task
+
+    async def _connect(self, conn: socket.socket, make: Callable[[], asyncio.Protocol],
+                       ticket: Ticket | None) -> object:
         try:
-            return await self._loop.connect_accepted_socket(self.make_protocol, conn, ssl=self.ssl)
+            if self.ssl is None:
+                return await self._loop.connect_accepted_socket(make, conn)
+            return await self._loop.connect_accepted_socket(
+                make, conn, ssl=self.ssl, ssl_handshake_timeout=self.handshake_deadline)
         except (OSError, ssl_module.SSLError, asyncio.CancelledError, TimeoutError) as exc:
             conn.close()
+            if ticket is not None:
+                ticket.release()  # the protocol never saw a connection: its place is free
             held = self.trouble.allow(("handshake", self.what))
             if held is not None:
-                log.info(
-                    "A connection to %s ended before it began: %s%s",
-                    self.what,
-                    exc or type(exc).__name__,
-                    held_text(held),
-                )
+                why = ("closed by the admission during its handshake"
+                       if isinstance(exc, asyncio.CancelledError)
+                       else str(exc) or type(exc).__name__)
+                log.info("A connection to %s ended before it began: %s%s", self.what, why,
+                         held_text(held))
             return None
 
     async def close(self) -> None:
         """Stops accepting and closes the listening sockets (open connections stay)."""
-        for task in self._tasks:
+        for task in (*self._tasks, *self._handshakes):
             task.cancel()
-        waiting: list[asyncio.Task[object] | asyncio.Task[None]] = [*self._tasks, *self._handing]
+        waiting: list[asyncio.Task[object] | asyncio.Task[None]] = [
+            *self._tasks, *self._handing, *self._handshakes]
         for each in waiting:
             with contextlib.suppress(asyncio.CancelledError, Exception):
                 await each
@@ -207,7 +276,9 @@ __all__ = [
     "BACKOFF_FIRST",
     "BACKOFF_MOST",
     "HANDING_MOST",
+    "HANDSHAKE_DEADLINE",
     "OUT_OF_RESOURCES",
+    "EarlyAdmitted",
     "Listener",
     "bind",
 ]

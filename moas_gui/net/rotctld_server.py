@@ -17,8 +17,12 @@ controller did not answer in time: ``-5``; the controller refused: ``-9``;
 bad arguments: ``-1``; no ``ParkHeading``, or a move in elevation: ``-11``
 (feature not available).
 
-Listeners bind 127.0.0.1 unless told otherwise: only programs on the server's
-computer can use them.  All of them share one admission (the program's policy,
+Listeners bind 127.0.0.1 unless told otherwise (``--rotctld-allow``: where the client
+port listens): only programs on the server's computer can use them.  Whoever reaches
+a listener may use it (rotctld's protocol has no token) unless it is given the peers
+it takes (:func:`rotctld_peers`: with ``--require-token``, this computer alone and
+whatever ``--rotctld-allow`` lists); any other is closed at once, one Warning line a
+minute.  All of them share one admission (the program's policy,
 :mod:`moas_gui.edge.admission`): at most :data:`ROTCTLD_TOTAL` connections at once,
 :data:`ROTCTLD_PER_ADDRESS` from one address, a fair share when full; a connection
 must send its first command within :data:`ROTCTLD_DEADLINES` ``hello`` seconds (it
@@ -39,12 +43,14 @@ from typing import Protocol
 
 from moas_gui.config.model import Rotator
 from moas_gui.edge.admission import Admission, Deadlines
-from moas_gui.edge.gate import gate_factory, ticket_of
+from moas_gui.edge.gate import Allows, gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
 from moas_gui.edge.log_limit import held_text
 from moas_gui.hw.rotators.base import RotatorError, RotatorView, describe
 from moas_gui.hw.rotators.headings import Travel, normalize
 
+from .access import IPNetwork, is_allowed
+from .identity import is_local
 from .rotctld_codec import (
     CLOCKWISE,
     COUNTERCLOCKWISE,
@@ -82,6 +88,23 @@ def rotctld_admission() -> Admission:
     return Admission(ROTCTLD_TOTAL, ROTCTLD_PER_ADDRESS, what="rotctld connections")
 
 
+def rotctld_peers(require_token: bool, allow: tuple[IPNetwork, ...] | None) -> Allows | None:
+    """Who the rotctld ports take: anyone who reaches them (``None``) on an open LAN
+    with no ``--rotctld-allow``; else this computer and the ``allow`` networks only
+    (``--require-token`` closes every port, and rotctld's protocol has no token)."""
+    if not require_token and allow is None:
+        return None
+    networks = allow or ()
+    why = ("the rotctld ports take only this computer"
+           + (" and --rotctld-allow's addresses" if networks else
+              " (--require-token; moas-server --rotctld-allow lists others)"))
+
+    def allows(host: str) -> str | None:
+        return None if is_local(host) or is_allowed(host, networks) else why
+
+    return allows
+
+
 SERVED = frozenset({"get_pos", "set_pos", "stop", "park", "move", "reset", "get_info",
                     "dump_caps", "dump_state", "quit"})
 
@@ -101,8 +124,10 @@ class RotatorService(Protocol):
 class RotctldServer:
     def __init__(self, service: RotatorService, rotator: Rotator, host: str, port: int,
                  admission: Admission | None = None,
-                 deadlines: Deadlines = ROTCTLD_DEADLINES) -> None:
+                 deadlines: Deadlines = ROTCTLD_DEADLINES, allows: Allows | None = None) -> None:
         self.service, self.rotator = service, rotator
+        self.allows = allows
+        """Who may connect (:func:`rotctld_peers`); ``None``: whoever reaches the port."""
         self.host, self.port = host, port
         self.admission = admission if admission is not None else rotctld_admission()
         self.deadlines = deadlines
@@ -123,7 +148,7 @@ class RotctldServer:
     async def start(self) -> int:
         """Listen; returns the port.  Raises ``OSError`` when it cannot bind."""
         gate = gate_factory(self.admission, self._serve, front="rotctld connection",
-                            deadlines=self.deadlines)
+                            deadlines=self.deadlines, allows=self.allows)
         self._server = await Listener.open(gate, self.host, self.port,
                                            what="rotctld connections",
                                            trouble=self.admission.trouble)
@@ -280,16 +305,18 @@ class RotctldServer:
 
 
 async def start_rotctld_servers(
-    service: RotatorService, rotators: Iterable[Rotator], host: str
+    service: RotatorService, rotators: Iterable[Rotator], host: str,
+    allows: Allows | None = None,
 ) -> list[RotctldServer]:
-    """A listener for every rotator with a ``RotctldPort``; a port that cannot be
-    opened is logged and skipped."""
+    """A listener for every rotator with a ``RotctldPort``, taking the peers ``allows``
+    takes (:func:`rotctld_peers`); a port that cannot be opened is logged and skipped."""
     servers: list[RotctldServer] = []
     shared = rotctld_admission()
     for rotator in rotators:
         if rotator.rotctld_port is None:
             continue
-        server = RotctldServer(service, rotator, host, rotator.rotctld_port, shared)
+        server = RotctldServer(service, rotator, host, rotator.rotctld_port, shared,
+                               allows=allows)
         try:
             await server.start()
         except OSError as exc:
@@ -306,5 +333,6 @@ __all__ = [
     "RotatorService",
     "RotctldServer",
     "rotctld_admission",
+    "rotctld_peers",
     "start_rotctld_servers",
 ]

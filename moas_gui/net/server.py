@@ -46,7 +46,7 @@ from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 from moas_gui.edge.gate import ForwardingGate
-from moas_gui.edge.listener import Listener
+from moas_gui.edge.listener import EarlyAdmitted, Listener
 from moas_gui.errors import HardwareError
 from moas_gui.net.secrets import SecretGuard
 from moas_gui.operators import OperatorBook
@@ -211,9 +211,11 @@ class ClientServer:
         if self._restore_handler is None:
             self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
+            # over TLS, the handshake gets the hello deadline's size (and is admitted first)
             self._server = await Listener.open(lambda: _Gate(self), self.host, self.port,
                                                what="clients", trouble=self.trouble,
-                                               ssl=self.tls)
+                                               ssl=self.tls,
+                                               handshake_deadline=self.hello_deadline)
         except OSError as e:
             raise HardwareError(
                 f"cannot accept clients on TCP port {self.port}: {e.strerror or e} "
@@ -447,7 +449,24 @@ class ClientServer:
     def _gate(self, transport: asyncio.Transport) -> Ticket | None:
         """Decides on a new connection before anything is made for it: its admission
         ticket when it may stay, else ``None`` (it was refused and closed)."""
-        peer = transport.get_extra_info("peername")
+        refusal: list[bytes] = []
+        ticket = self.admit_peer(transport.get_extra_info("peername"),
+                                 lambda _why: transport.abort(), refusal)
+        if ticket is None:
+            if refusal:
+                transport.write(refusal[0])
+                transport.close()
+            else:
+                transport.abort()
+        return ticket
+
+    def admit_peer(self, peer: object, evict: Callable[[str], None],
+                   refusal: list[bytes] | None = None) -> Ticket | None:
+        """The admission ticket of a new connection from ``peer`` (a socket's peer
+        name), or ``None`` when it may not stay (logged once a minute per kind); the
+        line a refused peer is told, when it can be told one, goes into ``refusal``.
+        Over TLS this is asked on the bare socket, before the handshake
+        (:class:`~moas_gui.edge.listener.EarlyAdmitted`)."""
         address = format_peer(peer)
         host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
         if not self.allows(host):
@@ -458,15 +477,14 @@ class ClientServer:
                     "(ClientAllow in the configuration decides)%s", address,
                     held_text(held, "more refused that were not allowed"),
                 )
-            transport.abort()
             return None
         try:
-            return self.admission.admit(host, lambda _why: transport.abort(), front="client",
-                                        address=address)
-        except Refused as refusal:
-            self.refused(address, refusal)
-            transport.write(reply_error(None, ErrorCode.UNAVAILABLE, self.refusal_reply(refusal)))
-            transport.close()
+            return self.admission.admit(host, evict, front="client", address=address)
+        except Refused as refused:
+            self.refused(address, refused)
+            if refusal is not None:
+                refusal.append(reply_error(None, ErrorCode.UNAVAILABLE,
+                                           self.refusal_reply(refused)))
             return None
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
@@ -615,18 +633,26 @@ class ClientServer:
             self.trouble_line(kind, logging.INFO, "%s %s %s%s", what, _who(conn), how, never)
 
 
-class _Gate(ForwardingGate):
+class _Gate(ForwardingGate, EarlyAdmitted):
     """A connection to the client port: refused at once, before any stream or task is
     made for it, when its address is not allowed or over a limit (a crowd reconnecting
     as fast as it is refused then costs little); otherwise asyncio's streams take it,
-    and its place in the :class:`~.admission.Admission` is given back when it closes."""
+    and its place in the :class:`~.admission.Admission` is given back when it closes.
+    Over TLS the place is taken before the handshake (:meth:`admit_early`)."""
 
     def __init__(self, server: ClientServer) -> None:
         self.server = server
 
+    def admit_early(self, peer: object, evict: Callable[[str], None]) -> Ticket | None:
+        self.ticket = self.server.admit_peer(peer, evict)
+        return self.ticket
+
     def connection_made(self, transport: asyncio.BaseTransport) -> None:
         assert isinstance(transport, asyncio.Transport)
-        self.ticket = self.server._gate(transport)
+        if self.ticket is not None:  # admitted before its handshake
+            self.ticket.set_evict(lambda _why: transport.abort())
+        else:
+            self.ticket = self.server._gate(transport)
         if self.ticket is not None:
             self.open_streams(transport, self.server._serve, _READ_CHUNK)
 

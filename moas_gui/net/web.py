@@ -152,7 +152,8 @@ class WebServer:
             self._listener = await Listener.open(self._guarded(runner.server),
                                                  self.host or None, self.port,
                                                  what="browsers", trouble=self.clients.trouble,
-                                                 ssl=self.clients.tls)
+                                                 ssl=self.clients.tls,
+                                                 handshake_deadline=self.request_deadline)
         except OSError as e:
             await runner.cleanup()
             raise HardwareError(

@@ -22,6 +22,8 @@ import asyncio
 import logging
 from collections.abc import Callable
 
+from moas_gui.edge.listener import EarlyAdmitted
+
 from .admission import REQUEST_DEADLINE, Refused, Ticket
 from .connection import format_peer
 from .log_limit import LogLimiter, held_text
@@ -41,8 +43,9 @@ def _refusal(text: str) -> bytes:
             b"Connection: close\r\n\r\n" + body)
 
 
-class GuardedConnection(asyncio.Protocol):
-    """One web connection: counted, timed, and otherwise handed to aiohttp's ``inner``."""
+class GuardedConnection(asyncio.Protocol, EarlyAdmitted):
+    """One web connection: counted, timed, and otherwise handed to aiohttp's ``inner``.
+    Over TLS its place is taken before the handshake (:meth:`admit_early`)."""
 
     def __init__(self, make_inner: Callable[[], asyncio.Protocol], clients: ClientServer,
                  deadline: float = REQUEST_DEADLINE) -> None:
@@ -89,22 +92,34 @@ class GuardedConnection(asyncio.Protocol):
         if self.transport is not None:
             self.transport.abort()
 
-    # -- asyncio.Protocol ------------------------------------------------------------
-    def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        self.transport = transport
-        peer = transport.get_extra_info("peername")
+    def _admit(self, peer: object, evict: Callable[[str], None]) -> Refused | None:
         self.host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
         self.address = format_peer(peer)
         try:
             self.ticket = self.clients.admission.admit(
-                self.host, lambda _why: transport.abort(), front="web connection",
-                address=self.address)
+                self.host, evict, front="web connection", address=self.address)
         except Refused as refusal:
             self.clients.refused(self.address, refusal, "a browser")
-            transport.write(_refusal(self.clients.refusal_reply(refusal) + "\n"))
-            transport.close()
-            return
+            return refusal
+        return None
+
+    def admit_early(self, peer: object, evict: Callable[[str], None]) -> Ticket | None:
+        self._admit(peer, evict)
+        return self.ticket
+
+    # -- asyncio.Protocol ------------------------------------------------------------
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        assert isinstance(transport, asyncio.Transport)
+        self.transport = transport
+        if self.ticket is not None:  # admitted before its handshake
+            self.ticket.set_evict(lambda _why: transport.abort())
+        else:
+            refusal = self._admit(transport.get_extra_info("peername"),
+                                  lambda _why: transport.abort())
+            if refusal is not None:
+                transport.write(_refusal(self.clients.refusal_reply(refusal) + "\n"))
+                transport.close()
+                return
         self.admitted = True
         self.inner = self._make_inner()
         self.inner.connection_made(transport)

@@ -33,9 +33,13 @@ class RadioView:
     held_by: str | None = None
     """Who holds this radio's antennas against frequency changes (:meth:`Engine.hold`),
     None when its antennas follow its frequency."""
+    alt_why: str = ""
+    """Why the radio has no alternate receive antenna while a radio transmitting would
+    switch it to one ("" when it has one, or needs none): the 5.13 condition that fails,
+    the radio using the antenna, ... (sent as ``alt_why`` when not empty)."""
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        out = {
             "station": self.station, "radio": self.radio, "khz": self.khz,
             "tx_khz": self.tx_khz, "tx": self.tx, "rx": self.rx, "alt": self.alt,
             "transmitting": self.transmitting, "inhibited": self.inhibited, "note": self.note,
@@ -44,6 +48,9 @@ class RadioView:
             "why": None if self.why is None else self.why.to_dict(full=False),
             "held_by": self.held_by,
         }
+        if self.alt_why:
+            out["alt_why"] = self.alt_why
+        return out
 
 
 @dataclass(frozen=True, slots=True)

@@ -386,7 +386,10 @@ def _basic_violations(e: Engine, facts: Facts) -> list[str]:
 MULTIOP_RULES = ("one physical antenna", "alternate not held", "shared TX listener",
                  "sub receiver relays", "switch conflict table", "RadioRXAntenna",
                  "receiver off transmit antenna", "alternate slot table",
-                 "shared alternate armed", "partner alternate beside sub")
+                 "shared alternate armed", "partner alternate beside sub",
+                 "(riding sub, partner's antenna given)",
+                 "(sub with its own port, alternate elsewhere)",
+                 "(sub with PersistSubReceiver, alternate elsewhere)")
 """The rules :func:`multiop_violations` checks, by the name their counts go under."""
 
 
@@ -486,7 +489,14 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
                 problems.append(f"{ref} listens on {v.rx} while {t} transmits on {vt.tx}; its "
                                 f"alternate is {v.alt}, not none or the partner's receive "
                                 "antenna (5.13)")
-            if conditions and len(triggers) == 1 and v.alt != vt.rx:
+            # the switch has one alternate per port: every radio holding a transmit antenna
+            # this one's receive antenna conflicts with would switch it (transmitting now or
+            # not), so 5.13 decides alone only when the partner is the one such radio
+            holding = [o for o, vo in holders
+                       if facts.family[o] != facts.family[ref] and o not in facts.receivers
+                       and vo.tx is not None and facts.conflict(v.rx, vo.tx)
+                       and e.may_share(ref, v.rx, o, vo.tx)]
+            if conditions and holding == [t] and v.alt != vt.rx:
                 problems.append(f"{ref} and its partner {t} meet 5.13's conditions, but its "
                                 f"alternate is {v.alt}, not {vt.rx}")
 
@@ -635,12 +645,15 @@ def _partner_alternate_beside_sub(e: Engine, facts: Facts, views: dict[RadioRef,
             counts["partner alternate beside sub"] += 1
             if not facts.rides_silent(sub):
                 why = "its own port" if facts.switches_of(sub) else "PersistSubReceiver"
+                counts[f"(sub with {why}, alternate elsewhere)"] += 1
                 if v.alt is not None and facts.conflict(v.alt, vs.rx) \
                         and not e.may_share(ref, v.alt, sub, vs.rx):
                     problems.append(f"{ref}'s alternate {v.alt} is where {t}'s sub receiver "
                                     f"{sub} listens ({vs.rx}), which keeps listening while {t} "
                                     f"transmits ({why}; 5.9, 1.1.4)")
                 continue
+            if v.alt is not None and v.alt == vt.rx:
+                counts["(riding sub, partner's antenna given)"] += 1
             if _conditions_513(e, facts, views, ref, v, t, vt) and triggers == [t] \
                     and v.alt != vt.rx:
                 problems.append(f"{ref} and its partner {t} meet 5.13's conditions beside {t}'s "

@@ -215,8 +215,10 @@ def alternates(ix: ConfigIndex, st: State, reasons: dict[RadioRef, str] | None =
             for rule in info.radio.alternate:
                 others.extend(_rule_alternates(ix, st, ref, info, rs, rs.rx, rule, allowed))
             if allowed is not None and manual is not None:
-                why = blocked(ix, st, ref, manual)
-                free = None if why else manual
+                free = available(ix, st, ref, manual)
+                why = "" if free is not None else (
+                    f"its alternate receiver's antenna {ix.name(manual)}: "
+                    + (blocked(ix, st, ref, manual) or "not available"))
                 others.extend((t, free, why) for t in sorted(allowed) if t in ix.radios
                               and not related(ix, ref, t))
         if not safety and not others:
@@ -242,18 +244,22 @@ def _shared_tx_alternates(ix: ConfigIndex, st: State, ref: RadioRef, rx: int,
         ts = st.radios[t]
         if ts.tx is not None and ix.conflict(rx, ts.tx) and permitted(
                 ix, st, ref, t, rx, ts.tx):
-            want, refusal = _partner_alternate(ix, st, ref, t)
+            want = partner_alternate(ix, st, ref, t)
             if want is not None:
-                why = blocked(ix, st, ref, want, partner=t)
-                what = f"its partner's receive antenna {ix.name(want)} is no alternate"
+                got = available(ix, st, ref, want, partner=t)
+                why = "" if got is not None else (
+                    f"its partner's receive antenna {ix.name(want)} is no alternate: "
+                    + (blocked(ix, st, ref, want, partner=t) or "not available"))
             else:
-                want = manual
-                why = blocked(ix, st, ref, manual) if manual is not None else "none (1.1.14)"
-                what = (f"{refusal}, and its alternate receiver's antenna "
-                        f"{ix.name(manual) if manual is not None else ''}").rstrip()
+                got = available(ix, st, ref, manual)
+                why = "" if got is not None else (
+                    f"{_partner_alternate(ix, st, ref, t)[1]}, and its alternate receiver's "
+                    + ("antenna: none (1.1.14)" if manual is None else
+                       f"antenna {ix.name(manual)}: "
+                       + (blocked(ix, st, ref, manual) or "not available")))
+            want = got
             if why:
-                want = None
-                why = f"while {t} transmits on {ix.name(ts.tx)}: {what}: {why}"
+                why = f"while {t} transmits on {ix.name(ts.tx)}: {why}"
             safety.append((t, want, why))
     return safety
 
@@ -272,12 +278,17 @@ def _rule_alternates(ix: ConfigIndex, st: State, ref: RadioRef, info: IndexedRad
         return []
     want = rule.antenna
     why = "its Alternate rule names no antenna" if want is None else ""
-    if want is not None:
-        why = (unusable(ix, st, info, want, rs.khz, "rx") if want in ix.antennas
-               else f"there is no antenna {want}") or blocked(ix, st, ref, want)
-        if why:
-            why = f"its Alternate rule's antenna {ix.name(want)}: {why}"
-            want = None
+    if want is not None and (want not in ix.antennas or unusable(
+            ix, st, info, want, rs.khz, "rx") is not None):
+        why = f"its Alternate rule's antenna {ix.name(want)}: " + (
+            unusable(ix, st, info, want, rs.khz, "rx") or "" if want in ix.antennas
+            else f"there is no antenna {want}")
+        want = None
+    got = available(ix, st, ref, want)
+    if want is not None and got is None:
+        why = f"its Alternate rule's antenna {ix.name(want)}: " + (
+            blocked(ix, st, ref, want) or "not available")
+    want = got
     return [(t, want, why) for t in ix.mains if _rule_triggers(ix, st, ref, rule, allowed, t)]
 
 

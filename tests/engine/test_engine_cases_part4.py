@@ -10,6 +10,8 @@ antenna which can be used" holds, and the alternate stays antenna 1.  With a por
 or with ``PersistSubReceiver``, the sub receiver keeps listening while its main radio
 transmits (6.10), so the antenna is in use (1.1.4) and the alternate is none: the radio view
 says why.  Replayed through the engine's public API and loaded into the emulated firmware.
+(The property suite's rule for it, and the rule caught on broken copies of the engine:
+``test_engine_multiop_properties.py``.)
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from engine_invariants import Facts, violations
 
 from moas_gui.config import parse_config
 from moas_gui.config.model import Config
-from moas_gui.engine import Engine, derive
+from moas_gui.engine import Engine
 from moas_gui.hw.moas2.emulator import EmulatorModel
 from moas_gui.hw.moas2.sync import initialise
 
@@ -172,25 +174,3 @@ def test_the_emulated_box_accepts_the_pairing_and_never_closes_both_relays() -> 
     for entry in box.record:
         closed = set().union(*entry.closed)
         assert not {12, 22} <= closed, entry
-
-
-def test_the_old_engine_is_caught_by_the_rule(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The property suite's rule fires on the engine patched back to before issue 39 (every
-    sub receiver of the partner blocks the alternate)."""
-    monkeypatch.setattr(derive, "sub_keeps_listening", lambda _ix, _sub: "patched")
-    e, cfg = replay(_data())
-    assert e.radio_view(2, 1).alt is None
-    found = violations(e, Facts.of(cfg))
-    assert any("5.13" in p and "sub receiver" in p for p in found), found
-
-
-@pytest.mark.parametrize("variant", [_persist, _own_port])
-def test_an_engine_that_ignores_every_sub_receiver_is_caught_by_the_rule(
-        variant: Any, monkeypatch: pytest.MonkeyPatch) -> None:
-    """And on an engine patched the other way (no sub receiver of the partner ever blocks
-    the alternate, whatever its wiring)."""
-    monkeypatch.setattr(derive, "sub_keeps_listening", lambda _ix, _sub: "")
-    e, cfg = replay(variant(_data()))
-    assert e.radio_view(2, 1).alt == 1
-    found = violations(e, Facts.of(cfg))
-    assert any("keeps listening" in p for p in found), found

@@ -174,3 +174,19 @@ def test_the_emulated_box_accepts_the_pairing_and_never_closes_both_relays() -> 
     for entry in box.record:
         closed = set().union(*entry.closed)
         assert not {12, 22} <= closed, entry
+
+
+def test_an_operators_why_says_why_the_alternate_is_none() -> None:
+    """The reason travels in the radio entry (``alt_why``) to the clients, whose why (the
+    desktop's Why? and tooltip, ``client.model.explain``) says it; absent when there is an
+    alternate."""
+    from moas_gui.client.model import explain, parse_radio
+
+    e, _cfg = replay(_persist(_data()))
+    told = parse_radio(json.loads(json.dumps(e.radio_view(2, 1).to_dict())))
+    text = explain(told, None)
+    assert "No alternate antenna while station 1 radio 1 transmits on Tribander" in text, text
+    assert "keeps listening" in text and "PersistSubReceiver" in text, text
+    e, _cfg = replay(_data())
+    told = parse_radio(json.loads(json.dumps(e.radio_view(2, 1).to_dict())))
+    assert told.alt == 1 and told.alt_why == "" and "No alternate" not in explain(told, None)

@@ -18,15 +18,17 @@ from __future__ import annotations
 
 import copy
 import json
+import random
 from pathlib import Path
 from typing import Any
 
 import pytest
-from engine_invariants import Facts, violations
+from engine_invariants import Facts, apply, violations
+from engine_stations import multiop_station, partner_sub_evening
 
 from moas_gui.config import parse_config
-from moas_gui.config.model import Config
-from moas_gui.engine import Engine
+from moas_gui.config.model import Config, RadioRef
+from moas_gui.engine import Engine, EngineError
 from moas_gui.hw.moas2.emulator import EmulatorModel
 from moas_gui.hw.moas2.sync import initialise
 
@@ -190,3 +192,56 @@ def test_an_operators_why_says_why_the_alternate_is_none() -> None:
     e, _cfg = replay(_data())
     told = parse_radio(json.loads(json.dumps(e.radio_view(2, 1).to_dict())))
     assert told.alt == 1 and told.alt_why == "" and "No alternate" not in explain(told, None)
+
+
+def _riding_pairings(e: Engine, facts: Facts) -> list[tuple[int, int, int]]:
+    """(switch, listener's port, partner's port) wherever a radio's alternate is its
+    partner's receive antenna with the partner's riding sub receiver (no
+    ``PersistSubReceiver``) listening on an antenna conflicting with it."""
+    views = {RadioRef(v.station, v.radio): v for v in e.radios()}
+    found = []
+    for sub, t in facts.subs.items():
+        vs, vt = views[sub], views[t]
+        if not facts.rides_silent(sub) or vs.rx is None or vt.rx is None:
+            continue
+        for ref, v in views.items():
+            if v.alt is None or v.alt != vt.rx or not facts.conflict(vs.rx, v.alt) \
+                    or frozenset((ref, t)) not in facts.partners_now(e):
+                continue
+            mine, theirs = facts.switches_of(ref), facts.switches_of(t)
+            found += [(w, p, tp) for w in mine for p in mine[w] for tp in theirs.get(w, ())]
+    return found
+
+
+def test_the_emulated_box_accepts_every_riding_pairing_of_issue_39s_stations() -> None:
+    """On generated stations (partners each with a sub receiver of one of the three kinds),
+    wherever the engine gives a radio its partner's receive antenna beside the partner's
+    riding sub receiver, the wanted state loaded into the emulated firmware with the
+    partner keyed connects the radio to the alternate's relays and the partner's port to
+    its transmit relays alone (the sub receiver's dropped)."""
+    checked = 0
+    for seed in range(60):
+        rng = random.Random(seed)
+        cfg = multiop_station(rng, partner_subs=True)
+        facts = Facts.of(cfg)
+        e = Engine(cfg)
+        for i, op in enumerate(partner_sub_evening(cfg, rng, 200)):
+            try:
+                apply(e, op, 0.7 * (i + 1))
+            except EngineError:
+                continue
+            if any(v.transmitting for v in e.radios()):
+                continue
+            for w, p, tp in _riding_pairings(e, facts):
+                state = e.switch_states()[w]
+                box = EmulatorModel()
+                box.feed(initialise(state).encode(), 0.0)
+                box.advance(1.0)
+                box.set_tr(tp, True, 2.0)
+                box.advance(3.0)
+                view = box.view()
+                assert p in state.use_alternate[tp - 1]
+                assert view.station(p).closed == state.station(p).alt_relays, (seed, i, op)
+                assert view.station(tp).closed == state.station(tp).tx_relays, (seed, i, op)
+                checked += 1
+    assert checked >= 10, checked       # 16 pairings with these seeds

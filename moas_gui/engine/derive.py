@@ -315,12 +315,15 @@ def _first_source_wins(safety: Wanted, others: Wanted
         wants = {want for _, want, _why in safety}
         alt = wants.pop() if len(wants) == 1 else None
         if alt is None and wants:
-            why = ("the radios that transmit on the antenna it listens on would switch it to "
-                   "different antennas; the switch has one alternate per station")
+            why = ("the radios holding transmit antennas its receive antenna conflicts with "
+                   "would switch it to different antennas, and the switch has one alternate "
+                   "per station")
         else:
             why = next((w for _, _want, w in safety if w), "")
     else:
         alt, why = others[0][1], others[0][2]
+        if why:
+            why = f"while {others[0][0]} transmits: {why}"
     triggers = {t for t, _want, _why in safety}
     triggers |= {t for t, want, _why in others if want == alt and t not in triggers}
     return alt, frozenset(triggers), why

@@ -384,3 +384,22 @@ def test_a_riding_sub_receiver_kept_during_transmit_beside_the_alternate_is_caug
     assert 22 in e.switch_states()[1].station(1).tx_relays
     assert _fired(e, facts, "partner alternate beside sub", "keeps station 1 radio 2's relays")
 
+
+
+@pytest.mark.parametrize(("broken", "text"), [
+    ("patched", "meet 5.13's conditions beside"),     # every sub receiver blocks (before)
+    ("", "which keeps listening while"),              # no sub receiver ever blocks
+])
+def test_issue_39s_evenings_catch_a_broken_engine(broken: str, text: str,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """The random evenings on issue 39's stations find either broken copy by themselves."""
+    monkeypatch.setattr(derive, "sub_keeps_listening", lambda ix, sub: broken)
+    for seed in range(40):
+        rng = random.Random(seed)
+        cfg = multiop_station(rng, partner_subs=True)
+        try:
+            run_evening(cfg, partner_sub_evening(cfg, rng, 300))
+        except AssertionError as err:
+            if text in str(err):
+                return
+    raise AssertionError(f"no evening caught the engine broken ({broken!r})")

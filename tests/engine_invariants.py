@@ -165,6 +165,12 @@ class Facts:
                 return best
         return None
 
+    def rides_silent(self, sub: RadioRef) -> bool:
+        """A sub receiver riding on its main radio's port (no ``Switches`` port of its own)
+        without ``PersistSubReceiver``: its relays are dropped while the main radio transmits
+        (6.10)."""
+        return sub in self.subs and not self.switches_of(sub) and sub not in self.persist
+
     def partners_now(self, e: Engine) -> set[frozenset[RadioRef]]:
         """Pairs that are partners now: the ``Partner`` lists, each toggled by a Partner
         function naming the same pair (6.6.9)."""
@@ -380,7 +386,10 @@ def _basic_violations(e: Engine, facts: Facts) -> list[str]:
 MULTIOP_RULES = ("one physical antenna", "alternate not held", "shared TX listener",
                  "sub receiver relays", "switch conflict table", "RadioRXAntenna",
                  "receiver off transmit antenna", "alternate slot table",
-                 "shared alternate armed")
+                 "shared alternate armed", "partner alternate beside sub",
+                 "(riding sub, partner's antenna given)",
+                 "(sub with its own port, alternate elsewhere)",
+                 "(sub with PersistSubReceiver, alternate elsewhere)")
 """The rules :func:`multiop_violations` checks, by the name their counts go under."""
 
 
@@ -434,6 +443,10 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
                     continue
                 if frozenset((ref, other)) in partners and role == "rx" and b == v.alt:
                     continue
+                main = facts.subs.get(other)
+                if main is not None and frozenset((ref, main)) in partners \
+                        and facts.rides_silent(other) and views[main].rx == v.alt:
+                    continue  # silent while the partner transmits (issue 39's rule below)
                 problems.append(f"{ref}'s alternate {v.alt} is {b}, held by {other} (5.9)")
 
     # 5.13: "Normally if a radio is receiving on a transmit antenna it will be disconnected
@@ -464,12 +477,8 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
             users = sum(1 for o, vo in holders if o not in facts.receivers
                         and any(a in group for _, a in _held(vo)))
             # "can be used": nobody but the partner holds it (a sub receiver of the partner
-            # still listening on it makes it unavailable, 5.9)
-            rx = vt.rx
-            free = rx is not None and not any(
-                facts.conflict(rx, b) and not e.may_share(ref, rx, o, b)
-                for o, vo in holders if o != t and facts.family[o] != facts.family[ref]
-                for _, b in _held(vo))
+            # still listening on it while the partner transmits makes it unavailable, 5.9)
+            free = _partner_rx_free(e, facts, holders, ref, t, vt)
             conditions = (frozenset((ref, t)) in partners and users == 2 and free
                           and vt.rx is not None and vt.rx != vt.tx
                           and not facts.conflict(vt.rx, vt.tx)
@@ -480,7 +489,14 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
                 problems.append(f"{ref} listens on {v.rx} while {t} transmits on {vt.tx}; its "
                                 f"alternate is {v.alt}, not none or the partner's receive "
                                 "antenna (5.13)")
-            if conditions and len(triggers) == 1 and v.alt != vt.rx:
+            # the switch has one alternate per port: every radio holding a transmit antenna
+            # this one's receive antenna conflicts with would switch it (transmitting now or
+            # not), so 5.13 decides alone only when the partner is the one such radio
+            holding = [o for o, vo in holders
+                       if facts.family[o] != facts.family[ref] and o not in facts.receivers
+                       and vo.tx is not None and facts.conflict(v.rx, vo.tx)
+                       and e.may_share(ref, v.rx, o, vo.tx)]
+            if conditions and holding == [t] and v.alt != vt.rx:
                 problems.append(f"{ref} and its partner {t} meet 5.13's conditions, but its "
                                 f"alternate is {v.alt}, not {vt.rx}")
 
@@ -532,6 +548,8 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
                                     f"port {p} drops relays {sorted(mine - port.tx_relays)} "
                                     "during transmit")
 
+    problems += _partner_alternate_beside_sub(e, facts, views, states, partners, counts)
+
     # The switch is a safety layer (1.1.4: "the operator will not be able to select them";
     # 1.1.2 hot switch protection happens in the box): the table it is sent forbids, per
     # slot, every conflict the engine relies on.  For every antenna a radio holds, the slot
@@ -576,6 +594,117 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
                             f"{v.radio_rx_antenna}, the configuration says "
                             f"{entry.radio_rx_antenna}")
     return problems
+
+
+def _partner_rx_free(e: Engine, facts: Facts, holders: list[tuple[RadioRef, RadioView]],
+                     ref: RadioRef, t: RadioRef, vt: RadioView) -> bool:
+    """5.13's "The other partner has an antenna which can be used": nobody but the partner
+    ``t`` holds its receive antenna (or a conflicting one), save ``t``'s sub receiver when it
+    rides on ``t``'s port without ``PersistSubReceiver`` (6.10: its relays drop while ``t``
+    transmits, which is when ``ref`` listens there)."""
+    rx = vt.rx
+    return rx is not None and not any(
+        facts.conflict(rx, b) and not e.may_share(ref, rx, o, b)
+        for o, vo in holders if o != t and facts.family[o] != facts.family[ref]
+        and not (facts.subs.get(o) == t and facts.rides_silent(o))
+        for _, b in _held(vo))
+
+
+def _partner_alternate_beside_sub(e: Engine, facts: Facts, views: dict[RadioRef, RadioView],
+                                  states: dict[int, Any], partners: set[frozenset[RadioRef]],
+                                  counts: Counter[str]) -> list[str]:
+    """Issue 39, after every event, for a radio whose partner's sub receiver listens on (or
+    next to) the partner's receive antenna while the partner holds a transmit antenna the
+    radio's receive antenna conflicts with (5.13):
+
+    * a sub receiver with a port of its own or ``PersistSubReceiver`` keeps listening while
+      the partner transmits (6.10: "True if the sub receiver relays should remain set during
+      transmit"): the antenna is in use (1.1.4), so the alternate is not on it (5.9);
+    * one riding on the partner's port without it is silent exactly then: when 5.13's other
+      conditions hold and the partner is the only radio that would switch this one, the
+      alternate is the partner's receive antenna ("The other partner has an antenna which
+      can be used"), and on every switch the box switches it in only while one of the
+      partner's ports transmits, a port whose transmit relays leave out the sub receiver's.
+    """
+    problems: list[str] = []
+    only = facts.cfg.switches[0].id if len(facts.cfg.switches) == 1 else None
+    for sub, t in facts.subs.items():
+        vs, vt = views.get(sub), views.get(t)
+        if vs is None or vt is None or vs.rx is None or vt.rx is None or vt.tx is None:
+            continue
+        for ref, v in views.items():
+            if frozenset((ref, t)) not in partners or ref in facts.receivers or v.rx is None \
+                    or not facts.conflict(vs.rx, vt.rx):
+                continue
+            triggers = [o for o, vo in views.items()
+                        if o not in facts.receivers and facts.family[o] != facts.family[ref]
+                        and vo.tx is not None and facts.conflict(v.rx, vo.tx)
+                        and e.may_share(ref, v.rx, o, vo.tx)]
+            if t not in triggers:
+                continue
+            counts["partner alternate beside sub"] += 1
+            if not facts.rides_silent(sub):
+                why = "its own port" if facts.switches_of(sub) else "PersistSubReceiver"
+                counts[f"(sub with {why}, alternate elsewhere)"] += 1
+                if v.alt is not None and facts.conflict(v.alt, vs.rx) \
+                        and not e.may_share(ref, v.alt, sub, vs.rx):
+                    problems.append(f"{ref}'s alternate {v.alt} is where {t}'s sub receiver "
+                                    f"{sub} listens ({vs.rx}), which keeps listening while {t} "
+                                    f"transmits ({why}; 5.9, 1.1.4)")
+                continue
+            if v.alt is not None and v.alt == vt.rx:
+                counts["(riding sub, partner's antenna given)"] += 1
+            if _conditions_513(e, facts, views, ref, v, t, vt) and triggers == [t] \
+                    and v.alt != vt.rx:
+                problems.append(f"{ref} and its partner {t} meet 5.13's conditions beside {t}'s "
+                                f"sub receiver {sub}, riding on its port without "
+                                f"PersistSubReceiver, but the alternate is {v.alt}, not {vt.rx}")
+            if v.alt is None or not facts.conflict(v.alt, vs.rx):
+                continue
+            entry = facts.entry(sub, vs.rx, vs.khz)
+            relays = set() if entry is None else (
+                entry.rx_relays if entry.rx_relays is not None else entry.relays)
+            main_entry = facts.entry(t, vt.tx, vt.tx_khz)
+            relays = set(relays) - set(() if main_entry is None else main_entry.relays)
+            t_sw = facts.switches_of(t)
+            for w, ports in facts.switches_of(ref).items():
+                state = states[w]
+                mine = {x % 100 for x in relays if x // 100 + 1 == w or only == w and x < 100}
+                for p in ports:
+                    if state.station(p).alt == 63:
+                        continue
+                    by = [tp for tp in range(1, 7) if p in state.use_alternate[tp - 1]]
+                    if any(tp not in t_sw.get(w, []) for tp in by):
+                        problems.append(f"switch {w}: {ref}'s alternate {v.alt}, where {t}'s sub "
+                                        f"receiver {sub} listens, is switched in while ports "
+                                        f"{by} transmit, not only {t}'s")
+                    for tp in by:
+                        if mine & state.station(tp).tx_relays:
+                            problems.append(f"switch {w}: {t}'s port {tp} keeps {sub}'s relays "
+                                            f"{sorted(mine)} while transmitting, when {ref} "
+                                            f"listens on {v.alt}")
+    return problems
+
+
+def _conditions_513(e: Engine, facts: Facts, views: dict[RadioRef, RadioView], ref: RadioRef,
+                    v: RadioView, t: RadioRef, vt: RadioView) -> bool:
+    """5.13's conditions for ``ref`` and its partner ``t``: "There are two stations using the
+    shared transmit antenna"; "The other partner has an antenna which can be used. It must be
+    able to be connected to the partner and it must be fast" (the partner's sub receiver
+    riding on its port without ``PersistSubReceiver`` does not use it then)."""
+    assert vt.tx is not None
+    rx = vt.rx
+    if rx is None or rx == vt.tx or facts.conflict(rx, vt.tx):
+        return False
+    group = facts.group[vt.tx]
+    holders = [(o, vo) for o, vo in views.items() if o not in facts.receivers
+               or o in facts.subs]
+    users = sum(1 for o, vo in holders if o not in facts.receivers
+                and any(a in group for _, a in _held(vo)))
+    ant = facts.ants[rx]
+    return (users == 2 and _partner_rx_free(e, facts, holders, ref, t, vt)
+            and not ant.tx_only and ant.enabled and facts.covers(ref, rx, v.khz)
+            and (v.tx is None or v.tx == rx or facts.fast(v.tx, rx)))
 
 
 def _shared(facts: Facts, a: int) -> bool:

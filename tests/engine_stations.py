@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
 
-from engine_invariants import BANDS, FREQUENCIES
+from engine_invariants import BANDS, FREQUENCIES, Op, operations
 
 from moas_gui.config.model import (
     AlternateRule,
@@ -113,7 +113,12 @@ def generated_station(rng: random.Random) -> Config:
                   protect_same_band=rng.random() < 0.3)
 
 
-def multiop_station(rng: random.Random, shared_alternates: bool = False) -> Config:
+SUB_KINDS = ("own port", "riding with PersistSubReceiver", "riding without PersistSubReceiver")
+"""The three kinds of sub receiver (6.10) whose partner alternates differ (issue 39)."""
+
+
+def multiop_station(rng: random.Random, shared_alternates: bool = False,
+                    partner_subs: bool = False) -> Config:
     """A random multi-operator station using what big stations rely on (5.8, 5.9, 5.12,
     5.13, 6.10): shared transmit antennas (some transmit-only) with a receive antenna per
     radio (some wired to the radio's RX-antenna input), the interlock 5.12 asks for
@@ -128,14 +133,20 @@ def multiop_station(rng: random.Random, shared_alternates: bool = False) -> Conf
 
     With ``shared_alternates`` every main radio has an ``Alternate`` rule for any radio
     transmitting on a ``SharedTX`` antenna, at any frequency, whose alternate is a ``SharedTX``
-    antenna (none transmit-only), and the radios are interlocked (issue 29's stations)."""
+    antenna (none transmit-only), and the radios are interlocked (issue 29's stations).
+
+    With ``partner_subs`` the first two radios are partners by ``Partner`` lists and
+    interlocked, each with a sub receiver of one of the three kinds (:data:`SUB_KINDS`,
+    chosen for each: a port of its own, riding on the main radio's port with or without
+    ``PersistSubReceiver``; issue 39's stations)."""
     n = rng.randint(2, 4)
     mains = [RadioRef(1, i + 1) for i in range(n)]
     two_switches = rng.random() < 0.2
     sub_port = rng.random() < 0.5
     subs = {mains[0]: RadioRef(1, 5)}
-    if rng.random() < 0.4:
+    if rng.random() < 0.4 or partner_subs:
         subs[mains[1]] = RadioRef(1, 6)
+    kinds = {sub: rng.choice(SUB_KINDS) for sub in subs.values()} if partner_subs else {}
     everyone = mains + list(subs.values())
     bands = rng.sample(BANDS, rng.randint(1, 3))
 
@@ -159,7 +170,7 @@ def multiop_station(rng: random.Random, shared_alternates: bool = False) -> Conf
     for a in shared_tx:
         antennas.append(Antenna(
             id=a, short_name=f"STX{a}", shared_tx=True,
-            tx_only=rng.random() < 0.5 and not shared_alternates,
+            tx_only=rng.random() < 0.5 and not (shared_alternates or partner_subs),
             control=control(bands, 10 * a), conflicts=tuple(shared_tx),
             fast=fast_rx + tuple(shared_tx)))
     for k, a in enumerate(receive):
@@ -190,8 +201,10 @@ def multiop_station(rng: random.Random, shared_alternates: bool = False) -> Conf
     alt_rule_radio = mains[rng.randrange(n)]
     everyone_locked = rng.random() < 0.4 or shared_alternates
     shared_alternate = rng.random() < 0.5 or shared_alternates
-    if shared_alternates and interlock == "none":
+    if (shared_alternates or partner_subs) and interlock == "none":
         interlock = "always"
+    if partner_subs:
+        partner_by = "list"
     """The Alternate rule's antenna is a SharedTX antenna another radio may hold (issue 29)."""
     functions = [
         Function(id=1, name="AltActive", int_params=(alt_rule_radio.station, alt_rule_radio.radio,
@@ -217,7 +230,9 @@ def multiop_station(rng: random.Random, shared_alternates: bool = False) -> Conf
         partner = tuple(pair) if partner_by == "list" else ()
         sub = subs.get(ref)
         persist = sub is not None and rng.random() < 0.5
-        main_freq = sub is not None and rng.random() < 0.5
+        if sub is not None and partner_subs:
+            persist = kinds[sub] == SUB_KINDS[1] or kinds[sub] == SUB_KINDS[0] and persist
+        main_freq = sub is not None and rng.random() < (0.8 if partner_subs else 0.5)
         rules: tuple[AlternateRule, ...] = ()
         if ref == alt_rule_radio or shared_alternates:
             lo, hi = rng.choice(bands)
@@ -243,7 +258,7 @@ def multiop_station(rng: random.Random, shared_alternates: bool = False) -> Conf
             alt_active=alt_active))
         if sub is not None:
             own: tuple[SwitchPort, ...] = ()
-            if sub_port and next_port <= 6:
+            if (kinds[sub] == SUB_KINDS[0] if partner_subs else sub_port) and next_port <= 6:
                 own = (SwitchPort(1, next_port),)
                 next_port += 1
             radios.append(Radio(station=sub.station, radio=sub.radio, switches=own,
@@ -269,6 +284,32 @@ def frequencies_for(cfg: Config, only_configured: bool = False) -> tuple[float, 
     return (() if only_configured else FREQUENCIES) + tuple(sorted(extra))
 
 
+def partner_sub_evening(cfg: Config, rng: random.Random, count: int) -> list[Op]:
+    """An evening on a station of issue 39 (``multiop_station(rng, partner_subs=True)``):
+    frequencies in its configured ranges, and a quarter of the events presses that put the
+    partners on a shared transmit antenna or a receive antenna and their sub receivers on a
+    receive antenna, so that a sub receiver often listens where its main radio does."""
+    shared = [a.id for a in cfg.antennas if a.shared_tx]
+    receive = [a.id for a in cfg.antennas if a.short_name.startswith("RX")]
+    partners = [r.ref for r in cfg.radios if r.partner]
+    subs = [RadioRef(r.station, r.sub_receiver) for r in cfg.radios
+            if r.partner and r.sub_receiver is not None]
+    out: list[Op] = []
+    for op in operations(cfg, rng, count, frequencies_for(cfg, only_configured=True)):
+        if op == ("run", "stop"):
+            continue  # the switches stay running (a stopped evening refuses every press)
+        if rng.random() >= 0.4:
+            out.append(op)
+            continue
+        who = rng.choice(partners + subs)
+        if who in subs or rng.random() < 0.4:
+            out.append(("select", (who.station, who.radio), rng.choice(receive), "rx", False))
+        else:
+            out.append(("select", (who.station, who.radio), rng.choice(shared),
+                        rng.choice(("tx", "both")), False))
+    return out
+
+
 def features(cfg: Config) -> set[str]:
     """Which of the multi-operator features a configuration uses (for the benchmark)."""
     found: set[str] = set()
@@ -289,6 +330,8 @@ def features(cfg: Config) -> set[str]:
     for r in cfg.radios:
         if r.ref in subs:
             found.add("sub receiver with port" if r.switches else "sub receiver without port")
+            persist = r.persist_sub_receiver or subs[r.ref].persist_sub_receiver
+            found.add(SUB_KINDS[0] if r.switches else SUB_KINDS[1] if persist else SUB_KINDS[2])
         if r.use_main_freq:
             found.add("UseMainFreq")
         if r.persist_sub_receiver:
@@ -303,4 +346,5 @@ def _fields(a: Antenna) -> dict[str, Any]:
 
 
 
-__all__ = ["MULTIOP_SHARE", "features", "frequencies_for", "generated_station", "multiop_station"]
+__all__ = ["MULTIOP_SHARE", "SUB_KINDS", "features", "frequencies_for", "generated_station", "multiop_station",
+           "partner_sub_evening"]

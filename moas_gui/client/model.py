@@ -22,6 +22,9 @@ to grow them; without them the views fall back to plain defaults:
     the offsets of the antennas that use it.
 ``radios[].relative``
     the radio's relative antenna list for its frequency, as antenna IDs.
+``radios[].alt_why``
+    why the radio has no alternate receive antenna while a transmitting radio would switch
+    it to one (default "").
 
 The view classes copy the server's (``engine/views.py``, ``engine/why.py``'s
 ``Why``, ``hw/rotators/base.py``'s ``RotatorView``) on purpose: the client never
@@ -215,6 +218,9 @@ class RadioView:
     client's ``auto=0``), None when they follow the frequency."""
     held_since: str | None = None
     """When that hold began (ISO 8601 in UTC, as the server says it), None when not held."""
+    alt_why: str = ""
+    """Why the radio has no alternate receive antenna while a transmitting radio would
+    switch it to one ("" when it has one or needs none)."""
 
     @property
     def held_text(self) -> str:
@@ -411,6 +417,7 @@ def parse_radio(obj: object, where: str = "radio") -> RadioView:
         why=_parse_why(obj.get("why") if isinstance(obj, Mapping) else None, f"{where}: why"),
         held_by=f.text("held_by") or None,
         held_since=f.text("held_since") or None,
+        alt_why=f.text("alt_why"),
     )
 
 
@@ -456,14 +463,18 @@ def _parse_why(obj: object, where: str) -> WhyView | None:
 
 
 def explain(radio: RadioView, snapshot: Snapshot | None) -> str:
-    """The radio's ``why`` in words for a tooltip: the reason, then each antenna passed over."""
+    """The radio's ``why`` in words for a tooltip: the reason, then each antenna passed over,
+    then why it has no alternate antenna (when the server says)."""
     why = radio.why
-    if why is None:
-        return ""
-    lines = [why.text[:1].upper() + why.text[1:]]
-    for antenna, reason in why.passed_over:
-        found = snapshot.antenna(antenna) if snapshot is not None else None
-        lines.append(f"  {found.name if found is not None else f'Antenna {antenna}'}: {reason}")
+    lines = []
+    if why is not None:
+        lines.append(why.text[:1].upper() + why.text[1:])
+        for antenna, reason in why.passed_over:
+            found = snapshot.antenna(antenna) if snapshot is not None else None
+            lines.append(f"  {found.name if found is not None else f'Antenna {antenna}'}: "
+                         f"{reason}")
+    if radio.alt_why:
+        lines.append(f"No alternate antenna {radio.alt_why}")
     return "\n".join(lines)
 
 

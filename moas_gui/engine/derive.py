@@ -33,9 +33,19 @@ turns transmitting on a ``SharedTX`` antenna, not listen on it while the other
 transmits), and one that conflicts with another radio's receive antenna
 becomes "none" unless the sharing rules permit the pair.  The one exception
 is the partner's receive antenna while the partner transmits (5.13), which is
-why that radio gets it; when the partner's sub receiver listens on that
-antenna too, it is in use by another station (1.1.4, 1.1.12) and the
-alternate is "none".
+why that radio gets it.  The partner's sub receiver on that antenna (or one
+conflicting with it) decides by how it is wired (6.10):
+
+* with a port of its own, or with ``PersistSubReceiver``, it keeps listening
+  while the partner transmits: the antenna is in use by another station
+  (1.1.4, 1.1.12) and the alternate is "none";
+* riding on the partner's port without ``PersistSubReceiver``, its relays are
+  among that port's receive relays only, open exactly while the partner
+  transmits, which is when the alternate is switched in: it is then where the
+  partner is, and the partner's receive antenna stays the alternate.
+
+When a radio that needs an alternate gets "none", :func:`alternates` says why
+(the radio view's ``alt_why``).
 """
 
 from __future__ import annotations
@@ -68,20 +78,27 @@ def inhibit_reason(ix: ConfigIndex, st: State, ref: RadioRef) -> str:
 
 def partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef) -> int | None:
     """5.13: the partner's receive antenna, when every condition of the manual holds (the
-    caller then asks :func:`available`: an antenna the partner's own sub receiver listens on
-    is in use by another station, 1.1.4 and 1.1.12, so it is not "one which can be used")."""
+    caller then asks :func:`available`, which judges the partner's own sub receiver)."""
+    return _partner_alternate(ix, st, ref, other)[0]
+
+
+def _partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef
+                       ) -> tuple[int | None, str]:
+    """:func:`partner_alternate`, and when it is None which of 5.13's conditions fails."""
     if st.partners.get(ref) != other:
-        return None
+        return None, f"{other} is not its partner (5.13)"
     me, them = st.radios[ref], st.radios[other]
     shared = them.tx
     if shared is None or them.rx is None or them.rx == shared:
-        return None
+        return None, (f"its partner {other} receives on the antenna it transmits on, so it "
+                      "has no antenna which can be used (5.13)")
     if them.transmitting and ix.conflict(them.rx, shared):
         # "The other partner has an antenna which can be used": one that conflicts with the
         # antenna the partner transmits on cannot be used while it transmits.  Until the
         # partner is seen transmitting it stays the prepared alternate: the switch's table
         # (its slot conflicts with the partner's transmit slot) then refuses it by itself.
-        return None
+        return None, (f"its partner's receive antenna {ix.name(them.rx)} conflicts with "
+                      f"{ix.name(shared)}, on which {other} transmits (5.13)")
     canon = ix.canon[shared]
     count = 0
     for r in ix.mains:
@@ -89,19 +106,22 @@ def partner_alternate(ix: ConfigIndex, st: State, ref: RadioRef, other: RadioRef
         if any(a is not None and ix.canon[a] == canon for a in (rs.tx, rs.rx)):
             count += 1
     if count != 2:
-        return None
-    if unusable(ix, st, ix.radios[ref], them.rx, me.khz, "rx") is not None:
-        return None
+        return None, (f"{count} radios use {ix.name(shared)}, and 5.13 is not available if "
+                      "more than two radios are using the antenna")
+    why = unusable(ix, st, ix.radios[ref], them.rx, me.khz, "rx")
+    if why is not None:
+        return None, f"its partner's receive antenna: {why} (5.13)"
     if me.tx is not None and me.tx != them.rx and not ix.is_fast(me.tx, them.rx):
-        return None
-    return them.rx
+        return None, (f"its partner's receive antenna {ix.name(them.rx)} is not fast with "
+                      f"{ix.name(me.tx)}, and 5.13 says it must be fast")
+    return them.rx, ""
 
 
 def available(ix: ConfigIndex, st: State, ref: RadioRef, want: int | None,
               partner: RadioRef | None = None) -> int | None:
     """``want`` when no radio outside ``ref``'s family transmits on it or on anything
     conflicting with it, and none receives on it (or on a conflicting antenna) without the
-    manual's permission, else None.
+    manual's permission, else None (:func:`blocked` says why).
 
     A transmit antenna of another radio is never available, shared or not: 5.12's
     permission is for radios taking turns to transmit ("only one can transmit at a time"),
@@ -109,30 +129,79 @@ def available(ix: ConfigIndex, st: State, ref: RadioRef, want: int | None,
     "if a station transmits on an antenna while another station is listening").  The
     receive antenna of ``partner`` is exempt: 5.13 gives it to ``ref`` while the partner
     transmits (:func:`partner_alternate` has judged it against the partner's transmit
-    antenna, and the switch's table forbids the pair).  The partner's sub receiver is not
-    exempt: listening there, it uses the antenna (1.1.4)."""
-    if want is None:
+    antenna, and the switch's table forbids the pair).  So is what the partner's sub
+    receiver listens on when it rides on the partner's port without ``PersistSubReceiver``
+    (its relays open exactly while the partner transmits); with a port of its own or with
+    ``PersistSubReceiver`` it keeps listening then, and uses the antenna (1.1.4)."""
+    if want is None or blocked(ix, st, ref, want, partner):
         return None
+    return want
+
+
+def blocked(ix: ConfigIndex, st: State, ref: RadioRef, want: int,
+            partner: RadioRef | None = None) -> str:
+    """Why ``want`` is not available as ``ref``'s alternate ("" when it is): see
+    :func:`available`."""
     for other, role, y in users(ix, st, ref):
         if other == partner and role == "rx":
             continue
         if not ix.conflict(want, y):
             continue
+        if partner is not None and role == "rx" and _silent_with(ix, other, partner):
+            continue
         if role == "tx" and other != partner:
-            return None
+            return f"{ix.name(y)} is {other}'s transmit antenna (5.9)"
         if not permitted(ix, st, ref, other, want, y):
-            return None
-    return want
+            return _in_use(ix, other, y, partner)
+    return ""
 
 
-Wanted = list[tuple[RadioRef, int | None]]
-"""Trigger radios, each with the alternate it asks for (None: no antenna)."""
+def sub_keeps_listening(ix: ConfigIndex, sub: RadioRef) -> str:
+    """Why sub receiver ``sub`` listens on while its main radio transmits: "its own port"
+    or "PersistSubReceiver" ("" when it rides on the main radio's port without
+    ``PersistSubReceiver``, so that its relays open while the main radio transmits)."""
+    info = ix.radios.get(sub)
+    if info is None or info.kind is not RadioKind.SUB:
+        return ""
+    if info.ports:
+        return "its own port"
+    if ix.sub_flag(sub, "persist_sub_receiver"):
+        return "PersistSubReceiver"
+    return ""
 
 
-def alternates(ix: ConfigIndex, st: State
-               ) -> dict[RadioRef, tuple[int | None, frozenset[RadioRef]]]:
-    """Per main radio: its alternate receive antenna and the radios that switch it there."""
-    out: dict[RadioRef, tuple[int | None, frozenset[RadioRef]]] = {}
+def _silent_with(ix: ConfigIndex, other: RadioRef, partner: RadioRef) -> bool:
+    """Whether ``other`` is ``partner``'s sub receiver riding on its port without
+    ``PersistSubReceiver`` (6.10): disconnected exactly while the partner transmits."""
+    info = ix.radios.get(other)
+    return (info is not None and info.kind is RadioKind.SUB and info.main == partner
+            and not sub_keeps_listening(ix, other))
+
+
+def _in_use(ix: ConfigIndex, other: RadioRef, y: int, partner: RadioRef | None) -> str:
+    info = ix.radios.get(other)
+    if partner is not None and info is not None and info.kind is RadioKind.SUB \
+            and info.main == partner:
+        return (f"{ix.name(y)} is in use by {other}, the sub receiver of its partner "
+                f"{partner}, which keeps listening while {partner} transmits "
+                f"({sub_keeps_listening(ix, other)}; 1.1.4, 6.10)")
+    return f"{ix.name(y)} is in use by {other} (5.9)"
+
+
+Wanted = list[tuple[RadioRef, int | None, str]]
+"""Trigger radios, each with the alternate it asks for (None: no antenna) and, when None,
+why."""
+
+Alternates = dict[RadioRef, tuple[int | None, frozenset[RadioRef]]]
+"""Per main radio: its alternate receive antenna and the radios that switch it there."""
+
+
+def alternates(ix: ConfigIndex, st: State, reasons: dict[RadioRef, str] | None = None
+               ) -> Alternates:
+    """Per main radio: its alternate receive antenna and the radios that switch it there.
+    ``reasons`` gets, for each radio some radio switches to "none", why it has no
+    alternate."""
+    out: Alternates = {}
     for ref in ix.mains:
         info = ix.radios[ref]
         rs = st.radios[ref]
@@ -147,12 +216,18 @@ def alternates(ix: ConfigIndex, st: State
                 others.extend(_rule_alternates(ix, st, ref, info, rs, rs.rx, rule, allowed))
             if allowed is not None and manual is not None:
                 free = available(ix, st, ref, manual)
-                others.extend((t, free) for t in sorted(allowed) if t in ix.radios
+                why = "" if free is not None else (
+                    f"its alternate receiver's antenna {ix.name(manual)}: "
+                    + (blocked(ix, st, ref, manual) or "not available"))
+                others.extend((t, free, why) for t in sorted(allowed) if t in ix.radios
                               and not related(ix, ref, t))
         if not safety and not others:
             out[ref] = (available(ix, st, ref, manual), frozenset())
         else:
-            out[ref] = _first_source_wins(safety, others)
+            alt, triggers, why = _first_source_wins(safety, others)
+            out[ref] = (alt, triggers)
+            if reasons is not None and alt is None and triggers:
+                reasons[ref] = why
     return out
 
 
@@ -171,10 +246,21 @@ def _shared_tx_alternates(ix: ConfigIndex, st: State, ref: RadioRef, rx: int,
                 ix, st, ref, t, rx, ts.tx):
             want = partner_alternate(ix, st, ref, t)
             if want is not None:
-                want = available(ix, st, ref, want, partner=t)
+                got = available(ix, st, ref, want, partner=t)
+                why = "" if got is not None else (
+                    f"its partner's receive antenna {ix.name(want)} is no alternate: "
+                    + (blocked(ix, st, ref, want, partner=t) or "not available"))
             else:
-                want = available(ix, st, ref, manual)
-            safety.append((t, want))
+                got = available(ix, st, ref, manual)
+                why = "" if got is not None else (
+                    f"{_partner_alternate(ix, st, ref, t)[1]}, and its alternate receiver's "
+                    + ("antenna: none (1.1.14)" if manual is None else
+                       f"antenna {ix.name(manual)}: "
+                       + (blocked(ix, st, ref, manual) or "not available")))
+            want = got
+            if why:
+                why = f"while {t} transmits on {ix.name(ts.tx)}: {why}"
+            safety.append((t, want, why))
     return safety
 
 
@@ -191,11 +277,19 @@ def _rule_alternates(ix: ConfigIndex, st: State, ref: RadioRef, info: IndexedRad
     if rs.khz is None or not rule.range.contains(rs.khz):
         return []
     want = rule.antenna
+    why = "its Alternate rule names no antenna" if want is None else ""
     if want is not None and (want not in ix.antennas or unusable(
             ix, st, info, want, rs.khz, "rx") is not None):
+        why = f"its Alternate rule's antenna {ix.name(want)}: " + (
+            unusable(ix, st, info, want, rs.khz, "rx") or "" if want in ix.antennas
+            else f"there is no antenna {want}")
         want = None
-    want = available(ix, st, ref, want)
-    return [(t, want) for t in ix.mains if _rule_triggers(ix, st, ref, rule, allowed, t)]
+    got = available(ix, st, ref, want)
+    if want is not None and got is None:
+        why = f"its Alternate rule's antenna {ix.name(want)}: " + (
+            blocked(ix, st, ref, want) or "not available")
+    want = got
+    return [(t, want, why) for t in ix.mains if _rule_triggers(ix, st, ref, rule, allowed, t)]
 
 
 def _rule_triggers(ix: ConfigIndex, st: State, ref: RadioRef, rule: AlternateRule,
@@ -212,18 +306,28 @@ def _rule_triggers(ix: ConfigIndex, st: State, ref: RadioRef, rule: AlternateRul
 
 
 def _first_source_wins(safety: Wanted, others: Wanted
-                       ) -> tuple[int | None, frozenset[RadioRef]]:
+                       ) -> tuple[int | None, frozenset[RadioRef], str]:
     """One alternate per station: the shared-transmit source decides when it speaks
     (disagreeing triggers give none), else the first rule's; the triggers are every
-    shared-transmit trigger and the others that want the same antenna."""
+    shared-transmit trigger and the others that want the same antenna.  The text says why
+    the alternate is none (when it is)."""
     if safety:
-        wants = {want for _, want in safety}
+        wants = {want for _, want, _why in safety}
         alt = wants.pop() if len(wants) == 1 else None
+        if alt is None and wants:
+            why = ("the radios holding transmit antennas its receive antenna conflicts with "
+                   "would switch it to different antennas, and the switch has one alternate "
+                   "per station")
+        else:
+            why = next((w for _, _want, w in safety if w), "")
     else:
-        alt = others[0][1]
-    triggers = {t for t, _want in safety}
-    triggers |= {t for t, want in others if want == alt and t not in triggers}
-    return alt, frozenset(triggers)
+        alt, why = others[0][1], others[0][2]
+        if why:
+            why = f"while {others[0][0]} transmits: {why}"
+    triggers = {t for t, _want, _why in safety}
+    triggers |= {t for t, want, _why in others if want == alt and t not in triggers}
+    return alt, frozenset(triggers), why
 
 
-__all__ = ["alternates", "available", "inhibit_reason", "partner_alternate"]
+__all__ = ["Alternates", "alternates", "available", "blocked", "inhibit_reason",
+           "partner_alternate", "sub_keeps_listening"]

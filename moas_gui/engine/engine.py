@@ -462,7 +462,8 @@ class Engine:
 
     def _commit(self, w: Work, force: bool = False) -> Changes:
         ix, st = self._ix, w.st
-        alts = alternates(ix, st)
+        alt_reasons: dict[RadioRef, str] = {}
+        alts = alternates(ix, st, alt_reasons)
         ports = self._port_antennas(st, alts, extra_relays(ix, st))
         maps = self._allocate_slots(st, ports)
         transmitting = frozenset(ref for ref in ix.mains if st.radios[ref].transmitting)
@@ -470,7 +471,8 @@ class Engine:
                         inhibit_pairs(ix, st), transmitting)
         built = build(ix, st, self._classes, maps, inputs, self._switch_states, self._owners,
                       self._station_cache)
-        views = {ref: self._view(st, ref, inputs) for ref in ix.order}
+        views = {ref: self._view(st, ref, inputs, alt_reasons.get(ref, ""))
+                 for ref in ix.order}
         changed_radios = {ref for ref, v in views.items() if self._views.get(ref) != v}
         changed_switches = {sw: s for sw, s in built.states.items()
                             if force or self._switch_states.get(sw) is not s}
@@ -536,7 +538,7 @@ class Engine:
                 busy.add(port)
         return frozenset(busy), unknown
 
-    def _view(self, st: State, ref: RadioRef, inputs: Inputs) -> RadioView:
+    def _view(self, st: State, ref: RadioRef, inputs: Inputs, alt_why: str) -> RadioView:
         ix = self._ix
         rs = st.radios[ref]
         info = ix.radios[ref]
@@ -558,7 +560,7 @@ class Engine:
                          rs.tx, rs.rx, alt, rs.transmitting, inhibited, note,
                          None if listed is None else listed[1].ids,
                          path is not None and path.radio_rx_antenna, st.why.get(ref),
-                         st.held.get(ref), st.held_since.get(ref))
+                         st.held.get(ref), st.held_since.get(ref), alt_why if main else "")
         old = self._views.get(ref)
         return old if old == view else view
 

@@ -42,9 +42,13 @@ class RadioView:
     None when its antennas follow its frequency."""
     held_since: float | None = None
     """When that hold began, seconds since the epoch (None: not held, or not known)."""
+    alt_why: str = ""
+    """Why the radio has no alternate receive antenna while a radio transmitting would
+    switch it to one ("" when it has one, or needs none): the 5.13 condition that fails,
+    the radio using the antenna, ... (sent as ``alt_why`` when not empty)."""
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        out = {
             "station": self.station, "radio": self.radio, "khz": self.khz,
             "tx_khz": self.tx_khz, "tx": self.tx, "rx": self.rx, "alt": self.alt,
             "transmitting": self.transmitting, "inhibited": self.inhibited, "note": self.note,
@@ -54,6 +58,9 @@ class RadioView:
             "held_by": self.held_by,
             "held_since": None if self.held_since is None else utc_text(self.held_since),
         }
+        if self.alt_why:
+            out["alt_why"] = self.alt_why
+        return out
 
 
 @dataclass(frozen=True, slots=True)

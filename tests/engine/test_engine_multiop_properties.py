@@ -18,11 +18,19 @@ from typing import Any
 
 import pytest
 from engine_invariants import MULTIOP_RULES, Facts, multiop_violations, operations, run_evening
-from engine_stations import features, frequencies_for, generated_station, multiop_station
+from engine_stations import (
+    SUB_KINDS,
+    features,
+    frequencies_for,
+    generated_station,
+    multiop_station,
+    partner_sub_evening,
+)
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import moas_gui.engine.engine as engine_module
+import moas_gui.engine.outputs as outputs_module
 from moas_gui.config import parse_config
 from moas_gui.config.model import Config, RadioRef
 from moas_gui.engine import Engine, derive, rules
@@ -87,6 +95,12 @@ def test_the_generated_stations_use_the_features_and_every_check_runs() -> None:
         rng = random.Random(seed)  # benchmarks/bench_engine_properties.py)
         cfg = multiop_station(rng, shared_alternates=seed % 2 == 1)
         run_evening(cfg, list(operations(cfg, rng, 200, frequencies_for(cfg))), counts=counts)
+    for seed in range(40):  # issue 39's stations, until every kind of sub receiver was seen
+        rng = random.Random(seed)  # beside its partner's alternate
+        cfg = multiop_station(rng, partner_subs=True)
+        run_evening(cfg, partner_sub_evening(cfg, rng, 300), counts=counts)
+        if all(counts[rule] for rule in MULTIOP_RULES):
+            break
     for rule in MULTIOP_RULES:
         assert counts[rule] > 0, (rule, counts)
 
@@ -120,6 +134,27 @@ def test_no_receiver_on_a_transmit_antenna_on_issue_29s_stations(seed: int) -> N
     counts: Counter[str] = Counter()
     run_evening(cfg, list(operations(cfg, rng, 150, frequencies_for(cfg, only_configured=True))),
                 counts=counts)
+
+
+def test_the_generated_stations_of_issue_39() -> None:
+    """Partners each with a sub receiver, of all three kinds among the stations (a port of
+    its own; riding on the main radio's port with and without ``PersistSubReceiver``)."""
+    seen: Counter[str] = Counter()
+    for seed in range(30):
+        cfg = multiop_station(random.Random(seed), partner_subs=True)
+        partners = [r for r in cfg.radios if r.partner]
+        assert len(partners) == 2 and all(r.sub_receiver is not None for r in partners)
+        seen.update(features(cfg))
+    for kind in SUB_KINDS:
+        assert seen[kind] >= 5, (kind, seen)
+
+
+@FAST
+@given(st.integers(0, 2**32 - 1))
+def test_every_multiop_rule_holds_on_issue_39s_stations(seed: int) -> None:
+    rng = random.Random(seed)
+    cfg = multiop_station(rng, partner_subs=True)
+    run_evening(cfg, partner_sub_evening(cfg, rng, 150))
 
 
 # -- each rule caught broken ------------------------------------------------------------------
@@ -271,3 +306,100 @@ def test_a_loose_alternate_slot_is_caught(monkeypatch: pytest.MonkeyPatch) -> No
                         lambda self, a, owner, partner_alt=False: self.key(a, owner, partner_alt))
     e, facts = _replay_29()
     assert _fired(e, facts, "alternate slot table", "port 2's alternate 0")
+
+
+# -- issue 39: the partner's alternate beside a sub receiver ----------------------------------
+
+RIDING = "partner-alternate-riding-sub.json"
+
+
+def _replay_39(sub_entry: dict[str, Any] | None = None, main_entry: dict[str, Any] | None = None,
+               transmitting: bool = False) -> tuple[Engine, Facts]:
+    """Issue 39's case, with fields set on the sub receiver's (1.2) or main radio's (1.1)
+    entry, and station 1 radio 1 keyed at the end."""
+    data = json.loads((CASES / RIDING).read_text())
+    for radio, extra in ((2, sub_entry), (1, main_entry)):
+        entry = next(r for r in data["moas"]["Radios"] if (r["Station"], r["Radio"]) == (1, radio))
+        entry.update(extra or {})
+    cfg = parse_config(json.dumps(data["moas"]), RIDING).config
+    assert cfg is not None
+    e = Engine(cfg, now=0.0)
+    for i, ev in enumerate(data["events"]):
+        if ev["op"] == "frequency":
+            e.set_frequency(ev["station"], ev["radio"], ev["khz"], now=1.0 + i)
+        else:
+            e.select(*ev["args"], now=1.0 + i)
+    if transmitting:
+        e.set_transmitting(1, 1, True, now=20.0)
+    return e, Facts.of(cfg)
+
+
+KEEPS_LISTENING = [({"Switches": [{"Port": 3}]}, None), (None, {"PersistSubReceiver": True})]
+
+
+@pytest.mark.parametrize("transmitting", [False, True])
+def test_issue_39s_case_keeps_every_rule(transmitting: bool) -> None:
+    for sub_entry, main_entry in [(None, None), *KEEPS_LISTENING]:
+        e, facts = _replay_39(sub_entry, main_entry, transmitting)
+        counts: Counter[str] = Counter()
+        assert multiop_violations(e, facts, counts) == [], (sub_entry, main_entry)
+        assert counts["partner alternate beside sub"] == 1
+
+
+def test_the_partners_antenna_refused_beside_a_riding_sub_receiver_is_caught(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The engine before issue 39: every sub receiver of the partner blocked the alternate."""
+    monkeypatch.setattr(derive, "sub_keeps_listening", lambda ix, sub: "patched")
+    e, facts = _replay_39()
+    assert e.radio_view(2, 1).alt is None
+    assert _fired(e, facts, "partner alternate beside sub",
+                  "meet 5.13's conditions beside station 1 radio 1's sub receiver")
+
+
+@pytest.mark.parametrize(("sub_entry", "main_entry"), KEEPS_LISTENING)
+def test_the_partners_antenna_given_beside_a_listening_sub_receiver_is_caught(
+        sub_entry: dict[str, Any] | None, main_entry: dict[str, Any] | None,
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """An engine broken the other way: no sub receiver of the partner ever blocks the
+    alternate, though with its own port or PersistSubReceiver it keeps listening."""
+    monkeypatch.setattr(derive, "sub_keeps_listening", lambda ix, sub: "")
+    e, facts = _replay_39(sub_entry, main_entry)
+    assert e.radio_view(2, 1).alt == 1
+    assert _fired(e, facts, "partner alternate beside sub", "which keeps listening while")
+
+
+def test_a_riding_sub_receiver_kept_during_transmit_beside_the_alternate_is_caught(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A broken switch state: port 1 keeps the riding sub receiver's relay 22 while
+    transmitting (as with PersistSubReceiver, which the station does not set), when port 2
+    listens on antenna 1 as its alternate."""
+    real = outputs_module._riding_sub_receiver
+
+    def persisting(ix: ConfigIndex, st: Any, info: Any) -> Any:
+        found = real(ix, st, info)
+        return None if found is None else (found[0], found[1], True)
+
+    monkeypatch.setattr(outputs_module, "_riding_sub_receiver", persisting)
+    e, facts = _replay_39()
+    assert 22 in e.switch_states()[1].station(1).tx_relays
+    assert _fired(e, facts, "partner alternate beside sub", "keeps station 1 radio 2's relays")
+
+
+
+@pytest.mark.parametrize(("broken", "text"), [
+    ("patched", "meet 5.13's conditions beside"),     # every sub receiver blocks (before)
+    ("", "which keeps listening while"),              # no sub receiver ever blocks
+])
+def test_issue_39s_evenings_catch_a_broken_engine(broken: str, text: str,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """The random evenings on issue 39's stations find either broken copy by themselves."""
+    monkeypatch.setattr(derive, "sub_keeps_listening", lambda ix, sub: broken)
+    for seed in range(40):
+        rng = random.Random(seed)
+        cfg = multiop_station(rng, partner_subs=True)
+        try:
+            run_evening(cfg, partner_sub_evening(cfg, rng, 300))
+        except AssertionError as err:
+            if text in str(err):
+                return
+    raise AssertionError(f"no evening caught the engine broken ({broken!r})")

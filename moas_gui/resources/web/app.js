@@ -467,9 +467,13 @@
   function khzText(khz) { return khz == null ? "no frequency" : `${khz.toFixed(1)} kHz`; }
 
   function whyText(r) {
-    if (!r.why || !r.why.text) return "";
-    const lines = [r.why.text.charAt(0).toUpperCase() + r.why.text.slice(1)];
-    for (const item of r.why.passed_over || []) lines.push(`${antennaName(item.antenna)}: ${item.reason}`);
+    const lines = [];
+    if (r.why && r.why.text) {
+      lines.push(r.why.text.charAt(0).toUpperCase() + r.why.text.slice(1));
+      for (const item of r.why.passed_over || []) lines.push(`${antennaName(item.antenna)}: ${item.reason}`);
+    }
+    // why the radio has no alternate antenna while another radio would switch it to one
+    if (r.alt_why) lines.push(`No alternate antenna ${r.alt_why}`);
     return lines.join("\n");
   }
 

@@ -41,9 +41,9 @@ __all__ = [
     "ROLES",
     "ContestReport",
     "NothingRecorded",
+    "RadioTimeline",
     "ReportBusy",
     "ReportDesk",
-    "RadioTimeline",
     "TimelineSpan",
     "bounded_period",
     "contest_report",
@@ -228,7 +228,7 @@ def last_hours(now: float, hours: float) -> Period:
 
 # -- the period a report covers ---------------------------------------------------------------
 
-class NothingRecorded(ValueError):  # noqa: N818 - a plain answer, not a failure
+class NothingRecorded(ValueError):
     """The period asked for and the journal's own time do not meet."""
 
 
@@ -277,7 +277,7 @@ def bounded_period(reader: JournalReader, asked: Period | None, now: float) -> P
 
 # -- one report at a time, off the loop -------------------------------------------------------
 
-class ReportBusy(RuntimeError):  # noqa: N818 - an answer: try again
+class ReportBusy(RuntimeError):
     """Another contest report is being made."""
 
 

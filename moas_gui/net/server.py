@@ -428,8 +428,9 @@ class ClientServer:
 
     def _promote(self, conn: Connection, ticket: Ticket) -> None:
         if not ticket.operator():
-            log.warning("%s: the operators' own connections are all in use; %s stays with "
-                        "the others", conn.address, conn.identity.name)
+            self.trouble_line("operators' pool full", logging.WARNING,
+                              "%s: the operators' own connections are all in use; %s stays "
+                              "with the others", conn.address, conn.identity.name)
 
     def _gate(self, transport: asyncio.Transport) -> Ticket | None:
         """Decides on a new connection before anything is made for it: its admission

@@ -93,8 +93,13 @@ def _nothing(ax: Axes, text: str) -> None:
 
 def _when(seconds: float) -> float:
     """matplotlib's date number for POSIX seconds (the axes' unit for times)."""
-    # matplotlib.dates has no type annotations
-    return float(mdates.date2num(datetime.fromtimestamp(seconds, UTC)))  # type: ignore[no-untyped-call]
+    return _EPOCH + seconds / 86400.0
+
+
+# matplotlib.dates has no type annotations; its date number counts days from its epoch
+_EPOCH = float(mdates.date2num(datetime.fromtimestamp(0.0, UTC)))  # type: ignore[no-untyped-call]
+DOTS_UP_TO = 400
+"""The most hours the rate chart marks with a dot each (a longer period: lines only)."""
 
 
 def _time_axis(ax: Axes) -> None:
@@ -136,7 +141,8 @@ def _draw_rate(ax: Axes, report: ContestReport) -> None:
     order = sorted(report.rate, key=lambda n: (-sum(report.rate[n]), n))
     for number, name in enumerate(order):
         counts = report.rate[name]
-        # a line style each and a dot per hour, so equal rates stay told apart
+        # a line style each and a dot per hour (of a contest's length), so equal rates
+        # stay told apart
         style = styles[number % len(styles)]
         ax.step(
             times,
@@ -148,7 +154,8 @@ def _draw_rate(ax: Axes, report: ContestReport) -> None:
             linewidth=1.8,
             marker="",
         )
-        ax.plot(middles, counts, "o", color=colours[name], markersize=4)
+        if len(middles) <= DOTS_UP_TO:
+            ax.plot(middles, counts, "o", color=colours[name], markersize=4)
     ax.set_ylabel("QSOs per hour")
     ax.set_ylim(bottom=0)
     _time_axis(ax)

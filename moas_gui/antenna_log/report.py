@@ -284,9 +284,12 @@ class ReportBusy(RuntimeError):
 class ReportDesk:
     """Makes contest reports one at a time, each in a thread of its own.
 
-    The thread is a daemon: a server told to stop never waits for a report.  The one
-    making a report releases the desk when it is done, even when whoever asked for it
-    has gone (a cancelled request), so two reports never run together.  The web page's
+    The thread is not a daemon (one stopped in the middle of matplotlib's C++ at the
+    interpreter's exit aborts the process): a server told to stop waits for the report
+    being made, which its bounded period keeps short, and whoever asks can stop it
+    between reading and drawing.  The one making a report releases the desk when it is
+    done, even when whoever asked for it has gone (a cancelled request), so two reports
+    never run together.  The web page's
     ``/report`` is told :class:`ReportBusy` at once (:meth:`run`); the window waits its
     turn (:meth:`start`)."""
 
@@ -341,7 +344,7 @@ class ReportDesk:
             done(*outcome)
 
         try:
-            threading.Thread(target=work, name="contest report", daemon=True).start()
+            threading.Thread(target=work, name="contest report").start()
         except RuntimeError:
             if not wait:
                 self._lock.release()

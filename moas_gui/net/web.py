@@ -136,6 +136,7 @@ class WebServer:
         self._runner: web.AppRunner | None = None
         self._listener: Listener | None = None
         self._quiet = QuietAiohttp(clients.trouble)
+        self._closing = False
 
     async def start(self) -> int:
         """Starts listening; returns the port.  Raises
@@ -176,6 +177,7 @@ class WebServer:
 
     async def close(self) -> None:
         """Stops listening and closes every page's WebSocket."""
+        self._closing = True  # a report being made stops before it is drawn
         if self._listener is not None:
             listener, self._listener = self._listener, None
             await listener.close()
@@ -291,11 +293,12 @@ class WebServer:
             asked = _asked_period(query, time.time())
             # the journal is read and the charts drawn in the report's own thread, one
             # report at a time: the event loop only waits for the page
-            return await REPORTS.run(lambda: _report_job(reader, asked))
-        except ReportBusy:
+            return await REPORTS.run(lambda: _report_job(reader, asked,
+                                                         lambda: self._closing))
+        except ReportBusy as exc:
             raise web.HTTPServiceUnavailable(
-                text="Another contest report is being made; try again in a few seconds.\n",
-                headers={"Retry-After": "5"}) from None
+                text=f"The contest report cannot be made now: {exc}; try again in a few "
+                     "seconds.\n", headers={"Retry-After": "5"}) from None
         except NothingRecorded as exc:
             return _notice_page(html.escape(str(exc)))
         except ValueError as exc:
@@ -342,17 +345,21 @@ def _asked_period(query: Mapping[str, str], now: float) -> Period | None:
     return None
 
 
-def _report_job(reader: JournalReader, asked: Period | None) -> str:
+def _report_job(reader: JournalReader, asked: Period | None,
+                closing: Callable[[], bool]) -> str:
     """The report page for ``asked`` (in the report's thread): the period bounded to the
-    journal, read, drawn.  Raises what :func:`~moas_gui.antenna_log.report.bounded_period`
-    raises."""
-    from moas_gui.antenna_log.report import bounded_period, contest_report
+    journal, read, drawn; not drawn once ``closing()`` (the server stops).  Raises what
+    :func:`~moas_gui.antenna_log.report.bounded_period` raises."""
+    from moas_gui.antenna_log.report import ReportBusy, bounded_period, contest_report
     from moas_gui.antenna_log.report_charts import report_html
 
     period = bounded_period(reader, asked, time.time())
     if period is None:
         return _notice_page("The antenna journal is empty: nothing has been recorded yet.")
-    return report_html(contest_report(reader, period))
+    report = contest_report(reader, period)
+    if closing():
+        raise ReportBusy("the server is stopping")
+    return report_html(report)
 
 
 def _notice_page(text: str) -> str:

@@ -177,7 +177,7 @@ async def test_one_report_at_a_time_a_second_is_told_busy(site: Site) -> None:
     try:
         await until(lambda: REPORTS.busy, timeout=20, what="the first report in the making")
         status, text, headers = await site.get("/report?hours=2")
-        assert status == 503 and "Another contest report is being made" in text
+        assert status == 503 and "another contest report is being made" in text
         assert headers["Retry-After"] == "5"
         assert (await site.get("/index.html"))[0] == 200  # the loop serves meanwhile
     finally:

@@ -8,7 +8,7 @@ The floods: N1MM RadioInfo alternating ``ActiveRadioNr`` (issue 38: 542,010 "tra
 focus" lines in 45 s), a frequency for a radio the station does not have, datagrams that
 are not XML from the logger's address and from 40 other addresses (not in N1MMLogger),
 contacts dated 9999, N1MM rotor-window commands, and on the client port bad lines,
-unknown commands and refused requests."""
+unknown commands, refused requests and connections opened and dropped."""
 
 from __future__ import annotations
 
@@ -23,6 +23,7 @@ import pytest
 from fault_harness import FAULT_MARKS, Station
 from helpers import EXAMPLES, free_port, until
 
+from moas_gui.net.server import CHATTER_BURST
 from moas_gui.sources.log_bursts import CROWD_LINES
 from moas_gui.sources.n1mm_contact import contact_packet
 from moas_gui.sources.n1mm_packet import radio_info_packet
@@ -31,6 +32,8 @@ pytestmark = [*FAULT_MARKS[:3], pytest.mark.timeout(180)]
 
 PACKETS = 6_000
 """Datagrams of each UDP flood."""
+CONNECTIONS = 300
+"""Connections to the client port opened and dropped."""
 
 
 async def send_all(port: int, packets: list[bytes], source: str = "127.0.0.1") -> None:
@@ -96,6 +99,10 @@ async def test_every_outside_log_kind_is_one_line_and_a_count(tmp_path: Path) ->
                                for n in range(PACKETS // 4)])
         answers = await client_flood(station.tcp)
         assert answers == 900  # every line answered: the server read them all
+        for _ in range(CONNECTIONS):  # connections opened and dropped, one after another
+            _reader, writer = await asyncio.open_connection("127.0.0.1", station.tcp)
+            writer.close()
+            await writer.wait_closed()
         await until(lambda: "transmit focus on radio" in server.text(), 20)
         await asyncio.sleep(1.0)  # the last datagrams are read
     finally:
@@ -120,6 +127,10 @@ async def test_every_outside_log_kind_is_one_line_and_a_count(tmp_path: Path) ->
                     r"contact packet from 127\.0\.0\.1 ignored: contactinfo .* refused"):
         seen, found = count(lines, pattern)
         assert 1 <= seen <= 1 + minutes, (pattern, found[:5])
+    seen, found = count(lines, r"Client connected from ")
+    assert 1 <= seen <= CHATTER_BURST * (1 + minutes) + 1 < CONNECTIONS, found[-3:]
+    seen, found = count(lines, r"left before hello|never said hello")
+    assert seen <= 1 + minutes, found[:5]
     seen, found = count(lines, r"packet from 127\.0\.0\.\d+ ignored: that address is not in")
     assert 1 <= seen <= CROWD_LINES * (1 + minutes), found[:12]
     assert len(lines) < 400, "\n".join(lines[-50:])  # 25,000 datagrams and 900 lines later

@@ -23,7 +23,9 @@ Retention (``docs/antenna-log.md``): at open, and every hour while it is open, r
 older than :data:`KEEP_DAYS` days are removed (but the last antenna of each radio, which
 is still in force), and so are rows dated more than a day ahead of the clock; when the
 file is still over :data:`MAX_BYTES`, the oldest half of every table's rows goes too,
-until it fits, and the file is compacted.
+until it fits, and the file is compacted.  The size is also checked after every
+:data:`SIZE_EVERY` rows written, so that a flood is cut when it passes the bound rather
+than at the next hourly pass.
 
 Reading (:class:`~moas_gui.antenna_log.records.JournalReader`): antenna spans are built
 from consecutive changes of each radio's role (a span still open ends at the end of the
@@ -76,6 +78,8 @@ MAX_QUEUED: Final = 20_000
 counted.  Contacts are dropped from half of it."""
 BATCH: Final = 2_000
 """The most records one transaction writes."""
+SIZE_EVERY: Final = 10_000
+"""Rows written between two checks of the file's size (besides the hourly pass)."""
 SHED_LOG_INTERVAL: Final = 60.0
 """Seconds between two warnings about dropped or refused records."""
 ROLES: Final[tuple[Role, ...]] = ("tx", "rx", "alt", "sub")
@@ -178,6 +182,8 @@ class Journal:
         self._shed_said = {"dropped": (-SHED_LOG_INTERVAL, 0), "refused": (-SHED_LOG_INTERVAL, 0)}
         """Per kind: when the last warning was written and the count it gave."""
         self._last_error = 0.0
+        self._since_size = 0
+        """Rows written since the file's size was last compared with its bound."""
         self._read_lock = threading.Lock()
         self._hurry = threading.Event()
         """Set by a flush or close: the writer stops gathering and writes at once."""
@@ -286,7 +292,7 @@ class Journal:
         last_prune = -PRUNE_EVERY
         try:
             while True:
-                if self.clock() - last_prune >= PRUNE_EVERY:
+                if self.clock() - last_prune >= PRUNE_EVERY or self._over_size(db):
                     last_prune = self.clock()
                     self._guarded(db, lambda: self._prune(db))
                 items = [self._queue.get()]
@@ -311,6 +317,18 @@ class Journal:
 
     def _prune(self, db: sqlite3.Connection) -> None:
         prune(db, self.clock(), self.keep_days, self.max_bytes)
+        self._since_size = 0
+
+    def _over_size(self, db: sqlite3.Connection) -> bool:
+        """After every :data:`SIZE_EVERY` rows written: is the file over its bound? (A
+        flood must not wait for the hourly pass to be cut.)"""
+        if self._since_size < SIZE_EVERY:
+            return False
+        self._since_size = 0
+        try:
+            return _size(db) > self.max_bytes
+        except sqlite3.Error:
+            return False
 
     def _guarded(self, db: sqlite3.Connection, work: Callable[[], None]) -> None:
         try:
@@ -343,6 +361,7 @@ class Journal:
                                [(a.name, a.rotator, a.offset) for a in row[1]])
         db.execute("COMMIT")
         self._written += len(rows)
+        self._since_size += len(rows)
 
     # -- reading: JournalReader -------------------------------------------------------------
     @contextlib.contextmanager

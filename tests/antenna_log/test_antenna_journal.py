@@ -14,6 +14,7 @@ from moas_gui import places
 from moas_gui.antenna_log.journal import (
     BATCH,
     MAX_QUEUED,
+    SIZE_EVERY,
     AntennaInfo,
     Journal,
     journal_path,
@@ -385,3 +386,24 @@ def test_retention_removes_rows_dated_far_ahead_whatever_wrote_them(tmp_path: Pa
         assert [c.contact_id for c in again.contacts(Period(0, 4e11))] == ["a"]
     finally:
         again.close()
+
+
+def test_a_flood_is_cut_to_the_size_bound_while_the_journal_is_open(tmp_path: Path) -> None:
+    path = tmp_path / "open.sqlite"
+    j = Journal(path, clock=lambda: T0, max_bytes=1_000_000)
+    try:
+        for i in range(60_000):  # no reopening, no hourly pass: the writer checks itself
+            j.contact(qso(f"c{i:05d}", T0 - 100, call="X" * 12), 1, 1)
+            if i % 5_000 == 4_999:
+                assert j.flush(60)
+        assert j.stats().dropped == 0
+        db = sqlite3.connect(path)
+        pages, free, size = (db.execute(f"PRAGMA {p}").fetchone()[0]
+                             for p in ("page_count", "freelist_count", "page_size"))
+        (contacts,) = db.execute("SELECT COUNT(*) FROM contacts").fetchone()
+        db.close()
+        # cut at each check; what came after the last one is at most a check and a batch
+        assert (pages - free) * size <= 1_000_000 + (SIZE_EVERY + BATCH) * 100  # 60k: 3.2 MB
+        assert contacts < 60_000 // 2
+    finally:
+        j.close()

@@ -16,7 +16,11 @@ starts and closed with it, so a batch still waiting when it closes is dropped.
 
 A logger never stops the server: an operation the engine refuses is logged
 (Debug for frequencies and focus, which repeat, Info for an antenna a logger
-asked for) and changes nothing.
+asked for) and changes nothing.  Every line a logger's packets cause (a change of
+transmit focus, a refusal, what the logger says) is written at once and then once a
+minute at most per kind and radio, the last of a burst with its count
+(:class:`~moas_gui.sources.log_bursts.BurstLog`): a logger that flips its focus a
+thousand times a second writes one line a minute.
 """
 
 from __future__ import annotations
@@ -36,6 +40,7 @@ from moas_gui.sources.base import (
     SourceEvent,
     event_key,
 )
+from moas_gui.sources.log_bursts import BurstLog
 from moas_gui.sources.otrsp import AuxAntenna
 
 log = logging.getLogger(__name__)
@@ -70,11 +75,15 @@ class SourceIntake:
         self._reports: dict[tuple[object, ...], SourceEvent] = {}
         self._batch: list[ServerEvent] = []
         self._closed = False
+        self._info = BurstLog(log, logging.INFO)
+        self._debug = BurstLog(log, logging.DEBUG)
 
     def close(self) -> None:
         """The configuration stops: later events and a waiting batch are dropped."""
         self._closed = True
         self._batch = []
+        self._info.close()
+        self._debug.close()
 
     # -- the sink of every server source --------------------------------------------------
     def event(self, event: ServerEvent) -> None:
@@ -103,8 +112,9 @@ class SourceIntake:
                     refocused |= self.set_focus(event.station, event.radio, kind,
                                               origin=event.origin, publish=False)
                 except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
-                    log.debug("Logger %s for station %d radio %d ignored: %s", kind,
-                              event.station, event.radio, exc)
+                    self._debug.line(("focus refused", kind, event.station, event.radio),
+                                     "Logger %s for station %d radio %d ignored: %s", kind,
+                                     event.station, event.radio, exc)
                 self._remember(event)
         published: set[RadioKey] = set()
         reports = [e for e in events if isinstance(e, FrequencyReport)]
@@ -125,16 +135,18 @@ class SourceIntake:
         try:
             return self._act(SetFrequency(station, radio, khz, tx_khz))
         except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
-            log.debug("Logger frequency for station %d radio %d ignored: %s",
-                      station, radio, exc)
+            self._debug.line(("frequency refused", station, radio),
+                             "Logger frequency for station %d radio %d ignored: %s",
+                             station, radio, exc)
             return set()
 
     def _aux_antenna(self, event: AuxAntenna) -> set[RadioKey]:
         try:
             return self._act(Select(event.station, event.radio, event.antenna, "both", True))
         except Exception as exc:  # noqa: BLE001 - a logger must never stop the server
-            log.info("%s asked for antenna %d on station %d radio %d: %s",
-                     event.origin, event.antenna, event.station, event.radio, exc)
+            self._info.line(("antenna refused", event.station, event.radio),
+                            "%s asked for antenna %d on station %d radio %d: %s",
+                            event.origin, event.antenna, event.station, event.radio, exc)
             return set()
 
     # -- transmit and receive focus ----------------------------------------------------------
@@ -149,7 +161,8 @@ class SourceIntake:
         if before == radio:
             return set()
         if kind == "active":
-            log.info("Station %d: transmit focus on radio %d (%s)", station, radio, origin)
+            self._info.line(("transmit focus", station),
+                            "Station %d: transmit focus on radio %d (%s)", station, radio, origin)
         changed = {(station, number) for number in (before, radio) if number is not None}
         if publish:
             for _, number in sorted(changed):
@@ -179,8 +192,9 @@ class SourceIntake:
         """Transmit focus, receive focus and run-or-search state of a station, from its
         logger."""
         if not self._closed:
-            self._reports[event_key(event)] = event
-            log.debug("Logger says: %s", event)
+            key = event_key(event)
+            self._reports[key] = event
+            self._debug.line(("says", *key), "Logger says: %s", event)
 
     def latest_reports(self) -> dict[tuple[object, ...], SourceEvent]:
         """The latest focus and run-or-search reports: ``("ActiveRadio", station)``,

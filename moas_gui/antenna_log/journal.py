@@ -8,6 +8,12 @@ transaction each) and writes them.  The event loop, and the path from a band cha
 the switch, never touch the file.  A write that fails is logged (once a minute at most)
 and the server carries on.
 
+The queue is bounded: when :data:`MAX_QUEUED` records wait (or half as many, for
+contacts, so that a flood of contacts never crowds out the antennas), a new one is
+dropped and counted (:meth:`Journal.stats`), with one warning a minute saying how many.
+A contact dated before 2000 or more than a day ahead of the clock is refused and
+counted the same way (:func:`~moas_gui.antenna_log.records.contact_date_problem`).
+
 Where: ``places.data_dir() / "antenna-log" / "<config stem>-<hash>.sqlite"``, the hash
 of the configuration file's resolved path (:func:`journal_path`), so that editing the
 file does not start a new journal and two files of the same name do not share one.
@@ -15,8 +21,11 @@ WAL mode: the ADIF export and the contest report read while the server writes.
 
 Retention (``docs/antenna-log.md``): at open, and every hour while it is open, rows
 older than :data:`KEEP_DAYS` days are removed (but the last antenna of each radio, which
-is still in force); when the file is still over :data:`MAX_BYTES`, the oldest half of
-what is left goes too, until it fits, and the file is compacted.
+is still in force), and so are rows dated more than a day ahead of the clock; when the
+file is still over :data:`MAX_BYTES`, the oldest half of every table's rows goes too,
+until it fits, and the file is compacted.  The size is also checked after every
+:data:`SIZE_EVERY` rows written, so that a flood is cut when it passes the bound rather
+than at the next hourly pass.
 
 Reading (:class:`~moas_gui.antenna_log.records.JournalReader`): antenna spans are built
 from consecutive changes of each radio's role (a span still open ends at the end of the
@@ -42,6 +51,7 @@ from typing import Any, Final, TypeAlias
 
 from moas_gui import places
 from moas_gui.antenna_log.records import (
+    AHEAD_CONTACT,
     AntennaSpan,
     Contact,
     ContactPacket,
@@ -49,6 +59,7 @@ from moas_gui.antenna_log.records import (
     KeySpan,
     Period,
     Role,
+    contact_date_problem,
 )
 
 log = logging.getLogger(__name__)
@@ -62,6 +73,15 @@ CLOCK_TOLERANCE: Final = 120.0
 """Seconds a logging computer's clock may differ from the server's: see :func:`join_rule`."""
 PRUNE_EVERY: Final = 3600.0
 """Seconds between two retention passes while the journal is open."""
+MAX_QUEUED: Final = 20_000
+"""Records that may wait for the writer (a few MB); past it new ones are dropped and
+counted.  Contacts are dropped from half of it."""
+BATCH: Final = 2_000
+"""The most records one transaction writes."""
+SIZE_EVERY: Final = 10_000
+"""Rows written between two checks of the file's size (besides the hourly pass)."""
+SHED_LOG_INTERVAL: Final = 60.0
+"""Seconds between two warnings about dropped or refused records."""
 ROLES: Final[tuple[Role, ...]] = ("tx", "rx", "alt", "sub")
 
 _SCHEMA: Final = """
@@ -99,6 +119,8 @@ GATHER_S: Final = 0.5
 A flush (:meth:`Journal.flush`) or closing cuts the wait."""
 _Row: TypeAlias = tuple[Any, ...]
 """A row as SQLite gives it, or a queued write."""
+_ROWS: Final = frozenset("akhc")
+"""The queued writes the queue's bound applies to: antennas, keying, headings, contacts."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -116,6 +138,10 @@ class JournalStats:
     queued: int
     written: int
     failed: int
+    dropped: int = 0
+    """Records dropped because :data:`MAX_QUEUED` were waiting."""
+    refused: int = 0
+    """Contacts refused for their date (before 2000, or more than a day ahead)."""
 
 
 def journal_path(config_path: Path | str) -> Path:
@@ -151,7 +177,13 @@ class Journal:
         self.read_only = read_only
         self._queue: queue.SimpleQueue[object] = queue.SimpleQueue()
         self._queued = self._written = self._failed = 0
+        self._shed = {"dropped": 0, "refused": 0}
+        """Records dropped for a full queue, contacts refused for their date."""
+        self._shed_said = {"dropped": (-SHED_LOG_INTERVAL, 0), "refused": (-SHED_LOG_INTERVAL, 0)}
+        """Per kind: when the last warning was written and the count it gave."""
         self._last_error = 0.0
+        self._since_size = 0
+        """Rows written since the file's size was last compared with its bound."""
         self._read_lock = threading.Lock()
         self._hurry = threading.Event()
         """Set by a flush or close: the writer stops gathering and writes at once."""
@@ -175,6 +207,11 @@ class Journal:
     def _put(self, item: _Row) -> None:
         if self._thread is None:
             raise RuntimeError(f"{self.path} is open to read only")
+        if isinstance(item, tuple) and item[0] in _ROWS:
+            waiting = self._queue.qsize()
+            if waiting >= (MAX_QUEUED // 2 if item[0] == "c" else MAX_QUEUED):
+                self._shed_one("dropped", f"{waiting:,} records wait to be written")
+                return
         self._queued += 1
         self._queue.put(item)
         if item is _STOP or (isinstance(item, tuple) and item[0] == "sync"):
@@ -198,8 +235,30 @@ class Journal:
                 at: float | None = None) -> None:
         """A contact packet of a logger, mapped to this server's ``station``/``radio``
         (None: none).  A ``contactinfo`` whose ID is known is a duplicate and dropped;
-        a ``contactreplace`` replaces; a ``contactdelete`` marks the contact deleted."""
-        self._put(("c", self.clock() if at is None else at, packet, station, radio))
+        a ``contactreplace`` replaces; a ``contactdelete`` marks the contact deleted.
+        One dated before 2000 or more than a day ahead of the clock is refused (counted)."""
+        received = self.clock() if at is None else at
+        if packet.kind != "contactdelete" and packet.time is not None:
+            problem = contact_date_problem(packet.time, received)
+            if problem is not None:
+                self._shed_one("refused", f"the last, {packet.contact_id}: {problem}")
+                return
+        self._put(("c", received, packet, station, radio))
+
+    def _shed_one(self, kind: str, detail: str) -> None:
+        """Counts a dropped or refused record; a warning a minute says how many."""
+        self._shed[kind] += 1
+        now = time.monotonic()
+        said_at, said_count = self._shed_said[kind]
+        if now - said_at < SHED_LOG_INTERVAL:
+            return
+        total = self._shed[kind]
+        self._shed_said[kind] = (now, total)
+        what = ("dropped (the writer is behind)" if kind == "dropped"
+                else "refused for their date (before 2000 or more than a day ahead)")
+        log.warning("The antenna log %s: %d record%s %s since the last such line, %d in all; "
+                    "%s", self.path.name, total - said_count, "" if total - said_count == 1
+                    else "s", what, total, detail)
 
     def describe(self, antennas: Iterable[AntennaInfo]) -> None:
         """The configuration's antennas (their rotators, for the join's heading)."""
@@ -225,20 +284,22 @@ class Journal:
             self._reader.close()
 
     def stats(self) -> JournalStats:
-        return JournalStats(self._queued, self._written, self._failed)
+        return JournalStats(self._queued, self._written, self._failed,
+                            self._shed["dropped"], self._shed["refused"])
 
     # -- the writer thread ------------------------------------------------------------------
     def _write_loop(self, db: sqlite3.Connection) -> None:
         last_prune = -PRUNE_EVERY
         try:
             while True:
-                if self.clock() - last_prune >= PRUNE_EVERY:
+                if self.clock() - last_prune >= PRUNE_EVERY or self._over_size(db):
                     last_prune = self.clock()
                     self._guarded(db, lambda: self._prune(db))
                 items = [self._queue.get()]
-                self._hurry.wait(GATHER_S)  # let a band change's rows gather (unless hurried)
+                if self._queue.qsize() < BATCH:  # a backlog is written at once
+                    self._hurry.wait(GATHER_S)  # let a band change's rows gather (unless hurried)
                 with contextlib.suppress(queue.Empty):
-                    while len(items) < 1000:
+                    while len(items) < BATCH:
                         items.append(self._queue.get_nowait())
                 stop = any(item is _STOP for item in items)
                 if self._queue.empty() and self._thread is not None:  # hurried and done
@@ -256,6 +317,18 @@ class Journal:
 
     def _prune(self, db: sqlite3.Connection) -> None:
         prune(db, self.clock(), self.keep_days, self.max_bytes)
+        self._since_size = 0
+
+    def _over_size(self, db: sqlite3.Connection) -> bool:
+        """After every :data:`SIZE_EVERY` rows written: is the file over its bound? (A
+        flood must not wait for the hourly pass to be cut.)"""
+        if self._since_size < SIZE_EVERY:
+            return False
+        self._since_size = 0
+        try:
+            return _size(db) > self.max_bytes
+        except sqlite3.Error:
+            return False
 
     def _guarded(self, db: sqlite3.Connection, work: Callable[[], None]) -> None:
         try:
@@ -288,6 +361,7 @@ class Journal:
                                [(a.name, a.rotator, a.offset) for a in row[1]])
         db.execute("COMMIT")
         self._written += len(rows)
+        self._since_size += len(rows)
 
     # -- reading: JournalReader -------------------------------------------------------------
     @contextlib.contextmanager
@@ -375,18 +449,26 @@ _REPLACED: Final = ("time", "call", "band", "mode", "station", "radio", "operato
 
 # -- retention ------------------------------------------------------------------------------------
 
+_TABLES: Final = ("antenna_changes", "key_events", "headings", "contacts")
+_IN_FORCE: Final = ("SELECT r FROM (SELECT rowid AS r, ROW_NUMBER() OVER (PARTITION BY "
+                    "station, radio, role ORDER BY time DESC, rowid DESC) AS n FROM "
+                    "antenna_changes) WHERE n = 1")
+"""The antenna each radio's role had last: it is still in force, and kept."""
+
+
 def prune(db: sqlite3.Connection, now: float, keep_days: float, max_bytes: int) -> int:
-    """Remove rows older than ``keep_days`` (but each radio's antennas still in force),
-    then halve what is left, oldest first, while the file is over ``max_bytes``.
+    """Remove rows older than ``keep_days`` (but each radio's antennas still in force) and
+    rows dated more than a day after ``now``, then, while the file is over ``max_bytes``,
+    the oldest half of every table's rows (by their time; the antennas in force stay).
     Returns how many rows went."""
-    gone = _remove_before(db, now - keep_days * 86400.0)
+    gone = _remove_outside(db, now - keep_days * 86400.0, now + AHEAD_CONTACT)
     size = _size(db)
     rounds = 0
-    while size > max_bytes and rounds < 16:
-        low, high = db.execute("SELECT MIN(time), MAX(time) FROM antenna_changes").fetchone()
-        if low is None or high is None or low >= high:
+    while size > max_bytes and rounds < 32:
+        went = _remove_oldest_half(db)
+        if not went:
             break
-        gone += _remove_before(db, (low + high) / 2.0)
+        gone += went
         db.execute("VACUUM")
         size, rounds = _size(db), rounds + 1
     return gone
@@ -398,16 +480,30 @@ def _size(db: sqlite3.Connection) -> int:
     return int((pages - free) * db.execute("PRAGMA page_size").fetchone()[0])
 
 
-def _remove_before(db: sqlite3.Connection, cutoff: float) -> int:
+def _remove_outside(db: sqlite3.Connection, cutoff: float, ahead: float) -> int:
+    """Rows before ``cutoff`` (but the antennas in force) and rows after ``ahead``."""
+    db.execute("BEGIN")
+    gone = db.execute(f"DELETE FROM antenna_changes WHERE time < ? AND rowid NOT IN "
+                      f"({_IN_FORCE})", (cutoff,)).rowcount
+    for table in _TABLES[1:]:
+        gone += db.execute(f"DELETE FROM {table} WHERE time < ?", (cutoff,)).rowcount
+    for table in _TABLES:
+        gone += db.execute(f"DELETE FROM {table} WHERE time > ?", (ahead,)).rowcount
+    db.execute("COMMIT")
+    return gone
+
+
+def _remove_oldest_half(db: sqlite3.Connection) -> int:
+    """The oldest half of each table's rows (ties by age of writing); the antennas in force
+    stay."""
     db.execute("BEGIN")
     gone = 0
-    gone += db.execute(
-        "DELETE FROM antenna_changes WHERE time < ? AND rowid NOT IN (SELECT r FROM "
-        "(SELECT rowid AS r, ROW_NUMBER() OVER (PARTITION BY station, radio, role "
-        "ORDER BY time DESC, rowid DESC) AS n FROM antenna_changes) WHERE n = 1)",
-        (cutoff,)).rowcount
-    for table in ("key_events", "headings", "contacts"):
-        gone += db.execute(f"DELETE FROM {table} WHERE time < ?", (cutoff,)).rowcount
+    for table in _TABLES:
+        keep = f" WHERE rowid NOT IN ({_IN_FORCE})" if table == "antenna_changes" else ""
+        (count,) = db.execute(f"SELECT COUNT(*) FROM {table}{keep}").fetchone()
+        gone += db.execute(
+            f"DELETE FROM {table} WHERE rowid IN (SELECT rowid FROM {table}{keep} "
+            "ORDER BY time, rowid LIMIT ?)", ((count + 1) // 2,)).rowcount
     db.execute("COMMIT")
     return gone
 
@@ -596,6 +692,7 @@ __all__ = [
     "CLOCK_TOLERANCE",
     "KEEP_DAYS",
     "MAX_BYTES",
+    "MAX_QUEUED",
     "ROLES",
     "AntennaInfo",
     "Journal",

@@ -8,14 +8,32 @@ period asked for.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
-from typing import Literal, Protocol
+from typing import Final, Literal, Protocol
 
 ContactKind = Literal["contactinfo", "contactreplace", "contactdelete"]
 """The three contact messages of N1MM Logger+ (and not1mm)."""
 
 Role = Literal["tx", "rx", "alt", "sub"]
 """Which of a radio's antennas a span is: transmit, receive, alternate, sub receiver."""
+
+
+EARLIEST_CONTACT: Final = 946_684_800.0
+"""2000-01-01 00:00 UTC: a contact dated before it is refused."""
+AHEAD_CONTACT: Final = 86_400.0
+"""A contact dated more than this many seconds after the server's clock is refused."""
+
+
+def contact_date_problem(when: float, now: float | None = None) -> str | None:
+    """Why a contact dated ``when`` is refused (before 2000, or more than a day after
+    ``now``, the server's clock), or None when its date can be kept."""
+    now = time.time() if now is None else now
+    if not when >= EARLIEST_CONTACT:  # NaN too
+        return "it is dated before 2000"
+    if when > now + AHEAD_CONTACT:
+        return "it is dated more than a day ahead of this computer's clock"
+    return None
 
 
 @dataclass(frozen=True, slots=True)

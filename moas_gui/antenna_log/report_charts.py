@@ -121,8 +121,13 @@ def _nothing(ax: Axes, text: str) -> None:
 
 def _when(seconds: float) -> float:
     """matplotlib's date number for POSIX seconds (the axes' unit for times)."""
-    # matplotlib.dates has no type annotations
-    return float(mdates.date2num(datetime.fromtimestamp(seconds, UTC)))  # type: ignore[no-untyped-call]
+    return _EPOCH + seconds / 86400.0
+
+
+# matplotlib.dates has no type annotations; its date number counts days from its epoch
+_EPOCH = float(mdates.date2num(datetime.fromtimestamp(0.0, UTC)))  # type: ignore[no-untyped-call]
+DOTS_UP_TO = 400
+"""The most hours the rate chart marks with a dot each (a longer period: lines only)."""
 
 
 def _time_axis(ax: Axes) -> None:
@@ -171,14 +176,16 @@ def _draw_rate(ax: Axes, report: ContestReport, compact: bool = False) -> None:
     for number, name in enumerate(order):
         counts = report.rate[name]
         # equal rates stay told apart: a line style and a marker each, and each line
-        # nudged a little from the others (in points: the numbers read the same)
+        # nudged a little from the others (in points: the numbers read the same); the
+        # marks only for a contest's length (a year's hours would cost their drawing)
         nudge = (number - middle) * _NUDGE_POINTS
         shifted = ax.transData + ScaledTranslation(nudge / 72, nudge / 72,
                                                    ax.figure.dpi_scale_trans)
         ax.step(times, [*counts, counts[-1]], where="post", color=colours[name], label=name,
                 linestyle=_STYLES[number % len(_STYLES)], linewidth=1.8, transform=shifted)
-        ax.plot(middles, counts, linestyle="", marker=_MARKERS[number % len(_MARKERS)],
-                color=colours[name], markersize=5, transform=shifted)
+        if len(middles) <= DOTS_UP_TO:
+            ax.plot(middles, counts, linestyle="", marker=_MARKERS[number % len(_MARKERS)],
+                    color=colours[name], markersize=5, transform=shifted)
     ax.set_ylabel("QSOs per hour")
     # nudged lines are not counted in the data limits: the axes get them here
     most = max(max(counts) for counts in report.rate.values())

@@ -28,6 +28,7 @@ from moas_gui.errors import MoasError
 
 from .backend import ErrorCode, JSONObject, RequestError
 from .framing import Line, request_framer
+from .log_limit import LogLimiter, held_text
 from .messages import encode
 
 log = logging.getLogger(__name__)
@@ -45,6 +46,8 @@ class ProtocolClient:
         self._pending: dict[Any, asyncio.Future[JSONObject]] = {}
         self._ids = itertools.count(1)
         self.closed = asyncio.Event()
+        self._trouble = LogLimiter()
+        """Lines about what the server sent wrong: one a minute per kind, with a count."""
         self._task = asyncio.create_task(self._read(), name="client protocol reader")
 
     @classmethod
@@ -122,10 +125,16 @@ class ProtocolClient:
         try:
             message = json.loads(line)
         except (ValueError, RecursionError) as e:
-            log.warning("The server sent a line that is not JSON (%s); skipped", e)
+            held = self._trouble.allow("not JSON")  # the server decides how many
+            if held is not None:
+                log.warning("The server sent a line that is not JSON (%s); skipped%s", e,
+                            held_text(held))
             return
         if not isinstance(message, dict):
-            log.warning("The server sent JSON that is not an object; skipped")
+            held = self._trouble.allow("not an object")
+            if held is not None:
+                log.warning("The server sent JSON that is not an object; skipped%s",
+                            held_text(held))
             return
         self._dispatch(message)
 

@@ -5,6 +5,11 @@
 backend (:class:`~.backend.RequestError`) becomes an error reply with its code
 and sentence; any other failure becomes an ``internal`` error reply and an
 Error log line with the traceback, and the connection carries on.
+
+A client decides how many bad or refused lines it sends: each kind of refusal is a
+Debug line once a minute at most, all connections together, the next saying how many
+were left out (:data:`TROUBLE`); a failure of the server's, an Error line once a
+minute per command.
 """
 
 from __future__ import annotations
@@ -17,6 +22,7 @@ from .backend import ClientBackend, ErrorCode, RequestError
 from .connection import Connection, LayoutKey, clean_name
 from .framing import MAX_LINE, Line, LongLine
 from .identity import Party, as_operator, serving
+from .log_limit import LogLimiter, held_text
 from .messages import event, hello_result
 from .requests import BadLine, InvalidRequest, Request, parse_line
 
@@ -24,6 +30,14 @@ log = logging.getLogger(__name__)
 
 MAX_BAD_LINES = 3
 """Bad lines in a row after which a connection is closed."""
+TROUBLE = LogLimiter()
+"""The lines about refused requests: one a minute per kind, every connection together."""
+
+
+def _trouble(kind: object, level: int, message: str, *args: object) -> None:
+    held = TROUBLE.allow(kind)
+    if held is not None:
+        log.log(level, message + "%s", *args, held_text(held))
 
 
 Waiting = Coroutine[Any, Any, None]
@@ -45,18 +59,20 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> W
         return None
     if isinstance(parsed, BadLine):
         conn.bad_lines += 1
-        log.debug("Bad line from %s: %s", conn, parsed.message)
+        _trouble("bad line", logging.DEBUG, "Bad line from %s: %s", conn, parsed.message)
         conn.reply_error(None, ErrorCode.BAD_REQUEST, parsed.message)
         if conn.bad_lines >= MAX_BAD_LINES:
             conn.close(f"{MAX_BAD_LINES} bad lines in a row")
         return None
     conn.bad_lines = 0
     if isinstance(parsed, InvalidRequest):
-        log.debug("Refused a request from %s: %s", conn, parsed.message)
+        _trouble("invalid", logging.DEBUG, "Refused a request from %s: %s", conn,
+                 parsed.message)
         conn.reply_error(parsed.id, parsed.code, parsed.message)
         return None
     if conn.identity.kind is Party.NOBODY and parsed.cmd != "hello":
-        log.debug("Refused %s from %s: no token yet", parsed.cmd, conn)
+        _trouble("no token", logging.DEBUG, "Refused %s from %s: no token yet", parsed.cmd,
+                 conn)
         conn.reply_error(parsed.id, ErrorCode.FORBIDDEN, "this address needs an operator's "
                          'token: say hello with "token" first')
         return None
@@ -66,10 +82,12 @@ def answer(backend: ClientBackend, conn: Connection, item: Line | LongLine) -> W
         with serving(conn.identity):
             HANDLERS[parsed.cmd](backend, conn, parsed)
     except RequestError as e:
-        log.debug("Refused %s from %s: %s", parsed.cmd, conn, e.message)
+        _trouble(("refused", parsed.cmd), logging.DEBUG, "Refused %s from %s: %s",
+                 parsed.cmd, conn, e.message)
         conn.reply_error(parsed.id, e.code, e.message)
     except Exception as e:
-        log.exception("The server failed on %s from %s", parsed.cmd, conn)
+        if TROUBLE.allow(("failed", parsed.cmd)) is not None:
+            log.exception("The server failed on %s from %s", parsed.cmd, conn)
         conn.reply_error(
             parsed.id, ErrorCode.INTERNAL,
             f"the server failed on {parsed.cmd}: {type(e).__name__}: {e}",

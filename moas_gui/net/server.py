@@ -443,8 +443,9 @@ class ClientServer:
 
     def _promote(self, conn: Connection, ticket: Ticket) -> None:
         if not ticket.operator():
-            log.warning("%s: the operators' own connections are all in use; %s stays with "
-                        "the others", conn.address, conn.identity.name)
+            self.trouble_line("operators' pool full", logging.WARNING,
+                              "%s: the operators' own connections are all in use; %s stays "
+                              "with the others", conn.address, conn.identity.name)
 
     def _gate(self, transport: asyncio.Transport) -> Ticket | None:
         """Decides on a new connection before anything is made for it: its admission
@@ -517,6 +518,13 @@ class ClientServer:
         return (f"the server already serves {self.client_limit} clients, its limit; "
                 "try again when one has left")
 
+    def connected_line(self, message: str, *args: object) -> None:
+        """A Debug line about a connection opening, within the clients' share of the log
+        (a crowd connecting as fast as it can writes no more than the share)."""
+        held = self.chatter.allow("connected")
+        if held is not None:
+            log.debug(message + "%s", *args, held_text(held, "more connections opened"))
+
     def trouble_line(self, kind: object, level: int, message: str, *args: object) -> None:
         """Logs ``message`` unless a line of ``kind`` went out in the last minute; the
         next one that does says how many were left out."""
@@ -537,7 +545,7 @@ class ClientServer:
         self.identify(conn, host_of(address))
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
-        log.debug("Client connected from %s", address)
+        self.connected_line("Client connected from %s", address)
         lost: str | None = None
         loop = asyncio.get_running_loop()
         hello_by = loop.time() + self.hello_deadline

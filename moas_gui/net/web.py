@@ -17,7 +17,10 @@ It serves four kinds of request, and nothing else:
 * ``/report``, the contest report of the antenna journal as one read-only HTML page
   (``?hours=N``: the last N hours; ``?from=T&to=T``: ISO 8601 UTC).  Whoever may
   connect without a token sees it; anyone else shows an operator's token (any role:
-  ``view`` suffices) as ``Authorization: Bearer TOKEN``, or gets ``401``;
+  ``view`` suffices) as ``Authorization: Bearer TOKEN``, or gets ``401``.  The period
+  is clamped to the journal's own time; one of more than a year is ``400`` naming the
+  bounds; the report is made in a thread of its own, one at a time (a request while
+  one is being made: ``503`` with ``Retry-After``);
 * nothing else (``404``; methods other than GET and HEAD: ``405``).
 
 Every connection is counted against the client server's limits, in all and per
@@ -32,7 +35,9 @@ with a Close 1002, as RFC 6455 requires (:mod:`.web_frames`).  ``docs/web-client
 from __future__ import annotations
 
 import asyncio
+import html
 import logging
+import math
 import sqlite3
 import time
 from collections.abc import Awaitable, Callable, Mapping
@@ -56,7 +61,6 @@ from .web_socket import MAX_MESSAGE, converse
 
 if TYPE_CHECKING:
     from moas_gui.antenna_log.records import JournalReader, Period
-    from moas_gui.antenna_log.report import ContestReport
 
 log = logging.getLogger(__name__)
 
@@ -125,7 +129,6 @@ class WebServer:
         self.clients = clients
         self.journal = journal
         """Where ``/report`` reads the antenna journal (None: the journal is off)."""
-        self._drawing = asyncio.Lock()  # one report drawn at a time: the charts take a while
         self.host = host
         self.port = port
         self.request_deadline = request_deadline
@@ -134,6 +137,7 @@ class WebServer:
         self._runner: web.AppRunner | None = None
         self._listener: Listener | None = None
         self._quiet = QuietAiohttp(clients.trouble)
+        self._closing = False
 
     async def start(self) -> int:
         """Starts listening; returns the port.  Raises
@@ -175,6 +179,7 @@ class WebServer:
 
     async def close(self) -> None:
         """Stops listening and closes every page's WebSocket."""
+        self._closing = True  # a report being made stops before it is drawn
         if self._listener is not None:
             listener, self._listener = self._listener, None
             await listener.close()
@@ -295,24 +300,30 @@ class WebServer:
 
     async def _report_page(self, reader: JournalReader | None,
                            query: Mapping[str, str]) -> str:
-        from moas_gui.antenna_log.report import contest_report
+        from moas_gui.antenna_log.report import REPORTS, NothingRecorded, ReportBusy
 
         if reader is None:
             return _notice_page("The antenna journal is turned off: there is no report.")
         try:
-            period = _report_period(reader, query)
+            asked = _asked_period(query, time.time())
+            # the journal is read and the charts drawn in the report's own thread, one
+            # report at a time: the event loop only waits for the page
+            return await REPORTS.run(lambda: _report_job(reader, asked,
+                                                         lambda: self._closing))
+        except ReportBusy as exc:
+            raise web.HTTPServiceUnavailable(
+                text=f"The contest report cannot be made now: {exc}; try again in a few "
+                     "seconds.\n", headers={"Retry-After": "5"}) from None
+        except NothingRecorded as exc:
+            return _notice_page(html.escape(str(exc)))
         except ValueError as exc:
             raise web.HTTPBadRequest(text=f"{exc}\n") from None
-        if period is None:
-            return _notice_page("The antenna journal is empty: nothing has been recorded yet.")
-        try:
-            report = contest_report(reader, period)  # on the loop's thread: the journal's own
         except (sqlite3.Error, OSError) as exc:
-            log.error("The contest report could not read the antenna journal: %s", exc)
+            self.clients.trouble_line("report journal", logging.ERROR,
+                                      "The contest report could not read the antenna "
+                                      "journal: %s", exc)
             raise web.HTTPServiceUnavailable(
                 text=f"Could not read the antenna journal: {exc}\n") from None
-        async with self._drawing:
-            return await asyncio.to_thread(_report_html, report)
 
     def _unmasked(self, address: str) -> None:
         self.clients.trouble_line("websocket unmasked", logging.WARNING,
@@ -320,12 +331,13 @@ class WebServer:
                                   "(RFC 6455 forbids it)", address)
 
 
-def _report_period(reader: JournalReader, query: Mapping[str, str]) -> Period | None:
-    """The period ``/report`` was asked for (the whole journal by default); None for an
-    empty journal.  Raises ``ValueError`` saying what is wrong with the query."""
+def _asked_period(query: Mapping[str, str], now: float) -> Period | None:
+    """The period ``/report`` asks for: None for the whole journal; an end left out is
+    infinite (the journal's first or last time, :func:`~moas_gui.antenna_log.report.bounded_period`).
+    Raises ``ValueError`` saying what is wrong with the query."""
     from moas_gui.antenna_log.adif import parse_utc
     from moas_gui.antenna_log.records import Period
-    from moas_gui.antenna_log.report import last_hours, whole_journal
+    from moas_gui.antenna_log.report import last_hours
 
     if "hours" in query:
         try:
@@ -335,28 +347,33 @@ def _report_period(reader: JournalReader, query: Mapping[str, str]) -> Period | 
         if not 0 < hours <= MAX_REPORT_HOURS:
             raise ValueError(f"hours={query['hours'][:40]}: give a number of hours from 1 to "
                              f"{MAX_REPORT_HOURS}")
-        return last_hours(time.time(), hours)
+        return last_hours(now, hours)
     if "from" in query or "to" in query:
         try:
-            start = parse_utc(query["from"]) if "from" in query else None
-            end = parse_utc(query["to"]) if "to" in query else None
+            start = parse_utc(query["from"]) if "from" in query else -math.inf
+            end = parse_utc(query["to"]) if "to" in query else math.inf
         except ValueError as exc:
             raise ValueError(f"from/to: {exc}") from None
-        if start is None or end is None:  # the journal's first or last time for the other
-            whole = whole_journal(reader)
-            if whole is None:
-                return None
-            start = whole.start if start is None else start
-            end = whole.end if end is None else end
         if start >= end:
             raise ValueError("from/to: from is not before to")
         return Period(start, end)
-    return whole_journal(reader)
+    return None
 
 
-def _report_html(report: ContestReport) -> str:
+def _report_job(reader: JournalReader, asked: Period | None,
+                closing: Callable[[], bool]) -> str:
+    """The report page for ``asked`` (in the report's thread): the period bounded to the
+    journal, read, drawn; not drawn once ``closing()`` (the server stops).  Raises what
+    :func:`~moas_gui.antenna_log.report.bounded_period` raises."""
+    from moas_gui.antenna_log.report import ReportBusy, bounded_period, contest_report
     from moas_gui.antenna_log.report_charts import report_html
 
+    period = bounded_period(reader, asked, time.time())
+    if period is None:
+        return _notice_page("The antenna journal is empty: nothing has been recorded yet.")
+    report = contest_report(reader, period)
+    if closing():
+        raise ReportBusy("the server is stopping")
     return report_html(report)
 
 

@@ -141,7 +141,7 @@ async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: st
                                  "its limit; try again when one has left"))
         await outlet.finished()
         return
-    log.debug("Browser client connected from %s", address)
+    clients.connected_line("Browser client connected from %s", address)
     lost: str | None = None
     loop = asyncio.get_running_loop()
     hello_by = loop.time() + clients.hello_deadline

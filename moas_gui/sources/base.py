@@ -36,6 +36,7 @@ from typing import Final, Protocol, TypeAlias, runtime_checkable
 
 from moas_gui.config.rigs import DEFAULT_RETRY as CONFIG_RETRY
 from moas_gui.net.log_limit import LogLimiter, held_text
+from moas_gui.sources.log_bursts import CrowdLimiter
 
 MAX_KHZ: Final = 300_000_000.0
 """300 GHz: above every amateur band.  A frequency at or above it is refused as absurd."""
@@ -131,7 +132,9 @@ class Source(Protocol):
 # -- rule: bad input ------------------------------------------------------------------
 
 class BadInputLog:
-    """Counts dropped input by reason and writes one debug line per reason and place a minute.
+    """Counts dropped input by reason and writes one debug line per reason and place a
+    minute, and at most :data:`~.log_bursts.CROWD_LINES` a minute per reason from all
+    places together (a datagram's sender costs nothing to forge).
 
     ``drop("not_xml", "192.168.1.5", "not XML: ...")`` counts it and maybe logs
     ``"<kind> input from 192.168.1.5 dropped: not XML: ... (12 more like it ...)"``.
@@ -147,12 +150,12 @@ class BadInputLog:
     ) -> None:
         self._log = logger
         self._kind = kind
-        self._limiter = LogLimiter(interval, clock)
+        self._limiter = CrowdLimiter(interval, clock)
         self.counts: dict[str, int] = {}
 
     def drop(self, reason: str, where: str, message: str) -> None:
         self.counts[reason] = self.counts.get(reason, 0) + 1
-        held = self._limiter.allow((reason, where))
+        held = self._limiter.allow(reason, where)
         if held is not None:
             self._log.debug("%s input from %s dropped: %s%s", self._kind, where, message,
                             held_text(held))
@@ -240,6 +243,7 @@ class SourceHub:
         self._sink = sink
         self._log = logger or logging.getLogger("moas_gui.sources")
         self._limiter = LogLimiter(LOG_INTERVAL, clock)
+        self._pairs = CrowdLimiter(LOG_INTERVAL, clock)
         self._origin: dict[tuple[object, ...], str] = {}
         self._told: set[tuple[tuple[object, ...], frozenset[str]]] = set()
         self.delivered = 0
@@ -254,11 +258,16 @@ class SourceHub:
             pair = (key[1:], frozenset((before, event.origin)))
             if pair not in self._told and len(self._told) < 1024:
                 self._told.add(pair)
-                self._log.info(
-                    "Station %d %sis reported by two sources, %s and %s: the newest wins",
-                    event.station,
-                    f"radio {event.radio} " if isinstance(event, (FrequencyReport, RunOrSearch))
-                    else "", before, event.origin)
+                # an origin carries a datagram's StationName: a crowd of them is one kind
+                held = self._pairs.allow("two sources", pair)
+                if held is not None:
+                    self._log.info(
+                        "Station %d %sis reported by two sources, %s and %s: the newest "
+                        "wins%s", event.station,
+                        f"radio {event.radio} " if isinstance(event, (FrequencyReport,
+                                                                      RunOrSearch))
+                        else "", before, event.origin,
+                        held_text(held, "more pairs of sources"))
         self._origin[key] = event.origin
         try:
             self._sink(event)

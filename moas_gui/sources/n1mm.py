@@ -29,7 +29,8 @@ docs/sources.md).  The listener
   sender's RadioInfo last mapped to (not1mm names its host in a contact but its
   configured station name in RadioInfo): the antenna log joins them to its journal;
 - ignores packets from senders it cannot map (a debug line, at most one per
-  sender a minute) and counts every packet it refuses, by reason
+  sender a minute and ten a minute from all senders together) and counts every
+  packet it refuses, by reason
   (:data:`~moas_gui.sources.n1mm_packet.REASONS`), in :meth:`N1MMListener.stats`.
   Nothing a sender does stops the listener: a callback that raises is logged
   and counted too.
@@ -63,6 +64,7 @@ from moas_gui.sources.base import (
     SourceEvent,
     SourceSink,
 )
+from moas_gui.sources.log_bursts import CrowdLimiter
 from moas_gui.sources.n1mm_contact import ContactPacket, parse_contact
 from moas_gui.sources.n1mm_packet import (
     REASONS,
@@ -220,6 +222,8 @@ class N1MMListener(DatagramSource):
             self.label = label
         self._clock = clock
         self._limiter = LogLimiter(log_interval, clock)
+        self._senders = CrowdLimiter(log_interval, clock)
+        """Lines about one sender: a minute each, and a few a minute for all of them."""
         self._last: dict[tuple[int, int], tuple[float, float]] = {}
         self._heard: dict[tuple[int, int], float] = {}
         self._focus: dict[tuple[str, int], int] = {}
@@ -272,7 +276,7 @@ class N1MMListener(DatagramSource):
                     and self._contact(data, key, address):
                 return None
             self._refused[exc.reason] += 1
-            held = self._limiter.allow((exc.reason, key))
+            held = self._senders.allow(exc.reason, key)
             if held is not None:
                 where = address if station is None else f"{address} (station {station})"
                 log.debug("%s packet from %s ignored: %s%s", self.label, where, exc,
@@ -293,7 +297,7 @@ class N1MMListener(DatagramSource):
             if exc.reason == "not_contact":
                 return False
             self._refused[exc.reason] += 1
-            held = self._limiter.allow(("contact", exc.reason, key))
+            held = self._senders.allow(("contact", exc.reason), key)
             if held is not None:
                 log.debug("%s contact packet from %s ignored: %s%s", self.label, address, exc,
                           held_text(held))
@@ -309,7 +313,7 @@ class N1MMListener(DatagramSource):
 
     def _unknown_sender(self, address: str, key: str, name: str = "") -> None:
         self._unknown += 1
-        held = self._limiter.allow(("unknown", key, name))
+        held = self._senders.allow("unknown", (key, name))
         if held is not None:
             what = (f"neither that address nor StationName {name!r} is in N1MMLogger" if name
                     else "that address is not in N1MMLogger")

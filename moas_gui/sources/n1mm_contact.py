@@ -18,8 +18,11 @@ same UDP port as ``RadioInfo`` (N1MM's "Contacts" broadcast, which not1mm sends 
 
 :func:`parse_contact` raises :class:`~.n1mm_packet.N1MMPacketError` with reason
 ``not_contact`` for any other packet, ``missing_field`` when ``ID`` (or, but for a
-delete, ``timestamp`` or ``call``) is missing and ``bad_value`` for a value that
-cannot be read.  A missing or empty ``radionr`` is radio 1 (a logger with one radio).
+delete, ``timestamp`` or ``call``) is missing, ``bad_value`` for a value that
+cannot be read and ``bad_date`` for a logged or edited contact dated before 2000 or
+more than a day ahead of the server's clock
+(:func:`~moas_gui.antenna_log.records.contact_date_problem`: a journal keeps no
+contact its retention could not expire).  A missing or empty ``radionr`` is radio 1 (a logger with one radio).
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ import re
 import time
 from typing import Final
 
-from moas_gui.antenna_log.records import ContactKind, ContactPacket
+from moas_gui.antenna_log.records import ContactKind, ContactPacket, contact_date_problem
 from moas_gui.sources.n1mm_packet import (
     MAX_PACKET_BYTES,
     MAX_RADIO_NR,
@@ -72,8 +75,9 @@ def parse_timestamp(text: str) -> float:
     return float(calendar.timegm((*parts, 0, 0, 0)))
 
 
-def parse_contact(data: bytes) -> ContactPacket:
-    """Read one datagram; raise :class:`N1MMPacketError` when it is not a usable contact packet."""
+def parse_contact(data: bytes, now: float | None = None) -> ContactPacket:
+    """Read one datagram; raise :class:`N1MMPacketError` when it is not a usable contact
+    packet.  ``now`` is the server's clock (POSIX seconds; default: now)."""
     if len(data) > MAX_PACKET_BYTES:
         raise N1MMPacketError(
             "too_large", f"packet of {len(data)} bytes is over the {MAX_PACKET_BYTES}-byte limit")
@@ -99,10 +103,15 @@ def parse_contact(data: bytes) -> ContactPacket:
     if radio_nr > MAX_RADIO_NR:
         raise N1MMPacketError("bad_value", f"<radionr>{radio_nr}</radionr> is not a radio "
                                            f"number 1-{MAX_RADIO_NR}")
+    when = parse_timestamp(stamp) if stamp else None
+    problem = None if when is None or kind == "contactdelete" else contact_date_problem(when, now)
+    if problem is not None:
+        raise N1MMPacketError("bad_date", f"{kind} {contact_id} of {stamp[:19]} refused: "
+                                          f"{problem}")
     return ContactPacket(
         kind=kind,  # one of KINDS, checked above
         contact_id=contact_id,
-        time=parse_timestamp(stamp) if stamp else None,
+        time=when,
         call=_text(fields, "call").upper(),
         band=_text(fields, "band"),
         mode=_text(fields, "mode"),

@@ -52,6 +52,7 @@ MAX_RADIO_NR: Final = 99
 
 REASONS: Final = (
     "too_large", "not_xml", "doctype", "not_radio_info", "missing_field", "bad_value",
+    "bad_date",
 )
 """Every value :attr:`N1MMPacketError.reason` can take."""
 

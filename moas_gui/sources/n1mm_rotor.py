@@ -13,7 +13,8 @@ The server plays N1MM's rotor program for the configured rotators:
   later fills in.
 
 Bad datagrams are dropped with one rate-limited debug line each; a name that
-is not a rotator, likewise.  See docs/sources.md for the N1MM settings.
+is not a rotator, likewise.  Each command obeyed is an Info line, at once and then one
+a minute per rotator, the last of a burst with its count.  See docs/sources.md for the N1MM settings.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from typing import Final
 
 from moas_gui.net.log_limit import LogLimiter, held_text
 from moas_gui.sources.base import BadInputLog
+from moas_gui.sources.log_bursts import BurstLog
 from moas_gui.sources.n1mm_rotor_packet import (
     DEFAULT_COMMAND_PORT,
     DEFAULT_HEADING_PORT,
@@ -94,6 +96,8 @@ class N1MMRotorServer(DatagramSource):
         self._host = host
         self._interval = interval
         self.bad = BadInputLog(log, self.label, clock=clock)
+        self._said = BurstLog(log, logging.INFO, clock=clock)
+        """The commands obeyed: at once, then one line a minute per rotator with a count."""
         self._limiter = LogLimiter(60.0, clock)
         self._sent: dict[int, bytes] = {}
         self._ticker: asyncio.Task[None] | None = None
@@ -124,12 +128,14 @@ class N1MMRotorServer(DatagramSource):
         try:
             if isinstance(command, RotorStop):
                 self.stops += 1
-                log.info("N1MM rotor window (%s): stop %s", address, command.rotor)
+                self._said.line(("command", rotator_id), "N1MM rotor window (%s): stop %s",
+                                address, command.rotor)
                 self._stop(rotator_id)
             else:
                 self.turns += 1
-                log.info("N1MM rotor window (%s): turn %s to %.1f", address, command.rotor,
-                         command.azimuth)
+                self._said.line(("command", rotator_id),
+                                "N1MM rotor window (%s): turn %s to %.1f", address,
+                                command.rotor, command.azimuth)
                 self._turn(rotator_id, command.azimuth)
         except Exception as exc:  # noqa: BLE001 - a refused turn is the manager's to explain
             held = self._limiter.allow(("refused", rotator_id))
@@ -193,6 +199,7 @@ class N1MMRotorServer(DatagramSource):
             except asyncio.CancelledError:
                 pass
             self._ticker = None
+        self._said.close()
         await super().close()
 
 

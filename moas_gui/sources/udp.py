@@ -17,11 +17,15 @@ import socket
 import sys
 from typing import Final
 
+from moas_gui.net.log_limit import LogLimiter, held_text
+
 MAX_BURST: Final = 1000
 """Datagrams taken at once behind the one the event loop delivered."""
 MAX_DATAGRAM: Final = 65536
 
 log = logging.getLogger(__name__)
+_SOCKET_ERRORS: Final = LogLimiter()
+"""One line a minute per listener and kind of socket error."""
 
 
 class DatagramSource(asyncio.DatagramProtocol):
@@ -79,7 +83,10 @@ class DatagramSource(asyncio.DatagramProtocol):
             self.end_burst()
 
     def error_received(self, exc: Exception) -> None:
-        log.debug("%s socket error (ignored): %s", self.label, exc)
+        # a peer's ICMP answers to the headings sent (port unreachable) repeat at its will
+        held = _SOCKET_ERRORS.allow((self.label, type(exc).__name__))
+        if held is not None:
+            log.debug("%s socket error (ignored): %s%s", self.label, exc, held_text(held))
 
     def connection_lost(self, exc: Exception | None) -> None:
         self._transport = None

@@ -6,17 +6,24 @@ for a chosen period, each on a tab, drawn by matplotlib's Qt canvas (a tab's cha
 drawn when it is shown), and exports the report as PNG or as one HTML page.
 :class:`AdifExportWindow` writes the contacts of a chosen period as ADIF.  Both read
 the journal they are given (``None``: the journal is turned off) and say plainly when
-there is nothing to show.  Their file dialogs open with ``open()``, never ``exec()``:
+there is nothing to show.  The report is read from the journal in the report's own
+thread, one report at a time (:data:`~moas_gui.antenna_log.report.REPORTS`, shared with
+the web page's ``/report``), its period bounded as the page's is; only the charts are
+drawn on the window's thread.  Their file dialogs open with ``open()``, never ``exec()``:
 the server's event loop keeps running.
 """
 
 from __future__ import annotations
 
+import contextlib
 import logging
+import math
 import sqlite3
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from datetime import UTC, datetime
+from functools import partial
 from pathlib import Path
 
 from matplotlib.backends.backend_qtagg import FigureCanvasQTAgg
@@ -25,7 +32,10 @@ from matplotlib.figure import Figure
 from moas_gui.antenna_log.adif import parse_utc, write_adif
 from moas_gui.antenna_log.records import JournalReader, Period
 from moas_gui.antenna_log.report import (
+    REPORTS,
     ContestReport,
+    NothingRecorded,
+    bounded_period,
     contest_report,
     last_hours,
     whole_journal,
@@ -126,6 +136,21 @@ class PeriodChooser(QWidget):
         if not self.end.text():
             self.end.setText(_iso(extent.end + 60))
 
+    def asked(self, now: float) -> Period | None:
+        """The period chosen, for the report to bound (None: the whole journal; a from or
+        to left empty is infinite: the journal's first or last time).  Raises
+        ``ValueError`` saying what is wrong with a from–to."""
+        kind = self.kind.currentIndex()
+        if kind == 1:
+            return last_hours(now, self.hours.value())
+        if kind == 2:
+            start = parse_utc(self.start.text()) if self.start.text().strip() else -math.inf
+            end = parse_utc(self.end.text()) if self.end.text().strip() else math.inf
+            if start >= end:
+                raise ValueError(f"{self.start.text()} is not before {self.end.text()}")
+            return Period(start, end)
+        return None
+
     def period(self, reader: JournalReader, now: float) -> Period | None:
         """The period chosen; None for an empty journal's whole.  Raises ``ValueError``
         saying what is wrong with a from–to."""
@@ -168,8 +193,33 @@ class _JournalWindow(QWidget):
         self.chooser = PeriodChooser()
 
 
+@dataclass(frozen=True, slots=True)
+class _Made:
+    """What the report's thread found: the journal's extent (None: empty) and the report,
+    or what to say instead."""
+
+    extent: Period | None
+    report: ContestReport | None = None
+    notice: str = EMPTY_JOURNAL
+
+
+def _make(reader: JournalReader, asked: Period | None, now: float) -> _Made:
+    """The report for ``asked`` (in the report's thread, never the event loop's)."""
+    extent = reader.extent()
+    try:
+        period = bounded_period(reader, asked, now)
+    except NothingRecorded as exc:
+        return _Made(extent, notice=str(exc))
+    if period is None:
+        return _Made(None)
+    return _Made(extent, contest_report(reader, period))
+
+
 class ReportWindow(_JournalWindow):
     """The contest report of one journal (see the module docstring)."""
+
+    _made = Signal(int, object, object)
+    """A report asked for came from the report's thread (number, :class:`_Made`, error)."""
 
     def __init__(
         self,
@@ -204,6 +254,11 @@ class ReportWindow(_JournalWindow):
         layout.addLayout(buttons)
         self._stale: set[str] = set()
         """The charts whose canvas has not been rendered since the report changed."""
+        self._asked = 0
+        """How many reports the window has asked for: only the last one's is shown."""
+        self.pending = False
+        """A report asked for has not come yet."""
+        self._made.connect(self._show)
         self.chooser.changed.connect(self.refresh)
         self.tabs.currentChanged.connect(self._draw_shown)
         self.export_png.clicked.connect(self.save_png)
@@ -221,26 +276,47 @@ class ReportWindow(_JournalWindow):
             widget.setVisible(shown)
 
     def refresh(self) -> None:
-        """Reads the journal for the chosen period and draws the charts again."""
+        """Asks for the report of the chosen period; it is made in the report's own thread
+        (:data:`~moas_gui.antenna_log.report.REPORTS`, one report at a time: this waits
+        its turn) and shown when it comes (:meth:`_show`)."""
         if self.reader is None:
             self._nothing(NO_JOURNAL)
             return
+        self._asked += 1  # a report still being made for an earlier choice is not shown
         try:
-            extent = self.reader.extent()
-            if extent is None:
-                self._nothing(EMPTY_JOURNAL)
-                return
-            self.chooser.fill_from(extent)
-            try:
-                period = self.chooser.period(self.reader, self._now())
-            except ValueError as exc:
-                self._say(f"The period: {exc}")
-                return
-            assert period is not None  # the journal is not empty
-            report = contest_report(self.reader, period)
-        except (sqlite3.Error, OSError) as exc:
-            self._nothing(f"Could not read the antenna journal: {exc}")
+            asked = self.chooser.asked(self._now())
+        except ValueError as exc:
+            self.pending = False
+            self._say(f"The period: {exc}")
             return
+        self.pending = True
+        REPORTS.start(partial(_make, self.reader, asked, self._now()),
+                      partial(self._arrived, self._asked))
+
+    def _arrived(self, number: int, made: _Made | None, error: BaseException | None) -> None:
+        # in the report's thread: handed to the window's (a queued signal)
+        with contextlib.suppress(RuntimeError):  # the window is gone
+            self._made.emit(number, made, error)
+
+    def _show(self, number: int, made: _Made | None, error: BaseException | None) -> None:
+        if number != self._asked:
+            return  # a newer period was chosen meanwhile: its report follows
+        self.pending = False
+        if isinstance(error, sqlite3.Error | OSError):
+            self._nothing(f"Could not read the antenna journal: {error}")
+            return
+        if isinstance(error, ValueError):
+            self._say(f"The period: {error}")
+            return
+        if error is not None or made is None:
+            log.error("The contest report could not be made: %r", error)
+            self._nothing(f"The contest report could not be made: {error}")
+            return
+        self.chooser.fill_from(made.extent)
+        if made.report is None:
+            self._nothing(made.notice)
+            return
+        report = made.report
         self._say("")
         self.chooser.setVisible(True)
         self._show_charts(True)

@@ -12,6 +12,9 @@ import pytest
 
 from moas_gui import places
 from moas_gui.antenna_log.journal import (
+    BATCH,
+    MAX_QUEUED,
+    SIZE_EVERY,
     AntennaInfo,
     Journal,
     journal_path,
@@ -286,5 +289,121 @@ def test_a_write_that_fails_is_logged_and_the_journal_carries_on(
         j.antenna(1, 1, "tx", "Dipole", at=T0 + 2)
         assert j.flush()
         assert [s.antenna for s in j.antenna_spans(Period(T0, T0 + 3))] == ["Yagi", "Dipole"]
+    finally:
+        j.close()
+
+
+# -- the bounds (issue 38): the queue, the dates, the retention across every table ---------
+
+def test_a_contact_flood_is_bounded_dropped_counted_and_said_once(
+        tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    j = Journal(tmp_path / "flood.sqlite", clock=lambda: T0)
+    blocker = sqlite3.connect(j.path, timeout=0)
+    try:
+        j.antenna(1, 1, "tx", "Yagi", at=T0)
+        assert j.flush()
+        blocker.execute("BEGIN EXCLUSIVE")  # the writer cannot write: the queue fills
+        flood = 30_000
+        for i in range(flood):
+            j.contact(qso(f"f{i}", T0 - 60), 1, 1)
+        j.antenna(1, 1, "tx", "Dipole", at=T0 + 1)  # antennas still have room
+        dropped = j.stats().dropped
+        assert dropped >= flood - MAX_QUEUED // 2 - BATCH
+        blocker.execute("ROLLBACK")
+        assert j.flush(30)
+        stats = j.stats()
+        assert stats.dropped == dropped and stats.queued + dropped == flood + 2
+        lines = [r for r in caplog.records if "dropped (the writer is behind)" in r.getMessage()]
+        assert len(lines) == 1 and "in all" in lines[0].getMessage()
+        assert [s.antenna for s in j.antenna_spans(Period(T0, T0 + 2))
+                if s.role == "tx"] == ["Yagi", "Dipole"]
+        db = sqlite3.connect(j.path)
+        (kept,) = db.execute("SELECT COUNT(*) FROM contacts").fetchone()
+        db.close()
+        assert kept <= flood - dropped
+    finally:
+        blocker.close()
+        j.close()
+
+
+def test_a_contact_dated_before_2000_or_over_a_day_ahead_is_refused_and_counted(
+        tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    j = Journal(tmp_path / "dates.sqlite", clock=lambda: T0)
+    try:
+        j.contact(qso("far", 253_402_214_400.0), 1, 1)  # 9999-12-31
+        j.contact(qso("old", 915_148_800.0), 1, 1)  # 1999-01-01
+        j.contact(qso("soon", T0 + 86_400 + 60), 1, 1)
+        j.contact(qso("ok", T0 + 3600), 1, 1)  # a logging computer's clock an hour fast
+        j.contact(qso("gone", 915_148_800.0, kind="contactdelete"), 1, 1)  # a delete's date is not kept
+        assert j.flush()
+        assert j.stats().refused == 3
+        assert [c.contact_id for c in j.contacts(Period(0, 4e11))] == ["ok"]
+        lines = [r.getMessage() for r in caplog.records if "refused for their date" in r.getMessage()]
+        assert len(lines) == 1 and "far: it is dated more than a day ahead" in lines[0]
+    finally:
+        j.close()
+
+
+def test_retention_by_size_takes_every_table_even_rows_of_one_time(tmp_path: Path) -> None:
+    path = tmp_path / "contacts.sqlite"
+    first = Journal(path, clock=lambda: T0)
+    for i in range(60_000):  # a contact flood, every one of the same time
+        first.contact(qso(f"c{i:05d}", T0 - 100, call="X" * 12), 1, 1)
+        if i % 5_000 == 0:  # within the queue's bound
+            first.antenna(1, 1, "tx", f"antenna {i}", at=T0 - 100 + i / 1000)
+            assert first.flush(30)
+    first.close()
+    assert first.stats().dropped == 0 and path.stat().st_size > 3_000_000
+    capped = Journal(path, clock=lambda: T0, max_bytes=1_000_000)
+    assert capped.flush()
+    capped.close()
+    assert path.stat().st_size <= 1_000_000
+    db = sqlite3.connect(path)
+    (contacts,) = db.execute("SELECT COUNT(*) FROM contacts").fetchone()
+    tx = db.execute("SELECT antenna FROM antenna_changes ORDER BY time DESC LIMIT 1").fetchone()
+    db.close()
+    assert 0 < contacts < 60_000 // 4
+    assert tx == ("antenna 55000",)  # the antenna in force stays
+
+
+def test_retention_removes_rows_dated_far_ahead_whatever_wrote_them(tmp_path: Path) -> None:
+    path = tmp_path / "ahead.sqlite"
+    Journal(path, clock=lambda: T0).close()
+    db = sqlite3.connect(path)  # as an earlier version, which took any date, left them
+    db.execute("INSERT INTO contacts VALUES ('z', 253402214400, 'ZZ', '14', 'CW', 1, 1, '', "
+               "'', NULL, NULL, 0, '', 1, ?)", (T0,))
+    db.execute("INSERT INTO contacts VALUES ('a', ?, 'AA', '14', 'CW', 1, 1, '', '', NULL, "
+               "NULL, 0, '', 1, ?)", (T0 - 60, T0))
+    db.execute("INSERT INTO key_events VALUES (253402214400, 1, 1, 1)")
+    db.execute("INSERT INTO headings VALUES (?, 'Tower', 90)", (T0 + 3 * 86400,))
+    db.commit()
+    db.close()
+    again = Journal(path, clock=lambda: T0)
+    try:
+        assert again.flush()
+        extent = again.extent()
+        assert extent is not None and extent.end == T0 - 60
+        assert [c.contact_id for c in again.contacts(Period(0, 4e11))] == ["a"]
+    finally:
+        again.close()
+
+
+def test_a_flood_is_cut_to_the_size_bound_while_the_journal_is_open(tmp_path: Path) -> None:
+    path = tmp_path / "open.sqlite"
+    j = Journal(path, clock=lambda: T0, max_bytes=1_000_000)
+    try:
+        for i in range(60_000):  # no reopening, no hourly pass: the writer checks itself
+            j.contact(qso(f"c{i:05d}", T0 - 100, call="X" * 12), 1, 1)
+            if i % 5_000 == 4_999:
+                assert j.flush(60)
+        assert j.stats().dropped == 0
+        db = sqlite3.connect(path)
+        pages, free, size = (db.execute(f"PRAGMA {p}").fetchone()[0]
+                             for p in ("page_count", "freelist_count", "page_size"))
+        (contacts,) = db.execute("SELECT COUNT(*) FROM contacts").fetchone()
+        db.close()
+        # cut at each check; what came after the last one is at most a check and a batch
+        assert (pages - free) * size <= 1_000_000 + (SIZE_EVERY + BATCH) * 100  # 60k: 3.2 MB
+        assert contacts < 60_000 // 2
     finally:
         j.close()

@@ -98,7 +98,7 @@ def test_an_operators_request_names_the_change_that_lands_after_it(
 
 def test_key_events_headings_and_contacts(
         setup: tuple[AntennaRecorder, Engine, Journal, Clock]) -> None:
-    recorder, _engine, journal, _clock = setup
+    recorder, _engine, journal, clock = setup
     recorder.transmitting(1, 1, False)  # not keyed already: nothing
     recorder.transmitting(1, 1, True)
     recorder.transmitting(1, 1, True)
@@ -107,9 +107,10 @@ def test_key_events_headings_and_contacts(
     recorder.rotator(1, 90, moving=False, online=True)  # the same: nothing
     recorder.rotator(1, 120, moving=False, online=False)  # offline: not trusted
     recorder.rotator(1, None, moving=False, online=True)
-    packet = ContactPacket("contactinfo", "c1", 1_000.0, "W1AW")
+    clock.now = 1_800_000_000.0  # a contact is dated from 2000 to a day ahead of the clock
+    packet = ContactPacket("contactinfo", "c1", 1_800_000_000.0, "W1AW")
     recorder.contact(packet, 1, 2)
-    recorder.contact(ContactPacket("contactinfo", "c2", 1_000.0, "K1AA"), 1, 7)  # no radio 7
+    recorder.contact(ContactPacket("contactinfo", "c2", 1_800_000_000.0, "K1AA"), 1, 7)  # no radio 7
     recorder.stopping()  # the transmission still open ends
     assert rows(journal, "SELECT keyed FROM key_events ORDER BY rowid") == [(1,), (0,)]
     assert rows(journal, "SELECT rotator, heading FROM headings") == [("Tribander", 90.0)]

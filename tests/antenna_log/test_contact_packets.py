@@ -146,3 +146,41 @@ def test_a_contact_named_for_its_host_takes_the_station_its_senders_radio_info_m
     named.handle(radio_info_packet(1, 14025.0, station_name="RUN"), "10.0.0.5")
     named.handle(fixture("not1mm-2-"), "10.0.0.5")
     assert got[-1] == ("JA1XYZ", 2, 1)
+
+
+@pytest.mark.parametrize(("stamp", "refused"), [
+    ("9999-12-31 23:59:59", "more than a day ahead"),
+    ("2026-11-30 12:00:01", "more than a day ahead"),
+    ("1999-12-31 23:59:59", "before 2000"),
+    ("0001-01-01 00:00:00", "before 2000"),
+    ("2026-11-30 12:00:00", ""),  # a day ahead: a logging computer's clock, or its zone
+    ("2000-01-01 00:00:00", ""),
+])
+def test_a_contact_dated_before_2000_or_over_a_day_ahead_is_refused(stamp: str,
+                                                                     refused: str) -> None:
+    now = utc("2026-11-29 12:00:00")
+    when = utc(stamp)
+    data = contact_packet("contactinfo", "ab12", 0.0, "DL1ABC").replace(
+        b"1970-01-01 00:00:00", stamp.encode())
+    for kind in ("contactinfo", "contactreplace"):
+        packet = data.replace(b"contactinfo", kind.encode())
+        if refused:
+            with pytest.raises(N1MMPacketError, match=refused) as caught:
+                parse_contact(packet, now)
+            assert caught.value.reason == "bad_date" and f"{kind} ab12 of {stamp}" in str(caught.value)
+        else:
+            assert parse_contact(packet, now).time == when
+    # a delete's date is not kept: it deletes whatever its ID names
+    gone = contact_packet("contactdelete", "ab12", 0.0, "DL1ABC").replace(
+        b"1970-01-01 00:00:00", stamp.encode())
+    assert parse_contact(gone, now).kind == "contactdelete"
+
+
+def test_the_listener_counts_a_contact_refused_for_its_date() -> None:
+    got: list[object] = []
+    listener = N1MMListener({"10.0.0.5": 1}, on_contact=lambda *a: got.append(a))
+    far = contact_packet("contactinfo", "ab12", 0.0, "DL1ABC").replace(
+        b"1970-01-01 00:00:00", b"9999-12-31 23:59:59")
+    for _ in range(3):
+        listener.handle(far, "10.0.0.5")
+    assert got == [] and listener.stats().refused == {"bad_date": 3}

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import asyncio
 import re
+import threading
 from collections.abc import AsyncIterator
 from pathlib import Path
 from typing import Any
@@ -14,9 +15,10 @@ import aiohttp
 import pytest
 import pytest_asyncio
 from antenna_log_support import T0, MemoryJournal, contest_journal
+from helpers import until
 
-from moas_gui.antenna_log.records import JournalReader
-from moas_gui.antenna_log.report import HOUR
+from moas_gui.antenna_log.records import JournalReader, Period
+from moas_gui.antenna_log.report import HOUR, REPORTS
 from moas_gui.net.server import ClientServer
 from moas_gui.net.web import WebServer
 from moas_gui.operators import OperatorBook, Role
@@ -124,7 +126,66 @@ async def test_a_bad_period_is_a_400_that_says_why(site: Site, query: str, messa
 async def test_the_last_hours_of_a_live_journal(site: Site) -> None:
     site.journal = MemoryJournal()  # nothing yet
     status, page, _ = await site.get("/report?hours=3")
-    assert status == 200 and "Nothing was recorded in this period." in page
+    assert status == 200 and "The antenna journal is empty" in page
+
+
+@pytest.mark.asyncio
+async def test_a_period_of_more_than_a_year_is_refused_naming_the_bounds(site: Site) -> None:
+    status, text, _ = await site.get("/report?from=1000-01-01&to=3000-01-01")
+    assert status == 400
+    assert "the period 1000-01-01 00:00 UTC to 3000-01-01 00:00 UTC is 730,485 days" in text
+    assert "a report covers at most 366 days" in text
+    assert "the journal holds 2026-11-18 11:00 UTC to 2026-11-18 13:00 UTC" in text
+    status, text, _ = await site.get("/report?from=1000-01-01")  # to the journal's end
+    assert status == 400 and "at most 366 days" in text
+
+
+@pytest.mark.asyncio
+async def test_a_period_beyond_the_journal_is_clamped_to_it(site: Site) -> None:
+    status, page, _ = await site.get("/report?from=2026-01-01&to=2026-11-18T13:30Z")
+    assert status == 200
+    assert "2026-11-18 11:00 – 2026-11-18 13:29 UTC: 15 QSOs" in page  # not from January
+    rate = re.search(r'<figure id="rate">(.*?)</figure>', page, re.DOTALL)
+    assert rate is not None and rate.group(1).count("<path") < 60  # three hours, not 7,800
+
+
+@pytest.mark.asyncio
+async def test_a_period_outside_the_journal_says_what_it_holds(site: Site) -> None:
+    status, page, _ = await site.get("/report?from=2020-01-01&to=2020-02-01")
+    assert status == 200 and "<svg" not in page
+    assert ("Nothing was recorded from 2020-01-01 00:00 UTC to 2020-02-01 00:00 UTC: the "
+            "journal holds 2026-11-18 11:00 UTC to 2026-11-18 13:00 UTC.") in page
+
+
+class HeldJournal(MemoryJournal):
+    """A journal whose reading waits until the test lets it go (a report in the making)."""
+
+    def __init__(self) -> None:
+        super().__init__(**vars(contest_journal()))
+        self.go = threading.Event()
+
+    def extent(self) -> Period | None:
+        self.go.wait(30)
+        return super().extent()
+
+
+@pytest.mark.asyncio
+async def test_one_report_at_a_time_a_second_is_told_busy(site: Site) -> None:
+    held = HeldJournal()
+    site.journal = held
+    first = asyncio.ensure_future(site.get("/report"))
+    try:
+        await until(lambda: REPORTS.busy, timeout=20, what="the first report in the making")
+        status, text, headers = await site.get("/report?hours=2")
+        assert status == 503 and "another contest report is being made" in text
+        assert headers["Retry-After"] == "5"
+        assert (await site.get("/index.html"))[0] == 200  # the loop serves meanwhile
+    finally:
+        held.go.set()
+    status, page, _ = await first
+    assert status == 200 and page.count("<svg") == 4
+    await until(lambda: not REPORTS.busy, timeout=20)
+    assert (await site.get("/report?hours=2"))[0] == 200
 
 
 @pytest.mark.asyncio

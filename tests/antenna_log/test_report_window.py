@@ -5,6 +5,7 @@ exports, and what each says when there is no journal."""
 from __future__ import annotations
 
 import os
+import threading
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -14,7 +15,8 @@ import pytest
 from antenna_log_support import T0, MemoryJournal, contest_journal
 from matplotlib.image import imread
 
-from moas_gui.antenna_log.report import HOUR
+from moas_gui.antenna_log.records import Period
+from moas_gui.antenna_log.report import HOUR, REPORTS
 from moas_gui.antenna_log.report_charts import BAND_COLOURS
 from moas_gui.ui.report_window import NO_JOURNAL, AdifExportWindow, ReportWindow
 
@@ -35,6 +37,11 @@ def answer_with(window: Any, *paths: str) -> list[str]:
     return titles
 
 
+def made(qtbot: Any, window: ReportWindow) -> None:
+    """Waits until the report last asked for has come from the report's thread."""
+    qtbot.waitUntil(lambda: not window.pending, timeout=20_000)
+
+
 def chart_texts(window: ReportWindow, kind: str) -> list[str]:
     figure = window.canvases[kind].figure
     return [text.get_text() for ax in figure.axes for text in ax.texts] + [
@@ -45,6 +52,7 @@ def chart_texts(window: ReportWindow, kind: str) -> list[str]:
 def test_the_report_shows_the_whole_journal(qtbot: Any, tmp_path: Path) -> None:
     window = ReportWindow(contest_journal(), now=lambda: T0 + 3 * HOUR)
     qtbot.addWidget(window)
+    made(qtbot, window)
     window.show()
     qtbot.waitExposed(window)
     assert window.width() <= 1024 and window.height() <= 600
@@ -78,8 +86,10 @@ def test_the_report_shows_the_whole_journal(qtbot: Any, tmp_path: Path) -> None:
 def test_the_last_hours_and_a_from_to(qtbot: Any) -> None:
     window = ReportWindow(contest_journal(), now=lambda: T0 + 2 * HOUR)
     qtbot.addWidget(window)
+    made(qtbot, window)
     window.chooser.kind.setCurrentIndex(1)
     window.chooser.hours.setValue(1)
+    made(qtbot, window)
     assert window.report is not None
     assert window.report.contacts == 5  # the second hour (and its last second)
     window.chooser.kind.setCurrentIndex(2)
@@ -87,6 +97,7 @@ def test_the_last_hours_and_a_from_to(qtbot: Any) -> None:
     window.chooser.start.setText("2026-11-18T11:00Z")
     window.chooser.end.setText("2026-11-18T11:30Z")
     window.chooser.end.editingFinished.emit()
+    made(qtbot, window)
     assert window.report.contacts == 7 - 2  # DL0AA-DL3AA (300-1800 s) and G0BB, G1BB
     assert window.report.qsos == {"Yagi 20": {"20m": 3}, "4-Square": {"40m": 2}}
 
@@ -94,6 +105,7 @@ def test_the_last_hours_and_a_from_to(qtbot: Any) -> None:
 def test_a_bad_time_says_so_and_keeps_the_charts(qtbot: Any) -> None:
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
+    made(qtbot, window)
     window.show()
     window.chooser.kind.setCurrentIndex(2)  # from the journal's first to its last time
     shown = window.report
@@ -107,6 +119,7 @@ def test_a_bad_time_says_so_and_keeps_the_charts(qtbot: Any) -> None:
 def test_with_the_journal_turned_off_it_says_so_plainly(qtbot: Any, tmp_path: Path) -> None:
     window = ReportWindow(None)
     qtbot.addWidget(window)
+    made(qtbot, window)
     window.show()
     qtbot.waitExposed(window)
     assert window.notice.isVisible() and window.notice.text() == NO_JOURNAL
@@ -119,6 +132,7 @@ def test_with_the_journal_turned_off_it_says_so_plainly(qtbot: Any, tmp_path: Pa
 def test_an_empty_journal_says_so(qtbot: Any) -> None:
     window = ReportWindow(MemoryJournal())
     qtbot.addWidget(window)
+    made(qtbot, window)
     window.show()
     assert "The antenna journal is empty" in window.notice.text()
     assert not window.tabs.isVisible()
@@ -127,6 +141,7 @@ def test_an_empty_journal_says_so(qtbot: Any) -> None:
 def test_export_png_and_html(qtbot: Any, tmp_path: Path) -> None:
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
+    made(qtbot, window)
     png, page = tmp_path / "r.png", tmp_path / "r.html"
     titles = answer_with(window, str(png), str(page))
     window.export_png.click()
@@ -141,6 +156,7 @@ def test_export_png_and_html(qtbot: Any, tmp_path: Path) -> None:
 def test_an_export_that_cannot_be_written_says_why(qtbot: Any, tmp_path: Path) -> None:
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
+    made(qtbot, window)
     target = tmp_path / "missing" / "r.html"
     answer_with(window, str(target))
     window.export_html.click()
@@ -180,6 +196,7 @@ def test_export_antenna_log_without_a_journal(qtbot: Any, reader: Any) -> None:
 def test_only_the_tab_shown_is_rendered_until_another_is_chosen(qtbot: Any) -> None:
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
+    made(qtbot, window)
     window.show()
     qtbot.waitExposed(window)
     canvases = list(window.canvases.values())
@@ -188,3 +205,54 @@ def test_only_the_tab_shown_is_rendered_until_another_is_chosen(qtbot: Any) -> N
     window.tabs.setCurrentIndex(2)
     qtbot.waitUntil(lambda: hasattr(canvases[2], "renderer"))
     assert not hasattr(canvases[1], "renderer") and not hasattr(canvases[3], "renderer")
+
+
+class HeldJournal(MemoryJournal):
+    """A journal whose reading waits until the test lets it go."""
+
+    def __init__(self) -> None:
+        super().__init__(**vars(contest_journal()))
+        self.go = threading.Event()
+
+    def extent(self) -> Period | None:
+        self.go.wait(30)
+        return super().extent()
+
+
+def test_the_report_is_read_off_the_window_s_thread_one_at_a_time(qtbot: Any) -> None:
+    first = ReportWindow(held := HeldJournal())
+    qtbot.addWidget(first)
+    assert first.pending and first.report is None  # the window is back before the journal
+    qtbot.waitUntil(lambda: REPORTS.busy)
+    second = ReportWindow(contest_journal())  # waits its turn
+    qtbot.addWidget(second)
+    qtbot.wait(200)
+    assert second.pending and REPORTS.busy
+    held.go.set()
+    made(qtbot, first)
+    made(qtbot, second)
+    assert first.report is not None and second.report is not None
+    assert first.report.contacts == second.report.contacts == 15
+
+
+def test_more_than_a_year_is_refused_and_a_period_beyond_the_journal_clamped(qtbot: Any) -> None:
+    window = ReportWindow(contest_journal(), now=lambda: T0 + 3 * HOUR)
+    qtbot.addWidget(window)
+    made(qtbot, window)
+    window.show()
+    shown = window.report
+    window.chooser.kind.setCurrentIndex(2)
+    window.chooser.start.setText("1000-01-01")
+    window.chooser.end.setText("3000-01-01")
+    window.chooser.end.editingFinished.emit()
+    made(qtbot, window)
+    assert "a report covers at most 366 days" in window.notice.text()
+    assert "the journal holds 2026-11-18 11:00 UTC to 2026-11-18 13:00 UTC" in window.notice.text()
+    assert window.report is shown
+    window.chooser.start.setText("2026-06-01")
+    window.chooser.end.setText("2026-12-01")
+    window.chooser.end.editingFinished.emit()
+    made(qtbot, window)
+    assert not window.notice.isVisible() and window.report is not None
+    assert window.report.period == Period(T0, T0 + 3 * HOUR + 1)  # the journal, up to now
+    assert len(window.report.hours) == 4

@@ -103,6 +103,18 @@ async def test_replies_nobody_waits_for_go_to_stray_and_garbage_is_skipped(
 
 
 @pytest.mark.asyncio
+async def test_a_server_sending_garbage_without_end_writes_a_line_a_minute_per_kind(
+    peer: tuple[ScriptedPeer, ProtocolClient], caplog: pytest.LogCaptureFixture,
+) -> None:
+    scripted, client = peer
+    scripted.answers.append(b"not json\n[1]\n" * 5_000 + b'{"id": 1, "ok": true, "result": {}}\n')
+    assert await client.request("stop", rotator=1) == {}
+    warnings = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
+    assert len(warnings) == 2, warnings[:5]
+    assert "not JSON" in warnings[0] and "not an object" in warnings[1]
+
+
+@pytest.mark.asyncio
 async def test_a_closed_connection_fails_the_waiting_request(
     peer: tuple[ScriptedPeer, ProtocolClient],
 ) -> None:

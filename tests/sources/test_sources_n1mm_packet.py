@@ -244,7 +244,7 @@ def test_an_absurd_tx_frequency_refuses_the_packet_rather_than_guess() -> None:
 def test_every_refusal_is_a_protocol_error_with_a_known_reason() -> None:
     assert issubclass(N1MMPacketError, ProtocolError)
     assert set(REASONS) == {"too_large", "not_xml", "doctype", "not_radio_info",
-                            "missing_field", "bad_value"}
+                            "missing_field", "bad_value", "bad_date"}
 
 
 @settings(max_examples=300, deadline=None)

@@ -232,7 +232,7 @@ class N1MMListener(DatagramSource):
         self._received = self._accepted = self._delivered = self._superseded = 0
         self._no_frequency = self._unknown = self._callback_errors = 0
         self._refused = dict.fromkeys(REASONS, 0)
-        self._senders: OrderedDict[str, int] = OrderedDict()
+        self._stations_heard: OrderedDict[str, int] = OrderedDict()
         """The station each sender's RadioInfo last mapped to (the last SENDERS_KEPT
         senders): a contact whose StationName matches no entry takes its sender's."""
 
@@ -304,7 +304,7 @@ class N1MMListener(DatagramSource):
             return True
         station = self._station_of(key, None, packet.station_name)
         if station is None:  # not1mm: the host name here, its configured name in RadioInfo
-            station = self._senders.get(key)
+            station = self._stations_heard.get(key)
         self._contacts += 1
         if self._on_contact is not None:
             self._call(self._on_contact, packet, station,
@@ -353,7 +353,7 @@ class N1MMListener(DatagramSource):
         return update
 
     def _remember_sender(self, key: str, station: int) -> None:
-        senders = self._senders
+        senders = self._stations_heard
         if senders.get(key) == station:
             senders.move_to_end(key)
             return

@@ -247,28 +247,32 @@ class FlexSource:
             try:
                 data = await asyncio.wait_for(reader.read(READ_SIZE), end - loop.time())
             except TimeoutError:
-                raise NotFlex(f"{where} said nothing in {self.timeout:g} s; a FlexRadio "
-                              "says its version first") from None
+                raise NotFlex(f"the peer at {where} said nothing in {self.timeout:g} s; a "
+                              "FlexRadio says V<version> then H<handle> at once") from None
             if not data:
-                raise NotFlex(f"{where} closed the connection without a FlexRadio's "
-                              "greeting" if not lines else f"{where} closed after its greeting")
+                raise NotFlex(f"the peer at {where} closed the connection without a "
+                              "FlexRadio's greeting")
             more, dropped = splitter.feed(data)
             if dropped:
-                raise NotFlex(f"{where} sent a line of over 8 KiB before its version")
+                raise NotFlex(f"the peer at {where} sent a line of over 8 KiB first")
             lines += more
-        self._check_greeting(lines[0], lines[1], where)
+            self._check_greeting(lines[:2], where)
         return lines[2:]
 
-    def _check_greeting(self, first: str, second: str, where: str) -> None:
-        try:
-            version, handle = parse_line(first), parse_line(second)
-        except FlexLineError:
-            version = handle = None
-        if not isinstance(version, Version) or not isinstance(handle, Handle):
-            shown = first if len(first) <= 60 else first[:57] + "..."
-            raise NotFlex(f"{where} is not a FlexRadio: it began with {shown!r} where a "
-                          "FlexRadio says V<version> then H<handle>")
-        self.version = version.text
+    def _check_greeting(self, lines: list[str], where: str) -> None:
+        """:class:`NotFlex` unless the lines so far begin ``V<version>``, ``H<handle>``."""
+        wanted = (Version, Handle)
+        for line, kind in zip(lines, wanted, strict=False):
+            try:
+                parsed = parse_line(line)
+            except FlexLineError:
+                parsed = None
+            if not isinstance(parsed, kind):
+                shown = line if len(line) <= 60 else line[:57] + "..."
+                raise NotFlex(f"the peer at {where} is not a FlexRadio: it began with "
+                              f"{shown!r} where a FlexRadio says V<version> then H<handle>")
+            if isinstance(parsed, Version):
+                self.version = parsed.text
 
     def _opened(self, host: str, port: int) -> None:
         self.connects += 1

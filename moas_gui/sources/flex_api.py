@@ -31,6 +31,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Final, TypeAlias
 
+from moas_gui.config.rigs import parse_slice_map
 from moas_gui.errors import ProtocolError
 
 API_PORT: Final = 4992
@@ -301,7 +302,7 @@ def _mhz_to_khz(text: str) -> float:
 # -- slices to radios ------------------------------------------------------------------------
 
 RadioRef: TypeAlias = tuple[int, int]
-"""``(station, radio)`` of this server."""
+"""``(station, radio)`` of this server (:func:`parse_slice_map` reads a map of them)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -344,29 +345,6 @@ class SliceMap:
             return ",".join(f"{k}={s}/{r}" for k, (s, r) in self.by_letter.items())
         roles = (("TX", self.first), ("other", self.second))
         return ",".join(f"{role}={ref[0]}/{ref[1]}" for role, ref in roles if ref is not None)
-
-
-def parse_slice_map(text: str) -> dict[str, RadioRef]:
-    """``A=1/1,B=1/2`` to ``{"A": (1, 1), "B": (1, 2)}``; :class:`ValueError` saying what is
-    wrong."""
-    table: dict[str, RadioRef] = {}
-    for item in (i.strip() for i in text.split(",")):
-        if not item:
-            continue
-        letter, eq, ref = item.partition("=")
-        letter = letter.strip().upper()
-        station, slash, radio = ref.strip().partition("/")
-        if not eq or len(letter) != 1 or not letter.isalpha() or not letter.isascii():
-            raise ValueError(f"{item!r}: write a slice letter and a radio, such as A=1/1")
-        if not slash or not station.isdigit() or not radio.isdigit() \
-                or not 1 <= int(station) <= 999 or not 1 <= int(radio) <= 999:
-            raise ValueError(f"{item!r}: the radio is written station/radio, such as 1/2")
-        if letter in table:
-            raise ValueError(f"slice {letter} is given twice")
-        table[letter] = (int(station), int(radio))
-    if not table:
-        raise ValueError("no slice given; write A=1/1,B=1/2")
-    return table
 
 
 # -- discovery -------------------------------------------------------------------------------

@@ -295,6 +295,14 @@ def probe(args: argparse.Namespace) -> int:
     return 0 if report.answered else 3
 
 
+def _look_around(args: argparse.Namespace) -> int | None:
+    """``--probe`` or ``--flex-list``: ask the hardware, print, and the exit status;
+    None when neither was asked."""
+    if args.probe:
+        return probe(args)
+    return flex_list(args) if args.flex_list else None
+
+
 def _switch_lines(args: argparse.Namespace) -> tuple[bool | None, bool | None]:
     return args.switch_dtr, args.switch_rts
 
@@ -753,10 +761,9 @@ def main(argv: list[str] | None = None) -> int:
         return export_antenna_log(args)
     if args.install_service:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
-    if args.probe:
-        return probe(args)
-    if args.flex_list:
-        return flex_list(args)
+    looked = _look_around(args)
+    if looked is not None:
+        return looked
     if args.plan or args.json or args.plan_khz:
         return _plan_command(args)
     if args.check:

@@ -223,9 +223,8 @@ class Slice:
         return f"slice {self.letter or self.index}"
 
 
-_BOOL_FIELDS: Final = {"in_use": "in_use", "tx": "tx", "active": "active"}
-_TEXT_FIELDS: Final = {"mode": "mode", "index_letter": "letter", "rxant": "rxant",
-                       "txant": "txant"}
+def _flag(fields: Mapping[str, str], key: str, before: bool) -> bool:
+    return fields[key].strip() == "1" if key in fields else before
 
 
 @dataclass(slots=True)
@@ -258,12 +257,12 @@ class RadioState:
         after = before
         if "removed" in status.words[2:]:
             after = Slice(index)
-        for key, name in _BOOL_FIELDS.items():
-            if key in f:
-                after = replace(after, **{name: f[key].strip() == "1"})
-        for key, name in _TEXT_FIELDS.items():
-            if key in f:
-                after = replace(after, **{name: f[key][:32]})
+        after = replace(
+            after,
+            in_use=_flag(f, "in_use", after.in_use), tx=_flag(f, "tx", after.tx),
+            active=_flag(f, "active", after.active),
+            mode=f.get("mode", after.mode)[:32], letter=f.get("index_letter", after.letter)[:32],
+            rxant=f.get("rxant", after.rxant)[:32], txant=f.get("txant", after.txant)[:32])
         if "RF_frequency" in f:
             after = replace(after, khz=_mhz_to_khz(f["RF_frequency"]))
         if "client_handle" in f:
@@ -425,20 +424,10 @@ def parse_discovery(data: bytes) -> Announcement:
     return Announcement(fields)
 
 
-def discovery_datagram(fields: Mapping[str, str], count: int = 0) -> bytes:
-    """A discovery datagram saying ``fields`` (what a radio sends; for the test radio)."""
-    payload = " ".join(f"{k}={v}" for k, v in fields.items()).encode("ascii")
-    payload += b"\x00" * (-len(payload) % 4)
-    words = (_HEADER.size + len(payload)) // 4
-    header = _HEADER.pack(0x38, 0x50 | (count & 0x0F), words, DISCOVERY_STREAM, FLEX_OUI,
-                          DISCOVERY_CLASS, 0, 0)
-    return header + payload
-
-
 __all__ = [
     "API_PORT", "DISCOVERY_CLASS", "DISCOVERY_STREAM", "FLEX_OUI", "MAX_LINE", "OPENING",
     "PING", "PING_INTERVAL", "PROGRAM",
     "Announcement", "FlexLineError", "Handle", "Line", "LineSplitter", "Message",
     "RadioRef", "RadioState", "Reply", "Slice", "SliceMap", "Status", "Version",
-    "command", "discovery_datagram", "parse_discovery", "parse_line", "parse_slice_map",
+    "command", "parse_discovery", "parse_line", "parse_slice_map",
 ]

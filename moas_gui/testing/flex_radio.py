@@ -25,13 +25,12 @@ import contextlib
 import itertools
 import logging
 import socket
+import struct
 from dataclasses import dataclass, field
 
-from moas_gui.sources.flex_api import (
-    API_PORT,
-    MAX_LINE,
-    discovery_datagram,
-)
+API_PORT = 4992
+"""The API's TCP port, and the UDP port discovery datagrams go to."""
+MAX_LINE = 8192
 
 log = logging.getLogger(__name__)
 
@@ -109,10 +108,10 @@ class FlexRadio:
         return len(self._clients)
 
     # -- what a test changes ------------------------------------------------------------------
-    def set_slice(self, index: int, **fields: object) -> None:
+    def set_slice(self, index: int, **changes: object) -> None:
         """Slice ``index`` changes (``RF_frequency=7.0125``, ``tx=1``...); a new slice is in
         use with letter A, B... unless told; subscribers hear the change."""
-        fields = {k: _text(v) for k, v in fields.items()}
+        fields = {k: _text(v) for k, v in changes.items()}
         if index not in self.slices or self.slices[index].get("in_use") != "1":
             base = {"in_use": "1", "RF_frequency": "14.025000", "mode": "CW", "tx": "0",
                     "active": "0", "rxant": "ANT1", "txant": "ANT1",
@@ -223,6 +222,18 @@ class FlexRadio:
                     log.info("test radio: client 0x%08X silent; cut", client.handle)
                     self._clients.remove(client)
                     client.writer.close()
+
+
+def discovery_datagram(fields: dict[str, str], count: int = 0) -> bytes:
+    """A discovery datagram as the radio sends it: a VITA-49 extension packet with a
+    stream id (0x800) and a class id (OUI 0x001C2D, information class 0x534C, packet
+    class 0xFFFF), both timestamps, then the ``key=value`` words padded with NULs to a
+    whole 32-bit word; big-endian, its size in words in the header."""
+    payload = " ".join(f"{k}={v}" for k, v in fields.items()).encode("ascii")
+    payload += bytes(-len(payload) % 4)
+    header = struct.pack(">BBH", 0x38, 0x50 | (count & 0x0F), (28 + len(payload)) // 4)
+    ids = struct.pack(">IIIIQ", 0x800, 0x001C2D, 0x534CFFFF, 0, 0)
+    return header + ids + payload
 
 
 def _text(value: object) -> str:

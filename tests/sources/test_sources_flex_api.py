@@ -19,11 +19,11 @@ from moas_gui.sources.flex_api import (
     Status,
     Version,
     command,
-    discovery_datagram,
     parse_discovery,
     parse_line,
     parse_slice_map,
 )
+from moas_gui.testing.flex_radio import discovery_datagram
 
 
 def status(text: str) -> Status:

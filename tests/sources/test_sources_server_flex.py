@@ -227,7 +227,7 @@ async def test_a_peer_that_is_not_a_flexradio_is_refused_and_the_rest_runs(
         errors = [r.getMessage() for r in caplog.records if r.levelname == "ERROR"]
         assert any(f"the peer at 127.0.0.1:{port} is not a FlexRadio: it began with '220 mail" in m
                    for m in errors), errors
-        assert app.status.state is ServerState.NORMAL
+        await until(lambda: app.status.state is ServerState.NORMAL, what="the switch runs")
     finally:
         await app.close()
         await radio.stop()

@@ -397,14 +397,16 @@ class FlexSource:
     def _radios_text(self) -> str:
         return " and ".join(f"station {s} radio {r}" for s, r in self.slices.radios())
 
+    def state_text(self) -> str:
+        """``connected, API 1.4.0.0`` or ``offline (why)``."""
+        if self.online:
+            return f"connected, API {self.version}"
+        return f"offline ({self.why_offline})"
+
     def describe(self) -> list[str]:
         """Where the radio stands, then each of this server's radios it feeds, in words."""
         name = self.found.label() if self.found is not None else self.target
-        if not self.online:
-            head = f"FlexRadio {name}: offline ({self.why_offline})"
-        else:
-            head = f"FlexRadio {name}: connected, API {self.version}"
-        lines = [head]
+        lines = [f"FlexRadio {name}: {self.state_text()}"]
         assigned = self.slices.assign(self.state.in_use()) if self.online else {}
         for ref in self.slices.radios():
             piece = assigned.get(ref)

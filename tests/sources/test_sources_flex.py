@@ -264,3 +264,20 @@ async def test_discovery_keeps_the_radios_heard_and_drops_the_rest() -> None:
         assert found is not None and (found.ip, found.port) == ("127.0.0.2", 4993)
     finally:
         await discovery.close()
+
+
+def test_a_flex_source_named_on_the_client_command_line() -> None:
+    from moas_gui.sources.spec import make_source, parse_spec
+
+    spec = parse_spec("flex:192.168.1.50:4992,b=2,a=1")
+    assert spec.address == "192.168.1.50:4992" and spec.text() == "flex:192.168.1.50:4992,b=2,a=1"
+    source = make_source(spec, 3, lambda event: None)
+    assert isinstance(source, FlexSource)
+    assert source.slices.by_letter == {"A": (3, 1), "B": (3, 2)}
+    plain = make_source(parse_spec("flex:Shack,radio2=4"), 2, lambda event: None)
+    assert isinstance(plain, FlexSource) and plain.address is None
+    assert (plain.slices.first, plain.slices.second) == ((2, 1), (2, 4))
+    for wrong, why in (("flex", "flex needs the radio"), ("flex:x,z=1", "not one of its"),
+                       ("flex:x,a=one", "not a whole number")):
+        with pytest.raises(ValueError, match=why):
+            parse_spec(wrong)

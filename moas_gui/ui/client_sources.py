@@ -94,10 +94,17 @@ class ClientSources:
             self.menu.removeAction(action)
         self._listed = []
         by_spec = dict(zip(self._running_specs, self.running, strict=False))
+        texts: list[str] = []
         for spec in self.specs:
             running = by_spec.get(id(spec))
-            words = f": {running.state_text()}" if isinstance(running, FlexSource) else ""
-            action = QAction(f"Reading {spec.text()}{words}", self.window)
+            if isinstance(running, FlexSource):  # where it stands, then each radio's slice
+                lines = running.describe()
+                texts.append(f"Reading {spec.text()}: {running.state_text()}")
+                texts += ["    " + line for line in lines[1:]]
+            else:
+                texts.append(f"Reading {spec.text()}")
+        for text in texts:
+            action = QAction(text, self.window)
             action.setEnabled(False)
             self.menu.addAction(action)
             self._listed.append(action)

@@ -50,6 +50,9 @@ def test_a_flexradio_heard_is_listed_chosen_read_and_shown_offline(qapp: QApplic
                 await until(lambda: ("Reading flex:127.0.0.1:"
                                      f"{radio.port}: connected, API 1.4.0.0")
                             in _listed(sources), what="the menu saying it reads the radio")
+                assert _listed(sources)[1:] == [
+                    "    station 1 radio 1: slice A 14,025.000 kHz CW, RX ANT1, TX ANT1",
+                    "    station 1 radio 2: slice B 7,012.500 kHz CW, RX ANT1, TX ANT1"]
                 await radio.stop()
                 await until(lambda: any(": offline (" in t for t in _listed(sources)),
                             what="the menu saying the radio is offline")

@@ -19,7 +19,8 @@ dxlog      UDP port (12060)                      ``bind``
 wintest    UDP port (9871)                       ``name`` (the Win-Test station name,
                                                  required), ``radio`` (1), ``bind``
 flex       the FlexRadio's ``ADDR[:PORT]``,      ``station``, ``radio1``, ``radio2`` (1, 2:
-           serial number or nickname (required)  the transmitting slice and the other),
+           serial number or nickname (required)  the transmitting slice and the other;
+                                                 ``radio2=0``: the other slice unused),
                                                  or ``a``...``h`` (slice letter to radio,
                                                  ``a=1,b=2``), ``retry``
 =========  ====================================  =====================================
@@ -246,8 +247,9 @@ def _flex_source(spec: SourceSpec, station: int, retry: float, sink: SourceSink)
     if letters:
         mapping = SliceMap(by_letter=letters)
     else:
+        second = int(o.get("radio2", "2"))
         mapping = SliceMap((station, int(o.get("radio1", "1"))),
-                           (station, int(o.get("radio2", "2"))))
+                           (station, second) if second else None)
     return FlexSource(spec.address, mapping, sink, retry=retry)
 
 

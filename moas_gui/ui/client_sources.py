@@ -12,7 +12,8 @@ the new station.  The dialog is opened with ``open()``, never ``exec()``
 *Sources > FlexRadios on the network* lists the FlexRadios whose discovery
 broadcasts the window hears (UDP 4992: model, nickname, serial and address);
 choosing one reads it as ``flex:ADDRESS:PORT`` (its transmitting slice is the
-station's radio 1, the other slice in use radio 2).  A FlexRadio read is listed
+station's radio 1, the other slice in use radio 2; ``,radio2=0`` is added when the
+station has one radio).  A FlexRadio read is listed
 with where it stands, in words (connected, or offline and why).
 """
 
@@ -138,7 +139,10 @@ class ClientSources:
             self.flex_menu.addAction(action)
 
     def choose_flex(self, radio: Announcement) -> bool:
-        return self.choose(f"flex:{radio.ip}:{radio.port}")
+        """Reads ``radio``: its transmitting slice is radio 1 of the window's station, the
+        other slice in use radio 2 when the station has one."""
+        one_radio = self.window.radio_box.findText("2") < 0
+        return self.choose(f"flex:{radio.ip}:{radio.port}" + (",radio2=0" if one_radio else ""))
 
     # -- choosing ---------------------------------------------------------------------------
     def ask(self) -> None:

@@ -43,16 +43,20 @@ def test_a_flexradio_heard_is_listed_chosen_read_and_shown_offline(qapp: QApplic
                 assert action.text() == ('FLEX-6600 "Contest" (serial 1234-5678-9012-3456, '
                                          f"127.0.0.1:{radio.port})")
                 action.trigger()
-                assert [s.text() for s in sources.specs] == [f"flex:127.0.0.1:{radio.port}"]
-                await until(lambda: (1, 1, 14025.0, None) in live.calls("frequency")
-                            and (1, 2, 7012.5, None) in live.calls("frequency"),
-                            what="both slices told to the server")
+                # the demo station's station 1 has one radio: the other slice is not used
+                assert [s.text() for s in sources.specs] == [
+                    f"flex:127.0.0.1:{radio.port},radio2=0"]
+                await until(lambda: (1, 1, 14025.0, None) in live.calls("frequency"),
+                            what="the transmitting slice told to the server")
                 await until(lambda: ("Reading flex:127.0.0.1:"
-                                     f"{radio.port}: connected, API 1.4.0.0")
+                                     f"{radio.port},radio2=0: connected, API 1.4.0.0")
                             in _listed(sources), what="the menu saying it reads the radio")
                 assert _listed(sources)[1:] == [
-                    "    station 1 radio 1: slice A 14,025.000 kHz CW, RX ANT1, TX ANT1",
-                    "    station 1 radio 2: slice B 7,012.500 kHz CW, RX ANT1, TX ANT1"]
+                    "    station 1 radio 1: slice A 14,025.000 kHz CW, RX ANT1, TX ANT1"]
+                radio.set_slice(1, tx=1)  # the transmitter moves to slice B: radio 1 follows
+                await until(lambda: (1, 1, 7012.5, None) in live.calls("frequency"),
+                            what="slice B, now transmitting, told as radio 1")
+                assert not any(c[1] == 2 for c in live.calls("frequency"))
                 await radio.stop()
                 await until(lambda: any(": offline (" in t for t in _listed(sources)),
                             what="the menu saying the radio is offline")

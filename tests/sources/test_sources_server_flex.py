@@ -18,6 +18,7 @@ from helpers import until
 
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.config import Config, load_config
+from moas_gui.config.summary import summarize
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, serve
 from moas_gui.hw.moas2.link import LinkTiming
@@ -252,3 +253,5 @@ def test_flexradios_entries_are_checked_where_they_are(tmp_path: Path) -> None:
         {"Address": "1234-5678-9012-3456", "Slices": "A=1/1,B=1/2", "Retry": 2}])
     config = load_config(good).config
     assert config is not None and config.flex_radios[0].slices == "A=1/1,B=1/2"
+    assert "FlexRadio 1234-5678-9012-3456: slices A=1/1,B=1/2, first retry after 2 s" in \
+        summarize(config)

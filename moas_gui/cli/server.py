@@ -526,6 +526,8 @@ def launch_request(args: argparse.Namespace) -> dict[str, object]:
             launch[key] = value
     if args.source:
         launch["source"] = _source_text(args.source)
+    if args.flex:
+        launch["flex"] = ",".join(args.flex)
     return launch
 
 
@@ -571,7 +573,7 @@ def vet_launch(app: RunningServer, launch: dict[str, object], *, headless: bool)
                "udp_port": options.udp_port, "dxlog_port": options.dxlog_port,
                "wintest_port": options.wintest_port, "n1mm_rotor_port": options.n1mm_rotor_port,
                "web_port": options.web_port, "ag_port": options.ag_port,
-               "source": _source_text(options.sources)}
+               "source": _source_text(options.sources), "flex": ",".join(options.flex)}
     for key, value in running.items():
         if key in launch and launch[key] != value:
             flag = "--" + key.replace("_", "-")

@@ -117,6 +117,7 @@ class FlexSource:
         retry: float = DEFAULT_RETRY,
         timeout: float = DEFAULT_TIMEOUT,
         ping_interval: float = PING_INTERVAL,
+        silent_after: float | None = None,
         discovery_port: int = API_PORT,
         logger: logging.Logger | None = None,
         clock: Callable[[], float] = time.monotonic,
@@ -126,6 +127,9 @@ class FlexSource:
         self.slices = slices
         self.timeout = timeout
         self.ping_interval = ping_interval
+        self.silent_after = 3 * ping_interval if silent_after is None else silent_after
+        """Seconds without a line (pings are answered) after which the radio counts as
+        gone."""
         self.discovery_port = discovery_port
         self._on_event = on_event
         self.origin = f"FlexRadio {self.target}"
@@ -224,7 +228,7 @@ class FlexSource:
             for line in pending:
                 self._line(line)
             while True:
-                data = await asyncio.wait_for(reader.read(READ_SIZE), 3 * self.ping_interval)
+                data = await asyncio.wait_for(reader.read(READ_SIZE), self.silent_after)
                 if not data:
                     raise EOFError("closed")
                 self._feed(splitter, data)

@@ -170,7 +170,7 @@ async def test_the_radio_gone_and_back(radio: FlexRadio, caplog: pytest.LogCaptu
 async def test_keepalive_pings_keep_the_connection(radio: FlexRadio) -> None:
     radio.set_slice(0, RF_frequency=14.025, tx=1)
     events: list[SourceEvent] = []
-    source = source_for(radio, events, ping_interval=0.2)
+    source = source_for(radio, events, ping_interval=0.2, silent_after=30.0)
     await source.start()
     try:
         await until(lambda: radio.commands.count("ping") >= 3, what="three pings")

@@ -71,3 +71,17 @@ def test_the_flex_options_reach_the_server_options() -> None:
     options = server._options(args)
     assert options.flex == ("Shack", "10.0.0.5:4992")
     assert options.flex_radios == "A=1/1,B=2/1" and options.flex_discovery_port == 4992
+
+
+def test_a_second_launch_with_another_flexradio_is_refused_by_the_running_server() -> None:
+    from types import SimpleNamespace
+
+    args = server._parser().parse_args(["--flex", "Contest"])
+    args.switch_timing = args.rotator_timing = None
+    running = SimpleNamespace(options=server._options(args),
+                              client_address=("127.0.0.1", 12059))
+    same = server.launch_request(server._parser().parse_args(["--flex", "Contest"]))
+    other = server.launch_request(server._parser().parse_args(["--flex", "10.0.0.5"]))
+    assert server.vet_launch(running, same, headless=False) is None  # type: ignore[arg-type]
+    refusal = server.vet_launch(running, other, headless=False)  # type: ignore[arg-type]
+    assert refusal is not None and "--flex 10.0.0.5" in refusal and "--flex Contest" in refusal

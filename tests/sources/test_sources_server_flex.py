@@ -135,8 +135,11 @@ async def test_band_changes_on_the_radio_move_the_relays(station: Station) -> No
     station.radio.set_slice(0, RF_frequency=21.025)
     await until(lambda: station.khz(1) == 21025.0, what="slice A on 15 m")
     await until(lambda: station.box_has(1, 2), what="radio 1's 15 m antenna on the relays")
-    station.radio.set_slice(1, RF_frequency=7.025)
+    station.radio.send_raw(b"S1|slice 1 RF_frequency=seven\nnonsense\n" + b"x" * 9000 + b"\n")
+    station.radio.set_slice(1, RF_frequency=7.025)  # the line after the bad ones
     await until(lambda: station.khz(2) == 7025.0, what="slice B on 40 m")
+    assert station.flex.bad.counts == {"bad_frequency": 1, "not_flex": 1, "too_long": 1}
+    assert station.flex.connects == 1
     await until(lambda: station.box_has(1, 2) and station.box.view().relays != before,
                 what="radio 2's 40 m antenna on the relays")
     assert station.flex.describe()[1:] == [

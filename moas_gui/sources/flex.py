@@ -300,11 +300,10 @@ class FlexSource:
         self._offline(reason)
 
     def _offline(self, reason: str) -> None:
-        was = self.online or self.why_offline == "not connected yet"
         self.online = False
         self.why_offline = reason
         self.state = RadioState()
-        if self._sent and was:
+        if self._sent:  # radios had frequencies from it
             self.log.warning("%s offline: %s frequency unknown until it is back",
                              self.origin, self._radios_text())
         self._sent.clear()
@@ -390,12 +389,16 @@ class FlexSource:
         self._antennas.pop(ref, None)
 
     def _antenna_names(self, ref: RadioRef, piece: Slice) -> None:
+        """Logs which slice and antenna ports a radio follows: Info the first time after a
+        connection, Debug after (an SO2R operator moves the transmitter often)."""
         names = (piece.letter, piece.rxant, piece.txant)
-        if self._antennas.get(ref) != names:
+        before = self._antennas.get(ref)
+        if before != names:
             self._antennas[ref] = names
-            self.log.info("%s: station %d radio %d follows %s (the radio's RX antenna %s, "
-                          "TX antenna %s)", self.origin, ref[0], ref[1], piece.name,
-                          piece.rxant or "?", piece.txant or "?")
+            self.log.log(logging.INFO if before is None else logging.DEBUG,
+                         "%s: station %d radio %d follows %s (the radio's RX antenna %s, "
+                         "TX antenna %s)", self.origin, ref[0], ref[1], piece.name,
+                         piece.rxant or "?", piece.txant or "?")
 
     # -- in words -------------------------------------------------------------------------------
     def _radios_text(self) -> str:

@@ -33,6 +33,7 @@ from typing import Final, TypeAlias
 
 from moas_gui.config.rigs import parse_slice_map
 from moas_gui.errors import ProtocolError
+from moas_gui.line_framer import LineEnd, LineFramer, LongLine
 
 API_PORT: Final = 4992
 """The radio's TCP API port, and the UDP port its discovery datagrams go to."""
@@ -113,34 +114,22 @@ Line: TypeAlias = Version | Handle | Reply | Status | Message
 
 
 class LineSplitter:
-    """Bytes from the socket to whole lines of text, each at most :data:`MAX_LINE` bytes."""
+    """Bytes from the socket to whole lines of text, each at most :data:`MAX_LINE` bytes,
+    through the project's one line framer (LF or CR LF ends a line)."""
 
     def __init__(self, limit: int = MAX_LINE) -> None:
-        self._buffer = bytearray()
-        self._limit = limit
-        self._skipping = False
+        self._framer = LineFramer(limit, LineEnd.LF)
 
     def feed(self, data: bytes) -> tuple[list[str], int]:
         """The whole lines ``data`` completes, and how many over-long lines were dropped."""
-        self._buffer += data
         lines: list[str] = []
         dropped = 0
-        while True:
-            end = self._buffer.find(b"\n")
-            if end < 0:
-                if len(self._buffer) > self._limit:
-                    self._buffer.clear()
-                    if not self._skipping:
-                        dropped += 1
-                    self._skipping = True
-                return lines, dropped
-            raw = bytes(self._buffer[:end]).rstrip(b"\r")
-            del self._buffer[:end + 1]
-            if self._skipping or len(raw) > self._limit:
-                dropped += 0 if self._skipping else 1
-                self._skipping = False
-                continue
-            lines.append(raw.decode("ascii", "replace"))
+        for item in self._framer.feed(data):
+            if isinstance(item, LongLine):
+                dropped += 1
+            elif item.data:  # a blank line says nothing in the API
+                lines.append(item.data.decode("ascii", "replace"))
+        return lines, dropped
 
 
 def command(seq: int, text: str) -> bytes:

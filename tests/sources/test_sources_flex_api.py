@@ -5,6 +5,8 @@ from __future__ import annotations
 import struct
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from moas_gui.sources.flex_api import (
     OPENING,
@@ -186,3 +188,35 @@ def test_what_is_not_a_discovery_datagram_is_refused() -> None:
         with pytest.raises(FlexLineError) as caught:
             parse_discovery(data)
         assert caught.value.reason == reason, data[:40]
+
+STATUS_WORDS = st.sampled_from(["slice", "0", "7", "15", "99", "interlock", "in_use=1",
+                                "in_use=0", "tx=1", "RF_frequency=14.025", "RF_frequency=x",
+                                "state=TRANSMITTING", "state=", "client_handle=0xZ",
+                                "index_letter=B", "removed", "=", "rxant=ANT2"])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.one_of(st.text(max_size=40), st.lists(STATUS_WORDS, max_size=8).map(
+    lambda words: "S1|" + " ".join(words))), max_size=20))
+def test_any_line_is_read_or_refused_by_name_and_the_state_stays_bounded(
+        lines: list[str]) -> None:
+    state = RadioState()
+    for line in lines:
+        try:
+            parsed = parse_line(line)
+            if isinstance(parsed, Status):
+                state.apply(parsed)
+        except FlexLineError as exc:
+            assert exc.reason
+    assert len(state.slices) <= 16
+    assert sum(1 for s in state.in_use() if s.khz is not None and not 0 < s.khz < 3e8) == 0
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.binary(max_size=200))
+def test_any_datagram_is_read_or_refused_by_name(data: bytes) -> None:
+    try:
+        parse_discovery(discovery_datagram({"ip": "10.0.0.1"})[:28] + data)
+        parse_discovery(data)
+    except FlexLineError as exc:
+        assert exc.reason

@@ -193,6 +193,10 @@ class FlexSource:
             except (OSError, TimeoutError, asyncio.IncompleteReadError, EOFError) as exc:
                 self.link.lost(_why(exc))
                 self._offline(_why(exc))
+            except Exception as exc:  # a source never stops on a fault of its own
+                self.log.debug("%s: unexpected fault", self.origin, exc_info=True)
+                self.link.lost(f"an unexpected fault ({type(exc).__name__}: {exc})")
+                self._offline("an unexpected fault; the log at Debug says more")
             await asyncio.sleep(self._backoff.next())
 
     async def _where(self) -> tuple[str, int]:

@@ -82,7 +82,7 @@ class StandInButton(_Channel):
 class StandInLibrary:
     """``Encoder`` and ``DigitalInput`` as the library's classes are called."""
 
-    def __init__(self, *, name: str = "Dial Phidget", sku: str = "HIN1101",
+    def __init__(self, *, name: str = "Phidget Dial", sku: str = "HIN1101",
                  serial: int = 654321, hub_port: int | None = 3) -> None:
         self.name, self.sku, self.serial, self.hub_port = name, sku, serial, hub_port
         self.encoders: list[StandInEncoder] = []

@@ -3,7 +3,7 @@
 With the optional extra ``moas-gui[knob]`` (PyPI's ``phidget22``, which carries
 its native library; ``libusb-1.0`` is its one outside need) the client opens a
 Phidget ``Encoder`` channel: the 1052 USB encoder with its knob, or a VINT
-dial (HIN1101 Dial Phidget, ENC1000/ENC1001 encoder interfaces).  When the
+dial (HIN1101 Phidget Dial, ENC1000/ENC1001 encoder interfaces).  When the
 encoder attaches, the push button of the same device (its ``DigitalInput``
 channel, by serial number and hub port) is opened too.
 
@@ -141,7 +141,7 @@ class PhidgetKnob:
         self.encoder: Any = None
         self.button: Any = None
         self.name = ""
-        """The device's name while attached (``Dial Phidget (HIN1101)``)."""
+        """The device's name while attached (``Phidget Dial (HIN1101)``)."""
         self.attached = False
         self.started = False
 

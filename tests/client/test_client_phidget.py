@@ -81,7 +81,7 @@ def test_a_vint_dial_attaches_its_button_turns_and_presses() -> None:
     encoder.turn(-8)
     assert actions.done == [], "nothing runs on the library's thread"
     _run(posted)
-    assert actions.done == [("attached", "Dial Phidget (HIN1101)"), ("step", 1), ("step", -2)]
+    assert actions.done == [("attached", "Phidget Dial (HIN1101)"), ("step", 1), ("step", -2)]
     actions.done.clear()
     button.push(True)
     button.push(False)
@@ -92,7 +92,7 @@ def test_a_vint_dial_attaches_its_button_turns_and_presses() -> None:
     assert actions.done == [("press", True), ("step", 1), ("press", False)]
     encoder.fire("detach")
     _run(posted)
-    assert actions.done[-1] == ("detached", "Dial Phidget (HIN1101)") and not knob.attached
+    assert actions.done[-1] == ("detached", "Phidget Dial (HIN1101)") and not knob.attached
     knob.close()
     assert encoder.closed and button.closed
 

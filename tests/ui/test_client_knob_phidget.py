@@ -22,7 +22,7 @@ def test_the_encoder_steps_presses_alone_and_press_and_turn_adds(qapp: QApplicat
             assert window.knob.start_phidget(library)
             encoder = library.encoder
             encoder.fire("attach")
-            await until(lambda: "Knob: Dial Phidget (HIN1101) attached" in window.status_text(),
+            await until(lambda: "Knob: Phidget Dial (HIN1101) attached" in window.status_text(),
                         what="the attach shown")
             tribander = button(window, "Tribander").view.id
             stack = button(window, "20 Stack").view.id
@@ -44,7 +44,7 @@ def test_the_encoder_steps_presses_alone_and_press_and_turn_adds(qapp: QApplicat
             await until(lambda: (1, 1, stack, "both", False) in live.calls("select"),
                         what="press-and-turn adding the antenna")
             encoder.fire("detach")
-            await until(lambda: "Knob: Dial Phidget (HIN1101) detached" in window.status_text(),
+            await until(lambda: "Knob: Phidget Dial (HIN1101) detached" in window.status_text(),
                         what="the detach shown")
             window.knob.close()
             assert encoder.closed and library.button.closed

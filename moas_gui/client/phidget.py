@@ -13,7 +13,7 @@ next item, left the previous, wrapping past the ends), with its button:
 ==============================  ==============================================
 turn right / left               the cursor to the next / previous antenna of the
                                 layout (``counts_per_step`` encoder counts, 4 by
-                                default: one detent of the common knobs)
+                                default: one detent of the usual knobs)
 press and release               select the antenna under the cursor alone: a knob
                                 item is a whole choice (7.3 lists each combination
                                 of a stack as an item of its own)
@@ -38,8 +38,8 @@ from typing import Any, Final, Protocol
 log = logging.getLogger(__name__)
 
 COUNTS_PER_STEP: Final = 4
-"""Encoder counts of one detent: the 1052's knob and the VINT dials count four edges of
-the quadrature signal per detent."""
+"""Encoder counts of one step: a quadrature encoder counts four edges per detent of the
+usual mechanical knobs (not yet checked on a 1052 or a HIN1101)."""
 INSTALL_HINT: Final = "pip install 'moas-gui[knob]'"
 
 

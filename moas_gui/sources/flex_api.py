@@ -59,9 +59,9 @@ PING: Final = "ping"
 
 TRANSMITTING_STATES: Final = frozenset({"PTT_REQUESTED", "TRANSMITTING", "UNKEY_REQUESTED"})
 """Interlock states in which the radio is keyed or keying."""
-RECEIVING_STATES: Final = frozenset({"RECEIVE", "READY", "NOT_READY", "TX_FAULT", "TIMEOUT",
-                                     "STUCK_INPUT"})
-"""Interlock states in which the radio does not transmit."""
+RECEIVING_STATES: Final = frozenset({"RECEIVE", "READY", "NOT_READY", "TX_FAULT", "TIMEOUT"})
+"""Interlock states in which the radio does not transmit (the API's interlock state list;
+any other state leaves the transmit state unknown)."""
 
 
 class FlexLineError(ProtocolError, ValueError):

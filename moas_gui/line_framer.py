@@ -2,7 +2,7 @@
 
 Every line protocol of moas-gui reads its input through :class:`LineFramer`:
 the client protocol (JSON lines, both ends), the MOAS Rotator protocol (both
-ends), rigctld's replies and OTRSP.  Each chooses only two things:
+ends), rigctld's replies, OTRSP and the FlexRadio API.  Each chooses only two things:
 
 ``limit``
     the longest line content accepted, in bytes, without its ending;

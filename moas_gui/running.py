@@ -92,6 +92,13 @@ class ServerOptions:
     """Overrides ``N1MMRotorHeadings`` (``host:port`` texts)."""
     sources: tuple[SourceSpec, ...] = ()
     """Rig sources (rigctld, flrig, OTRSP) run beside the configuration's (``--source``)."""
+    flex: tuple[str, ...] = ()
+    """FlexRadios read beside the configuration's ``FlexRadios`` (``--flex``)."""
+    flex_radios: str = ""
+    """``--flex-radios``: which slice of the ``--flex`` radios feeds which radio."""
+    flex_discovery_port: int = 4992
+    """Where FlexRadio discovery datagrams are listened for (a radio named by serial or
+    nickname)."""
     web_port: int | None = None
     """Overrides ``WebPort``, the browser client's port (0 picks a free port)."""
     ag_port: int | None = None
@@ -243,7 +250,9 @@ async def start_sources(run: Running, options: ServerOptions, sink: SourceSink,
     settings = SourceSettings(
         udp_port=options.udp_port, udp_bind=options.udp_bind, dxlog_port=options.dxlog_port,
         wintest_port=options.wintest_port, n1mm_rotor_port=options.n1mm_rotor_port,
-        n1mm_rotor_headings=options.n1mm_rotor_headings, sources=options.sources)
+        n1mm_rotor_headings=options.n1mm_rotor_headings, sources=options.sources,
+        flex=options.flex, flex_radios=options.flex_radios,
+        flex_discovery_port=options.flex_discovery_port)
     hooks = None
     if run.rotators is not None:
         manager, rotators = run.rotators, run.config.rotators

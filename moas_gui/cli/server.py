@@ -110,6 +110,17 @@ def _parser() -> argparse.ArgumentParser:
                              "OTRSP entries: rigctld, flrig or otrsp naming its station, e.g. "
                              "rigctld:4532,station=1,radio=2 (repeat for several; see "
                              "docs/sources.md)")
+    parser.add_argument("--flex", action="append", metavar="ADDR[:PORT]|SERIAL|NICKNAME",
+                        help="follow this FlexRadio's slices beside the file's FlexRadios "
+                             "(repeat for several; docs/sources.md)")
+    parser.add_argument("--flex-radios", type=_flex_radios, metavar="A=S/R,B=S/R",
+                        help="which slice of the --flex radios feeds which radio (default: "
+                             "the transmitting slice radio 1/1, the other slice in use 1/2)")
+    parser.add_argument("--flex-list", action="store_true",
+                        help="list the FlexRadios heard on the network (their discovery "
+                             "broadcasts) for a few seconds, and exit")
+    parser.add_argument("--flex-discovery-port", type=int, default=4992, metavar="PORT",
+                        help="UDP port of the FlexRadio discovery broadcasts (default 4992)")
     parser.add_argument("--no-rotator-program", action="store_true",
                         help="no MOAS Rotator program: neither start one nor connect to "
                              "one (the rotators that go through it stay offline)")
@@ -239,6 +250,39 @@ def _ag_radios(text: str) -> tuple[object, ...]:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
+def _flex_radios(text: str) -> str:
+    from moas_gui.config.rigs import parse_slice_map
+
+    try:
+        parse_slice_map(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return text
+
+
+def flex_list(args: argparse.Namespace, seconds: float = 3.0) -> int:
+    """``--flex-list``: the FlexRadios heard within a few seconds; 0 when any was heard,
+    1 when the port cannot be listened on, 3 when none was heard."""
+    from moas_gui.sources.flex_discovery import list_radios
+
+    port = args.flex_discovery_port
+    try:
+        radios = asyncio.run(list_radios(seconds, port=port))
+    except OSError as exc:
+        print(f"moas-server: cannot listen for FlexRadios on UDP port {port}: {exc}",
+              file=sys.stderr)
+        return 1
+    for radio in radios:
+        print(f"{radio.model or 'FlexRadio'}\tnickname {radio.nickname or '-'}\t"
+              f"serial {radio.serial or '-'}\t{radio.ip}:{radio.port}")
+    if not radios:
+        print(f"moas-server: no FlexRadio heard on UDP port {port} in {seconds:g} s "
+              "(broadcasts do not cross routers or most VPNs: name such a radio by its "
+              "address, --flex ADDR)", file=sys.stderr)
+        return 3
+    return 0
+
+
 def _ag_discovery(text: str) -> tuple[str, int]:
     from moas_gui.net.antenna_genius.discovery import parse_target
 
@@ -274,6 +318,14 @@ def probe(args: argparse.Namespace) -> int:
             recorder.close()
     sys.stdout.write(report.text())
     return 0 if report.answered else 3
+
+
+def _look_around(args: argparse.Namespace) -> int | None:
+    """``--probe`` or ``--flex-list``: ask the hardware, print, and the exit status;
+    None when neither was asked."""
+    if args.probe:
+        return probe(args)
+    return flex_list(args) if args.flex_list else None
 
 
 def _switch_lines(args: argparse.Namespace) -> tuple[bool | None, bool | None]:
@@ -419,6 +471,8 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          ag_port=args.ag_port, ag_radios=args.ag_radios,
                          ag_discovery=args.ag_discovery,
                          sources=tuple(args.source or ()),
+                         flex=tuple(args.flex or ()), flex_radios=args.flex_radios or "",
+                         flex_discovery_port=args.flex_discovery_port,
                          max_clients=args.max_clients,
                          max_per_address=args.max_per_address,
                          require_token=args.require_token, tls=args.tls,
@@ -498,6 +552,8 @@ def launch_request(args: argparse.Namespace) -> dict[str, object]:
             launch[key] = value
     if args.source:
         launch["source"] = _source_text(args.source)
+    if args.flex:
+        launch["flex"] = ",".join(args.flex)
     return launch
 
 
@@ -543,7 +599,7 @@ def vet_launch(app: RunningServer, launch: dict[str, object], *, headless: bool)
                "udp_port": options.udp_port, "dxlog_port": options.dxlog_port,
                "wintest_port": options.wintest_port, "n1mm_rotor_port": options.n1mm_rotor_port,
                "web_port": options.web_port, "ag_port": options.ag_port,
-               "source": _source_text(options.sources)}
+               "source": _source_text(options.sources), "flex": ",".join(options.flex)}
     for key, value in running.items():
         if key in launch and launch[key] != value:
             flag = "--" + key.replace("_", "-")
@@ -735,8 +791,9 @@ def main(argv: list[str] | None = None) -> int:
         return export_antenna_log(args)
     if args.install_service:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
-    if args.probe:
-        return probe(args)
+    looked = _look_around(args)
+    if looked is not None:
+        return looked
     if args.plan or args.json or args.plan_khz:
         return _plan_command(args)
     if args.check:

@@ -15,7 +15,7 @@ from enum import Enum
 from pathlib import Path
 
 from . import relays as relay_numbers
-from .rigs import OtrspPort, RigDaemon
+from .rigs import FlexRadioEntry, OtrspPort, RigDaemon
 
 
 class RotatorControl(str, Enum):
@@ -381,6 +381,8 @@ class Config:
     flrig: tuple[RigDaemon, ...] = ()
     otrsp: tuple[OtrspPort, ...] = ()
     """Serial ports an SO2R logger writes OTRSP to (``OTRSP``)."""
+    flex_radios: tuple[FlexRadioEntry, ...] = ()
+    """FlexRadio radios whose slices feed this station's radios (``FlexRadios``)."""
     protect_same_band: bool = False
     start_moas_rotator: bool = True
     client_allow: tuple[str, ...] | None = None

@@ -17,6 +17,12 @@ configuration                  command line
 ``"AUX1": [{"Value": 3,        ``ant1.3=5``
 "Antenna": 5}]``
 =============================  ==========================================
+
+``"FlexRadios"`` lists FlexRadio 6000/8000 radios whose slices the server
+follows (``moas-server --flex``, docs/sources.md): ``"Address"`` is the radio's
+address, serial number or nickname, ``"Slices"`` which slice feeds which radio
+(``"A=1/1,B=1/2"``, as ``--flex-radios``); without it the transmitting slice is
+``"Station"``'s radio 1 and the other slice in use its radio 2.
 """
 
 from __future__ import annotations
@@ -105,6 +111,75 @@ class OtrspPort:
         return table
 
 
+@dataclass(frozen=True, slots=True)
+class FlexRadioEntry:
+    """A FlexRadio whose slices feed this server's radios (``FlexRadios``)."""
+
+    address: str
+    """``host[:port]``, the radio's serial number or its nickname."""
+    station: int = 1
+    """Without ``slices``: the station whose radio 1 follows the transmitting slice and
+    radio 2 the other slice in use."""
+    slices: str = ""
+    """``A=1/1,B=1/2``: slice letter to station/radio; empty: by transmit, as above."""
+    retry: float = DEFAULT_RETRY
+    enabled: bool = True
+
+
+def parse_slice_map(text: str) -> dict[str, tuple[int, int]]:
+    """``A=1/1,B=1/2`` to ``{"A": (1, 1), "B": (1, 2)}``; :class:`ValueError` saying what is
+    wrong."""
+    table: dict[str, tuple[int, int]] = {}
+    for item in (i.strip() for i in text.split(",")):
+        if not item:
+            continue
+        letter, eq, ref = item.partition("=")
+        letter = letter.strip().upper()
+        station, slash, radio = ref.strip().partition("/")
+        if not eq or len(letter) != 1 or not letter.isalpha() or not letter.isascii():
+            raise ValueError(f"{item!r}: write a slice letter and a radio, such as A=1/1")
+        if not slash or not station.isdigit() or not radio.isdigit() \
+                or not 1 <= int(station) <= 999 or not 1 <= int(radio) <= 999:
+            raise ValueError(f"{item!r}: the radio is written station/radio, such as 1/2")
+        if letter in table:
+            raise ValueError(f"slice {letter} is given twice")
+        table[letter] = (int(station), int(radio))
+    if not table:
+        raise ValueError("no slice given; write A=1/1,B=1/2")
+    return table
+
+
+def check_flex_radios(config: Config, reading: Reading) -> None:
+    """Report what is wrong with the ``FlexRadios`` entries, at their place."""
+    radios = {(r.station, r.radio) for r in config.radios}
+    seen: dict[str, FlexRadioEntry] = {}
+    for entry in config.flex_radios:
+        label = "this FlexRadios entry"
+        name = entry.address.strip()
+        if not name:
+            reading.error(reading.at(entry, "Address"), f"\"Address\" of {label} is empty; "
+                          "write the radio's address, serial number or nickname")
+        elif name.casefold() in seen and entry.enabled and seen[name.casefold()].enabled:
+            line = getattr(reading.at(seen[name.casefold()]), "line", "?")
+            reading.warning(reading.at(entry, "Address"), f"{label} reads \"{name}\" again "
+                            f"(also on line {line})")
+        seen.setdefault(name.casefold(), entry)
+        if entry.slices.strip():
+            try:
+                table = parse_slice_map(entry.slices)
+            except ValueError as exc:
+                reading.error(reading.at(entry, "Slices"), f"\"Slices\" of {label}: {exc}")
+                continue
+            wanted = sorted(set(table.values()))
+        else:
+            wanted = [(entry.station, 1)]
+        for station, radio in wanted:
+            if (station, radio) not in radios:
+                reading.error(reading.at(entry, "Slices" if entry.slices.strip() else "Station"),
+                              f"{label} feeds station {station} radio {radio}, which is not "
+                              "in \"Radios\"")
+
+
 def check_rig_sources(config: Config, reading: Reading) -> None:
     """Report what is wrong with the ``Rigctld``, ``Flrig`` and ``OTRSP`` entries, at their place."""
     radios = {(r.station, r.radio) for r in config.radios}
@@ -134,6 +209,7 @@ def check_rig_sources(config: Config, reading: Reading) -> None:
                                 f"{where[0]}:{where[1]} again (also on line {line}); one rig "
                                 "daemon serves one radio")
     _check_otrsp(config, reading, radios, stations, antennas)
+    check_flex_radios(config, reading)
 
 
 def _check_otrsp(config: Config, reading: Reading, radios: set[tuple[int, int]],
@@ -195,5 +271,6 @@ def reading_has(reading: Reading, obj: object, key: str) -> bool:
 __all__ = [
     "DEFAULT_RATE", "DEFAULT_RETRY", "FLRIG_PORT", "HIGHEST_RATE", "HIGHEST_RETRY",
     "LOWEST_RATE", "LOWEST_RETRY", "RIGCTLD_PORT",
-    "AuxAntennaEntry", "OtrspPort", "RigDaemon", "check_rig_sources", "split_address",
+    "AuxAntennaEntry", "FlexRadioEntry", "OtrspPort", "RigDaemon", "check_flex_radios",
+    "check_rig_sources", "parse_slice_map", "split_address",
 ]

@@ -308,6 +308,15 @@ OTRSP = _spec(rigs.OtrspPort, {
     "Enabled": Field("enabled", boolean),
 })
 
+FLEX_RADIO = _spec(rigs.FlexRadioEntry, {
+    "Address": Field("address", text, required=True,
+                     meaning="the radio's address, serial number or nickname"),
+    "Station": Field("station", ID, meaning="the station of radios 1 and 2 (default 1)"),
+    "Slices": Field("slices", text, meaning='which slice feeds which radio, "A=1/1,B=1/2"'),
+    "Retry": Field("retry", RETRY, meaning="seconds before the first new attempt"),
+    "Enabled": Field("enabled", boolean),
+})
+
 TOP = GroupSpec({
     "Templates": Field("templates", list_of(group_of(TEMPLATE, "template"))),
     "Antennas": Field("antennas", list_of(group_of(ANTENNA, "antenna"))),
@@ -336,6 +345,7 @@ TOP = GroupSpec({
                                                  "Rigctld entry"))),
     "Flrig": Field("flrig", list_of(group_of(_rig_daemon(rigs.FLRIG_PORT), "Flrig entry"))),
     "OTRSP": Field("otrsp", list_of(group_of(OTRSP, "OTRSP entry"))),
+    "FlexRadios": Field("flex_radios", list_of(group_of(FLEX_RADIO, "FlexRadios entry"))),
     "ProtectSameBand": Field("protect_same_band", boolean),
     "StartMOASRotator": Field("start_moas_rotator", boolean),
     "ClientAllow": Field("client_allow", STRINGS),

@@ -136,6 +136,11 @@ def _rig_lines(config: Config) -> list[str]:
                      f"{otrsp.radio1}, radio 2 = radio {otrsp.radio2}"
                      f"{'; ' + ', '.join(aux) if aux else '; no AUX antennas'}"
                      f"{_retry(otrsp.retry)}{off}")
+    for flex in config.flex_radios:
+        slices = f"slices {flex.slices}" if flex.slices.strip() else (
+            f"the transmitting slice station {flex.station} radio 1, the other radio 2")
+        off = "" if flex.enabled else " (Enabled: false, not read)"
+        lines.append(f"FlexRadio {flex.address}: {slices}{_retry(flex.retry)}{off}")
     return lines
 
 

@@ -6,7 +6,8 @@ N1MM Logger+ (``UseN1MMLogger``, ``UDPPort``), DXLog.net (``UseDXLog``,
 (``UseWinTest``, ``WinTestPort``, ``WinTest``) and N1MM's rotor window
 (``UseN1MMRotor``, ``N1MMRotorPort``, ``N1MMRotorHeadings``), and the rig
 sources: each ``Rigctld`` and ``Flrig`` entry's polled daemon, each ``OTRSP``
-entry's serial port, and those ``moas-server --source`` adds.  Every event
+entry's serial port, and those ``moas-server --source`` adds; and each
+FlexRadio of ``FlexRadios`` and ``moas-server --flex``.  Every event
 goes through one :class:`~moas_gui.sources.base.SourceHub` (newest wins,
 overlaps logged once) to the one sink the app gives.  A port that cannot be
 opened is logged and that source left out; the others run.  A rig daemon or
@@ -21,8 +22,10 @@ from dataclasses import dataclass
 from typing import TypeVar
 
 from moas_gui.config.model import Config
-from moas_gui.sources.base import SourceHub, SourceSink
+from moas_gui.sources.base import DEFAULT_RETRY, SourceHub, SourceSink
 from moas_gui.sources.dxlog import DXLogListener
+from moas_gui.sources.flex import FlexSource
+from moas_gui.sources.flex_api import API_PORT, RadioRef, SliceMap, parse_slice_map
 from moas_gui.sources.n1mm import ContactCallback, N1MMListener
 from moas_gui.sources.n1mm_rotor import N1MMRotorServer, parse_destination
 from moas_gui.sources.otrsp import OtrspSource
@@ -48,6 +51,12 @@ class SourceSettings:
     n1mm_rotor_headings: tuple[str, ...] | None = None
     sources: tuple[SourceSpec, ...] = ()
     """Rig sources run beside the configuration's (``--source``; each names its station)."""
+    flex: tuple[str, ...] = ()
+    """FlexRadios read beside the configuration's (``--flex``: address, serial or nickname)."""
+    flex_radios: str = ""
+    """``--flex-radios A=1/1,B=1/2`` for the ``--flex`` radios; empty: by transmit."""
+    flex_discovery_port: int = API_PORT
+    """Where a FlexRadio named by serial or nickname is listened for."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -87,6 +96,8 @@ class ServerSources:
         """The rig daemons polled (``Rigctld``, ``Flrig``, ``--source``), in order."""
         self.otrsp: list[OtrspSource] = []
         """The OTRSP ports read, in order."""
+        self.flex: list[FlexSource] = []
+        """The FlexRadios read (``FlexRadios``, ``--flex``), in order."""
 
     async def start(self) -> None:
         c, s = self._config, self._settings
@@ -111,6 +122,7 @@ class ServerSources:
         if c.use_n1mm_rotor and self._rotators is not None:
             await self._start_rotor(host)
         await self._start_rigs()
+        await self._start_flex()
 
     async def _start_rigs(self) -> None:
         """The configuration's rig daemons and OTRSP ports, then the command line's."""
@@ -126,6 +138,47 @@ class ServerSources:
                 self.otrsp.append(source)
                 log.info("Reading OTRSP on %s for station %d", source.port,
                          source.mapping.station)
+
+    async def _start_flex(self) -> None:
+        """The configuration's FlexRadios, then the command line's."""
+        c, s = self._config, self._settings
+        wanted = [(e.address, e.station, e.slices, e.retry) for e in c.flex_radios if e.enabled]
+        wanted += [(target, 1, s.flex_radios, DEFAULT_RETRY) for target in s.flex]
+        for address, station, slices, retry in wanted:
+            mapping = self._flex_map(address, station, slices)
+            if mapping is None:
+                continue
+            source = FlexSource(address, mapping, self.hub, retry=retry,
+                                discovery_port=s.flex_discovery_port)
+            await source.start()  # connects in its own task: never fails here
+            self.flex.append(source)
+            log.info("Following FlexRadio %s: %s", address, _map_text(mapping))
+
+    def _flex_map(self, address: str, station: int, slices: str) -> SliceMap | None:
+        """The slice map of one FlexRadio, or None (said) when it names radios the
+        configuration lacks."""
+        c = self._config
+        if slices.strip():
+            try:
+                table = parse_slice_map(slices)
+            except ValueError as exc:
+                log.error("FlexRadio %s is left out: %s", address, exc)
+                return None
+            missing = sorted(ref for ref in set(table.values()) if c.radio(*ref) is None)
+            mapping = SliceMap(by_letter=table)
+        else:
+            first, second = (station, 1), (station, 2)
+            missing = [first] if c.radio(*first) is None else []
+            mapping = SliceMap(first, second if c.radio(*second) is not None else None)
+        if missing:
+            log.error("FlexRadio %s is left out: %s not in the configuration", address,
+                      ", ".join(f"station {s} radio {r}" for s, r in missing))
+            return None
+        return mapping
+
+    def describe_flex(self) -> list[str]:
+        """Each FlexRadio and the radios it feeds, in words (offline, slice, antennas)."""
+        return [line for source in self.flex for line in source.describe()]
 
     def _fits(self, spec: SourceSpec) -> bool:
         """Whether a command-line source names radios and antennas the configuration has
@@ -184,15 +237,29 @@ class ServerSources:
             rig.forget()
         for port in self.otrsp:
             port.forget()
+        for radio in self.flex:
+            radio.forget()
 
     async def close(self) -> None:
         for part in (self.n1mm, self.dxlog, self.wintest, self.rotor, *self.polled,
-                     *self.otrsp):
+                     *self.otrsp, *self.flex):
             if part is not None:
                 try:
                     await part.close()
                 except Exception:
                     log.exception("while closing %s", part.label)
+
+
+def _map_text(mapping: SliceMap) -> str:
+    def name(ref: RadioRef) -> str:
+        return f"station {ref[0]} radio {ref[1]}"
+
+    if mapping.by_letter:
+        return ", ".join(f"slice {k} to {name(ref)}" for k, ref in mapping.by_letter.items())
+    text = f"the transmitting slice to {name(mapping.first)}" if mapping.first else ""
+    if mapping.second is not None:
+        text += f", the other slice in use to {name(mapping.second)}"
+    return text
 
 
 __all__ = ["RotatorHooks", "ServerSources", "SourceSettings"]

@@ -18,10 +18,16 @@ n1mm       UDP port (12060)                      ``bind`` (0.0.0.0)
 dxlog      UDP port (12060)                      ``bind``
 wintest    UDP port (9871)                       ``name`` (the Win-Test station name,
                                                  required), ``radio`` (1), ``bind``
+flex       the FlexRadio's ``ADDR[:PORT]``,      ``station``, ``radio1``, ``radio2`` (1, 2:
+           serial number or nickname (required)  the transmitting slice and the other;
+                                                 ``radio2=0``: the other slice unused),
+                                                 or ``a``...``h`` (slice letter to radio,
+                                                 ``a=1,b=2``), ``retry``
 =========  ====================================  =====================================
 
 Examples: ``rigctld``, ``rigctld:4534,radio=2``, ``flrig:shack-pc:12345``,
-``otrsp:/dev/ttyUSB1,ant1.3=5,ant2.3=6``, ``wintest:name=STN1``.
+``otrsp:/dev/ttyUSB1,ant1.3=5,ant2.3=6``, ``wintest:name=STN1``,
+``flex:192.168.1.50``, ``flex:Shack,a=1,b=2``.
 
 The server runs rigctld, flrig and OTRSP sources too: from its configuration's
 ``Rigctld``, ``Flrig`` and ``OTRSP`` entries, whose names are these options'
@@ -48,7 +54,7 @@ from moas_gui.config.rigs import (
 )
 from moas_gui.sources.base import DEFAULT_RETRY, Source, SourceSink
 
-KINDS: Final = ("rigctld", "flrig", "otrsp", "n1mm", "dxlog", "wintest")
+KINDS: Final = ("rigctld", "flrig", "otrsp", "n1mm", "dxlog", "wintest", "flex")
 SERVER_KINDS: Final = ("rigctld", "flrig", "otrsp")
 """What ``moas-server --source`` runs (the loggers' listeners have their own keys)."""
 _NAMES: Final[dict[str, frozenset[str]]] = {
@@ -58,6 +64,7 @@ _NAMES: Final[dict[str, frozenset[str]]] = {
     "n1mm": frozenset({"bind"}),
     "dxlog": frozenset({"bind"}),
     "wintest": frozenset({"name", "radio", "bind"}),
+    "flex": frozenset({"station", "radio1", "radio2", "retry", *"abcdefgh"}),
 }
 
 
@@ -142,9 +149,12 @@ def _decimal(text: str, name: str) -> float:
 def _check(spec: SourceSpec) -> None:
     if spec.kind == "otrsp" and not spec.address:
         raise ValueError("otrsp needs the serial port: otrsp:/dev/ttyUSB1 or otrsp:COM5")
+    if spec.kind == "flex" and not spec.address:
+        raise ValueError("flex needs the radio: flex:192.168.1.50, or its serial number or "
+                         "nickname")
     if spec.kind == "wintest" and not spec.options.get("name"):
         raise ValueError("wintest needs the Win-Test station name: wintest:name=STN1")
-    for name in ("station", "radio", "radio1", "radio2"):
+    for name in ("station", "radio", "radio1", "radio2", *"abcdefgh"):
         if name in spec.options:
             _number(spec.options[name], f"{name}={spec.options[name]}", 0)
     if "rate" in spec.options:
@@ -210,6 +220,8 @@ def make_source(spec: SourceSpec, station: int, sink: SourceSink) -> Source:
         radios = {1: int(o.get("radio1", "1")), 2: int(o.get("radio2", "2"))}
         return OtrspSource(spec.address, OtrspMap(station, radios, dict(spec.antennas)), sink,
                            retry=retry)
+    if spec.kind == "flex":
+        return _flex_source(spec, station, retry, sink)
     bind = o.get("bind", "0.0.0.0")
     if spec.kind == "wintest":
         from moas_gui.sources.wintest import WinTestListener
@@ -224,6 +236,21 @@ def make_source(spec: SourceSpec, station: int, sink: SourceSink) -> Source:
     _, port = _host_port(spec, N1MM_PORT)
     listener = DXLogListener if spec.kind == "dxlog" else N1MMListener
     return listener({}, on_event=sink, every_sender=station, port=port, host=bind)
+
+
+def _flex_source(spec: SourceSpec, station: int, retry: float, sink: SourceSink) -> Source:
+    from moas_gui.sources.flex import FlexSource
+    from moas_gui.sources.flex_api import SliceMap
+
+    o = spec.options
+    letters = {k.upper(): (station, int(v)) for k, v in o.items() if len(k) == 1}
+    if letters:
+        mapping = SliceMap(by_letter=letters)
+    else:
+        second = int(o.get("radio2", "2"))
+        mapping = SliceMap((station, int(o.get("radio1", "1"))),
+                           (station, second) if second else None)
+    return FlexSource(spec.address, mapping, sink, retry=retry)
 
 
 __all__ = ["KINDS", "SERVER_KINDS", "SourceSpec", "config_specs", "make_source", "parse_spec",

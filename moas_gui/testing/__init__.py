@@ -18,6 +18,10 @@ them, so taking one loads only what it needs:
 ``genius_server``
     :class:`~moas_gui.testing.genius_server.GeniusServer`, a Rotator Genius on
     loopback, over the pure :class:`~moas_gui.testing.genius_server.GeniusModel`.
+``flex_radio``
+    :class:`~moas_gui.testing.flex_radio.FlexRadio`, a FlexRadio's TCP API and
+    discovery datagrams on loopback, written from the public API text
+    (``python -m moas_gui.testing.flex_radio [--port 4992]``).
 ``faulty_controller``
     :class:`~moas_gui.testing.faulty_controller.FaultyController`, any serial
     rotator controller emulator made to go silent or noisy.

@@ -8,6 +8,13 @@ in the settings (``sources/list``) and read again at the next start.  *Stop
 reading* forgets it.  Changing the window's station restarts the sources for
 the new station.  The dialog is opened with ``open()``, never ``exec()``
 (no nested event loop under qasync).
+
+*Sources > FlexRadios on the network* lists the FlexRadios whose discovery
+broadcasts the window hears (UDP 4992: model, nickname, serial and address);
+choosing one reads it as ``flex:ADDRESS:PORT`` (its transmitting slice is the
+station's radio 1, the other slice in use radio 2; ``,radio2=0`` is added when the
+station has one radio).  A FlexRadio read is listed
+with where it stands, in words (connected, or offline and why).
 """
 
 from __future__ import annotations
@@ -18,6 +25,9 @@ import logging
 from typing import Any
 
 from moas_gui.sources.base import Source, SourceHub
+from moas_gui.sources.flex import FlexSource
+from moas_gui.sources.flex_api import API_PORT, Announcement
+from moas_gui.sources.flex_discovery import FlexDiscovery
 from moas_gui.sources.forwarder import Forwarder
 from moas_gui.sources.spec import SourceSpec, make_source, parse_spec
 from moas_gui.ui.qt import QAction, QInputDialog, QSettings
@@ -30,11 +40,14 @@ SETTINGS_KEY = "sources/list"
 class ClientSources:
     """Runs the chosen sources for a :class:`~moas_gui.ui.client_window.ClientWindow`."""
 
-    def __init__(self, window: Any, settings: QSettings) -> None:
+    def __init__(self, window: Any, settings: QSettings, *,
+                 flex_port: int = API_PORT) -> None:
         self.window = window
         self.settings = settings
         self.specs: list[SourceSpec] = []
         self.running: list[Source] = []
+        self._running_specs: list[int] = []
+        """``id()`` of the spec of each of :attr:`running`."""
         self.station: int | None = None
         self.forwarder = Forwarder(window.connection)
         self.hub = SourceHub(self.forwarder, logging.getLogger("moas_gui.sources"))
@@ -46,8 +59,17 @@ class ClientSources:
         self.stop_action = QAction("Stop reading", window)
         self.stop_action.triggered.connect(self.stop_all)
         menu.addAction(self.add_action)
+        self.flex_menu = menu.addMenu("FlexRadios on the network")
+        self.flex_menu.aboutToShow.connect(self.show_flex)
+        self.flex_actions: list[QAction] = []
+        self.flex_port = flex_port
+        self.flex_discovery = FlexDiscovery(port=flex_port)
+        self.flex_problem = ""
+        """Why the FlexRadios' broadcasts cannot be heard, when they cannot."""
+        self._listening = asyncio.get_event_loop().create_task(self._listen())
         menu.addAction(self.stop_action)
         menu.addSeparator()
+        menu.aboutToShow.connect(self._show_list)
         self._listed: list[QAction] = []
         self._dialog: Any = None
         for text in self._saved():
@@ -72,12 +94,55 @@ class ClientSources:
         for action in self._listed:
             self.menu.removeAction(action)
         self._listed = []
+        by_spec = dict(zip(self._running_specs, self.running, strict=False))
+        texts: list[str] = []
         for spec in self.specs:
-            action = QAction(f"Reading {spec.text()}", self.window)
+            running = by_spec.get(id(spec))
+            if isinstance(running, FlexSource):  # where it stands, then each radio's slice
+                lines = running.describe()
+                texts.append(f"Reading {spec.text()}: {running.state_text()}")
+                texts += ["    " + line for line in lines[1:]]
+            else:
+                texts.append(f"Reading {spec.text()}")
+        for text in texts:
+            action = QAction(text, self.window)
             action.setEnabled(False)
             self.menu.addAction(action)
             self._listed.append(action)
         self.stop_action.setEnabled(bool(self.specs))
+
+    # -- FlexRadios heard -------------------------------------------------------------------
+    async def _listen(self) -> None:
+        try:
+            await self.flex_discovery.start()
+        except OSError as exc:
+            self.flex_problem = f"Cannot listen on UDP {self.flex_port}: {exc.strerror or exc}"
+            log.warning("FlexRadios on the network cannot be listed: %s", self.flex_problem)
+
+    def show_flex(self) -> None:
+        """Fills *FlexRadios on the network* with the radios heard now."""
+        for action in self.flex_actions:
+            self.flex_menu.removeAction(action)
+        self.flex_actions = []
+        radios = self.flex_discovery.radios()
+        for radio in radios:
+            action = QAction(radio.label(), self.window)
+            action.triggered.connect(lambda _=False, r=radio: self.choose_flex(r))
+            self.flex_actions.append(action)
+        if not radios:
+            none = QAction(self.flex_problem or "No FlexRadio heard (their broadcasts do "
+                           "not cross routers or VPNs: use Read from... flex:ADDRESS)",
+                           self.window)
+            none.setEnabled(False)
+            self.flex_actions.append(none)
+        for action in self.flex_actions:
+            self.flex_menu.addAction(action)
+
+    def choose_flex(self, radio: Announcement) -> bool:
+        """Reads ``radio``: its transmitting slice is radio 1 of the window's station, the
+        other slice in use radio 2 when the station has one."""
+        one_radio = self.window.radio_box.findText("2") < 0
+        return self.choose(f"flex:{radio.ip}:{radio.port}" + (",radio2=0" if one_radio else ""))
 
     # -- choosing ---------------------------------------------------------------------------
     def ask(self) -> None:
@@ -141,10 +206,12 @@ class ClientSources:
                 self.window._error(f"Source {spec.text()} cannot be read: {exc}")
                 continue
             self.running.append(source)
+            self._running_specs.append(id(spec))
             log.info("Reading %s for station %d", spec.text(), self.station)
 
     async def _stop_running(self) -> None:
         running, self.running = self.running, []
+        self._running_specs = []
         for source in running:
             with contextlib.suppress(Exception):
                 await source.close()
@@ -155,6 +222,10 @@ class ClientSources:
             with contextlib.suppress(asyncio.CancelledError, Exception):
                 await self._restart
         await self._stop_running()
+        self._listening.cancel()
+        with contextlib.suppress(asyncio.CancelledError, Exception):
+            await self._listening
+        await self.flex_discovery.close()
         await self.forwarder.aclose()
 
 

@@ -346,6 +346,7 @@ class ClientWindow(QMainWindow):
         the window was closed, whose close only asks them to end)."""
         self._closed = True
         self._unsubscribe()
+        self.knob.close()
         tasks = list(self._tasks)
         for task in tasks:
             task.cancel()
@@ -356,6 +357,7 @@ class ClientWindow(QMainWindow):
     def closeEvent(self, event: QCloseEvent) -> None:
         self._closed = True
         self._unsubscribe()
+        self.knob.close()
         for task in list(self._tasks):
             task.cancel()
         self.connection.close()

@@ -14,17 +14,44 @@ Page Down / Page Up                          cursor to the next / previous entry
 Alt+1 ... Alt+9                              this window serves radio 1 ... 9 of its station
 Volume Up / Volume Down / Mute               as the wheel and a press: what most USB knobs
                                              (HID consumer-control encoders) send
+a Phidget encoder (``moas-gui[knob]``)       turn: the cursor; press: that antenna alone;
+                                             turn while pressed: add it on release
+                                             (:mod:`moas_gui.client.phidget`)
 ==========================================  =============================================
+
+The Phidget encoder attaching and detaching is shown in the status line; without
+the extra or without an encoder the log says so once, and the rest works as before.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from moas_gui.client.knob import knob_antennas, knob_step
 from moas_gui.client.model import ButtonState, ButtonType
+from moas_gui.client.phidget import PhidgetKnob, PhidgetLibrary
+from moas_gui.client.screen import Tone
 
-from .qt import QKeySequence, QShortcut, Qt, QWidget
+from .qt import QKeySequence, QObject, QShortcut, Qt, QTimer, QWidget, Signal, Slot
+
+ABSENT_AFTER_MS = 3000
+"""How long after the window opens a missing Phidget encoder is said (once)."""
+
+
+class _Hop(QObject):
+    """Runs what the Phidget library's thread posts on the window's thread (a queued
+    signal to a slot of an object of that thread)."""
+
+    posted = Signal(object)
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.posted.connect(self.run)
+
+    @Slot(object)
+    def run(self, work: Callable[[], None]) -> None:
+        work()
 
 __all__ = ["KnobControl"]
 
@@ -34,7 +61,8 @@ class KnobControl:
     a QObject: it is told of the wheel by the grid's signals and of keys by shortcuts,
     so nothing of it runs while Qt takes the window apart."""
 
-    def __init__(self, window: Any) -> None:
+    def __init__(self, window: Any, *, phidget: bool = True,
+                 library: PhidgetLibrary | None = None) -> None:
         self.window = window
         self.cursor: int | None = None
         """The antenna ID under the layout cursor."""
@@ -69,6 +97,30 @@ class KnobControl:
             shortcut.setContext(context)
             shortcut.activated.connect(action)
             self.shortcuts.append(shortcut)
+        self._hop = _Hop()
+        self.phidget = PhidgetKnob(self, self._hop.posted.emit, library=library)
+        if phidget:
+            self.start_phidget(library)
+
+    # -- the Phidget encoder ------------------------------------------------------------------
+    def start_phidget(self, library: PhidgetLibrary | None = None) -> bool:
+        """Opens the Phidget encoder (``library``: phidget22's classes, or a stand-in with
+        their shape); False when there is no library.  A knob already open is closed."""
+        self.phidget.close()
+        self.phidget = PhidgetKnob(self, self._hop.posted.emit, library=library)
+        if not self.phidget.start():
+            return False
+        QTimer.singleShot(ABSENT_AFTER_MS, self.phidget.say_if_absent)
+        return True
+
+    def knob_attached(self, name: str) -> None:
+        self.window._say(f"Knob: {name} attached", Tone.INFO)
+
+    def knob_detached(self, name: str) -> None:
+        self.window._say(f"Knob: {name} detached; the wheel and keys still step", Tone.WARNING)
+
+    def close(self) -> None:
+        self.phidget.close()
 
     # -- the layout cursor -------------------------------------------------------------------
     def items(self) -> tuple[int, ...]:

@@ -24,6 +24,7 @@ from PySide6.QtCore import (
     QTimer,
     QUrl,
     Signal,
+    Slot,
 )
 from PySide6.QtGui import (
     QAction,
@@ -169,6 +170,7 @@ __all__ = [
     "QWidget",
     "Qt",
     "Signal",
+    "Slot",
     "load_qasync",
 ]
 

@@ -58,8 +58,8 @@ def entries_into_the_app() -> Iterator[list[str]]:
         sys.setprofile(None)
 
 
-def relays(app: ServerApp) -> frozenset[int]:
-    return app.emulators()[1].view().relays
+def relays(server: ServerApp) -> frozenset[int]:
+    return server.emulators()[1].view().relays
 
 
 @pytest.mark.asyncio

@@ -13,7 +13,7 @@ handed to :meth:`ServerApp.act`, the one door: it checks the asker's rights, sta
 the time, asks the engine and hands the decision to :meth:`ServerApp.apply_changes`,
 which sends it out, the switches first.  A band change passes through here once:
 the sources' intake (:mod:`moas_gui.source_intake`) calls ``act``, and nothing on its
-way out calls back into the app.  What the window reads and is told is
+way out calls back into this module.  What the window reads and is told is
 :class:`~moas_gui.server_view.ServerView`; the switch links' callbacks are
 :class:`~moas_gui.switch_events.SwitchEvents`; the antenna log's wiring is
 :class:`~moas_gui.antenna_feed.AntennaFeed`; :mod:`moas_gui.running` builds the parts.

@@ -86,7 +86,8 @@ class Played:
 
 
 def connected(model: EmulatorModel, desired: SwitchState = STATE_A, **kw: object) -> Played:
-    session = SwitchSession(1, events=DEFAULT_EVENTS, timing=TIMING, **kw)  # type: ignore[arg-type]
+    session = SwitchSession(1, events=DEFAULT_EVENTS, timing=TIMING, strict=True,
+                            **kw)  # type: ignore[arg-type]
     played = Played(session, model)
     played.run(session.apply(desired))
     played.run(session.opened(played.now))

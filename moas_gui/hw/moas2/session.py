@@ -69,6 +69,7 @@ from .commands import encode, split
 from .decoder import SwitchDecoder
 from .diagnostics import Batch, blame
 from .dwell import RelayDwell, interim, moves_relays
+from .keying import Keying
 from .messages import (
     AntennaEvent,
     AntennaStatus,
@@ -86,11 +87,18 @@ from .messages import (
     StatusKind,
     StatusRequest,
     TransmitEvent,
-    TRState,
     UnitId,
     UnitIdReply,
 )
-from .phases import Phase, PhaseEvent, next_phase
+from .phases import (
+    CONFIRMED,
+    WRITES_PLANS,
+    Phase,
+    PhaseEvent,
+    Standing,
+    WriteRefused,
+    next_phase,
+)
 from .plan import UNSURE_RELAYS, Known, Verdict, choose_plan, guard
 from .resync import Reconciliation, Slots, Survey, reconcile
 from .sync import stopped
@@ -232,6 +240,7 @@ class SwitchSession:
         held: SwitchState | None = None,
         seen: Sequence[Slots] | None = None,
         where: str = "",
+        strict: bool = False,
     ) -> None:
         self.switch_id = switch_id
         self.echo = echo
@@ -255,15 +264,10 @@ class SwitchSession:
         self._tickets = 0
         self._last_heard = 0.0
         self._next_ping: float | None = None
-        self._confirmed = False
-        self._foreign: UnitIdReply | None = None
+        self._standing = Standing()
+        """What the session carries beside its phase (:class:`.phases.Standing`)."""
         self._first_unit: int | None = None
-        self._tr: dict[int, bool] = {}
-        self._unsure: set[int] = set()
-        self._tr_known = False
-        self._reconciliation: Reconciliation | None = None
-        self._station0_waits = False
-        """The last plan's station-0 relays were held back (see :func:`guard`)."""
+        self._keying = Keying()
         self._last_problem = ""
         self._dwell = RelayDwell(timing.relay_dwell)
         """Automatic relay changes wait for the running dwell's end (:mod:`.dwell`)."""
@@ -271,14 +275,19 @@ class SwitchSession:
         self.bytes_written = 0
         self.refusals: list[str] = []
         """Every plan the safety rule refused (for tests and Save Switch Data)."""
+        self.strict = strict
+        """A write outside the phase table raises :class:`.phases.WriteRefused` (tests)
+        rather than only being refused, logged as a fault and ending the session."""
+        self.faults = 0
+        """Writes refused because the phase table does not allow them (programming
+        errors; each ended its session)."""
 
     # ------------------------------------------------------------------ what it knows
 
     @property
     def ready(self) -> bool:
         """The box is reconciled and every ``apply`` goes straight out."""
-        return self.phase in (Phase.LOADING, Phase.RUNNING) and self._confirmed \
-            and self._sent is not None
+        return self.phase in WRITES_PLANS and self._sent is not None
 
     @property
     def sent(self) -> SwitchState | None:
@@ -298,9 +307,7 @@ class SwitchSession:
 
     def keyed(self) -> frozenset[int] | None:
         """Stations transmitting as the box last said; None until it said it for all."""
-        if not self._tr_known:
-            return None
-        return frozenset(n for n, on in self._tr.items() if on) | frozenset(self._unsure)
+        return self._keying.keyed()
 
     def next_deadline(self) -> float | None:
         """When :meth:`tick` must be called next (None: only input moves it)."""
@@ -463,17 +470,18 @@ class SwitchSession:
         see it landed.  Returns the actions, for the driver to carry out in order (none
         when no survey waits for it)."""
         out: list[Action] = []
-        r, self._reconciliation = self._reconciliation, None
+        r, self._standing.reconciliation = self._standing.reconciliation, None
         if r is None or self.phase is not Phase.SURVEY:
             return out
         self.desired = desired
+        self._move(PhaseEvent.SURVEYED)  # loading: the phase in which the plan is written
+        self._step = _Step()
         known = Known(box_active=not r.inactive, believed=r.believed, events=self._events)
         if not self._send(known, self.desired, out):
-            out += self._end_session()
+            if not self._ended():
+                out += self._end_session()
             return out
         self._held = None
-        self._move(PhaseEvent.SURVEYED)
-        self._step = _Step()
         self._step.asked["ping"] = self._ping_question(now, out)
         return out
 
@@ -495,12 +503,11 @@ class SwitchSession:
             out += self._end_session()
             return
         self.unit = unit
-        refusal = self._refusal(self._foreign or unit)
+        refusal = self._refusal(self._standing.foreign or unit)
         if refusal:
             out += self.problem(logging.ERROR, refusal)
             out += self._end_session()
             return
-        self._confirmed = True
         if self.echo is None and self._first_unit is None:
             self._first_unit = unit.unit
         self._survey_tries = 0
@@ -538,7 +545,7 @@ class SwitchSession:
             return
         survey = Survey(a["ping"], box, a["polarity"], a["relays"])
         r = reconcile(self._held, self._seen, survey)
-        self._reconciliation = r
+        self._standing.reconciliation = r
         self._seen = [survey.slots(n) for n in STATIONS]
         out += self._survey_actions(r)
         if r.adopt:
@@ -586,9 +593,6 @@ class SwitchSession:
             out += self.problem(logging.WARNING, f"{self.where} stopped answering while loading")
             out += self._end_session()
             return
-        if not self._confirmed:  # another unit's id was heard meanwhile
-            out += self._end_session()
-            return
         if self._last_problem:
             out.append(Log(logging.INFO, f"{self.where} answers again"))
         self._last_problem = ""
@@ -607,10 +611,9 @@ class SwitchSession:
     def _send(self, known: Known, target: SwitchState, out: list[Action]) -> bool:
         """Every plan goes out here: chosen by :func:`.plan.choose_plan`, passed through
         :func:`.plan.guard`; then the box is taken to hold ``target`` (less what the
-        rule held back).  False when the rule refused the plan."""
-        if not self._confirmed:  # never reached: every caller waits for confirmation
-            out.append(Log(logging.ERROR, f"{self.where}: not sending to a box whose unit id "
-                           "is not confirmed"))
+        rule held back).  False when the rule refused the plan, or when the phase table
+        does not let the session write one now (:meth:`_may_write`)."""
+        if not self._may_write(out):
             return False
         verdict = guard(choose_plan(known, target), self.keyed(), self.where)
         if verdict.refused:
@@ -618,7 +621,7 @@ class SwitchSession:
             self.refusals.append(verdict.refused)
             return False
         plan = verdict.plan
-        self._station0_waits = verdict.held_back
+        self._standing.station0_waits = verdict.held_back
         if verdict.held_back:
             out.append(Log(logging.INFO, f"{self.where}: its always-on (station 0) relays wait "
                            "until no station transmits"))
@@ -637,7 +640,25 @@ class SwitchSession:
     def _told(self, target: SwitchState) -> SwitchState:
         """What the box was told of ``target``: all of it, or all but the station-0 relays
         the safety rule held back (marked unsure, so they go out later)."""
-        return replace(target, station0=UNSURE_RELAYS) if self._station0_waits else target
+        return replace(target, station0=UNSURE_RELAYS) if self._standing.station0_waits \
+            else target
+
+    def _may_write(self, out: list[Action]) -> bool:
+        """The phase table's check on every plan: only in :data:`.phases.WRITES_PLANS`.
+        Anything else is a bug in the session: refused, logged as a fault, and the session
+        ends (the driver opens a new one); :class:`.phases.WriteRefused` when strict."""
+        if self.phase in WRITES_PLANS:
+            return True
+        self.faults += 1
+        text = (f"{self.where}: a programming error: a plan was to be written in phase "
+                f"{self.phase.value}, where the phase table allows none; refused, and the "
+                "session ends")
+        if self.strict:
+            raise WriteRefused(text)
+        out.append(Log(logging.ERROR, text))
+        if not self._ended():
+            out += self._end_session()
+        return False
 
     def _write(self, data: bytes, out: list[Action]) -> None:
         out.append(Write(data))
@@ -696,10 +717,9 @@ class SwitchSession:
         unit's id is heard, this session drives nothing more."""
         if not self._refusal(reply):
             return
-        self._foreign = self._foreign or reply
-        if self._confirmed:
+        self._standing.foreign = self._standing.foreign or reply
+        if self.phase in CONFIRMED:
             out += self.problem(logging.ERROR, self._refusal(reply))
-            self._confirmed = False
             out += self._end_session(reached=self.phase is Phase.RUNNING)
 
     def _refusal(self, unit: UnitIdReply) -> str:
@@ -726,12 +746,10 @@ class SwitchSession:
         elif isinstance(message, TransmitEvent | ReceiveEvent):
             self._tr_changed(message.station, isinstance(message, TransmitEvent), out)
         elif isinstance(message, BoxStatus):
-            for number, letter in zip(STATIONS, message.tr, strict=False):
-                self._tr_changed(number, letter is TRState.TRANSMIT, out)
-            # a station shown inhibited by command may be keyed behind its inhibit
-            self._unsure = {n for n, letter in zip(STATIONS, message.tr, strict=False)
-                            if letter is TRState.INHIBITED}
-            self._tr_known = len(message.tr) >= len(STATIONS)
+            news = self._keying.status(message.tr)
+            out += [Transmit(n, on) for n, on in news]
+            if news:
+                self._station0_lands(out)
         elif isinstance(message, AntennaEvent):
             self._antenna_event(message, out)
         if not isinstance(message, ErrorReply) and log.isEnabledFor(logging.DEBUG):
@@ -784,14 +802,13 @@ class SwitchSession:
                 self._seen = [(NO_ANTENNA,) * 3 for _ in STATIONS]
 
     def _tr_changed(self, station: int, transmitting: bool, out: list[Action]) -> None:
-        self._unsure.discard(station)
-        if self._tr.get(station) is transmitting:
-            return
-        self._tr[station] = transmitting
-        out.append(Transmit(station, transmitting))
-        if self._station0_waits and self.ready and self._sent is not None \
-                and self.keyed() == frozenset():
-            # everyone receives: the station-0 relays held back go out now
+        if self._keying.changed(station, transmitting):
+            out.append(Transmit(station, transmitting))
+            self._station0_lands(out)
+
+    def _station0_lands(self, out: list[Action]) -> None:
+        """Everyone receives: the station-0 relays held back go out now."""
+        if self._standing.station0_waits and self.ready and self.keyed() == frozenset():
             self._send_state(self.desired, out)
 
     # ------------------------------------------------------------------ endings
@@ -809,12 +826,8 @@ class SwitchSession:
         self._questions.clear()
         self._pings.clear()
         self._batch = Batch(None)
-        self._tr.clear()
-        self._unsure = set()
-        self._tr_known = False
-        self._confirmed = False
-        self._foreign = None
-        self._reconciliation = None
+        self._keying.clear()
+        self._standing = Standing()
         self._next_ping = None
 
     def _end_session(self, reached: bool = False) -> list[Action]:
@@ -829,7 +842,6 @@ class SwitchSession:
         self._dwell.drop()  # the next session plans from the latest wanted state
         if self.phase is not Phase.CLOSED:
             self._move(PhaseEvent.ENDED)
-        self._confirmed = False
         self._pings.clear()
         self._step = _Step()
         out.append(End(reached))

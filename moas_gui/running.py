@@ -16,7 +16,6 @@ one loop turn) is not kept here but in the configuration's
 from __future__ import annotations
 
 import asyncio
-import functools
 import logging
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -29,7 +28,8 @@ from moas_gui.config.model import Antenna, RadioRef, Rotator, RotatorControl
 from moas_gui.engine import Engine
 from moas_gui.engine.switchstate import SwitchState
 from moas_gui.errors import HardwareError
-from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.link import LinkOptions, LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.listener import SwitchListener
 from moas_gui.hw.moas2.recording import SerialRecorder
 from moas_gui.hw.moas2.transport import switch_port
 from moas_gui.hw.rotators.base import (
@@ -185,10 +185,35 @@ class Running:
         return not self.engine.running
 
 
-def _wanted(run: Running, switch_id: int) -> SwitchState:
-    """What the engine wants switch ``switch_id`` to hold now (after it adopted what a
-    reconnected box holds, the state the link reconciles the box to)."""
-    return run.engine.switch_states()[switch_id]
+class _SwitchHeard(SwitchListener):
+    """What one switch's link says, passed on to the server's callbacks with the
+    switch's number; after an adoption, the engine's wanted state is what the link
+    reconciles the box to."""
+
+    def __init__(self, run: Running, switch_id: int,
+                 on_status: Callable[[int, LinkStatus], None],
+                 on_tr: Callable[[int, int, bool], None],
+                 on_adopt: Callable[[int, Mapping[int, tuple[int, int, int]], frozenset[int]],
+                                    None],
+                 on_seen: Callable[[int, int, tuple[int, int, int]], None] | None) -> None:
+        self._run, self._id = run, switch_id
+        self._on_status, self._on_tr, self._on_adopt, self._on_seen = (
+            on_status, on_tr, on_adopt, on_seen)
+
+    def status(self, status: LinkStatus) -> None:
+        self._on_status(self._id, status)
+
+    def transmitting(self, station: int, on: bool) -> None:
+        self._on_tr(self._id, station, on)
+
+    def adopt(self, stations: Mapping[int, tuple[int, int, int]],
+              transmitting: frozenset[int]) -> SwitchState:
+        self._on_adopt(self._id, stations, transmitting)
+        return self._run.engine.switch_states()[self._id]
+
+    def seen(self, station: int, slots: tuple[int, int, int]) -> None:
+        if self._on_seen is not None:
+            self._on_seen(self._id, station, slots)
 
 
 def start_switches(run: Running, options: ServerOptions, saved: SavedState,
@@ -213,17 +238,11 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
         run.switch_status[switch.id] = "connecting"
         link = SwitchLink(
             switch.id, switch.port, switch.echo,
-            on_status=functools.partial(on_status, switch.id),
-            on_tr=functools.partial(on_tr, switch.id),
-            on_adopt=functools.partial(on_adopt, switch.id),
-            on_seen=None if on_seen is None else functools.partial(on_seen, switch.id),
-            wanted=functools.partial(_wanted, run, switch.id),
-            indicate_tr=switch.indicate_tr,
-            held=saved.switches.get(switch.id),
-            seen=saved.seen.get(switch.id),
-            timing=timing,
+            listener=_SwitchHeard(run, switch.id, on_status, on_tr, on_adopt, on_seen),
+            options=LinkOptions(timing=timing, indicate_tr=switch.indicate_tr,
+                                held=saved.switches.get(switch.id),
+                                seen=saved.seen.get(switch.id), port_settings=settings),
             recorder=run.recorder,
-            port_settings=settings,
         )
         run.links[switch.id] = link
         link.apply(states[switch.id])  # inactive while the engine says the switches stop

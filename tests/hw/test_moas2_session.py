@@ -35,12 +35,11 @@ from moas_gui.hw.moas2.session import (
     LinkStatus,
     Log,
     Phase,
-    Reconcile,
     SwitchSession,
     Write,
     guard,
 )
-from moas_gui.hw.moas2.sync import DEFAULT_EVENTS, absolute, initialise
+from moas_gui.hw.moas2.sync import DEFAULT_EVENTS, absolute, initialise, stopped
 from moas_gui.hw.moas2.timing import LinkTiming
 
 TIMING = LinkTiming()
@@ -77,7 +76,7 @@ class Played:
                 answer = self.model.feed(action.data, self.now)
                 if answer:
                     pending += self.session.feed(answer, self.now)
-            elif isinstance(action, Reconcile):
+            elif isinstance(action, Adopt):
                 desired = self.after_adopting or self.session.desired
                 pending += self.session.reconcile(desired, self.now)
 
@@ -190,7 +189,7 @@ def test_a_box_that_never_answers_its_status_is_asked_again_then_left_alone() ->
     assert written(out).count(b'"B;') == SURVEY_TRIES
     assert all(part in (b":", b"'", b'"B', b'"I', b"|", b"")
                for part in written(out).split(b";")), written(out)
-    assert session.holds == STATE_A  # still what the next session checks against
+    assert session.writer.holds == STATE_A  # still what the next session checks against
 
 
 # ---------------------------------------------------------------------------- reconciling
@@ -230,13 +229,13 @@ def test_a_keyed_station_showing_what_the_state_file_never_knew_is_adopted() -> 
     played = connected(model, held=STATE_A, seen=[(1, 1, 63)] + [(63, 63, 63)] * 5,
                        desired=STATE_A)
     adopted = [a for a in played.actions if isinstance(a, Adopt)]
-    assert adopted == [Adopt(1, (3, 3, 63), True)]
+    assert adopted == [Adopt({1: (3, 3, 63)}, frozenset({1}))]
     assert b"*0;" not in played.wire
     assert played.model.view().relays == {5}
 
 
 def test_reconciliation_is_data_the_driver_carries_out_in_order() -> None:
-    # the survey ends with the lines to log, the stations to adopt and Reconcile; the
+    # the survey ends with the lines to log and one Adopt with the stations to adopt; the
     # plan is chosen for the state the driver hands over then (the engine's, once it
     # took station 1's antennas): no apply has to come back in between
     model = loaded_box(STATE_B)
@@ -249,17 +248,17 @@ def test_reconciliation_is_data_the_driver_carries_out_in_order() -> None:
     played.after_adopting = STATE_B
     played.run(session.opened(0.0))
     kinds = [type(a).__name__ for a in played.actions if not isinstance(a, Write)]
-    at = kinds.index("Reconcile")
-    assert kinds[at - 1] == "Adopt" and "Log" in kinds[:at]
+    at = kinds.index("Adopt")
+    assert kinds.count("Adopt") == 1 and "Log" in kinds[:at]
     assert not any(isinstance(a, Write) and b"*0;" in a.data for a in played.actions)
     assert session.desired == STATE_B and session.sent == STATE_B
     assert played.model.view().relays == {5}
     played.key(1, False)
     played.run(session.feed(played.model.advance(1.0), 1.0))
     assert played.model.view().relays == {5}  # nothing stale was left to land at receive
-    # a survey with nothing to adopt reconciles at once, with no Reconcile to carry out
+    # a survey with nothing to adopt reconciles at once, with no Adopt to carry out
     again = connected(loaded_box(STATE_A), held=STATE_A, desired=STATE_A)
-    assert not any(isinstance(a, Reconcile) for a in again.actions)
+    assert not any(isinstance(a, Adopt) for a in again.actions)
     assert again.session.phase is Phase.RUNNING
 
 
@@ -276,7 +275,7 @@ def test_stop_switches_is_the_operators_reset_and_says_who_was_keyed() -> None:
     model.feed(b"*1;", 0.0)
     played = connected(model, held=STATE_A)
     played.key(2, True)
-    played.run(played.session.stop())
+    played.run(played.session.apply(stopped(played.session.desired)))  # Stop Switches
     assert b"*0;" in played.wire
     # the session says it as a warning for its driver to log (no log call of its own)
     assert any(isinstance(a, Log) and a.level == logging.WARNING

@@ -42,9 +42,9 @@ from moas_gui.hw.moas2.plan import Known
 from moas_gui.hw.moas2.replies import encode_reply
 from moas_gui.hw.moas2.session import (
     Action,
+    Adopt,
     End,
     Log,
-    Reconcile,
     SwitchSession,
     Write,
 )
@@ -99,7 +99,7 @@ class Walk:
                 answer = self.model.feed(action.data, self.now)
                 if answer and not self.deaf:
                     pending += self.session.feed(answer, self.now)
-            elif isinstance(action, Reconcile):
+            elif isinstance(action, Adopt):
                 self.reconcile_due = True  # the engine adopts: a later event reconciles
             elif isinstance(action, End):
                 self.ended += 1
@@ -121,8 +121,10 @@ class Walk:
             self.run(s.tick(self.now))
         elif event in ("apply", "auto"):
             self.run(s.apply(STATES[n % len(STATES)], self.now, automatic=event == "auto"))
-        elif event in ("stop", "start", "reset"):
-            self.run(getattr(s, event)())
+        elif event in ("stop", "start"):  # Stop and Start Switches: the wanted state
+            self.run(s.apply(replace(s.desired, active=event == "start"), self.now))
+        elif event == "reset":
+            self.run(s.reset())
         elif event == "reconcile":
             self.reconcile_due = False
             self.run(s.reconcile(STATES[n % len(STATES)], self.now))

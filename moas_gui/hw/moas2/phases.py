@@ -30,9 +30,10 @@ fault, and the session ends).  The unit id is ours in :data:`CONFIRMED`.
 
 What a session knows beside its phase, and the table does not hold, is data, not
 another phase: :class:`Standing` (another unit's id heard while confirming, a survey
-waiting for the engine, station-0 relays held back) and, in their own parts, the
-stations' transmit states (:class:`.keying.Keying`) and the questions in flight
-(:class:`.questions.Questions`).
+waiting for the engine) and, in the session's pure parts, the station-0 relays held
+back (``PlanWriter.station0_waits``, :mod:`.writer`), the stations' transmit states
+(:class:`.keying.Keying`) and the questions in flight (:class:`.questions.Questions`).
+No other flag of the session says where it stands.
 """
 
 from __future__ import annotations
@@ -93,9 +94,6 @@ class Standing:
     reconciliation: Reconciliation | None = None
     """In survey: what the survey found, waiting for the engine to take the adopted
     stations before the session moves to loading and writes."""
-    station0_waits: bool = False
-    """In loading and running: the last plan's station-0 relays were held back by the
-    safety rule; they go out when no station transmits."""
 
 
 class PhaseError(Moas2Error, RuntimeError):

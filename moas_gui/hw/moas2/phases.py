@@ -103,6 +103,13 @@ class PhaseError(Moas2Error, RuntimeError):
 class WriteRefused(PhaseError):
     """A plan written outside :data:`WRITES_PLANS`: a bug in the session, refused."""
 
+    @staticmethod
+    def text(where: str, phase: Phase) -> str:
+        """What is logged (and raised, under tests) for a plan refused in ``phase``."""
+        return (f"{where}: a programming error: a plan was to be written in phase "
+                f"{phase.value}, where the phase table allows none; refused, and the "
+                "session ends")
+
 
 def next_phase(phase: Phase, event: PhaseEvent) -> Phase:
     """The phase ``event`` leads to from ``phase``; :class:`PhaseError` if none."""

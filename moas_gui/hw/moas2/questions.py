@@ -24,9 +24,21 @@ from typing import Any
 from .actions import Action, Answered
 from .commands import encode
 from .diagnostics import Batch
-from .messages import Command, Ping, Pong
+from .messages import Command, Ping, Pong, RelayStatusRequest, StatusRequest, UnitId
 
 log = logging.getLogger(__name__)
+
+
+QUESTIONS = (Ping, UnitId, StatusRequest, RelayStatusRequest)
+"""What a session asks: questions, which change nothing in the box.  :meth:`Questions.asked`
+takes nothing else; a command that could move a relay goes through the safety rule."""
+
+
+def only_question(where: str, command: Command) -> None:
+    """:class:`TypeError` unless ``command`` is a question (:data:`QUESTIONS`)."""
+    if not isinstance(command, QUESTIONS):
+        raise TypeError(f"{where}: {type(command).__name__} is not a question; "
+                        "commands that move relays go through the safety rule")
 
 
 @dataclass(slots=True)
@@ -53,17 +65,23 @@ class Step:
 class Questions:
     """Tickets, the questions in flight and the pings, for one session at a time."""
 
-    def __init__(self, where: str, answer_timeout: float) -> None:
+    def __init__(self, where: str, answer_timeout: float, ping_interval: float) -> None:
         self.where = where
         self.timeout = answer_timeout
+        self.interval = ping_interval
         self.step = Step()
+        self.last_heard = 0.0
+        self.next_ping: float | None = None
+        """When a running session pings next (None: it is not running)."""
         self._tickets = 0
         self._questions: deque[_Question] = deque()
         self._pings: deque[tuple[Batch, int | None]] = deque()
         self._batch = Batch(None)
 
-    def clear(self) -> None:
-        """A new session: nothing is in flight."""
+    def clear(self, now: float) -> None:
+        """A new session: nothing is in flight; the box counts as heard now."""
+        self.last_heard = now
+        self.next_ping = None
         self._questions.clear()
         self._pings.clear()
         self._batch = Batch(None)
@@ -76,7 +94,9 @@ class Questions:
     def asked(self, command: Command, reply_type: type, now: float,
               expect_active: bool | None) -> tuple[int, bytes]:
         """``command`` is asked now: its ticket and its bytes.  A ping also closes the
-        batch, judged by ``expect_active`` (None: not judged)."""
+        batch, judged by ``expect_active`` (None: not judged).  :class:`TypeError` for
+        anything but a question (:data:`QUESTIONS`)."""
+        only_question(self.where, command)
         ticket = self.ticket()
         self._questions.append(_Question(reply_type, ticket, now + self.timeout))
         if isinstance(command, Ping):
@@ -88,6 +108,17 @@ class Questions:
         self._pings.append((Batch(expect_active, self._batch.commands), ticket))
         self._batch = Batch(None)
         return encode(Ping())
+
+    def ping_due(self, now: float) -> bool | None:
+        """A running session's ping: None when not due, False when the box has been
+        silent past the answer timeout (the session ends), True when one goes out now
+        (:meth:`pinged`; the next is due one interval later)."""
+        if self.next_ping is None or now < self.next_ping:
+            return None
+        if now - self.last_heard > self.timeout:
+            return False
+        self.next_ping = now + self.interval
+        return True
 
     def wrote(self, parts: list[bytes]) -> None:
         """A plan's commands went out: the next ping's batch holds them."""
@@ -148,9 +179,9 @@ class Questions:
         return out
 
     def deadline(self) -> float | None:
-        """When a question is to be given up or forgotten next."""
-        return min((q.forget_at if q.gave_up else q.expires for q in self._questions),
-                   default=None)
+        """When a question is to be given up or forgotten next, or a ping is due."""
+        return min([q.forget_at if q.gave_up else q.expires for q in self._questions]
+                   + ([self.next_ping] if self.next_ping is not None else []), default=None)
 
     def dropped(self) -> list[Action]:
         """The session ended: every question still awaited is answered None."""
@@ -161,7 +192,8 @@ class Questions:
         self._questions.clear()
         self._pings.clear()
         self.step = Step()
+        self.next_ping = None
         return out
 
 
-__all__ = ["Questions", "Step"]
+__all__ = ["QUESTIONS", "Questions", "Step", "only_question"]

@@ -86,6 +86,12 @@ class BoxReader:
         self._seen[event.station - 1] = (tx, rx, alt)
 
 
+def reset_found(where: str, active: bool) -> str:
+    """What a session says of a box whose pong is not as active as it left it."""
+    return (f"{where} says it is {'active' if active else 'inactive'}, which it should not "
+            "be: it was reset or lost power; loading it again")
+
+
 class UnitCheck:
     """Whether a box that says it is some unit is this link's: the configuration's Echo,
     or else the first unit this link drove (a port name that now leads elsewhere)."""
@@ -97,10 +103,19 @@ class UnitCheck:
         self.echo = echo
         self.first: int | None = None
 
-    def confirmed(self, unit: UnitIdReply) -> None:
-        """``unit`` was confirmed ours: without Echo, the one this link drives from now."""
+    def judge(self, unit: UnitIdReply | None, pong: object | None,
+              foreign: UnitIdReply | None) -> tuple[int, str] | None:
+        """The confirmation's answers (the unit id, the ping's, another unit's id heard
+        meanwhile): None when the box is ours (without Echo, the one this link drives
+        from now on), else the level and text of why not."""
+        if unit is None or pong is None:
+            return logging.WARNING, f"{self.where} does not answer; will retry"
+        refusal = self.refusal(foreign or unit)
+        if refusal:
+            return logging.ERROR, refusal
         if self.echo is None and self.first is None:
             self.first = unit.unit
+        return None
 
     def refusal(self, unit: UnitIdReply) -> str:
         """Why a box that says it is ``unit`` is not ours ("" when it is)."""
@@ -118,4 +133,4 @@ class UnitCheck:
         return ""
 
 
-__all__ = ["NOTHING", "BoxReader", "UnitCheck"]
+__all__ = ["NOTHING", "BoxReader", "UnitCheck", "reset_found"]

@@ -83,9 +83,7 @@ from .messages import (
     Malformed,
     Ping,
     Pong,
-    RelayStatusRequest,
     StateOp,
-    StatusRequest,
     UnitId,
     UnitIdReply,
 )
@@ -99,22 +97,14 @@ from .phases import (
     next_phase,
 )
 from .plan import Known, Verdict, guard
-from .questions import Questions, Step
-from .reading import NOTHING, BoxReader, UnitCheck
+from .questions import QUESTIONS, Questions, Step, only_question
+from .reading import NOTHING, BoxReader, UnitCheck, reset_found
 from .resync import Slots, Survey, reconcile
-from .survey import SURVEY, answered, found
+from .survey import SURVEY, SURVEY_TRIES, answered, found, trouble
 from .timing import REAL_TIMING, LinkTiming
 from .writer import PlanWriter
 
 log = logging.getLogger(__name__)
-
-SURVEY_TRIES = 3
-"""How many times a session asks what the box holds before it gives up (and the
-driver tries a new session later): a noisy line gets as many chances, and meanwhile
-nothing is written that could move a relay."""
-
-QUESTIONS = (Ping, UnitId, StatusRequest, RelayStatusRequest)
-"""What :meth:`SwitchSession.ask` may send: questions, which change nothing in the box."""
 
 CONFIRM: dict[str, tuple[Command, type]] = {"unit": (UnitId(), UnitIdReply), "ping": (Ping(), Pong)}
 LOAD_CHECK: dict[str, tuple[Command, type]] = {"ping": (Ping(), Pong)}
@@ -123,18 +113,10 @@ LOAD_CHECK: dict[str, tuple[Command, type]] = {"ping": (Ping(), Pong)}
 class SwitchSession:
     """Every decision about one MOAS II, with no I/O (see the module docstring)."""
 
-    def __init__(
-        self,
-        switch_id: int,
-        echo: int | None = None,
-        *,
-        events: tuple[StateOp, ...],
-        timing: LinkTiming = REAL_TIMING,
-        held: SwitchState | None = None,
-        seen: Sequence[Slots] | None = None,
-        where: str = "",
-        strict: bool = False,
-    ) -> None:
+    def __init__(self, switch_id: int, echo: int | None = None, *,
+                 events: tuple[StateOp, ...], timing: LinkTiming = REAL_TIMING,
+                 held: SwitchState | None = None, seen: Sequence[Slots] | None = None,
+                 where: str = "", strict: bool = False) -> None:
         self.switch_id = switch_id
         self.echo = echo
         self.timing = timing
@@ -146,28 +128,19 @@ class SwitchSession:
         self._standing = Standing()
         """What the session carries beside its phase (:class:`.phases.Standing`)."""
         self._survey_tries = 0
-        self._last_heard = 0.0
-        self._next_ping: float | None = None
-        self.questions = Questions(self.where, timing.answer_timeout)
+        self.questions = Questions(self.where, timing.answer_timeout, timing.ping_interval)
         self.reader = BoxReader(self.where, seen)
         self.unit_check = UnitCheck(self.where, echo)
         self.writer = PlanWriter(self.where, events, timing.relay_dwell, held)
         self.voice = Voice()
-        self.unit: UnitIdReply | None = None
         self.bytes_written = 0
-        self.strict = strict
-        """A write outside the phase table raises :class:`.phases.WriteRefused` (tests)
-        rather than only being refused, logged as a fault and ending the session."""
-        self.faults = 0
-        """Writes refused because the phase table does not allow them (programming
-        errors; each ended its session)."""
+        self.strict = strict  # a write the table refuses raises WriteRefused (the tests)
+        self.faults = 0  # writes the table refused (programming errors, each ended its session)
 
-    # ------------------------------------------------------------------ what it knows
 
     @property
     def ready(self) -> bool:
-        """The box is reconciled and every ``apply`` goes straight out: a phase of
-        :data:`.phases.WRITES_PLANS`, with a plan sent."""
+        """Every ``apply`` goes straight out: in :data:`.phases.WRITES_PLANS`, loaded."""
         return self.phase in WRITES_PLANS and self.writer.sent is not None
 
     @property
@@ -185,25 +158,19 @@ class SwitchSession:
 
     def next_deadline(self) -> float | None:
         """When :meth:`tick` must be called next (None: only input moves it)."""
-        times = [self.questions.deadline()]
-        if self.ready:
-            times.append(self.writer.dwell.deadline())
-        if self.phase is Phase.RUNNING:
-            times.append(self._next_ping)
+        times = [self.questions.deadline(), self.writer.dwell.deadline() if self.ready else None]
         return min((t for t in times if t is not None), default=None)
 
-    # ------------------------------------------------------------------ inputs
 
     def opened(self, now: float) -> list[Action]:
         """A port is open to (maybe) the box: confirm it is ours."""
         self._decoder.reset()
-        self.questions.clear()
+        self.questions.clear(now)
         self.reader.keying.clear()
         self._standing = Standing()
-        self._next_ping = None
         if self.phase is not Phase.CLOSED:  # a driver that reopens without closing first
+            self.writer.ended()
             self._move(PhaseEvent.ENDED)
-        self._last_heard = now
         out: list[Action] = []
         self._ask_step(PhaseEvent.OPENED, CONFIRM, now, out)
         return out
@@ -224,7 +191,7 @@ class SwitchSession:
             if isinstance(message, Malformed):
                 log.debug("%s: skipped %r: %s", self.where, message.raw, message.reason)
                 continue
-            self._last_heard = now
+            self.questions.last_heard = now
             self._message(message, out)
             if _ended(self):
                 return out
@@ -240,25 +207,21 @@ class SwitchSession:
         if self.ready and self.writer.dwell.due(now):
             self.writer.dwell.started(now)  # the latest wanted state lands, through guard
             self._send(self.writer.known(), self.desired, out)
-        if self.phase is Phase.RUNNING and self._next_ping is not None \
-                and now >= self._next_ping:
-            if now - self._last_heard > self.timing.answer_timeout:
-                out += self.voice.problem(logging.WARNING, f"{self.where} stopped answering "
-                                          f"(nothing for {self.timing.answer_timeout:.1f} s); "
-                                          "will retry")
-                return out + self._end_session(reached=True)
-            self._write(self.questions.pinged(self.writer.sent.active
-                                              if self.writer.sent else None), out)
-            self._next_ping = now + self.timing.ping_interval
+        due = self.questions.ping_due(now)
+        if due is False:
+            out += self.voice.problem(logging.WARNING, f"{self.where} stopped answering "
+                                      f"(nothing for {self.timing.answer_timeout:.1f} s); "
+                                      "will retry")
+            return out + self._end_session(reached=True)
+        if due:
+            self._write(self.questions.pinged(self.writer.expect()), out)
         self._progress(now, out)
         return out
 
     def apply(self, state: SwitchState, now: float | None = None, *,
               automatic: bool = False) -> list[Action]:
         """The engine wants the box to hold ``state`` (inactive: Stop Switches stands);
-        ``automatic`` when a frequency (a logger's, a client's) decided it, whose relay
-        changes keep the dwell (:mod:`.dwell`): then, while a dwell runs, what moves
-        relays waits for its end and only what makes the box stricter goes out now."""
+        ``automatic``: a frequency decided it, and its relay changes keep the dwell."""
         self.desired = state
         out: list[Action] = []
         if not self.ready:
@@ -281,29 +244,22 @@ class SwitchSession:
         return out
 
     def ask(self, command: Command, reply_type: type, now: float) -> tuple[int, list[Action]]:
-        """Ask the box ``command``; the answer comes as :class:`~.actions.Answered` with
-        the ticket (None when the session is not open or no answer came in time).
-
-        Only questions are asked this way (a ping, the unit id, the status and relay
-        reports), which move no relay: anything that could goes through :func:`guard`."""
-        if not isinstance(command, QUESTIONS):
-            raise TypeError(f"{self.where}: {type(command).__name__} is not a question; "
-                            "commands that move relays go through the safety rule")
+        """Ask the box ``command``, a question only (:data:`.questions.QUESTIONS`: nothing
+        that moves a relay); the answer comes as :class:`~.actions.Answered` with the
+        ticket (None when the session is not open or no answer came in time)."""
+        only_question(self.where, command)
         if self.phase is Phase.CLOSED:
             ticket = self.questions.ticket()
             return ticket, [Answered(ticket, None)]
         out: list[Action] = []
-        expect = self.writer.sent.active if self.ready and self.writer.sent else None
-        ticket, data = self.questions.asked(command, reply_type, now, expect)
+        ticket, data = self.questions.asked(command, reply_type, now, self.writer.expect())
         self._write(data, out)
         return ticket, out
 
     def reconcile(self, desired: SwitchState, now: float) -> list[Action]:
         """Bring a surveyed box to ``desired``, the engine's wanted state once it took the
-        adopted stations (see :class:`~.actions.Adopt`): the session moves to loading,
-        then sends the plan :func:`.plan.choose_plan` picks from what the survey found,
-        through :func:`.plan.guard`, then a ping to see it landed.  Returns the actions,
-        for the driver to carry out in order (none when no survey waits for it)."""
+        adopted stations (:class:`~.actions.Adopt`): move to loading, then send the plan
+        for what the survey found (:meth:`_send`) and a ping to see it landed."""
         out: list[Action] = []
         r, self._standing.reconciliation = self._standing.reconciliation, None
         if r is None or self.phase is not Phase.SURVEY:
@@ -317,7 +273,6 @@ class SwitchSession:
         self._ask_step(None, LOAD_CHECK, now, out)
         return out
 
-    # ------------------------------------------------------------------ phases
 
     def _progress(self, now: float, out: list[Action]) -> None:
         if not self.questions.step.done():
@@ -334,39 +289,29 @@ class SwitchSession:
                 return
             out += self.voice.recovered(self.where)
             self._move(PhaseEvent.LOADED)
-            self._next_ping = now + self.timing.ping_interval
+            self.questions.next_ping = now + self.timing.ping_interval
             self._running_status(out)
 
     def _confirm(self, now: float, out: list[Action]) -> None:
-        unit, pong = self.questions.step.answers["unit"], self.questions.step.answers["ping"]
-        if unit is None or pong is None:
-            out += self.voice.problem(logging.WARNING, f"{self.where} does not answer; will retry")
+        answers = self.questions.step.answers
+        trouble = self.unit_check.judge(answers["unit"], answers["ping"], self._standing.foreign)
+        if trouble is not None:
+            out += self.voice.problem(*trouble)
             out += self._end_session()
             return
-        self.unit = unit
-        refusal = self.unit_check.refusal(self._standing.foreign or unit)
-        if refusal:
-            out += self.voice.problem(logging.ERROR, refusal)
-            out += self._end_session()
-            return
-        self.unit_check.confirmed(unit)
         self._survey_tries = 1
         self._ask_step(PhaseEvent.CONFIRMED, SURVEY, now, out)
 
     def _surveyed(self, now: float, out: list[Action]) -> None:
         survey = answered(self.questions.step.answers)
         if survey == "unanswered" and self._survey_tries < SURVEY_TRIES:
-            out.append(Log(logging.INFO, f"{self.where} did not answer every status "
-                           "request; asking again (nothing is sent until it does)"))
+            out.append(Log(logging.INFO, trouble(self.where, survey, self._survey_tries)))
             self._survey_tries += 1
             self._ask_step(PhaseEvent.UNANSWERED, SURVEY, now, out)
             return
         if not isinstance(survey, Survey):
-            out += self.voice.problem(logging.WARNING, (
-                f"{self.where} sent an incomplete box status; will retry"
-                if survey == "incomplete" else
-                f"{self.where} did not answer every status request ({SURVEY_TRIES} tries): "
-                "not driving it until it does; will retry"))
+            out += self.voice.problem(logging.WARNING,
+                                      trouble(self.where, survey, SURVEY_TRIES))
             out += self._end_session()
             return
         r = reconcile(self.writer.held, self.reader.seen, survey)
@@ -382,9 +327,9 @@ class SwitchSession:
         if event is not None:
             self._move(event)
         step = self.questions.step = Step()
-        expect = self.writer.sent.active if self.ready and self.writer.sent else None
         for name, (command, reply_type) in asked.items():
-            step.asked[name], data = self.questions.asked(command, reply_type, now, expect)
+            step.asked[name], data = self.questions.asked(command, reply_type, now,
+                                                          self.writer.expect())
             self._write(data, out)
 
     def _running_status(self, out: list[Action]) -> None:
@@ -392,13 +337,10 @@ class SwitchSession:
         (the wanted state, inactive) or not."""
         out += self.voice.set(LinkStatus.OK if self.desired.active else LinkStatus.STOPPED)
 
-    # ------------------------------------------------------------------ writing
 
     def _send(self, known: Known, target: SwitchState, out: list[Action]) -> bool:
-        """Every plan goes out here, and only in a phase the table allows
-        (:meth:`_may_write`): chosen by :func:`.plan.choose_plan`, passed through
-        :func:`.plan.guard` (:meth:`.writer.PlanWriter.plan`).  False when the rule
-        refused the plan or the table refused the write."""
+        """Every plan goes out here, only in a phase the table allows (:meth:`_may_write`),
+        chosen and guarded by :meth:`.writer.PlanWriter.plan`.  False when refused."""
         if not self._may_write(out):
             return False
         parts = self.writer.plan(known, target, self.keyed(), out)
@@ -416,9 +358,7 @@ class SwitchSession:
         if self.phase in WRITES_PLANS:
             return True
         self.faults += 1
-        text = (f"{self.where}: a programming error: a plan was to be written in phase "
-                f"{self.phase.value}, where the phase table allows none; refused, and the "
-                "session ends")
+        text = WriteRefused.text(self.where, self.phase)
         if self.strict:
             raise WriteRefused(text)
         out.append(Log(logging.ERROR, text))
@@ -430,7 +370,6 @@ class SwitchSession:
         out.append(Write(data))
         self.bytes_written += len(data)
 
-    # ------------------------------------------------------------------ reading
 
     def _message(self, message: object, out: list[Action]) -> None:
         if isinstance(message, UnitIdReply) and self.unit_check.refusal(message):
@@ -450,9 +389,7 @@ class SwitchSession:
             self._send(self.writer.known(), self.desired, out)
         if isinstance(message, Pong) and batch is not None and self.ready \
                 and batch.expect_active not in (None, message.active):
-            out.append(Log(logging.WARNING, (
-                f"{self.where} says it is {'active' if message.active else 'inactive'}, "
-                "which it should not be: it was reset or lost power; loading it again")))
+            out.append(Log(logging.WARNING, reset_found(self.where, message.active)))
             self.questions.unjudge()  # asked before the load: not to be judged
             # what it holds is not known: active while it should be stopped, a reset
             # (Stop Switches stands); inactive, the whole state as values
@@ -460,7 +397,6 @@ class SwitchSession:
                           self.desired, out):
                 self.reader.surveyed([NOTHING for _ in STATIONS])
 
-    # ------------------------------------------------------------------ endings
 
     def _move(self, event: PhaseEvent) -> None:
         """The one place the phase changes: by the table of :mod:`.phases`."""

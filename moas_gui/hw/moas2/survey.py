@@ -36,6 +36,11 @@ SURVEY: dict[str, tuple[Command, type]] = {
 }
 """What a survey asks, by name: questions only (nothing that could move a relay)."""
 
+SURVEY_TRIES = 3
+"""How many times a session asks what the box holds before it gives up (and the
+driver tries a new session later): a noisy line gets as many chances, and meanwhile
+nothing is written that could move a relay."""
+
 
 def answered(answers: dict[str, Any]) -> Survey | str:
     """The survey the answers make, or why they do not make one: "unanswered" (a
@@ -46,6 +51,18 @@ def answered(answers: dict[str, Any]) -> Survey | str:
     if min(len(box.tx), len(box.rx), len(box.alt)) < len(STATIONS):
         return "incomplete"
     return Survey(answers["ping"], box, answers["polarity"], answers["relays"])
+
+
+def trouble(where: str, result: str, tries: int) -> str:
+    """What the session says of a survey that did not make one (``result``, from
+    :func:`answered`) after ``tries``: asking again, or giving up for now."""
+    if result == "incomplete":
+        return f"{where} sent an incomplete box status; will retry"
+    if tries < SURVEY_TRIES:
+        return (f"{where} did not answer every status request; asking again (nothing is "
+                "sent until it does)")
+    return (f"{where} did not answer every status request ({SURVEY_TRIES} tries): not "
+            "driving it until it does; will retry")
 
 
 def found(where: str, held: SwitchState | None, r: Reconciliation) -> list[Action]:
@@ -88,4 +105,4 @@ def _held_slots(held: SwitchState | None, n: int) -> Slots:
     return (s.tx, s.rx, s.alt)
 
 
-__all__ = ["SURVEY", "answered", "found"]
+__all__ = ["SURVEY", "SURVEY_TRIES", "answered", "found", "trouble"]

@@ -49,6 +49,10 @@ class PlanWriter:
         that a restart during an outage still checks the box rather than loading it."""
         return self.sent if self.sent is not None else self.held
 
+    def expect(self) -> bool | None:
+        """How active the next pong should say the box is (None: not loaded yet)."""
+        return self.sent.active if self.sent is not None else None
+
     def known(self) -> Known:
         """What a running session knows: the box holds ``sent`` for sure."""
         assert self.sent is not None

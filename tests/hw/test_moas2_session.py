@@ -25,7 +25,7 @@ from moas_gui.hw.moas2.messages import (
     StateOp,
     UnitIdReply,
 )
-from moas_gui.hw.moas2.plan import Known, Plan, choose_plan
+from moas_gui.hw.moas2.plan import ChosenPlan, Known, choose_plan
 from moas_gui.hw.moas2.replies import encode_reply
 from moas_gui.hw.moas2.session import (
     SURVEY_TRIES,
@@ -109,13 +109,13 @@ def test_the_guard_refuses_every_reset_the_session_asks_for_itself() -> None:
                   Known(box_active=True, believed=STATE_A),
                   Known(box_active=True, sent=STATE_B)):
         for keyed in (None, frozenset(), frozenset({2})):
-            verdict = guard(Plan(reset, STATE_A, known), keyed, "switch 1")
+            verdict = guard(ChosenPlan(reset, STATE_A, known), keyed, "switch 1")
             assert verdict.plan.commands == () and "not resetting it" in verdict.refused
 
 
 def test_the_guard_lets_the_operator_reset_and_names_who_transmits() -> None:
     reset = initialise(STATE_A)
-    pressed = Plan(reset, STATE_A, Known(box_active=True, reset_asked=True))
+    pressed = ChosenPlan(reset, STATE_A, Known(box_active=True, reset_asked=True))
     assert guard(pressed, frozenset(), "switch 1").warning == ""
     verdict = guard(pressed, frozenset({2, 5}), "switch 1")
     assert verdict.plan == reset and "stations 2, 5 transmitting" in verdict.warning
@@ -291,7 +291,7 @@ def test_station_0_relays_wait_while_a_station_transmits_on_a_reconnection() -> 
     wanted = replace(STATE_A, station0=frozenset({61}))
     played = connected(model, held=STATE_A, desired=wanted)
     assert b"!0X" not in played.wire and played.model.view().station0 == frozenset()
-    pressed = Plan(initialise(wanted), wanted, Known(box_active=True, reset_asked=True))
+    pressed = ChosenPlan(initialise(wanted), wanted, Known(box_active=True, reset_asked=True))
     assert guard(pressed, frozenset({2}), "x").held_back is False
     played.key(2, False)
     assert b"!0X" in played.wire and played.model.view().station0 == {61}

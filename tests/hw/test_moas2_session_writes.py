@@ -4,7 +4,7 @@ A property walk: a session against the emulator model, driven by random events (
 opened and lost, time passing, wanted states, the operator's Stop, Start and Reset,
 reconciliations asked early or twice, key changes, another unit's id, a box found
 inactive, a deaf box, questions).  Every write is watched with the phase it was made
-in: nothing but a question (:data:`.session.QUESTIONS`) goes out outside
+in: nothing but a question (:data:`.questions.QUESTIONS`) goes out outside
 :data:`.phases.WRITES_PLANS`.  A plan asked for out of turn (what a bug in the session
 would do) is refused: :class:`.phases.WriteRefused` under ``strict``, a logged fault
 and an ended session otherwise.
@@ -225,7 +225,7 @@ class WritesFirst(Watched):
 
     def reconcile(self, desired: SwitchState, now: float) -> list[Action]:
         out: list[Action] = []
-        r, self._standing.reconciliation = self._standing.reconciliation, None
+        r, self._notes.reconciliation = self._notes.reconciliation, None
         if r is None or self.phase is not Phase.SURVEY:
             return out
         self.desired = desired

@@ -29,7 +29,7 @@ fault, and the session ends).  The unit id is ours in :data:`CONFIRMED`.
 ``docs/switch.md`` draws the same table.
 
 What a session knows beside its phase, and the table does not hold, is data, not
-another phase: :class:`Standing` (another unit's id heard while confirming, a survey
+another phase: :class:`SessionNotes` (another unit's id heard while confirming, a survey
 waiting for the engine) and, in the session's pure parts, the station-0 relays held
 back (``PlanWriter.station0_waits``, :mod:`.writer`), the stations' transmit states
 (:class:`.keying.Keying`) and the questions in flight (:class:`.questions.Questions`).
@@ -86,7 +86,7 @@ in them ends the session)."""
 
 
 @dataclass(slots=True)
-class Standing:
+class SessionNotes:
     """What a session carries beside its phase (cleared when a session starts)."""
 
     foreign: UnitIdReply | None = None
@@ -126,7 +126,7 @@ __all__ = [
     "Phase",
     "PhaseError",
     "PhaseEvent",
-    "Standing",
+    "SessionNotes",
     "WriteRefused",
     "next_phase",
 ]

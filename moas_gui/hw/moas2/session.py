@@ -92,7 +92,7 @@ from .phases import (
     WRITES_PLANS,
     Phase,
     PhaseEvent,
-    Standing,
+    SessionNotes,
     WriteRefused,
     next_phase,
 )
@@ -125,8 +125,8 @@ class SwitchSession:
         self.desired = SwitchState()
         """The engine's wanted state, the one place "stopped" is read from (inactive)."""
         self.phase = Phase.CLOSED
-        self._standing = Standing()
-        """What the session carries beside its phase (:class:`.phases.Standing`)."""
+        self._notes = SessionNotes()
+        """What the session carries beside its phase (:class:`.phases.SessionNotes`)."""
         self._survey_tries = 0
         self.questions = Questions(self.where, timing.answer_timeout, timing.ping_interval)
         self.reader = BoxReader(self.where, seen)
@@ -167,7 +167,7 @@ class SwitchSession:
         self._decoder.reset()
         self.questions.clear(now)
         self.reader.keying.clear()
-        self._standing = Standing()
+        self._notes = SessionNotes()
         if self.phase is not Phase.CLOSED:  # a driver that reopens without closing first
             self.writer.ended()
             self._move(PhaseEvent.ENDED)
@@ -261,7 +261,7 @@ class SwitchSession:
         adopted stations (:class:`~.actions.Adopt`): move to loading, then send the plan
         for what the survey found (:meth:`_send`) and a ping to see it landed."""
         out: list[Action] = []
-        r, self._standing.reconciliation = self._standing.reconciliation, None
+        r, self._notes.reconciliation = self._notes.reconciliation, None
         if r is None or self.phase is not Phase.SURVEY:
             return out
         self.desired = desired
@@ -279,7 +279,7 @@ class SwitchSession:
             return
         if self.phase is Phase.CONFIRM:
             self._confirm(now, out)
-        elif self.phase is Phase.SURVEY and self._standing.reconciliation is None:
+        elif self.phase is Phase.SURVEY and self._notes.reconciliation is None:
             self._surveyed(now, out)
         elif self.phase is Phase.LOADING:
             if self.questions.step.answers["ping"] is None:
@@ -294,7 +294,7 @@ class SwitchSession:
 
     def _confirm(self, now: float, out: list[Action]) -> None:
         answers = self.questions.step.answers
-        trouble = self.unit_check.judge(answers["unit"], answers["ping"], self._standing.foreign)
+        trouble = self.unit_check.judge(answers["unit"], answers["ping"], self._notes.foreign)
         if trouble is not None:
             out += self.voice.problem(*trouble)
             out += self._end_session()
@@ -315,7 +315,7 @@ class SwitchSession:
             out += self._end_session()
             return
         r = reconcile(self.writer.held, self.reader.seen, survey)
-        self._standing.reconciliation = r
+        self._notes.reconciliation = r
         self.reader.surveyed([survey.slots(n) for n in STATIONS])
         out += found(self.where, self.writer.held, r)
         if not r.adopt:  # else the driver hands the engine's state after adopting
@@ -374,7 +374,7 @@ class SwitchSession:
     def _message(self, message: object, out: list[Action]) -> None:
         if isinstance(message, UnitIdReply) and self.unit_check.refusal(message):
             # any unit id the box says counts, whichever question it answers
-            self._standing.foreign = self._standing.foreign or message
+            self._notes.foreign = self._notes.foreign or message
             if self.phase in CONFIRMED:
                 out += self.voice.problem(logging.ERROR, self.unit_check.refusal(message))
                 out += self._end_session(reached=self.phase is Phase.RUNNING)

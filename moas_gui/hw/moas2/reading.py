@@ -50,21 +50,20 @@ class BoxReader:
 
     def read(self, message: object, blamed: Sequence[bytes], out: list[Action]) -> bool:
         """``message`` came (``blamed``: the commands an error may belong to): the actions
-        it calls for; True when a station's key state changed."""
+        it calls for; True when who counts as keyed changed (a status is read whole
+        first: a station it shows inhibited by command still counts)."""
+        keyed = self.keying.keyed()
         if isinstance(message, ErrorReply):
             out.append(BoxError(blame(self.where, message, blamed)))  # the driver logs it
         elif isinstance(message, TransmitEvent | ReceiveEvent):
             on = isinstance(message, TransmitEvent)
             if self.keying.changed(message.station, on):
                 out.append(Transmit(message.station, on))
-                return True
         elif isinstance(message, BoxStatus):
-            news = self.keying.status(message.tr)
-            out += [Transmit(n, on) for n, on in news]
-            return bool(news)
+            out += [Transmit(n, on) for n, on in self.keying.status(message.tr)]
         elif isinstance(message, AntennaEvent):
             self._antenna_event(message, out)
-        return False
+        return self.keying.keyed() != keyed
 
     def _antenna_event(self, event: AntennaEvent, out: list[Action]) -> None:
         status = event.status

@@ -29,11 +29,12 @@ fault, and the session ends).  The unit id is ours in :data:`CONFIRMED`.
 ``docs/switch.md`` draws the same table.
 
 What a session knows beside its phase, and the table does not hold, is data, not
-another phase: :class:`SessionNotes` (another unit's id heard while confirming, a survey
-waiting for the engine) and, in the session's pure parts, the station-0 relays held
-back (``PlanWriter.station0_waits``, :mod:`.writer`), the stations' transmit states
-(:class:`.keying.Keying`) and the questions in flight (:class:`.questions.Questions`).
-No other flag of the session says where it stands.
+another phase: :class:`SessionNotes` (another unit's id heard while confirming, the
+survey's tries, a survey waiting for the engine) and, in the session's pure parts,
+the station-0 relays held back (``PlanWriter.station0_waits``, :mod:`.writer`), the
+stations' transmit states (:class:`.keying.Keying`) and the questions in flight with
+the running session's ping clock (:class:`.questions.Questions`).  No other flag of
+the session says where it stands.
 """
 
 from __future__ import annotations
@@ -91,6 +92,8 @@ class SessionNotes:
 
     foreign: UnitIdReply | None = None
     """Another unit's id, heard while confirming (the confirmation then refuses)."""
+    survey_tries: int = 0
+    """In survey: how many times the survey has been asked."""
     reconciliation: Reconciliation | None = None
     """In survey: what the survey found, waiting for the engine to take the adopted
     stations before the session moves to loading and writes."""

@@ -127,7 +127,6 @@ class SwitchSession:
         self.phase = Phase.CLOSED
         self._notes = SessionNotes()
         """What the session carries beside its phase (:class:`.phases.SessionNotes`)."""
-        self._survey_tries = 0
         self.questions = Questions(self.where, timing.answer_timeout, timing.ping_interval)
         self.reader = BoxReader(self.where, seen)
         self.unit_check = UnitCheck(self.where, echo)
@@ -299,14 +298,15 @@ class SwitchSession:
             out += self.voice.problem(*trouble)
             out += self._end_session()
             return
-        self._survey_tries = 1
+        self._notes.survey_tries = 1
         self._ask_step(PhaseEvent.CONFIRMED, SURVEY, now, out)
 
     def _surveyed(self, now: float, out: list[Action]) -> None:
         survey = answered(self.questions.step.answers)
-        if survey == "unanswered" and self._survey_tries < SURVEY_TRIES:
-            out.append(Log(logging.INFO, trouble(self.where, survey, self._survey_tries)))
-            self._survey_tries += 1
+        if survey == "unanswered" and self._notes.survey_tries < SURVEY_TRIES:
+            out.append(Log(logging.INFO,
+                           trouble(self.where, survey, self._notes.survey_tries)))
+            self._notes.survey_tries += 1
             self._ask_step(PhaseEvent.UNANSWERED, SURVEY, now, out)
             return
         if not isinstance(survey, Survey):

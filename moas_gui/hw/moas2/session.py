@@ -136,7 +136,6 @@ class SwitchSession:
         self.strict = strict  # a write the table refuses raises WriteRefused (the tests)
         self.faults = 0  # writes the table refused (programming errors, each ended its session)
 
-
     @property
     def ready(self) -> bool:
         """Every ``apply`` goes straight out: in :data:`.phases.WRITES_PLANS`, loaded."""
@@ -159,7 +158,6 @@ class SwitchSession:
         """When :meth:`tick` must be called next (None: only input moves it)."""
         times = [self.questions.deadline(), self.writer.dwell.deadline() if self.ready else None]
         return min((t for t in times if t is not None), default=None)
-
 
     def opened(self, now: float) -> list[Action]:
         """A port is open to (maybe) the box: confirm it is ours."""
@@ -272,7 +270,6 @@ class SwitchSession:
         self._ask_step(None, LOAD_CHECK, now, out)
         return out
 
-
     def _progress(self, now: float, out: list[Action]) -> None:
         if not self.questions.step.done():
             return
@@ -293,9 +290,9 @@ class SwitchSession:
 
     def _confirm(self, now: float, out: list[Action]) -> None:
         answers = self.questions.step.answers
-        trouble = self.unit_check.judge(answers["unit"], answers["ping"], self._notes.foreign)
-        if trouble is not None:
-            out += self.voice.problem(*trouble)
+        refused = self.unit_check.judge(answers["unit"], answers["ping"], self._notes.foreign)
+        if refused is not None:
+            out += self.voice.problem(*refused)
             out += self._end_session()
             return
         self._notes.survey_tries = 1
@@ -337,7 +334,6 @@ class SwitchSession:
         (the wanted state, inactive) or not."""
         out += self.voice.set(LinkStatus.OK if self.desired.active else LinkStatus.STOPPED)
 
-
     def _send(self, known: Known, target: SwitchState, out: list[Action]) -> bool:
         """Every plan goes out here, only in a phase the table allows (:meth:`_may_write`),
         chosen and guarded by :meth:`.writer.PlanWriter.plan`.  False when refused."""
@@ -370,7 +366,6 @@ class SwitchSession:
         out.append(Write(data))
         self.bytes_written += len(data)
 
-
     def _message(self, message: object, out: list[Action]) -> None:
         if isinstance(message, UnitIdReply) and self.unit_check.refusal(message):
             # any unit id the box says counts, whichever question it answers
@@ -396,7 +391,6 @@ class SwitchSession:
             if self._send(Known(box_active=message.active, events=self.writer.events),
                           self.desired, out):
                 self.reader.surveyed([NOTHING for _ in STATIONS])
-
 
     def _move(self, event: PhaseEvent) -> None:
         """The one place the phase changes: by the table of :mod:`.phases`."""

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import replace
+from pathlib import Path
 
 import pytest
 
@@ -152,3 +153,24 @@ def test_a_session_asks_only_questions_of_its_own_accord() -> None:
     session.opened(0.0)
     _, out = session.ask(UnitId(), UnitIdReply, 0.0)
     assert [a.data for a in out if isinstance(a, Write)] == [b":;"]
+
+
+LAYER = Path(__file__).resolve().parents[2] / "moas_gui" / "hw" / "moas2"
+RESET_BUILDERS = ("initialise(", "StateOp.RESET")
+NOT_CHOOSERS = {"sync.py": "builds the reset-and-load", "diagnostics.py": "text only (Save "
+                "Switch Data shows the load)", "__init__.py": "re-exports the codec"}
+
+
+def reset_choosers(sources: dict[str, str]) -> list[str]:
+    """The modules (by name) that reach a reset: call :func:`.sync.initialise` or name
+    ``StateOp.RESET``, beside those that build it or only show it as text."""
+    return sorted(name for name, text in sources.items()
+                  if name not in NOT_CHOOSERS and any(b in text for b in RESET_BUILDERS))
+
+
+def test_choose_plan_is_the_one_place_a_reset_is_chosen() -> None:
+    sources = {p.name: p.read_text(encoding="utf-8") for p in LAYER.glob("*.py")}
+    assert reset_choosers(sources) == ["plan.py"]
+    # a session that picked a reset of its own would be named
+    sources["session.py"] += "\ncommands = initialise(desired)\n"
+    assert reset_choosers(sources) == ["plan.py", "session.py"]

@@ -16,7 +16,6 @@ one loop turn) is not kept here but in the configuration's
 from __future__ import annotations
 
 import asyncio
-import functools
 import logging
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import InitVar, dataclass, field, replace
@@ -33,7 +32,8 @@ from moas_gui.engine.snapshot import export_selections
 from moas_gui.engine.switchstate import SwitchState
 from moas_gui.errors import HardwareError
 from moas_gui.files import write_text_atomic
-from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.link import LinkOptions, LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.listener import SwitchListener
 from moas_gui.hw.moas2.recording import SerialRecorder
 from moas_gui.hw.moas2.transport import switch_port
 from moas_gui.hw.rotators.base import (
@@ -244,20 +244,37 @@ class Running:
                           self.intake.focus_items())
 
 
-def _wanted(run: Running, switch_id: int) -> SwitchState:
-    """What the engine wants switch ``switch_id`` to hold now (after it adopted what a
-    reconnected box holds, the state the link reconciles the box to)."""
-    return run.engine.switch_states()[switch_id]
+class _SwitchHeard(SwitchListener):
+    """What one switch's link says, passed on to the server's callbacks with the
+    switch's number; after an adoption, the engine's wanted state is what the link
+    reconciles the box to."""
 
+    def __init__(self, run: Running, switch_id: int,
+                 on_status: Callable[[int, LinkStatus], None],
+                 on_tr: Callable[[int, int, bool], None],
+                 on_adopt: Callable[[int, Mapping[int, tuple[int, int, int]]], None],
+                 on_seen: Callable[[int, int, tuple[int, int, int]], None] | None) -> None:
+        self._run, self._id = run, switch_id
+        self._on_status, self._on_tr, self._on_adopt, self._on_seen = (
+            on_status, on_tr, on_adopt, on_seen)
 
-def _adopted(on_adopt: Callable[[int, Mapping[int, tuple[int, int, int]]], None],
-             switch_id: int, held: Mapping[int, tuple[int, int, int]],
-             keyed: frozenset[int]) -> None:
-    """A survey's adoption, to the server: the antennas only.  Which of those stations
-    were keyed (or may be) the server does not need here: the box status the survey
-    read gave their T/R letters to the engine first (``on_tr``, ahead of the adoption in
-    the same actions), and the link logged who was keyed."""
-    on_adopt(switch_id, held)
+    def status(self, status: LinkStatus) -> None:
+        self._on_status(self._id, status)
+
+    def transmitting(self, station: int, on: bool) -> None:
+        self._on_tr(self._id, station, on)
+
+    def adopt(self, stations: Mapping[int, tuple[int, int, int]],
+              transmitting: frozenset[int]) -> SwitchState:
+        # which of those stations were keyed (or may be) the server does not need here:
+        # the box status the survey read gave their T/R letters to the engine first (its
+        # transmitting calls come ahead of the adoption), and the link logged who was keyed
+        self._on_adopt(self._id, stations)
+        return self._run.engine.switch_states()[self._id]
+
+    def seen(self, station: int, slots: tuple[int, int, int]) -> None:
+        if self._on_seen is not None:
+            self._on_seen(self._id, station, slots)
 
 
 def start_switches(run: Running, options: ServerOptions, saved: SavedState,
@@ -271,7 +288,7 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
     ``on_seen(switch, port, slots)``: the antennas a box reports in use for a port
     changed (the antenna log records what the box confirmed, as it landed).
     ``on_adopt(switch, held)``: a survey found the box's antennas winning over the saved
-    state for the ports of ``held`` (:func:`_adopted`)."""
+    state for the ports of ``held`` (:class:`_SwitchHeard`)."""
     states = run.engine.switch_states()
     if options.record_serial is not None and run.recorder is None:
         run.recorder = open_recorder(options.record_serial)
@@ -283,17 +300,11 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
         run.switch_status[switch.id] = "connecting"
         link = SwitchLink(
             switch.id, switch.port, switch.echo,
-            on_status=functools.partial(on_status, switch.id),
-            on_tr=functools.partial(on_tr, switch.id),
-            on_adopt=functools.partial(_adopted, on_adopt, switch.id),
-            on_seen=None if on_seen is None else functools.partial(on_seen, switch.id),
-            wanted=functools.partial(_wanted, run, switch.id),
-            indicate_tr=switch.indicate_tr,
-            held=saved.switches.get(switch.id),
-            seen=saved.seen.get(switch.id),
-            timing=timing,
+            listener=_SwitchHeard(run, switch.id, on_status, on_tr, on_adopt, on_seen),
+            options=LinkOptions(timing=timing, indicate_tr=switch.indicate_tr,
+                                held=saved.switches.get(switch.id),
+                                seen=saved.seen.get(switch.id), port_settings=settings),
             recorder=run.recorder,
-            port_settings=settings,
         )
         run.links[switch.id] = link
         link.apply(states[switch.id])  # inactive while the engine says the switches stop

@@ -19,13 +19,14 @@ from pathlib import Path
 
 import pytest
 from helpers import until
+from switch_support import Heard
 
 from moas_gui.config import load_config
 from moas_gui.engine import Engine
 from moas_gui.engine.switchstate import SwitchState
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
-from moas_gui.hw.moas2.link import LinkTiming, SwitchLink
+from moas_gui.hw.moas2.link import LinkOptions, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.sync import initialise
 from moas_gui.hw.moas2.transport import EmulatorTransport
 
@@ -107,10 +108,10 @@ async def test_a_restart_adopting_two_keyed_stations_leaves_the_box_holding_the_
         adopted.append(dict(ports))
         engine.keep_switch_antennas(1, {port: (s[0], s[1]) for port, s in ports.items()})
 
-    link = SwitchLink(1, "emulator", timing=FAST, transport=EmulatorTransport(box),
-                      held=held, seen=[(VERTICAL, VERTICAL, 63), (DIPOLE_80, DIPOLE_80, 63)]
-                      + [NONE3] * 4,
-                      on_adopt=adopt, wanted=lambda: engine.switch_states()[1])
+    link = SwitchLink(1, "emulator", transport=EmulatorTransport(box),
+                      options=LinkOptions(timing=FAST, held=held, seen=[
+                          (VERTICAL, VERTICAL, 63), (DIPOLE_80, DIPOLE_80, 63)] + [NONE3] * 4),
+                      listener=Heard(adopt=adopt, wanted=lambda: engine.switch_states()[1]))
     link.apply(held)
     link.connect()
     try:

@@ -16,9 +16,10 @@ from pathlib import Path
 import pytest
 import serial  # type: ignore[import-untyped]
 from helpers import until
+from switch_support import Heard
 
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
-from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.link import LinkOptions, LinkStatus, LinkTiming, SwitchLink
 
 SCRIPT = Path(sys.executable).with_name("moas-emulator")
 COMMAND = [str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "moas_gui.cli.emulator"]
@@ -111,7 +112,8 @@ async def test_link_survives_the_emulator_process_being_replaced(tmp_path: Path)
     timing = LinkTiming(ping_interval=0.1, answer_timeout=1.0, retry_first=0.1, retry_max=0.3)
     statuses: list[LinkStatus] = []
     proc, _ = await asyncio.to_thread(start, "--link", str(link_path))
-    link = SwitchLink(1, str(link_path), timing=timing, on_status=statuses.append)
+    link = SwitchLink(1, str(link_path), options=LinkOptions(timing=timing),
+                      listener=Heard(status=statuses.append))
     link.apply(state)
     link.connect()
     try:

@@ -16,12 +16,13 @@ from pathlib import Path
 import pytest
 import pytest_asyncio
 from helpers import until
+from switch_support import Heard
 
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, remove_link, serve
-from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.link import LinkOptions, LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.sync import initialise
 from moas_gui.hw.moas2.transport import EmulatorTransport, SerialTransport
 
@@ -92,8 +93,10 @@ async def served(tmp_path: Path) -> AsyncIterator[Served]:
 
 def make_link_to(served: Served, echo: int | None = None, **kw: object) -> tuple[SwitchLink, list]:
     statuses: list[LinkStatus] = []
-    kw.setdefault("timing", FAST)
-    link = SwitchLink(1, str(served.link), echo, on_status=statuses.append,
+    hooks = {name: kw.pop(f"on_{name}") for name in ("tr", "error") if f"on_{name}" in kw}
+    timing = kw.pop("timing", FAST)
+    link = SwitchLink(1, str(served.link), echo, options=LinkOptions(timing=timing),  # type: ignore[arg-type]
+                      listener=Heard(status=statuses.append, **hooks),  # type: ignore[arg-type]
                       **kw)  # type: ignore[arg-type]
     return link, statuses
 
@@ -127,7 +130,7 @@ async def test_link_loads_the_box_and_then_sends_only_differences(served: Served
 
 @pytest.mark.asyncio
 async def test_apply_writes_before_returning() -> None:
-    link = SwitchLink(1, "emulator", timing=FAST)
+    link = SwitchLink(1, "emulator", options=LinkOptions(timing=FAST))
     link.connect()
     try:
         await until(lambda: link.ready)
@@ -362,7 +365,7 @@ async def test_save_switch_data_writes_every_status_reply_and_the_tables(
 
 @pytest.mark.asyncio
 async def test_save_switch_data_without_a_switch_says_no_answer(tmp_path: Path) -> None:
-    link = SwitchLink(4, str(tmp_path / "absent"), timing=FAST)
+    link = SwitchLink(4, str(tmp_path / "absent"), options=LinkOptions(timing=FAST))
     path = await link.save_data(tmp_path / "s4.txt")
     text = path.read_text()
     assert "MOAS II switch 4" in text and "no answer" in text
@@ -377,7 +380,7 @@ async def test_two_switches_at_once(tmp_path: Path) -> None:
     one.start()
     two.start()
     link1, _ = make_link_to(one)
-    link2 = SwitchLink(2, str(two.link), timing=FAST)
+    link2 = SwitchLink(2, str(two.link), options=LinkOptions(timing=FAST))
     link1.apply(STATE_A)
     link2.apply(STATE_B)
     link1.connect()
@@ -393,7 +396,7 @@ async def test_two_switches_at_once(tmp_path: Path) -> None:
 
 @pytest.mark.asyncio
 async def test_the_reader_thread_works_as_well_as_add_reader(served: Served) -> None:
-    link = SwitchLink(1, str(served.link), timing=FAST,
+    link = SwitchLink(1, str(served.link), options=LinkOptions(timing=FAST),
                       transport=SerialTransport(str(served.link), use_thread=True))
     link.apply(STATE_A)
     link.connect()
@@ -411,7 +414,7 @@ async def test_the_reader_thread_works_as_well_as_add_reader(served: Served) -> 
 
 @pytest.mark.asyncio
 async def test_the_emulator_port_name_gives_an_in_process_box_to_show() -> None:
-    link = SwitchLink(3, "emulator", echo=12, timing=FAST)
+    link = SwitchLink(3, "emulator", echo=12, options=LinkOptions(timing=FAST))
     assert link.emulator is not None
     link.apply(STATE_A)
     link.connect()
@@ -475,9 +478,10 @@ async def test_after_adopting_the_link_reconciles_to_the_engines_state_it_asks_f
         adopted.append((dict(held), transmitting))
         engine["state"] = STATE_B  # what the engine decides; it does not call apply
 
-    link = SwitchLink(1, "emulator", timing=FAST, transport=EmulatorTransport(box),
-                      held=STATE_A, seen=[(1, 1, 63), (2, 2, 63)] + [(63, 63, 63)] * 4,
-                      on_adopt=adopt, wanted=lambda: engine["state"])
+    link = SwitchLink(1, "emulator", transport=EmulatorTransport(box),
+                      options=LinkOptions(timing=FAST, held=STATE_A, seen=[
+                          (1, 1, 63), (2, 2, 63)] + [(63, 63, 63)] * 4),
+                      listener=Heard(adopt=adopt, wanted=lambda: engine["state"]))
     link.apply(STATE_A)  # the engine's state before it knew what the box holds
     link.connect()
     try:

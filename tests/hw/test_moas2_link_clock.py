@@ -14,6 +14,7 @@ from dataclasses import replace
 
 import pytest
 from helpers import FakeClock, advance_until, until
+from switch_support import Heard
 from test_moas2_link import STATE_A, STATE_B
 
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
@@ -78,8 +79,8 @@ class BoxPort:
 def link_to(port: BoxPort, clock: FakeClock, echo: int | None = None,
             **kw: object) -> tuple[SwitchLink, list[LinkStatus]]:
     statuses: list[LinkStatus] = []
-    link = SwitchLink(1, "in-process", echo, on_status=statuses.append, transport=port,
-                      clock=clock, **kw)  # type: ignore[arg-type]
+    link = SwitchLink(1, "in-process", echo, listener=Heard(status=statuses.append),
+                      transport=port, clock=clock, **kw)  # type: ignore[arg-type]
     return link, statuses
 
 
@@ -106,8 +107,8 @@ async def test_silence_is_unresponsive_after_the_answer_timeout_and_retries_doub
     clock = FakeClock()
     port = BoxPort(clock)
     told: list[tuple[LinkStatus, float]] = []
-    link = SwitchLink(1, "in-process", on_status=lambda s: told.append((s, clock.now())),
-                      transport=port, clock=clock)
+    link = SwitchLink(1, "in-process", transport=port, clock=clock,
+                      listener=Heard(status=lambda s: told.append((s, clock.now()))))
     caplog.set_level(logging.DEBUG, "moas_gui.hw.moas2")
     link.connect()
     try:

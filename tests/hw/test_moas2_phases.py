@@ -20,7 +20,7 @@ from moas_gui.hw.moas2.phases import (
     next_phase,
 )
 from moas_gui.hw.moas2.replies import encode_reply
-from moas_gui.hw.moas2.session import Action, Reconcile, SwitchSession, Write
+from moas_gui.hw.moas2.session import Action, Adopt, SwitchSession, Write
 from moas_gui.hw.moas2.sync import DEFAULT_EVENTS
 from moas_gui.hw.moas2.timing import LinkTiming
 
@@ -49,7 +49,7 @@ def drive(session: SwitchSession, model: EmulatorModel, actions: list[Action],
             answer = model.feed(action.data, now)
             if answer:
                 pending += session.feed(answer, now)
-        elif isinstance(action, Reconcile):
+        elif isinstance(action, Adopt):
             pending += session.reconcile(session.desired, now)
     return wire
 

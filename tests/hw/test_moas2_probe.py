@@ -19,7 +19,7 @@ from switch_support import Cable
 
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
-from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.link import LinkOptions, LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.messages import SetState, StateOp
 from moas_gui.hw.moas2.probe import PROBE_QUESTIONS, ProbeRefused, probe
 from moas_gui.hw.moas2.recording import read_recording, text_bytes
@@ -62,7 +62,7 @@ async def box(tmp_path: Path) -> AsyncIterator[Box]:
 
 async def load(box: Box) -> None:
     """A server's link loads the box, then lets the port go (the relays stay)."""
-    link = SwitchLink(1, box.path, timing=FAST)
+    link = SwitchLink(1, box.path, options=LinkOptions(timing=FAST))
     link.apply(LOADED)
     link.connect()
     try:
@@ -117,7 +117,7 @@ async def test_the_probe_of_a_box_not_yet_loaded_says_it_cannot_know_who_is_keye
 
 @pytest.mark.asyncio
 async def test_a_port_a_running_link_holds_is_refused_saying_so(box: Box) -> None:
-    link = SwitchLink(1, box.path, timing=FAST)
+    link = SwitchLink(1, box.path, options=LinkOptions(timing=FAST))
     link.apply(LOADED)
     link.connect()
     try:

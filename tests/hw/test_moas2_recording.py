@@ -15,7 +15,7 @@ from switch_support import Cable
 
 from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
-from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.link import LinkOptions, LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.recording import (
     RecordingError,
     SerialRecorder,
@@ -53,7 +53,7 @@ async def box(tmp_path: Path) -> AsyncIterator[tuple[Cable, EmulatedBox]]:
 async def record_a_session(cable: Cable, box: EmulatedBox, path: Path) -> None:
     """Load, change, a station keyed and released, Stop and Start, all recorded."""
     recorder = SerialRecorder(path, encode_state=switch_to_data)
-    link = SwitchLink(1, str(cable.link), 0, timing=FAST, recorder=recorder)
+    link = SwitchLink(1, str(cable.link), 0, options=LinkOptions(timing=FAST), recorder=recorder)
     link.apply(STATE_A)
     link.connect()
     try:

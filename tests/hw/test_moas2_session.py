@@ -25,7 +25,7 @@ from moas_gui.hw.moas2.messages import (
     StateOp,
     UnitIdReply,
 )
-from moas_gui.hw.moas2.plan import Known, Plan, choose_plan
+from moas_gui.hw.moas2.plan import ChosenPlan, Known, choose_plan
 from moas_gui.hw.moas2.replies import encode_reply
 from moas_gui.hw.moas2.session import (
     SURVEY_TRIES,
@@ -35,12 +35,11 @@ from moas_gui.hw.moas2.session import (
     LinkStatus,
     Log,
     Phase,
-    Reconcile,
     SwitchSession,
     Write,
     guard,
 )
-from moas_gui.hw.moas2.sync import DEFAULT_EVENTS, absolute, initialise
+from moas_gui.hw.moas2.sync import DEFAULT_EVENTS, absolute, initialise, stopped
 from moas_gui.hw.moas2.timing import LinkTiming
 
 TIMING = LinkTiming()
@@ -77,7 +76,7 @@ class Played:
                 answer = self.model.feed(action.data, self.now)
                 if answer:
                     pending += self.session.feed(answer, self.now)
-            elif isinstance(action, Reconcile):
+            elif isinstance(action, Adopt):
                 desired = self.after_adopting or self.session.desired
                 pending += self.session.reconcile(desired, self.now)
 
@@ -86,7 +85,8 @@ class Played:
 
 
 def connected(model: EmulatorModel, desired: SwitchState = STATE_A, **kw: object) -> Played:
-    session = SwitchSession(1, events=DEFAULT_EVENTS, timing=TIMING, **kw)  # type: ignore[arg-type]
+    session = SwitchSession(1, events=DEFAULT_EVENTS, timing=TIMING, strict=True,
+                            **kw)  # type: ignore[arg-type]
     played = Played(session, model)
     played.run(session.apply(desired))
     played.run(session.opened(played.now))
@@ -109,13 +109,13 @@ def test_the_guard_refuses_every_reset_the_session_asks_for_itself() -> None:
                   Known(box_active=True, believed=STATE_A),
                   Known(box_active=True, sent=STATE_B)):
         for keyed in (None, frozenset(), frozenset({2})):
-            verdict = guard(Plan(reset, STATE_A, known), keyed, "switch 1")
+            verdict = guard(ChosenPlan(reset, STATE_A, known), keyed, "switch 1")
             assert verdict.plan.commands == () and "not resetting it" in verdict.refused
 
 
 def test_the_guard_lets_the_operator_reset_and_names_who_transmits() -> None:
     reset = initialise(STATE_A)
-    pressed = Plan(reset, STATE_A, Known(box_active=True, reset_asked=True))
+    pressed = ChosenPlan(reset, STATE_A, Known(box_active=True, reset_asked=True))
     assert guard(pressed, frozenset(), "switch 1").warning == ""
     verdict = guard(pressed, frozenset({2, 5}), "switch 1")
     assert verdict.plan == reset and "stations 2, 5 transmitting" in verdict.warning
@@ -189,7 +189,7 @@ def test_a_box_that_never_answers_its_status_is_asked_again_then_left_alone() ->
     assert written(out).count(b'"B;') == SURVEY_TRIES
     assert all(part in (b":", b"'", b'"B', b'"I', b"|", b"")
                for part in written(out).split(b";")), written(out)
-    assert session.holds == STATE_A  # still what the next session checks against
+    assert session.writer.holds == STATE_A  # still what the next session checks against
 
 
 # ---------------------------------------------------------------------------- reconciling
@@ -229,13 +229,13 @@ def test_a_keyed_station_showing_what_the_state_file_never_knew_is_adopted() -> 
     played = connected(model, held=STATE_A, seen=[(1, 1, 63)] + [(63, 63, 63)] * 5,
                        desired=STATE_A)
     adopted = [a for a in played.actions if isinstance(a, Adopt)]
-    assert adopted == [Adopt(1, (3, 3, 63), True)]
+    assert adopted == [Adopt({1: (3, 3, 63)}, frozenset({1}))]
     assert b"*0;" not in played.wire
     assert played.model.view().relays == {5}
 
 
 def test_reconciliation_is_data_the_driver_carries_out_in_order() -> None:
-    # the survey ends with the lines to log, the stations to adopt and Reconcile; the
+    # the survey ends with the lines to log and one Adopt with the stations to adopt; the
     # plan is chosen for the state the driver hands over then (the engine's, once it
     # took station 1's antennas): no apply has to come back in between
     model = loaded_box(STATE_B)
@@ -248,17 +248,17 @@ def test_reconciliation_is_data_the_driver_carries_out_in_order() -> None:
     played.after_adopting = STATE_B
     played.run(session.opened(0.0))
     kinds = [type(a).__name__ for a in played.actions if not isinstance(a, Write)]
-    at = kinds.index("Reconcile")
-    assert kinds[at - 1] == "Adopt" and "Log" in kinds[:at]
+    at = kinds.index("Adopt")
+    assert kinds.count("Adopt") == 1 and "Log" in kinds[:at]
     assert not any(isinstance(a, Write) and b"*0;" in a.data for a in played.actions)
     assert session.desired == STATE_B and session.sent == STATE_B
     assert played.model.view().relays == {5}
     played.key(1, False)
     played.run(session.feed(played.model.advance(1.0), 1.0))
     assert played.model.view().relays == {5}  # nothing stale was left to land at receive
-    # a survey with nothing to adopt reconciles at once, with no Reconcile to carry out
+    # a survey with nothing to adopt reconciles at once, with no Adopt to carry out
     again = connected(loaded_box(STATE_A), held=STATE_A, desired=STATE_A)
-    assert not any(isinstance(a, Reconcile) for a in again.actions)
+    assert not any(isinstance(a, Adopt) for a in again.actions)
     assert again.session.phase is Phase.RUNNING
 
 
@@ -275,7 +275,7 @@ def test_stop_switches_is_the_operators_reset_and_says_who_was_keyed() -> None:
     model.feed(b"*1;", 0.0)
     played = connected(model, held=STATE_A)
     played.key(2, True)
-    played.run(played.session.stop())
+    played.run(played.session.apply(stopped(played.session.desired)))  # Stop Switches
     assert b"*0;" in played.wire
     # the session says it as a warning for its driver to log (no log call of its own)
     assert any(isinstance(a, Log) and a.level == logging.WARNING
@@ -291,7 +291,7 @@ def test_station_0_relays_wait_while_a_station_transmits_on_a_reconnection() -> 
     wanted = replace(STATE_A, station0=frozenset({61}))
     played = connected(model, held=STATE_A, desired=wanted)
     assert b"!0X" not in played.wire and played.model.view().station0 == frozenset()
-    pressed = Plan(initialise(wanted), wanted, Known(box_active=True, reset_asked=True))
+    pressed = ChosenPlan(initialise(wanted), wanted, Known(box_active=True, reset_asked=True))
     assert guard(pressed, frozenset({2}), "x").held_back is False
     played.key(2, False)
     assert b"!0X" in played.wire and played.model.view().station0 == {61}

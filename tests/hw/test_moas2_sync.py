@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -13,8 +14,10 @@ from moas_gui.hw.moas2.commands import MAX_COMMAND
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.station import SlotRole
 from moas_gui.hw.moas2.messages import SystemTable
+from moas_gui.hw.moas2.plan import Known, choose_plan
 from moas_gui.hw.moas2.sync import (
     POWER_ON,
+    CommandPlan,
     absolute,
     count_bytes,
     difference,
@@ -150,8 +153,12 @@ def test_settings_changes_send_only_what_changed() -> None:
 
 def test_stopping_resets_and_loads_without_activating_and_starting_activates() -> None:
     running = state(ant(1, {1, 2}))
-    stop = difference(running, stopped(running)).encode()
+    # the reset is chosen in one place, choose_plan; difference never holds one
+    known = Known(box_active=True, sent=running)
+    stop = choose_plan(known, stopped(running)).commands.encode()
     assert commands(stop) == ["*0;", "*AT;", "!1B112;"]
+    with pytest.raises(ValueError, match="only plan.choose_plan"):
+        difference(running, stopped(running))
     assert difference(stopped(running), running).encode() == b"*1;"
 
 
@@ -279,6 +286,12 @@ def holding(model: EmulatorModel) -> dict[str, object]:
     }
 
 
+def sent_from(old: SwitchState, new: SwitchState) -> CommandPlan:
+    """What a running session sends a box it surely holds ``old`` on: the difference, or
+    (from active to inactive: Stop Switches) the reset and load choose_plan chooses."""
+    return choose_plan(Known(box_active=old.active, sent=old), new).commands
+
+
 def load(data: bytes) -> EmulatorModel:
     model = EmulatorModel()
     assert model.feed(data, 0.0).count(b"?") == 0
@@ -292,7 +305,7 @@ def load(data: bytes) -> EmulatorModel:
 def test_difference_on_a_loaded_box_ends_where_a_fresh_load_does(
     old: SwitchState, new: SwitchState
 ) -> None:
-    by_difference = load(initialise(old).encode() + difference(old, new).encode())
+    by_difference = load(initialise(old).encode() + sent_from(old, new).encode())
     fresh = load(initialise(new).encode())
     assert holding(by_difference) == holding(fresh)
     if new.active:
@@ -307,7 +320,7 @@ def test_difference_on_a_loaded_box_ends_where_a_fresh_load_does(
 @settings(max_examples=20, deadline=None)
 @given(switch_states(), switch_states())
 def test_no_command_on_the_wire_is_longer_than_40_bytes(old: SwitchState, new: SwitchState) -> None:
-    for data in (initialise(old).encode(), difference(old, new).encode()):
+    for data in (initialise(old).encode(), sent_from(old, new).encode()):
         assert all(len(c) <= MAX_COMMAND for c in commands(data))
 
 

@@ -16,7 +16,7 @@ from moas_gui.engine.switchstate import StationAntennas, SwitchState
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, serve
-from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
+from moas_gui.hw.moas2.link import LinkOptions, LinkStatus, LinkTiming, SwitchLink
 from moas_gui.ui.emulator_window import EmulatorWindow
 
 
@@ -108,7 +108,7 @@ def test_switch_link_runs_on_the_qt_event_loop(qapp: QApplication, tmp_path: Pat
         box = EmulatedBox()
         endpoint = PtyEndpoint()
         serve(box, endpoint, asyncio.get_running_loop())
-        link = SwitchLink(1, endpoint.path, timing=timing)
+        link = SwitchLink(1, endpoint.path, options=LinkOptions(timing=timing))
         link.apply(state)
         link.connect()
         try:

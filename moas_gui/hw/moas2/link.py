@@ -3,28 +3,32 @@
 Every decision about the box (confirming the unit, what it holds after a
 restart, a replug or a stall, what to send and the safety rule it passes, which
 :mod:`.plan` holds) is the session's, a pure state machine in :mod:`.session`.
-The link does the I/O around it:
+The link does the I/O around it, with a few collaborators: a
+:class:`~.transport.Transport` (the port, or the built-in emulator for the port
+name ``"emulator"``: :func:`.transport.transport_for`), a
+:class:`~moas_gui.clock.Clock` (tests replace it by a fake one), a
+:class:`~.listener.SwitchListener` (what the server hears) and, with
+``--record-serial``, a :class:`~.recording.SerialRecorder` (every call on the session
+goes through :class:`~.calls.SessionCalls`, which stamps and records it).
 
-* ``connect()`` starts a task that opens the port (or the built-in emulator
-  for the port name ``"emulator"``) for this link alone, tells the session,
-  and waits for the session's next deadline on the link's
-  :class:`~moas_gui.clock.Clock` (tests replace it by a fake one), calling
-  ``tick`` then.  Bytes from the port go to ``feed`` as they arrive.
+* ``connect()`` starts a task that opens the port for this link alone, tells the
+  session, and waits for the session's next deadline on the clock, calling ``tick``
+  then.  Bytes from the port go to ``feed`` as they arrive.
 * When the session ends (silence past ``answer_timeout``, the port going away,
   a box that does not answer, another unit), the link closes the port and tries
   again after 0.5 s, 1 s, 2 s ... up to 8 s (:class:`.timing.LinkTiming`).  The
   next session checks what the box holds before anything is written.
 * The session's actions are carried out in order: bytes written, lines logged
   (the session decides what to say and how loud; the link writes it), the status,
-  T/R and error callbacks, ``on_adopt`` (the engine takes what the box holds for the
-  stations a survey adopts, all of them in one call: the slots by station and the
-  stations transmitting) and, after it, the session's ``reconcile`` with the engine's
-  wanted state then (``wanted``, asked of the engine; without one, the last state
-  the link was given).
+  T/R and error calls on the listener, and an :class:`~.actions.Adopt`: the
+  listener's ``adopt`` (the engine takes what the box holds for every station the
+  survey adopts, in one call) returns the engine's wanted state then, and the
+  session's ``reconcile`` gets it.
 * ``apply(state)`` hands the engine's wanted state over and writes what the
   session says: the difference at once, except an automatic relay change that
-  comes while the relay dwell runs (:mod:`.dwell`).  ``stop()``, ``start()`` and ``reset()`` are the
-  operator's; ``save_data`` writes every status reply and the tables to a file.
+  comes while the relay dwell runs (:mod:`.dwell`).  ``stop()`` and ``start()`` (an
+  inactive wanted state, and active again) and ``reset()`` are the operator's;
+  ``save_data`` writes every status reply and the tables to a file.
 """
 
 from __future__ import annotations
@@ -34,7 +38,8 @@ import contextlib
 import logging
 import math
 from collections import deque
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -44,10 +49,24 @@ from ...engine.switchstate import SwitchState
 from ...files import write_text_atomic
 from ...retry import Backoff, keep_trying
 from ...serial.settings import PortSettings
+from .actions import (
+    Action,
+    Adopt,
+    Answered,
+    BoxError,
+    End,
+    LinkStatus,
+    Log,
+    StatusChanged,
+    Transmit,
+    Write,
+    describe,
+)
+from .calls import SessionCalls
 from .diagnostics import switch_data
 from .emulator.box import EmulatedBox
-from .emulator.model import EmulatorModel
 from .errors import PortError
+from .listener import SwitchListener, Told
 from .messages import (
     BoxStatus,
     Command,
@@ -62,33 +81,34 @@ from .messages import (
     UnitId,
     UnitIdReply,
 )
-from .recording import SerialRecorder, command_text
+from .recording import SerialRecorder
 from .resync import Slots
-from .session import (
-    Action,
-    Adopt,
-    Answered,
-    BoxError,
-    End,
-    LinkStatus,
-    Log,
-    Reconcile,
-    StatusChanged,
-    SwitchSession,
-    Transmit,
-    Write,
-    describe,
-)
+from .session import SwitchSession
 from .sync import DEFAULT_EVENTS
 from .timing import REAL_TIMING, LinkTiming
-from .transport import SWITCH_PORT, EmulatorTransport, SerialTransport, Transport
+from .transport import EMULATOR_PORT, SWITCH_PORT, EmulatorTransport, Transport, transport_for
 
 log = logging.getLogger(__name__)
 
-EMULATOR_PORT = "emulator"
-"""The port name that means "the built-in emulator"."""
-
 _R = TypeVar("_R")
+
+
+@dataclass(frozen=True, slots=True)
+class LinkOptions:
+    """How a link drives its box, from the configuration and the saved state."""
+
+    timing: LinkTiming = REAL_TIMING
+    indicate_tr: bool = True
+    """Ask the box for its T and R events (the configuration's ``IndicateTR``)."""
+    held: SwitchState | None = None
+    """What the box was last told (the saved state): checked, not loaded blindly."""
+    seen: Sequence[Slots] | None = None
+    """Each station's antennas the box last reported in use (the saved state)."""
+    port_settings: PortSettings = SWITCH_PORT
+
+    @property
+    def events(self) -> tuple[StateOp, ...]:
+        return DEFAULT_EVENTS if self.indicate_tr else (StateOp.ANTENNA_EVENTS_ON,)
 
 
 class SwitchLink:
@@ -100,56 +120,30 @@ class SwitchLink:
         port: str,
         echo: int | None = None,
         *,
-        on_status: Callable[[LinkStatus], None] | None = None,
-        on_tr: Callable[[int, bool], None] | None = None,
-        on_error: Callable[[str], None] | None = None,
-        on_adopt: Callable[[Mapping[int, Slots], frozenset[int]], None] | None = None,
-        on_seen: Callable[[int, Slots], None] | None = None,
-        wanted: Callable[[], SwitchState] | None = None,
-        indicate_tr: bool = True,
-        timing: LinkTiming = REAL_TIMING,
+        listener: SwitchListener | None = None,
+        options: LinkOptions = LinkOptions(),
         transport: Transport | None = None,
-        held: SwitchState | None = None,
-        seen: Sequence[Slots] | None = None,
         clock: Clock = LOOP_CLOCK,
         recorder: SerialRecorder | None = None,
-        port_settings: PortSettings = SWITCH_PORT,
     ) -> None:
         self.switch_id = switch_id
         self.port = port
         self.echo = echo
-        self.timing = timing
+        self.timing = options.timing
         self.clock = clock
         """What pings, answer timeouts and retries wait on (and the built-in emulator's
         timers run on)."""
-        self._on_status = on_status
-        self._on_tr = on_tr
-        self._on_error = on_error
-        self._on_adopt = on_adopt
-        self._on_seen = on_seen
-        """Called with ``(station, slots)`` when the antennas the box reports in use for a
-        station change: what it confirmed, as it landed (the antenna log's "in force")."""
-        self._wanted = wanted
-        """The engine's wanted state now (what a reconciliation after adopting takes)."""
-        events = DEFAULT_EVENTS if indicate_tr else (StateOp.ANTENNA_EVENTS_ON,)
-        self.emulator: EmulatedBox | None = None
-        if transport is None:
-            if port == EMULATOR_PORT:
-                self.emulator = EmulatedBox(EmulatorModel(unit_id=echo or 0), clock=clock)
-                transport = EmulatorTransport(self.emulator)
-            else:
-                transport = SerialTransport(port, settings=port_settings)
-        elif isinstance(transport, EmulatorTransport):
-            self.emulator = transport.box
-        self._transport = transport
-        self.session = SwitchSession(switch_id, echo, events=events, timing=timing, held=held,
-                                     seen=seen, where=self.where)
-        self._recorder = recorder
-        """Where every session call and both directions' bytes are written
-        (``--record-serial``), or None."""
+        self._transport = transport or transport_for(port, echo, clock, options.port_settings)
+        self.emulator: EmulatedBox | None = (
+            self._transport.box if isinstance(self._transport, EmulatorTransport) else None)
+        self.session = SwitchSession(switch_id, echo, events=options.events,
+                                     timing=options.timing, held=options.held,
+                                     seen=options.seen, where=self.where)
         if recorder is not None:
-            recorder.session(switch_id, port=port, echo=echo, events=events, timing=timing,
-                             held=held, seen=seen)
+            recorder.session(switch_id, port=port, echo=echo, events=options.events,
+                             timing=options.timing, held=options.held, seen=options.seen)
+        self._calls = SessionCalls(self.session, clock.now, recorder)
+        self._told = Told(listener or SwitchListener(), self.where)
         self._open = False
         self._ended: asyncio.Event | None = None
         self._wake: asyncio.Event | None = None
@@ -161,8 +155,6 @@ class SwitchLink:
         """Counts sessions: what a port delivers for an ended one is dropped."""
         self._answers: dict[int, asyncio.Future[Any]] = {}
         self.errors: deque[str] = deque(maxlen=50)
-        self._told_seen: tuple[Slots, ...] | None = None
-        """What ``on_seen`` was last told (None: nothing yet)."""
 
     # ------------------------------------------------------------------ public
 
@@ -183,16 +175,12 @@ class SwitchLink:
     @property
     def holds(self) -> SwitchState | None:
         """What the box was last told, even during an outage (what a saved state keeps)."""
-        return self.session.holds
+        return self.session.writer.holds
 
     @property
     def seen(self) -> tuple[Slots, ...] | None:
         """Each station's antennas the box last reported in use."""
-        return self.session.seen
-
-    @property
-    def unit(self) -> UnitIdReply | None:
-        return self.session.unit
+        return self.session.reader.seen
 
     @property
     def bytes_written(self) -> int:
@@ -205,9 +193,10 @@ class SwitchLink:
     def connect(self) -> None:
         """Start talking to the switch (needs a running event loop)."""
         if self._task is None or self._task.done():
+            retry = Backoff(first=self.timing.retry_first, factor=2.0, most=self.timing.retry_max)
             self._task = asyncio.get_running_loop().create_task(
-                self._supervise(), name=f"switch {self.switch_id}"
-            )
+                keep_trying(self._attempt, retry, pause=self.clock.sleep),
+                name=f"switch {self.switch_id}")
 
     async def close(self) -> None:
         """Stop talking to the switch; the box keeps its relays."""
@@ -220,24 +209,21 @@ class SwitchLink:
         """Make the box hold ``state``; returns the bytes written now.  ``automatic``: a
         frequency decided it, and its relay changes keep the relay dwell (:mod:`.dwell`)."""
         before = self.session.bytes_written
-        now = self._record("want", state=state, automatic=automatic)
-        self._do(self.session.apply(state, now, automatic=automatic))
+        self._do(self._calls.apply(state, automatic))
         return self.session.bytes_written - before
 
     def stop(self) -> None:
-        """Stop Switches: all relays off (reset, and load without activating)."""
-        self._record("stop")
-        self._do(self.session.stop())
+        """Stop Switches: all relays off (reset, and load without activating): the wanted
+        state, inactive, for a driver without an engine (the server's engine says it)."""
+        self._do(self._calls.stop())
 
     def start(self) -> None:
-        """Start Switches: activate a stopped switch again."""
-        self._record("start")
-        self._do(self.session.start())
+        """Start Switches: activate a stopped switch again (the wanted state, active)."""
+        self._do(self._calls.start())
 
     def reset(self) -> None:
         """Reset Switches: reset the box and load it again from the latest state."""
-        self._record("reset")
-        self._do(self.session.reset())
+        self._do(self._calls.reset())
 
     async def ask_relays(self) -> frozenset[int] | None:
         """The relays the box says are closed (``|;``), or None without an answer."""
@@ -269,10 +255,6 @@ class SwitchLink:
 
     # ------------------------------------------------------------------ supervision
 
-    async def _supervise(self) -> None:
-        retry = Backoff(first=self.timing.retry_first, factor=2.0, most=self.timing.retry_max)
-        await keep_trying(self._attempt, retry, pause=self.clock.sleep)
-
     async def _attempt(self) -> bool:
         """One session and its end; True if the box became ready (the retries start over).
 
@@ -287,8 +269,7 @@ class SwitchLink:
             log.exception("%s: the session failed; will retry", self.where)
             with contextlib.suppress(Exception):
                 self._close_port()
-                self._record("closed")
-                self._do(self.session.closed())
+                self._do(self._calls.closed())
             return False
 
     async def _session(self) -> bool:
@@ -305,21 +286,20 @@ class SwitchLink:
                 lambda reason: self._on_port_lost(session, reason),
             )
         except PortError as exc:
-            self._do(self.session.problem(
+            self._do(self.session.voice.problem(
                 logging.WARNING, f"{self.where}: cannot open the port: {exc}; will retry"))
-            self._record("closed")
-            self._do(self.session.closed())
+            self._do(self._calls.closed())
             return False
         self._open = True
         try:
-            self._do(self.session.opened(self._record("opened")))
+            self._do(self._calls.opened())
             while not self._ended.is_set():
                 self._wake.clear()
                 deadline = self.session.next_deadline()
                 self._waits_until = math.inf if deadline is None else deadline
                 wait = None if deadline is None else deadline - self.clock.now()
                 if wait is not None and wait <= 0:  # due: however busy the port is
-                    self._do(self.session.tick(self._record("tick")))
+                    self._do(self._calls.tick())
                     await asyncio.sleep(0)
                     continue
                 if wait is None:
@@ -329,41 +309,37 @@ class SwitchLink:
                     async with timeout(self.clock, wait):
                         await self._wake.wait()
                 if not self._wake.is_set() and not self._ended.is_set():
-                    self._do(self.session.tick(self._record("tick")))
+                    self._do(self._calls.tick())
         finally:
             self._close_port()
-        self._record("closed")
-        self._do(self.session.closed())
+        self._do(self._calls.closed())
         return self._reached
 
     def _close_port(self) -> None:
         self._session_no += 1  # whatever the port still delivers belongs to no session
         if self._open:
             self._open = False
-            self._record("lost", reason="closed")
-            self._do(self.session.lost("closed"))
+            self._do(self._calls.lost("closed"))
         self._transport.close()
 
     def _on_port_lost(self, session: int, reason: str) -> None:
         if session != self._session_no:
             return
-        self._do(self.session.problem(logging.WARNING,
-                                      f"{self.where}: the port went away: {reason}"))
-        self._record("lost", reason=reason)
-        self._do(self.session.lost(reason))
+        self._do(self.session.voice.problem(logging.WARNING,
+                                            f"{self.where}: the port went away: {reason}"))
+        self._do(self._calls.lost(reason))
 
     def _on_data(self, session: int, data: bytes) -> None:
         if session != self._session_no or not self._open:
             log.debug("%s: dropped %r, which came after its session ended", self.where, data)
             return
-        self._do(self.session.feed(data, self._record("in", data=data)))
+        self._do(self._calls.feed(data))
 
     # ------------------------------------------------------------------ actions
 
     def _do(self, actions: list[Action]) -> None:
         """Carry out the session's actions, in order."""
-        adopted: dict[int, Slots] = {}
-        on_air: set[int] = set()
+        listener = self._told.listener
         for action in actions:
             if isinstance(action, Write):
                 self._write(action.data)
@@ -371,60 +347,28 @@ class SwitchLink:
                 log.log(action.level, "%s", action.text)
             elif isinstance(action, StatusChanged):
                 log.info("%s is %s", self.where, action.status.value)
-                if self._on_status is not None:
-                    self._call(self._on_status, action.status)
+                self._told.call(listener.status, action.status)
             elif isinstance(action, Transmit):
-                if self._on_tr is not None:
-                    self._call(self._on_tr, action.station, action.transmitting)
+                self._told.call(listener.transmitting, action.station, action.transmitting)
             elif isinstance(action, BoxError):
                 log.error("%s", action.text)
                 self.errors.append(action.text)
-                if self._on_error is not None:
-                    self._call(self._on_error, action.text)
-            elif isinstance(action, Adopt):  # gathered: the engine takes them together
-                adopted[action.station] = action.slots
-                if action.transmitting:
-                    on_air.add(action.station)
-            elif isinstance(action, Reconcile):  # after the adoptions before it
-                if adopted and self._on_adopt is not None:
-                    self._call(self._on_adopt, dict(adopted), frozenset(on_air))
-                adopted.clear()
-                on_air.clear()
-                self._reconcile()
-            else:
-                self._settle(action)
-        self._tell_seen()
+                self._told.call(listener.box_error, action.text)
+            elif isinstance(action, Adopt):  # the engine takes them, then the box follows
+                wanted = self._told.call(listener.adopt, action.stations, action.transmitting)
+                desired = wanted if isinstance(wanted, SwitchState) else self.session.desired
+                self._do(self._calls.reconcile(desired))
+            elif isinstance(action, Answered):
+                future = self._answers.pop(action.ticket, None)
+                if future is not None and not future.done():
+                    future.set_result(action.reply)
+            elif isinstance(action, End):
+                self._reached = self._reached or action.reached
+                if self._ended is not None:
+                    self._ended.set()
+        self._told.seen(self.session.reader.seen)
         if self._wake is not None and self._wake_needed():
             self._wake.set()
-
-    def _reconcile(self) -> None:
-        """The survey's adoptions were handed to the engine: reconcile the box to what
-        the engine wants now."""
-        desired = self._wanted() if self._wanted is not None else self.session.desired
-        now = self._record("reconcile", state=desired)
-        self._do(self.session.reconcile(desired, now))
-
-    def _settle(self, action: Action) -> None:
-        """An answer to the link's question, or the session's end."""
-        if isinstance(action, Answered):
-            future = self._answers.pop(action.ticket, None)
-            if future is not None and not future.done():
-                future.set_result(action.reply)
-        elif isinstance(action, End):
-            self._reached = self._reached or action.reached
-            if self._ended is not None:
-                self._ended.set()
-    def _tell_seen(self) -> None:
-        """``on_seen`` for each station whose antennas in use the box reports anew."""
-        if self._on_seen is None or self.session.seen == self._told_seen:
-            return
-        seen, before = self.session.seen, self._told_seen
-        self._told_seen = seen
-        if seen is None:
-            return
-        for station, slots in enumerate(seen, start=1):
-            if before is None or before[station - 1] != slots:
-                self._call(self._on_seen, station, slots)
 
     def _wake_needed(self) -> bool:
         """Whether the supervisor must wake to sleep towards another deadline: the session
@@ -439,7 +383,7 @@ class SwitchLink:
     def _write(self, data: bytes) -> None:
         if not self._open:
             return
-        self._record("out", data=data)
+        self._calls.wrote(data)
         try:
             self._transport.write(data)
         except PortError as exc:
@@ -450,8 +394,7 @@ class SwitchLink:
         if not self._open:
             return None
         future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
-        now = self._record("ask", command=command_text(command))
-        ticket, actions = self.session.ask(command, reply_type, now)
+        ticket, actions = self._calls.ask(command, reply_type)
         self._answers[ticket] = future
         self._do(actions)
         try:
@@ -460,20 +403,13 @@ class SwitchLink:
             self._answers.pop(ticket, None)
         return result if isinstance(result, reply_type) else None
 
-    def _record(self, kind: str, **fields: object) -> float:
-        """The time now, after writing the session call ``kind`` to the recording (if
-        any): the session is handed the same time the recording says."""
-        now = self.clock.now()
-        if self._recorder is not None:
-            self._recorder.note(self.switch_id, kind, now, **fields)
-        return now
 
-    def _call(self, callback: Callable[..., None], *args: object) -> None:
-        """Call the server back; a failing callback is logged, the link carries on."""
-        try:
-            callback(*args)
-        except Exception:  # whatever the caller's code raises, the link carries on
-            log.exception("%s: the %s callback failed", self.where, callback)
-
-
-__all__ = ["EMULATOR_PORT", "LinkStatus", "LinkTiming", "SwitchLink", "describe"]
+__all__ = [
+    "EMULATOR_PORT",
+    "LinkOptions",
+    "LinkStatus",
+    "LinkTiming",
+    "SwitchLink",
+    "SwitchListener",
+    "describe",
+]

@@ -4,8 +4,9 @@ Two pure functions, side by side, and the values between them:
 
 * :func:`choose_plan` takes what the session knows of the box (:class:`Known`: what
   it holds for sure, what it is believed to hold, whether it is active, whether the
-  operator asked for a reset) and the wanted state, and returns the :class:`Plan` to
-  send.  Every plan the session writes is chosen here; no caller picks a plan kind.
+  operator asked for a reset) and the wanted state, and returns the :class:`ChosenPlan`
+  to send.  Every plan the session writes is chosen here, and this is the one place a
+  reset is chosen (:func:`.sync.difference` never holds one); no caller picks a kind.
 * :func:`guard` takes that plan and the stations transmitting and returns a
   :class:`Verdict`.  It decides by itself, from the plan's own facts, what the
   operator asked for and what the session would do on its own.
@@ -20,9 +21,12 @@ Two pure functions, side by side, and the values between them:
    (or saying their state is not known yet).
 2. The station-0 relays (``!0X``), which the box sets at once with no hot-switch rule.
    While a station transmits or may (``keyed`` None or not empty), a station-0
-   command is taken out of the plan unless the operator changed them from a state the
-   box surely holds (``Known.sent`` with sure station-0 relays, different from the
-   target's).  The session sends them when every station receives.
+   command is taken out of the plan unless the wanted state changes them from relays
+   the box surely holds (:func:`station0_changed`: ``Known.sent`` with sure station-0
+   relays, different from the target's; any change of the engine's counts, a
+   logger's band change as much as an operator's press).  So what is held back is
+   what a session would set on its own: after a reconnection or a reset, while the
+   box's relays are not sure.  The session sends them when every station receives.
 
 Everything else a plan holds reaches a station's relays only through the box's own
 rules (wait or interrupt mode, the tables the engine loads): :func:`guard` does not
@@ -61,7 +65,7 @@ class Known:
 
 
 @dataclass(frozen=True, slots=True)
-class Plan:
+class ChosenPlan:
     """A plan chosen by :func:`choose_plan`: the commands, and the facts the safety
     rule judges them by."""
 
@@ -72,28 +76,29 @@ class Plan:
     """What the session knew when it chose the plan."""
 
 
-def choose_plan(known: Known, desired: SwitchState) -> Plan:
+def choose_plan(known: Known, desired: SwitchState) -> ChosenPlan:
     """The plan that takes the box from what the session knows to ``desired``.
 
+    This is the one place a reset is chosen:
+
     * Reset Switches: a reset and a full load (:func:`.sync.initialise`).
-    * The box holds a known state (``sent``): the difference (:func:`.sync.difference`;
-      from active to inactive that is a reset and a load, Stop Switches).
-    * Otherwise, an active box that should be stopped: a reset and a load without
-      activation (the box has no "deactivate"; Stop Switches is the operator's).
+    * An active box (as the session knows it: ``sent``'s, else ``box_active``) that
+      should be stopped: a reset and a load without activation (the box has no
+      "deactivate"; Stop Switches is the operator's).
+    * The box holds a known state (``sent``): the difference (:func:`.sync.difference`).
     * Otherwise, a believed state: the difference from it.
     * Otherwise: the whole state as values, never a reset (:func:`.sync.absolute`)."""
     events = known.events
-    if known.reset_asked:
+    active = known.sent.active if known.sent is not None else known.box_active
+    if known.reset_asked or (active and not desired.active):
         commands = initialise(desired, events=events)
     elif known.sent is not None:
         commands = difference(known.sent, desired, events=events)
-    elif known.box_active and not desired.active:
-        commands = initialise(desired, events=events)
-    elif known.believed is not None:
+    elif known.believed is not None and (desired.active or not known.believed.active):
         commands = difference(known.believed, desired, events=events)
     else:
         commands = absolute(desired, box_active=known.box_active, events=events)
-    return Plan(commands, desired, known)
+    return ChosenPlan(commands, desired, known)
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,15 +120,18 @@ def resets(commands: CommandPlan) -> bool:
     return any(isinstance(c, SetState) and StateOp.RESET in c.ops for c in commands.commands)
 
 
-def reset_asked(plan: Plan) -> bool:
+def reset_asked(plan: ChosenPlan) -> bool:
     """The operator asked for the reset a plan holds: Reset Switches, or Stop Switches
     (an inactive wanted state: the session never stops a box on its own)."""
     return plan.known.reset_asked or not plan.target.active
 
 
-def station0_asked(plan: Plan) -> bool:
-    """The operator changed the station-0 relays: from relays the box surely holds
-    (a running session's, not held back) to the target's."""
+def station0_changed(plan: ChosenPlan) -> bool:
+    """The wanted state changes the station-0 relays from relays the box surely holds
+    (a running session's, not held back) to the target's.  Any change of the engine's
+    counts, whoever caused it: an operator's press or a logger's band change alike
+    (the engine decides the relays; the rule only keeps the box from setting relays
+    on its own initiative, after a reconnection, while someone transmits)."""
     sent = plan.known.sent
     return (
         sent is not None
@@ -132,14 +140,14 @@ def station0_asked(plan: Plan) -> bool:
     )
 
 
-def guard(plan: Plan, keyed: frozenset[int] | None, where: str) -> Verdict:
+def guard(plan: ChosenPlan, keyed: frozenset[int] | None, where: str) -> Verdict:
     """The safety rule for every plan a session writes (its scope: the module
     docstring).  ``keyed``: the stations transmitting, or None when not known yet
     (which counts as transmitting)."""
     commands = plan.commands
     if resets(commands):
         return _reset_verdict(plan, keyed, where)
-    if (keyed is None or keyed) and not station0_asked(plan):
+    if (keyed is None or keyed) and not station0_changed(plan):
         kept = tuple(
             c for c in commands.commands if not (isinstance(c, SetAntenna) and c.station == 0)
         )
@@ -148,7 +156,7 @@ def guard(plan: Plan, keyed: frozenset[int] | None, where: str) -> Verdict:
     return Verdict(commands)
 
 
-def _reset_verdict(plan: Plan, keyed: frozenset[int] | None, where: str) -> Verdict:
+def _reset_verdict(plan: ChosenPlan, keyed: frozenset[int] | None, where: str) -> Verdict:
     if keyed is None:
         on_air = "the stations' transmit states are not known yet"
     elif keyed:
@@ -170,12 +178,12 @@ def _reset_verdict(plan: Plan, keyed: frozenset[int] | None, where: str) -> Verd
 
 __all__ = [
     "UNSURE_RELAYS",
+    "ChosenPlan",
     "Known",
-    "Plan",
     "Verdict",
     "choose_plan",
     "guard",
     "reset_asked",
     "resets",
-    "station0_asked",
+    "station0_changed",
 ]

@@ -5,8 +5,8 @@ opens the port for itself alone, asks the questions of :data:`PROBE_QUESTIONS`
 (ping, unit id and firmware, box status, inhibit polarity, relay report), each
 up to :data:`TRIES` times, and prints what came back in words an owner can read
 and share.  Nothing it sends can move a relay: every command is checked against
-the session's list of questions (:data:`.session.QUESTIONS`) before it is
-written, the same list :meth:`.session.SwitchSession.ask` holds to; no reset,
+the session's list of questions (:data:`.questions.QUESTIONS`) before it is
+written, the same list the session's questions are held to; no reset,
 no activation, no table is ever sent.
 
 A port held by a running server (its switch link opens the port for itself
@@ -42,8 +42,8 @@ from .messages import (
     UnitId,
     UnitIdReply,
 )
+from .questions import QUESTIONS
 from .recording import SerialRecorder, answer_type, bytes_text
-from .session import QUESTIONS
 from .transport import SerialTransport, switch_port
 
 PROBE_QUESTIONS: tuple[Command, ...] = (
@@ -53,7 +53,7 @@ PROBE_QUESTIONS: tuple[Command, ...] = (
     StatusRequest(StatusKind.POLARITY),
     RelayStatusRequest(),
 )
-"""What the probe asks, in order; every one is a question (:data:`.session.QUESTIONS`)."""
+"""What the probe asks, in order; every one is a question (:data:`.questions.QUESTIONS`)."""
 
 ANSWER_TIMEOUT = 1.0
 """Seconds the probe waits for each answer (the box answers within milliseconds)."""

@@ -9,8 +9,10 @@ A recording is a text file of JSON lines, one per event, written as it happens:
 * ``{"kind": "in", ...}``: bytes read from the box, in the pieces the port gave;
 * the other calls the link made on its session, each with its time ``t``:
   ``opened``, ``tick``, ``lost``, ``closed``, ``want`` (the engine's wanted state),
-  ``stop``, ``start``, ``reset``, ``reconcile`` (with the wanted state it was
-  handed) and ``ask`` (a question).
+  ``stop`` and ``start`` (a driver without an engine: the wanted state made inactive,
+  or active again), ``reset``, ``reconcile`` (with the wanted state it was handed) and
+  ``ask`` (a question); each is written by :class:`.calls.SessionCalls`, the one
+  place the link calls its session.
 
 Bytes are written as text with ``\\xNN`` escapes (:func:`bytes_text`), so both
 directions read at a glance: ``"';"`` out, ``"!;"`` in.  Times are seconds on the
@@ -32,11 +34,12 @@ import json
 import logging
 import time
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import IO, Any
 
 from ...engine.switchstate import SwitchState
+from .actions import Action, LinkStatus, Write
 from .commands import encode, parse_command
 from .errors import RecordingError
 from .messages import (
@@ -53,7 +56,7 @@ from .messages import (
     UnitId,
     UnitIdReply,
 )
-from .session import Action, SwitchSession, Write
+from .session import SwitchSession
 from .timing import LinkTiming
 
 log = logging.getLogger(__name__)
@@ -280,8 +283,12 @@ def _call(session: SwitchSession, line: dict[str, Any],
         return list(getattr(session, kind)(now))
     if kind == "lost":
         return session.lost(line.get("reason", "lost"))
-    if kind in ("closed", "stop", "start", "reset"):
-        return list(getattr(session, kind)())
+    if kind == "closed":
+        return session.voice.set(LinkStatus.UNRESPONSIVE)
+    if kind in ("stop", "start"):  # Stop and Start Switches: the wanted state
+        return session.apply(replace(session.desired, active=kind == "start"))
+    if kind == "reset":
+        return session.reset()
     raise RecordingError(f"line {line['line']}: unknown kind {kind!r}")
 
 

@@ -15,11 +15,9 @@ from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 
 from ...engine.switchstate import NO_ANTENNA, STATIONS, StationAntennas, SwitchState
+from .actions import Slots
 from .messages import BoxStatus, PolarityStatus, Pong, RelayStatus, TRState
 from .sync import UNSURE
-
-Slots = tuple[int, int, int]
-"""A station's transmit, receive and alternate antennas (switch slots)."""
 
 
 @dataclass(frozen=True, slots=True)

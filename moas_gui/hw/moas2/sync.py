@@ -360,11 +360,16 @@ def initialise(state: SwitchState, *, events: tuple[StateOp, ...] = DEFAULT_EVEN
 def difference(
     old: SwitchState, new: SwitchState, *, events: tuple[StateOp, ...] = DEFAULT_EVENTS
 ) -> CommandPlan:
-    """The fewest commands that take a box holding ``old`` to ``new``."""
+    """The fewest commands that take a box holding ``old`` to ``new``, never a reset.
+
+    From active to inactive there are none: the box has no "deactivate", only a reset
+    stops it, and only :func:`.plan.choose_plan` chooses a reset (Stop Switches), so
+    that case is a :class:`ValueError` here."""
     if old == new:
         return CommandPlan()
     if old.active and not new.active:
-        return initialise(new, events=events)
+        raise ValueError("stopping an active box takes a reset, which only "
+                         "plan.choose_plan chooses")
     p = _Planner()
     p.tables(old, new)
     p.settings(old, new)

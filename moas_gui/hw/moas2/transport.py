@@ -18,9 +18,11 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import Protocol
 
+from ...clock import Clock
 from ...serial import PortError
 from ...serial.port import PortSettings, SerialPort
 from .emulator.box import EmulatedBox
+from .emulator.model import EmulatorModel
 
 DataCallback = Callable[[bytes], None]
 LostCallback = Callable[[str], None]
@@ -88,4 +90,25 @@ class EmulatorTransport:
         self._open = False
 
 
-__all__ = ["SWITCH_PORT", "EmulatorTransport", "SerialTransport", "Transport", "switch_port"]
+EMULATOR_PORT = "emulator"
+"""The port name that means "the built-in emulator"."""
+
+
+def transport_for(port: str, echo: int | None, clock: Clock,
+                  settings: PortSettings = SWITCH_PORT) -> Transport:
+    """The transport a port name stands for: the built-in emulator (an emulated box of
+    unit ``echo``, on ``clock``) for :data:`EMULATOR_PORT`, else that serial port."""
+    if port == EMULATOR_PORT:
+        return EmulatorTransport(EmulatedBox(EmulatorModel(unit_id=echo or 0), clock=clock))
+    return SerialTransport(port, settings=settings)
+
+
+__all__ = [
+    "EMULATOR_PORT",
+    "SWITCH_PORT",
+    "EmulatorTransport",
+    "SerialTransport",
+    "Transport",
+    "switch_port",
+    "transport_for",
+]

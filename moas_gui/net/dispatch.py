@@ -18,6 +18,8 @@ import logging
 from collections.abc import Callable, Coroutine
 from typing import Any
 
+from moas_gui.edge.admission import checking
+
 from .backend import ClientBackend, ErrorCode, RequestError
 from .connection import Connection, LayoutKey, clean_name
 from .framing import MAX_LINE, Line, LongLine
@@ -111,7 +113,8 @@ async def _hello_with_token(backend: ClientBackend, conn: Connection, request: R
     """A hello with a token: the check runs off the loop (:mod:`moas_gui.net.secrets`),
     and this connection's next line waits for it."""
     assert conn.authenticate is not None
-    verdict = await conn.authenticate(token)
+    with checking(conn.ticket):  # its place in the admission kept while it waits
+        verdict = await conn.authenticate(token)
     if conn.closed:
         return
     if verdict.operator is None:

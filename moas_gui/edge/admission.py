@@ -33,8 +33,12 @@ The rules, in the order they are applied to a newcomer:
    place to a newcomer from an address holding as many as its own.  One younger than
    :data:`GRACE` goes last of all (it has had no time to say who it is: under a crowd
    that comes back as fast as it is closed, an operator's new connection would
-   otherwise never live to give its token).  The connection so chosen is closed
-   (its front tells it why) and its place given at once.  A newcomer whose address holds
+   otherwise never live to give its token).  Later still goes one whose secret (a
+   token, an Antenna Genius code) is being checked (:meth:`Ticket.checking`): the check
+   runs on a worker thread, and an operator's connection must not lose its place while
+   it waits for the answer that would move it to the operators' capacity (the checks
+   waiting at once are few: the worker's queue is bounded).  The connection so chosen is
+   closed (its front tells it why) and its place given at once.  A newcomer whose address holds
    as many as any other is refused.
 
 Deadlines (:class:`Deadlines`, per listener): a ``NEW`` connection must say who it is
@@ -55,10 +59,11 @@ count of those left out.
 
 from __future__ import annotations
 
+import contextlib
 import enum
 import ipaddress
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Final
 
@@ -156,6 +161,7 @@ class Ticket:
         "_evict",
         "address",
         "admitted_at",
+        "checks",
         "deadlines",
         "evicted",
         "front",
@@ -185,6 +191,8 @@ class Ticket:
         self.admitted_at = now
         self.last_active = now
         self.released = False
+        self.checks = 0
+        """Secret checks of this connection's under way (:meth:`checking`)."""
         self.evicted: str | None = None
         """Why the admission closed this connection, once it has."""
 
@@ -218,6 +226,17 @@ class Ticket:
         self.touch()
         return True
 
+    @contextlib.contextmanager
+    def checking(self) -> Iterator[None]:
+        """While a secret this connection sent is checked off the loop: it is the last
+        to make room for a newcomer (see the module notes), so that an operator's
+        connection lives to be moved to the operators' capacity by the answer."""
+        self.checks += 1
+        try:
+            yield
+        finally:
+            self.checks -= 1
+
     def release(self) -> None:
         """The connection has closed: its place is free."""
         if not self.released:
@@ -245,6 +264,12 @@ class Ticket:
         ):
             return f"silent for {idle:g} s"
         return None
+
+
+def checking(ticket: Ticket | None) -> contextlib.AbstractContextManager[None]:
+    """:meth:`Ticket.checking` of ``ticket``; nothing when there is none (a connection
+    no admission holds: a test's)."""
+    return contextlib.nullcontext() if ticket is None else ticket.checking()
 
 
 class Admission:
@@ -359,9 +384,12 @@ class Admission:
                     continue
                 # one waiting to say who it is: the longest waiting, whatever its address
                 # holds (a client's own connections, opened together, are the youngest);
-                # else the idlest of the address holding the most; one just opened last
+                # else the idlest of the address holding the most; one just opened
+                # later, one whose secret is being checked last of all
                 new = ticket.standing is Standing.NEW
                 order = 2 if new and ticket.admitted_at > young else int(ticket.standing)
+                if ticket.checks:
+                    order = 3
                 rank = (order, 0 if new else -size, ticket.last_active)
                 if best_rank is None or rank < best_rank:
                     best, best_rank = ticket, rank
@@ -468,4 +496,5 @@ __all__ = [
     "Standing",
     "Ticket",
     "address_key",
+    "checking",
 ]

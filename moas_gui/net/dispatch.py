@@ -18,6 +18,8 @@ import logging
 from collections.abc import Callable, Coroutine
 from typing import Any
 
+from moas_gui.edge.admission import checking
+
 from .backend import ClientBackend, ErrorCode, RequestError
 from .connection import Connection, LayoutKey, clean_name
 from .framing import MAX_LINE, Line, LongLine
@@ -111,12 +113,14 @@ async def _hello_with_token(backend: ClientBackend, conn: Connection, request: R
     """A hello with a token: the check runs off the loop (:mod:`moas_gui.net.secrets`),
     and this connection's next line waits for it."""
     assert conn.authenticate is not None
-    verdict = await conn.authenticate(token)
+    with checking(conn.ticket):  # its place in the admission kept while it waits
+        verdict = await conn.authenticate(token)
     if conn.closed:
         return
     if verdict.operator is None:
         refusal = verdict.refusal or "that token is not one of this station's operators"
-        conn.note("Refused the hello of %s: %s", conn, refusal)
+        kind = "busy" if verdict.busy else "throttled" if verdict.wait > 0 else "wrong token"
+        _refused_hello(kind, conn, refusal)
         conn.reply_error(request.id, ErrorCode.UNAVAILABLE if verdict.busy
                          else ErrorCode.FORBIDDEN, refusal)
         return
@@ -130,10 +134,17 @@ def _hello(backend: ClientBackend, conn: Connection, request: Request) -> None:
     args = request.args
     refusal = _identify(conn, args["token"] or None)
     if refusal is not None:  # not greeted: the hello deadline closes it unless it tries again
-        conn.note("Refused the hello of %s: %s", conn, refusal)
+        _refused_hello("wrong token" if args["token"] else "no token", conn, refusal)
         conn.reply_error(request.id, ErrorCode.FORBIDDEN, refusal)
         return
     _greet(backend, conn, request)
+
+
+def _refused_hello(kind: str, conn: Connection, refusal: str) -> None:
+    """Anyone may say hello with a wrong token (or none) as often as it likes: one line a
+    minute per kind of refusal, every connection together, then with the count."""
+    _trouble(("refused hello", kind), logging.INFO, "Refused the hello of %s: %s", conn,
+             refusal)
 
 
 def _greet(backend: ClientBackend, conn: Connection, request: Request) -> None:

@@ -47,6 +47,7 @@ from typing import TYPE_CHECKING
 
 from aiohttp import web
 
+from moas_gui.edge.admission import checking
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
 from moas_gui.net.secrets import Verdict
@@ -296,7 +297,10 @@ class WebServer:
         scheme, _, token = request.headers.get("Authorization", "").partition(" ")
         if guard is None or scheme.lower() != "bearer" or not token.strip():
             return Verdict(refusal="no token")
-        return await guard.check_token(token.strip(), host)
+        connection = request.transport.get_protocol() if request.transport else None
+        ticket = connection.ticket if isinstance(connection, GuardedConnection) else None
+        with checking(ticket):  # its place in the admission kept while it waits
+            return await guard.check_token(token.strip(), host)
 
     async def _report_page(self, reader: JournalReader | None,
                            query: Mapping[str, str]) -> str:

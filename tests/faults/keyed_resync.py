@@ -127,6 +127,23 @@ def _numbers(values: frozenset[int]) -> str:
 # --------------------------------------------------------------------------- the box
 
 
+async def control_connection(process: Process, control: Path, timeout: float = 30.0,
+                             ) -> tuple[asyncio.StreamReader, asyncio.StreamWriter]:
+    """A connection to the emulator's control socket, once it takes one: the socket's
+    file appears when it is bound, a moment before it listens (a connection then is
+    refused), so a refusal or a missing file is "not yet" until ``timeout``."""
+    loop = asyncio.get_running_loop()
+    deadline = loop.time() + timeout
+    while True:
+        try:
+            return await asyncio.open_unix_connection(str(control))
+        except (ConnectionRefusedError, FileNotFoundError):
+            if process.process.returncode is not None or loop.time() > deadline:
+                raise AssertionError("the emulator's control socket never took a "
+                                     "connection:\n" + process.text()) from None
+            await asyncio.sleep(0.02)
+
+
 @dataclass
 class Box:
     """``moas-emulator`` in its own process, keyed and read through its control socket."""
@@ -145,9 +162,8 @@ class Box:
     async def start(cls, station: Station, where: Path) -> Box:
         port, control = where / "box", where / "box.ctl"
         process = await station.emulator(port, "--control", str(control))
-        await until(control.exists, what="the emulator's control socket")
-        box = cls(process, port, control, await asyncio.open_unix_connection(str(control)),
-                  await asyncio.open_unix_connection(str(control)))
+        box = cls(process, port, control, await control_connection(process, control),
+                  await control_connection(process, control))
         box.watching[1].write(b"watch 0\n")
         box.reader = asyncio.get_running_loop().create_task(box._follow())
         return box

@@ -8,7 +8,8 @@ The floods: N1MM RadioInfo alternating ``ActiveRadioNr`` (issue 38: 542,010 "tra
 focus" lines in 45 s), a frequency for a radio the station does not have, datagrams that
 are not XML from the logger's address and from 40 other addresses (not in N1MMLogger),
 contacts dated 9999, N1MM rotor-window commands, and on the client port bad lines,
-unknown commands, refused requests and connections opened and dropped."""
+unknown commands, refused requests, hellos with wrong tokens and connections opened and
+dropped."""
 
 from __future__ import annotations
 
@@ -34,6 +35,8 @@ PACKETS = 6_000
 """Datagrams of each UDP flood."""
 CONNECTIONS = 300
 """Connections to the client port opened and dropped."""
+HELLOS = 200
+"""Hellos with a wrong token on the client port."""
 
 
 async def send_all(port: int, packets: list[bytes], source: str = "127.0.0.1") -> None:
@@ -65,6 +68,28 @@ async def client_flood(port: int) -> int:
     finally:
         writer.close()
     return answers
+
+
+async def wrong_hellos(port: int) -> list[str]:
+    """Hellos with wrong tokens (made-up key ids, and strings that are no token at all),
+    one after another, a new connection every 20 (each must say hello within 5 s); the
+    message of each refusal."""
+    said: list[str] = []
+    for first in range(0, HELLOS, 20):
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        try:
+            for number in range(first, first + 20):
+                token = (f"moas1.{number:08x}.{'x' * 43}" if number % 2
+                         else f"not a token {number}")
+                writer.write(json.dumps({"id": number, "cmd": "hello", "client": "guess",
+                                         "token": token}).encode() + b"\n")
+                async with asyncio.timeout(30):
+                    while (reply := json.loads(await reader.readline())).get("id") != number:
+                        pass
+                said.append(reply["error"]["message"])
+        finally:
+            writer.close()
+    return said
 
 
 def count(lines: list[str], pattern: str) -> tuple[int, list[str]]:
@@ -99,6 +124,10 @@ async def test_every_outside_log_kind_is_one_line_and_a_count(tmp_path: Path) ->
                                for n in range(PACKETS // 4)])
         answers = await client_flood(station.tcp)
         assert answers == 900  # every line answered: the server read them all
+        refusals = await wrong_hellos(station.tcp)
+        assert len(refusals) == HELLOS and all(
+            "not one of this station's operators" in m or "too many wrong tokens" in m
+            for m in refusals), refusals[:5]
         for _ in range(CONNECTIONS):  # connections opened and dropped, one after another
             _reader, writer = await asyncio.open_connection("127.0.0.1", station.tcp)
             writer.close()
@@ -129,6 +158,12 @@ async def test_every_outside_log_kind_is_one_line_and_a_count(tmp_path: Path) ->
         assert 1 <= seen <= 1 + minutes, (pattern, found[:5])
     seen, found = count(lines, r"Client connected from ")
     assert 1 <= seen <= CHATTER_BURST * (1 + minutes) + 1 < CONNECTIONS, found[-3:]
+    # a refused hello: one line a minute per kind (a wrong token, one refused while its
+    # address waits its back-off), not one per hello
+    for pattern in (r"Refused the hello of .*not one of this station's operators",
+                    r"Refused the hello of .*too many wrong tokens"):
+        seen, found = count(lines, pattern)
+        assert 1 <= seen <= 1 + minutes, (pattern, found[:5])
     seen, found = count(lines, r"left before hello|never said hello")
     assert seen <= 1 + minutes, found[:5]
     seen, found = count(lines, r"packet from 127\.0\.0\.\d+ ignored: that address is not in")

@@ -240,3 +240,27 @@ def test_a_connection_just_opened_goes_last_so_that_it_can_say_who_it_is() -> No
     pool.later(GRACE)
     pool.admit("127.0.3.8", "another")
     assert pool.closed[-1][0] == "operator, about to say who it is"
+
+
+def test_a_connection_whose_secret_is_being_checked_goes_after_every_other() -> None:
+    """A token or AG code is checked on a worker thread: while the answer is awaited the
+    connection (an operator's, perhaps, about to move to the operators' own capacity)
+    is the last to make room, after the newest and the greeted; once the check is over
+    it is an ordinary connection again."""
+    pool = Pool(3)
+    waiting = pool.admit("127.0.0.2", "checking")
+    checked = waiting.checking()
+    checked.__enter__()
+    pool.later(5)  # far past its grace and patience: without the check it would go first
+    crowd = [pool.admit(f"127.0.3.{n}", f"crowd{n}") for n in (1, 2)]
+    for n in range(3, 9):  # a crowd coming back as fast as it is closed
+        pool.later(GRACE / 4)
+        pool.admit(f"127.0.3.{n}", f"crowd{n}")
+    assert "checking" not in [name for name, _ in pool.closed]
+    assert not waiting.released and waiting.checks == 1
+    assert crowd[0].released and crowd[1].released
+    checked.__exit__(None, None, None)
+    assert waiting.checks == 0
+    pool.later(GRACE)
+    pool.admit("127.0.3.20", "after the check")
+    assert pool.closed[-1][0] == "checking"

@@ -18,6 +18,7 @@ import pytest
 from helpers import until
 
 import moas_gui.operators as operators_module
+from moas_gui.edge.admission import PATIENCE
 from moas_gui.net.backend import ErrorCode, RequestError
 from moas_gui.net.client import ProtocolClient
 from moas_gui.net.secrets import (
@@ -30,6 +31,7 @@ from moas_gui.net.secrets import (
     delay,
 )
 from moas_gui.net.server import ClientServer
+from moas_gui.net.web import WebServer
 from moas_gui.operators import KnownDevices, OperatorBook, Role
 from moas_gui.testing.fake_backend import FakeBackend
 
@@ -345,3 +347,98 @@ async def test_a_wrong_token_is_one_log_line_a_minute_however_many_come(
     assert sum("too many wrong tokens" in m for m in lines) == 1
     assert token.rsplit(".", 1)[1][:10] not in " ".join(lines)
 
+
+
+@pytest.mark.asyncio
+async def test_a_token_hello_waiting_for_its_check_keeps_its_place_under_a_crowd(
+        tmp_path: Path) -> None:
+    """The token is checked on the worker; while the hello waits for the answer (the
+    worker held busy here), a crowd from twelve addresses filling the server cannot take
+    its place, and the answer moves it to the operators' own capacity."""
+    book = OperatorBook(tmp_path / "operators.json")
+    _op, token = book.add("otto", Role.OPERATE)
+    worker = SecretWorker()
+    guard = SecretGuard(book, worker=worker)
+    server = await serve(book, secrets=guard, max_clients=4, per_address=4)
+    release = threading.Event()
+    crowd: list[asyncio.StreamWriter] = []
+    try:
+        await until(lambda: guard.watched and worker.waiting == 0,
+                    what="the file watcher's first read")
+        holding = asyncio.ensure_future(worker.run(lambda: release.wait(30)))
+        reader, writer = await asyncio.open_connection(HOST, server.port,
+                                                       local_addr=(GUESSER, 0))
+        crowd.append(writer)
+        writer.write(json.dumps({"id": 1, "cmd": "hello", "client": "o",
+                                 "token": token}).encode() + b"\n")
+        await until(lambda: worker.waiting == 2, what="the hello's check queued")
+        await asyncio.sleep(PATIENCE)  # past its grace and patience: it would go first
+        for n in range(1, 13):
+            source = f"127.0.4.{n}"
+            crowd.append((await asyncio.open_connection(HOST, server.port,
+                                                        local_addr=(source, 0)))[1])
+            await until(lambda source=source: server.admission.open_from(source) == 1,
+                        what=f"{source} admitted")
+        (waiting,) = [t for t in server.admission.tickets() if t.address.startswith(GUESSER)]
+        assert not waiting.released and waiting.checks == 1
+        release.set()
+        await holding
+        while True:
+            reply = json.loads(await asyncio.wait_for(reader.readline(), 30))
+            if reply.get("id") == 1:
+                break
+        assert reply["result"]["operator"]["name"] == "otto", reply
+        assert server.admission.operator_count == 1 and waiting.checks == 0
+    finally:
+        release.set()
+        for opened in crowd:
+            opened.close()
+        await server.close()
+        guard.close()
+
+
+@pytest.mark.asyncio
+async def test_a_report_request_waiting_for_its_token_check_keeps_its_place_under_a_crowd(
+        tmp_path: Path) -> None:
+    """The contest report's bearer token is checked on the same worker: while the request
+    waits for the answer, a crowd filling the web port cannot close its connection, and
+    the request is answered."""
+    book = OperatorBook(tmp_path / "operators.json")
+    _op, token = book.add("otto", Role.VIEW)
+    worker = SecretWorker()
+    guard = SecretGuard(book, worker=worker)
+    server = await serve(book, secrets=guard, max_clients=4, per_address=4)
+    web = WebServer(server, host=HOST, port=0)
+    await web.start()
+    release = threading.Event()
+    crowd: list[asyncio.StreamWriter] = []
+    try:
+        await until(lambda: guard.watched and worker.waiting == 0,
+                    what="the file watcher's first read")
+        holding = asyncio.ensure_future(worker.run(lambda: release.wait(30)))
+        reader, writer = await asyncio.open_connection(HOST, web.port, local_addr=(GUESSER, 0))
+        crowd.append(writer)
+        writer.write(f"GET /report HTTP/1.1\r\nHost: {HOST}:{web.port}\r\n"
+                     f"Authorization: Bearer {token}\r\nConnection: close\r\n\r\n".encode())
+        await until(lambda: worker.waiting == 2, what="the request's check queued")
+        await asyncio.sleep(PATIENCE)
+        for n in range(1, 13):
+            source = f"127.0.4.{n}"
+            crowd.append((await asyncio.open_connection(HOST, web.port,
+                                                        local_addr=(source, 0)))[1])
+            await until(lambda source=source: server.admission.open_from(source) == 1,
+                        what=f"{source} admitted")
+        (waiting,) = [t for t in server.admission.tickets() if t.address.startswith(GUESSER)]
+        assert not waiting.released and waiting.checks == 1
+        release.set()
+        await holding
+        answer = await asyncio.wait_for(reader.read(), 30)
+        assert answer.startswith(b"HTTP/1.1 200"), answer[:200]
+        assert b"antenna journal is turned off" in answer  # past the token: its page
+    finally:
+        release.set()
+        for opened in crowd:
+            opened.close()
+        await web.close()
+        await server.close()
+        guard.close()

@@ -12,6 +12,7 @@ import logging
 import os
 import random
 import socket
+import threading
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,6 +23,7 @@ from ag_client import AgClient, fields
 from helpers import EXAMPLES, until
 
 from moas_gui.app import ServerApp, ServerOptions
+from moas_gui.edge.admission import Standing
 from moas_gui.edge.log_limit import LogLimiter
 from moas_gui.engine.operations import SetFrequency
 from moas_gui.hw.moas2.link import LinkTiming
@@ -194,6 +196,46 @@ async def test_a_crowd_of_200_addresses_does_not_stop_new_operator_connections(
         for task in members:
             task.cancel()
         await asyncio.gather(*members, return_exceptions=True)
+
+
+@pytest.mark.asyncio
+@pytest.mark.timeout(120)
+async def test_an_auth_waiting_for_its_check_keeps_its_place_under_a_crowd(
+        station: ServerApp) -> None:
+    """The code is checked on the secret worker (held busy here): while the ``auth``
+    waits for the answer, a crowd of addresses filling the pool (each sending a line,
+    so that the waiting connection is the idlest) cannot take its place, and the answer
+    moves it to the operators' capacity."""
+    ag = ag_of(station)
+    pool = ag.access.admission
+    worker = station.secrets.worker
+    release = threading.Event()
+    crowd: list[asyncio.StreamWriter] = []
+    holding = asyncio.ensure_future(worker.run(lambda: release.wait(30), known=True))
+    ann = await AgClient.connect(station.ag_ports[0], local="127.0.0.2")
+    try:
+        seq = await ann.send(f"auth code={CODES['Ann']}")
+        await until(lambda: worker.waiting == 2, what="the auth's check queued")
+        (waiting,) = [t for t in pool.tickets() if t.address.startswith("127.0.0.2:")]
+        for n in range(1, pool.total + 20):
+            _reader, writer = await asyncio.open_connection(
+                "127.0.0.1", station.ag_ports[0], local_addr=(f"127.0.5.{n}", 0))
+            writer.write(b"C1|ping\r")
+            crowd.append(writer)
+            await until(lambda n=n: pool.open_from(f"127.0.5.{n}") == 1,
+                        what=f"127.0.5.{n} admitted")
+        assert pool.count - pool.operator_count == pool.total  # full, and made room
+        assert not waiting.released and waiting.checks == 1
+        release.set()
+        await holding
+        assert (await ann.reply(seq)).code == 0
+        assert pool.operator_count == 1 and waiting.standing is Standing.OPERATOR
+        assert (await ann.ask("ping")).code == 0
+    finally:
+        release.set()
+        for writer in crowd:
+            writer.close()
+        await ann.close()
 
 
 # -- a client that stops reading -------------------------------------------------------------

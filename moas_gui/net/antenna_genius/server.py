@@ -35,6 +35,7 @@ from typing import Protocol
 
 from moas_gui.config import Config
 from moas_gui.config.model import RadioRef
+from moas_gui.edge.admission import checking
 from moas_gui.edge.gate import gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
 from moas_gui.edge.log_limit import LogLimiter, held_text
@@ -494,7 +495,8 @@ class AgServer:
         codes are logged there, one line a minute."""
         if session.authed and not self.access.needs_token(session.host):
             return codec.reply(item.seq)
-        verdict = await self.access.check_code(item.args.get("code", ""), session.host)
+        with checking(ticket_of(session.writer)):  # its place kept while it waits
+            verdict = await self.access.check_code(item.args.get("code", ""), session.host)
         operator = verdict.name
         if operator is None or session.closing:
             if self.access.waiting(session.host) > 0:  # its address must wait: no more tries

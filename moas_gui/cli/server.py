@@ -23,6 +23,8 @@ from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.cli.antenna_log import add_arguments as add_antenna_log_arguments
 from moas_gui.cli.antenna_log import export_antenna_log
 from moas_gui.cli.antenna_log import wants_export as wants_antenna_log_export
+from moas_gui.cli.builder import add_arguments as add_builder_arguments
+from moas_gui.cli.builder import wants_what_if, what_if_command
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
@@ -65,7 +67,7 @@ def _parser() -> argparse.ArgumentParser:
                              "gets and why, what each pair of radios changes, then the "
                              "findings; exit status 0 when the file is usable")
     parser.add_argument("--json", action="store_true",
-                        help="with --plan: print the plan as JSON")
+                        help="with --plan or --what-if: print as JSON")
     parser.add_argument("--plan-khz", metavar="KHZ[,KHZ...]", action="append",
                         help="with --plan: plan these frequencies (kHz, comma-separated) "
                              "instead of each covered band's CW and phone frequencies")
@@ -181,6 +183,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--list-operators", action="store_true",
                         help="list the operators and exit")
     add_antenna_log_arguments(parser)
+    add_builder_arguments(parser)
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     # no options: only the test hooks set these (main)
     parser.set_defaults(switch_timing=None, rotator_timing=None)
@@ -714,6 +717,8 @@ def main(argv: list[str] | None = None) -> int:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
     if args.probe:
         return probe(args)
+    if wants_what_if(args):
+        return what_if_command(args)
     if args.plan or args.json or args.plan_khz:
         return _plan_command(args)
     if args.check:

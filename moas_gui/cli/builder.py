@@ -31,8 +31,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "starts a new station with a short guide)")
 
 
-def wants_what_if(args: argparse.Namespace) -> bool:
-    return bool(args.what_if or args.radio or args.khz or args.transmitting)
+def wants_builder(args: argparse.Namespace) -> bool:
+    """Whether the command line asks for the builder or for what-if."""
+    return bool(args.edit or args.what_if or args.radio or args.khz or args.transmitting)
+
+
+def builder_command(args: argparse.Namespace) -> int:
+    """``--edit`` or ``--what-if``: the exit status."""
+    if args.edit and not args.what_if:
+        return edit_command(args)
+    return what_if_command(args)
+
+
+def edit_command(args: argparse.Namespace) -> int:
+    """``--edit FILE``: the builder's window, until it is closed."""
+    from moas_gui.ui.display import NO_DISPLAY_ADVICE, display_problem
+
+    problem = display_problem()
+    if problem is not None:
+        print(f"moas-server: {problem}; {NO_DISPLAY_ADVICE}", file=sys.stderr)
+        return 1
+    from moas_gui.ui.builder_window import run_builder
+
+    return run_builder(args.edit)
 
 
 def what_if_command(args: argparse.Namespace) -> int:
@@ -80,4 +101,4 @@ def what_if_command(args: argparse.Namespace) -> int:
     return 0
 
 
-__all__ = ["add_arguments", "wants_what_if", "what_if_command"]
+__all__ = ["add_arguments", "builder_command", "edit_command", "wants_builder", "what_if_command"]

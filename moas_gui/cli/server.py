@@ -24,7 +24,7 @@ from moas_gui.cli.antenna_log import add_arguments as add_antenna_log_arguments
 from moas_gui.cli.antenna_log import export_antenna_log
 from moas_gui.cli.antenna_log import wants_export as wants_antenna_log_export
 from moas_gui.cli.builder import add_arguments as add_builder_arguments
-from moas_gui.cli.builder import wants_what_if, what_if_command
+from moas_gui.cli.builder import builder_command, wants_builder
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
@@ -691,6 +691,14 @@ def _security_command(args: argparse.Namespace) -> int | None:
     return 0
 
 
+def _early_command(args: argparse.Namespace) -> int | None:
+    """The station builder (``--edit``, ``--what-if``), the operator commands and
+    ``--fingerprint``: their exit status, or None when the command line asks for none."""
+    if wants_builder(args):
+        return builder_command(args)
+    return _security_command(args)
+
+
 def main(argv: list[str] | None = None) -> int:
     output_without_console("moas-server")  # started without a console: output to a log file
     args = _parser().parse_args(argv)
@@ -708,17 +716,15 @@ def main(argv: list[str] | None = None) -> int:
         for line in done:
             print(line)
         return 0
-    security = _security_command(args)
-    if security is not None:
-        return security
+    early = _early_command(args)
+    if early is not None:
+        return early
     if wants_antenna_log_export(args):
         return export_antenna_log(args)
     if args.install_service:
         return _install_service(args, sys.argv[1:] if argv is None else list(argv))
     if args.probe:
         return probe(args)
-    if wants_what_if(args):
-        return what_if_command(args)
     if args.plan or args.json or args.plan_khz:
         return _plan_command(args)
     if args.check:

@@ -55,6 +55,7 @@ from PySide6.QtGui import (
 )
 from PySide6.QtWidgets import (
     QAbstractButton,
+    QAbstractItemView,
     QApplication,
     QButtonGroup,
     QCheckBox,
@@ -71,6 +72,8 @@ from PySide6.QtWidgets import (
     QInputDialog,
     QLabel,
     QLineEdit,
+    QListWidget,
+    QListWidgetItem,
     QMainWindow,
     QMenu,
     QMessageBox,
@@ -79,6 +82,8 @@ from PySide6.QtWidgets import (
     QScrollArea,
     QSizePolicy,
     QSpinBox,
+    QSplitter,
+    QStackedWidget,
     QStatusBar,
     QSystemTrayIcon,
     QTableWidget,
@@ -94,6 +99,7 @@ from PySide6.QtWidgets import (
 
 __all__ = [
     "QAbstractButton",
+    "QAbstractItemView",
     "QAction",
     "QActionGroup",
     "QApplication",
@@ -125,6 +131,8 @@ __all__ = [
     "QKeySequence",
     "QLabel",
     "QLineEdit",
+    "QListWidget",
+    "QListWidgetItem",
     "QMainWindow",
     "QMenu",
     "QMessageBox",
@@ -151,6 +159,8 @@ __all__ = [
     "QSize",
     "QSizePolicy",
     "QSpinBox",
+    "QSplitter",
+    "QStackedWidget",
     "QStatusBar",
     "QSystemTrayIcon",
     "QTabWidget",

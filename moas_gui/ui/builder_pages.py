@@ -82,7 +82,10 @@ class Worker(QObject):
                 result: Any = work()
             except Exception as exc:  # noqa: BLE001 (said on the page, never lost)
                 result = exc
-            self.done.emit(job, result)
+            try:
+                self.done.emit(job, result)
+            except RuntimeError:
+                pass  # the window closed meanwhile: nobody waits for the result
         threading.Thread(target=body, name="builder-worker", daemon=True).start()
         return job
 

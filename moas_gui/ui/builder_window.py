@@ -410,7 +410,7 @@ class BuilderWindow(QMainWindow):
     def _close_anyway(self, yes: bool) -> None:
         if yes:
             self.closing_confirmed = True
-            self.close()
+            QTimer.singleShot(0, self.close)  # not from inside the close being refused
 
 
 def open_builder(path: str | Path, apply: Callable[[Path], None] | None = None,

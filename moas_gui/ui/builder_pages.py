@@ -58,6 +58,7 @@ from .qt import (
 
 FLAGGED = QColor(255, 205, 205)
 UNUSED = QColor(225, 225, 225)
+USABLE = QColor(215, 240, 215)
 
 
 class Worker(QObject):
@@ -246,7 +247,13 @@ class GridPage(Page):
         self.table.setVerticalHeaderLabels([f"{ident} {name}" for _, ident, name in grid.antennas])
         for row, (index, _, _) in enumerate(grid.antennas):
             for col, band in enumerate(grid.bands):
-                self.table.setItem(row, col, QTableWidgetItem(grid.cells[(index, band[0])].text()))
+                cell = QTableWidgetItem(grid.cells[(index, band[0])].text())
+                if cell.text():
+                    cell.setBackground(QBrush(USABLE))
+                self.table.setItem(row, col, cell)
+        self.table.resizeColumnsToContents()
+        for col in range(len(grid.bands)):
+            self.table.setColumnWidth(col, max(self.table.columnWidth(col), 56))
 
     def offer(self, row: int, col: int) -> None:
         grid = self.grid
@@ -287,6 +294,7 @@ class RelayPage(Page):
         column.addLayout(row)
         self.table = QTableWidget(64, 7, self)
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
+        self.table.horizontalHeader().setStretchLastSection(True)
         self.table.verticalHeader().setDefaultSectionSize(20)
         column.addWidget(self.table)
 
@@ -310,15 +318,22 @@ class RelayPage(Page):
                 ref = found.ports.get(port)
                 words = sorted({f"{u.label} {u.band}" + ("" if u.kind == "Relays" else f" ({u.kind})")
                                 for u in uses if u.radio == ref})
-                self.table.setItem(row, col, QTableWidgetItem("; ".join(words)))
+                cell = QTableWidgetItem("; ".join(words))
+                cell.setToolTip(cell.text())
+                self.table.setItem(row, col, cell)
             others = sorted({f"{u.label} {u.band}" for u in uses if u.radio not in found.ports.values()})
             note = flag if flag else ("; ".join(others) if others else "")
-            self.table.setItem(row, 6, QTableWidgetItem(note))
+            noted = QTableWidgetItem(note)
+            noted.setToolTip(note)
+            self.table.setItem(row, 6, noted)
             color = FLAGGED if flag.startswith("shared") else UNUSED if flag else None
-            cells = [self.table.item(row, col) for col in range(7)] if color is not None else []
-            for cell in cells:
-                if cell is not None and color is not None:
-                    cell.setBackground(QBrush(color))
+            painted = [self.table.item(row, col) for col in range(7)] if color is not None else []
+            for shown in painted:
+                if shown is not None and color is not None:
+                    shown.setBackground(QBrush(color))
+        self.table.resizeColumnsToContents()
+        for col in range(6):
+            self.table.setColumnWidth(col, min(max(self.table.columnWidth(col), 70), 190))
         shared = sum(1 for f in found.flags.values() if f.startswith("shared"))
         unused = sum(1 for f in found.flags.values() if f == "never used")
         self.summary.setText(f"{64 - unused} relays used, {unused} never used, "
@@ -383,8 +398,10 @@ class LayoutPage(Page):
     def _draw(self, rows: int, columns: int, buttons: list[PreviewButton]) -> None:
         while self.grid.count():
             item = self.grid.takeAt(0)
-            if item is not None and item.widget() is not None:
-                item.widget().deleteLater()  # type: ignore[union-attr]
+            old = item.widget() if item is not None else None
+            if old is not None:
+                old.hide()
+                old.deleteLater()
         self.buttons = []
         self.dims = (rows, columns)
         for button in buttons:

@@ -31,6 +31,7 @@ from .qt import (
     QDialog,
     QDialogButtonBox,
     QFileDialog,
+    QHBoxLayout,
     QKeySequence,
     QLabel,
     QListWidget,
@@ -132,7 +133,7 @@ class BuilderWindow(QMainWindow):
     # -- building ---------------------------------------------------------------------------
     def _build(self) -> None:
         self.nav = QListWidget(self)
-        self.nav.setMaximumWidth(170)
+        self.nav.setFixedWidth(150)
         self.stack = QStackedWidget(self)
         self.pages: dict[str, Page] = {}
         self.guide_page = GuidePage(self.doc, self.say, self)
@@ -150,10 +151,11 @@ class BuilderWindow(QMainWindow):
         self.findings = QListWidget(self)
         self.findings.itemActivated.connect(self._finding_chosen)
         self.findings.itemClicked.connect(self._finding_chosen)
-        upper = QSplitter(Qt.Orientation.Horizontal, self)
-        upper.addWidget(self.nav)
-        upper.addWidget(self.stack)
-        upper.setStretchFactor(1, 1)
+        upper = QWidget(self)
+        row = QHBoxLayout(upper)
+        row.setContentsMargins(0, 0, 0, 0)
+        row.addWidget(self.nav)
+        row.addWidget(self.stack, 1)
         whole = QSplitter(Qt.Orientation.Vertical, self)
         whole.addWidget(upper)
         whole.addWidget(self.findings)

@@ -7,6 +7,8 @@ makes a new station; :mod:`.claims` keeps two builder windows off one file.
 See ``docs/builder.md``.
 """
 
+from moas_gui.config.model import RadioRef
+
 from .document import NEW_STATION, Document, EditError, Step, backup_of
 
-__all__ = ["NEW_STATION", "Document", "EditError", "Step", "backup_of"]
+__all__ = ["NEW_STATION", "Document", "EditError", "RadioRef", "Step", "backup_of"]

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable
+from concurrent.futures import Future
 from typing import Any
 
-from moas_gui.builder import Document
+from moas_gui.builder import Document, RadioRef
 from moas_gui.builder.guide import (
     BAND_EDGES,
     Guide,
@@ -23,6 +24,7 @@ from moas_gui.builder.guide import (
 )
 from moas_gui.builder.views import (
     PreviewButton,
+    RelayMap,
     band_grid,
     layout_bands,
     layout_preview,
@@ -31,7 +33,6 @@ from moas_gui.builder.views import (
     set_band_radio,
     switches_of,
 )
-from moas_gui.config.model import RadioRef
 
 from .qt import (
     QAbstractItemView,
@@ -51,6 +52,7 @@ from .qt import (
     QSpinBox,
     QTableWidget,
     QTableWidgetItem,
+    QTimer,
     QVBoxLayout,
     QWidget,
     Signal,
@@ -62,38 +64,51 @@ USABLE = QColor(215, 240, 215)
 
 
 class Worker(QObject):
-    """Runs a function on a thread of its own and hands its result to the window's thread
-    (a queued signal); only the newest job's result is delivered."""
+    """Runs a function on a thread of its own and hands its result to the window's thread;
+    only the newest job's result is delivered.  The thread touches no Qt object: it fills
+    a future, which a timer of the window's thread looks at (so a window closed meanwhile
+    is never reached from the thread)."""
 
-    done = Signal(object, object)  # (job number, result)
+    POLL_MS = 40
 
     def __init__(self, parent: QObject | None = None) -> None:
         super().__init__(parent)
         self.job = 0
-        self._callbacks: dict[int, Callable[[Any], None]] = {}
-        self.done.connect(self._deliver)
+        self._waiting: tuple[int, Future[Any], Callable[[Any], None]] | None = None
+        self._timer = QTimer(self)
+        self._timer.setInterval(self.POLL_MS)
+        self._timer.timeout.connect(self._look)
 
     def run(self, work: Callable[[], Any], then: Callable[[Any], None]) -> int:
         self.job += 1
-        job = self.job
-        self._callbacks = {job: then}
+        future: Future[Any] = Future()
 
         def body() -> None:
             try:
-                result: Any = work()
+                future.set_result(work())
             except Exception as exc:  # noqa: BLE001 (said on the page, never lost)
-                result = exc
-            try:
-                self.done.emit(job, result)
-            except RuntimeError:
-                pass  # the window closed meanwhile: nobody waits for the result
+                future.set_result(exc)
+        self._waiting = (self.job, future, then)
         threading.Thread(target=body, name="builder-worker", daemon=True).start()
-        return job
+        self._timer.start()
+        return self.job
 
-    def _deliver(self, job: int, result: Any) -> None:
-        then = self._callbacks.pop(job, None)
-        if then is not None and job == self.job:
-            then(result)
+    @property
+    def busy(self) -> bool:
+        return self._waiting is not None
+
+    def _look(self) -> None:
+        waiting = self._waiting
+        if waiting is None:
+            self._timer.stop()
+            return
+        job, future, then = waiting
+        if not future.done():
+            return
+        self._waiting = None
+        self._timer.stop()
+        if job == self.job:
+            then(future.result())
 
 
 class Page(QWidget):
@@ -312,25 +327,7 @@ class RelayPage(Page):
         relays = found.relays()
         self.table.setVerticalHeaderLabels([str(r) for r in relays])
         for row, relay in enumerate(relays):
-            uses = found.uses[relay]
-            flag = found.flags.get(relay, "")
-            for col, port in enumerate(range(1, 7)):
-                ref = found.ports.get(port)
-                words = sorted({f"{u.label} {u.band}" + ("" if u.kind == "Relays" else f" ({u.kind})")
-                                for u in uses if u.radio == ref})
-                cell = QTableWidgetItem("; ".join(words))
-                cell.setToolTip(cell.text())
-                self.table.setItem(row, col, cell)
-            others = sorted({f"{u.label} {u.band}" for u in uses if u.radio not in found.ports.values()})
-            note = flag if flag else ("; ".join(others) if others else "")
-            noted = QTableWidgetItem(note)
-            noted.setToolTip(note)
-            self.table.setItem(row, 6, noted)
-            color = FLAGGED if flag.startswith("shared") else UNUSED if flag else None
-            painted = [self.table.item(row, col) for col in range(7)] if color is not None else []
-            for shown in painted:
-                if shown is not None and color is not None:
-                    shown.setBackground(QBrush(color))
+            self._row(row, relay, found)
         self.table.resizeColumnsToContents()
         for col in range(6):
             self.table.setColumnWidth(col, min(max(self.table.columnWidth(col), 70), 190))
@@ -338,6 +335,25 @@ class RelayPage(Page):
         unused = sum(1 for f in found.flags.values() if f == "never used")
         self.summary.setText(f"{64 - unused} relays used, {unused} never used, "
                              f"{shared} shared where they should not be")
+
+    def _row(self, row: int, relay: int, found: RelayMap) -> None:
+        """One relay: what it selects for the radio of each port, and its note."""
+        uses = found.uses[relay]
+        flag = found.flags.get(relay, "")
+        texts = []
+        for port in range(1, 7):
+            ref = found.ports.get(port)
+            texts.append("; ".join(sorted({f"{u.label} {u.band}" + (
+                "" if u.kind == "Relays" else f" ({u.kind})") for u in uses if u.radio == ref})))
+        others = sorted({f"{u.label} {u.band}" for u in uses if u.radio not in found.ports.values()})
+        texts.append(flag or "; ".join(others))
+        color = FLAGGED if flag.startswith("shared") else UNUSED if flag else None
+        for col, text in enumerate(texts):
+            cell = QTableWidgetItem(text)
+            cell.setToolTip(text)
+            if color is not None:
+                cell.setBackground(QBrush(color))
+            self.table.setItem(row, col, cell)
 
 
 class LayoutPage(Page):

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -119,6 +120,7 @@ class BuilderWindow(QMainWindow):
         self.show_diff: Callable[[str, Callable[[bool], None]], None] = self._diff_dialog
         self.editor = Editor(doc, self.say)
         self.worker = Worker(self)
+        self._again = False
         self.timer = QTimer(self)
         self.timer.setSingleShot(True)
         self.timer.setInterval(CHECK_DELAY_MS)
@@ -225,12 +227,19 @@ class BuilderWindow(QMainWindow):
 
     # -- findings ---------------------------------------------------------------------------
     def check_now(self) -> None:
-        """Check the draft off the window's thread; the findings follow when ready."""
+        """Check the draft off the window's thread; the findings follow when ready.  One
+        check at a time: edits made meanwhile are checked once it is done."""
+        if self.worker.busy:
+            self._again = True
+            return
+        self._again = False
         text, name, root = self.doc.text, str(self.doc.path or "new-station.moas"), self.doc.root
         self.worker.run(lambda: check_text(text, name, root=root, plan_seconds=PLAN_SECONDS),
                         self._checked)
 
     def _checked(self, result: Any) -> None:
+        if self._again:
+            self.check_now()
         if isinstance(result, Exception):
             self.say(f"The checks failed: {result}")
             return
@@ -449,7 +458,8 @@ def run_builder(path: str) -> int:
     refused: list[str] = []
     window = open_builder(path, None, refused.append)
     if window is None:
-        print(f"moas-server: {refused[0] if refused else 'the builder did not open'}")
+        print(f"moas-server: {refused[0] if refused else 'the builder did not open'}",
+              file=sys.stderr)
         return 1
 
     async def until_closed() -> int:

@@ -94,3 +94,35 @@ def test_an_unknown_radio_is_refused_in_the_model_too() -> None:
     config = load_config(SMALL).unwrap()
     with pytest.raises(WhatIfError, match="station 9 radio 9"):
         what_if(config, [], [RadioRef(9, 9)])
+
+
+def test_edit_opens_the_builder_window_through_the_real_command(tmp_path: Path) -> None:
+    """``moas-server --edit FILE`` (offscreen): the window claims the file (so a second
+    ``--edit`` is refused, naming it) and runs until it is ended."""
+    import os
+    import time
+
+    from moas_gui.builder.claims import holder
+
+    station = tmp_path / "station.moas"
+    station.write_bytes(SMALL.read_bytes())
+    env = {**os.environ, "QT_QPA_PLATFORM": "offscreen"}
+    with subprocess.Popen([sys.executable, "-m", "moas_gui.cli.server", "--edit", str(station)],
+                          env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as first:
+        try:
+            deadline = time.monotonic() + 60
+            while holder(station) is None and first.poll() is None and time.monotonic() < deadline:
+                time.sleep(0.1)
+            claim = holder(station)
+            assert claim is not None and claim.pid == first.pid, first.poll()
+            assert claim.window == "Station builder - station.moas"
+            second = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--edit",
+                                     str(station)], env=env, capture_output=True, text=True,
+                                    timeout=120, check=False)
+            assert second.returncode == 1
+            assert f'open in the builder window "Station builder - station.moas" (process {first.pid}' \
+                in second.stderr
+        finally:
+            first.terminate()
+            first.communicate(timeout=60)
+    assert station.read_bytes() == SMALL.read_bytes(), "nothing was written"

@@ -133,8 +133,9 @@ class FieldWidget(QWidget):
     def write(self, value: object) -> None:
         self.editor.write(self.path, value, f"{self.spec.key}: {_words(value) or NOT_SET}")
 
-    def show_path(self, rest: Path) -> None:
+    def show_path(self, rest: Path) -> QWidget | None:
         self.setFocus()
+        return self
 
 
 class LineField(FieldWidget):
@@ -304,8 +305,8 @@ class GroupsField(FieldWidget):
     def load(self) -> None:
         self.groups.set_path(self.path)
 
-    def show_path(self, rest: Path) -> None:
-        self.groups.show_path(rest)
+    def show_path(self, rest: Path) -> QWidget | None:
+        return self.groups.show_path(rest)
 
 
 def field_widget(spec: FieldSpec, editor: Editor, parent: QWidget | None = None) -> FieldWidget:
@@ -357,9 +358,10 @@ class GroupForm(QWidget):
 
     def show_path(self, rest: Path) -> QWidget | None:
         widget = self.fields.get(str(rest[0])) if rest else None
-        if widget is not None:
-            widget.show_path(rest[1:])
-        return widget
+        if widget is None:
+            return None
+        inner = widget.show_path(rest[1:])
+        return inner if inner is not None else widget
 
 
 class GroupList(QWidget):
@@ -475,12 +477,15 @@ class GroupList(QWidget):
             self.editor.doc.move(self.path, row, row + step)
             self.select(row + step)
 
-    def show_path(self, rest: Path) -> None:
+    def show_path(self, rest: Path) -> QWidget:
+        """Select the item ``rest`` starts with and show its field; returns the widget
+        shown (to scroll to)."""
         if rest and isinstance(rest[0], int):
             self.select(rest[0])
-            self.form.show_path(rest[1:])
-        else:
-            self.table.setFocus()
+            shown = self.form.show_path(rest[1:])
+            return shown if shown is not None else self.form
+        self.table.setFocus()
+        return self.table
 
 
 __all__ = ["Choices", "Editor", "FieldWidget", "GroupForm", "GroupList", "field_widget"]

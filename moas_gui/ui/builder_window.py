@@ -92,13 +92,16 @@ class ListPage(Page):
         elif self.form is not None:
             self.form.set_base(())
 
-    def show_path(self, rest: ValuePath) -> None:
+    def show_path(self, rest: ValuePath) -> QWidget | None:
+        """Show the item and field at ``rest`` (scrolled to); returns the field's widget."""
+        widget: QWidget | None = None
         if self.list is not None:
-            self.list.show_path(rest)
+            widget = self.list.show_path(rest)
         elif self.form is not None:
             widget = self.form.show_path(rest)
-            if widget is not None:
-                self.scroller.ensureWidgetVisible(widget)
+        if widget is not None:
+            self.scroller.ensureWidgetVisible(widget)
+        return widget
 
 
 class BuilderWindow(QMainWindow):
@@ -267,15 +270,16 @@ class BuilderWindow(QMainWindow):
         if isinstance(finding, Finding):
             self.show_field(finding.path)
 
-    def show_field(self, path: ValuePath) -> None:
-        """Show the page and the field ``path`` is about, and put the cursor there."""
+    def show_field(self, path: ValuePath) -> QWidget | None:
+        """Show the page and the field ``path`` is about, and put the cursor there;
+        returns the field's widget."""
         if not path:
             self.say("This finding is about the file as a whole")
-            return
+            return None
         spec = list_for(str(path[0]))
         page = self.go(spec.title)
         assert isinstance(page, ListPage)
-        page.show_path(path[1:] if spec is not MISCELLANEOUS else path)
+        return page.show_path(path[1:] if spec is not MISCELLANEOUS else path)
 
     # -- editing ----------------------------------------------------------------------------
     def undo(self) -> None:

@@ -187,6 +187,12 @@ def test_findings_appear_as_the_file_is_edited_and_lead_to_their_field(
     page = builder.stack.currentWidget()
     assert isinstance(page, ListPage) and page.spec.key == "Antennas"
     assert page.list is not None and page.list.current() == 2
+    assert builder.show_field(item.data(Qt.ItemDataRole.UserRole).path) is page.list.form.fields["Rotator"]
+    relays = builder.show_field(("Antennas", 3, "Control", 1, "Stations", 0, "Relays"))
+    assert isinstance(relays, LineField) and relays.edit.text() == "3, 17"
+    assert builder.show_field(("UseN1MMLogger",)) is not None
+    assert isinstance(builder.stack.currentWidget(), ListPage)
+    assert builder.stack.currentWidget().spec.title == "Miscellaneous"
     builder.doc.undo()
     qtbot.waitUntil(lambda: found() is None, timeout=30000)
 

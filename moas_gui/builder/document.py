@@ -224,12 +224,13 @@ class Document:
         if node is None:
             self._add(path, value, what)
             return
-        if plain(node) == _tidy(value) and type(plain(node)) is type(_tidy(value)):
-            return
         start, end = self.span(path)
         old = self.text[start:end]
         lines = ("\n" in old) if isinstance(value, (dict, list)) and old[:1] in "[{" else None
         new = render(value, self.style, self._indent(start), lines)
+        same = plain(node) == _tidy(value) and type(plain(node)) is type(_tidy(value))
+        if same and (isinstance(value, (dict, list)) or old == new):
+            return  # (a scalar written as JSON does not, "False", is written again)
         self._splice(Splice(start, old, new), what or f"set {_shown(path)}")
 
     def _add(self, path: Path, value: object, what: str) -> None:
@@ -379,6 +380,46 @@ class Document:
     def _changed(self) -> None:
         for listener in list(self.listeners):
             listener(self)
+
+    def repair(self) -> int:
+        """Mend the JSON mistakes the reader recovers from and says how to mend (a missing
+        comma, an extra comma, True/False/None in other letter cases, names and texts
+        without double quotes), in one undo step; returns how many were mended."""
+        fixes = sorted((f for f in map(self._fix_of, self.syntax) if f is not None),
+                       key=lambda f: f.start, reverse=True)
+        if not fixes:
+            return 0
+        with self.transaction(f"mend {len(fixes)} JSON mistake{'s' if len(fixes) != 1 else ''}"):
+            for fix in fixes:
+                self._splice(Splice(fix.start, self.text[fix.start:fix.start + len(fix.old)],
+                                    fix.new), "")
+        return len(fixes)
+
+    def _fix_of(self, problem: Problem) -> Splice | None:
+        if problem.line <= 0:
+            return None
+        at = self.lines.offset(problem.line, problem.column)
+        message = problem.message
+        if message.startswith("missing comma after the value"):
+            return Splice(at, "", ",")
+        if message.startswith("extra comma after the last value") and self.text[at:at + 1] == ",":
+            return Splice(at, ",", "")
+        if message.startswith("use double quotes") and self.text[at:at + 1] == "'":
+            end = self.text.find("'", at + 1)
+            if end > at:
+                return Splice(at, self.text[at:end + 1],
+                              json.dumps(self.text[at + 1:end], ensure_ascii=False))
+            return None
+        wanted = re.match(r'(?:write (true|false|null) in lowercase, not (\w+))|'
+                          r'(?:(?:names|text) must be in double quotes: write "([^"]*)")', message)
+        if wanted is None:
+            return None
+        if wanted.group(1):
+            return Splice(at, wanted.group(2), wanted.group(1))
+        word = wanted.group(3)
+        if self.text.startswith(word, at):
+            return Splice(at, word, json.dumps(word, ensure_ascii=False))
+        return None
 
     # -- undo and redo -----------------------------------------------------------------------
     @property

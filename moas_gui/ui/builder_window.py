@@ -193,6 +193,11 @@ class BuilderWindow(QMainWindow):
         self.action_undo.setShortcut(QKeySequence.StandardKey.Undo)
         self.action_redo = edit.addAction("&Redo", self.redo)
         self.action_redo.setShortcut(QKeySequence.StandardKey.Redo)
+        edit.addSeparator()
+        self.action_mend = edit.addAction("&Mend JSON Mistakes", self.mend)
+        self.action_mend.setToolTip("Adds missing commas, takes extra ones away, writes "
+                                    "true/false/null in lowercase and puts names and texts in "
+                                    "double quotes (manual 6.1), in one undo step")
         view = bar.addMenu("&View")
         self.action_diff = view.addAction("&Changes to Be Saved", self.view_diff)
 
@@ -214,6 +219,7 @@ class BuilderWindow(QMainWindow):
         page = self.stack.currentWidget()
         if isinstance(page, Page):
             page.refresh()
+        self.action_mend.setEnabled(bool(self.doc.syntax))
         self.action_undo.setEnabled(self.doc.can_undo)
         self.action_redo.setEnabled(self.doc.can_redo)
         self.action_undo.setText(f"&Undo {self.doc.undo_steps[-1].what}" if self.doc.can_undo else "&Undo")
@@ -289,6 +295,11 @@ class BuilderWindow(QMainWindow):
     def redo(self) -> None:
         what = self.doc.redo()
         self.say(f"Redone: {what}" if what else "Nothing to redo")
+
+    def mend(self) -> None:
+        count = self.doc.repair()
+        self.say(f"Mended {count} JSON mistake{'s' if count != 1 else ''}" if count
+                 else "No JSON mistake the builder can mend")
 
     # -- saving -----------------------------------------------------------------------------
     def save(self, then: Callable[[Path], None] | None = None) -> None:

@@ -270,3 +270,42 @@ def test_the_plan_s_findings_come_too_when_asked() -> None:
     plan = [f for f in checked.findings if f.severity == "finding"]
     assert plan, checked
     assert all(f.text.startswith(f"{path}:") for f in plan)
+
+
+BROKEN = Path(__file__).parent / "manual-broken" / "systems-functions.moas"
+"""The manual's Systems example (6.5.1) as printed, with its missing commas and ``False``,
+and its Functions examples (6.6.11)."""
+
+
+def test_the_manual_s_broken_example_opens_saves_unchanged_and_is_mended(tmp_path: Path) -> None:
+    copy = tmp_path / "broken.moas"
+    copy.write_bytes(BROKEN.read_bytes())
+    doc = Document.open(copy)
+    assert [p.message for p in doc.syntax] == [
+        "missing comma after the value that ends on line 6?",
+        "missing comma after the value that ends on line 7?",
+        "write false in lowercase, not False"]
+    doc.save()
+    assert copy.read_bytes() == BROKEN.read_bytes()
+    doc.set(("Functions", 4, "IntParams"), [1])  # values stay editable meanwhile
+    assert doc.get(("Functions", 4, "IntParams")) == [1]
+    assert doc.repair() == 3 and doc.syntax == []
+    gone, came = changed_lines(BROKEN.read_text(encoding="utf-8"), doc.text)
+    assert came == ['    "ExclusiveAntennas" : [3, 4, 5, 6],  \n', '    "SharedAntennas" : [10, 11, 12],  \n',
+                    '    "Shared" : false\n'] + came[3:]
+    assert len(gone) == len(came)
+    doc.undo()
+    assert len(doc.syntax) == 3
+
+
+def test_a_scalar_the_reader_read_with_a_mistake_is_written_again() -> None:
+    doc = Document.open(BROKEN)
+    doc.set(("Systems", 0, "Shared"), False)
+    assert '"Shared" : false' in doc.text and len(doc.syntax) == 2
+
+
+def test_mending_each_kind_of_mistake() -> None:
+    doc = Document("{Antennas: [1, 2,], \"X\": True, 'y': None, \"z\": word}")
+    assert doc.repair() == 6
+    assert doc.text == '{"Antennas": [1, 2], "X": true, "y": null, "z": "word"}'
+    assert doc.syntax == [] and doc.undo_steps[-1].what == "mend 6 JSON mistakes"

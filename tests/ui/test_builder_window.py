@@ -391,3 +391,28 @@ def test_save_and_restart_goes_through_file_restart_and_asks_while_keyed(
         await harness.close()
     run_on_qt(qapp, scenario())
     assert QApplication.instance() is not None
+
+
+def test_a_file_with_the_manual_s_json_mistakes_is_mended_from_the_edit_menu(
+        qtbot: Any, tmp_path: Path) -> None:
+    path = tmp_path / "broken.moas"
+    shutil.copyfile(Path(__file__).resolve().parents[1] / "builder" / "manual-broken" /
+                    "systems-functions.moas", path)
+    builder = open_builder(path)
+    assert builder is not None
+    try:
+        qtbot.waitUntil(lambda: builder.checked is not None, timeout=30000)
+        texts = [builder.findings.item(i).text() for i in range(builder.findings.count())]
+        assert any("error: write false in lowercase, not False" in t for t in texts)
+        assert builder.action_mend.isEnabled()
+        builder.action_mend.trigger()
+        assert builder.statusBar().currentMessage() == "Mended 3 JSON mistakes"
+        assert not builder.action_mend.isEnabled() and builder.doc.syntax == []
+        qtbot.waitUntil(lambda: builder.checked is not None and builder.checked.text == builder.doc.text,
+                        timeout=30000)
+        texts = [builder.findings.item(i).text() for i in range(builder.findings.count())]
+        assert not any("lowercase" in t or "missing comma" in t for t in texts)
+    finally:
+        builder.closing_confirmed = True
+        builder.close()
+        release(path)

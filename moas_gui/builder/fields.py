@@ -33,6 +33,8 @@ class FieldSpec:
     """A ``groups`` field's own fields."""
     columns: tuple[str, ...] = ()
     """A ``groups`` field's names shown in its table."""
+    new: tuple[tuple[str, object], ...] = ()
+    """A ``groups`` field's new item (an empty group can mean "every radio")."""
 
     def tooltip(self) -> str:
         need = "required" if self.required else "optional"
@@ -58,8 +60,9 @@ class ListSpec:
 
 def F(key: str, kind: str, meaning: str, section: str, required: bool = False,
       choices: tuple[str, ...] = (), fields: tuple[FieldSpec, ...] = (),
-      columns: tuple[str, ...] = ()) -> FieldSpec:
-    return FieldSpec(key, kind, meaning, section, required, choices, fields, columns)
+      columns: tuple[str, ...] = (), new: dict[str, object] | None = None) -> FieldSpec:
+    return FieldSpec(key, kind, meaning, section, required, choices, fields, columns,
+                     tuple((new or {}).items()))
 
 
 def _range(section: str, what: str = "") -> tuple[FieldSpec, FieldSpec]:
@@ -85,7 +88,8 @@ STATIONS = (
 
 CONTROL = (*_range("6.4.1", " for these relays"),
            F("Stations", "groups", "Per-station and radio information", "6.4.1",
-             fields=STATIONS, columns=("Station", "Radio", "Relays")))
+             fields=STATIONS, columns=("Station", "Radio", "Relays"),
+             new={"Station": 1, "Radio": 1, "Relays": []}))
 
 TEMPLATES = ListSpec("Templates", "Templates", "6.3",
                      "A template describes an antenna: its maker, model, type and, band by "
@@ -125,7 +129,8 @@ ANTENNAS = ListSpec("Antennas", "Antennas", "6.4",
     F("Fast", "antennas", "Antennas to which a change from this one is fast (no slow "
                           "transition)", "5.6"),
     F("Control", "groups", "Relays used to control this antenna", "6.4", fields=CONTROL,
-      columns=("LowerFrequency", "UpperFrequency")),
+      columns=("LowerFrequency", "UpperFrequency"),
+      new={"LowerFrequency": 14000, "UpperFrequency": 14350, "Stations": []}),
 ), ("ID", "ShortName", "LongName"), {"ShortName": "New", "Control": []})
 
 SYSTEMS = ListSpec("Systems", "Systems", "6.5",
@@ -165,7 +170,8 @@ BUTTONS = (
 
 MATRIX = (*_range("6.7.1", " limit"),
           F("Buttons", "groups", "Button position and function", "6.7.1", fields=BUTTONS,
-            columns=("Row", "Column", "Type", "ID")))
+            columns=("Row", "Column", "Type", "ID"),
+            new={"Row": 0, "Column": 0, "Type": "Antenna", "ID": 0}))
 
 LAYOUTS = ListSpec("Layout", "Layouts", "6.7",
                    "A layout says which buttons a button client shows, band by band.", (
@@ -174,7 +180,7 @@ LAYOUTS = ListSpec("Layout", "Layouts", "6.7",
     F("Station", "station", "Station number", "6.7"),
     F("Radio", "radio", "Radio number", "6.7"),
     F("Matrix", "groups", "Button information", "6.7", fields=MATRIX,
-      columns=("LowerFrequency", "UpperFrequency")),
+      columns=("LowerFrequency", "UpperFrequency"), new={"Buttons": []}),
 ), ("Station", "Radio", "Rows", "Columns"), {"Rows": 2, "Columns": 4, "Matrix": []})
 
 RELATIVE_RANGES = (*_range("6.8.1", " limit"),
@@ -187,7 +193,7 @@ RELATIVE = ListSpec("RelativeAntennas", "Relative antennas", "6.8",
     F("Station", "station", "Station number", "6.8"),
     F("Radio", "radio", "Radio number", "6.8"),
     F("Antennas", "groups", "Relative antennas", "6.8", required=True, fields=RELATIVE_RANGES,
-      columns=("LowerFrequency", "UpperFrequency", "IDs")),
+      columns=("LowerFrequency", "UpperFrequency", "IDs"), new={"IDs": []}),
 ), ("Station", "Radio"), {"Antennas": []})
 
 ROTATOR_CONTROLS = ("Test", "Electrical", "Serial", "RotatorGenius", "Hamlib")
@@ -230,7 +236,7 @@ RADIOS = ListSpec("Radios", "Radios", "6.10",
     F("Station", "int", "Station number", "6.10", required=True),
     F("Radio", "int", "Radio number", "6.10", required=True),
     F("Switches", "groups", "Switches and switch ports", "6.10", required=True,
-      fields=SWITCH_PORTS, columns=("Switch", "Port")),
+      fields=SWITCH_PORTS, columns=("Switch", "Port"), new={"Port": 1}),
     F("Interrupt", "bool", "True if interrupt mode, False if wait mode", "6.10"),
     F("InterruptModeDelay", "int", "Interrupt mode delay", "6.10"),
     F("SubReceiver", "radio", "Radio number of sub receiver", "6.10"),
@@ -283,7 +289,7 @@ MISCELLANEOUS = ListSpec("", "Miscellaneous", "6.12",
     F("UDPPort", "int", "UDP port for N1MM Logger", "6.12"),
     F("UseN1MMLogger", "bool", "True if listening for N1MM Logger UDP messages", "6.12"),
     F("N1MMLogger", "groups", "N1MM Logger translations", "6.12", fields=N1MM,
-      columns=("Address", "Station")),
+      columns=("Address", "Station"), new={"Address": "127.0.0.1", "Station": 1}),
     F("ProtectSameBand", "bool", "True if second station on a band should have no antenna", "6.12"),
     F("StartMOASRotator", "bool", "True if the MOAS rotator program should be started if there "
                                   "are any rotators which need it.", "6.12"),

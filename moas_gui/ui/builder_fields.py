@@ -299,7 +299,8 @@ class GroupsField(FieldWidget):
 
     def __init__(self, spec: FieldSpec, editor: Editor, parent: QWidget | None = None) -> None:
         super().__init__(spec, editor, parent)
-        self.groups = GroupList(spec.fields, spec.columns, editor, spec.key, self)
+        self.groups = GroupList(spec.fields, spec.columns, editor, spec.key, self,
+                                new=lambda: dict(spec.new))
         self.row.addWidget(self.groups)
 
     def load(self) -> None:

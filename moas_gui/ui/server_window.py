@@ -431,7 +431,11 @@ class ServerWindow(QMainWindow):
     def _open_builder(self, path: Path) -> None:
         from .builder_window import open_builder
 
-        window = open_builder(path, self.restart_on, log.error)
+        def refused(reason: str) -> None:
+            log.error("%s", reason)
+            self.last_dialog = show_message(self, QMessageBox.Icon.Warning, "Station builder",
+                                            reason)
+        window = open_builder(path, self.restart_on, refused)
         if window is not None:
             self.builder_windows.append(window)
             window.destroyed.connect(lambda *_: self.builder_windows.remove(window)

@@ -160,6 +160,24 @@ def test_pickers_offer_the_file_s_antennas_and_rotators(window: tuple[BuilderWin
     assert isinstance(radio, ComboField) and radio.combo.currentText() == "radio 2"
 
 
+def test_a_new_item_inside_an_item_starts_with_what_it_needs(
+        window: tuple[BuilderWindow, Answers]) -> None:
+    builder, _ = window
+    page = list_page(builder, "Antennas")
+    assert page.list is not None
+    page.list.select(2)
+    control = page.list.form.fields["Control"]
+    assert isinstance(control, GroupsField)
+    control.groups.add_button.click()
+    assert builder.doc.get(("Antennas", 2, "Control", 1)) == {
+        "LowerFrequency": 14000, "UpperFrequency": 14350, "Stations": []}
+    stations = control.groups.form.fields["Stations"]
+    assert isinstance(stations, GroupsField)
+    stations.groups.add_button.click()
+    assert builder.doc.get(("Antennas", 2, "Control", 1, "Stations")) == [
+        {"Station": 1, "Radio": 1, "Relays": []}], "never an empty entry (every radio)"
+
+
 def test_adding_and_removing_items(window: tuple[BuilderWindow, Answers]) -> None:
     builder, _ = window
     page = list_page(builder, "Rotators")
@@ -357,6 +375,10 @@ def test_save_and_restart_goes_through_file_restart_and_asks_while_keyed(
         window.action_edit_station.trigger()
         builder = window.builder_windows[0]
         assert isinstance(builder, BuilderWindow) and builder.doc.path == path
+        window.action_edit_station.trigger()  # a second window on the same file: refused
+        assert len(window.builder_windows) == 1 and window.last_dialog is not None
+        assert 'already open in the builder window "Station builder - station.moas"' in \
+            window.last_dialog.text()
         answers = Answers()
         builder.show_diff = answers.diff
         first = app.engine

@@ -461,10 +461,9 @@ class WhatIfPage(Page):
     why, from a fresh engine built from the draft; and the draft's station plan."""
 
     def __init__(self, doc: Document, say: Callable[[str], None],
-                 config: Callable[[], Any], show_plan: Callable[[Any], None],
+                 show_plan: Callable[[Any], None],
                  parent: QWidget | None = None) -> None:
         super().__init__(doc, say, parent)
-        self.config = config
         self.show_plan = show_plan
         self.worker = Worker(self)
         column = QVBoxLayout(self)
@@ -515,41 +514,62 @@ class WhatIfPage(Page):
         return tunings, [ref for ref, _, _, keyed in self.rows if keyed.isChecked()]
 
     def ask(self) -> None:
-        from moas_gui.builder.whatif import answers_text, what_if
-
-        config = self.config()
-        if config is None:
-            self.answer.setPlainText("The draft has errors (see the findings): the engine is "
-                                     "built from a file the server would accept.")
-            return
         try:
             tunings, keyed = self.scenario()
         except ValueError:
             self.answer.setPlainText("Each ticked radio needs a frequency in kHz, such as 14025.")
             return
         self.answer.setPlainText("Asking the engine...")
-        self.worker.run(lambda: answers_text(what_if(config, tunings, keyed)), self._answered)
+        text, name = self.doc.text, self._name()
+        self.worker.run(lambda: _what_if(text, name, tunings, keyed), self._answered)
+
+    def _name(self) -> str:
+        return self.doc.path.name if self.doc.path else "new station"
 
     def _answered(self, result: Any) -> None:
         self.answer.setPlainText(str(result) if not isinstance(result, Exception)
                                  else f"The engine could not answer: {result}")
 
     def plan(self) -> None:
-        from moas_gui.plan import build_plan
-
-        config = self.config()
-        if config is None:
-            self.say("The draft has errors: the station plan needs a file the server would accept")
-            return
-        text, name = self.doc.text, str(self.doc.path.name if self.doc.path else "new station")
+        text, name = self.doc.text, self._name()
         self.say("Making the station plan of the draft...")
-        self.worker.run(lambda: build_plan(config, name, text), self._planned)
+        self.worker.run(lambda: _plan(text, name), self._planned)
 
     def _planned(self, result: Any) -> None:
+        if isinstance(result, str):
+            self.say(result)
+            return
         if isinstance(result, Exception):
             self.say(f"The station plan could not be made: {result}")
             return
         self.show_plan(result)
+
+
+DRAFT_HAS_ERRORS = ("The draft has errors (see the findings): the engine is built from a file "
+                    "the server would accept.")
+
+
+def _what_if(text: str, name: str, tunings: list[tuple[RadioRef, float]],
+             keyed: list[RadioRef]) -> str:
+    """The engine's answers for the draft ``text`` as it is now (off the window's thread)."""
+    from moas_gui.builder.checking import check_text
+    from moas_gui.builder.whatif import answers_text, what_if
+
+    config = check_text(text, name).config
+    if config is None:
+        return DRAFT_HAS_ERRORS
+    return answers_text(what_if(config, tunings, keyed))
+
+
+def _plan(text: str, name: str) -> Any:
+    """The station plan of the draft ``text`` (or why there is none), off the window's thread."""
+    from moas_gui.builder.checking import check_text
+    from moas_gui.plan import build_plan
+
+    config = check_text(text, name).config
+    if config is None:
+        return DRAFT_HAS_ERRORS
+    return build_plan(config, name, text)
 
 
 __all__ = ["GridPage", "GuidePage", "LayoutPage", "Page", "RelayPage", "WhatIfPage", "Worker"]

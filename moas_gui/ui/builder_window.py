@@ -149,8 +149,7 @@ class BuilderWindow(QMainWindow):
         self._add("Band x antenna", GridPage(self.doc, self.say, self))
         self._add("Relay map", RelayPage(self.doc, self.say, self))
         self._add("Layout preview", LayoutPage(self.doc, self.say, self))
-        self.what_if = WhatIfPage(self.doc, self.say, lambda: self.checked.config if self.checked else None,
-                                  self._show_plan, self)
+        self.what_if = WhatIfPage(self.doc, self.say, self._show_plan, self)
         self._add("What if", self.what_if)
         self.nav.currentRowChanged.connect(self._page_chosen)
         self.findings = QListWidget(self)

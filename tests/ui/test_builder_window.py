@@ -279,6 +279,12 @@ def test_what_if_asks_a_fresh_engine(qtbot: Any, window: tuple[BuilderWindow, An
     page.plan_button.click()
     qtbot.waitUntil(lambda: builder.plan_window is not None, timeout=60000)
     builder.plan_window.close()
+    builder.doc.set(("Antennas", 0, "ShortName"), "Yagi")  # asked at once: the draft as it is now
+    page.ask_button.click()
+    qtbot.waitUntil(lambda: "transmit 0 Yagi" in page.answer.toPlainText(), timeout=30000)
+    builder.doc.set(("Antennas", 0, "Rotator"), 7)
+    page.ask_button.click()
+    qtbot.waitUntil(lambda: "The draft has errors" in page.answer.toPlainText(), timeout=30000)
 
 
 def test_saving_shows_the_diff_first_and_keeps_the_previous_file(

@@ -62,13 +62,15 @@ class Style:
     unit: str = "  "
     colon: str = ": "
     newline: str = "\n"
+    flat: bool = False
+    """The file is one line: what is added stays on it."""
 
     @classmethod
     def of(cls, text: str) -> Style:
         unit = re.search(r"\n([ \t]+)\S", text)
         colon = re.search(r'"([ \t]*:[ \t]*)', text)
         return cls(unit.group(1) if unit else "  ", colon.group(1) if colon else ": ",
-                   "\r\n" if "\r\n" in text else "\n")
+                   "\r\n" if "\r\n" in text else "\n", "\n" not in text.rstrip("\r\n"))
 
 
 def _tidy(value: object) -> object:
@@ -98,7 +100,7 @@ def render(value: object, style: Style, indent: str, lines: bool | None = None) 
     value = _tidy(value)
     if lines is None:
         lines = wants_lines(value)
-    if not lines or not isinstance(value, (dict, list)) or not value:
+    if not lines or style.flat or not isinstance(value, (dict, list)) or not value:
         return json.dumps(value, ensure_ascii=False, separators=(", ", style.colon.strip("\t") or ":"))
     inner = indent + style.unit
     if isinstance(value, dict):
@@ -284,7 +286,7 @@ class Document:
             closer = value_end(self.text, opener) - 1
             base = self._indent(opener)
             inner = self.text[opener + 1 : closer]
-            if lines or "\n" in inner:
+            if (lines and not self.style.flat) or "\n" in inner:
                 new = nl + base + self.style.unit + text(base + self.style.unit, lines) + nl + base
             else:
                 new = text(base, False)

@@ -251,7 +251,7 @@ class PickManyField(FieldWidget):
         super().__init__(spec, editor, parent)
         self.list = QListWidget(self)
         self.list.setToolTip(spec.tooltip())
-        self.list.setMaximumHeight(84)
+        self.list.setMaximumHeight(58)
         self.list.setFlow(QListWidget.Flow.LeftToRight)
         self.list.setWrapping(True)
         self.row.addWidget(self.list, 1)

@@ -166,6 +166,12 @@ class Document:
     def syntax_problems(self) -> list[Problem]:
         return list(self.syntax)
 
+    @property
+    def readable(self) -> bool:
+        """Whether the text reads as a station's group ``{ ... }`` (mistakes the reader
+        recovers from and all), so that its values can be edited."""
+        return isinstance(self.root, JObject)
+
     def node(self, path: Path) -> Node | None:
         return find(self.root, path)
 
@@ -204,8 +210,9 @@ class Document:
         return node.line if node is not None else 0
 
     def _need(self, path: Path) -> Node:
-        if self.root is None:
-            raise EditError("the file cannot be read as JSON; correct the mistakes listed first")
+        if not self.readable:
+            raise EditError("the file cannot be read as JSON (a station is one group { ... }); "
+                            "correct the mistakes listed first")
         node = find(self.root, path)
         if node is None:
             raise EditError(f"there is no {_shown(path)} in the file")
@@ -222,7 +229,7 @@ class Document:
         groups that lead to it)."""
         if not path:
             raise EditError("the whole file is not one value to set")
-        node = self.node(path) if self.root is not None else None
+        node = self.node(path) if self.readable else None
         if node is None:
             self._add(path, value, what)
             return
@@ -262,7 +269,7 @@ class Document:
 
     def append(self, path: Path, value: object, what: str = "") -> None:
         """Put ``value`` at the end of the list at ``path`` (a list that is not there is made)."""
-        if self.root is not None and self.node(path) is None:
+        if self.readable and self.node(path) is None:
             self.set(path, [value], what or f"add to {_shown(path)}")
             return
         self.insert(path, self.count(path), value, what)

@@ -134,6 +134,9 @@ class BuilderWindow(QMainWindow):
         self._title()
         self.refresh()
         self.check_now()
+        if not doc.readable:
+            self.say("The file cannot be read as JSON (see the findings): mend it in a text "
+                     "editor, then open it here again")
 
     # -- building ---------------------------------------------------------------------------
     def _build(self) -> None:

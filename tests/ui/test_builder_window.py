@@ -444,3 +444,22 @@ def test_a_file_with_the_manual_s_json_mistakes_is_mended_from_the_edit_menu(
         builder.closing_confirmed = True
         builder.close()
         release(path)
+
+
+def test_a_file_that_is_not_json_at_all_says_so(qtbot: Any, tmp_path: Path) -> None:
+    path = tmp_path / "notes.moas"
+    path.write_text("these are my notes, not a station\n")
+    builder = open_builder(path)
+    assert builder is not None
+    try:
+        assert "cannot be read as JSON" in builder.statusBar().currentMessage()
+        qtbot.waitUntil(lambda: builder.findings.count() > 0, timeout=30000)
+        assert "error:" in builder.findings.item(0).text()
+        page = list_page(builder, "Antennas")
+        assert page.list is not None
+        page.list.add_button.click()  # refused with the reason, the file untouched
+        assert "cannot be read as JSON" in builder.statusBar().currentMessage()
+        assert builder.doc.text == "these are my notes, not a station\n"
+    finally:
+        builder.close()
+        release(path)

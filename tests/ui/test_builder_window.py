@@ -463,3 +463,15 @@ def test_a_file_that_is_not_json_at_all_says_so(qtbot: Any, tmp_path: Path) -> N
     finally:
         builder.close()
         release(path)
+
+
+def test_no_two_items_of_a_builder_menu_share_a_mnemonic(window: tuple[BuilderWindow, Answers]) -> None:
+    from test_menu_mnemonics import clashes, every_menu
+
+    builder, _ = window
+    builder.doc.set(("TCPPort",), 1)  # Undo names the edit: its mnemonic stays
+    menus = every_menu(builder)
+    assert len(menus) >= 4
+    found = [c for name, texts in menus for c in clashes(name, texts)]
+    assert found == []
+    assert builder.action_undo.text() == "&Undo set TCPPort"

@@ -24,6 +24,8 @@ from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.cli.antenna_log import add_arguments as add_antenna_log_arguments
 from moas_gui.cli.antenna_log import export_antenna_log
 from moas_gui.cli.antenna_log import wants_export as wants_antenna_log_export
+from moas_gui.cli.builder import add_arguments as add_builder_arguments
+from moas_gui.cli.builder import builder_command, wants_builder
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
@@ -66,7 +68,7 @@ def _parser() -> argparse.ArgumentParser:
                              "gets and why, what each pair of radios changes, then the "
                              "findings; exit status 0 when the file is usable")
     parser.add_argument("--json", action="store_true",
-                        help="with --plan: print the plan as JSON")
+                        help="with --plan or --what-if: print as JSON")
     parser.add_argument("--plan-khz", metavar="KHZ[,KHZ...]", action="append",
                         help="with --plan: plan these frequencies (kHz, comma-separated) "
                              "instead of each covered band's CW and phone frequencies")
@@ -201,6 +203,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--list-operators", action="store_true",
                         help="list the operators and exit")
     add_antenna_log_arguments(parser)
+    add_builder_arguments(parser)
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     # no options: only the test hooks set these (main)
     parser.set_defaults(switch_timing=None, rotator_timing=None)
@@ -767,6 +770,14 @@ def _security_command(args: argparse.Namespace) -> int | None:
     return 0
 
 
+def _early_command(args: argparse.Namespace) -> int | None:
+    """The station builder (``--edit``, ``--what-if``), the operator commands and
+    ``--fingerprint``: their exit status, or None when the command line asks for none."""
+    if wants_builder(args):
+        return builder_command(args)
+    return _security_command(args)
+
+
 def main(argv: list[str] | None = None) -> int:
     output_without_console("moas-server")  # started without a console: output to a log file
     args = _parser().parse_args(argv)
@@ -784,9 +795,9 @@ def main(argv: list[str] | None = None) -> int:
         for line in done:
             print(line)
         return 0
-    security = _security_command(args)
-    if security is not None:
-        return security
+    early = _early_command(args)
+    if early is not None:
+        return early
     if wants_antenna_log_export(args):
         return export_antenna_log(args)
     if args.install_service:

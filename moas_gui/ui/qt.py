@@ -56,6 +56,7 @@ from PySide6.QtGui import (
 )
 from PySide6.QtWidgets import (
     QAbstractButton,
+    QAbstractItemView,
     QApplication,
     QButtonGroup,
     QCheckBox,
@@ -72,6 +73,8 @@ from PySide6.QtWidgets import (
     QInputDialog,
     QLabel,
     QLineEdit,
+    QListWidget,
+    QListWidgetItem,
     QMainWindow,
     QMenu,
     QMessageBox,
@@ -80,6 +83,8 @@ from PySide6.QtWidgets import (
     QScrollArea,
     QSizePolicy,
     QSpinBox,
+    QSplitter,
+    QStackedWidget,
     QStatusBar,
     QSystemTrayIcon,
     QTableWidget,
@@ -95,6 +100,7 @@ from PySide6.QtWidgets import (
 
 __all__ = [
     "QAbstractButton",
+    "QAbstractItemView",
     "QAction",
     "QActionGroup",
     "QApplication",
@@ -126,6 +132,8 @@ __all__ = [
     "QKeySequence",
     "QLabel",
     "QLineEdit",
+    "QListWidget",
+    "QListWidgetItem",
     "QMainWindow",
     "QMenu",
     "QMessageBox",
@@ -152,6 +160,8 @@ __all__ = [
     "QSize",
     "QSizePolicy",
     "QSpinBox",
+    "QSplitter",
+    "QStackedWidget",
     "QStatusBar",
     "QSystemTrayIcon",
     "QTabWidget",

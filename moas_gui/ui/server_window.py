@@ -82,6 +82,8 @@ class ServerWindow(QMainWindow):
         self.emulator_windows: dict[int, QWidget] = {}
         self.plan_window: QWidget | None = None
         """View > Station plan, while open."""
+        self.builder_windows: list[QWidget] = []
+        """File > Edit Station..., while open."""
         self.report_window: QWidget | None = None
         """View > Contest report, while open."""
         self.export_window: QWidget | None = None
@@ -146,6 +148,7 @@ class ServerWindow(QMainWindow):
         self.action_open.setShortcut("Ctrl+O")
         self.recent_menu = file_menu.addMenu("Recent &Files")
         file_menu.addSeparator()
+        self.action_edit_station = file_menu.addAction("&Edit Station...", self.edit_station)
         self.action_reset = file_menu.addAction("&Reset Switches", self.reset_switches)
         self.action_save_data = file_menu.addAction("&Save Switch Data...", self.save_switch_data)
         self.action_export_log = file_menu.addAction("Export Antenna &Log...",
@@ -408,6 +411,47 @@ class ServerWindow(QMainWindow):
                  "Their relays would open under the key (hot switching): unkey first, or "
                  f"{what.lower()} anyway?",
                  lambda yes: self.ask_first(what, effect, act, keyed) if yes else None)
+
+    def edit_station(self) -> None:
+        """File > Edit Station...: the station builder on the open configuration (or on a
+        file chosen, a new name starting a new station); its Save and Restart comes back to
+        :meth:`restart_on`."""
+        if self.app.path is not None:
+            self._open_builder(Path(self.app.path))
+            return
+        dialog = QFileDialog(self, "Edit a station (a new name starts a new station)",
+                             str(Path.home()), "MOAS stations (*.moas);;All files (*)")
+        dialog.setAcceptMode(QFileDialog.AcceptMode.AcceptSave)
+        dialog.setOption(QFileDialog.Option.DontConfirmOverwrite, True)
+        dialog.setDefaultSuffix("moas")
+        dialog.fileSelected.connect(lambda name: self._open_builder(Path(name)))
+        self.file_dialog = dialog
+        dialog.open()
+
+    def _open_builder(self, path: Path) -> None:
+        from .builder_window import open_builder
+
+        def refused(reason: str) -> None:
+            log.error("%s", reason)
+            self.last_dialog = show_message(self, QMessageBox.Icon.Warning, "Station builder",
+                                            reason)
+        window = open_builder(path, self.restart_on, refused)
+        if window is not None:
+            self.builder_windows.append(window)
+            window.destroyed.connect(lambda *_: self.builder_windows.remove(window)
+                                     if window in self.builder_windows else None)
+
+    def restart_on(self, path: Path) -> None:
+        """The builder's Save and Restart: File > Restart on the saved file when it is the
+        running one (else File > Open's path, which asks first); while a station transmits,
+        asked first, naming who does."""
+        running = self.app.path
+        if running is not None and Path(running).resolve() == path.resolve():
+            self.ask_first("Restart", "restarts the server on the saved file: the antennas "
+                           "of every radio are chosen again", self.restart)
+            return
+        self.ask_first("Open", f"stops the running configuration and opens {path}",
+                       lambda: self.open_file(str(path)))
 
     def restart(self) -> None:
         """File > Restart: the file is checked first; with errors it is not restarted,

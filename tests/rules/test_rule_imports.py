@@ -38,6 +38,7 @@ ALLOWED: dict[str, set[str]] = {
     "engine": {"config", "errors"},
     "state_store": {"engine", "errors", "files", "places"},
     "plan": {"config", "engine", "errors"},
+    "builder": {"config", "engine", "errors", "files", "places", "plan"},
     "hw": {"addresses", "aio", "clock", "config", "edge", "engine", "errors", "files",
            "line_framer", "retry", "serial"},
     "net": {"aio", "antenna_log", "config", "edge", "errors", "hw", "line_framer", "operators", "tls"},
@@ -62,9 +63,9 @@ ALLOWED: dict[str, set[str]] = {
     "single_instance": {"errors"},
     "desktop": {"files"},
     "service": {"files"},
-    "ui": {"addresses", "aio", "antenna_log", "app", "client", "hw", "log_repeats", "operators", "plan", "sources",
+    "ui": {"addresses", "aio", "antenna_log", "app", "builder", "client", "hw", "log_repeats", "operators", "plan", "sources",
            "status"},
-    "cli": {"antenna_log", "app", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
+    "cli": {"antenna_log", "app", "builder", "client", "config", "hw", "net", "rotator_program", "single_instance", "ui",
             "desktop", "errors", "status", "engine", "addresses", "aio", "files", "clock",
             "retry", "sources", "log_repeats", "places", "service", "plan", "edge",
             "operators", "tls"},
@@ -75,10 +76,11 @@ ALLOWED: dict[str, set[str]] = {
 NET_MAY_USE_FROM_HW = {"moas_gui.hw.rotators.base", "moas_gui.hw.rotators.headings"}
 """The rotctld listener speaks of rotators; nothing else of hw/ is the client side's business."""
 
-PURE = {"config", "engine"}
+PURE = {"builder", "config", "engine"}
 FORBIDDEN_IN_PURE = {"PySide6", "qasync", "asyncio", "serial", "socket", "selectors",
                      "threading", "subprocess"}
-"""The engine and the configuration model do no I/O and know no event loop."""
+"""The engine and the configuration model do no I/O and know no event loop; the builder's
+model (moas_gui.builder) reads and writes its file but loads no Qt and runs no loop."""
 
 
 def _modules() -> dict[str, tuple[str, Path]]:

@@ -24,7 +24,7 @@ from collections.abc import Awaitable, Callable
 
 from .admission import NO_DEADLINES, Admission, Deadlines, Evict, Refused, Ticket
 from .listener import EarlyAdmitted
-from .log_limit import held_text
+from moas_gui.log_limit import held_text
 
 log = logging.getLogger(__name__)
 

@@ -47,7 +47,7 @@ from collections.abc import Awaitable, Callable, Coroutine
 from typing import Final
 
 from .admission import Evict, Ticket
-from .log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 
 log = logging.getLogger(__name__)
 

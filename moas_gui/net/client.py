@@ -28,7 +28,7 @@ from moas_gui.errors import MoasError
 
 from .backend import ErrorCode, JSONObject, RequestError
 from .framing import Line, request_framer
-from .log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 from .messages import encode
 
 log = logging.getLogger(__name__)

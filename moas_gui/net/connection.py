@@ -23,7 +23,7 @@ from moas_gui.net.secrets import Verdict
 from .backend import ErrorCode
 from .framing import request_framer
 from .identity import Identity, Party
-from .log_limit import held_text
+from moas_gui.log_limit import held_text
 from .messages import MessageEncodeError, reply_error, reply_ok
 
 log = logging.getLogger(__name__)

@@ -50,7 +50,7 @@ from dataclasses import dataclass
 from typing import Final, TypeVar
 
 from moas_gui.edge.admission import DEFAULT_BEFORE_HELLO
-from moas_gui.edge.log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.operators import (
     Device,
     KnownDevices,

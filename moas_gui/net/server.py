@@ -74,7 +74,7 @@ from .connection import (
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
 from .identity import LOCAL_ADDRESSES, anonymous, is_local, token_needed
-from .log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
 from .messages import MessageEncodeError, event, reply_error

@@ -26,7 +26,7 @@ from moas_gui.edge.listener import EarlyAdmitted
 
 from .admission import REQUEST_DEADLINE, Refused, Ticket
 from .connection import format_peer
-from .log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 from .server import ClientServer
 
 log = logging.getLogger(__name__)

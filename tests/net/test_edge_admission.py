@@ -15,7 +15,7 @@ import pytest
 from moas_gui.clock import FakeClock
 from moas_gui.edge.admission import GRACE, Admission, Deadlines, Refused, Standing, Ticket
 from moas_gui.edge.listener import BACKOFF_MOST, Listener, bind
-from moas_gui.edge.log_limit import LogLimiter
+from moas_gui.log_limit import LogLimiter
 
 
 class Pool:

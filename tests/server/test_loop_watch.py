@@ -12,7 +12,7 @@ import pytest
 from helpers import EXAMPLES, until
 
 from moas_gui.app import ServerApp, ServerOptions
-from moas_gui.edge.log_limit import LogLimiter
+from moas_gui.log_limit import LogLimiter
 from moas_gui.hw.moas2.link import LinkTiming
 from moas_gui.loop_watch import LoopWatch
 

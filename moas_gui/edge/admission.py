@@ -64,7 +64,6 @@ from typing import Final
 
 from moas_gui.clock import LOOP_CLOCK, Clock, Timer
 from moas_gui.errors import MoasError
-
 from moas_gui.log_limit import LogLimiter, held_text
 
 log = logging.getLogger(__name__)

@@ -22,9 +22,10 @@ import asyncio
 import logging
 from collections.abc import Awaitable, Callable
 
+from moas_gui.log_limit import held_text
+
 from .admission import NO_DEADLINES, Admission, Deadlines, Evict, Refused, Ticket
 from .listener import EarlyAdmitted
-from moas_gui.log_limit import held_text
 
 log = logging.getLogger(__name__)
 

@@ -46,8 +46,9 @@ import ssl as ssl_module
 from collections.abc import Awaitable, Callable, Coroutine
 from typing import Final
 
-from .admission import Evict, Ticket
 from moas_gui.log_limit import LogLimiter, held_text
+
+from .admission import Evict, Ticket
 
 log = logging.getLogger(__name__)
 

@@ -18,12 +18,12 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from moas_gui.edge.admission import Ticket
+from moas_gui.log_limit import held_text
 from moas_gui.net.secrets import Verdict
 
 from .backend import ErrorCode
 from .framing import request_framer
 from .identity import Identity, Party
-from moas_gui.log_limit import held_text
 from .messages import MessageEncodeError, reply_error, reply_ok
 
 log = logging.getLogger(__name__)

@@ -45,9 +45,9 @@ from moas_gui.config.model import Rotator
 from moas_gui.edge.admission import Admission, Deadlines
 from moas_gui.edge.gate import Allows, gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
-from moas_gui.log_limit import held_text
 from moas_gui.hw.rotators.base import RotatorError, RotatorView, describe
 from moas_gui.hw.rotators.headings import Travel, normalize
+from moas_gui.log_limit import held_text
 
 from .access import IPNetwork, is_allowed
 from .identity import is_local

@@ -48,6 +48,7 @@ from typing import Any
 from moas_gui.edge.gate import ForwardingGate
 from moas_gui.edge.listener import EarlyAdmitted, Listener
 from moas_gui.errors import HardwareError
+from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.net.secrets import SecretGuard
 from moas_gui.operators import OperatorBook
 
@@ -74,7 +75,6 @@ from .connection import (
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
 from .identity import LOCAL_ADDRESSES, anonymous, is_local, token_needed
-from moas_gui.log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
 from .messages import MessageEncodeError, event, reply_error

@@ -23,10 +23,10 @@ import logging
 from collections.abc import Callable
 
 from moas_gui.edge.listener import EarlyAdmitted
+from moas_gui.log_limit import LogLimiter, held_text
 
 from .admission import REQUEST_DEADLINE, Refused, Ticket
 from .connection import format_peer
-from moas_gui.log_limit import LogLimiter, held_text
 from .server import ClientServer
 
 log = logging.getLogger(__name__)

@@ -41,7 +41,6 @@ from moas_gui.clock import LOOP_CLOCK, Clock
 from moas_gui.edge.admission import Admission, Deadlines
 from moas_gui.edge.gate import gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
-from moas_gui.log_limit import held_text
 from moas_gui.hw.rotators.controllers.base import ControllerError
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.moas_rotator_codec import (
@@ -57,6 +56,7 @@ from moas_gui.hw.rotators.moas_rotator_codec import (
     encode_port_state,
     encode_version_reply,
 )
+from moas_gui.log_limit import held_text
 
 from .driver import RETRY, ControllerDriver
 from .ports import port_refusal

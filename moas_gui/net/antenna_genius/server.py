@@ -37,8 +37,8 @@ from moas_gui.config import Config
 from moas_gui.config.model import RadioRef
 from moas_gui.edge.gate import gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
-from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.errors import RequestRefused
+from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.net.connection import format_peer
 from moas_gui.net.identity import Identity, serving
 

@@ -45,6 +45,13 @@ import ssl
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
+from moas_gui.edge.admission import (
+    DEFAULT_BEFORE_HELLO,
+    DEFAULT_PER_ADDRESS,
+    Admission,
+    Refused,
+    Ticket,
+)
 from moas_gui.edge.gate import ForwardingGate
 from moas_gui.edge.listener import EarlyAdmitted, Listener
 from moas_gui.errors import HardwareError
@@ -53,15 +60,7 @@ from moas_gui.net.secrets import SecretGuard
 from moas_gui.operators import OperatorBook
 
 from .access import allowed_networks, is_allowed
-from .admission import (
-    DEFAULT_BEFORE_HELLO,
-    DEFAULT_PER_ADDRESS,
-    HELLO_DEADLINE,
-    KEEPALIVE,
-    Admission,
-    Refused,
-    Ticket,
-)
+from .admission import HELLO_DEADLINE, KEEPALIVE
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
 from .connection import (
     ClientInfo,
@@ -181,8 +180,6 @@ class ClientServer:
         self.tls = tls
         """Serve TLS with this context; then peers outside ``ClientAllow`` are admitted
         (and must give a token)."""
-        self.trouble = LogLimiter()
-        """One log line a minute per kind of trouble from outside (the web server's too)."""
         self.chatter = LogLimiter(burst=CHATTER_BURST)
         """The Info lines about greeted clients, all addresses together."""
         self._unchecked = 0

@@ -22,10 +22,11 @@ import asyncio
 import logging
 from collections.abc import Callable
 
+from moas_gui.edge.admission import Refused, Ticket
 from moas_gui.edge.listener import EarlyAdmitted
 from moas_gui.log_limit import LogLimiter, held_text
 
-from .admission import REQUEST_DEADLINE, Refused, Ticket
+from .admission import REQUEST_DEADLINE
 from .connection import format_peer
 from .server import ClientServer
 

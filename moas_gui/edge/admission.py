@@ -158,6 +158,7 @@ class Ticket:
         "deadlines",
         "evicted",
         "front",
+        "host",
         "key",
         "last_active",
         "released",
@@ -173,11 +174,15 @@ class Ticket:
         evict: Evict | None,
         deadlines: Deadlines,
         now: float,
+        host: str = "",
     ) -> None:
         self._admission = admission
         self._evict = evict
         self.key = key
+        self.host = host or key
+        """The peer's host as its socket gave it (what a front checks it against)."""
         self.address = address
+        """The peer as log lines name it (``host:port``), read once when it was accepted."""
         self.front = front
         self.deadlines = deadlines
         self.standing = Standing.NEW
@@ -333,7 +338,8 @@ class Admission:
                     "total",
                 )
             self._make_room(victim, address or host)
-        ticket = Ticket(self, key, address or host, front, evict, deadlines, self.clock.now())
+        ticket = Ticket(self, key, address or host, front, evict, deadlines, self.clock.now(),
+                        host)
         self._by_address.setdefault(key, {})[ticket] = None
         self._rest += 1
         if deadlines != NO_DEADLINES:

@@ -61,21 +61,6 @@ class LineWriter(Protocol):
     def close(self) -> None: ...
 
 
-def host_of(address: str) -> str:
-    """The host of a :func:`format_peer` text (``[::1]:80`` -> ``::1``)."""
-    if address.startswith("["):
-        return address[1:].split("]", 1)[0]
-    return address.rsplit(":", 1)[0]
-
-
-def format_peer(peer: Any) -> str:
-    """``host:port`` (``[host]:port`` for IPv6) from a socket's peer name."""
-    if isinstance(peer, tuple) and len(peer) >= 2:
-        host, port = str(peer[0]), peer[1]
-        return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
-    return str(peer)
-
-
 def clean_name(name: str, limit: int = 64) -> str:
     """A client's name made safe for a log line: printable, one line, short."""
     text = "".join(ch if ch.isprintable() else "?" for ch in name).strip()
@@ -238,5 +223,5 @@ def cut_slowest(connections: Iterable[Connection], limit: int) -> None:
 
 __all__ = [
     "ClientInfo", "Connection", "LayoutKey", "LineTransport", "LineWriter", "clean_name",
-    "cut_slowest", "format_peer",
+    "cut_slowest",
 ]

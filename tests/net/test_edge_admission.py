@@ -14,6 +14,7 @@ import pytest
 
 from moas_gui.clock import FakeClock
 from moas_gui.edge.admission import GRACE, Admission, Deadlines, Refused, Standing, Ticket
+from moas_gui.edge.gate import Door, Gate
 from moas_gui.edge.listener import BACKOFF_MOST, Listener, bind
 from moas_gui.log_limit import LogLimiter
 
@@ -201,12 +202,13 @@ async def test_the_accept_loop_backs_off_when_out_of_file_handles(
 
     made: list[asyncio.Protocol] = []
 
-    def protocol() -> asyncio.Protocol:
+    def protocol(_gate: Gate) -> asyncio.Protocol:
         made.append(asyncio.Protocol())
         return made[-1]
 
     caplog.set_level(logging.WARNING, logger="moas_gui.edge")
-    listener = Listener(protocol, sockets, what="test clients", accept=accept, sleep=no_wait)
+    door = Door(Admission(4), protocol, "test client")
+    listener = Listener(door, sockets, what="test clients", accept=accept, sleep=no_wait)
     try:
         with socket.create_connection(("127.0.0.1", port)):
             deadline = loop.time() + 10

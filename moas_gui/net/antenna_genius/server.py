@@ -35,11 +35,11 @@ from typing import Protocol
 
 from moas_gui.config import Config
 from moas_gui.config.model import RadioRef
+from moas_gui.edge.admission import Ticket
 from moas_gui.edge.gate import gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import RequestRefused
 from moas_gui.log_limit import LogLimiter, held_text
-from moas_gui.net.connection import format_peer
 from moas_gui.net.identity import Identity, serving
 
 from . import codec
@@ -142,8 +142,8 @@ class AgBackend(Protocol):
 class _Session:
     device: _Device
     writer: asyncio.StreamWriter
-    host: str
-    peer: str
+    ticket: Ticket
+    """Its place in the admission, its peer on it (``host``, ``address``)."""
     authed: bool
     started: float
     last: float | None = None
@@ -158,6 +158,14 @@ class _Session:
     """Told when more than :attr:`max_pending` bytes wait for this client (it is then
     aborted): the server's one log line a minute about it."""
     max_pending: int = MAX_PENDING
+
+    @property
+    def host(self) -> str:
+        return self.ticket.host
+
+    @property
+    def peer(self) -> str:
+        return self.ticket.address
 
     def deadline(self, timing: AgTiming) -> float:
         if self.last is None:
@@ -261,7 +269,8 @@ class AgServer:
         try:
             gate = gate_factory(self.access.admission,
                                 lambda r, w: self._serve(served, r, w),
-                                front="Antenna Genius connection")
+                                front="Antenna Genius connection",
+                                who="an Antenna Genius connection")
             served.server = await Listener.open(gate, self.host or None, port,
                                                 what="Antenna Genius connections",
                                                 trouble=self.access.admission.trouble)
@@ -386,26 +395,26 @@ class AgServer:
                      writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
         assert task is not None
-        peer = writer.get_extra_info("peername")
-        host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
+        ticket = ticket_of(writer)
+        host = ticket.host
         loop = asyncio.get_running_loop()
         wait = self.access.waiting(host)
         if wait > 0:
             held = self._refused.allow("locked")
             if held is not None:
                 log.warning("Antenna Genius: refused %s: too many wrong auth codes lately "
-                            "(%.0f s to wait)%s", format_peer(peer), wait, held_text(held))
+                            "(%.0f s to wait)%s", ticket.address, wait, held_text(held))
             writer.close()
             return
         refusal = self.access.allowed(host)
         if refusal is not None:
             self._trouble(logging.WARNING, "not allowed", "Antenna Genius: refused %s: %s",
-                          format_peer(peer), refusal)
+                          ticket.address, refusal)
             writer.close()
             return
         self._tasks.add(task)
         needs = self.access.needs_token(host)
-        session = _Session(served, writer, host, format_peer(peer), not needs, loop.time(),
+        session = _Session(served, writer, ticket, not needs, loop.time(),
                            cut=self._cut, max_pending=self.max_pending)
         session.identity = self.access.identity(host, session.peer, None)
         served.sessions.add(session)
@@ -436,10 +445,9 @@ class AgServer:
             if not data:
                 return
             session.last = loop.time()
-            ticket = ticket_of(session.writer)
-            if ticket is not None:  # a first command greets it: it is no crowd any more
-                ticket.greeted()
-                ticket.touch()
+            # a first command greets it: it is no crowd any more
+            session.ticket.greeted()
+            session.ticket.touch()
             for item in lines.feed(data):
                 if session.closing:
                     break
@@ -509,9 +517,8 @@ class AgServer:
     def _operators_pool(self, session: _Session) -> None:
         """An operator's connection moves to the operators' own capacity, as on the client
         port: no crowd of other addresses can take its place from then on."""
-        ticket = ticket_of(session.writer)
-        if ticket is not None and session.identity is not None and session.identity.is_operator:
-            ticket.operator()  # False when that capacity is full: the admission says so
+        if session.identity is not None and session.identity.is_operator:
+            session.ticket.operator()  # False when that capacity is full: the admission says so
 
     def _info(self, session: _Session, item: Command) -> bytes:
         if item.words[1:2] != ("get",):

@@ -19,7 +19,7 @@ from typing import Any, Protocol
 
 from moas_gui.edge.admission import Ticket
 from moas_gui.log_limit import held_text
-from moas_gui.net.secrets import Verdict
+from moas_gui.net.secrets import SecretVerdict
 
 from .backend import ErrorCode
 from .framing import request_framer
@@ -107,7 +107,7 @@ class Connection:
         self.identified: Callable[[Identity], None] | None = None
         """Told the new identity when a hello's token makes this connection an operator
         (the admission policy may move it to the operators' own capacity then)."""
-        self.authenticate: Callable[[str], Awaitable[Verdict]] | None = None
+        self.authenticate: Callable[[str], Awaitable[SecretVerdict]] | None = None
         """Checks a hello's token off the loop (:meth:`~moas_gui.net.secrets.SecretGuard.
         check_token`: the operator, or why not); None here when this server has no
         operators."""

@@ -50,7 +50,7 @@ from moas_gui.edge.admission import Ticket
 from moas_gui.edge.gate import gate_of
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
-from moas_gui.net.secrets import Verdict
+from moas_gui.net.secrets import SecretVerdict
 
 from .admission import REQUEST_DEADLINE
 from .server import ClientServer
@@ -286,13 +286,13 @@ class WebServer:
         return web.Response(text=page, content_type="text/html", charset="utf-8",
                             headers=_REPORT_HEADERS)
 
-    async def _token_shown(self, request: web.Request, host: str) -> Verdict:
+    async def _token_shown(self, request: web.Request, host: str) -> SecretVerdict:
         """The operator the request's bearer token names, or why not: the server's one
         secret check (off the loop, budgeted per address and per operator)."""
         guard = self.clients.secrets
         scheme, _, token = request.headers.get("Authorization", "").partition(" ")
         if guard is None or scheme.lower() != "bearer" or not token.strip():
-            return Verdict(refusal="no token")
+            return SecretVerdict(refusal="no token")
         return await guard.check_token(token.strip(), host)
 
     async def _report_page(self, reader: JournalReader | None,

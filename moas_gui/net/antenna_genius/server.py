@@ -44,8 +44,8 @@ from moas_gui.net.identity import Identity, serving
 
 from . import codec
 from .access import AgAccess, SimpleAccess
-from .codec import Command, CommandReader, Malformed, PortStatus
-from .discovery import Announcement, Announcer
+from .codec import AgCommand, AgMalformed, CommandReader, PortStatus
+from .discovery import AgAnnouncement, Announcer
 from .mapping import (
     BANDS,
     AgAntenna,
@@ -313,8 +313,8 @@ class AgServer:
                                     self.timing.discovery)
         self._announcer.start()
 
-    def _announcements(self) -> list[Announcement]:
-        return [Announcement(d.port, codec.FIRMWARE, d.serial, d.name, len(d.device.radios),
+    def _announcements(self) -> list[AgAnnouncement]:
+        return [AgAnnouncement(d.port, codec.FIRMWARE, d.serial, d.name, len(d.device.radios),
                              len(self.antennas), int(time.monotonic() - self.started))
                 for d in self.devices]
 
@@ -451,7 +451,7 @@ class AgServer:
             for item in lines.feed(data):
                 if session.closing:
                     break
-                if isinstance(item, Command) and _is_auth(item):  # checked off the loop
+                if isinstance(item, AgCommand) and _is_auth(item):  # checked off the loop
                     session.send(await self._auth(session, item))
                     continue
                 if session.identity is None:
@@ -477,9 +477,9 @@ class AgServer:
                       f"{session.max_pending:,}")
 
     # -- commands --------------------------------------------------------------------------
-    def answer(self, session: _Session, item: Command | Malformed) -> bytes:
+    def answer(self, session: _Session, item: AgCommand | AgMalformed) -> bytes:
         """The bytes that answer one line."""
-        if isinstance(item, Malformed):
+        if isinstance(item, AgMalformed):
             self._trouble(logging.INFO, "malformed", "Antenna Genius: %s sent %s",
                           session.peer, item.reason)
             return codec.reply(item.seq, codec.BAD_COMMAND, item.reason)
@@ -496,7 +496,7 @@ class AgServer:
                                f"{verb} is not supported by this MOAS station")
         return codec.reply(item.seq, codec.BAD_COMMAND, f"unknown command {item.text[:40]}")
 
-    async def _auth(self, session: _Session, item: Command) -> bytes:
+    async def _auth(self, session: _Session, item: AgCommand) -> bytes:
         """Every ``auth`` is checked (an open session's too), through the server's one
         secret check: budgeted per address and per operator (docs/security.md); wrong
         codes are logged there, one line a minute."""
@@ -520,32 +520,32 @@ class AgServer:
         if session.identity is not None and session.identity.is_operator:
             session.ticket.operator()  # False when that capacity is full: the admission says so
 
-    def _info(self, session: _Session, item: Command) -> bytes:
+    def _info(self, session: _Session, item: AgCommand) -> bytes:
         if item.words[1:2] != ("get",):
             return codec.reply(item.seq, codec.BAD_COMMAND, "info takes get")
         return codec.reply(item.seq, codec.OK, f"info {session.device.info()}")
 
-    def _antenna_list(self, session: _Session, item: Command) -> bytes:
+    def _antenna_list(self, session: _Session, item: AgCommand) -> bytes:
         return codec.list_reply(item.seq, [a.text() for a in self.antennas])
 
-    def _band_list(self, session: _Session, item: Command) -> bytes:
+    def _band_list(self, session: _Session, item: AgCommand) -> bytes:
         return codec.list_reply(item.seq, [b.text() for b in BANDS])
 
-    def _port_number(self, session: _Session, item: Command) -> int | bytes:
+    def _port_number(self, session: _Session, item: AgCommand) -> int | bytes:
         text = item.words[2] if len(item.words) > 2 else ""
         if not text.isdigit() or not 1 <= int(text) <= len(session.device.device.radios):
             return codec.reply(item.seq, codec.BAD_ARGUMENT,
                                f"no port {text or '(none given)'}: ports are 1 and 2")
         return int(text)
 
-    def _port_get(self, session: _Session, item: Command) -> bytes:
+    def _port_get(self, session: _Session, item: AgCommand) -> bytes:
         port = self._port_number(session, item)
         if isinstance(port, bytes):
             return port
         status = self.port_status(session.device.device, port)
         return codec.list_reply(item.seq, [status.text()])
 
-    def _port_set(self, session: _Session, item: Command) -> bytes:
+    def _port_set(self, session: _Session, item: AgCommand) -> bytes:
         port = self._port_number(session, item)
         if isinstance(port, bytes):
             return port
@@ -573,7 +573,7 @@ class AgServer:
             return codec.reply(item.seq, code, said)
         return codec.reply(item.seq)
 
-    def _request(self, session: _Session, item: Command,
+    def _request(self, session: _Session, item: AgCommand,
                  ref: RadioRef) -> PortRequest | str:
         """The :class:`PortRequest` a ``port set``'s arguments ask for, or what is wrong."""
         args = item.args
@@ -602,7 +602,7 @@ class AgServer:
             tx=ids.get(values.get("txant", 0)), rx=ids.get(values.get("rxant", 0)),
             hold_by=f"{who} at {session.host}" if values.get("auto") == 0 else None)
 
-    def _sub(self, session: _Session, item: Command) -> bytes:
+    def _sub(self, session: _Session, item: AgCommand) -> bytes:
         what = item.words[1] if len(item.words) > 1 else ""
         if what == "port":
             session.ports = True
@@ -612,7 +612,7 @@ class AgServer:
             return codec.reply(item.seq, codec.UNSUPPORTED, f"sub {what} is not supported")
         return codec.reply(item.seq)
 
-    def _unsub(self, session: _Session, item: Command) -> bytes:
+    def _unsub(self, session: _Session, item: AgCommand) -> bytes:
         what = item.words[1] if len(item.words) > 1 else ""
         if what in ("", "port", "all"):
             session.ports = False
@@ -620,18 +620,18 @@ class AgServer:
             session.relay = False
         return codec.reply(item.seq)
 
-    def _keepalive(self, session: _Session, item: Command) -> bytes:
+    def _keepalive(self, session: _Session, item: AgCommand) -> bytes:
         setting = item.words[1] if len(item.words) > 1 else ""
         if setting not in ("enable", "disable"):
             return codec.reply(item.seq, codec.BAD_ARGUMENT, "keepalive takes enable or disable")
         session.keepalive = setting == "enable"
         return codec.reply(item.seq)
 
-    def _ping(self, session: _Session, item: Command) -> bytes:
+    def _ping(self, session: _Session, item: AgCommand) -> bytes:
         return codec.reply(item.seq)
 
 
-_Handler = Callable[[AgServer, _Session, Command], bytes]
+_Handler = Callable[[AgServer, _Session, AgCommand], bytes]
 _HANDLERS: dict[str, _Handler] = {
     "info": AgServer._info,
     "info get": AgServer._info,
@@ -646,7 +646,7 @@ _HANDLERS: dict[str, _Handler] = {
 }
 
 
-def _is_auth(item: Command) -> bool:
+def _is_auth(item: AgCommand) -> bool:
     return item.verb == "auth" or item.words[:1] == ("auth",)
 
 

@@ -145,10 +145,15 @@ class Listener:
         door: Door,
         host: str | None,
         port: int,
-        **options: object,
+        *,
+        what: str = "connections",
+        ssl: ssl_module.SSLContext | None = None,
+        trouble: LogLimiter | None = None,
+        handshake_deadline: float = HANDSHAKE_DEADLINE,
     ) -> Listener:
         """Binds ``host``:``port`` and starts accepting; raises :class:`OSError`."""
-        return cls(door, bind(host, port), **options)  # type: ignore[arg-type]
+        return cls(door, bind(host, port), what=what, ssl=ssl, trouble=trouble,
+                   handshake_deadline=handshake_deadline)
 
     @property
     def port(self) -> int:

@@ -56,7 +56,7 @@ ALLOWED: dict[str, set[str]] = {
                "tls"},
     "sources": {"addresses", "aio", "antenna_log", "client", "clock", "config", "engine", "errors", "hw",
                 "line_framer", "log_limit", "retry", "serial"},
-    "single_instance": {"errors"},
+    "single_instance": {"edge", "errors"},
     "desktop": {"files"},
     "service": {"files"},
     "ui": {"addresses", "aio", "antenna_log", "app", "client", "hw", "log_repeats", "operators", "plan", "sources",

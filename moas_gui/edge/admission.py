@@ -1,9 +1,11 @@
 """Who gets a connection, for every listener of the program: one admission policy.
 
 Every listener (the client port, the web page and its WebSocket, the rotctld-compatible
-ports, the MOAS Rotator port, the emulator's control socket, and any front added later)
-asks an :class:`Admission` for a :class:`Ticket` the moment a connection is accepted,
-before a byte of it is read, and gives the ticket back when the connection closes.  A
+ports, the Antenna Genius ports, the MOAS Rotator port, the emulator's control socket,
+the single-instance hand-over socket, and any front added later) asks an
+:class:`Admission` for a :class:`Ticket` the moment a connection is accepted, before a
+byte of it is read, through its one door (:mod:`.gate`), and gives the ticket back when
+the connection closes.  The ticket carries the peer (``host``, ``address``), read once.  A
 ticket has a *standing*, which only rises:
 
 ``NEW``

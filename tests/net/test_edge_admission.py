@@ -9,6 +9,7 @@ import asyncio
 import errno
 import logging
 import socket
+from pathlib import Path
 
 import pytest
 
@@ -242,3 +243,44 @@ def test_a_connection_just_opened_goes_last_so_that_it_can_say_who_it_is() -> No
     pool.later(GRACE)
     pool.admit("127.0.3.8", "another")
     assert pool.closed[-1][0] == "operator, about to say who it is"
+
+
+@pytest.mark.asyncio
+async def test_the_gate_carries_the_peer_accept_gave_on_the_ticket() -> None:
+    """The peer's address is read once, from ``accept()``: the protocol a door opens and
+    the ticket see the same ``host`` and ``address``, and a refused peer is told why."""
+    seen: list[tuple[str, str, str, str]] = []
+
+    def open_(gate: Gate) -> asyncio.Protocol:
+        assert gate.ticket is not None
+        seen.append((gate.host, gate.address, gate.ticket.host, gate.ticket.address))
+        return asyncio.Protocol()
+
+    door = Door(Admission(4, 1), open_, "test connection",
+                refusal=lambda refused: f"no: {refused.reason}\n".encode())
+    listener = await Listener.open(door, "127.0.0.1", 0)
+    try:
+        kept = socket.create_connection(("127.0.0.1", listener.port),
+                                        source_address=("127.0.0.3", 0))
+        local = kept.getsockname()
+        deadline = asyncio.get_running_loop().time() + 10
+        while not seen and asyncio.get_running_loop().time() < deadline:
+            await asyncio.sleep(0.01)
+        address = f"127.0.0.3:{local[1]}"
+        assert seen == [("127.0.0.3", address, "127.0.0.3", address)]
+        reader, writer = await asyncio.open_connection("127.0.0.1", listener.port,
+                                                       local_addr=("127.0.0.3", 0))
+        told = await asyncio.wait_for(reader.read(), 10)
+        writer.close()
+        assert told.startswith(b"no: ") and b"the most one address may hold" in told
+        kept.close()
+    finally:
+        await listener.close()
+
+
+def test_the_peer_is_read_in_one_place_only() -> None:
+    """No front asks a transport for its peer: the gate did, once (a rule on the source)."""
+    package = Path(__file__).resolve().parents[2] / "moas_gui"
+    readers = sorted(path.relative_to(package).as_posix() for path in package.rglob("*.py")
+                     if '"peername"' in path.read_text(encoding="utf-8"))
+    assert readers == ["edge/gate.py"]

@@ -11,8 +11,10 @@ Each connection is read line by line (:mod:`.framing`), and each line is
 answered exactly once, in order (:mod:`.dispatch`, :mod:`.requests`); the
 backend (:mod:`.backend`) does the work.  Events are written to every greeted client
 the moment they are published (:mod:`.connection` explains why a client that
-stops reading cannot hold anyone up).  Peers outside the allowed networks
-(:mod:`.access`) are closed at once.  Every call here runs on the loop's
+stops reading cannot hold anyone up).  Every connection comes through the
+program's one door (:mod:`moas_gui.edge.gate`, :meth:`ClientServer.door`): peers
+outside the allowed networks (:mod:`.access`) are closed at once, and those over a
+limit told why.  Every call here runs on the loop's
 thread; none of them waits.
 
 Limits: at most ``max_clients`` connections at once (fewer when the process
@@ -52,7 +54,7 @@ from moas_gui.edge.admission import (
     Refused,
     Ticket,
 )
-from moas_gui.edge.gate import Door, Gate, gate_of, streams
+from moas_gui.edge.gate import Allows, Door, Gate, Open, gate_of, streams
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
 from moas_gui.log_limit import LogLimiter, held_text
@@ -203,14 +205,17 @@ class ClientServer:
     def trouble(self, limiter: LogLimiter) -> None:
         self.admission.trouble = limiter
 
-    def door(self, front: str, who: str, open_: Callable[[Gate], asyncio.Protocol],
-             refusal: Callable[[str], bytes], **options: Any) -> Door:
+    def door(self, front: str, who: str, open_: Open, refusal: Callable[[str], bytes], *,
+             allows: Allows | None = None, touch_on_data: bool = False,
+             request_deadline: float | None = None,
+             late: Callable[[Gate], None] | None = None) -> Door:
         """The door of a port whose connections count in :attr:`admission` (the client
         port's, the web port's): refusal lines name the option that sets the limit, and
         a peer refused is told ``refusal(sentence)``."""
-        return Door(self.admission, open_, front, who=who,
+        return Door(self.admission, open_, front, who=who, allows=allows,
                     refusal=lambda refused: refusal(self.refusal_reply(refused)),
-                    hints=_HINTS, **options)
+                    hints=_HINTS, touch_on_data=touch_on_data,
+                    request_deadline=request_deadline, late=late)
 
     # ---- life -----------------------------------------------------------------------
 

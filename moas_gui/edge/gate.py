@@ -61,6 +61,7 @@ Open = Callable[["Gate"], asyncio.Protocol]
 """What serves a connection once it is admitted: a protocol made for its gate (which
 then hands it the transport and everything the peer sends)."""
 
+
 def peer_names(peer: object) -> tuple[str, str]:
     """``(host, "host:port")`` of a socket's peer name (``[host]:port`` for IPv6; a Unix
     socket's peer, usually ``""``, as it is)."""
@@ -95,6 +96,9 @@ class Door:
     """Told of a connection closed for its request deadline (to log it), before it is."""
 
     def __call__(self) -> Gate:
+        """A gate whose peer it reads from its transport (for asyncio's own servers, a
+        Unix socket's; the :class:`~.listener.Listener` gives each gate the peer
+        ``accept()`` told it)."""
         return Gate(self)
 
     @property

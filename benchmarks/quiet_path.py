@@ -178,7 +178,7 @@ PARTS = (
     ("moas_gui.app", "ServerApp", "apply_changes", "app: the decision sent out"),
     ("moas_gui.hw.moas2.link", "SwitchLink", "apply", "link: apply (plan, guard, write)"),
     ("moas_gui.serial.port", "SerialPort", "write", "serial: the write"),
-    ("moas_gui.app", "ServerApp", "radio_entry", "app: a radio entry for clients"),
+    ("moas_gui.source_intake", "SourceIntake", "radio_entry", "intake: a radio entry for clients"),
     ("logging", "Logger", "handle", "logging: records shown"),
     ("moas_gui.state_store", "StateKeeper", "changed", "saved state: changed()"),
 )

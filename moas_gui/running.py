@@ -19,17 +19,21 @@ import asyncio
 import functools
 import logging
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import InitVar, dataclass, field, replace
+from pathlib import Path
 from typing import TYPE_CHECKING
 
+from moas_gui import state_store
 from moas_gui.antenna_log.recorder import AntennaRecorder
 from moas_gui.antenna_log.records import JournalReader
 from moas_gui.config import Config
 from moas_gui.config.model import Antenna, RadioRef, Rotator, RotatorControl
 from moas_gui.edge.admission import DEFAULT_PER_ADDRESS
 from moas_gui.engine import Engine
+from moas_gui.engine.snapshot import export_selections
 from moas_gui.engine.switchstate import SwitchState
 from moas_gui.errors import HardwareError
+from moas_gui.files import write_text_atomic
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming, SwitchLink
 from moas_gui.hw.moas2.recording import SerialRecorder
 from moas_gui.hw.moas2.transport import switch_port
@@ -50,7 +54,7 @@ from moas_gui.net.log_events import ClientLogHandler
 from moas_gui.net.rotctld_server import RotctldServer, rotctld_peers, start_rotctld_servers
 from moas_gui.net.secrets import SecretGuard
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
-from moas_gui.source_intake import SourceIntake
+from moas_gui.source_intake import Act, SourceIntake
 from moas_gui.sources.base import SourceSink
 from moas_gui.sources.n1mm import ContactCallback, N1MMListener
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
@@ -163,13 +167,16 @@ class Running:
     """The parts one configuration runs, from the moment it opens until it closes.
 
     :class:`~moas_gui.app.ServerApp` makes one per opened configuration and drops it
-    on close (:func:`close_parts`); each part keeps its own state.
+    on close (:func:`close_parts`); each part keeps its own state.  ``act`` is the app's
+    one door into the engine, which the sources' intake is given.
     """
 
     config: Config
     engine: Engine
-    intake: SourceIntake
-    """The sources' way into the engine, with each station's focus (source_intake.py)."""
+    act: InitVar[Act]
+    intake: SourceIntake = field(init=False)
+    """The sources' way into the engine, with each station's focus (source_intake.py):
+    it decides through ``act`` and publishes radio entries with :meth:`publish_radio`."""
     links: dict[int, SwitchLink] = field(default_factory=dict)
     switch_status: dict[int, str] = field(default_factory=dict)
     clients: ClientServer | None = None
@@ -191,11 +198,50 @@ class Running:
     antenna_log: AntennaRecorder | None = None
     """What feeds the antenna journal (None: no journal; docs/antenna-log.md)."""
 
+    def __post_init__(self, act: Act) -> None:
+        self.intake = SourceIntake(self.engine, act, self.publish_radio)
+
     @property
     def stopped(self) -> bool:
         """Stop Switches is in force: the engine's word (its wanted states are inactive
         then, and each switch session follows them), never a flag of its own here."""
         return not self.engine.running
+
+    def publish_radio(self, station: int, radio: int) -> None:
+        """A radio's entry (:meth:`SourceIntake.radio_entry`) to the clients, when any are
+        connected (otherwise the entry is not even built)."""
+        clients = self.clients
+        if clients is not None and clients.client_count > 0:
+            clients.publish_radio(self.intake.radio_entry(station, radio))
+
+    def point_rotators(self) -> None:
+        """An Electrical rotator points where its antenna in use points, however that
+        antenna was chosen (a button, a band change, a turn)."""
+        if self.rotators is not None:
+            for rotator in self.config.rotators:
+                if rotator.control is RotatorControl.ELECTRICAL:
+                    heading = self.engine.electrical_heading(rotator.id)
+                    if heading is not None:
+                        self.rotators.note_direction(rotator.id, heading)
+
+    def restore(self, path: Path) -> SavedState | None:
+        """Start keeping the state of this configuration (opened from ``path``); put the
+        saved one, if usable, into its engine and its intake's focus."""
+        self.fingerprint, saved = state_store.restore(path, self.engine)
+        if self.fingerprint:
+            self.keeper = StateKeeper(state_store.state_path(path), self.saved_state)
+        if saved is not None:
+            self.intake.restore_focus(saved.focus)
+        return saved
+
+    def saved_state(self) -> SavedState:
+        """What is saved: the engine's selections and each station's focus, what each box
+        was last told, also while it is away (a restart during an outage must still
+        check the box, not load it), and what it was last seen holding."""
+        held = {i: s for i, link in self.links.items() if (s := link.holds) is not None}
+        seen = {i: v for i, link in self.links.items() if (v := link.seen) is not None}
+        return SavedState(self.fingerprint, export_selections(self.engine), held, seen,
+                          self.intake.focus_items())
 
 
 def _wanted(run: Running, switch_id: int) -> SwitchState:
@@ -204,17 +250,28 @@ def _wanted(run: Running, switch_id: int) -> SwitchState:
     return run.engine.switch_states()[switch_id]
 
 
+def _adopted(on_adopt: Callable[[int, Mapping[int, tuple[int, int, int]]], None],
+             switch_id: int, held: Mapping[int, tuple[int, int, int]],
+             keyed: frozenset[int]) -> None:
+    """A survey's adoption, to the server: the antennas only.  Which of those stations
+    were keyed (or may be) the server does not need here: the box status the survey
+    read gave their T/R letters to the engine first (``on_tr``, ahead of the adoption in
+    the same actions), and the link logged who was keyed."""
+    on_adopt(switch_id, held)
+
+
 def start_switches(run: Running, options: ServerOptions, saved: SavedState,
                    on_status: Callable[[int, LinkStatus], None],
                    on_tr: Callable[[int, int, bool], None],
-                   on_adopt: Callable[[int, Mapping[int, tuple[int, int, int]], frozenset[int]],
-                                      None],
+                   on_adopt: Callable[[int, Mapping[int, tuple[int, int, int]]], None],
                    on_seen: Callable[[int, int, tuple[int, int, int]], None] | None = None,
                    ) -> None:
     """A link per configured switch, told what the engine wants and connecting: each
     checks what its box holds against the saved state (``saved``) before it writes.
     ``on_seen(switch, port, slots)``: the antennas a box reports in use for a port
-    changed (the antenna log records what the box confirmed, as it landed)."""
+    changed (the antenna log records what the box confirmed, as it landed).
+    ``on_adopt(switch, held)``: a survey found the box's antennas winning over the saved
+    state for the ports of ``held`` (:func:`_adopted`)."""
     states = run.engine.switch_states()
     if options.record_serial is not None and run.recorder is None:
         run.recorder = open_recorder(options.record_serial)
@@ -228,7 +285,7 @@ def start_switches(run: Running, options: ServerOptions, saved: SavedState,
             switch.id, switch.port, switch.echo,
             on_status=functools.partial(on_status, switch.id),
             on_tr=functools.partial(on_tr, switch.id),
-            on_adopt=functools.partial(on_adopt, switch.id),
+            on_adopt=functools.partial(_adopted, on_adopt, switch.id),
             on_seen=None if on_seen is None else functools.partial(on_seen, switch.id),
             wanted=functools.partial(_wanted, run, switch.id),
             indicate_tr=switch.indicate_tr,
@@ -394,10 +451,17 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
 
 async def close_parts(run: Running) -> None:
     """Close every listener, the rotators and the links; the relays stay as they are.
-    The status refresh (``run.ticker``) is cancelled and awaited first."""
+    The status refresh (``run.ticker``) is cancelled and awaited first, then the state
+    is saved a last time."""
     if run.ticker is not None:
         run.ticker.cancel()
         await asyncio.wait({run.ticker})
+    if run.keeper is not None:
+        try:
+            await run.keeper.flush()
+        except Exception:
+            log.exception("while saving the state")
+        run.keeper.close()
     if run.log_handler is not None:
         logging.getLogger("moas_gui").removeHandler(run.log_handler)
     parts: list[ServerSources | WebServer | ClientServer | RotctldServer | RotatorManager
@@ -415,6 +479,19 @@ async def close_parts(run: Running) -> None:
             log.exception("while closing switch link")
     if run.recorder is not None:
         run.recorder.close()
+
+
+async def save_switch_data(run: Running, target: Path) -> None:
+    """Every switch's status replies and tables, to ``target`` (never half a file)."""
+    parts = []
+    for switch_id, link in sorted(run.links.items()):
+        part = target.with_name(f".{target.name}.switch{switch_id}")
+        try:
+            await link.save_data(part)
+            parts.append(part.read_text(encoding="utf-8"))
+        finally:
+            part.unlink(missing_ok=True)
+    write_text_atomic(target, "\n".join(parts))
 
 
 class AntennaGenius:
@@ -496,6 +573,7 @@ __all__ = [
     "Running",
     "ServerOptions",
     "close_parts",
+    "save_switch_data",
     "start_clients",
     "start_rotators",
     "start_sources",

@@ -76,6 +76,20 @@ def last_good_path(config_path: Path) -> Path:
         state_path(config_path).name.removesuffix(".state.json") + ".last-good.moas")
 
 
+def keep_last_good(config_path: Path) -> None:
+    """Keep ``config_path``'s bytes (it opened) as its last good version, unless they are
+    kept already; a failure is logged.  Blocking: the app runs it off the loop."""
+    kept = last_good_path(config_path)
+    try:
+        data = config_path.read_bytes()
+        if kept.is_file() and kept.read_bytes() == data:
+            return
+        write_atomic(kept, data)
+    except OSError as exc:
+        log.warning("Cannot keep the last good version of %s in %s: %s", config_path.name,
+                    kept, exc.strerror or exc)
+
+
 def fingerprint(config_bytes: bytes) -> str:
     return hashlib.sha256(config_bytes).hexdigest()
 
@@ -493,6 +507,8 @@ __all__ = [
     "decode",
     "encode",
     "fingerprint",
+    "keep_last_good",
+    "last_good_path",
     "load",
     "read_state_file",
     "remove_stale_temporaries",

@@ -1,7 +1,8 @@
 """What the running server tells the antenna journal, and when.
 
-The app calls these on the loop; each only compares with what it last recorded and,
-on a change, queues one small tuple for the journal's writer thread
+The app's antenna feed (moas_gui/antenna_feed.py) calls these on the loop; each only
+compares with what it last recorded and, on a change, queues one small tuple for the
+journal's writer thread
 (:class:`~moas_gui.antenna_log.journal.Journal`): nothing here touches the file, and
 nothing is on the path from a band change to the switch (the switch hears first; this
 hears what the box then reports).

@@ -30,6 +30,8 @@ from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from typing import Final, TypeVar
 
+from moas_gui.errors import MoasError
+
 from .adif import adif_band
 from .records import AntennaSpan, Contact, JournalReader, KeySpan, Period, Role
 
@@ -228,7 +230,7 @@ def last_hours(now: float, hours: float) -> Period:
 
 # -- the period a report covers ---------------------------------------------------------------
 
-class NothingRecorded(ValueError):
+class NothingRecorded(MoasError, ValueError):
     """The period asked for and the journal's own time do not meet."""
 
 
@@ -277,7 +279,7 @@ def bounded_period(reader: JournalReader, asked: Period | None, now: float) -> P
 
 # -- one report at a time, off the loop -------------------------------------------------------
 
-class ReportBusy(RuntimeError):
+class ReportBusy(MoasError, RuntimeError):
     """Another contest report is being made."""
 
 

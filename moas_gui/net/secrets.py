@@ -50,6 +50,7 @@ from dataclasses import dataclass
 from typing import Final, TypeVar
 
 from moas_gui.edge.admission import DEFAULT_BEFORE_HELLO
+from moas_gui.errors import MoasError
 from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.operators import (
     Device,
@@ -80,7 +81,7 @@ WATCH_EVERY: Final = 0.5
 """Seconds between two looks at the operators file's modification time."""
 
 
-class Busy(Exception):
+class Busy(MoasError):
     """The worker's queue is full: the check was not made."""
 
 

@@ -36,6 +36,7 @@ import time
 from collections.abc import Callable
 from typing import Final
 
+from moas_gui.errors import MoasError
 from moas_gui.retry import Backoff, Pauses
 from moas_gui.sources.base import (
     DEFAULT_RETRY,
@@ -76,11 +77,11 @@ MAX_PENDING: Final = 64
 """Commands remembered while their answer is awaited."""
 
 
-class NotFlex(Exception):
+class NotFlex(MoasError):
     """The peer is not a FlexRadio (its greeting says so)."""
 
 
-class RadioNotFound(Exception):
+class RadioNotFound(MoasError):
     """A radio named by serial or nickname was not heard on the network."""
 
 

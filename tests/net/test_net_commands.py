@@ -57,6 +57,7 @@ GOOD: dict[str, dict[str, Any]] = {
     "stop_switches": {},
     "start_switches": {},
     "reset_switches": {},
+    "release": {"station": 1, "radio": 2},
 }
 
 

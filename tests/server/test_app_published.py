@@ -46,11 +46,12 @@ async def test_a_batch_waiting_when_the_configuration_closes_is_dropped(
         app: ServerApp) -> None:  # noqa: F811
     await run_example(app, "small-station.moas")
     engine = app.engine
-    assert engine is not None
-    app._source_event(FrequencyReport(1, 1, 14025.0, 14025.0, "test logger"))
+    assert engine is not None and app.sources is not None
+    hub = app.sources.hub  # where every source's events go, on their way to the intake
+    hub(FrequencyReport(1, 1, 14025.0, 14025.0, "test logger"))
     await asyncio.sleep(0)  # the loop's next turn decides the batch
     assert engine.radio_view(1, 1).khz == 14025.0
-    app._source_event(FrequencyReport(1, 1, 7025.0, 7025.0, "test logger"))
+    hub(FrequencyReport(1, 1, 7025.0, 7025.0, "test logger"))
     await app.close()  # before the loop's next turn
     await asyncio.sleep(0)
     assert engine.radio_view(1, 1).khz == 14025.0

@@ -56,15 +56,17 @@ async def test_the_active_radio_gets_the_only_antenna_when_both_report_together(
     peer = await greeted(app, peers)
     await peer.ok("frequency", station=1, radio=1, khz=7025)
     await peer.ok("frequency", station=1, radio=2, khz=3525)
+    assert app.sources is not None
+    hub = app.sources.hub  # where every source's events go, on their way to the intake
     for active, other in ((2, 1), (1, 2)):
-        app._source_event(ActiveRadio(1, active, "test logger"))
-        app._source_event(FocusRadio(1, other, "test logger"))
+        hub(ActiveRadio(1, active, "test logger"))
+        hub(FocusRadio(1, other, "test logger"))
         for radio, khz in ((other, 7025.0), (active, 3525.0)):  # apart again
-            app._source_event(FrequencyReport(1, radio, khz, khz, "test logger"))
+            hub(FrequencyReport(1, radio, khz, khz, "test logger"))
         await asyncio.sleep(0.05)
         # both radios of the SO2R station to 160 m in one packet burst, the other radio's first
         for radio in (other, active):
-            app._source_event(FrequencyReport(1, radio, 1830.0, 1830.0, "test logger"))
+            hub(FrequencyReport(1, radio, 1830.0, 1830.0, "test logger"))
 
         await until(lambda r=active: app.engine.radio_view(1, r).tx == 3,  # type: ignore[union-attr,misc]
                     what=f"antenna 3 on the active radio {active}")

@@ -35,7 +35,8 @@ The rules, in the order they are applied to a newcomer:
    place to a newcomer from an address holding as many as its own.  One younger than
    :data:`GRACE` goes last of all (it has had no time to say who it is: under a crowd
    that comes back as fast as it is closed, an operator's new connection would
-   otherwise never live to give its token).  The connection so chosen is closed
+   otherwise never live to give its token), and one whose token is being checked
+   (:meth:`Ticket.checked`) goes after every other.  The connection so chosen is closed
    (its front tells it why) and its place given at once.  A newcomer whose address holds
    as many as any other is refused.
 
@@ -60,15 +61,17 @@ from __future__ import annotations
 import enum
 import ipaddress
 import logging
-from collections.abc import Callable
+from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
-from typing import Final
+from typing import Final, TypeVar
 
 from moas_gui.clock import LOOP_CLOCK, Clock, Timer
 from moas_gui.errors import MoasError
 from moas_gui.log_limit import LogLimiter, held_text
 
 log = logging.getLogger(__name__)
+
+T = TypeVar("T")
 
 DEFAULT_PER_ADDRESS: Final = 32
 """Connections from one address at once unless told otherwise: far more than one
@@ -157,6 +160,7 @@ class Ticket:
         "_evict",
         "address",
         "admitted_at",
+        "checking",
         "deadlines",
         "evicted",
         "front",
@@ -191,6 +195,8 @@ class Ticket:
         self.admitted_at = now
         self.last_active = now
         self.released = False
+        self.checking = 0
+        """Secret checks of this connection under way (:meth:`checked`)."""
         self.evicted: str | None = None
         """Why the admission closed this connection, once it has."""
 
@@ -223,6 +229,17 @@ class Ticket:
             self.standing = Standing.OPERATOR
         self.touch()
         return True
+
+    async def checked(self, check: Awaitable[T]) -> T:
+        """``check`` awaited (a token's, an AG code's: off the loop, budgeted) while this
+        connection goes last when room is made: a station's operator signing in under
+        a crowd is not closed while its token is being checked (the checks' budgets and
+        their bounded worker keep this from sheltering a crowd)."""
+        self.checking += 1
+        try:
+            return await check
+        finally:
+            self.checking -= 1
 
     def release(self) -> None:
         """The connection has closed: its place is free."""
@@ -369,6 +386,8 @@ class Admission:
                 # else the idlest of the address holding the most; one just opened last
                 new = ticket.standing is Standing.NEW
                 order = 2 if new and ticket.admitted_at > young else int(ticket.standing)
+                if ticket.checking:
+                    order = 3  # its token is being checked: the very last to go
                 rank = (order, 0 if new else -size, ticket.last_active)
                 if best_rank is None or rank < best_rank:
                     best, best_rank = ticket, rank

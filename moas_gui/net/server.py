@@ -309,8 +309,11 @@ class ClientServer:
         """Gives a new connection its identity before hello (:mod:`.identity`)."""
         conn.identity = anonymous(host, conn.address, self._allowed, self.require_token,
                                   self.local_addresses)
-        guard = self.secrets
-        if guard is not None:
+        guard, ticket = self.secrets, conn.ticket
+        if guard is not None and ticket is not None:
+            # the connection goes last when room is made while its token is checked
+            conn.authenticate = lambda token: ticket.checked(guard.check_token(token, host))
+        elif guard is not None:
             conn.authenticate = lambda token: guard.check_token(token, host)
 
     def end_operator(self, name: str) -> int:

@@ -284,3 +284,34 @@ def test_the_peer_is_read_in_one_place_only() -> None:
     readers = sorted(path.relative_to(package).as_posix() for path in package.rglob("*.py")
                      if '"peername"' in path.read_text(encoding="utf-8"))
     assert readers == ["edge/gate.py"]
+
+
+@pytest.mark.asyncio
+async def test_a_connection_whose_token_is_being_checked_goes_after_every_other() -> None:
+    """Under a crowd of single connections from many addresses, an operator signing in
+    is greeted and its token checked: it is not the one closed while the check runs,
+    though the idlest (it goes only when nothing else is left), and it is an ordinary
+    candidate again once the check is over."""
+    pool = Pool(3)
+    signing_in = pool.admit("127.0.0.2", "operator")
+    crowd = [pool.admit(f"127.0.3.{n}", f"crowd{n}") for n in (1, 2)]
+    for ticket in (signing_in, *crowd):
+        ticket.greeted()
+    pool.later(1)
+    for ticket in crowd:
+        ticket.touch()  # the operator's connection is the idlest
+    pool.later(1)
+    answer: asyncio.Future[str] = asyncio.get_running_loop().create_future()
+    check = asyncio.ensure_future(signing_in.checked(answer))
+    await asyncio.sleep(0)
+    newcomers = [pool.admit("127.0.4.1", "newcomer1")]
+    newcomers[0].greeted()
+    newcomers.append(pool.admit("127.0.4.2", "newcomer2"))
+    newcomers[1].greeted()
+    assert [name for name, _ in pool.closed] == ["crowd1", "crowd2"]
+    assert not signing_in.released
+    answer.set_result("Ann")
+    assert await check == "Ann"
+    pool.later(1)
+    pool.admit("127.0.4.3", "newcomer3")
+    assert [name for name, _ in pool.closed][-1] == "operator"

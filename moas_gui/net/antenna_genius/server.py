@@ -502,7 +502,9 @@ class AgServer:
         codes are logged there, one line a minute."""
         if session.authed and not self.access.needs_token(session.host):
             return codec.reply(item.seq)
-        verdict = await self.access.check_code(item.args.get("code", ""), session.host)
+        # the connection goes last when room is made while its code is checked
+        verdict = await session.ticket.checked(
+            self.access.check_code(item.args.get("code", ""), session.host))
         operator = verdict.name
         if operator is None or session.closing:
             if self.access.waiting(session.host) > 0:  # its address must wait: no more tries

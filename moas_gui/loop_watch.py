@@ -34,7 +34,7 @@ import time
 from dataclasses import dataclass
 from typing import IO, Final
 
-from moas_gui.edge.log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 
 log = logging.getLogger(__name__)
 

@@ -27,6 +27,7 @@ from moas_gui.antenna_log.recorder import AntennaRecorder
 from moas_gui.antenna_log.records import JournalReader
 from moas_gui.config import Config
 from moas_gui.config.model import Antenna, RadioRef, Rotator, RotatorControl
+from moas_gui.edge.admission import DEFAULT_PER_ADDRESS
 from moas_gui.engine import Engine
 from moas_gui.engine.snapshot import export_selections
 from moas_gui.engine.switchstate import SwitchState
@@ -46,7 +47,6 @@ from moas_gui.hw.rotators.base import (
 from moas_gui.hw.rotators.electrical import SelectDirection
 from moas_gui.hw.rotators.headings import Travel
 from moas_gui.hw.rotators.manager import RotatorManager
-from moas_gui.net.admission import DEFAULT_PER_ADDRESS
 from moas_gui.net.antenna_genius.access import SimpleAccess
 from moas_gui.net.antenna_genius.server import AgBackend, AgServer
 from moas_gui.net.backend import ClientBackend

@@ -26,6 +26,9 @@ How, without Qt (the headless server uses it too):
   Windows it is a TCP port on 127.0.0.1 written with a random token in
   ``<name>.port`` under ``%LOCALAPPDATA%\\moas-gui``; a request must carry the
   token, which only the same user can read.
+- **Who gets in** is the program's one door of every listener
+  (:mod:`moas_gui.edge.gate`): at most :data:`HAND_OVERS` connections at once, the
+  next told why and closed.
 - **A stale socket** (the last instance crashed and left its socket file) is
   recognised because its lock is free: :func:`claim` removes it and binds anew.
 
@@ -63,12 +66,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Final, Literal
 
+from moas_gui.edge.admission import Admission
+from moas_gui.edge.gate import gate_factory
 from moas_gui.errors import MoasError
 
 log = logging.getLogger(__name__)
 
 DEFAULT_NAME: Final = "moas-server"
 MAX_REQUEST: Final = 64 * 1024
+HAND_OVERS: Final = 8
+"""Hand-over connections open at once, at most (the program's admission policy, like
+every listener's: a second command line hands over one file, once)."""
 HAND_OVER_TIMEOUT: Final = 10.0
 """Seconds :func:`hand_over` waits for a starting instance to take the file."""
 
@@ -194,6 +202,8 @@ class InstanceServer:
         self._server: asyncio.AbstractServer | None = None
         self._on_open: OpenCallback | None = None
         self._vet: Vetting | None = None
+        self.admission = Admission(HAND_OVERS, HAND_OVERS, what="hand-over connections")
+        """The hand-over connections open now (the program's admission policy)."""
 
     @property
     def address(self) -> str:
@@ -206,14 +216,18 @@ class InstanceServer:
         that ``vet(path, launch)`` (when given) does not refuse."""
         self._on_open = on_open
         self._vet = vet
+        # through the one door of every listener: at most HAND_OVERS at once
+        door = gate_factory(
+            self.admission, self._serve,
+            front="hand-over connection", limit=MAX_REQUEST,
+            refusal=lambda why: json.dumps({"ok": False, "error": why}).encode() + b"\n")
+        loop = asyncio.get_running_loop()
         if self.transport == "unix":
             if sys.platform == "win32":
                 raise InstanceError("Unix sockets are not on Windows: use the tcp transport")
-            self._server = await asyncio.start_unix_server(
-                self._serve, sock=self._sock, limit=MAX_REQUEST)
+            self._server = await loop.create_unix_server(door, sock=self._sock)
         else:
-            self._server = await asyncio.start_server(
-                self._serve, sock=self._sock, limit=MAX_REQUEST)
+            self._server = await loop.create_server(door, sock=self._sock)
 
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         try:

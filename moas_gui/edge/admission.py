@@ -1,9 +1,11 @@
 """Who gets a connection, for every listener of the program: one admission policy.
 
 Every listener (the client port, the web page and its WebSocket, the rotctld-compatible
-ports, the MOAS Rotator port, the emulator's control socket, and any front added later)
-asks an :class:`Admission` for a :class:`Ticket` the moment a connection is accepted,
-before a byte of it is read, and gives the ticket back when the connection closes.  A
+ports, the Antenna Genius ports, the MOAS Rotator port, the emulator's control socket,
+the single-instance hand-over socket, and any front added later) asks an
+:class:`Admission` for a :class:`Ticket` the moment a connection is accepted, before a
+byte of it is read, through its one door (:mod:`.gate`), and gives the ticket back when
+the connection closes.  The ticket carries the peer (``host``, ``address``), read once.  A
 ticket has a *standing*, which only rises:
 
 ``NEW``
@@ -69,10 +71,10 @@ from typing import Final
 
 from moas_gui.clock import LOOP_CLOCK, Clock, Timer
 from moas_gui.errors import MoasError
-
-from .log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 
 log = logging.getLogger(__name__)
+
 
 DEFAULT_PER_ADDRESS: Final = 32
 """Connections from one address at once unless told otherwise: far more than one
@@ -165,6 +167,7 @@ class Ticket:
         "deadlines",
         "evicted",
         "front",
+        "host",
         "key",
         "last_active",
         "released",
@@ -180,11 +183,15 @@ class Ticket:
         evict: Evict | None,
         deadlines: Deadlines,
         now: float,
+        host: str = "",
     ) -> None:
         self._admission = admission
         self._evict = evict
         self.key = key
+        self.host = host or key
+        """The peer's host as its socket gave it (what a front checks it against)."""
         self.address = address
+        """The peer as log lines name it (``host:port``), read once when it was accepted."""
         self.front = front
         self.deadlines = deadlines
         self.standing = Standing.NEW
@@ -359,7 +366,8 @@ class Admission:
                     "total",
                 )
             self._make_room(victim, address or host)
-        ticket = Ticket(self, key, address or host, front, evict, deadlines, self.clock.now())
+        ticket = Ticket(self, key, address or host, front, evict, deadlines, self.clock.now(),
+                        host)
         self._by_address.setdefault(key, {})[ticket] = None
         self._rest += 1
         if deadlines != NO_DEADLINES:

@@ -12,30 +12,29 @@ connections in its queue (:data:`BACKLOG` long) meanwhile.
 It accepts one connection a turn of the event loop, and waits while
 :data:`HANDING_MOST` are still being handed over, so that a crowd is refused as fast as
 it is accepted instead of taking every file handle first.  Each accepted socket is
-handed to asyncio as a transport with the listener's protocol
-(``make_protocol``), which decides at once whether it may stay (an admission gate,
-:mod:`.admission`).
+handed to asyncio as a transport whose protocol is a :class:`~.gate.Gate` of the
+listener's :class:`~.gate.Door` (the one door of every listener), told the peer's
+address as ``accept()`` gave it; the gate decides at once whether it may stay.
 
 ``ssl`` serves TLS on it, and then the admission comes *before* the handshake: the
-protocol is made as soon as the socket is accepted and, being an :class:`EarlyAdmitted`,
-asks for its place (the address's reserve, the fair share) on the bare socket; a socket
-refused is closed there and then, without a handshake (nothing can be said to it before
-one).  The handshake of one admitted runs in a task of its own, never counted among
-those being handed over (a silent or slow peer cannot hold the accept loop), within
-``handshake_deadline`` seconds (:data:`HANDSHAKE_DEADLINE`, the client protocol's hello
-deadline's size); it holds its admission ticket meanwhile, as a connection that has not
-said who it is, so the admission's limits and evictions count it and may end it (the
-handshake is then cancelled).  A handshake that fails or runs out of time gives the
-ticket back.  A new front listens with::
+gate asks for its place (the address's reserve, the fair share) on the bare socket
+(:meth:`~.gate.Gate.admit_early`); a socket refused is closed there and then, without
+a handshake (nothing can be said to it before one).  The handshake of one admitted runs
+in a task of its own, never counted among those being handed over (a silent or slow
+peer cannot hold the accept loop), within ``handshake_deadline`` seconds
+(:data:`HANDSHAKE_DEADLINE`, the client protocol's hello deadline's size); it holds its
+admission ticket meanwhile, as a connection that has not said who it is, so the
+admission's limits and evictions count it and may end it (the handshake is then
+cancelled).  A handshake that fails or runs out of time gives the ticket back.  A new
+front listens with::
 
-    listener = await Listener.open(make_protocol, host, port, what="the rotctld port")
+    listener = await Listener.open(door, host, port, what="the rotctld port")
     ...
     await listener.close()
 """
 
 from __future__ import annotations
 
-import abc
 import asyncio
 import contextlib
 import errno
@@ -46,8 +45,10 @@ import ssl as ssl_module
 from collections.abc import Awaitable, Callable, Coroutine
 from typing import Final
 
-from .admission import Evict, Ticket
-from .log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
+
+from .admission import Ticket
+from .gate import Door, Gate
 
 log = logging.getLogger(__name__)
 
@@ -72,19 +73,6 @@ OUT_OF_RESOURCES: Final = frozenset(
     if code is not None
 )
 """Errors of accept() that say the system has nothing left for a new connection now."""
-
-class EarlyAdmitted(abc.ABC):
-    """A listener's protocol that takes its connection's admission ticket on the bare
-    socket, before a TLS handshake (see the module notes); once the handshake is done
-    its ``connection_made`` keeps that ticket instead of asking again."""
-
-    @abc.abstractmethod
-    def admit_early(self, peer: object, evict: Evict) -> Ticket | None:
-        """The admission ticket of an accepted socket from ``peer`` (its address as
-        ``accept()`` gives it), ``evict`` being how the admission ends it before its
-        handshake is done; ``None`` when it is refused (the refusal logged as the front
-        logs them): the listener then closes it."""
-
 
 Accept = Callable[[socket.socket], Awaitable[tuple[socket.socket, object]]]
 Sleep = Callable[[float], Awaitable[None]]
@@ -122,7 +110,7 @@ class Listener:
 
     def __init__(
         self,
-        make_protocol: Callable[[], asyncio.Protocol],
+        door: Door,
         sockets: list[socket.socket],
         *,
         what: str = "connections",
@@ -132,7 +120,7 @@ class Listener:
         sleep: Sleep = asyncio.sleep,
         handshake_deadline: float = HANDSHAKE_DEADLINE,
     ) -> None:
-        self.make_protocol = make_protocol
+        self.door = door
         self.sockets = sockets
         self.what = what
         self.ssl = ssl
@@ -154,13 +142,18 @@ class Listener:
     @classmethod
     async def open(
         cls,
-        make_protocol: Callable[[], asyncio.Protocol],
+        door: Door,
         host: str | None,
         port: int,
-        **options: object,
+        *,
+        what: str = "connections",
+        ssl: ssl_module.SSLContext | None = None,
+        trouble: LogLimiter | None = None,
+        handshake_deadline: float = HANDSHAKE_DEADLINE,
     ) -> Listener:
         """Binds ``host``:``port`` and starts accepting; raises :class:`OSError`."""
-        return cls(make_protocol, bind(host, port), **options)  # type: ignore[arg-type]
+        return cls(door, bind(host, port), what=what, ssl=ssl, trouble=trouble,
+                   handshake_deadline=handshake_deadline)
 
     @property
     def port(self) -> int:
@@ -206,12 +199,9 @@ class Listener:
 
     def _hand_over(self, conn: socket.socket, peer: object) -> None:
         conn.setblocking(False)
+        gate = Gate(self.door, peer)  # the peer's address, read once
         if self.ssl is None:
-            self._start(self._connect(conn, self.make_protocol, None), self._handing)
-            return
-        protocol = self.make_protocol()
-        if not isinstance(protocol, EarlyAdmitted):
-            self._start(self._connect(conn, lambda: protocol, None), self._handing)
+            self._start(self._connect(conn, gate, None), self._handing)
             return
         handshake: list[asyncio.Task[object]] = []
 
@@ -221,11 +211,11 @@ class Listener:
             elif not handshake:
                 conn.close()
 
-        ticket = protocol.admit_early(peer, evict)
+        ticket = gate.admit_early(evict)
         if ticket is None:
             conn.close()  # refused before a byte of TLS: no handshake spent on it
             return
-        task = self._start(self._connect(conn, lambda: protocol, ticket), self._handshakes)
+        task = self._start(self._connect(conn, gate, ticket), self._handshakes)
         # cancelled before it even began (evicted at once): nothing else closes the socket
         task.add_done_callback(lambda done: conn.close() if done.cancelled() else None)
         handshake.append(task)
@@ -237,13 +227,12 @@ class Listener:
         task.add_done_callback(into.discard)
         return task
 
-    async def _connect(self, conn: socket.socket, make: Callable[[], asyncio.Protocol],
-                       ticket: Ticket | None) -> object:
+    async def _connect(self, conn: socket.socket, gate: Gate, ticket: Ticket | None) -> object:
         try:
             if self.ssl is None:
-                return await self._loop.connect_accepted_socket(make, conn)
+                return await self._loop.connect_accepted_socket(lambda: gate, conn)
             return await self._loop.connect_accepted_socket(
-                make, conn, ssl=self.ssl, ssl_handshake_timeout=self.handshake_deadline)
+                lambda: gate, conn, ssl=self.ssl, ssl_handshake_timeout=self.handshake_deadline)
         except (OSError, ssl_module.SSLError, asyncio.CancelledError, TimeoutError) as exc:
             conn.close()
             if ticket is not None:
@@ -278,7 +267,6 @@ __all__ = [
     "HANDING_MOST",
     "HANDSHAKE_DEADLINE",
     "OUT_OF_RESOURCES",
-    "EarlyAdmitted",
     "Listener",
     "bind",
 ]

@@ -9,8 +9,10 @@ The client protocol server (``docs/client-protocol.md``):
 * :func:`is_allowed` -- who may connect (``ClientAllow``);
 * :class:`ClientLogHandler` -- the log, forwarded to clients that asked.
 
-The N1MM Logger listener and the rotctld-compatible listener live beside them
-in their own modules.  The in-memory backend and server for tests, demos and
+The browser client's web server, the rotctld-compatible listener and the Antenna
+Genius front live beside them in their own modules; every one of their listeners
+admits through the program's one door (:mod:`moas_gui.edge.gate`).  The loggers'
+listeners (N1MM Logger and the others) are frequency sources (:mod:`moas_gui.sources`).  The in-memory backend and server for tests, demos and
 client authors are in :mod:`moas_gui.testing` (``fake_backend``,
 ``fake_server``), which nothing here imports.
 """

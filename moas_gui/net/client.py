@@ -25,10 +25,10 @@ import logging
 from typing import Any
 
 from moas_gui.errors import MoasError
+from moas_gui.log_limit import LogLimiter, held_text
 
 from .backend import ErrorCode, JSONObject, RequestError
 from .framing import Line, request_framer
-from .log_limit import LogLimiter, held_text
 from .messages import encode
 
 log = logging.getLogger(__name__)

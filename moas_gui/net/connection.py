@@ -18,12 +18,12 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from moas_gui.edge.admission import Ticket
-from moas_gui.net.secrets import Verdict
+from moas_gui.log_limit import held_text
+from moas_gui.net.secrets import SecretVerdict
 
 from .backend import ErrorCode
 from .framing import request_framer
 from .identity import Identity, Party
-from .log_limit import held_text
 from .messages import MessageEncodeError, reply_error, reply_ok
 
 log = logging.getLogger(__name__)
@@ -59,21 +59,6 @@ class LineWriter(Protocol):
     @property
     def transport(self) -> LineTransport: ...
     def close(self) -> None: ...
-
-
-def host_of(address: str) -> str:
-    """The host of a :func:`format_peer` text (``[::1]:80`` -> ``::1``)."""
-    if address.startswith("["):
-        return address[1:].split("]", 1)[0]
-    return address.rsplit(":", 1)[0]
-
-
-def format_peer(peer: Any) -> str:
-    """``host:port`` (``[host]:port`` for IPv6) from a socket's peer name."""
-    if isinstance(peer, tuple) and len(peer) >= 2:
-        host, port = str(peer[0]), peer[1]
-        return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
-    return str(peer)
 
 
 def clean_name(name: str, limit: int = 64) -> str:
@@ -122,7 +107,7 @@ class Connection:
         self.identified: Callable[[Identity], None] | None = None
         """Told the new identity when a hello's token makes this connection an operator
         (the admission policy may move it to the operators' own capacity then)."""
-        self.authenticate: Callable[[str], Awaitable[Verdict]] | None = None
+        self.authenticate: Callable[[str], Awaitable[SecretVerdict]] | None = None
         """Checks a hello's token off the loop (:meth:`~moas_gui.net.secrets.SecretGuard.
         check_token`: the operator, or why not); None here when this server has no
         operators."""
@@ -238,5 +223,5 @@ def cut_slowest(connections: Iterable[Connection], limit: int) -> None:
 
 __all__ = [
     "ClientInfo", "Connection", "LayoutKey", "LineTransport", "LineWriter", "clean_name",
-    "cut_slowest", "format_peer",
+    "cut_slowest",
 ]

@@ -19,12 +19,12 @@ from collections.abc import Callable, Coroutine
 from typing import Any
 
 from moas_gui.edge.admission import checking
+from moas_gui.log_limit import LogLimiter, held_text
 
 from .backend import ClientBackend, ErrorCode, RequestError
 from .connection import Connection, LayoutKey, clean_name
 from .framing import MAX_LINE, Line, LongLine
 from .identity import Party, as_operator, serving
-from .log_limit import LogLimiter, held_text
 from .messages import event, hello_result
 from .requests import BadLine, InvalidRequest, Request, parse_line
 

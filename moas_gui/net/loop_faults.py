@@ -4,7 +4,7 @@ asyncio reports some faults through the loop's exception handler, and some
 repeat without end: when the process runs out of file handles, every attempt
 to accept a waiting client fails and is reported with its traceback, many
 times a second.  :func:`guard_loop_faults` lets each kind of report through
-once a minute (a :class:`~.log_limit.LogLimiter`), with a count of those left
+once a minute (a :class:`~moas_gui.log_limit.LogLimiter`), with a count of those left
 out; the accept failure becomes one short Warning line.
 """
 
@@ -15,7 +15,7 @@ import logging
 from collections.abc import Callable
 from typing import Any
 
-from .log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 
 log = logging.getLogger(__name__)
 

@@ -45,9 +45,9 @@ from moas_gui.config.model import Rotator
 from moas_gui.edge.admission import Admission, Deadlines
 from moas_gui.edge.gate import Allows, gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
-from moas_gui.edge.log_limit import held_text
 from moas_gui.hw.rotators.base import RotatorError, RotatorView, describe
 from moas_gui.hw.rotators.headings import Travel, normalize
+from moas_gui.log_limit import held_text
 
 from .access import IPNetwork, is_allowed
 from .identity import is_local
@@ -176,15 +176,15 @@ class RotctldServer:
         assert task is not None
         self._sessions.add(task)
         self._writers.add(writer)
-        peer = writer.get_extra_info("peername")
         ticket = ticket_of(writer)
+        peer = ticket.address  # read once, when it was accepted
         parser = RequestParser()
         try:
             while data := await reader.read(4096):
                 for request in parser.feed(data):
                     if request.name == "quit":
                         return
-                    if request.known and ticket is not None:
+                    if request.known:
                         ticket.greeted()  # a rotctld command: it has said what it is
                         ticket.touch()
                     reply = await self._handle(request, peer)
@@ -207,7 +207,7 @@ class RotctldServer:
             with contextlib.suppress(OSError):
                 await writer.wait_closed()
 
-    async def _handle(self, request: RotctldRequest, peer: object) -> bytes:
+    async def _handle(self, request: RotctldRequest, peer: str) -> bytes:
         if not request.known:
             self._trouble("unknown", logging.WARNING,
                           "%s: %s sent %r, which is not a rotctld command; no answer (as rotctld)",
@@ -257,7 +257,7 @@ class RotctldServer:
             return answer(request, code=ENAVAIL)
         return await self._call(request, self.service.rotate(self.rotator.id, float(heading)))
 
-    async def _move(self, request: RotctldRequest, peer: object) -> bytes:
+    async def _move(self, request: RotctldRequest, peer: str) -> bytes:
         direction = parse_direction(request.args[0])
         if direction is None or parse_number(request.args[1]) is None:
             self._trouble("bad move", logging.WARNING, "%s: %s sent move with %r: not a "
@@ -275,7 +275,7 @@ class RotctldServer:
                              clockwise=direction == CLOCKWISE)
         return await self._call(request, self.service.rotate(self.rotator.id, target))
 
-    async def _set_pos(self, request: RotctldRequest, peer: object) -> bytes:
+    async def _set_pos(self, request: RotctldRequest, peer: str) -> bytes:
         azimuth = parse_number(request.args[0])
         elevation = parse_number(request.args[1])
         if azimuth is None or elevation is None:

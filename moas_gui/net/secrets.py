@@ -50,8 +50,8 @@ from dataclasses import dataclass
 from typing import Final, TypeVar
 
 from moas_gui.edge.admission import DEFAULT_BEFORE_HELLO
-from moas_gui.edge.log_limit import LogLimiter, held_text
 from moas_gui.errors import MoasError
+from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.operators import (
     Device,
     KnownDevices,
@@ -131,7 +131,7 @@ class _Failures:
     checking: int = 0
 
 
-class Backoff:
+class FailureBackoff:
     """Failures per key, and how long each key must wait (see the module notes):
     ``free`` failures cost nothing, each further one doubles the wait from
     :data:`BACKOFF_FIRST` to :data:`BACKOFF_CAP`.  While a key waits for its first
@@ -192,7 +192,7 @@ def delay(over: int) -> float:
 
 
 @dataclass(frozen=True, slots=True)
-class Verdict:
+class SecretVerdict:
     """What a check found: the operator, or why not (``refusal``: a sentence for the
     peer; ``busy``: the worker was full, ``wait``: a back-off, in seconds)."""
 
@@ -215,9 +215,9 @@ AG_KEY: Final = "ag-codes"
 """The per-operator key of every Antenna Genius code together."""
 
 
-def _waiting(wait: float, whose: str) -> Verdict:
+def _waiting(wait: float, whose: str) -> SecretVerdict:
     seconds = max(1, round(wait + 0.49))
-    return Verdict(refusal=f"too many wrong {whose} lately; try again in {seconds} s",
+    return SecretVerdict(refusal=f"too many wrong {whose} lately; try again in {seconds} s",
                    wait=wait)
 
 
@@ -234,10 +234,10 @@ class SecretGuard:
         self.codes = dict(codes or {})
         self.clock = clock
         self.worker = worker or SecretWorker()
-        self.addresses = Backoff(ADDRESS_FREE)
-        self.keys = Backoff()
+        self.addresses = FailureBackoff(ADDRESS_FREE)
+        self.keys = FailureBackoff()
         """Per operator: a token's key id (whether or not an operator has it)."""
-        self.ag_codes = Backoff()
+        self.ag_codes = FailureBackoff()
         """Per operator for AG codes: every operator's together (:data:`AG_KEY`), in a
         table of its own, which no flood of made-up key ids can push out."""
         self._known: OrderedDict[Device, None] = OrderedDict()
@@ -293,13 +293,13 @@ class SecretGuard:
         return op is not None and self.known(host, op.name)
 
     # -- tokens -------------------------------------------------------------------------
-    async def check_token(self, token: str, host: str) -> Verdict:
-        """Whose token this is (:class:`Verdict`), checked on the worker."""
+    async def check_token(self, token: str, host: str) -> SecretVerdict:
+        """Whose token this is (:class:`SecretVerdict`), checked on the worker."""
         book = self.book
         key = None if book is None else book.key_of(token)
         if book is None or key is None:  # not even a token's shape: no hash to make
             self._failed(host, None, "token")
-            return Verdict(refusal=WRONG_TOKEN)
+            return SecretVerdict(refusal=WRONG_TOKEN)
         known = self._known_key(key, host)
         if not known:
             refused = self._throttled(host, key, "tokens")
@@ -307,17 +307,17 @@ class SecretGuard:
                 return refused
         operator = await self._run(lambda: book.check(token), host, None if known else key,
                                    known)
-        if isinstance(operator, Verdict):
+        if isinstance(operator, SecretVerdict):
             return operator
         if operator is None:
             if not known:
                 self._failed(host, key, "token")
-            return Verdict(refusal=WRONG_TOKEN)
+            return SecretVerdict(refusal=WRONG_TOKEN)
         self._remember(host, operator.name)
-        return Verdict(operator, operator.name)
+        return SecretVerdict(operator, operator.name)
 
     # -- Antenna Genius codes -------------------------------------------------------------
-    async def check_code(self, code: str, host: str) -> Verdict:
+    async def check_code(self, code: str, host: str) -> SecretVerdict:
         """Whose AG code (or token, which AG clients may send as well) this is."""
         code = code.strip()
         known = budget_key(host) in self._addresses_known
@@ -327,23 +327,23 @@ class SecretGuard:
         named = self.codes.get(code)
         if named is not None:  # a test's own table: no hash
             self._remember(host, named)
-            return Verdict(name=named)
+            return SecretVerdict(name=named)
         book = self.book
         if book is None:
             self._failed(host, None if known else AG_KEY, "code")
-            return Verdict(refusal=WRONG_CODE)
+            return SecretVerdict(refusal=WRONG_CODE)
         result = await self._run(lambda: book.check_ag_code(code) or book.check(code), host,
                                  None if known else AG_KEY, known)
-        if isinstance(result, Verdict):
+        if isinstance(result, SecretVerdict):
             return result
         if result is None:
             self._failed(host, None if known else AG_KEY, "code")
-            return Verdict(refusal=WRONG_CODE)
+            return SecretVerdict(refusal=WRONG_CODE)
         self._remember(host, result.name)
-        return Verdict(result, result.name)
+        return SecretVerdict(result, result.name)
 
     # -- the rules ------------------------------------------------------------------------
-    def _throttled(self, host: str, key: str | None, whose: str) -> Verdict | None:
+    def _throttled(self, host: str, key: str | None, whose: str) -> SecretVerdict | None:
         now = self.clock()
         wait = self.addresses.wait(budget_key(host), now)
         if wait <= 0 and key is not None:
@@ -356,7 +356,7 @@ class SecretGuard:
         return _waiting(wait, whose)
 
     async def _run(self, job: Callable[[], T], host: str, key: str | None,
-                   known: bool) -> T | Verdict:
+                   known: bool) -> T | SecretVerdict:
         address = budget_key(host)
         self.addresses.checking(address, 1)
         if key is not None:
@@ -367,7 +367,7 @@ class SecretGuard:
             self._line("busy", logging.WARNING,
                        "A secret check from %s was refused: %d checks are waiting, the "
                        "most at once", address, self.worker.waiting)
-            return Verdict(refusal=BUSY, busy=True)
+            return SecretVerdict(refusal=BUSY, busy=True)
         finally:
             self.addresses.checking(address, -1)
             if key is not None:
@@ -381,7 +381,7 @@ class SecretGuard:
             self._table(key).failed(key, now)
         self._line(("wrong", what), logging.INFO, "A wrong %s from %s", what, address)
 
-    def _table(self, key: str) -> Backoff:
+    def _table(self, key: str) -> FailureBackoff:
         return self.ag_codes if key == AG_KEY else self.keys
 
 
@@ -540,11 +540,11 @@ __all__ = [
     "QUEUE_KNOWN",
     "QUEUE_MOST",
     "WATCH_EVERY",
-    "Backoff",
     "Busy",
+    "FailureBackoff",
     "SecretGuard",
+    "SecretVerdict",
     "SecretWorker",
-    "Verdict",
     "budget_key",
     "delay",
 ]

@@ -11,8 +11,10 @@ Each connection is read line by line (:mod:`.framing`), and each line is
 answered exactly once, in order (:mod:`.dispatch`, :mod:`.requests`); the
 backend (:mod:`.backend`) does the work.  Events are written to every greeted client
 the moment they are published (:mod:`.connection` explains why a client that
-stops reading cannot hold anyone up).  Peers outside the allowed networks
-(:mod:`.access`) are closed at once.  Every call here runs on the loop's
+stops reading cannot hold anyone up).  Every connection comes through the
+program's one door (:mod:`moas_gui.edge.gate`, :meth:`ClientServer.door`): peers
+outside the allowed networks (:mod:`.access`) are closed at once, and those over a
+limit told why.  Every call here runs on the loop's
 thread; none of them waits.
 
 Limits: at most ``max_clients`` connections at once (fewer when the process
@@ -45,22 +47,22 @@ import ssl
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
-from moas_gui.edge.gate import ForwardingGate
-from moas_gui.edge.listener import EarlyAdmitted, Listener
-from moas_gui.errors import HardwareError
-from moas_gui.net.secrets import SecretGuard
-from moas_gui.operators import OperatorBook
-
-from .access import allowed_networks, is_allowed
-from .admission import (
+from moas_gui.edge.admission import (
     DEFAULT_BEFORE_HELLO,
     DEFAULT_PER_ADDRESS,
-    HELLO_DEADLINE,
-    KEEPALIVE,
     Admission,
     Refused,
     Ticket,
 )
+from moas_gui.edge.gate import Allows, Door, Gate, Open, gate_of, streams
+from moas_gui.edge.listener import Listener
+from moas_gui.errors import HardwareError
+from moas_gui.log_limit import LogLimiter, held_text
+from moas_gui.net.secrets import SecretGuard
+from moas_gui.operators import OperatorBook
+
+from .access import allowed_networks, is_allowed
+from .admission import HELLO_DEADLINE, KEEPALIVE
 from .backend import ClientBackend, ErrorCode, LogLevel, RequestError
 from .connection import (
     ClientInfo,
@@ -68,13 +70,10 @@ from .connection import (
     LayoutKey,
     LineWriter,
     cut_slowest,
-    format_peer,
-    host_of,
 )
 from .dispatch import MAX_BAD_LINES, answer
 from .fd_limit import fitting_client_limit
 from .identity import LOCAL_ADDRESSES, anonymous, is_local, token_needed
-from .log_limit import LogLimiter, held_text
 from .loop_faults import guard_loop_faults
 from .memory import give_back_memory
 from .messages import MessageEncodeError, event, reply_error
@@ -101,6 +100,9 @@ DEFAULT_MAX_CLIENTS = 200
 """Connections served at once unless ``--max-clients`` says otherwise."""
 DEFAULT_MAX_PENDING_TOTAL = 32 << 20
 """Bytes of unread output, summed over every client, before the slowest are cut."""
+_HINTS = {"address": " (moas-server --max-per-address sets it)",
+          "total": " (moas-server --max-clients sets it)"}
+"""What a refusal line adds, by the limit that refused."""
 
 
 class ClientServer:
@@ -155,11 +157,8 @@ class ClientServer:
         """The connections served at once: ``max_clients``, or fewer when the
         process may open few files (set by :meth:`start`)."""
         self.max_layouts = max_layouts
-        self.trouble = LogLimiter()
-        """One log line a minute per kind of trouble from outside, whatever the address
-        (the web server's and the admission's too)."""
         self.admission = Admission(max_clients, per_address, before_hello=before_hello,
-                                   trouble=self.trouble, what="client connections")
+                                   trouble=LogLimiter(), what="client connections")
         """Open connections of both transports, in all and per address: the program's
         admission policy (:mod:`moas_gui.edge.admission`)."""
         self.hello_deadline = hello_deadline
@@ -181,8 +180,6 @@ class ClientServer:
         self.tls = tls
         """Serve TLS with this context; then peers outside ``ClientAllow`` are admitted
         (and must give a token)."""
-        self.trouble = LogLimiter()
-        """One log line a minute per kind of trouble from outside (the web server's too)."""
         self.chatter = LogLimiter(burst=CHATTER_BURST)
         """The Info lines about greeted clients, all addresses together."""
         self._unchecked = 0
@@ -198,6 +195,28 @@ class ClientServer:
         self._tasks: set[asyncio.Task[Any]] = set()
         self._layout_refresh: asyncio.Handle | None = None
 
+    @property
+    def trouble(self) -> LogLimiter:
+        """One log line a minute per kind of trouble from outside, whatever the address:
+        the admission's, which the gates of both ports and the web server share."""
+        return self.admission.trouble
+
+    @trouble.setter
+    def trouble(self, limiter: LogLimiter) -> None:
+        self.admission.trouble = limiter
+
+    def door(self, front: str, who: str, open_: Open, refusal: Callable[[str], bytes], *,
+             allows: Allows | None = None, touch_on_data: bool = False,
+             request_deadline: float | None = None,
+             late: Callable[[Gate], None] | None = None) -> Door:
+        """The door of a port whose connections count in :attr:`admission` (the client
+        port's, the web port's): refusal lines name the option that sets the limit, and
+        a peer refused is told ``refusal(sentence)``."""
+        return Door(self.admission, open_, front, who=who, allows=allows,
+                    refusal=lambda refused: refusal(self.refusal_reply(refused)),
+                    hints=_HINTS, touch_on_data=touch_on_data,
+                    request_deadline=request_deadline, late=late)
+
     # ---- life -----------------------------------------------------------------------
 
     async def start(self) -> int:
@@ -212,7 +231,10 @@ class ClientServer:
             self._restore_handler = guard_loop_faults(self._loop, self._loop_faults)
         try:
             # over TLS, the handshake gets the hello deadline's size (and is admitted first)
-            self._server = await Listener.open(lambda: _Gate(self), self.host, self.port,
+            door = self.door("client", "a client", streams(self._serve, _READ_CHUNK),
+                             lambda why: reply_error(None, ErrorCode.UNAVAILABLE, why),
+                             allows=self.refuses)
+            self._server = await Listener.open(door, self.host, self.port,
                                                what="clients", trouble=self.trouble,
                                                ssl=self.tls,
                                                handshake_deadline=self.hello_deadline)
@@ -270,6 +292,14 @@ class ClientServer:
         return (self.tls is not None or is_local(host, self.local_addresses)
                 or is_allowed(host, self._allowed))
 
+    def refuses(self, host: str) -> str | None:
+        """Why a peer at ``host`` may not connect at all (``None``: it may): the client
+        port's door asks, before the admission's limits."""
+        if self.allows(host):
+            return None
+        return ("the address is not in the allowed networks (ClientAllow in the "
+                "configuration decides)")
+
     def needs_token(self, host: str) -> bool:
         """Whether a peer at ``host`` must show an operator's token to see anything (the
         same rule as a connection's identity: :func:`.identity.token_needed`)."""
@@ -280,7 +310,7 @@ class ClientServer:
         conn.identity = anonymous(host, conn.address, self._allowed, self.require_token,
                                   self.local_addresses)
         guard = self.secrets
-        if guard is not None:
+        if guard is not None:  # dispatch keeps the connection's place while it waits
             conn.authenticate = lambda token: guard.check_token(token, host)
 
     def end_operator(self, name: str) -> int:
@@ -293,21 +323,17 @@ class ClientServer:
                 ended += 1
         return ended
 
-    def attach(self, writer: LineWriter, address: str,
-               ticket: Ticket | None = None) -> Connection | None:
+    def attach(self, writer: LineWriter, ticket: Ticket) -> Connection | None:
         """A connection carried by another transport (the browser client's
         WebSocket, :mod:`.web`), with the same limits as a TCP one: its lines
         are answered by :func:`~.dispatch.answer` and it gets events as TCP
         clients do, until :meth:`detach`.  ``None`` when the server already
         serves as many clients as it takes (the caller says so and closes).  ``ticket``
-        is the connection's place in :attr:`admission`: a ``hello`` greets it."""
+        is the connection's place in :attr:`admission` (its peer on it): a ``hello``
+        greets it."""
         if len(self._connections) >= self.client_limit:
             return None
-        conn = Connection(writer, address, max_pending=self.max_pending,
-                          max_layouts=self.max_layouts, on_queued=self._queued)
-        conn.chatter = self._chatter_of(address)
-        self._take_ticket(conn, ticket)
-        self.identify(conn, host_of(address))
+        conn = self._connection(writer, ticket)
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
         return conn
@@ -425,12 +451,10 @@ class ClientServer:
 
     # ---- connections ----------------------------------------------------------------
 
-    def _take_ticket(self, conn: Connection, ticket: Ticket | None) -> None:
+    def _take_ticket(self, conn: Connection, ticket: Ticket) -> None:
         """``conn`` keeps its admission ticket: touched by every line, greeted by its
         hello; should the admission close it, it is told why first."""
         conn.ticket = ticket
-        if ticket is None:
-            return
 
         def evict(why: str) -> None:
             conn.reply_error(None, ErrorCode.UNAVAILABLE, why)
@@ -447,65 +471,15 @@ class ClientServer:
                               "%s: the operators' own connections are all in use; %s stays "
                               "with the others", conn.address, conn.identity.name)
 
-    def _gate(self, transport: asyncio.Transport) -> Ticket | None:
-        """Decides on a new connection before anything is made for it: its admission
-        ticket when it may stay, else ``None`` (it was refused and closed)."""
-        refusal: list[bytes] = []
-        ticket = self.admit_peer(transport.get_extra_info("peername"),
-                                 lambda _why: transport.abort(), refusal)
-        if ticket is None:
-            if refusal:
-                transport.write(refusal[0])
-                transport.close()
-            else:
-                transport.abort()
-        return ticket
-
-    def admit_peer(self, peer: object, evict: Callable[[str], None],
-                   refusal: list[bytes] | None = None) -> Ticket | None:
-        """The admission ticket of a new connection from ``peer`` (a socket's peer
-        name), or ``None`` when it may not stay (logged once a minute per kind); the
-        line a refused peer is told, when it can be told one, goes into ``refusal``.
-        Over TLS this is asked on the bare socket, before the handshake
-        (:class:`~moas_gui.edge.listener.EarlyAdmitted`)."""
-        address = format_peer(peer)
-        host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
-        if not self.allows(host):
-            held = self.trouble.allow("not allowed")  # one line a minute, all addresses
-            if held is not None:
-                log.warning(
-                    "Refused a client from %s: the address is not in the allowed networks "
-                    "(ClientAllow in the configuration decides)%s", address,
-                    held_text(held, "more refused that were not allowed"),
-                )
-            return None
-        try:
-            return self.admission.admit(host, evict, front="client", address=address)
-        except Refused as refused:
-            self.refused(address, refused)
-            if refusal is not None:
-                refusal.append(reply_error(None, ErrorCode.UNAVAILABLE,
-                                           self.refusal_reply(refused)))
-            return None
-
     async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
         if task is not None:
             self._tasks.add(task)
         try:
-            await self._converse(reader, writer, format_peer(writer.get_extra_info("peername")))
+            await self._converse(reader, writer)
         finally:
             if task is not None:
                 self._tasks.discard(task)
-
-    def refused(self, address: str, refusal: Refused, what: str = "a client") -> None:
-        """Logs a connection refused by :attr:`admission` (once a minute per limit)."""
-        held = self.trouble.allow(("over a limit", refusal.limit))
-        if held is not None:
-            option = {"address": " (moas-server --max-per-address sets it)",
-                      "total": " (moas-server --max-clients sets it)"}.get(refusal.limit, "")
-            log.warning("Refused %s from %s: %s%s%s", what, address, refusal.reason, option,
-                        held_text(held, "more refused for the same reason"))
 
     def refusal_reply(self, refusal: Refused) -> str:
         """The sentence a refused client is told."""
@@ -532,20 +506,25 @@ class ClientServer:
         if held is not None:
             log.log(level, message + "%s", *args, held_text(held))
 
-    async def _converse(
-        self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter, address: str
-    ) -> None:
-        conn = Connection(
-            writer, address, max_pending=self.max_pending, max_layouts=self.max_layouts,
-            on_queued=self._queued,
-        )
-        conn.chatter = self._chatter_of(address)
-        gate = writer.transport.get_protocol()
-        self._take_ticket(conn, gate.ticket if isinstance(gate, _Gate) else None)
-        self.identify(conn, host_of(address))
+    def _connection(self, writer: LineWriter, ticket: Ticket) -> Connection:
+        """A new connection of either transport, its peer the one its ticket carries."""
+        conn = Connection(writer, ticket.address, max_pending=self.max_pending,
+                          max_layouts=self.max_layouts, on_queued=self._queued)
+        # one share of the log for all addresses: a crowd of addresses writes no more
+        conn.chatter = lambda: self.chatter.allow("clients")
+        self._take_ticket(conn, ticket)
+        self.identify(conn, ticket.host)
+        return conn
+
+    async def _converse(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        gate = gate_of(writer.transport)
+        if gate is None or gate.ticket is None:  # gone before it was served
+            writer.close()
+            return
+        conn = self._connection(writer, gate.ticket)
         self._connections[conn] = None
         self._crowd = max(self._crowd, len(self._connections))
-        self.connected_line("Client connected from %s", address)
+        self.connected_line("Client connected from %s", conn.address)
         lost: str | None = None
         loop = asyncio.get_running_loop()
         hello_by = loop.time() + self.hello_deadline
@@ -614,10 +593,6 @@ class ClientServer:
             log.debug("Closing a client connection: the transport reported an error")
 
 
-    def _chatter_of(self, address: str) -> Callable[[], int | None]:
-        # one share for all addresses: a crowd of addresses writes no more than one
-        return lambda: self.chatter.allow("clients")
-
     def timed_out(self, conn: Connection) -> str:
         """Why ``conn`` is closed for its silence."""
         if conn.greeted:
@@ -639,30 +614,6 @@ class ClientServer:
             kind = ("left before hello", what, (conn.close_reason or lost or "")[:24])
             never = "" if "hello" in how else " (it never said hello)"
             self.trouble_line(kind, logging.INFO, "%s %s %s%s", what, _who(conn), how, never)
-
-
-class _Gate(ForwardingGate, EarlyAdmitted):
-    """A connection to the client port: refused at once, before any stream or task is
-    made for it, when its address is not allowed or over a limit (a crowd reconnecting
-    as fast as it is refused then costs little); otherwise asyncio's streams take it,
-    and its place in the :class:`~.admission.Admission` is given back when it closes.
-    Over TLS the place is taken before the handshake (:meth:`admit_early`)."""
-
-    def __init__(self, server: ClientServer) -> None:
-        self.server = server
-
-    def admit_early(self, peer: object, evict: Callable[[str], None]) -> Ticket | None:
-        self.ticket = self.server.admit_peer(peer, evict)
-        return self.ticket
-
-    def connection_made(self, transport: asyncio.BaseTransport) -> None:
-        assert isinstance(transport, asyncio.Transport)
-        if self.ticket is not None:  # admitted before its handshake
-            self.ticket.set_evict(lambda _why: transport.abort())
-        else:
-            self.ticket = self.server._gate(transport)
-        if self.ticket is not None:
-            self.open_streams(transport, self.server._serve, _READ_CHUNK)
 
 
 def _who(conn: Connection) -> str:

@@ -34,7 +34,6 @@ with a Close 1002, as RFC 6455 requires (:mod:`.web_frames`).  ``docs/web-client
 
 from __future__ import annotations
 
-import asyncio
 import html
 import logging
 import math
@@ -47,17 +46,17 @@ from typing import TYPE_CHECKING
 
 from aiohttp import web
 
-from moas_gui.edge.admission import checking
+from moas_gui.edge.admission import Ticket, checking
+from moas_gui.edge.gate import gate_of
 from moas_gui.edge.listener import Listener
 from moas_gui.errors import HardwareError
-from moas_gui.net.secrets import Verdict
+from moas_gui.net.secrets import SecretVerdict
 
 from .admission import REQUEST_DEADLINE
-from .connection import format_peer
 from .server import ClientServer
 from .web_frames import frames_arrived_early, require_masking
 from .web_guard import host_allowed, local_names, origin_complaint
-from .web_limits import GuardedConnection, QuietAiohttp
+from .web_limits import QuietAiohttp, web_door
 from .web_socket import MAX_MESSAGE, converse
 
 if TYPE_CHECKING:
@@ -120,6 +119,9 @@ MAX_REPORT_HOURS = 24 * 31
 
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
 
+_TICKET: web.RequestKey[Ticket] = web.RequestKey("ticket", Ticket)
+"""A request's connection's admission ticket (its peer on it), set by the guard."""
+
 
 class WebServer:
     """Serves the browser client for one :class:`~.server.ClientServer`."""
@@ -154,7 +156,8 @@ class WebServer:
         try:
             # not aiohttp's TCPSite: every connection goes through the guard first, and
             # the program's accept loop (which backs off when out of file handles)
-            self._listener = await Listener.open(self._guarded(runner.server),
+            door = web_door(self.clients, runner.server, self.request_deadline)
+            self._listener = await Listener.open(door,
                                                  self.host or None, self.port,
                                                  what="browsers", trouble=self.clients.trouble,
                                                  ssl=self.clients.tls,
@@ -174,10 +177,6 @@ class WebServer:
                  _loopback(self.host), self.port, where)
         return self.port
 
-    def _guarded(self, factory: Callable[[], asyncio.Protocol]) -> Callable[[], asyncio.Protocol]:
-        """aiohttp's protocol factory, each connection behind a :class:`GuardedConnection`."""
-        return lambda: GuardedConnection(factory, self.clients, self.request_deadline)
-
     async def close(self) -> None:
         """Stops listening and closes every page's WebSocket."""
         self._closing = True  # a report being made stops before it is drawn
@@ -191,26 +190,24 @@ class WebServer:
 
     @web.middleware
     async def _guard(self, request: web.Request, handler: Handler) -> web.StreamResponse:
-        transport = request.transport
-        guard = transport.get_protocol() if transport is not None else None
-        if isinstance(guard, GuardedConnection):
-            guard.disarm()  # the request is here; the next one is timed after the response
-            if guard.ticket is not None:
-                guard.ticket.greeted()  # a whole request: a browser, not a silent crowd
+        gate = gate_of(request.transport)
+        if gate is None or gate.ticket is None:  # the connection is gone already
+            raise web.HTTPServiceUnavailable(text="The connection has closed.\n")
+        gate.disarm()  # the request is here; the next one is timed after the response
+        gate.ticket.greeted()  # a whole request: a browser, not a silent crowd
         try:
-            return await self._checked(request, handler)
+            return await self._checked(request, handler, gate.ticket)
         finally:
-            if isinstance(guard, GuardedConnection):
-                guard.arm()
+            gate.arm()
 
-    async def _checked(self, request: web.Request, handler: Handler) -> web.StreamResponse:
-        peer = request.transport.get_extra_info("peername") if request.transport else None
-        host = str(peer[0]) if isinstance(peer, tuple) else str(request.remote or "")
-        if not self.clients.allows(host):
+    async def _checked(self, request: web.Request, handler: Handler,
+                       ticket: Ticket) -> web.StreamResponse:
+        request[_TICKET] = ticket  # the peer, read once when it was accepted
+        if not self.clients.allows(ticket.host):
             self.clients.trouble_line(
                 "browser not allowed", logging.WARNING,
                 "Refused a browser from %s: the address is not in the allowed networks "
-                "(ClientAllow in the configuration decides)", format_peer(peer))
+                "(ClientAllow in the configuration decides)", ticket.address)
             raise web.HTTPForbidden(text="This address may not use the MOAS server "
                                          "(ClientAllow in its configuration decides).\n")
         # over TLS a rebound name cannot reach the page (the browser checks the certificate
@@ -219,7 +216,7 @@ class WebServer:
             self.clients.trouble_line(
                 "browser host", logging.WARNING,
                 "Refused a browser request from %s for host %r: not a name of this computer",
-                format_peer(peer), request.host[:80])
+                ticket.address, request.host[:80])
             raise web.HTTPMisdirectedRequest(text="Use this computer's address or name.\n")
         if request.method not in ("GET", "HEAD"):
             raise web.HTTPMethodNotAllowed(request.method, ["GET", "HEAD"])
@@ -234,8 +231,8 @@ class WebServer:
                             headers=_HEADERS)
 
     async def _websocket(self, request: web.Request) -> web.StreamResponse:
-        peer = request.transport.get_extra_info("peername") if request.transport else None
-        address = format_peer(peer)
+        ticket = request[_TICKET]
+        address = ticket.address
         complaint = origin_complaint(request.headers.getall("Origin", []), request.host,
                                      "https" if self.clients.tls is not None else "http")
         if complaint is not None:
@@ -246,9 +243,8 @@ class WebServer:
         ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE, heartbeat=20.0)
         if not ws.can_prepare(request).ok:
             raise web.HTTPBadRequest(text="This address is for a WebSocket.\n")
-        guard = request.transport.get_protocol() if request.transport else None
-        ticket = guard.ticket if isinstance(guard, GuardedConnection) else None
-        handler = getattr(guard, "inner", None)
+        gate = gate_of(request.transport)
+        handler = gate.inner if gate is not None else None
         if frames_arrived_early(handler):
             raise web.HTTPBadRequest(text="Frames were sent before the handshake's answer.\n")
         await ws.prepare(request)
@@ -258,12 +254,12 @@ class WebServer:
                                       "unmasked frames; WebSockets are refused")
             await ws.close(code=1011)
             return ws
-        await converse(self.clients, ws, address, ticket)
+        await converse(self.clients, ws, ticket)
         return ws
 
     async def _report(self, request: web.Request) -> web.StreamResponse:
-        peer = request.transport.get_extra_info("peername") if request.transport else None
-        host = str(peer[0]) if isinstance(peer, tuple) else str(request.remote or "")
+        ticket = request[_TICKET]
+        host = ticket.host
         shown = None
         if self.clients.needs_token(host):
             shown = await self._token_shown(request, host)
@@ -277,7 +273,7 @@ class WebServer:
             self.clients.trouble_line(
                 "report token", logging.WARNING,
                 "Refused the contest report to %s: it needs an operator's token",
-                format_peer(peer))
+                ticket.address)
             raise web.HTTPUnauthorized(
                 text="The contest report needs an operator's token "
                      "(Authorization: Bearer TOKEN).\n",
@@ -290,16 +286,14 @@ class WebServer:
         return web.Response(text=page, content_type="text/html", charset="utf-8",
                             headers=_REPORT_HEADERS)
 
-    async def _token_shown(self, request: web.Request, host: str) -> Verdict:
+    async def _token_shown(self, request: web.Request, host: str) -> SecretVerdict:
         """The operator the request's bearer token names, or why not: the server's one
         secret check (off the loop, budgeted per address and per operator)."""
         guard = self.clients.secrets
         scheme, _, token = request.headers.get("Authorization", "").partition(" ")
         if guard is None or scheme.lower() != "bearer" or not token.strip():
-            return Verdict(refusal="no token")
-        connection = request.transport.get_protocol() if request.transport else None
-        ticket = connection.ticket if isinstance(connection, GuardedConnection) else None
-        with checking(ticket):  # its place in the admission kept while it waits
+            return SecretVerdict(refusal="no token")
+        with checking(request.get(_TICKET)):  # its place in the admission kept meanwhile
             return await guard.check_token(token.strip(), host)
 
     async def _report_page(self, reader: JournalReader | None,

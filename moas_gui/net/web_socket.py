@@ -125,12 +125,12 @@ class WebSocketOutlet:
                 await ws.close()
 
 
-async def converse(clients: ClientServer, ws: web.WebSocketResponse, address: str,
-                   ticket: Ticket | None = None) -> None:
+async def converse(clients: ClientServer, ws: web.WebSocketResponse, ticket: Ticket) -> None:
     """Serves one prepared WebSocket until it closes; ``ticket`` is its web connection's
-    place in the admission, which its hello greets."""
+    place in the admission (its peer on it), which its hello greets."""
     outlet = WebSocketOutlet(ws)
-    conn = clients.attach(outlet, address, ticket)
+    address = ticket.address
+    conn = clients.attach(outlet, ticket)
     if conn is None:
         clients.trouble_line(("over a limit", "websocket"), logging.WARNING,
                              "Refused a browser client from %s: %d clients are connected, the "

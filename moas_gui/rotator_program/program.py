@@ -41,7 +41,6 @@ from moas_gui.clock import LOOP_CLOCK, Clock
 from moas_gui.edge.admission import Admission, Deadlines
 from moas_gui.edge.gate import gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
-from moas_gui.edge.log_limit import held_text
 from moas_gui.hw.rotators.controllers.base import ControllerError
 from moas_gui.hw.rotators.controllers.models import find_model
 from moas_gui.hw.rotators.moas_rotator_codec import (
@@ -57,6 +56,7 @@ from moas_gui.hw.rotators.moas_rotator_codec import (
     encode_port_state,
     encode_version_reply,
 )
+from moas_gui.log_limit import held_text
 
 from .driver import RETRY, ControllerDriver
 from .ports import port_refusal
@@ -144,8 +144,8 @@ class RotatorProgram:
         task = asyncio.current_task()
         if task is not None:
             self._handlers[task] = writer
-        peer = _peer(writer)
-        host = str(writer.get_extra_info("peername", ("",))[0])
+        ticket = ticket_of(writer)
+        peer, host = ticket.address, ticket.host  # read once, when it was accepted
         old = self._writer
         if old is not None and not old.is_closing() and host != self._controller_host \
                 and not self.take_over:
@@ -153,9 +153,7 @@ class RotatorProgram:
             if task is not None:
                 self._handlers.pop(task, None)
             return
-        ticket = ticket_of(writer)
-        if ticket is not None:
-            ticket.greeted()  # in control: no deadline before it says anything
+        ticket.greeted()  # in control: no deadline before it says anything
         _keep_alive(writer)
         self._writer, self._controller_host = writer, host
         if old is not None:
@@ -297,13 +295,6 @@ class RotatorProgram:
             driver.stop()
         except PortError as error:
             log.warning("%s: STOP not sent: %s", driver.label, error)
-
-
-def _peer(writer: asyncio.StreamWriter) -> str:
-    peer = writer.get_extra_info("peername")
-    if isinstance(peer, tuple) and len(peer) >= 2:
-        return f"{peer[0]}:{peer[1]}"
-    return str(peer)
 
 
 def _keep_alive(writer: asyncio.StreamWriter) -> None:

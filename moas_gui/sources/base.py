@@ -35,7 +35,7 @@ from dataclasses import dataclass
 from typing import Final, Protocol, TypeAlias, runtime_checkable
 
 from moas_gui.config.rigs import DEFAULT_RETRY as CONFIG_RETRY
-from moas_gui.net.log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.sources.log_bursts import CrowdLimiter
 
 MAX_KHZ: Final = 300_000_000.0

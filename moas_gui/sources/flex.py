@@ -52,17 +52,17 @@ from moas_gui.sources.flex_api import (
     OPENING,
     PING,
     PING_INTERVAL,
-    Announcement,
+    FlexAnnouncement,
     FlexLineError,
+    FlexRadioState,
+    FlexReply,
+    FlexStatus,
     Handle,
     LineSplitter,
     Message,
     RadioRef,
-    RadioState,
-    Reply,
     Slice,
     SliceMap,
-    Status,
     Version,
     command,
     parse_line,
@@ -81,7 +81,7 @@ class NotFlex(MoasError):
     """The peer is not a FlexRadio (its greeting says so)."""
 
 
-class NotFound(MoasError):
+class RadioNotFound(MoasError):
     """A radio named by serial or nickname was not heard on the network."""
 
 
@@ -138,8 +138,8 @@ class FlexSource:
         self.bad = BadInputLog(self.log, self.origin, clock=clock)
         self.link = ConnectionLog(self.log, self.origin, clock=clock)
         self._backoff = Pauses(Backoff(first=retry, most=max(retry, RETRY_LIMIT)))
-        self.state = RadioState()
-        self.found: Announcement | None = None
+        self.state = FlexRadioState()
+        self.found: FlexAnnouncement | None = None
         """The radio's discovery datagram, when it was looked up by serial or nickname."""
         self.version = ""
         self.online = False
@@ -188,7 +188,7 @@ class FlexSource:
                 await self._session(host, port)
             except NotFlex as exc:
                 self._refused(str(exc))
-            except NotFound as exc:
+            except RadioNotFound as exc:
                 self.link.lost(str(exc))
                 self._offline(str(exc))
             except (OSError, TimeoutError, asyncio.IncompleteReadError, EOFError) as exc:
@@ -215,7 +215,7 @@ class FlexSource:
                 self.found = found
                 return found.ip, found.port
             await asyncio.sleep(0.1)
-        raise NotFound(f"not heard on the network (UDP {self.discovery_port}); where "
+        raise RadioNotFound(f"not heard on the network (UDP {self.discovery_port}); where "
                        "broadcasts do not reach, name the radio by its address")
 
     async def _session(self, host: str, port: int) -> None:
@@ -290,7 +290,7 @@ class FlexSource:
         self._refusing = False
         self.online = True
         self.why_offline = ""
-        self.state = RadioState()
+        self.state = FlexRadioState()
         self._pending.clear()
         self.log.info("%s at %s:%d: API %s; reading its slices for %s", self.origin, host,
                       port, self.version, self._radios_text())
@@ -307,7 +307,7 @@ class FlexSource:
     def _offline(self, reason: str) -> None:
         self.online = False
         self.why_offline = reason
-        self.state = RadioState()
+        self.state = FlexRadioState()
         if self._sent:  # radios had frequencies from it
             self.log.warning("%s offline: %s frequency unknown until it is back",
                              self.origin, self._radios_text())
@@ -341,20 +341,20 @@ class FlexSource:
     def _line(self, text: str) -> None:
         try:
             line = parse_line(text)
-            changed = self.state.apply(line) if isinstance(line, Status) else False
+            changed = self.state.apply(line) if isinstance(line, FlexStatus) else False
         except FlexLineError as exc:
             self.bad.drop(exc.reason, self.target, str(exc))
             return
-        if isinstance(line, Status):
+        if isinstance(line, FlexStatus):
             self.status_at = time.perf_counter()
             if changed:
                 self._publish()
-        elif isinstance(line, Reply):
+        elif isinstance(line, FlexReply):
             self._answered(line)
         elif isinstance(line, Message):
             self.log.debug("%s says: %s", self.origin, line.text[:200])
 
-    def _answered(self, reply: Reply) -> None:
+    def _answered(self, reply: FlexReply) -> None:
         asked = self._pending.pop(reply.seq, "")
         if reply.ok or not asked:
             return
@@ -432,4 +432,4 @@ class FlexSource:
         return lines
 
 
-__all__ = ["DEFAULT_TIMEOUT", "FlexSource", "NotFlex", "NotFound", "split_target"]
+__all__ = ["DEFAULT_TIMEOUT", "FlexSource", "NotFlex", "RadioNotFound", "split_target"]

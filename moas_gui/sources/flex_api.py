@@ -15,7 +15,7 @@ line                              meaning
 ================================  ===============================================
 
 This module reads those lines (:class:`LineSplitter`, :func:`parse_line`), keeps
-what the statuses of interest say (:class:`RadioState`: the slices and the
+what the statuses of interest say (:class:`FlexRadioState`: the slices and the
 transmit interlock), maps slices to this server's radios (:class:`SliceMap`),
 and reads the radio's discovery datagrams (:func:`parse_discovery`: VITA-49 on
 UDP 4992, stream id 0x800, class 0x534CFFFF, payload ``key=value`` words).
@@ -85,7 +85,7 @@ class Handle:
 
 
 @dataclass(frozen=True, slots=True)
-class Reply:
+class FlexReply:
     seq: int
     code: int
     message: str
@@ -96,7 +96,7 @@ class Reply:
 
 
 @dataclass(frozen=True, slots=True)
-class Status:
+class FlexStatus:
     """``S<handle>|<words>``: ``words`` split on spaces, ``fields`` the ``key=value`` ones."""
 
     handle: int
@@ -110,7 +110,7 @@ class Message:
     text: str
 
 
-Line: TypeAlias = Version | Handle | Reply | Status | Message
+Line: TypeAlias = Version | Handle | FlexReply | FlexStatus | Message
 
 
 class LineSplitter:
@@ -164,7 +164,7 @@ def parse_line(line: str) -> Line:
         code, _, message = rest.partition("|")
         if not bar or not seq.isdigit():
             raise FlexLineError("bad_reply", f"not a reply: {_show(line)}")
-        return Reply(int(seq), _hex(code, "the answer code", line), message)
+        return FlexReply(int(seq), _hex(code, "the answer code", line), message)
     if kind == "S":
         handle, bar, rest = body.partition("|")
         if not bar:
@@ -176,14 +176,14 @@ def parse_line(line: str) -> Line:
     raise FlexLineError("not_flex", f"not a line of the FlexRadio API: {_show(line)}")
 
 
-def _status(handle: int, rest: str) -> Status:
+def _status(handle: int, rest: str) -> FlexStatus:
     words = tuple(w for w in rest.split(" ") if w)[:MAX_FIELDS]
     fields: dict[str, str] = {}
     for word in words:
         key, eq, value = word.partition("=")
         if eq:
             fields[key] = value
-    return Status(handle, words, fields)
+    return FlexStatus(handle, words, fields)
 
 
 # -- what the statuses say -----------------------------------------------------------------
@@ -217,14 +217,14 @@ def _flag(fields: Mapping[str, str], key: str, before: bool) -> bool:
 
 
 @dataclass(slots=True)
-class RadioState:
+class FlexRadioState:
     """The slices and the interlock, as the status lines said; :meth:`apply` each status."""
 
     slices: dict[int, Slice] = field(default_factory=dict)
     interlock: str = ""
     """The interlock's ``state`` (``RECEIVE``, ``TRANSMITTING``...); empty until told."""
 
-    def apply(self, status: Status) -> bool:
+    def apply(self, status: FlexStatus) -> bool:
         """Takes in one status; True when a slice or the interlock changed.
         :class:`FlexLineError` for a slice or interlock status that makes no sense."""
         words = status.words
@@ -236,7 +236,7 @@ class RadioState:
             return changed
         return False
 
-    def _slice(self, number: str, status: Status) -> bool:
+    def _slice(self, number: str, status: FlexStatus) -> bool:
         if not number.isdigit() or int(number) >= MAX_SLICES:
             raise FlexLineError("bad_slice", f"slice number {number[:20]!r} is not 0-"
                                 f"{MAX_SLICES - 1}")
@@ -348,7 +348,7 @@ MAX_DATAGRAM: Final = 2048
 
 
 @dataclass(frozen=True, slots=True)
-class Announcement:
+class FlexAnnouncement:
     """One radio's discovery datagram: what it calls itself and where its API is."""
 
     fields: Mapping[str, str]
@@ -387,8 +387,8 @@ class Announcement:
                                  self.ip.casefold())
 
 
-def parse_discovery(data: bytes) -> Announcement:
-    """A discovery datagram to an :class:`Announcement`; :class:`FlexLineError` otherwise."""
+def parse_discovery(data: bytes) -> FlexAnnouncement:
+    """A discovery datagram to an :class:`FlexAnnouncement`; :class:`FlexLineError` otherwise."""
     if len(data) < _HEADER.size or len(data) > MAX_DATAGRAM:
         raise FlexLineError("bad_size", f"{len(data)} bytes is no discovery datagram")
     first, _, words, stream, oui, klass, _, _ = _HEADER.unpack_from(data)
@@ -410,13 +410,34 @@ def parse_discovery(data: bytes) -> Announcement:
             fields[key] = value[:64]
     if not fields.get("ip") and not fields.get("serial"):
         raise FlexLineError("no_radio", "the discovery payload names no ip and no serial")
-    return Announcement(fields)
+    return FlexAnnouncement(fields)
 
 
 __all__ = [
-    "API_PORT", "DISCOVERY_CLASS", "DISCOVERY_STREAM", "FLEX_OUI", "MAX_LINE", "OPENING",
-    "PING", "PING_INTERVAL", "PROGRAM",
-    "Announcement", "FlexLineError", "Handle", "Line", "LineSplitter", "Message",
-    "RadioRef", "RadioState", "Reply", "Slice", "SliceMap", "Status", "Version",
-    "command", "parse_discovery", "parse_line", "parse_slice_map",
+    "API_PORT",
+    "DISCOVERY_CLASS",
+    "DISCOVERY_STREAM",
+    "FLEX_OUI",
+    "MAX_LINE",
+    "OPENING",
+    "PING",
+    "PING_INTERVAL",
+    "PROGRAM",
+    "FlexAnnouncement",
+    "FlexLineError",
+    "FlexRadioState",
+    "FlexReply",
+    "FlexStatus",
+    "Handle",
+    "Line",
+    "LineSplitter",
+    "Message",
+    "RadioRef",
+    "Slice",
+    "SliceMap",
+    "Version",
+    "command",
+    "parse_discovery",
+    "parse_line",
+    "parse_slice_map",
 ]

@@ -20,7 +20,7 @@ from collections.abc import Callable
 from typing import Final
 
 from moas_gui.sources.base import BadInputLog
-from moas_gui.sources.flex_api import API_PORT, Announcement, FlexLineError, parse_discovery
+from moas_gui.sources.flex_api import API_PORT, FlexAnnouncement, FlexLineError, parse_discovery
 from moas_gui.sources.udp import DatagramSource
 
 log = logging.getLogger(__name__)
@@ -38,14 +38,14 @@ class FlexDiscovery(DatagramSource):
     label = "FlexRadio discovery"
 
     def __init__(self, *, port: int = API_PORT, host: str = "0.0.0.0",
-                 on_found: Callable[[Announcement], object] | None = None,
+                 on_found: Callable[[FlexAnnouncement], object] | None = None,
                  clock: Callable[[], float] = time.monotonic) -> None:
         super().__init__()
         self._port = port
         self._host = host
         self._on_found = on_found
         self._clock = clock
-        self._heard: dict[str, tuple[Announcement, float]] = {}
+        self._heard: dict[str, tuple[FlexAnnouncement, float]] = {}
         self.bad = BadInputLog(log, self.label, clock=clock)
 
     async def start(self, port: int | None = None, host: str | None = None) -> int:
@@ -59,7 +59,7 @@ class FlexDiscovery(DatagramSource):
             self.bad.drop(exc.reason, address, str(exc))
             return None
         if not found.ip:  # the datagram's own sender is where the radio is
-            found = Announcement({**found.fields, "ip": address})
+            found = FlexAnnouncement({**found.fields, "ip": address})
         key = found.serial or found.ip
         new = key not in self._heard
         if new and len(self._heard) >= MAX_RADIOS:
@@ -72,19 +72,19 @@ class FlexDiscovery(DatagramSource):
             self._on_found(found)
         return found
 
-    def radios(self) -> list[Announcement]:
+    def radios(self) -> list[FlexAnnouncement]:
         """The radios heard in the last :data:`FORGET_AFTER` seconds, by nickname and serial."""
         now = self._clock()
         return sorted((a for a, at in self._heard.values() if now - at <= FORGET_AFTER),
                       key=lambda a: (a.nickname.casefold(), a.serial))
 
-    def find(self, wanted: str) -> Announcement | None:
+    def find(self, wanted: str) -> FlexAnnouncement | None:
         """The radio heard whose serial, nickname or address is ``wanted``."""
         return next((a for a in self.radios() if a.matches(wanted)), None)
 
 
 async def list_radios(seconds: float = 3.0, *, port: int = API_PORT,
-                      host: str = "0.0.0.0") -> list[Announcement]:
+                      host: str = "0.0.0.0") -> list[FlexAnnouncement]:
     """The radios heard within ``seconds``; :class:`OSError` when the port cannot be bound."""
     discovery = FlexDiscovery(port=port, host=host)
     await discovery.start()

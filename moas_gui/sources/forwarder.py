@@ -25,7 +25,7 @@ from moas_gui.client.connection import (
     ServerError,
 )
 from moas_gui.client.events import LinkChanged, LinkState
-from moas_gui.net.log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.sources.base import ActiveRadio, FocusRadio, FrequencyReport, event_key
 
 log = logging.getLogger(__name__)

@@ -2,7 +2,7 @@
 
 A logger alternating its transmit focus between two radios would write one Info line a
 change (half a million in 45 s).  :class:`BurstLog` writes the first line of a key at
-once; the lines of that key in the next :data:`~moas_gui.net.log_limit.LOG_INTERVAL`
+once; the lines of that key in the next :data:`~moas_gui.log_limit.LOG_INTERVAL`
 seconds are held and counted, and when the minute ends with some held, the last of them
 is written with the count, so the log still ends on what is true now::
 
@@ -30,7 +30,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Final
 
-from moas_gui.net.log_limit import LOG_INTERVAL, LogLimiter
+from moas_gui.log_limit import LOG_INTERVAL, LogLimiter
 
 __all__ = ["CROWD_LINES", "BurstLog", "CrowdLimiter"]
 
@@ -41,7 +41,7 @@ CROWD_LINES: Final = 10
 class CrowdLimiter:
     """One line a minute per ``(kind, sender)``, at most ``crowd`` a minute per kind.
 
-    :meth:`allow` answers as :meth:`~moas_gui.net.log_limit.LogLimiter.allow` does:
+    :meth:`allow` answers as :meth:`~moas_gui.log_limit.LogLimiter.allow` does:
     ``None`` to stay quiet, else how many lines were left out (of that sender since its
     last line, and of the kind while its share was spent)."""
 

@@ -55,7 +55,7 @@ from dataclasses import dataclass, field
 from typing import Final
 
 from moas_gui.config.model import Config, N1MMStation
-from moas_gui.net.log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.sources.base import (
     ActiveRadio,
     FocusRadio,

@@ -25,7 +25,7 @@ import time
 from collections.abc import Callable, Iterable, Mapping
 from typing import Final
 
-from moas_gui.net.log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.sources.base import BadInputLog
 from moas_gui.sources.log_bursts import BurstLog
 from moas_gui.sources.n1mm_rotor_packet import (

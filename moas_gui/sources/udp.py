@@ -17,7 +17,7 @@ import socket
 import sys
 from typing import Final
 
-from moas_gui.net.log_limit import LogLimiter, held_text
+from moas_gui.log_limit import LogLimiter, held_text
 
 MAX_BURST: Final = 1000
 """Datagrams taken at once behind the one the event loop delivered."""

@@ -21,7 +21,7 @@ import time
 from collections.abc import Callable, Mapping
 from typing import Final
 
-from moas_gui.net.log_limit import LogLimiter
+from moas_gui.log_limit import LogLimiter
 from moas_gui.sources.base import BadInputLog, FrequencyReport, SourceSink
 from moas_gui.sources.udp import DatagramSource
 from moas_gui.sources.wintest_frame import (

@@ -14,7 +14,7 @@ import logging
 import sys
 
 from moas_gui.aio import CleanStop, run_until_stopped
-from moas_gui.net.admission import DEFAULT_PER_ADDRESS
+from moas_gui.edge.admission import DEFAULT_PER_ADDRESS
 from moas_gui.net.server import DEFAULT_PORT, ClientServer
 
 from .fake_backend import FakeBackend

@@ -26,7 +26,7 @@ from typing import Any
 
 from moas_gui.sources.base import Source, SourceHub
 from moas_gui.sources.flex import FlexSource
-from moas_gui.sources.flex_api import API_PORT, Announcement
+from moas_gui.sources.flex_api import API_PORT, FlexAnnouncement
 from moas_gui.sources.flex_discovery import FlexDiscovery
 from moas_gui.sources.forwarder import Forwarder
 from moas_gui.sources.spec import SourceSpec, make_source, parse_spec
@@ -138,7 +138,7 @@ class ClientSources:
         for action in self.flex_actions:
             self.flex_menu.addAction(action)
 
-    def choose_flex(self, radio: Announcement) -> bool:
+    def choose_flex(self, radio: FlexAnnouncement) -> bool:
         """Reads ``radio``: its transmitting slice is radio 1 of the window's station, the
         other slice in use radio 2 when the station has one."""
         one_radio = self.window.radio_box.findText("2") < 0

@@ -13,8 +13,8 @@ import pytest
 from moas_gui.config import load_config
 from moas_gui.config.model import Radio, RadioRef
 from moas_gui.net.antenna_genius import codec
-from moas_gui.net.antenna_genius.codec import Command, CommandReader, Malformed, PortStatus
-from moas_gui.net.antenna_genius.discovery import Announcement, broadcast_targets, parse_target
+from moas_gui.net.antenna_genius.codec import AgCommand, AgMalformed, CommandReader, PortStatus
+from moas_gui.net.antenna_genius.discovery import AgAnnouncement, broadcast_targets, parse_target
 from moas_gui.net.antenna_genius.mapping import (
     BANDS,
     ag_antennas,
@@ -34,19 +34,19 @@ def test_commands_end_with_cr_lf_or_crlf_alike(ending: bytes) -> None:
     stream = b"C1|info get" + ending + b"C2|port get 1" + ending
     # fed a byte at a time, the same commands come out
     out = [item for byte in stream for item in reader.feed(bytes([byte]))]
-    assert out == [Command(1, "info get", ("info", "get")),
-                   Command(2, "port get 1", ("port", "get", "1"))]
+    assert out == [AgCommand(1, "info get", ("info", "get")),
+                   AgCommand(2, "port get 1", ("port", "get", "1"))]
 
 
 def test_a_crlf_split_between_two_reads_is_one_ending_and_blank_lines_are_skipped() -> None:
     reader = CommandReader()
-    assert reader.feed(b"C7|ping\r") == [Command(7, "ping", ("ping",))]
-    assert reader.feed(b"\nC8|ping\n\n\r\n") == [Command(8, "ping", ("ping",))]
+    assert reader.feed(b"C7|ping\r") == [AgCommand(7, "ping", ("ping",))]
+    assert reader.feed(b"\nC8|ping\n\n\r\n") == [AgCommand(8, "ping", ("ping",))]
 
 
 def test_arguments_are_key_value_words_and_words_are_lower_case() -> None:
     item = codec.parse_line("C12|Port SET 2 auto=0 rxant=3 txant=4 band=5")
-    assert isinstance(item, Command)
+    assert isinstance(item, AgCommand)
     assert item.seq == 12 and item.verb == "port set"
     assert item.words == ("port", "set", "2")
     assert item.args == {"auto": "0", "rxant": "3", "txant": "4", "band": "5"}
@@ -57,15 +57,15 @@ def test_arguments_are_key_value_words_and_words_are_lower_case() -> None:
 def test_a_line_that_is_not_a_command_says_why_with_its_sequence_number(line: str,
                                                                          seq: int) -> None:
     item = codec.parse_line(line)
-    assert isinstance(item, Malformed)
+    assert isinstance(item, AgMalformed)
     assert item.seq == seq and "not a command line" in item.reason
 
 
 def test_an_overlong_line_is_one_malformed_item_and_what_follows_is_read() -> None:
     reader = CommandReader()
     out = reader.feed(b"C3|" + b"x" * 2000 + b"\nC4|ping\n")
-    assert isinstance(out[0], Malformed) and out[0].seq == 3
-    assert out[1] == Command(4, "ping", ("ping",))
+    assert isinstance(out[0], AgMalformed) and out[0].seq == 3
+    assert out[1] == AgCommand(4, "ping", ("ping",))
 
 
 def test_replies_lists_and_status_lines_have_the_protocols_shapes() -> None:
@@ -150,7 +150,7 @@ def test_ag_radios_text_and_serials() -> None:
 
 
 def test_discovery_line_and_targets() -> None:
-    text = Announcement(9007, "4.1.0", "AB-CD-EF", "MOAS_x", 2, 4, 12).text("127.0.0.1")
+    text = AgAnnouncement(9007, "4.1.0", "AB-CD-EF", "MOAS_x", 2, 4, 12).text("127.0.0.1")
     assert text == ("AG ip=127.0.0.1 port=9007 v=4.1.0 serial=AB-CD-EF name=MOAS_x ports=2 "
                     "antennas=4 mode=master uptime=12")
     assert broadcast_targets("127.0.0.1") == []

@@ -9,13 +9,15 @@ import asyncio
 import errno
 import logging
 import socket
+from pathlib import Path
 
 import pytest
 
 from moas_gui.clock import FakeClock
 from moas_gui.edge.admission import GRACE, Admission, Deadlines, Refused, Standing, Ticket
+from moas_gui.edge.gate import Door, Gate
 from moas_gui.edge.listener import BACKOFF_MOST, Listener, bind
-from moas_gui.edge.log_limit import LogLimiter
+from moas_gui.log_limit import LogLimiter
 
 
 class Pool:
@@ -201,12 +203,13 @@ async def test_the_accept_loop_backs_off_when_out_of_file_handles(
 
     made: list[asyncio.Protocol] = []
 
-    def protocol() -> asyncio.Protocol:
+    def protocol(_gate: Gate) -> asyncio.Protocol:
         made.append(asyncio.Protocol())
         return made[-1]
 
     caplog.set_level(logging.WARNING, logger="moas_gui.edge")
-    listener = Listener(protocol, sockets, what="test clients", accept=accept, sleep=no_wait)
+    door = Door(Admission(4), protocol, "test client")
+    listener = Listener(door, sockets, what="test clients", accept=accept, sleep=no_wait)
     try:
         with socket.create_connection(("127.0.0.1", port)):
             deadline = loop.time() + 10
@@ -264,3 +267,70 @@ def test_a_connection_whose_secret_is_being_checked_goes_after_every_other() -> 
     pool.later(GRACE)
     pool.admit("127.0.3.20", "after the check")
     assert pool.closed[-1][0] == "checking"
+
+
+@pytest.mark.asyncio
+async def test_the_gate_carries_the_peer_accept_gave_on_the_ticket() -> None:
+    """The peer's address is read once, from ``accept()``: the protocol a door opens and
+    the ticket see the same ``host`` and ``address``, and a refused peer is told why."""
+    seen: list[tuple[str, str, str, str]] = []
+
+    def open_(gate: Gate) -> asyncio.Protocol:
+        assert gate.ticket is not None
+        seen.append((gate.host, gate.address, gate.ticket.host, gate.ticket.address))
+        return asyncio.Protocol()
+
+    door = Door(Admission(4, 1), open_, "test connection",
+                refusal=lambda refused: f"no: {refused.reason}\n".encode())
+    listener = await Listener.open(door, "127.0.0.1", 0)
+    try:
+        kept = socket.create_connection(("127.0.0.1", listener.port),
+                                        source_address=("127.0.0.3", 0))
+        local = kept.getsockname()
+        deadline = asyncio.get_running_loop().time() + 10
+        while not seen and asyncio.get_running_loop().time() < deadline:
+            await asyncio.sleep(0.01)
+        address = f"127.0.0.3:{local[1]}"
+        assert seen == [("127.0.0.3", address, "127.0.0.3", address)]
+        reader, writer = await asyncio.open_connection("127.0.0.1", listener.port,
+                                                       local_addr=("127.0.0.3", 0))
+        told = await asyncio.wait_for(reader.read(), 10)
+        writer.close()
+        assert told.startswith(b"no: ") and b"the most one address may hold" in told
+        kept.close()
+    finally:
+        await listener.close()
+
+
+def test_the_peer_is_read_in_one_place_only() -> None:
+    """No front asks a transport for its peer: the gate did, once (a rule on the source)."""
+    package = Path(__file__).resolve().parents[2] / "moas_gui"
+    readers = sorted(path.relative_to(package).as_posix() for path in package.rglob("*.py")
+                     if '"peername"' in path.read_text(encoding="utf-8"))
+    assert readers == ["edge/gate.py"]
+
+
+def test_a_connection_whose_token_is_being_checked_goes_after_every_other() -> None:
+    """Under a crowd of single connections from many addresses, an operator signing in
+    is greeted and its token checked: it is not the one closed while the check runs,
+    though the idlest (it goes only when nothing else is left), and it is an ordinary
+    candidate again once the check is over."""
+    pool = Pool(3)
+    signing_in = pool.admit("127.0.0.2", "operator")
+    crowd = [pool.admit(f"127.0.3.{n}", f"crowd{n}") for n in (1, 2)]
+    for ticket in (signing_in, *crowd):
+        ticket.greeted()
+    pool.later(1)
+    for ticket in crowd:
+        ticket.touch()  # the operator's connection is the idlest
+    pool.later(1)
+    with signing_in.checking():  # its token is on the secret worker
+        newcomers = [pool.admit("127.0.4.1", "newcomer1")]
+        newcomers[0].greeted()
+        newcomers.append(pool.admit("127.0.4.2", "newcomer2"))
+        newcomers[1].greeted()
+        assert [name for name, _ in pool.closed] == ["crowd1", "crowd2"]
+        assert not signing_in.released
+    pool.later(1)
+    pool.admit("127.0.4.3", "newcomer3")
+    assert [name for name, _ in pool.closed][-1] == "operator"

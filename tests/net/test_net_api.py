@@ -49,7 +49,7 @@ PUBLIC = {
     ],
     "moas_gui.net.connection": [
         "ClientInfo", "Connection", "LayoutKey", "LineTransport", "LineWriter", "clean_name",
-        "cut_slowest", "format_peer",
+        "cut_slowest",
     ],
     "moas_gui.net.client": ["ConnectionClosed", "ProtocolClient"],
     "moas_gui.net.web": ["StaticFile", "WebServer", "page_files", "start_web"],

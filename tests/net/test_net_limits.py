@@ -15,8 +15,8 @@ import pytest
 from helpers import until
 from test_net_server import HOST, dispose, make_rig
 
+from moas_gui.log_limit import LogLimiter
 from moas_gui.net.client import ProtocolClient
-from moas_gui.net.log_limit import LogLimiter
 from moas_gui.net.server import ClientServer
 
 

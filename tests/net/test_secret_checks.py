@@ -24,7 +24,7 @@ from moas_gui.net.client import ProtocolClient
 from moas_gui.net.secrets import (
     ADDRESS_FREE,
     BACKOFF_CAP,
-    Backoff,
+    FailureBackoff,
     SecretGuard,
     SecretWorker,
     budget_key,
@@ -94,13 +94,13 @@ def wrong_secret(token: str, n: int) -> str:
 
 def test_the_back_off_doubles_from_one_second_to_a_minute_and_spares_the_free_budget() -> None:
     assert [delay(n) for n in range(1, 9)] == [1, 2, 4, 8, 16, 32, 60, 60]
-    keys = Backoff()
+    keys = FailureBackoff()
     keys.failed("k", 100.0)
     assert keys.wait("k", 100.0) == 1.0 and keys.wait("k", 101.0) == 0.0
     for _ in range(20):
         keys.failed("k", 200.0)
     assert keys.wait("k", 200.0) == BACKOFF_CAP
-    addresses = Backoff(ADDRESS_FREE)
+    addresses = FailureBackoff(ADDRESS_FREE)
     for _ in range(ADDRESS_FREE):
         addresses.failed("a", 0.0)
     assert addresses.wait("a", 0.0) == 0.0  # the free budget: no wait yet

@@ -28,8 +28,9 @@ ALLOWED: dict[str, set[str]] = {
     "retry": set(),
     "log_repeats": set(),
     "line_framer": set(),
-    "edge": {"clock", "errors"},
-    "loop_watch": {"edge"},
+    "log_limit": set(),
+    "edge": {"clock", "errors", "log_limit"},
+    "loop_watch": {"edge", "log_limit"},
     "operators": {"errors", "files", "places"},
     "tls": {"errors", "files", "places"},
     "antenna_log": {"aio", "clock", "config", "engine", "errors", "files", "places"},
@@ -41,13 +42,14 @@ ALLOWED: dict[str, set[str]] = {
     "builder": {"config", "engine", "errors", "files", "places", "plan"},
     "hw": {"addresses", "aio", "clock", "config", "edge", "engine", "errors", "files",
            "line_framer", "retry", "serial"},
-    "net": {"aio", "antenna_log", "config", "edge", "errors", "hw", "line_framer", "operators", "tls"},
+    "net": {"aio", "antenna_log", "config", "edge", "errors", "hw", "line_framer", "log_limit",
+            "operators", "tls"},
     "rights": {"config", "engine", "net"},
-    "rotator_program": {"clock", "edge", "errors", "hw", "retry", "serial"},
+    "rotator_program": {"clock", "edge", "errors", "hw", "log_limit", "retry", "serial"},
     "engine_backend": {"engine", "errors", "hw", "net", "rights", "status"},
     "source_intake": {"engine", "sources"},
-    "running": {"addresses", "antenna_log", "clock", "config", "engine", "errors", "files", "hw", "net",
-                "operators", "source_intake", "sources", "state_store", "tls"},
+    "running": {"addresses", "antenna_log", "clock", "config", "edge", "engine", "errors", "files", "hw",
+                "net", "operators", "source_intake", "sources", "state_store", "tls"},
     "opening": {"config", "state_store"},
     "antenna_feed": {"antenna_log", "engine", "hw", "running"},
     "switch_events": {"antenna_feed", "engine", "hw", "running", "source_intake"},
@@ -59,8 +61,8 @@ ALLOWED: dict[str, set[str]] = {
     "client": {"addresses", "clock", "errors", "files", "line_framer", "places", "retry",
                "tls"},
     "sources": {"addresses", "aio", "antenna_log", "client", "clock", "config", "engine", "errors", "hw",
-                "line_framer", "net", "retry", "serial"},
-    "single_instance": {"errors"},
+                "line_framer", "log_limit", "retry", "serial"},
+    "single_instance": {"edge", "errors"},
     "desktop": {"files"},
     "service": {"files"},
     "ui": {"addresses", "aio", "antenna_log", "app", "builder", "client", "hw", "log_repeats", "operators", "plan", "sources",
@@ -72,6 +74,13 @@ ALLOWED: dict[str, set[str]] = {
     "testing": {"aio", "clock", "edge", "hw", "net", "ui"},
 }
 """Which packages (or top-level modules) of moas_gui each one may import."""
+
+NEVER: dict[str, set[str]] = {
+    "sources": {"net", "edge"},
+}
+"""Arrows that must stay absent whatever :data:`ALLOWED` says one day: the frequency
+sources are clients of loggers and radios, not listeners of the client protocol (the
+limiter of repeated log lines they share with the listeners is ``moas_gui.log_limit``)."""
 
 NET_MAY_USE_FROM_HW = {"moas_gui.hw.rotators.base", "moas_gui.hw.rotators.headings"}
 """The rotctld listener speaks of rotators; nothing else of hw/ is the client side's business."""
@@ -131,6 +140,13 @@ def test_every_package_of_moas_gui_has_a_rule() -> None:
 def test_each_package_imports_only_what_it_may(package: str) -> None:
     extra = _edges().get(package, set()) - ALLOWED[package]
     assert not extra, f"moas_gui.{package} imports {sorted(extra)}, which it may not"
+
+
+@pytest.mark.parametrize("package", sorted(NEVER))
+def test_the_arrows_that_must_stay_absent_are(package: str) -> None:
+    assert not NEVER[package] & ALLOWED[package], f"ALLOWED lets {package} import {NEVER[package]}"
+    present = _edges().get(package, set()) & NEVER[package]
+    assert not present, f"moas_gui.{package} imports {sorted(present)}"
 
 
 def test_the_packages_import_each_other_without_a_cycle() -> None:

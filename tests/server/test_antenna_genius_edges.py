@@ -24,9 +24,9 @@ from helpers import EXAMPLES, until
 
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.edge.admission import Standing
-from moas_gui.edge.log_limit import LogLimiter
 from moas_gui.engine.operations import SetFrequency
 from moas_gui.hw.moas2.link import LinkTiming
+from moas_gui.log_limit import LogLimiter
 from moas_gui.net.antenna_genius.server import AgServer
 from moas_gui.operators import OperatorBook, Role
 from moas_gui.status import ServerState

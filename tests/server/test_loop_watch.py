@@ -12,8 +12,8 @@ import pytest
 from helpers import EXAMPLES, until
 
 from moas_gui.app import ServerApp, ServerOptions
-from moas_gui.edge.log_limit import LogLimiter
 from moas_gui.hw.moas2.link import LinkTiming
+from moas_gui.log_limit import LogLimiter
 from moas_gui.loop_watch import LoopWatch
 
 FAST = LinkTiming(ping_interval=0.2, answer_timeout=1.0, retry_first=0.1, retry_max=0.5)

@@ -212,6 +212,41 @@ async def test_garbage_and_huge_requests_are_refused_and_the_server_carries_on(
 
 
 @pytest.mark.asyncio
+async def test_a_crowd_of_silent_connections_is_bounded_and_a_hand_over_follows(
+    directory: Path, caplog: pytest.LogCaptureFixture,
+) -> None:
+    """The hand-over socket admits through the program's one door: at most HAND_OVERS
+    connections at once; the next is told why and closed; once the crowd has gone a
+    second launch is served."""
+    server = claim(NAME, directory=directory)
+    assert server is not None
+    opened: list[Path | None] = []
+    await server.start(opened.append)
+    path = str(directory / f"{NAME}.sock")
+    crowd: list[asyncio.StreamWriter] = []
+    try:
+        for _ in range(single_instance.HAND_OVERS):
+            _reader, writer = await asyncio.open_unix_connection(path)
+            crowd.append(writer)
+        reader, writer = await asyncio.open_unix_connection(path)
+        reply = json.loads(await asyncio.wait_for(reader.readline(), 10))
+        writer.close()
+        assert reply["ok"] is False and "the most" in reply["error"], reply
+        for each in crowd:
+            each.close()
+        deadline = time.monotonic() + 30
+        while server.admission.count and time.monotonic() < deadline:
+            await asyncio.sleep(0.01)
+        assert server.admission.count == 0
+        assert await asyncio.to_thread(hand_over, NAME, "/srv/station.moas", directory=directory)
+    finally:
+        server.close()
+    assert opened == [Path("/srv/station.moas")]
+    refused = [r.getMessage() for r in caplog.records if "Refused a hand-over connection" in r.getMessage()]
+    assert len(refused) == 1, refused
+
+
+@pytest.mark.asyncio
 async def test_when_the_running_instance_cannot_open_the_file_the_caller_hears_no(
     directory: Path,
 ) -> None:

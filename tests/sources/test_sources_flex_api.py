@@ -11,14 +11,14 @@ from hypothesis import strategies as st
 from moas_gui.sources.flex_api import (
     OPENING,
     FlexLineError,
+    FlexRadioState,
+    FlexReply,
+    FlexStatus,
     Handle,
     LineSplitter,
     Message,
-    RadioState,
-    Reply,
     Slice,
     SliceMap,
-    Status,
     Version,
     command,
     parse_discovery,
@@ -28,18 +28,18 @@ from moas_gui.sources.flex_api import (
 from moas_gui.testing.flex_radio import discovery_datagram
 
 
-def status(text: str) -> Status:
+def status(text: str) -> FlexStatus:
     line = parse_line(text)
-    assert isinstance(line, Status)
+    assert isinstance(line, FlexStatus)
     return line
 
 
 def test_the_greeting_and_answers_are_read() -> None:
     assert parse_line("V1.4.0.0") == Version("1.4.0.0")
     assert parse_line("H5A1B2C3D") == Handle(0x5A1B2C3D)
-    assert parse_line("R12|0|") == Reply(12, 0, "")
+    assert parse_line("R12|0|") == FlexReply(12, 0, "")
     reply = parse_line("R3|50000016|Malformed command")
-    assert isinstance(reply, Reply) and reply.code == 0x50000016 and not reply.ok
+    assert isinstance(reply, FlexReply) and reply.code == 0x50000016 and not reply.ok
     assert parse_line("M10000001|Client connected") == Message(0x10000001, "Client connected")
 
 
@@ -82,7 +82,7 @@ def test_commands_are_numbered_and_the_opening_changes_nothing() -> None:
 
 
 def test_slices_and_the_interlock_are_followed() -> None:
-    state = RadioState()
+    state = FlexRadioState()
     assert state.apply(status("S1|slice 0 in_use=1 RF_frequency=14.025000 mode=CW tx=1 "
                               "active=1 rxant=ANT1 txant=ANT2 index_letter=A "
                               "client_handle=0x1234ABCD"))
@@ -113,14 +113,14 @@ def test_slices_and_the_interlock_are_followed() -> None:
     ("S1|slice 0 client_handle=0xZZ", "bad_number"),
 ])
 def test_a_slice_status_that_makes_no_sense_is_refused(line: str, reason: str) -> None:
-    state = RadioState()
+    state = FlexRadioState()
     with pytest.raises(FlexLineError) as caught:
         state.apply(status(line))
     assert caught.value.reason == reason
 
 
 def test_other_statuses_change_nothing() -> None:
-    state = RadioState()
+    state = FlexRadioState()
     assert not state.apply(status("S1|radio slices=4 panadapters=4 lineout_gain=60"))
     assert not state.apply(status("S1|transmit freq=14.025 rfpower=100"))
     assert state.slices == {}
@@ -200,11 +200,11 @@ STATUS_WORDS = st.sampled_from(["slice", "0", "7", "15", "99", "interlock", "in_
     lambda words: "S1|" + " ".join(words))), max_size=20))
 def test_any_line_is_read_or_refused_by_name_and_the_state_stays_bounded(
         lines: list[str]) -> None:
-    state = RadioState()
+    state = FlexRadioState()
     for line in lines:
         try:
             parsed = parse_line(line)
-            if isinstance(parsed, Status):
+            if isinstance(parsed, FlexStatus):
                 state.apply(parsed)
         except FlexLineError as exc:
             assert exc.reason

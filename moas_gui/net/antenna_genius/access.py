@@ -35,7 +35,7 @@ from typing import Protocol
 from moas_gui.edge.admission import Admission
 from moas_gui.net.access import allowed_networks, is_allowed, peer_address
 from moas_gui.net.identity import Identity, is_local
-from moas_gui.net.secrets import SecretGuard, Verdict, budget_key
+from moas_gui.net.secrets import SecretGuard, SecretVerdict, budget_key
 
 
 class AgAccess(Protocol):
@@ -47,7 +47,7 @@ class AgAccess(Protocol):
 
     def needs_token(self, host: str) -> bool: ...
 
-    async def check_code(self, code: str, host: str) -> Verdict: ...
+    async def check_code(self, code: str, host: str) -> SecretVerdict: ...
 
     def waiting(self, host: str) -> float: ...
 
@@ -93,7 +93,7 @@ class SimpleAccess:
         from the LAN (other loopback addresses count as the LAN) with ``require_token``."""
         return self.require_token and not is_local(host)
 
-    async def check_code(self, code: str, host: str) -> Verdict:
+    async def check_code(self, code: str, host: str) -> SecretVerdict:
         return await self.guard.check_code(code, host)
 
     def waiting(self, host: str) -> float:

@@ -48,7 +48,7 @@ _COMMAND = re.compile(r"C(\d{1,9})\|(.*)\Z", re.DOTALL)
 
 
 @dataclass(frozen=True, slots=True)
-class Command:
+class AgCommand:
     """One ``C<seq>|...`` line: its sequence number, words and ``key=value`` arguments."""
 
     seq: int
@@ -65,7 +65,7 @@ class Command:
 
 
 @dataclass(frozen=True, slots=True)
-class Malformed:
+class AgMalformed:
     """A line that is not a command: said back with the sequence number when it has one."""
 
     seq: int
@@ -73,12 +73,12 @@ class Malformed:
     reason: str
 
 
-def parse_line(text: str) -> Command | Malformed:
-    """One line without its ending, as a :class:`Command` or why it is not one."""
+def parse_line(text: str) -> AgCommand | AgMalformed:
+    """One line without its ending, as an :class:`AgCommand` or why it is not one."""
     match = _COMMAND.match(text.strip())
     if match is None:
         number = re.match(r"\s*C(\d{1,9})", text)
-        return Malformed(int(number.group(1)) if number else 0,
+        return AgMalformed(int(number.group(1)) if number else 0,
                          f"not a command line (C<seq>|<command>): {text[:40]!r}")
     seq, body = int(match.group(1)), match.group(2)
     words: list[str] = []
@@ -89,7 +89,7 @@ def parse_line(text: str) -> Command | Malformed:
             args[key.lower()] = value
         else:
             words.append(word.lower())
-    return Command(seq, body.strip(), tuple(words), args)
+    return AgCommand(seq, body.strip(), tuple(words), args)
 
 
 class CommandReader:
@@ -98,8 +98,8 @@ class CommandReader:
     def __init__(self, limit: int = LINE_LIMIT) -> None:
         self._framer = LineFramer(limit, LineEnd.CR_OR_LF)
 
-    def feed(self, data: bytes) -> list[Command | Malformed]:
-        out: list[Command | Malformed] = []
+    def feed(self, data: bytes) -> list[AgCommand | AgMalformed]:
+        out: list[AgCommand | AgMalformed] = []
         for item in self._framer.feed(data):
             if isinstance(item, Line):
                 text = item.data.decode("utf-8", "replace")
@@ -108,7 +108,7 @@ class CommandReader:
             else:
                 head = item.head.decode("utf-8", "replace")
                 seq = re.match(r"C(\d{1,9})", head)
-                out.append(Malformed(int(seq.group(1)) if seq else 0,
+                out.append(AgMalformed(int(seq.group(1)) if seq else 0,
                                      f"a line of over {LINE_LIMIT} bytes"))
         return out
 
@@ -182,9 +182,9 @@ __all__ = [
     "OK",
     "REFUSED",
     "UNSUPPORTED",
-    "Command",
+    "AgCommand",
+    "AgMalformed",
     "CommandReader",
-    "Malformed",
     "PortStatus",
     "greeting",
     "list_reply",

@@ -25,7 +25,7 @@ DISCOVERY_PORT = 9007
 
 
 @dataclass(frozen=True, slots=True)
-class Announcement:
+class AgAnnouncement:
     port: int
     firmware: str
     serial: str
@@ -93,7 +93,7 @@ class Announcer:
     """Sends the announcements every ``interval`` seconds while it runs."""
 
     def __init__(self, bind: str, target: tuple[str, int] | None,
-                 announcements: Callable[[], list[Announcement]], interval: float = 1.0) -> None:
+                 announcements: Callable[[], list[AgAnnouncement]], interval: float = 1.0) -> None:
         self.bind, self.target = bind, target
         self.announcements = announcements
         self.interval = interval
@@ -154,4 +154,4 @@ def parse_target(text: str) -> tuple[str, int]:
     raise ValueError(f"{host!r} is not an IP address")
 
 
-__all__ = ["DISCOVERY_PORT", "Announcement", "Announcer", "broadcast_targets", "parse_target"]
+__all__ = ["DISCOVERY_PORT", "AgAnnouncement", "Announcer", "broadcast_targets", "parse_target"]

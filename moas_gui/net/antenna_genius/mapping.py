@@ -29,7 +29,7 @@ PORTS_PER_DEVICE = 2
 
 
 @dataclass(frozen=True, slots=True)
-class Band:
+class AgBand:
     number: int
     name: str
     low_khz: float
@@ -48,23 +48,23 @@ class Band:
                 f"freq_stop={self.high_khz / 1000:.6f}")
 
 
-BANDS: tuple[Band, ...] = (
-    Band(0, "None", 0, 0),
-    Band(1, "160m", 1800, 2000),
-    Band(2, "80m", 3500, 4000),
-    Band(3, "60m", 5250, 5450),
-    Band(4, "40m", 7000, 7300),
-    Band(5, "30m", 10100, 10150),
-    Band(6, "20m", 14000, 14350),
-    Band(7, "17m", 18068, 18168),
-    Band(8, "15m", 21000, 21450),
-    Band(9, "12m", 24890, 24990),
-    Band(10, "10m", 28000, 29700),
-    Band(11, "6m", 50000, 54000),
-    Band(12, "Unused", 0, 0),
-    Band(13, "Unused", 0, 0),
-    Band(14, "Unused", 0, 0),
-    Band(15, "Unused", 0, 0),
+BANDS: tuple[AgBand, ...] = (
+    AgBand(0, "None", 0, 0),
+    AgBand(1, "160m", 1800, 2000),
+    AgBand(2, "80m", 3500, 4000),
+    AgBand(3, "60m", 5250, 5450),
+    AgBand(4, "40m", 7000, 7300),
+    AgBand(5, "30m", 10100, 10150),
+    AgBand(6, "20m", 14000, 14350),
+    AgBand(7, "17m", 18068, 18168),
+    AgBand(8, "15m", 21000, 21450),
+    AgBand(9, "12m", 24890, 24990),
+    AgBand(10, "10m", 28000, 29700),
+    AgBand(11, "6m", 50000, 54000),
+    AgBand(12, "Unused", 0, 0),
+    AgBand(13, "Unused", 0, 0),
+    AgBand(14, "Unused", 0, 0),
+    AgBand(15, "Unused", 0, 0),
 )
 """The 16 AG bands this server defines (index = band number)."""
 
@@ -79,7 +79,7 @@ def band_of(khz: float | None) -> int:
     return 0
 
 
-def _overlaps(span: FrequencyRange, band: Band) -> bool:
+def _overlaps(span: FrequencyRange, band: AgBand) -> bool:
     low = span.lower if span.lower is not None else 0.0
     high = span.upper if span.upper is not None else float("inf")
     return low <= band.high_khz and band.low_khz <= high
@@ -235,7 +235,7 @@ __all__ = [
     "BANDS",
     "PORTS_PER_DEVICE",
     "AgAntenna",
-    "Band",
+    "AgBand",
     "Device",
     "ag_antennas",
     "ag_words",

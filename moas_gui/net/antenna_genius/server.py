@@ -35,18 +35,17 @@ from typing import Protocol
 
 from moas_gui.config import Config
 from moas_gui.config.model import RadioRef
-from moas_gui.edge.admission import checking
+from moas_gui.edge.admission import Ticket, checking
 from moas_gui.edge.gate import gate_factory, ticket_of
 from moas_gui.edge.listener import Listener
-from moas_gui.edge.log_limit import LogLimiter, held_text
 from moas_gui.errors import RequestRefused
-from moas_gui.net.connection import format_peer
+from moas_gui.log_limit import LogLimiter, held_text
 from moas_gui.net.identity import Identity, serving
 
 from . import codec
 from .access import AgAccess, SimpleAccess
-from .codec import Command, CommandReader, Malformed, PortStatus
-from .discovery import Announcement, Announcer
+from .codec import AgCommand, AgMalformed, CommandReader, PortStatus
+from .discovery import AgAnnouncement, Announcer
 from .mapping import (
     BANDS,
     AgAntenna,
@@ -143,8 +142,8 @@ class AgBackend(Protocol):
 class _Session:
     device: _Device
     writer: asyncio.StreamWriter
-    host: str
-    peer: str
+    ticket: Ticket
+    """Its place in the admission, its peer on it (``host``, ``address``)."""
     authed: bool
     started: float
     last: float | None = None
@@ -159,6 +158,14 @@ class _Session:
     """Told when more than :attr:`max_pending` bytes wait for this client (it is then
     aborted): the server's one log line a minute about it."""
     max_pending: int = MAX_PENDING
+
+    @property
+    def host(self) -> str:
+        return self.ticket.host
+
+    @property
+    def peer(self) -> str:
+        return self.ticket.address
 
     def deadline(self, timing: AgTiming) -> float:
         if self.last is None:
@@ -262,7 +269,8 @@ class AgServer:
         try:
             gate = gate_factory(self.access.admission,
                                 lambda r, w: self._serve(served, r, w),
-                                front="Antenna Genius connection")
+                                front="Antenna Genius connection",
+                                who="an Antenna Genius connection")
             served.server = await Listener.open(gate, self.host or None, port,
                                                 what="Antenna Genius connections",
                                                 trouble=self.access.admission.trouble)
@@ -305,8 +313,8 @@ class AgServer:
                                     self.timing.discovery)
         self._announcer.start()
 
-    def _announcements(self) -> list[Announcement]:
-        return [Announcement(d.port, codec.FIRMWARE, d.serial, d.name, len(d.device.radios),
+    def _announcements(self) -> list[AgAnnouncement]:
+        return [AgAnnouncement(d.port, codec.FIRMWARE, d.serial, d.name, len(d.device.radios),
                              len(self.antennas), int(time.monotonic() - self.started))
                 for d in self.devices]
 
@@ -387,26 +395,26 @@ class AgServer:
                      writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
         assert task is not None
-        peer = writer.get_extra_info("peername")
-        host = str(peer[0]) if isinstance(peer, tuple) else str(peer)
+        ticket = ticket_of(writer)
+        host = ticket.host
         loop = asyncio.get_running_loop()
         wait = self.access.waiting(host)
         if wait > 0:
             held = self._refused.allow("locked")
             if held is not None:
                 log.warning("Antenna Genius: refused %s: too many wrong auth codes lately "
-                            "(%.0f s to wait)%s", format_peer(peer), wait, held_text(held))
+                            "(%.0f s to wait)%s", ticket.address, wait, held_text(held))
             writer.close()
             return
         refusal = self.access.allowed(host)
         if refusal is not None:
             self._trouble(logging.WARNING, "not allowed", "Antenna Genius: refused %s: %s",
-                          format_peer(peer), refusal)
+                          ticket.address, refusal)
             writer.close()
             return
         self._tasks.add(task)
         needs = self.access.needs_token(host)
-        session = _Session(served, writer, host, format_peer(peer), not needs, loop.time(),
+        session = _Session(served, writer, ticket, not needs, loop.time(),
                            cut=self._cut, max_pending=self.max_pending)
         session.identity = self.access.identity(host, session.peer, None)
         served.sessions.add(session)
@@ -437,14 +445,13 @@ class AgServer:
             if not data:
                 return
             session.last = loop.time()
-            ticket = ticket_of(session.writer)
-            if ticket is not None:  # a first command greets it: it is no crowd any more
-                ticket.greeted()
-                ticket.touch()
+            # a first command greets it: it is no crowd any more
+            session.ticket.greeted()
+            session.ticket.touch()
             for item in lines.feed(data):
                 if session.closing:
                     break
-                if isinstance(item, Command) and _is_auth(item):  # checked off the loop
+                if isinstance(item, AgCommand) and _is_auth(item):  # checked off the loop
                     session.send(await self._auth(session, item))
                     continue
                 if session.identity is None:
@@ -470,9 +477,9 @@ class AgServer:
                       f"{session.max_pending:,}")
 
     # -- commands --------------------------------------------------------------------------
-    def answer(self, session: _Session, item: Command | Malformed) -> bytes:
+    def answer(self, session: _Session, item: AgCommand | AgMalformed) -> bytes:
         """The bytes that answer one line."""
-        if isinstance(item, Malformed):
+        if isinstance(item, AgMalformed):
             self._trouble(logging.INFO, "malformed", "Antenna Genius: %s sent %s",
                           session.peer, item.reason)
             return codec.reply(item.seq, codec.BAD_COMMAND, item.reason)
@@ -489,13 +496,13 @@ class AgServer:
                                f"{verb} is not supported by this MOAS station")
         return codec.reply(item.seq, codec.BAD_COMMAND, f"unknown command {item.text[:40]}")
 
-    async def _auth(self, session: _Session, item: Command) -> bytes:
+    async def _auth(self, session: _Session, item: AgCommand) -> bytes:
         """Every ``auth`` is checked (an open session's too), through the server's one
         secret check: budgeted per address and per operator (docs/security.md); wrong
         codes are logged there, one line a minute."""
         if session.authed and not self.access.needs_token(session.host):
             return codec.reply(item.seq)
-        with checking(ticket_of(session.writer)):  # its place kept while it waits
+        with checking(session.ticket):  # its place in the admission kept while it waits
             verdict = await self.access.check_code(item.args.get("code", ""), session.host)
         operator = verdict.name
         if operator is None or session.closing:
@@ -511,36 +518,35 @@ class AgServer:
     def _operators_pool(self, session: _Session) -> None:
         """An operator's connection moves to the operators' own capacity, as on the client
         port: no crowd of other addresses can take its place from then on."""
-        ticket = ticket_of(session.writer)
-        if ticket is not None and session.identity is not None and session.identity.is_operator:
-            ticket.operator()  # False when that capacity is full: the admission says so
+        if session.identity is not None and session.identity.is_operator:
+            session.ticket.operator()  # False when that capacity is full: the admission says so
 
-    def _info(self, session: _Session, item: Command) -> bytes:
+    def _info(self, session: _Session, item: AgCommand) -> bytes:
         if item.words[1:2] != ("get",):
             return codec.reply(item.seq, codec.BAD_COMMAND, "info takes get")
         return codec.reply(item.seq, codec.OK, f"info {session.device.info()}")
 
-    def _antenna_list(self, session: _Session, item: Command) -> bytes:
+    def _antenna_list(self, session: _Session, item: AgCommand) -> bytes:
         return codec.list_reply(item.seq, [a.text() for a in self.antennas])
 
-    def _band_list(self, session: _Session, item: Command) -> bytes:
+    def _band_list(self, session: _Session, item: AgCommand) -> bytes:
         return codec.list_reply(item.seq, [b.text() for b in BANDS])
 
-    def _port_number(self, session: _Session, item: Command) -> int | bytes:
+    def _port_number(self, session: _Session, item: AgCommand) -> int | bytes:
         text = item.words[2] if len(item.words) > 2 else ""
         if not text.isdigit() or not 1 <= int(text) <= len(session.device.device.radios):
             return codec.reply(item.seq, codec.BAD_ARGUMENT,
                                f"no port {text or '(none given)'}: ports are 1 and 2")
         return int(text)
 
-    def _port_get(self, session: _Session, item: Command) -> bytes:
+    def _port_get(self, session: _Session, item: AgCommand) -> bytes:
         port = self._port_number(session, item)
         if isinstance(port, bytes):
             return port
         status = self.port_status(session.device.device, port)
         return codec.list_reply(item.seq, [status.text()])
 
-    def _port_set(self, session: _Session, item: Command) -> bytes:
+    def _port_set(self, session: _Session, item: AgCommand) -> bytes:
         port = self._port_number(session, item)
         if isinstance(port, bytes):
             return port
@@ -568,7 +574,7 @@ class AgServer:
             return codec.reply(item.seq, code, said)
         return codec.reply(item.seq)
 
-    def _request(self, session: _Session, item: Command,
+    def _request(self, session: _Session, item: AgCommand,
                  ref: RadioRef) -> PortRequest | str:
         """The :class:`PortRequest` a ``port set``'s arguments ask for, or what is wrong."""
         args = item.args
@@ -597,7 +603,7 @@ class AgServer:
             tx=ids.get(values.get("txant", 0)), rx=ids.get(values.get("rxant", 0)),
             hold_by=f"{who} at {session.host}" if values.get("auto") == 0 else None)
 
-    def _sub(self, session: _Session, item: Command) -> bytes:
+    def _sub(self, session: _Session, item: AgCommand) -> bytes:
         what = item.words[1] if len(item.words) > 1 else ""
         if what == "port":
             session.ports = True
@@ -607,7 +613,7 @@ class AgServer:
             return codec.reply(item.seq, codec.UNSUPPORTED, f"sub {what} is not supported")
         return codec.reply(item.seq)
 
-    def _unsub(self, session: _Session, item: Command) -> bytes:
+    def _unsub(self, session: _Session, item: AgCommand) -> bytes:
         what = item.words[1] if len(item.words) > 1 else ""
         if what in ("", "port", "all"):
             session.ports = False
@@ -615,18 +621,18 @@ class AgServer:
             session.relay = False
         return codec.reply(item.seq)
 
-    def _keepalive(self, session: _Session, item: Command) -> bytes:
+    def _keepalive(self, session: _Session, item: AgCommand) -> bytes:
         setting = item.words[1] if len(item.words) > 1 else ""
         if setting not in ("enable", "disable"):
             return codec.reply(item.seq, codec.BAD_ARGUMENT, "keepalive takes enable or disable")
         session.keepalive = setting == "enable"
         return codec.reply(item.seq)
 
-    def _ping(self, session: _Session, item: Command) -> bytes:
+    def _ping(self, session: _Session, item: AgCommand) -> bytes:
         return codec.reply(item.seq)
 
 
-_Handler = Callable[[AgServer, _Session, Command], bytes]
+_Handler = Callable[[AgServer, _Session, AgCommand], bytes]
 _HANDLERS: dict[str, _Handler] = {
     "info": AgServer._info,
     "info get": AgServer._info,
@@ -641,7 +647,7 @@ _HANDLERS: dict[str, _Handler] = {
 }
 
 
-def _is_auth(item: Command) -> bool:
+def _is_auth(item: AgCommand) -> bool:
     return item.verb == "auth" or item.words[:1] == ("auth",)
 
 

@@ -9,6 +9,6 @@ See ``docs/builder.md``.
 
 from moas_gui.config.model import RadioRef
 
-from .document import NEW_STATION, Document, EditError, Step, backup_of
+from .document import NEW_STATION, Document, EditError, EditStep, backup_of
 
-__all__ = ["NEW_STATION", "Document", "EditError", "RadioRef", "Step", "backup_of"]
+__all__ = ["NEW_STATION", "Document", "EditError", "EditStep", "RadioRef", "backup_of"]

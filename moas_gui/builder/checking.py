@@ -26,7 +26,7 @@ PLAN = "finding"
 
 
 @dataclass(frozen=True, slots=True)
-class Finding:
+class CheckFinding:
     """One thing the checks found: ``text`` is the line ``--check`` prints for it."""
 
     severity: str
@@ -46,17 +46,17 @@ class Checked:
     """The findings of one text (``config``: the configuration, None when it has errors)."""
 
     text: str
-    findings: tuple[Finding, ...]
+    findings: tuple[CheckFinding, ...]
     config: Config | None
     plan_note: str = ""
     """Why the plan's findings are missing (too large to plan in time, or errors)."""
 
     @property
-    def errors(self) -> tuple[Finding, ...]:
+    def errors(self) -> tuple[CheckFinding, ...]:
         return tuple(f for f in self.findings if f.is_error)
 
     @property
-    def warnings(self) -> tuple[Finding, ...]:
+    def warnings(self) -> tuple[CheckFinding, ...]:
         return tuple(f for f in self.findings if f.severity == Severity.WARNING.value)
 
 
@@ -70,7 +70,7 @@ def check_text(text: str, filename: str = "<config>", *, root: Node | None = Non
     if root is None:
         root, _ = parse(text, filename)
     places = PlaceIndex(root)
-    findings = [Finding(p.severity.value, p.message, p.line, p.column,
+    findings = [CheckFinding(p.severity.value, p.message, p.line, p.column,
                         places.path_at(p.line, p.column), str(p)) for p in result.problems]
     note = ""
     if plan_seconds > 0 and result.config is not None:
@@ -80,7 +80,7 @@ def check_text(text: str, filename: str = "<config>", *, root: Node | None = Non
 
 
 def _plan_findings(config: Config, text: str, filename: str, places: PlaceIndex,
-                   seconds: float) -> tuple[list[Finding], str]:
+                   seconds: float) -> tuple[list[CheckFinding], str]:
     from moas_gui.engine import EngineError
     from moas_gui.plan import PlanTooLong, build_plan, deadline_after
 
@@ -94,9 +94,9 @@ def _plan_findings(config: Config, text: str, filename: str, places: PlaceIndex,
     out = []
     for finding in plan.findings:
         where = f"{filename}:{finding.line}" if finding.line else filename
-        out.append(Finding(PLAN, finding.text, finding.line, 0,
+        out.append(CheckFinding(PLAN, finding.text, finding.line, 0,
                            places.path_on_line(finding.line), f"{where}: {finding.text}"))
     return out, ""
 
 
-__all__ = ["PLAN", "Checked", "Finding", "check_text"]
+__all__ = ["PLAN", "CheckFinding", "Checked", "check_text"]

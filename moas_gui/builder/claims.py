@@ -17,6 +17,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from moas_gui.errors import MoasError
 from moas_gui.files import write_atomic
 from moas_gui.places import state_dir
 
@@ -34,7 +35,7 @@ class Claim:
         return f'the builder window "{self.window}" ({here}, since {when})'
 
 
-class FileClaimed(Exception):
+class FileClaimed(MoasError):
     """The file is open in another builder window (``claim`` says which)."""
 
     def __init__(self, claim: Claim) -> None:

@@ -7,7 +7,7 @@ Nothing is ever written out afresh from a model, so the user's order, spacing, l
 ends, unknown names and everything the builder does not touch stay as they were: an
 unchanged file saves to the same bytes, and one edit changes the lines of that value.
 
-Every edit is one :class:`Step` of splices, so undo and redo are exact; a
+Every edit is one :class:`EditStep` of splices, so undo and redo are exact; a
 :meth:`Document.transaction` makes several edits one step.  Saving is atomic
 (:func:`moas_gui.files.write_atomic`) and keeps the previous file as ``FILE.moas.bak``.
 """
@@ -25,6 +25,7 @@ from pathlib import Path as FilePath
 from moas_gui.config.jsontree import JArray, JObject, Node, parse
 from moas_gui.config.loader import MAX_BYTES
 from moas_gui.config.problems import Problem
+from moas_gui.errors import MoasError
 from moas_gui.files import write_atomic
 
 from .spans import LineStarts, Path, find, plain, value_end
@@ -33,7 +34,7 @@ NEW_STATION = "{\n}\n"
 """The text of a station that has nothing yet (the guide fills it)."""
 
 
-class EditError(ValueError):
+class EditError(MoasError, ValueError):
     """An edit that cannot be made (a place that is not there, a file that cannot be read)."""
 
 
@@ -47,7 +48,7 @@ class Splice:
 
 
 @dataclass(frozen=True, slots=True)
-class Step:
+class EditStep:
     """One edit as the user sees it (undone and redone whole)."""
 
     what: str
@@ -121,8 +122,8 @@ class Document:
         self.text = text
         self.saved: str | None = text if saved is None else saved
         """The text as it is on disk (None: not saved yet)."""
-        self.undo_steps: list[Step] = []
-        self.redo_steps: list[Step] = []
+        self.undo_steps: list[EditStep] = []
+        self.redo_steps: list[EditStep] = []
         self.listeners: list[Callable[[Document], None]] = []
         """Called after every change of the text (an edit, undo, redo, a save)."""
         self.saves = 0
@@ -366,16 +367,16 @@ class Document:
             raise
         done, self._open = self._open, None
         if done:
-            self._record(Step(what, tuple(done)))
+            self._record(EditStep(what, tuple(done)))
 
     def _splice(self, splice: Splice, what: str) -> None:
         self._apply(splice)
         if self._open is not None:
             self._open.append(splice)
             return
-        self._record(Step(what, (splice,)))
+        self._record(EditStep(what, (splice,)))
 
-    def _record(self, step: Step) -> None:
+    def _record(self, step: EditStep) -> None:
         self.undo_steps.append(step)
         self.redo_steps.clear()
         self._changed()
@@ -510,5 +511,15 @@ def _shown(path: Path) -> str:
 
 shown = _shown
 
-__all__ = ["NEW_STATION", "Document", "EditError", "Splice", "Step", "Style", "backup_of",
-           "render", "shown", "wants_lines"]
+__all__ = [
+    "NEW_STATION",
+    "Document",
+    "EditError",
+    "EditStep",
+    "Splice",
+    "Style",
+    "backup_of",
+    "render",
+    "shown",
+    "wants_lines",
+]

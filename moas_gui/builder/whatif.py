@@ -17,9 +17,10 @@ from typing import Any
 from moas_gui.config.model import Config, RadioRef
 from moas_gui.engine import Engine, EngineError, RadioView
 from moas_gui.engine.index import RadioKind
+from moas_gui.errors import MoasError
 
 
-class WhatIfError(ValueError):
+class WhatIfError(MoasError, ValueError):
     """A question the draft cannot answer (a radio that is not in it, a frequency below 0)."""
 
 

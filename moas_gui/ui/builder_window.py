@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from moas_gui.builder import Document, EditError
-from moas_gui.builder.checking import Checked, Finding, check_text
+from moas_gui.builder.checking import Checked, CheckFinding, check_text
 from moas_gui.builder.claims import FileClaimed, claim, release
 from moas_gui.builder.fields import LISTS, MISCELLANEOUS, ListSpec, list_for
 from moas_gui.builder.spans import Path as ValuePath
@@ -275,7 +275,7 @@ class BuilderWindow(QMainWindow):
 
     def _finding_chosen(self, item: QListWidgetItem) -> None:
         finding = item.data(Qt.ItemDataRole.UserRole)
-        if isinstance(finding, Finding):
+        if isinstance(finding, CheckFinding):
             self.show_field(finding.path)
 
     def show_field(self, path: ValuePath) -> QWidget | None:

@@ -21,10 +21,6 @@ MIRRORS = {
 """Classes that may share their name with one elsewhere: the client's copies."""
 
 KNOWN: dict[str, set[str]] = {
-    # The switch layer's plan (a CommandPlan by another name) beside the station plan
-    # (moas_gui/plan/); issue 41's work on the switch session renames it.  Remove this
-    # line once it has: the test then holds it.
-    "hw/moas2/plan.py": {"Plan"},
 }
 """Duplicates known and being removed elsewhere, by file."""
 

@@ -26,11 +26,13 @@ from moas_gui.cli.antenna_log import export_antenna_log
 from moas_gui.cli.antenna_log import wants_export as wants_antenna_log_export
 from moas_gui.cli.builder import add_arguments as add_builder_arguments
 from moas_gui.cli.builder import builder_command, wants_builder
+from moas_gui.cli.builder_restart import RESTART_COMMAND, Restart, restart_request
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
 if TYPE_CHECKING:  # loaded only by the commands that serve (--check and --plan stay quick)
-    from moas_gui.app import ServerOptions
+    from moas_gui.app import ServerApp, ServerOptions
+    from moas_gui.config import LoadResult
     from moas_gui.single_instance import InstanceServer
     from moas_gui.sources.spec import SourceSpec
     from moas_gui.status import ServerStatus
@@ -618,6 +620,17 @@ def _end_operator(app: RunningServer, name: object) -> str:
     return f"{ended} session{'s' if ended != 1 else ''} of operator {name} ended"
 
 
+def _headless_restart(app: ServerApp) -> Restart:
+    """The headless server's File > Restart for the builder: the running file is
+    restarted (``app.restart``), another one opened; either is checked first."""
+    async def restart(path: Path) -> LoadResult | None:
+        running = app.path
+        if running is not None and running.resolve() == path.resolve():
+            return await app.restart()
+        return await app.open(path)
+    return restart
+
+
 async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | None) -> int:
     from moas_gui.app import ServerApp
     app = ServerApp(_options(args))
@@ -628,7 +641,9 @@ async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | N
     with CleanStop(stop.set):
         if instance is not None:
             await instance.start(
-                lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True))
+                lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True),
+                {RESTART_COMMAND: lambda launch: restart_request(app, launch,
+                                                                 _headless_restart(app))})
         log.info("Serving %s; stop with Ctrl+C", args.file)
         await stop.wait()
         log.info("Stopping; the relays keep their state")
@@ -707,7 +722,9 @@ def _run_window(args: argparse.Namespace, instance: InstanceServer | None) -> in
             if instance is not None:
                 await instance.start(
                     window.take_hand_over,
-                    lambda path, launch: vet_launch(app, launch, headless=False))
+                    lambda path, launch: vet_launch(app, launch, headless=False),
+                    {RESTART_COMMAND: lambda launch: restart_request(app, launch,
+                                                                     window.restart_file)})
             from moas_gui.ui.control_hook import start_if_asked
 
             hook = await start_if_asked(window)

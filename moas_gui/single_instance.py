@@ -491,7 +491,14 @@ def command(name: str = DEFAULT_NAME, launch: dict[str, object] | None = None, *
     name = _safe_name(name)
     directory = directory or instance_dir()
     transport = transport or default_transport()
-    if not _someone_holds(directory / f"{name}.lock"):
+    if not (directory / f"{name}.lock").exists():
+        return HandOver(taken=False, running=False)
+    try:
+        _prepare(directory)  # this user's own directory, nobody else's
+        running = _someone_holds(directory / f"{name}.lock")
+    except OSError as exc:
+        return HandOver(taken=False, trouble=str(exc))
+    if not running:
         return HandOver(taken=False, running=False)
     request: dict[str, object] = {"open": None, "launch": launch or {}}
     try:

@@ -8,6 +8,8 @@ transmits: while a station is keyed and the operator has not confirmed it by nam
 refuses and names who does (``keyed``); the builder asks, and only a *Yes* sends the
 request again with those names (``confirmed``).  A file other than the one it runs is
 refused the same way (``running``) until the operator confirms the change of file.
+Before the first request the builder *looks* (what the server runs, who transmits),
+which changes nothing, so that a *No* to its question sends no request at all.
 """
 
 from __future__ import annotations
@@ -35,12 +37,16 @@ class Answer:
     keyed: tuple[str, ...] = ()
     """Who transmits now, as the server names them (when it refused because of them)."""
     running: str | None = None
-    """The file the server runs, when it refused because it is another one."""
+    """The file the server runs, when it refused because it is another one (or, for a
+    look, when it is another one)."""
+    looked: bool = False
+    """The answer to a look (what runs, who transmits), not to a restart."""
 
     @property
     def asks(self) -> bool:
         """Whether the operator must be asked before the request is sent again."""
-        return not self.restarted and (bool(self.keyed) or self.running is not None)
+        return self.reached and not self.restarted and (bool(self.keyed)
+                                                         or self.running is not None)
 
 
 def question(path: Path, answer: Answer) -> tuple[str, str]:

@@ -2,9 +2,12 @@
 both ends of the request, over the single-instance channel (moas_gui/single_instance.py,
 with its checks: the same user only; on Windows the token only that user can read).
 
-The builder's side, :func:`ask_to_restart`, sends ``{"command": "restart", "file": ...,
-"confirmed": [who the operator agreed may be transmitting], "replace": bool}`` once and
-reads the answer into a :class:`moas_gui.builder.apply.Answer`.
+The builder's side, :func:`ask_to_restart`, first *looks* (``{"command": "station"}``:
+the file the server runs and who transmits, which changes nothing), so the builder can
+ask the operator before anything is sent that acts; then it sends ``{"command":
+"restart", "file": ..., "confirmed": [who the operator agreed may be transmitting],
+"replace": bool}`` once.  Each answer is read into a
+:class:`moas_gui.builder.apply.Answer`.
 
 The server's side, :func:`restart_request`, is registered as the ``"restart"`` command
 by the headless server and the window server.  Right before it restarts it looks at who
@@ -30,6 +33,7 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 RESTART_COMMAND = "restart"
+STATION_COMMAND = "station"
 RESTART_TIMEOUT = 60.0
 """Seconds the builder waits for the server's answer (opening a station's ports and
 loggers takes a moment; a keyed or refused request answers at once)."""
@@ -50,6 +54,15 @@ class Restartable(Protocol):
 
 def _same(one: Path | None, other: Path) -> bool:
     return one is not None and one.resolve() == other.resolve()
+
+
+async def station_request(app: Restartable, _launch: dict[str, object]) -> dict[str, object]:
+    """The running server's answer to the builder's ``"station"``: what it runs and who
+    transmits (nothing changes)."""
+    running = app.path
+    return {"ok": True, "done": f"runs {running.name if running else 'no configuration'}",
+            "running": str(running) if running is not None else None,
+            "keyed": app.keyed_radios()}
 
 
 async def restart_request(app: Restartable, launch: dict[str, object],
@@ -97,15 +110,21 @@ def _refusal(path: Path, running: Path | None, result: LoadResult | None) -> str
             f"was not restarted: {carries}. {shown}{more}")
 
 
-def ask_to_restart(path: Path, confirmed: Sequence[str] = (), replace: bool = False, *,
-                   timeout: float = RESTART_TIMEOUT) -> Answer:
+def ask_to_restart(path: Path, confirmed: Sequence[str] | None = None, replace: bool = False,
+                   *, timeout: float = RESTART_TIMEOUT) -> Answer:
     """Ask the running server (this user's, through the single-instance channel) to
-    restart on ``path``; blocks (the builder calls it off its window's thread)."""
+    restart on ``path`` (``confirmed``: who the operator agreed may transmit; ``replace``:
+    the operator agreed to a file other than the running one); ``confirmed`` None only
+    looks (:func:`station_request`).  Blocks: the builder calls it off its window's
+    thread."""
     from moas_gui.single_instance import command
 
-    reply = command(launch={"command": RESTART_COMMAND, "file": str(path.resolve()),
-                            "confirmed": list(confirmed), "replace": replace},
-                    timeout=timeout)
+    if confirmed is None:
+        reply = command(launch={"command": STATION_COMMAND}, timeout=timeout)
+    else:
+        reply = command(launch={"command": RESTART_COMMAND, "file": str(path.resolve()),
+                                "confirmed": list(confirmed), "replace": replace},
+                        timeout=timeout)
     if not reply.running:
         return Answer(False, NOT_REACHABLE, reached=False)
     if reply.trouble is not None:
@@ -113,14 +132,19 @@ def ask_to_restart(path: Path, confirmed: Sequence[str] = (), replace: bool = Fa
                              "nothing was restarted from here. A server started with "
                              "--new-instance takes no requests from the builder.",
                       reached=False)
-    if reply.taken:
-        return Answer(True, f"The running server {reply.done or 'restarted'}.")
     keyed = reply.answer.get("keyed")
     running = reply.answer.get("running")
-    return Answer(False, f"The running server refused: {reply.refusal}",
-                  keyed=tuple(str(k) for k in keyed) if isinstance(keyed, list) else (),
+    who = tuple(str(k) for k in keyed) if isinstance(keyed, list) else ()
+    if confirmed is None:
+        other = (str(running) if isinstance(running, str)
+                 and Path(running).resolve() != path.resolve() else None)
+        return Answer(False, f"The running server {reply.done or reply.refusal}.",
+                      keyed=who, running=other, looked=True)
+    if reply.taken:
+        return Answer(True, f"The running server {reply.done or 'restarted'}.")
+    return Answer(False, f"The running server refused: {reply.refusal}", keyed=who,
                   running=str(running) if isinstance(running, str) else None)
 
 
-__all__ = ["RESTART_COMMAND", "RESTART_TIMEOUT", "Restartable", "ask_to_restart",
-           "restart_request"]
+__all__ = ["RESTART_COMMAND", "RESTART_TIMEOUT", "STATION_COMMAND", "Restartable",
+           "ask_to_restart", "restart_request", "station_request"]

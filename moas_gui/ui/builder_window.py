@@ -107,9 +107,10 @@ class ListPage(Page):
         return widget
 
 
-AskServer = Callable[[Path, tuple[str, ...], bool], Answer]
+AskServer = Callable[[Path, tuple[str, ...] | None, bool], Answer]
 """``ask(path, confirmed, replace)``: the running server's answer to a restart on ``path``
-(blocking: called off the window's thread)."""
+(``confirmed`` None: only a look at what it runs and who transmits); blocking, so called
+off the window's thread."""
 
 
 class BuilderWindow(QMainWindow):
@@ -124,7 +125,8 @@ class BuilderWindow(QMainWindow):
         self.apply = apply
         self.ask_server = ask_server
         self.server_answer: Answer | None = None
-        """The running server's last answer to Save and Restart (from another process)."""
+        """The running server's last final answer to Save and Restart from another process
+        (restarted, refused, not reached, or the operator's No)."""
         self.server_worker = Worker(self)
         self.checked: Checked | None = None
         self.dialog: QWidget | None = None
@@ -399,14 +401,17 @@ class BuilderWindow(QMainWindow):
         else:
             self.say("No server runs in this window: start it on the file to use it")
 
-    def restart_on_server(self, path: Path, confirmed: tuple[str, ...] = (),
+    def restart_on_server(self, path: Path, confirmed: tuple[str, ...] | None = None,
                           replace: bool = False) -> None:
         """Ask the server running in another process to restart on ``path`` (off the
-        window's thread); its answer is said, or asked about (:meth:`_server_answered`)."""
+        window's thread): first a look (``confirmed`` None) at what it runs and who
+        transmits, asked about when someone does or it runs another file; then the
+        restart itself.  Its answer is said, or asked about (:meth:`_server_answered`)."""
         ask = self.ask_server
         if ask is None:
             return
-        self.say(f"Asking the running moas-server to restart on {path.name}...")
+        self.say(f"Asking the running moas-server to restart on {path.name}..."
+                 if confirmed is not None else "Looking for the running moas-server...")
         self.server_worker.run(lambda: ask(path, confirmed, replace),
                                lambda answer: self._server_answered(path, answer, replace))
 
@@ -414,13 +419,16 @@ class BuilderWindow(QMainWindow):
         if isinstance(answer, Exception):
             answer = Answer(False, f"Could not ask the running moas-server: {answer}",
                             reached=False)
-        self.server_answer = answer
+        if answer.looked and not answer.asks and answer.reached:
+            self.restart_on_server(path, (), replace)  # nobody transmits: the restart itself
+            return
         if answer.asks:
             title, text = question(path, answer)
             again = replace or answer.running is not None
             self.ask(title, text, lambda yes: self.restart_on_server(path, answer.keyed, again)
                      if yes else self._not_asked(path))
             return
+        self.server_answer = answer
         log.info("Station builder: %s", answer.said)
         self.say(answer.said)
         if not answer.restarted:

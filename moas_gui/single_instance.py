@@ -94,7 +94,7 @@ class HandOver:
     """False when no instance runs at all."""
     done: str | None = None
     """What the running instance did for a command (``launch`` with ``"command"``)."""
-    answer: Mapping[str, object] = field(default_factory=dict)
+    answer: Mapping[str, object] = field(default_factory=dict, compare=False)
     """The whole reply (a command's handler may tell more than ``done`` or ``error``)."""
     trouble: str | None = None
     """Why nothing was heard from a running instance (a refused or dropped connection)."""

@@ -285,3 +285,63 @@ def test_a_server_started_with_new_instance_is_not_reachable_and_the_builder_say
         release(station)
     finally:
         end(server)
+
+
+def test_the_window_server_restarts_on_the_builder_s_file_and_on_another_after_asking(
+        qtbot: Any, tmp_path: Path, runtime_dir: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The server with its window (offscreen), reached the same way: File > Restart's path
+    for its own file, File > Open's for another (asked about in the builder first)."""
+    private = private_environment(tmp_path, runtime_dir)
+    for name, value in private.items():
+        monkeypatch.setenv(name, value)
+    env = dict(os.environ, **private, PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen")
+    station, other = tmp_path / "station.moas", tmp_path / "other.moas"
+    station.write_bytes((EXAMPLES / "small-station.moas").read_bytes())
+    other.write_bytes((EXAMPLES / "small-station.moas").read_bytes())
+    tcp = free_port()
+    log = tmp_path / "server.log"
+    with log.open("wb") as out:
+        server = subprocess.Popen(
+            [sys.executable, "-m", "moas_gui.cli.server", str(station), "--bind", "127.0.0.1",
+             "--tcp-port", str(tcp), "--udp-port", "0", "--no-rotator-program"],
+            env=env, stderr=out, stdout=subprocess.DEVNULL)
+    windows: list[BuilderWindow] = []
+    try:
+        wait_for(lambda: first_antenna(tcp) == "station.moas:Tribander", 60, "the server")
+        for path, short in ((station, "Yagi"), (other, "Quad")):
+            tune(tcp)
+            wait_for(lambda: keyed(station) == (), 60, "nobody transmitting")
+            window = open_builder(path, None, lambda _reason: None, ask_to_restart)
+            assert window is not None
+            windows.append(window)
+            answers = Answers()
+            window.ask, window.show_diff = answers.ask, answers.diff
+            window.doc.set(("Antennas", 0, "ShortName"), short)
+            answers.answers += [True] if path == station else [True, True]  # the diff; Yes
+            answer = restart(qtbot, window)
+            assert answer.restarted, answer.said
+            assert first_antenna(tcp) == f"{path.name}:{short}"
+        assert answers.questions[0].startswith("Restart on another file?: The running server "
+                                               f"runs {station}, not {other}.")
+        assert answer.said == ("The running server restarted on other.moas "
+                               "(it ran station.moas).")
+        # broken on disk: the window server's own check refuses it and carries on
+        window = windows[-1]
+        tune(tcp)
+        wait_for(lambda: keyed(other) == (), 60, "nobody transmitting")
+        other.write_text(other.read_text().replace('"Rotator": 1,', '"Rotator": 7,', 1))
+        window.server_answer = None
+        window.restart_on_server(other)
+        qtbot.waitUntil(lambda: window.server_answer is not None, timeout=90_000)
+        assert window.server_answer is not None and not window.server_answer.restarted
+        assert "other.moas has 1 error, so it was not restarted: other.moas carries on " \
+            "unchanged" in window.server_answer.said
+        assert first_antenna(tcp) == "other.moas:Quad"
+        assert server.poll() is None, log.read_text()
+    finally:
+        for window in windows:
+            window.closing_confirmed = True
+            window.close()
+            if window.doc.path is not None:
+                release(window.doc.path)
+        end(server)

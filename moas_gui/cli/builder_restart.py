@@ -56,21 +56,38 @@ def _same(one: Path | None, other: Path) -> bool:
     return one is not None and one.resolve() == other.resolve()
 
 
-async def station_request(app: Restartable, _launch: dict[str, object]) -> dict[str, object]:
-    """The running server's answer to the builder's ``"station"``: what it runs and who
-    transmits (nothing changes)."""
+def _only_its_own(running: Path | None, target: object) -> str | None:
+    """Why a server that restarts only on its own file (headless) refuses ``target``."""
+    if running is None or not isinstance(target, str) or _same(running, Path(target)):
+        return None
+    return (f"it runs {running.name} headless and restarts only on that file, not on "
+            f"{Path(target).name}; stop it (or its service) to run another file")
+
+
+async def station_request(app: Restartable, launch: dict[str, object], *,
+                          other_files: bool = True) -> dict[str, object]:
+    """The running server's answer to the builder's ``"station"`` (with the ``"file"`` the
+    builder has): what it runs and who transmits (nothing changes); refused at once when
+    it takes no other file (``other_files`` False: headless) and that one is another."""
     running = app.path
+    refusal = None if other_files else _only_its_own(running, launch.get("file"))
+    if refusal is not None:
+        return {"ok": False, "error": refusal}
     return {"ok": True, "done": f"runs {running.name if running else 'no configuration'}",
             "running": str(running) if running is not None else None,
             "keyed": app.keyed_radios()}
 
 
-async def restart_request(app: Restartable, launch: dict[str, object],
-                          restart: Restart) -> dict[str, object]:
-    """The running server's answer to the builder's ``"restart"`` (see the module)."""
+async def restart_request(app: Restartable, launch: dict[str, object], restart: Restart,
+                          *, other_files: bool = True) -> dict[str, object]:
+    """The running server's answer to the builder's ``"restart"`` (see the module);
+    ``other_files`` False (headless): only its own file."""
     target = launch.get("file")
     if not isinstance(target, str) or not target or "\0" in target:
         return {"ok": False, "error": f"'file' must be a path, not {target!r:.60}"}
+    refusal = None if other_files else _only_its_own(app.path, target)
+    if refusal is not None:
+        return {"ok": False, "error": refusal}
     path = Path(target)
     confirmed = launch.get("confirmed")
     agreed = {str(name) for name in confirmed} if isinstance(confirmed, list) else set()
@@ -120,7 +137,8 @@ def ask_to_restart(path: Path, confirmed: Sequence[str] | None = None, replace: 
     from moas_gui.single_instance import command
 
     if confirmed is None:
-        reply = command(launch={"command": STATION_COMMAND}, timeout=timeout)
+        reply = command(launch={"command": STATION_COMMAND, "file": str(path.resolve())},
+                        timeout=timeout)
     else:
         reply = command(launch={"command": RESTART_COMMAND, "file": str(path.resolve()),
                                 "confirmed": list(confirmed), "replace": replace},
@@ -135,6 +153,8 @@ def ask_to_restart(path: Path, confirmed: Sequence[str] | None = None, replace: 
     keyed = reply.answer.get("keyed")
     running = reply.answer.get("running")
     who = tuple(str(k) for k in keyed) if isinstance(keyed, list) else ()
+    if confirmed is None and not reply.taken:
+        return Answer(False, f"The running server refused: {reply.refusal}")
     if confirmed is None:
         other = (str(running) if isinstance(running, str)
                  and Path(running).resolve() != path.resolve() else None)

@@ -29,7 +29,6 @@ from moas_gui.cli.builder import builder_command, wants_builder
 from moas_gui.cli.builder_restart import (
     RESTART_COMMAND,
     STATION_COMMAND,
-    Restart,
     restart_request,
     station_request,
 )
@@ -37,8 +36,7 @@ from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
 if TYPE_CHECKING:  # loaded only by the commands that serve (--check and --plan stay quick)
-    from moas_gui.app import ServerApp, ServerOptions
-    from moas_gui.config import LoadResult
+    from moas_gui.app import ServerOptions
     from moas_gui.single_instance import InstanceServer
     from moas_gui.sources.spec import SourceSpec
     from moas_gui.status import ServerStatus
@@ -626,17 +624,6 @@ def _end_operator(app: RunningServer, name: object) -> str:
     return f"{ended} session{'s' if ended != 1 else ''} of operator {name} ended"
 
 
-def _headless_restart(app: ServerApp) -> Restart:
-    """The headless server's File > Restart for the builder: the running file is
-    restarted (``app.restart``), another one opened; either is checked first."""
-    async def restart(path: Path) -> LoadResult | None:
-        running = app.path
-        if running is not None and running.resolve() == path.resolve():
-            return await app.restart()
-        return await app.open(path)
-    return restart
-
-
 async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | None) -> int:
     from moas_gui.app import ServerApp
     app = ServerApp(_options(args))
@@ -648,9 +635,10 @@ async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | N
         if instance is not None:
             await instance.start(
                 lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True),
-                {RESTART_COMMAND: lambda launch: restart_request(app, launch,
-                                                                 _headless_restart(app)),
-                 STATION_COMMAND: lambda launch: station_request(app, launch)})
+                {RESTART_COMMAND: lambda launch: restart_request(
+                    app, launch, lambda _path: app.restart(), other_files=False),
+                 STATION_COMMAND: lambda launch: station_request(app, launch,
+                                                                 other_files=False)})
         log.info("Serving %s; stop with Ctrl+C", args.file)
         await stop.wait()
         log.info("Stopping; the relays keep their state")

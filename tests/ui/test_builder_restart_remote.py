@@ -222,6 +222,20 @@ def test_save_and_restart_reaches_the_running_server_and_a_broken_file_is_refuse
     assert first_antenna(rig.tcp) == "station.moas:Yagi"
     rig.station.write_text(good)
 
+    # a headless server (a service) restarts only on its own file: another is refused
+    # at the look, before anything is asked or sent
+    other = rig.station.with_name("other.moas")
+    other.write_text(good)
+    window.server_answer = None
+    window.restart_on_server(other)
+    qtbot.waitUntil(lambda: window.server_answer is not None, timeout=90_000)
+    assert window.server_answer is not None and not window.server_answer.restarted
+    assert window.server_answer.said == (
+        "The running server refused: it runs station.moas headless and restarts only on "
+        "that file, not on other.moas; stop it (or its service) to run another file")
+    assert answers.questions == [] and first_antenna(rig.tcp) == "station.moas:Yagi"
+    assert rig.said("The station builder asked to restart on") == 2
+
 
 def test_while_a_station_transmits_it_asks_first_naming_it_and_no_sends_nothing(
         qtbot: Any, rig: Rig, builder: tuple[BuilderWindow, Answers]) -> None:

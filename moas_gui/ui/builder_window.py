@@ -546,9 +546,14 @@ def run_builder(path: str, ask_server: AskServer | None = None) -> int:
         return 1
 
     async def until_closed() -> int:
+        from .control_hook import start_if_asked
+
         closed = asyncio.Event()
         window.destroyed.connect(lambda *_: closed.set())
+        hook = await start_if_asked(window)  # a test's hands, when one names them
         await closed.wait()
+        if hook is not None:
+            await hook.close()
         return 0
 
     with loop:

@@ -359,3 +359,37 @@ def test_the_window_server_restarts_on_the_builder_s_file_and_on_another_after_a
             if window.doc.path is not None:
                 release(window.doc.path)
         end(server)
+
+
+def edit(rig: Rig, short: str, answers: str) -> tuple[list[str], str]:
+    """``moas-server --edit`` as a process of its own, its hands the test's hook: the
+    questions it asked and the server's answer it said."""
+    here = str(Path(__file__).resolve().parent)
+    env = dict(rig.env, MOAS_GUI_CONTROL_HOOK="builder_edit_hook", BUILDER_HOOK_SHORT=short,
+               BUILDER_HOOK_ANSWERS=answers,
+               PYTHONPATH=os.pathsep.join([here, rig.env.get("PYTHONPATH", "")]))
+    done = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--edit",
+                           str(rig.station)], env=env, capture_output=True, text=True,
+                          timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    questions = [json.loads(line.split(" ", 1)[1]) for line in lines
+                 if line.startswith("QUESTION ")]
+    said = [json.loads(line.split(" ", 1)[1]) for line in lines if line.startswith("ANSWER ")]
+    assert len(said) == 1, done.stdout + done.stderr
+    return questions, said[0]
+
+
+def test_moas_server_edit_as_a_process_restarts_the_running_server(rig: Rig) -> None:
+    questions, said = edit(rig, "Yagi", "")
+    assert said == "The running server restarted on station.moas." and questions == []
+    assert first_antenna(rig.tcp) == "station.moas:Yagi"
+    tune(rig.tcp)
+    rig.key(True)
+    wait_for(lambda: keyed(rig.station) == (KEYED,), 60, "the server to see station 1 keyed")
+    questions, said = edit(rig, "Beam", "no")
+    assert said.startswith("Not restarted on station.moas: nothing was sent")
+    assert len(questions) == 1 and f"Transmitting now:\n  {KEYED}\n" in questions[0]
+    assert rig.said("The station builder asked to restart on") == 1  # the first one only
+    assert first_antenna(rig.tcp) == "station.moas:Yagi"
+    rig.key(False)

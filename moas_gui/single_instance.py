@@ -34,7 +34,11 @@ How, without Qt (the headless server uses it too):
 
 A ``launch`` holding ``"command"`` (``moas-server --remove-operator``: ``{"command":
 "remove_operator", "name": ...}``) is no hand-over: the vetting callback does it, and
-the reply is ``{"ok": true, "done": "what it did"}``.
+the reply is ``{"ok": true, "done": "what it did"}``.  A command the server registered
+with :meth:`InstanceServer.start` (``commands``: the station builder's ``"restart"``)
+is awaited instead, and its reply is the handler's own object (``ok``, ``done`` or
+``error``, and whatever else it tells, such as who transmits); :func:`command` sends one
+and never sends it twice.
 
 The request is one line of JSON, ``{"open": "/absolute/path.moas", "launch":
 {...}}`` (``open`` null: just show the window; ``launch`` what the second
@@ -61,8 +65,8 @@ import struct
 import sys
 import tempfile
 import time
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Awaitable, Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Final, Literal
 
@@ -84,6 +88,8 @@ Transport = Literal["unix", "tcp"]
 OpenCallback = Callable[[Path | None], object]
 Vetting = Callable[[Path | None, dict[str, object]], str | None]
 """``vet(path, launch)``: why the running instance refuses this hand-over, or None."""
+Command = Callable[[dict[str, object]], Awaitable[dict[str, object]]]
+"""A command the running instance does (``launch`` in, the reply out), awaited on its loop."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -96,6 +102,10 @@ class HandOver:
     """False when no instance runs at all."""
     done: str | None = None
     """What the running instance did for a command (``launch`` with ``"command"``)."""
+    answer: Mapping[str, object] = field(default_factory=dict, compare=False)
+    """The whole reply (a command's handler may tell more than ``done`` or ``error``)."""
+    trouble: str | None = None
+    """Why nothing was heard from a running instance (a refused or dropped connection)."""
 
 
 class InstanceError(MoasError, OSError):
@@ -204,6 +214,7 @@ class InstanceServer:
         self._vet: Vetting | None = None
         self.admission = Admission(HAND_OVERS, HAND_OVERS, what="hand-over connections")
         """The hand-over connections open now (the program's admission policy)."""
+        self._commands: Mapping[str, Command] = {}
 
     @property
     def address(self) -> str:
@@ -211,9 +222,12 @@ class InstanceServer:
         where = self._sock.getsockname()
         return str(where) if self.transport == "unix" else f"{where[0]}:{where[1]}"
 
-    async def start(self, on_open: OpenCallback, vet: Vetting | None = None) -> None:
+    async def start(self, on_open: OpenCallback, vet: Vetting | None = None,
+                    commands: Mapping[str, Command] | None = None) -> None:
         """Serve hand-overs on the running loop; ``on_open(path)`` is called for each
-        that ``vet(path, launch)`` (when given) does not refuse."""
+        that ``vet(path, launch)`` (when given) does not refuse; a launch whose
+        ``"command"`` names one of ``commands`` is given to that handler, whose reply
+        is sent back."""
         self._on_open = on_open
         self._vet = vet
         # through the one door of every listener: at most HAND_OVERS at once
@@ -222,6 +236,7 @@ class InstanceServer:
             front="hand-over connection", limit=MAX_REQUEST,
             refusal=lambda why: json.dumps({"ok": False, "error": why}).encode() + b"\n")
         loop = asyncio.get_running_loop()
+        self._commands = dict(commands or {})
         if self.transport == "unix":
             if sys.platform == "win32":
                 raise InstanceError("Unix sockets are not on Windows: use the tcp transport")
@@ -238,6 +253,12 @@ class InstanceServer:
             launch: dict[str, object] = {}
             if error is None:
                 path, launch, error = self._read_request(line)
+            handler = self._commands.get(str(launch.get("command"))) if error is None else None
+            if handler is not None:
+                answer = await self._command(handler, launch)
+                writer.write(json.dumps(answer).encode() + b"\n")
+                await writer.drain()
+                return
             if error is None and "command" in launch and self._vet is not None:
                 # a command for the running server (moas-server --remove-operator): vet
                 # does it and says what it did; nothing is opened
@@ -262,6 +283,14 @@ class InstanceServer:
             writer.close()
             with contextlib.suppress(ConnectionError):
                 await writer.wait_closed()
+
+    @staticmethod
+    async def _command(handler: Command, launch: dict[str, object]) -> dict[str, object]:
+        try:
+            return await handler(launch)
+        except Exception as exc:
+            log.exception("The command %s of another moas-server failed", launch.get("command"))
+            return {"ok": False, "error": f"the running instance could not do it: {exc}"}
 
     def _foreign_peer(self, writer: asyncio.StreamWriter) -> str | None:
         """Why the peer may not hand over (another user), or None."""
@@ -452,16 +481,49 @@ def _ask(directory: Path, name: str, transport: Transport, request: dict[str, ob
                 raise ConnectionResetError("the running instance closed the connection")
             reply += chunk
     answer = json.loads(reply)
+    if not isinstance(answer, dict):
+        raise ValueError(  # noqa: TRY004 (a bad answer, caught as the others)
+            f"the running instance answered {answer!r:.60}, not an object")
     if answer.get("ok") and "done" in answer:
-        return HandOver(taken=True, done=str(answer["done"]))
+        return HandOver(taken=True, done=str(answer["done"]), answer=answer)
     if not answer.get("ok"):
         log.info("The running moas-server refused %s: %s",
                  request["open"] or "a launch without a file", answer.get("error"))
-        return HandOver(taken=False, refusal=str(answer.get("error")))
-    return HandOver(taken=True)
+        return HandOver(taken=False, refusal=str(answer.get("error")), answer=answer)
+    return HandOver(taken=True, answer=answer)
+
+
+def command(name: str = DEFAULT_NAME, launch: dict[str, object] | None = None, *,
+            directory: Path | None = None, transport: Transport | None = None,
+            timeout: float = HAND_OVER_TIMEOUT) -> HandOver:
+    """Ask the running instance to do ``launch`` (with its ``"command"``), once.
+
+    Unlike :func:`offer` it never sends again: a command may act (a restart) before
+    its connection drops, so trouble is told (``trouble``), not tried again.  No
+    instance running: ``running`` is False at once.
+    """
+    name = _safe_name(name)
+    directory = directory or instance_dir()
+    transport = transport or default_transport()
+    if not (directory / f"{name}.lock").exists():
+        return HandOver(taken=False, running=False)
+    try:
+        _prepare(directory)  # this user's own directory, nobody else's
+        running = _someone_holds(directory / f"{name}.lock")
+    except OSError as exc:
+        return HandOver(taken=False, trouble=str(exc))
+    if not running:
+        return HandOver(taken=False, running=False)
+    request: dict[str, object] = {"open": None, "launch": launch or {}}
+    try:
+        return _ask(directory, name, transport, request, time.monotonic() + timeout)
+    except (OSError, ValueError) as exc:
+        log.warning("The running moas-server did not answer %s: %s",
+                    (launch or {}).get("command"), exc or type(exc).__name__)
+        return HandOver(taken=False, trouble=str(exc) or type(exc).__name__)
 
 
 __all__ = [
-    "DEFAULT_NAME", "HandOver", "InstanceError", "InstanceServer", "OpenCallback", "Vetting",
-    "claim", "default_transport", "hand_over", "instance_dir", "offer",
+    "DEFAULT_NAME", "Command", "HandOver", "InstanceError", "InstanceServer", "OpenCallback",
+    "Vetting", "claim", "command", "default_transport", "hand_over", "instance_dir", "offer",
 ]

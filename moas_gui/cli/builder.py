@@ -51,9 +51,10 @@ def edit_command(args: argparse.Namespace) -> int:
     if problem is not None:
         print(f"moas-server: {problem}; {NO_DISPLAY_ADVICE}", file=sys.stderr)
         return 1
+    from moas_gui.cli.builder_restart import ask_to_restart
     from moas_gui.ui.builder_window import run_builder
 
-    return run_builder(args.edit)
+    return run_builder(args.edit, ask_to_restart)
 
 
 def what_if_command(args: argparse.Namespace) -> int:

@@ -26,6 +26,12 @@ from moas_gui.cli.antenna_log import export_antenna_log
 from moas_gui.cli.antenna_log import wants_export as wants_antenna_log_export
 from moas_gui.cli.builder import add_arguments as add_builder_arguments
 from moas_gui.cli.builder import builder_command, wants_builder
+from moas_gui.cli.builder_restart import (
+    RESTART_COMMAND,
+    STATION_COMMAND,
+    restart_request,
+    station_request,
+)
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
@@ -628,7 +634,11 @@ async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | N
     with CleanStop(stop.set):
         if instance is not None:
             await instance.start(
-                lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True))
+                lambda path: None, lambda path, launch: vet_launch(app, launch, headless=True),
+                {RESTART_COMMAND: lambda launch: restart_request(
+                    app, launch, lambda _path: app.restart(), other_files=False),
+                 STATION_COMMAND: lambda launch: station_request(app, launch,
+                                                                 other_files=False)})
         log.info("Serving %s; stop with Ctrl+C", args.file)
         await stop.wait()
         log.info("Stopping; the relays keep their state")
@@ -707,7 +717,10 @@ def _run_window(args: argparse.Namespace, instance: InstanceServer | None) -> in
             if instance is not None:
                 await instance.start(
                     window.take_hand_over,
-                    lambda path, launch: vet_launch(app, launch, headless=False))
+                    lambda path, launch: vet_launch(app, launch, headless=False),
+                    {RESTART_COMMAND: lambda launch: restart_request(app, launch,
+                                                                     window.restart_file),
+                     STATION_COMMAND: lambda launch: station_request(app, launch)})
             from moas_gui.ui.control_hook import start_if_asked
 
             hook = await start_if_asked(window)

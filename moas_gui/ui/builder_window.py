@@ -4,7 +4,9 @@ A page for every list of the file and for the station at a glance, the findings 
 ``--check`` below them (checked off the window's thread a moment after each edit, each
 a link to its field), Undo and Redo, Save (the diff first, and a question when the file
 has errors) and Save and Restart (through the server window's own Restart, which asks
-first while a station transmits).  Every question is a dialog opened with ``open()``:
+first while a station transmits; from ``moas-server --edit``, a request to the running
+server, :mod:`moas_gui.cli.builder_restart`, which refuses while a station the operator
+has not confirmed transmits, so the builder asks first, naming who does).  Every question is a dialog opened with ``open()``:
 no nested event loop.  The model underneath is :mod:`moas_gui.builder` (no Qt).
 """
 
@@ -18,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from moas_gui.builder import Document, EditError
+from moas_gui.builder.apply import Answer, question
 from moas_gui.builder.checking import Checked, CheckFinding, check_text
 from moas_gui.builder.claims import FileClaimed, claim, release
 from moas_gui.builder.fields import LISTS, MISCELLANEOUS, ListSpec, list_for
@@ -104,15 +107,27 @@ class ListPage(Page):
         return widget
 
 
+AskServer = Callable[[Path, tuple[str, ...] | None, bool], Answer]
+"""``ask(path, confirmed, replace)``: the running server's answer to a restart on ``path``
+(``confirmed`` None: only a look at what it runs and who transmits); blocking, so called
+off the window's thread."""
+
+
 class BuilderWindow(QMainWindow):
     """The builder on one document (see the module docstring).  ``apply``: what Save and
-    Restart does with the saved file (the server window's restart); None: no server here."""
+    Restart does with the saved file (the server window's restart); else ``ask_server``
+    asks a server running in another process; neither: Save and Restart is greyed out."""
 
     def __init__(self, doc: Document, apply: Callable[[Path], None] | None = None,
-                 parent: QWidget | None = None) -> None:
+                 parent: QWidget | None = None, ask_server: AskServer | None = None) -> None:
         super().__init__(parent)
         self.doc = doc
         self.apply = apply
+        self.ask_server = ask_server
+        self.server_answer: Answer | None = None
+        """The running server's last final answer to Save and Restart from another process
+        (restarted, refused, not reached, or the operator's No)."""
+        self.server_worker = Worker(self)
         self.checked: Checked | None = None
         self.dialog: QWidget | None = None
         """The question or diff on screen, if any."""
@@ -184,10 +199,15 @@ class BuilderWindow(QMainWindow):
         self.action_save = file_menu.addAction("&Save", self.save)
         self.action_save.setShortcut(QKeySequence.StandardKey.Save)
         self.action_apply = file_menu.addAction("Save and &Restart", self.save_and_restart)
-        if self.apply is None:
+        if self.apply is None and self.ask_server is None:
             self.action_apply.setEnabled(False)
             self.action_apply.setToolTip("Open the builder from the server window's File > Edit "
                                          "Station... to restart the running server")
+        elif self.apply is None:
+            self.action_apply.setToolTip("Saves, then asks this user's running moas-server to "
+                                         "restart on the file (asking first while a station "
+                                         "transmits); one started with --new-instance cannot "
+                                         "be reached")
         file_menu.addSeparator()
         self.action_close = file_menu.addAction("&Close", self.close)
         edit = bar.addMenu("&Edit")
@@ -374,10 +394,54 @@ class BuilderWindow(QMainWindow):
     def save_and_restart(self) -> None:
         """Save, then restart the running server on the file (its own File > Restart, which
         asks first while a station transmits); a file with errors is never taken."""
-        if self.apply is None:
+        if self.apply is not None:
+            self.save(self.apply)
+        elif self.ask_server is not None:
+            self.save(lambda path: self.restart_on_server(path))
+        else:
             self.say("No server runs in this window: start it on the file to use it")
+
+    def restart_on_server(self, path: Path, confirmed: tuple[str, ...] | None = None,
+                          replace: bool = False) -> None:
+        """Ask the server running in another process to restart on ``path`` (off the
+        window's thread): first a look (``confirmed`` None) at what it runs and who
+        transmits, asked about when someone does or it runs another file; then the
+        restart itself.  Its answer is said, or asked about (:meth:`_server_answered`)."""
+        ask = self.ask_server
+        if ask is None:
             return
-        self.save(self.apply)
+        self.say(f"Asking the running moas-server to restart on {path.name}..."
+                 if confirmed is not None else "Looking for the running moas-server...")
+        self.server_worker.run(lambda: ask(path, confirmed, replace),
+                               lambda answer: self._server_answered(path, answer, replace))
+
+    def _server_answered(self, path: Path, answer: Any, replace: bool) -> None:
+        if isinstance(answer, Exception):
+            answer = Answer(False, f"Could not ask the running moas-server: {answer}",
+                            reached=False)
+        if answer.looked and not answer.asks and answer.reached:
+            self.restart_on_server(path, (), replace)  # nobody transmits: the restart itself
+            return
+        if answer.asks:
+            title, text = question(path, answer)
+            again = replace or answer.running is not None
+            self.ask(title, text, lambda yes: self.restart_on_server(path, answer.keyed, again)
+                     if yes else self._not_asked(path))
+            return
+        self.server_answer = answer
+        log.info("Station builder: %s", answer.said)
+        self.say(answer.said)
+        if not answer.restarted:
+            icon = QMessageBox.Icon.Warning if answer.reached else QMessageBox.Icon.Information
+            box = QMessageBox(icon, "Not restarted", answer.said, QMessageBox.StandardButton.Ok,
+                              self)
+            self.dialog = box
+            box.open()
+
+    def _not_asked(self, path: Path) -> None:
+        self.server_answer = Answer(False, f"Not restarted on {path.name}: nothing was sent, "
+                                           "the station carries on as it is")
+        self.say(self.server_answer.said)
 
     def view_diff(self) -> None:
         diff = self.doc.diff()
@@ -442,7 +506,8 @@ class BuilderWindow(QMainWindow):
 
 
 def open_builder(path: str | Path, apply: Callable[[Path], None] | None = None,
-                 say: Callable[[str], None] = log.error) -> BuilderWindow | None:
+                 say: Callable[[str], None] = log.error,
+                 ask_server: AskServer | None = None) -> BuilderWindow | None:
     """The builder on ``path`` (a new station when there is no such file), shown; None,
     with the reason said, when another builder window has it or it cannot be read."""
     path = Path(path)
@@ -456,14 +521,15 @@ def open_builder(path: str | Path, apply: Callable[[Path], None] | None = None,
     except FileClaimed as exc:
         say(str(exc))
         return None
-    window = BuilderWindow(doc, apply)
+    window = BuilderWindow(doc, apply, ask_server=ask_server)
     window.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
     window.show()
     return window
 
 
-def run_builder(path: str) -> int:
-    """``moas-server --edit FILE``: the builder alone, until its window closes."""
+def run_builder(path: str, ask_server: AskServer | None = None) -> int:
+    """``moas-server --edit FILE``: the builder alone, until its window closes; its Save
+    and Restart goes to ``ask_server`` (the running server, in another process)."""
     from .qt import load_qasync
     from .server_window import application_icon, ensure_application
 
@@ -473,16 +539,21 @@ def run_builder(path: str) -> int:
     loop = qasync.QEventLoop(qt_app)
     asyncio.set_event_loop(loop)
     refused: list[str] = []
-    window = open_builder(path, None, refused.append)
+    window = open_builder(path, None, refused.append, ask_server)
     if window is None:
         print(f"moas-server: {refused[0] if refused else 'the builder did not open'}",
               file=sys.stderr)
         return 1
 
     async def until_closed() -> int:
+        from .control_hook import start_if_asked
+
         closed = asyncio.Event()
         window.destroyed.connect(lambda *_: closed.set())
+        hook = await start_if_asked(window)  # a test's hands, when one names them
         await closed.wait()
+        if hook is not None:
+            await hook.close()
         return 0
 
     with loop:
@@ -490,4 +561,4 @@ def run_builder(path: str) -> int:
         return status
 
 
-__all__ = ["BuilderWindow", "ListPage", "open_builder", "run_builder"]
+__all__ = ["AskServer", "BuilderWindow", "ListPage", "open_builder", "run_builder"]

@@ -1,4 +1,5 @@
-"""The server window's one seam for outside hands: off unless the environment names a hook.
+"""The one seam for outside hands, in the server window and in the builder of
+``moas-server --edit``: off unless the environment names a hook.
 
 When ``MOAS_GUI_CONTROL_HOOK`` names an importable module, :func:`start_if_asked`
 imports it and awaits its ``start(window)``, which returns something with an

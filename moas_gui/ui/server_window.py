@@ -464,6 +464,23 @@ class ServerWindow(QMainWindow):
         if result is not None and result.config is None and path is not None:
             self._show_problems(str(path), result, restarting=True)
 
+    async def restart_file(self, path: Path) -> Any:
+        """The station builder's Save and Restart from another process: File > Restart when
+        ``path`` is the running file, else File > Open's opening (the builder asked the
+        operator first); a file with errors is not taken, the running configuration
+        carries on and the problems are shown here too."""
+        running = self.app.path
+        if running is not None and Path(running).resolve() == path.resolve():
+            result = await self.app.restart()
+        else:
+            result = await self.app.open(path)
+            if result.config is not None:
+                self._remember_recent(str(path.resolve()))
+                self._follow_client_port()
+        if result is not None and result.config is None:
+            self._show_problems(str(path), result, restarting=True)
+        return result
+
     def _show_problems(self, path: str, result: Any, restarting: bool = False) -> None:
         # the path is said once above; each problem with its line and column
         shown = "\n".join((f"line {p.line}, column {p.column}: " if p.line else "")

@@ -293,8 +293,9 @@ def test_names_that_could_escape_the_directory_are_refused(directory: Path) -> N
 
 def test_the_public_names_do_not_drift() -> None:
     assert sorted(single_instance.__all__) == sorted([
-        "DEFAULT_NAME", "HandOver", "InstanceError", "InstanceServer", "OpenCallback",
-        "Vetting", "claim", "default_transport", "hand_over", "instance_dir", "offer"])
+        "Command", "DEFAULT_NAME", "HandOver", "InstanceError", "InstanceServer",
+        "OpenCallback", "Vetting", "claim", "command", "default_transport", "hand_over",
+        "instance_dir", "offer"])
 
 
 def test_a_refusal_reaches_the_second_launch_with_its_reason(directory: Path, tmp_path: Path) -> None:
@@ -348,3 +349,53 @@ def test_the_hand_over_socket_refuses_another_user(
 
 def hand_over_offer(directory: Path, path: Path) -> single_instance.HandOver:
     return single_instance.offer(NAME, path, directory=directory)
+
+
+@pytest.mark.asyncio
+@pytest.mark.parametrize("transport", ["unix", "tcp"])
+async def test_a_registered_command_is_awaited_sent_once_and_its_whole_answer_comes_back(
+    directory: Path, transport: single_instance.Transport,
+) -> None:
+    server = claim(NAME, directory=directory, transport=transport)
+    assert server is not None
+    done: list[dict[str, object]] = []
+    opened: list[Path | None] = []
+
+    async def restart(launch: dict[str, object]) -> dict[str, object]:
+        done.append(launch)
+        await asyncio.sleep(0.05)  # the handler is awaited: the answer follows its work
+        if launch.get("file") == "/broken.moas":
+            return {"ok": False, "error": "it has errors", "keyed": ["station 1"]}
+        if launch.get("file") == "/fails.moas":
+            raise RuntimeError("the port vanished")
+        return {"ok": True, "done": "restarted", "running": launch.get("file")}
+
+    await server.start(opened.append, lambda _path, _launch: "refused by vet",
+                       {"restart": restart})
+    try:
+        def ask(path: str) -> single_instance.HandOver:
+            return single_instance.command(NAME, {"command": "restart", "file": path},
+                                           directory=directory, transport=transport)
+        good = await asyncio.to_thread(ask, "/good.moas")
+        assert good.taken and good.done == "restarted" and good.answer["running"] == "/good.moas"
+        bad = await asyncio.to_thread(ask, "/broken.moas")
+        assert not bad.taken and bad.refusal == "it has errors"
+        assert bad.answer["keyed"] == ["station 1"]
+        failed = await asyncio.to_thread(ask, "/fails.moas")
+        assert not failed.taken and failed.refusal is not None
+        assert "the port vanished" in failed.refusal  # told, and the server carries on
+        assert [launch["file"] for launch in done] == ["/good.moas", "/broken.moas",
+                                                       "/fails.moas"]  # each sent once
+        # an unregistered command still goes to the vetting callback
+        other = await asyncio.to_thread(single_instance.command, NAME, {"command": "other"},
+                                        directory=directory, transport=transport)
+        assert other.taken and other.done == "refused by vet"
+    finally:
+        server.close()
+    assert opened == []
+    gone = single_instance.command(NAME, {"command": "restart"}, directory=directory,
+                                   transport=transport)
+    assert gone.running is False and not gone.taken  # nobody runs: said at once
+    never = single_instance.command(NAME, {"command": "restart"},
+                                    directory=directory.parent / "never-made")
+    assert never.running is False and not (directory.parent / "never-made").exists()

@@ -2,7 +2,7 @@
 in a process of its own (``moas-server --edit FILE``).
 
 The asking is done by the command line's side (``moas_gui/cli/builder_restart.py``,
-through the single-instance channel); the window reads an :class:`Answer` and decides
+through the single-instance channel); the window reads an :class:`ServerAnswer` and decides
 what to say or ask.  The running server checks, at the moment it would restart, who
 transmits: while a station is keyed and the operator has not confirmed it by name, it
 refuses and names who does (``keyed``); the builder asks, and only a *Yes* sends the
@@ -25,7 +25,7 @@ NOT_REACHABLE = ("No moas-server of this user answers the builder: start one on 
 
 
 @dataclass(frozen=True, slots=True)
-class Answer:
+class ServerAnswer:
     """The running server's answer to one restart request."""
 
     restarted: bool
@@ -49,7 +49,7 @@ class Answer:
                                                          or self.running is not None)
 
 
-def question(path: Path, answer: Answer) -> tuple[str, str]:
+def question(path: Path, answer: ServerAnswer) -> tuple[str, str]:
     """The title and text of the question the builder asks about ``answer``."""
     parts = []
     if answer.running is not None:
@@ -66,4 +66,4 @@ def question(path: Path, answer: Answer) -> tuple[str, str]:
     return title, "\n\n".join(parts)
 
 
-__all__ = ["NOT_REACHABLE", "Answer", "question"]
+__all__ = ["NOT_REACHABLE", "ServerAnswer", "question"]

@@ -7,7 +7,7 @@ the file the server runs and who transmits, which changes nothing), so the build
 ask the operator before anything is sent that acts; then it sends ``{"command":
 "restart", "file": ..., "confirmed": [who the operator agreed may be transmitting],
 "replace": bool}`` once.  Each answer is read into a
-:class:`moas_gui.builder.apply.Answer`.
+:class:`moas_gui.builder.apply.ServerAnswer`.
 
 The server's side, :func:`restart_request`, is registered as the ``"restart"`` command
 by the headless server and the window server.  Right before it restarts it looks at who
@@ -25,7 +25,7 @@ from collections.abc import Awaitable, Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 
-from moas_gui.builder.apply import NOT_REACHABLE, Answer
+from moas_gui.builder.apply import NOT_REACHABLE, ServerAnswer
 
 if TYPE_CHECKING:
     from moas_gui.config import LoadResult
@@ -128,7 +128,7 @@ def _refusal(path: Path, running: Path | None, result: LoadResult | None) -> str
 
 
 def ask_to_restart(path: Path, confirmed: Sequence[str] | None = None, replace: bool = False,
-                   *, timeout: float = RESTART_TIMEOUT) -> Answer:
+                   *, timeout: float = RESTART_TIMEOUT) -> ServerAnswer:
     """Ask the running server (this user's, through the single-instance channel) to
     restart on ``path`` (``confirmed``: who the operator agreed may transmit; ``replace``:
     the operator agreed to a file other than the running one); ``confirmed`` None only
@@ -144,9 +144,9 @@ def ask_to_restart(path: Path, confirmed: Sequence[str] | None = None, replace: 
                                 "confirmed": list(confirmed), "replace": replace},
                         timeout=timeout)
     if not reply.running:
-        return Answer(False, NOT_REACHABLE, reached=False)
+        return ServerAnswer(False, NOT_REACHABLE, reached=False)
     if reply.trouble is not None:
-        return Answer(False, f"The running moas-server did not answer ({reply.trouble}); "
+        return ServerAnswer(False, f"The running moas-server did not answer ({reply.trouble}); "
                              "nothing was restarted from here. A server started with "
                              "--new-instance takes no requests from the builder.",
                       reached=False)
@@ -154,15 +154,15 @@ def ask_to_restart(path: Path, confirmed: Sequence[str] | None = None, replace: 
     running = reply.answer.get("running")
     who = tuple(str(k) for k in keyed) if isinstance(keyed, list) else ()
     if confirmed is None and not reply.taken:
-        return Answer(False, f"The running server refused: {reply.refusal}")
+        return ServerAnswer(False, f"The running server refused: {reply.refusal}")
     if confirmed is None:
         other = (str(running) if isinstance(running, str)
                  and Path(running).resolve() != path.resolve() else None)
-        return Answer(False, f"The running server {reply.done or reply.refusal}.",
+        return ServerAnswer(False, f"The running server {reply.done or reply.refusal}.",
                       keyed=who, running=other, looked=True)
     if reply.taken:
-        return Answer(True, f"The running server {reply.done or 'restarted'}.")
-    return Answer(False, f"The running server refused: {reply.refusal}", keyed=who,
+        return ServerAnswer(True, f"The running server {reply.done or 'restarted'}.")
+    return ServerAnswer(False, f"The running server refused: {reply.refusal}", keyed=who,
                   running=str(running) if isinstance(running, str) else None)
 
 

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from moas_gui.builder import Document, EditError
-from moas_gui.builder.apply import Answer, question
+from moas_gui.builder.apply import ServerAnswer, question
 from moas_gui.builder.checking import Checked, CheckFinding, check_text
 from moas_gui.builder.claims import FileClaimed, claim, release
 from moas_gui.builder.fields import LISTS, MISCELLANEOUS, ListSpec, list_for
@@ -107,7 +107,7 @@ class ListPage(Page):
         return widget
 
 
-AskServer = Callable[[Path, tuple[str, ...] | None, bool], Answer]
+AskServer = Callable[[Path, tuple[str, ...] | None, bool], ServerAnswer]
 """``ask(path, confirmed, replace)``: the running server's answer to a restart on ``path``
 (``confirmed`` None: only a look at what it runs and who transmits); blocking, so called
 off the window's thread."""
@@ -124,7 +124,7 @@ class BuilderWindow(QMainWindow):
         self.doc = doc
         self.apply = apply
         self.ask_server = ask_server
-        self.server_answer: Answer | None = None
+        self.server_answer: ServerAnswer | None = None
         """The running server's last final answer to Save and Restart from another process
         (restarted, refused, not reached, or the operator's No)."""
         self.server_worker = Worker(self)
@@ -417,7 +417,7 @@ class BuilderWindow(QMainWindow):
 
     def _server_answered(self, path: Path, answer: Any, replace: bool) -> None:
         if isinstance(answer, Exception):
-            answer = Answer(False, f"Could not ask the running moas-server: {answer}",
+            answer = ServerAnswer(False, f"Could not ask the running moas-server: {answer}",
                             reached=False)
         if answer.looked and not answer.asks and answer.reached:
             self.restart_on_server(path, (), replace)  # nobody transmits: the restart itself
@@ -439,7 +439,7 @@ class BuilderWindow(QMainWindow):
             box.open()
 
     def _not_asked(self, path: Path) -> None:
-        self.server_answer = Answer(False, f"Not restarted on {path.name}: nothing was sent, "
+        self.server_answer = ServerAnswer(False, f"Not restarted on {path.name}: nothing was sent, "
                                            "the station carries on as it is")
         self.say(self.server_answer.said)
 

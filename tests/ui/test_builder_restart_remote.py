@@ -25,7 +25,7 @@ from typing import Any
 import pytest
 from helpers import EXAMPLES, free_port, wait_for
 
-from moas_gui.builder.apply import Answer
+from moas_gui.builder.apply import ServerAnswer
 from moas_gui.builder.claims import release
 from moas_gui.cli.builder_restart import ask_to_restart
 from moas_gui.ui.builder_window import BuilderWindow, open_builder
@@ -175,7 +175,7 @@ def builder(qtbot: Any, rig: Rig) -> Iterator[tuple[BuilderWindow, Answers]]:
     release(rig.station)
 
 
-def restart(qtbot: Any, window: BuilderWindow) -> Answer:
+def restart(qtbot: Any, window: BuilderWindow) -> ServerAnswer:
     """Save and Restart, and the server's answer once the builder has it."""
     window.server_answer = None
     assert window.action_apply.isEnabled()

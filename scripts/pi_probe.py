@@ -81,6 +81,7 @@ class Place:
             return [run, *arguments]
         home = f"/home/{self.user}"
         env = ["/usr/bin/env", "-i", f"HOME={home}", "LANG=C.UTF-8", "PYTHONUNBUFFERED=1",
+               "QT_QPA_PLATFORM=offscreen",
                f"PATH={home}/.local/bin:/usr/local/bin:/usr/bin:/bin",
                *[f"{k}={v}" for k, v in self.xdg().items()]]
         if self.mode == "proot":
@@ -97,7 +98,7 @@ class Place:
                 "XDG_CACHE_HOME": f"{base}/cache"}
 
     def env(self) -> dict[str, str]:
-        return dict(os.environ, PYTHONUNBUFFERED="1", **self.xdg())
+        return dict(os.environ, PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen", **self.xdg())
 
 
 def say(text: str) -> None:
@@ -403,6 +404,42 @@ def headless(place: Place, args: argparse.Namespace, config: str,
         cable.close()
 
 
+def window(place: Place, examples: str, timeout: float, figures: dict[str, Any]) -> None:
+    """The window server (offscreen) on small-station.moas as shipped (its switch the
+    built-in emulator): up, a client answered, Qt mapped (the Qt check can fire), SIGTERM."""
+    tcp = free_port()
+    log = (place.work / "window.log").open("wb")
+    started = time.monotonic()
+    server = subprocess.Popen(place.command(
+        "moas-server-gui", f"{examples}/small-station.moas", "--new-instance",
+        "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0", "--web-port", "0",
+        "--no-rotator-program"), stderr=log, env=place.env())
+    try:
+        client = wait(lambda: Client(tcp, timeout), timeout, "waiting for the window server",
+                      server)
+        client.ask("hello", client="pi-check")
+        figures["window_s"] = round(time.monotonic() - started, 2)
+        client.close()
+        qt = qt_mapped(server.pid)
+        if not qt:
+            raise Failure("the window server shows no Qt library in /proc/PID/maps: the "
+                          "headless server's Qt check could not see one either")
+        server.send_signal(signal.SIGTERM)
+        status = server.wait(timeout)
+        if status != 0:
+            raise Failure(f"the window server ended with status {status} on SIGTERM")
+        say(f"ok  the window server (offscreen) answered a client after {figures['window_s']} s"
+            f" with {len(qt)} Qt libraries mapped, and stopped with status 0")
+    except Failure:
+        log.flush()
+        print((place.work / "window.log").read_text(errors="replace")[-3000:], file=sys.stderr)
+        raise
+    finally:
+        if server.poll() is None:
+            server.kill()
+        log.close()
+
+
 def service(place: Place, config: str, figures: dict[str, Any]) -> None:
     unit = f"{place.work_inside}/config/systemd/user/moas-server.service"
     run(place, "moas-server", config, "--install-service", "--web-port", "8080")
@@ -426,6 +463,8 @@ def main() -> int:
     parser.add_argument("--work", default="", help="a fresh folder for this machine's run"
                         " (in a root: its /tmp/pi-check)")
     parser.add_argument("--timeout", type=float, default=60)
+    parser.add_argument("--window", action="store_true",
+                        help="also start the window server (offscreen) and answer a client")
     args = parser.parse_args()
     place = Place(args)
     if place.work.exists():
@@ -437,6 +476,8 @@ def main() -> int:
         config = station_file(place, args.examples)
         headless(place, args, config, figures)
         service(place, config, figures)
+        if args.window:
+            window(place, args.examples, args.timeout, figures)
     except (Failure, OSError, subprocess.SubprocessError) as problem:
         print(f"FAIL [{args.label}]: {problem}", flush=True)
         print("FIGURES " + json.dumps(figures), flush=True)

@@ -69,7 +69,8 @@ if [ "${1:-}" = "--in-root" ]; then
     fi
     as_pi() {
         local env=(/usr/bin/env -i HOME=/home/pi LANG=C.UTF-8
-                   PATH=/home/pi/.local/bin:/usr/local/bin:/usr/bin:/bin)
+                   PATH=/home/pi/.local/bin:/usr/local/bin:/usr/bin:/bin
+                   PIP_CERT=/etc/ssl/certs/pi-check-host.crt)
         if [ "$mode" = binfmt ]; then
             "${NICE[@]}" chroot --userspec=pi:pi "$root" "${env[@]}" "$@"
         else
@@ -145,7 +146,7 @@ echo "== this machine: pip install the wheel into a fresh virtual environment"
 started=$(date +%s.%N)
 "${NICE[@]}" "$PYTHON" -m venv --without-pip "$work/host-venv" 2> /dev/null \
     || "${NICE[@]}" python3 -m venv --without-pip "$work/host-venv"
-"${NICE[@]}" "$work/host-venv/bin/python" -m ensurepip -q > /dev/null
+"${NICE[@]}" "$work/host-venv/bin/python" -m ensurepip > /dev/null
 "${NICE[@]}" "$work/host-venv/bin/python" -m pip install -q "$wheel" > "$work/host-install.log" 2>&1 \
     || { cat "$work/host-install.log"; echo "FAIL [host]: pip install"; exit 1; }
 ended=$(date +%s.%N)
@@ -181,8 +182,11 @@ for release in $RELEASES; do
     echo "== $release: $(sed -n 's/^PRETTY_NAME=//p' "$root/etc/os-release" | tr -d '"') arm64," \
         "glibc $(debian_version "$root" libc6), python3 $(debian_version "$root" python3)," \
         "pipx $(debian_version "$root" pipx), systemd $(debian_version "$root" systemd)"
-    # the Pi's owner: a user in dialout, with the network's name server
+    # the Pi's owner: a user in dialout, with this network's name server and certificate
+    # authorities (an HTTPS proxy with an authority of its own is trusted here, and pip
+    # is given the same bundle: PIP_CERT)
     cp /etc/resolv.conf "$root/etc/resolv.conf"
+    cp /etc/ssl/certs/ca-certificates.crt "$root/etc/ssl/certs/pi-check-host.crt"
     if ! grep -q '^pi:' "$root/etc/passwd"; then
         if [ "$mode" = binfmt ]; then
             "${NICE[@]}" chroot "$root" useradd --create-home --shell /bin/bash --groups dialout pi

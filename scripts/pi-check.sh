@@ -84,7 +84,7 @@ if [ "${1:-}" = "--in-root" ]; then
     as_pi pipx install "/home/pi/$(basename "$wheel")" > "$out.install" 2>&1 \
         || { cat "$out.install"; echo "FAIL [$release]: pipx install"; exit 1; }
     ended=$(date +%s.%N)
-    tail -n 3 "$out.install" | sed 's/^/  /'
+    awk "BEGIN { printf \"  installed in %.0f s\\n\", $ended - $started }"
     venv=$(find "$root/home/pi/.local" -maxdepth 6 -type d -path '*/venvs/moas-gui' | head -n 1)
     examples=$(find "$venv" -maxdepth 6 -type d -path '*site-packages/moas_gui/examples' | head -n 1)
     echo "  pip's cache before: ${cached:-0} MB; installed: $(installed "$venv")"
@@ -219,7 +219,7 @@ def figures(label):
                 found.update(json.loads(line[len(tag):]))
     return found
 host = figures("host")
-rows = [("install (pip/pipx, cache warm)", "install_s", "s"),
+rows = [("install (host: pip, a venv; roots: pipx)", "install_s", "s"),
         ("--check, mean per example", "check_s", "s"),
         ("--plan, mean per example", "plan_s", "s"),
         ("headless start to a hello answered", "start_s", "s"),

@@ -40,7 +40,7 @@ from pathlib import Path
 from typing import Any
 
 FREQUENCIES = (1402500, 702500, 2102500, 352500)  # N1MM's tens of hertz: 14025 kHz ...
-BAND_CHANGES = 12
+BAND_CHANGES = 40
 QT_LIBRARY = re.compile(r"libQt6|PySide6|shiboken6")
 
 
@@ -59,11 +59,16 @@ class Place:
         self.work_inside = "/tmp/pi-check" if self.root else str(Path(args.work).resolve())
         self.work = self.outside(self.work_inside)
         self.owner = (0, 0)
+        self.dialout = 0
         if self.root is not None:
             for line in (self.root / "etc" / "passwd").read_text().splitlines():
                 fields = line.split(":")
                 if fields[0] == self.user:
                     self.owner = (int(fields[2]), int(fields[3]))
+            for line in (self.root / "etc" / "group").read_text().splitlines():
+                fields = line.split(":")
+                if fields[0] == "dialout":
+                    self.dialout = int(fields[2])
 
     def make(self, folder: Path, mode: int = 0o700) -> None:
         """A folder the programs' user owns."""
@@ -349,6 +354,12 @@ def headless(place: Place, args: argparse.Namespace, config: str,
     for sub in ("run", "state", "config", "data", "cache"):
         place.make(place.work / sub)
     cable = Cable(place.work)
+    if place.root is not None:  # as udev gives a USB serial adapter: root:dialout, 0660
+        device = os.path.realpath(cable.server_end)
+        os.chown(device, 0, place.dialout)
+        os.chmod(device, 0o660)
+        say(f"ok  the cable's end for the server, {device}, made root:dialout 0660 (as a USB"
+            f" serial adapter is); {place.user} reaches it through the dialout group")
     box = Box(args.emulator, cable.box_end)
     tcp, udp, web = free_port(), free_port(socket.SOCK_DGRAM), free_port()
     log = (place.work / "server.log").open("wb")

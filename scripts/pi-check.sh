@@ -35,7 +35,9 @@
 # Settings: MOAS_PI_ROOTS (where the roots are kept, default
 # ${XDG_CACHE_HOME:-~/.cache}/moas-gui/pi-roots), MOAS_PI_RELEASES, MOAS_PI_MIRROR (a
 # Debian archive, default http://deb.debian.org/debian), MOAS_PI_EMULATION (binfmt or
-# proot; default: binfmt where it can be had).  The output is kept in
+# proot; default: binfmt where it can be had), MOAS_PI_TESTS (test paths, e.g. "tests/ui
+# tests/client" or "tests": run the suite's fast tier on them in the bookworm root too,
+# with the PySide6 pip gave it; long under emulation).  The output is kept in
 # MOAS_PI_ROOTS/pi-check-<time>.log.
 set -euo pipefail
 CHECKOUT=$(cd "$(dirname "$0")/.." && pwd)
@@ -59,8 +61,11 @@ debian_version() {  # a package's version in a root, from dpkg's status file
         "$1/var/lib/dpkg/status"
 }
 
+# (Everything is in functions, read whole before anything runs: the script may be edited
+# while a long run of it goes on.)
+
 # --- inside a private mount namespace: one release's install and probe ----------------
-if [ "${1:-}" = "--in-root" ]; then
+in_root() {
     release=$2 root=$3 wheel=$4 mode=$5 out=$6
     if [ "$mode" = binfmt ]; then
         mount --rbind /dev "$root/dev"
@@ -93,10 +98,35 @@ if [ "${1:-}" = "--in-root" ]; then
         --mode "${mode/binfmt/chroot}" --bin /home/pi/.local/bin --examples "${examples#"$root"}" \
         --emulator "$CHECKOUT/.venv/bin/moas-emulator" --timeout 300 \
         --window | tee -a "$out.figures"
-    exit "${PIPESTATUS[0]}"
-fi
+    [ "${PIPESTATUS[0]}" = 0 ] || exit 1
+    if [ -n "${MOAS_PI_TESTS:-}" ] && [ "$release" = bookworm ]; then
+        # the suite's fast tier on the oldest Qt a Pi gets, under emulation (long)
+        echo "== $release: the suite's fast tier ($MOAS_PI_TESTS) on what pip gave the root"
+        rm -rf "$root/home/pi/src" "$root/home/pi/tier"
+        mkdir "$root/home/pi/src"
+        tar -C "$CHECKOUT" --exclude=./.venv --exclude=./.git --exclude='*/__pycache__' \
+            --exclude=./.mypy_cache --exclude=./build --exclude=./dist -c . \
+            | tar -x -C "$root/home/pi/src"
+        chown -R --reference="$root/home/pi" "$root/home/pi/src"
+        started=$(date +%s)
+        as_pi python3 -m venv /home/pi/tier
+        as_pi /home/pi/tier/bin/python -m pip install -q "/home/pi/$(basename "$wheel")" \
+            pytest pytest-qt pytest-asyncio pytest-timeout pytest-xdist hypothesis \
+            keyrings.alt adif-io packaging > "$out.tier" 2>&1 || { cat "$out.tier"; exit 1; }
+        echo "  $(installed "$root/home/pi/tier"), in $(( $(date +%s) - started )) s"
+        started=$(date +%s)
+        # shellcheck disable=SC2086  # MOAS_PI_TESTS is a list of paths
+        as_pi /usr/bin/env QT_QPA_PLATFORM=offscreen XDG_RUNTIME_DIR=/tmp/pi-check/run \
+            sh -c "cd /home/pi/src && exec /home/pi/tier/bin/python -m pytest -q \
+                   -p no:cacheprovider -n 0 -m 'not realtime' --timeout 1200 $MOAS_PI_TESTS" \
+            | tail -n 15 || exit 1
+        echo "  (the tests ran $(( $(date +%s) - started )) s under emulation)"
+    fi
+    exit 0
+}
 
 # --- the run ----------------------------------------------------------------------------
+main() {
 if [ "$(id -u)" != 0 ]; then
     echo "pi-check: needs root (chroot, mounts, binfmt_misc)" >&2
     exit 2
@@ -245,3 +275,11 @@ if [ "$failed" != 0 ]; then
     exit 1
 fi
 echo "pi-check: all passed (log: $LOG)"
+}
+
+if [ "${1:-}" = "--in-root" ]; then
+    in_root "$@"
+else
+    main "$@"
+fi
+exit $?

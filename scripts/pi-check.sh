@@ -56,6 +56,17 @@ installed() {  # what a virtual environment holds of the packages that matter he
         | sed 's/\.dist-info$//' | sort | tr '\n' ' '
 }
 
+add_pi() {  # the Pi's first user, pi (1000), in dialout, as Raspberry Pi OS makes it
+    # (written here: trixie's smallest root has no useradd)
+    grep -q '^pi:' "$1/etc/passwd" && return 0
+    echo 'pi:x:1000:1000:pi:/home/pi:/bin/bash' >> "$1/etc/passwd"
+    echo 'pi:x:1000:' >> "$1/etc/group"
+    [ ! -e "$1/etc/shadow" ] || echo 'pi:!:20000:0:99999:7:::' >> "$1/etc/shadow"
+    sed -i -e '/^dialout:/ { s/:$/:pi/; t; s/$/,pi/ }' "$1/etc/group"
+    mkdir -p "$1/home/pi"
+    chown 1000:1000 "$1/home/pi"
+}
+
 debian_version() {  # a package's version in a root, from dpkg's status file
     awk -v p="$2" '$1 == "Package:" { hit = ($2 == p) } hit && $1 == "Version:" { print $2; exit }' \
         "$1/var/lib/dpkg/status"
@@ -217,14 +228,7 @@ for release in $RELEASES; do
     # is given the same bundle: PIP_CERT)
     cp /etc/resolv.conf "$root/etc/resolv.conf"
     cp /etc/ssl/certs/ca-certificates.crt "$root/etc/ssl/certs/pi-check-host.crt"
-    if ! grep -q '^pi:' "$root/etc/passwd"; then
-        if [ "$mode" = binfmt ]; then
-            "${NICE[@]}" chroot "$root" useradd --create-home --shell /bin/bash --groups dialout pi
-        else
-            "${NICE[@]}" proot -0 -q qemu-aarch64-static -r "$root" useradd --create-home \
-                --shell /bin/bash --groups dialout pi
-        fi
-    fi
+    add_pi "$root"
     echo "  user pi: $(grep '^dialout:' "$root/etc/group")"
     # a fresh install every run (pip's cache is kept, as on a Pi that installed before)
     rm -rf "$root"/home/pi/.local/pipx "$root"/home/pi/.local/share/pipx "$root"/home/pi/.local/bin

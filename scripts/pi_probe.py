@@ -121,6 +121,13 @@ def run(place: Place, program: str, *arguments: str, timeout: float = 600) -> tu
     return took, done.stdout
 
 
+def terminate(place: Place, server: subprocess.Popen[bytes]) -> None:
+    """SIGTERM to the server: under proot to its tracee (proot does not pass it on)."""
+    targets = process_tree(server.pid)[1:] if place.mode == "proot" else []
+    for pid in targets or [server.pid]:
+        os.kill(pid, signal.SIGTERM)
+
+
 def free_port(kind: int = socket.SOCK_STREAM) -> int:
     with socket.socket(socket.AF_INET, kind) as probe:
         probe.bind(("127.0.0.1", 0))
@@ -397,7 +404,7 @@ def headless(place: Place, args: argparse.Namespace, config: str,
         say("ok  the browser client's page served")
         client.close()
         stopping = time.monotonic()
-        server.send_signal(signal.SIGTERM)
+        terminate(place, server)
         status = server.wait(args.timeout)
         figures["stop_s"] = round(time.monotonic() - stopping, 2)
         if status != 0:
@@ -435,7 +442,7 @@ def window(place: Place, examples: str, timeout: float, figures: dict[str, Any])
         if not qt:
             raise Failure("the window server shows no Qt library in /proc/PID/maps: the "
                           "headless server's Qt check could not see one either")
-        server.send_signal(signal.SIGTERM)
+        terminate(place, server)
         status = server.wait(timeout)
         if status != 0:
             raise Failure(f"the window server ended with status {status} on SIGTERM")

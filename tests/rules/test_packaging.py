@@ -37,6 +37,14 @@ def test_pyside_6_12_0_is_excluded_only_for_python_3_11() -> None:
         assert not pyside_allows("6.5.3", python)
 
 
+def test_the_oldest_pyside_allowed_is_the_oldest_tried() -> None:
+    """6.8.0.2: what pip gives a Raspberry Pi OS bookworm (glibc 2.36, Python 3.11), tried
+    there under emulation and with the suite's fast tier (docs/platforms.md)."""
+    for python in ("3.11", "3.12", "3.13"):
+        assert pyside_allows("6.8.0.2", python)
+        assert not pyside_allows("6.8.0.1", python) and not pyside_allows("6.7.3", python)
+
+
 def test_the_examples_manual_and_icons_are_installed_with_the_package(tmp_path: Path) -> None:
     source = tmp_path / "source"
     source.mkdir()

@@ -140,7 +140,7 @@ class GuidePage(Page):
                                 "antenna switch's outputs with their bands. The relays are laid "
                                 "out as docs/configuration.md section 3 advises; everything can "
                                 "be changed on the pages afterwards.", self))
-        column.itemAt(0).widget().setWordWrap(True)  # type: ignore[union-attr]
+        _wrap_first(column)
         row = QHBoxLayout()
         row.addWidget(QLabel("Switch serial port:", self))
         self.port = QLineEdit("emulator", self)
@@ -246,7 +246,7 @@ class GridPage(Page):
         column.addWidget(QLabel("For each antenna and band, the radios that can use it (RX or "
                                 "TX when only one way). Click a cell to add or take away a "
                                 "radio; a new one needs its relays on the Antennas page.", self))
-        column.itemAt(0).widget().setWordWrap(True)  # type: ignore[union-attr]
+        _wrap_first(column)
         self.table = QTableWidget(self)
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
         self.table.cellClicked.connect(self.offer)
@@ -471,7 +471,7 @@ class WhatIfPage(Page):
                                 "in this order) and tick those that transmit. A fresh engine "
                                 "built from the draft answers: the running station is not "
                                 "touched.", self))
-        column.itemAt(0).widget().setWordWrap(True)  # type: ignore[union-attr]
+        _wrap_first(column)
         self.table = QTableWidget(0, 3, self)
         self.table.setHorizontalHeaderLabels(["radio", "kHz", "transmits"])
         self.table.setMaximumHeight(170)
@@ -573,3 +573,11 @@ def _plan(text: str, name: str) -> Any:
 
 
 __all__ = ["GridPage", "GuidePage", "LayoutPage", "Page", "RelayPage", "WhatIfPage", "Worker"]
+
+
+def _wrap_first(column: QVBoxLayout) -> None:
+    """The column's first widget, its note, wraps its words."""
+    item = column.itemAt(0)
+    note = item.widget() if item is not None else None
+    if isinstance(note, QLabel):
+        note.setWordWrap(True)

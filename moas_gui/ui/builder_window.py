@@ -50,6 +50,7 @@ from .qt import (
     QTimer,
     QVBoxLayout,
     QWidget,
+    added,
 )
 from .screen_fit import fit_to_screen
 
@@ -196,9 +197,9 @@ class BuilderWindow(QMainWindow):
     def _menus(self) -> None:
         bar = self.menuBar()
         file_menu = bar.addMenu("&File")
-        self.action_save = file_menu.addAction("&Save", self.save)
+        self.action_save = added(file_menu.addAction("&Save", self.save))
         self.action_save.setShortcut(QKeySequence.StandardKey.Save)
-        self.action_apply = file_menu.addAction("Save and &Restart", self.save_and_restart)
+        self.action_apply = added(file_menu.addAction("Save and &Restart", self.save_and_restart))
         if self.apply is None and self.ask_server is None:
             self.action_apply.setEnabled(False)
             self.action_apply.setToolTip("Open the builder from the server window's File > Edit "
@@ -209,19 +210,19 @@ class BuilderWindow(QMainWindow):
                                          "transmits); one started with --new-instance cannot "
                                          "be reached")
         file_menu.addSeparator()
-        self.action_close = file_menu.addAction("&Close", self.close)
+        self.action_close = added(file_menu.addAction("&Close", self.close))
         edit = bar.addMenu("&Edit")
-        self.action_undo = edit.addAction("&Undo", self.undo)
+        self.action_undo = added(edit.addAction("&Undo", self.undo))
         self.action_undo.setShortcut(QKeySequence.StandardKey.Undo)
-        self.action_redo = edit.addAction("&Redo", self.redo)
+        self.action_redo = added(edit.addAction("&Redo", self.redo))
         self.action_redo.setShortcut(QKeySequence.StandardKey.Redo)
         edit.addSeparator()
-        self.action_mend = edit.addAction("&Mend JSON Mistakes", self.mend)
+        self.action_mend = added(edit.addAction("&Mend JSON Mistakes", self.mend))
         self.action_mend.setToolTip("Adds missing commas, takes extra ones away, writes "
                                     "true/false/null in lowercase and puts names and texts in "
                                     "double quotes (manual 6.1), in one undo step")
         view = bar.addMenu("&View")
-        self.action_diff = view.addAction("&Changes to Be Saved", self.view_diff)
+        self.action_diff = added(view.addAction("&Changes to Be Saved", self.view_diff))
 
     # -- reading the document ---------------------------------------------------------------
     def say(self, text: str) -> None:

@@ -79,17 +79,16 @@ class KnobControl:
             (Qt.Key.Key_Down, lambda: self.step(1), in_grid),
             (Qt.Key.Key_Return, lambda: self.press(), in_grid),
             (Qt.Key.Key_Enter, lambda: self.press(), in_grid),
-            (Qt.Modifier.SHIFT | Qt.Key.Key_Return, lambda: self.press(exclusive=True), in_grid),
+            ("Shift+Return", lambda: self.press(exclusive=True), in_grid),
             (Qt.Key.Key_PageDown, lambda: self.step_relative(1), in_window),
             (Qt.Key.Key_PageUp, lambda: self.step_relative(-1), in_window),
-            (Qt.Modifier.CTRL | Qt.Key.Key_Return, self.press_relative, in_window),
+            ("Ctrl+Return", self.press_relative, in_window),
             (Qt.Key.Key_VolumeUp, lambda: self.step(1), in_window),
             (Qt.Key.Key_VolumeDown, lambda: self.step(-1), in_window),
             (Qt.Key.Key_VolumeMute, self.press_last, in_window),
         ]
         for number in range(1, 10):
-            keys.append((Qt.Modifier.ALT | Qt.Key(Qt.Key.Key_0.value + number),
-                         lambda n=number: self.choose_radio(n), in_window))
+            keys.append((f"Alt+{number}", lambda n=number: self.choose_radio(n), in_window))
         self.shortcuts: list[QShortcut] = []
         for key, action, context in keys:
             parent = grid if context is in_grid else window

@@ -181,6 +181,7 @@ __all__ = [
     "Qt",
     "Signal",
     "Slot",
+    "added",
     "load_qasync",
 ]
 
@@ -195,3 +196,11 @@ def load_qasync() -> ModuleType:
 
     module: ModuleType = qasync
     return module
+
+
+def added(action: QAction | None) -> QAction:
+    """The action a menu's ``addAction`` just made (the type information of some PySide6
+    releases, 6.8 among them, says it may be None; Qt always makes one)."""
+    if action is None:
+        raise RuntimeError("Qt made no menu action")
+    return action

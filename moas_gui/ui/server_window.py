@@ -42,6 +42,7 @@ from .qt import (
     Qt,
     QVBoxLayout,
     QWidget,
+    added,
 )
 from .screen_fit import fit_to_screen
 
@@ -144,30 +145,30 @@ class ServerWindow(QMainWindow):
     def _build_menus(self) -> None:
         bar = self.menuBar()
         file_menu = bar.addMenu("&File")
-        self.action_open = file_menu.addAction("&Open...", self.open_dialog)
+        self.action_open = added(file_menu.addAction("&Open...", self.open_dialog))
         self.action_open.setShortcut("Ctrl+O")
         self.recent_menu = file_menu.addMenu("Recent &Files")
         file_menu.addSeparator()
-        self.action_edit_station = file_menu.addAction("&Edit Station...", self.edit_station)
-        self.action_reset = file_menu.addAction("&Reset Switches", self.reset_switches)
-        self.action_save_data = file_menu.addAction("&Save Switch Data...", self.save_switch_data)
-        self.action_export_log = file_menu.addAction("Export Antenna &Log...",
-                                                     self.export_antenna_log)
-        self.action_antenna_log = file_menu.addAction("&Keep an Antenna Log")
+        self.action_edit_station = added(file_menu.addAction("&Edit Station...", self.edit_station))
+        self.action_reset = added(file_menu.addAction("&Reset Switches", self.reset_switches))
+        self.action_save_data = added(file_menu.addAction("&Save Switch Data...", self.save_switch_data))
+        self.action_export_log = added(file_menu.addAction("Export Antenna &Log...",
+                                                     self.export_antenna_log))
+        self.action_antenna_log = added(file_menu.addAction("&Keep an Antenna Log"))
         """On: the antenna journal is written (docs/antenna-log.md); off for SD-card wear
         or privacy, as ``--no-antenna-log`` starts it."""
         self.action_antenna_log.setCheckable(True)
         self.action_antenna_log.setChecked(self.app.antenna_log_on)
         self.action_antenna_log.toggled.connect(
             lambda on: self._spawn(self.app.set_antenna_log(on)))
-        self.action_stop_start = file_menu.addAction("S&top Switches", self.toggle_switches)
+        self.action_stop_start = added(file_menu.addAction("S&top Switches", self.toggle_switches))
         file_menu.addSeparator()
-        self.action_restart = file_menu.addAction("Rest&art", self.restart)
-        self.action_exit = file_menu.addAction("E&xit", self.exit)
+        self.action_restart = added(file_menu.addAction("Rest&art", self.restart))
+        self.action_exit = added(file_menu.addAction("E&xit", self.exit))
         self.action_exit.setShortcut("Ctrl+Q")
 
         view = bar.addMenu("&View")
-        self.action_status_bar = view.addAction("&Status Bar")
+        self.action_status_bar = added(view.addAction("&Status Bar"))
         self.action_status_bar.setCheckable(True)
         self.action_status_bar.toggled.connect(self._toggle_status_bar)
         view.addSeparator()
@@ -175,28 +176,28 @@ class ServerWindow(QMainWindow):
         self.level_actions: dict[LogLevel, QAction] = {}
         for level, label in ((LogLevel.ERRORS, "Log &Errors"), (LogLevel.INFO, "Log &Info"),
                              (LogLevel.DEBUG, "Log &Debug")):
-            action = view.addAction(label)
+            action = added(view.addAction(label))
             action.setCheckable(True)
             group.addAction(action)
             action.triggered.connect(lambda _=False, lv=level: self.set_log_level(lv))
             self.level_actions[level] = action
         view.addSeparator()
-        self.action_client = view.addAction("&Client", self.open_client)
-        self.action_plan = view.addAction("Station &Plan", self.open_plan)
-        self.action_report = view.addAction("Contest &Report...", self.open_report)
-        self.action_pair = view.addAction("P&air a Device...", self.pair_device)
+        self.action_client = added(view.addAction("&Client", self.open_client))
+        self.action_plan = added(view.addAction("Station &Plan", self.open_plan))
+        self.action_report = added(view.addAction("Contest &Report...", self.open_report))
+        self.action_pair = added(view.addAction("P&air a Device...", self.pair_device))
         self.emulator_menu = view.addMenu("E&mulator")
 
         help_menu = bar.addMenu("&Help")
-        self.action_about = help_menu.addAction("&About MOAS Server", self.about)
-        self.action_manual = help_menu.addAction("&Manual", self.open_manual)
+        self.action_about = added(help_menu.addAction("&About MOAS Server", self.about))
+        self.action_manual = added(help_menu.addAction("&Manual", self.open_manual))
         self._refresh_recent()
 
     def _build_tray(self) -> None:
         self.tray = QSystemTrayIcon(self)
         menu = QMenu(self)
-        self.tray_show = menu.addAction("Hide Window", self.toggle_visible)
-        self.tray_stop_start = menu.addAction("Stop Switches", self.toggle_switches)
+        self.tray_show = added(menu.addAction("Hide Window", self.toggle_visible))
+        self.tray_stop_start = added(menu.addAction("Stop Switches", self.toggle_switches))
         menu.addSeparator()
         menu.addAction("Exit", self.exit)
         self.tray_menu = menu

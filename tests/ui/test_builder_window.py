@@ -21,7 +21,7 @@ from moas_gui.status import ServerState
 from moas_gui.ui.builder_fields import ComboField, GroupsField, LineField, PickManyField
 from moas_gui.ui.builder_pages import GridPage, LayoutPage, RelayPage, WhatIfPage
 from moas_gui.ui.builder_window import BuilderWindow, ListPage, open_builder
-from moas_gui.ui.qt import QApplication, Qt
+from moas_gui.ui.qt import QApplication, QMenu, Qt
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -377,7 +377,8 @@ def test_save_and_restart_goes_through_file_restart_and_asks_while_keyed(
         app = harness.app
         assert app is not None
         await until(lambda: app.status.state is ServerState.NORMAL)
-        assert "&Edit Station..." in [a.text() for a in window.menuBar().actions()[0].menu().actions()]
+        file_menu = next(m for m in window.findChildren(QMenu) if m.title() == "&File")
+        assert "&Edit Station..." in [a.text() for a in file_menu.actions()]
         window.action_edit_station.trigger()
         builder = window.builder_windows[0]
         assert isinstance(builder, BuilderWindow) and builder.doc.path == path

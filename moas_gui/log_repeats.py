@@ -100,8 +100,8 @@ def lean_records() -> None:
     """Log records carry what the server's handlers show and no more: not the calling
     file, line and function, the thread or the process, which no handler of the server
     prints and each of which costs every record (the switches of the Optimization notes
-    of Python's logging documentation).  For the server's programs, not the tests
-    (whose captured records may name their caller)."""
+    of Python's logging documentation).  For the headless server (``run_headless``),
+    not the tests (whose captured records may name their caller)."""
     logging._srcfile = None  # the documented switch
     logging.logThreads = False
     logging.logProcesses = False

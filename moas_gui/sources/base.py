@@ -110,7 +110,6 @@ class Bursts(Protocol):
     def release(self) -> None: ...
 
 
-
 def event_key(event: SourceEvent) -> tuple[object, ...]:
     """What a newer event of the same key replaces: a radio's frequency, a station's focus..."""
     if isinstance(event, FrequencyReport):

@@ -6,7 +6,9 @@ N1MM's documentation asks of listeners), and calls :meth:`~DatagramSource.handle
 for each datagram.  When datagrams arrive faster than they are read, the ones
 waiting behind the first are read at once as a *burst*; a subclass collects
 what they say and acts on each radio's newest value once, in
-:meth:`~DatagramSource.end_burst`, so stale frequencies never queue up.
+:meth:`~DatagramSource.end_burst`, so stale frequencies never queue up.  The server
+gives each listener its sources' intake as :attr:`~DatagramSource.bursts`, held around
+the burst, so what the burst said is decided as it ends, in the loop turn that read it.
 """
 
 from __future__ import annotations

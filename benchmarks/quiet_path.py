@@ -332,7 +332,7 @@ def stage_rows(path: Path, sent: Sequence[int], latencies: dict[int, float],
     stamps: dict[str, Any] = json.loads(path.read_text())
     spans: dict[str, list[float]] = {name: [] for name in (
         "sendto -> the server reads the datagram", "parse RadioInfo",
-        "to the decision (the loop's next turn)", "engine decision",
+        "to the decision (the burst's end)", "engine decision",
         "switch plan -> write called", "the write itself", "write called -> first byte read")}
     names = list(spans)
     for seq, latency in sorted(latencies.items()):

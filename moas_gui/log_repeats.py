@@ -18,7 +18,7 @@ import logging
 import time
 from typing import TypeVar
 
-__all__ = ["FOLD_SECONDS", "RepeatFolder", "fold_repeats"]
+__all__ = ["FOLD_SECONDS", "LineFormatter", "RepeatFolder", "fold_repeats", "lean_records"]
 
 H = TypeVar("H", bound=logging.Handler)
 
@@ -76,3 +76,33 @@ def fold_repeats(handler: H, seconds: float = FOLD_SECONDS) -> H:
     """``handler`` with a :class:`RepeatFolder`; returns it."""
     handler.addFilter(RepeatFolder(handler, seconds))
     return handler
+
+
+class LineFormatter(logging.Formatter):
+    """The server's log lines, ``12:00:01 INFO    message``; the time's text is made once
+    a second, not for every line (a band change's Info line costs a quiet server's
+    processor: ``docs/architecture.md``, Timing)."""
+
+    def __init__(self) -> None:
+        super().__init__("%(asctime)s %(levelname)-7s %(message)s", "%H:%M:%S")
+        self._second = -1
+        self._text = ""
+
+    def formatTime(self, record: logging.LogRecord,
+                   datefmt: str | None = None) -> str:
+        second = int(record.created)
+        if second != self._second:
+            self._second, self._text = second, super().formatTime(record, datefmt)
+        return self._text
+
+
+def lean_records() -> None:
+    """Log records carry what the server's handlers show and no more: not the calling
+    file, line and function, the thread or the process, which no handler of the server
+    prints and each of which costs every record (the switches of the Optimization notes
+    of Python's logging documentation).  For the headless server (``run_headless``),
+    not the tests (whose captured records may name their caller)."""
+    logging._srcfile = None  # the documented switch
+    logging.logThreads = False
+    logging.logProcesses = False
+    logging.logMultiprocessing = False

@@ -10,8 +10,9 @@ client protocol's snapshot ``loop_lag_ms``).
 A lag over :data:`LOG_OVER` (100 ms) writes one Warning line, at most one a minute
 with the count of the others left out, saying what the loop was running.  To know
 that without timing every callback (which would cost on every turn), a small thread
-of its own looks every :data:`LOOK_EVERY` seconds at when the timer last ran; once
-the timer is a look overdue (:data:`LOOK_AFTER` seconds since it last ran), the thread
+of its own sleeps until the timer would be a look overdue (:data:`LOOK_AFTER` seconds
+after it last ran: it wakes about once a period, not every :data:`LOOK_EVERY`, as it
+costs a quiet server's processor at each wake); once the timer is overdue, the thread
 takes one look at the loop thread's stack (as text, :func:`faulthandler.dump_traceback`
 into a scratch file): the code that holds the loop, caught in the act.  A stall too short for the thread to see (under
 about 150 ms), or inside code that keeps every other thread out, says so instead::
@@ -77,6 +78,10 @@ class LoopWatch:
         """The largest lag seen since the watch was made, in seconds."""
         self.turns = 0
         """How many times the timer has run."""
+        self.looks = 0
+        """How many stacks the watching thread has read (one a stall at most)."""
+        self.wakes = 0
+        """How many times the watching thread has woken (about one a period)."""
         self._loop: asyncio.AbstractEventLoop | None = None
         self._timer: asyncio.TimerHandle | None = None
         self._expected = 0.0
@@ -151,7 +156,8 @@ class LoopWatch:
     # -- the watching thread --------------------------------------------------------------
     def _look_forever(self) -> None:
         with tempfile.TemporaryFile() as sink:
-            while not self._stop.wait(LOOK_EVERY):
+            while not self._stop.wait(self._until_overdue()):
+                self.wakes += 1
                 turn = self.turns
                 seen = self._seen
                 if seen is not None and seen.turn == turn:
@@ -159,6 +165,15 @@ class LoopWatch:
                 if time.monotonic() - self._last_run < self.look_after:
                     continue
                 self._seen = Seen(turn, loop_stack(sink, self._loop_thread))
+                self.looks += 1
+
+    def _until_overdue(self) -> float:
+        """How long the thread sleeps: until the timer would be a look overdue, not
+        polling meanwhile (the timer runs every ``every`` seconds, so the thread wakes
+        about once a period, not once a :data:`LOOK_EVERY`); during a stall already
+        looked at, a look's period."""
+        overdue = self._last_run + self.look_after - time.monotonic()
+        return max(LOOK_EVERY if overdue <= 0 else overdue, 0.001)
 
 
 def loop_stack(sink: IO[bytes], thread: int) -> str:

@@ -329,7 +329,7 @@ async def start_sources(run: Running, options: ServerOptions, sink: SourceSink,
             turn=manager.start_rotate, stop=manager.start_stop,
             headings=lambda: [(r.id, manager.view(r.id).heading) for r in rotators])
     run.sources = ServerSources(run.config, sink, settings=settings, rotators=hooks,
-                                contacts=contacts)
+                                contacts=contacts, bursts=run.intake)
     await run.sources.start()
     run.n1mm = run.sources.n1mm
 

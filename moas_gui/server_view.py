@@ -42,7 +42,7 @@ class ServerView:
         self._status_listeners: list[Callable[[ServerStatus], None]] = []
         self._alert_listeners: list[Callable[[str, str], None]] = []
         self._hold_listeners: list[Callable[[tuple[RadioView, ...]], None]] = []
-        self._holds: tuple[tuple[int, int, str | None, float | None], ...] = ()
+        self._holds: tuple[tuple[object, ...], ...] = ()
         self._ag = AntennaGenius()
         """The Antenna Genius front: it outlives a configuration, closed with the server."""
         self.antenna = AntennaFeed(self.options.antenna_log, self.options.antenna_log_clock)
@@ -220,15 +220,23 @@ class ServerView:
 
     def add_hold_listener(self, listener: Callable[[tuple[RadioView, ...]], None]) -> None:
         """``listener`` is told the held radios (:meth:`holds`) whenever they change."""
+        if not self._hold_listeners:  # untracked while nobody listened: from now on
+            self._holds = self._said_holds(self.holds())
         self._hold_listeners.append(listener)
 
     def _alert(self, title: str, text: str) -> None:
         for listener in self._alert_listeners:
             listener(title, text)
 
+    @staticmethod
+    def _said_holds(holds: tuple[RadioView, ...]) -> tuple[tuple[object, ...], ...]:
+        return tuple((v.station, v.radio, v.held_by, v.held_since) for v in holds)
+
     def _tell_holds(self) -> None:
+        if not self._hold_listeners:
+            return  # (a headless server: every radio's view is not walked at each change)
         holds = self.holds()
-        said = tuple((v.station, v.radio, v.held_by, v.held_since) for v in holds)
+        said = self._said_holds(holds)
         if said != self._holds:  # who holds what since when, not each radio's frequency
             self._holds = said
             for listener in self._hold_listeners:

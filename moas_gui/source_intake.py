@@ -74,6 +74,9 @@ class SourceIntake:
         self._focus = FocusTable()
         self._reports: dict[tuple[object, ...], SourceEvent] = {}
         self._batch: list[ServerEvent] = []
+        self._held = 0
+        """Bursts of a UDP listener under way (:meth:`hold`): their batch waits for the
+        release rather than the loop's next turn."""
         self._closed = False
         self._info = BurstLog(log, logging.INFO)
         self._debug = BurstLog(log, logging.DEBUG)
@@ -87,15 +90,29 @@ class SourceIntake:
 
     # -- the sink of every server source --------------------------------------------------
     def event(self, event: ServerEvent) -> None:
-        """One event of a source; decided with the rest of this loop turn's events."""
+        """One event of a source; decided with the rest of this loop turn's events (in
+        the loop's next turn), or of the UDP burst that brought it (at its end)."""
         if self._closed:
             return
         if isinstance(event, RunOrSearch):
             self._remember(event)
             return
-        if not self._batch:
+        if not self._batch and not self._held:
             asyncio.get_running_loop().call_soon(self._decide)
         self._batch.append(event)
+
+    def hold(self) -> None:
+        """A UDP listener's burst begins (:class:`~moas_gui.sources.base.Bursts`): what
+        it hands on waits for :meth:`release`."""
+        self._held += 1
+
+    def release(self) -> None:
+        """The burst has been read: its batch is decided now, in the loop turn that read
+        it (a quiet band change then costs no turn of its own, and its first byte goes
+        out a turn sooner); a batch a turn had already begun is decided with it."""
+        self._held = max(0, self._held - 1)
+        if not self._held and self._batch:
+            self._decide()
 
     def _decide(self) -> None:
         """Focus first, then frequencies with each station's active radio first, then

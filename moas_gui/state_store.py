@@ -410,7 +410,8 @@ class StateKeeper:
         self.path = path
         remove_stale_temporaries(path)
         self._collect = collect
-        self._delay = delay
+        self.delay = delay
+        """Seconds after a write during which later changes wait, to be written together."""
         self._timer: asyncio.TimerHandle | None = None
         self._writing: asyncio.Task[None] | None = None
         self._again = False
@@ -429,7 +430,7 @@ class StateKeeper:
             self._again = True
         elif self._timer is None:
             loop = asyncio.get_running_loop()
-            wait = max(0.0, self._started + self._delay - loop.time())
+            wait = max(0.0, self._started + self.delay - loop.time())
             self._timer = loop.call_later(wait, self._start)
 
     def _start(self) -> None:

@@ -647,10 +647,11 @@ async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | N
 
 
 def run_headless(args: argparse.Namespace) -> int:
-    from moas_gui.log_repeats import fold_repeats
+    from moas_gui.log_repeats import LineFormatter, fold_repeats, lean_records
 
+    lean_records()
     handler = fold_repeats(logging.StreamHandler(sys.stderr))
-    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)-7s %(message)s", "%H:%M:%S"))
+    handler.setFormatter(LineFormatter())
     root = logging.getLogger("moas_gui")
     root.addHandler(handler)
     root.setLevel(log_level_number(args.log_level))

@@ -99,6 +99,17 @@ SourceSink: TypeAlias = Callable[[SourceEvent], object]
 """Where a source hands its events (the app's entry into the engine, or the client link)."""
 
 
+class Bursts(Protocol):
+    """What a UDP listener tells the sink's owner around each burst of datagrams: events
+    handed on between :meth:`hold` and :meth:`release` are decided at the release, in the
+    same loop turn as the read (not in a later turn: a quiet server pays for every turn
+    of its loop, and the first byte to the switch goes out a turn sooner)."""
+
+    def hold(self) -> None: ...
+
+    def release(self) -> None: ...
+
+
 def event_key(event: SourceEvent) -> tuple[object, ...]:
     """What a newer event of the same key replaces: a radio's frequency, a station's focus..."""
     if isinstance(event, FrequencyReport):
@@ -291,6 +302,7 @@ __all__ = [
     "RETRY_LIMIT",
     "ActiveRadio",
     "BadInputLog",
+    "Bursts",
     "ConnectionLog",
     "FocusRadio",
     "FrequencyReport",

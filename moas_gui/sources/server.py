@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from typing import TypeVar
 
 from moas_gui.config.model import Config
-from moas_gui.sources.base import DEFAULT_RETRY, SourceHub, SourceSink
+from moas_gui.sources.base import DEFAULT_RETRY, Bursts, SourceHub, SourceSink
 from moas_gui.sources.dxlog import DXLogListener
 from moas_gui.sources.flex import FlexSource
 from moas_gui.sources.flex_api import API_PORT, RadioRef, SliceMap, parse_slice_map
@@ -81,10 +81,14 @@ class ServerSources:
         settings: SourceSettings | None = None,
         rotators: RotatorHooks | None = None,
         contacts: ContactCallback | None = None,
+        bursts: Bursts | None = None,
     ) -> None:
         self._config = config
         self._settings = settings or SourceSettings()
         self.hub = SourceHub(sink)
+        self._bursts = bursts
+        """Told around each burst of every UDP listener (the loggers'), so the sink's owner
+        decides a burst in the turn that read it (:class:`~.base.Bursts`)."""
         self._rotators = rotators
         self._contacts = contacts
         """Where the N1MM listener hands the loggers' contact packets (the antenna log)."""
@@ -215,6 +219,7 @@ class ServerSources:
             "N1MM rotor commands", port)
 
     async def _bind(self, source: _D, what: str, port: int) -> _D | None:
+        source.bursts = self._bursts
         try:
             await source.start()
         except OSError as exc:

@@ -6,7 +6,9 @@ N1MM's documentation asks of listeners), and calls :meth:`~DatagramSource.handle
 for each datagram.  When datagrams arrive faster than they are read, the ones
 waiting behind the first are read at once as a *burst*; a subclass collects
 what they say and acts on each radio's newest value once, in
-:meth:`~DatagramSource.end_burst`, so stale frequencies never queue up.
+:meth:`~DatagramSource.end_burst`, so stale frequencies never queue up.  The server
+gives each listener its sources' intake as :attr:`~DatagramSource.bursts`, held around
+the burst, so what the burst said is decided as it ends, in the loop turn that read it.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import sys
 from typing import Final
 
 from moas_gui.log_limit import LogLimiter, held_text
+from moas_gui.sources.base import Bursts
 
 MAX_BURST: Final = 1000
 """Datagrams taken at once behind the one the event loop delivered."""
@@ -40,6 +43,9 @@ class DatagramSource(asyncio.DatagramProtocol):
         self._transport: asyncio.BaseTransport | None = None
         self._sock: socket.socket | None = None
         self._closed: asyncio.Future[None] | None = None
+        self.bursts: Bursts | None = None
+        """Told around each burst (the server's sources' intake: :class:`~.base.Bursts`),
+        so what the burst said is decided in the turn that read it; None: nobody."""
 
     # -- what a subclass gives -------------------------------------------------------
     def handle(self, data: bytes, address: str) -> object:
@@ -63,6 +69,22 @@ class DatagramSource(asyncio.DatagramProtocol):
         self._transport = transport
 
     def datagram_received(self, data: bytes, addr: tuple[str | int, ...]) -> None:
+        bursts = self.bursts
+        if bursts is None:
+            self._take(data, addr)
+            return
+        bursts.hold()
+        try:
+            self._take(data, addr)
+        finally:
+            try:
+                bursts.release()
+            except Exception:  # a listener never stops on what its sink does
+                if _SOCKET_ERRORS.allow((self.label, "decision")) is not None:
+                    log.exception("%s: what a burst said could not be decided", self.label)
+
+    def _take(self, data: bytes, addr: tuple[str | int, ...]) -> None:
+        """The datagram the loop delivered and those waiting behind it, as one burst."""
         if self._sock is None:
             self.begin_burst()
             try:

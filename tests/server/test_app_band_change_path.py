@@ -88,3 +88,32 @@ async def test_a_loggers_band_change_enters_the_app_once_through_act(
     finally:
         logger.close()
     assert [name for name in entered if name != TICKER] == ["act"], entered
+
+
+@pytest.mark.asyncio
+async def test_a_loggers_band_change_is_decided_in_the_loop_turn_that_read_it(
+        app: ServerApp) -> None:  # noqa: F811
+    # issue 41: the sources' batch of a UDP burst is decided as the burst ends, inside the
+    # callback that read the datagram, not in a later turn of the loop (each turn costs a
+    # quiet server, and the first byte to the switch would wait for it)
+    await run_example(app, "small-station.moas")
+    address = app.n1mm_address
+    assert address is not None and app._run is not None and app._run.sources is not None
+    listener = app._run.sources.n1mm
+    assert listener is not None
+    engine = app.engine
+    assert engine is not None
+    read = listener.datagram_received
+    when_read: list[float | None] = []
+
+    def reading(data: bytes, addr: tuple[str | int, ...]) -> None:
+        read(data, addr)
+        when_read.append(engine.radio_view(1, 1).khz)  # as the callback ends
+
+    listener.datagram_received = reading  # type: ignore[method-assign]
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as logger:
+        logger.sendto(radio_info_packet(1, 14025.0), address)
+        await until(lambda: when_read, what="the datagram read")
+        logger.sendto(radio_info_packet(1, 7025.0), address)
+        await until(lambda: len(when_read) == 2, what="the second datagram read")
+    assert when_read == [14025.0, 7025.0]

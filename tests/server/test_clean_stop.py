@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import short_runtime_dir, wait_for
+from helpers import free_port, short_runtime_dir, wait_for
 
 from moas_gui import aio
 from moas_gui.aio import (
@@ -33,6 +33,7 @@ from moas_gui.aio import (
     run_until_stopped,
     stop_signals,
 )
+from moas_gui.sources.n1mm_packet import radio_info_packet
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
@@ -324,6 +325,41 @@ def start(env: dict[str, str]) -> Any:
 SERVER = ["-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"), "--new-instance",
           "--bind", "127.0.0.1", "--udp-bind", "127.0.0.1", "--tcp-port", "0", "--udp-port", "0",
           "--no-rotator-program"]
+
+
+def _radio_khz(state_dir: Path, station: int, radio: int) -> float | None:
+    """Radio ``station/radio``'s frequency in the small station's state file, if any."""
+    for path in state_dir.glob("small-station-*.state.json"):
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return None  # (written by rename: never half a file; gone between glob and read)
+        for entry in data["engine"]["radios"]:
+            if entry["radio"] == [station, radio]:
+                return float(entry["khz"]) if entry["khz"] is not None else None
+    return None
+
+
+@pytest.mark.realtime
+def test_a_change_still_waiting_to_be_saved_is_written_before_the_server_exits(
+        start: Any, tmp_path: Path) -> None:
+    # saves are coalesced (a change within a second of the last write waits for the
+    # next, issue 41): a SIGTERM in that second still writes it before the process ends
+    port = free_port(socket.SOCK_DGRAM)
+    args = list(SERVER)
+    args[args.index("--udp-port") + 1] = str(port)
+    program = start([*args, "--headless"])
+    wait_for(lambda: program.said("Serving"), 30, "the server serving")
+    saved = tmp_path / "state" / "moas-gui"
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as logger:
+        logger.sendto(radio_info_packet(1, 14025.0), ("127.0.0.1", port))
+        wait_for(lambda: _radio_khz(saved, 1, 1) == 14025.0, 30, "the first change saved")
+        logger.sendto(radio_info_packet(1, 7025.0), ("127.0.0.1", port))  # within the second
+        wait_for(lambda: program.said("7025"), 30, "the second change taken")
+        pending = _radio_khz(saved, 1, 1) == 14025.0
+        code, output = program.stop(signal.SIGTERM)
+    assert code == 0 and "Stopping (SIGTERM)" in output, output
+    assert _radio_khz(saved, 1, 1) == 7025.0, (pending, output)
 
 
 @pytest.mark.realtime

@@ -89,3 +89,17 @@ async def test_a_stall_the_thread_could_not_see_says_so(
         watch.stop()
     assert watch.largest >= 0.005
     assert any("was not seen" in line for line in lag_lines(caplog)), lag_lines(caplog)
+
+
+@pytest.mark.asyncio
+async def test_the_watching_thread_wakes_about_once_a_period_on_a_quiet_loop() -> None:
+    # a quiet server pays for every wake of the thread (issue 41: the quiet band change):
+    # it sleeps until the timer would be overdue, so about one wake a period of the timer;
+    # polling every look (50 ms) would wake four times a 200 ms period
+    watch = LoopWatch(every=0.2)
+    watch.start()
+    try:
+        await until(lambda: watch.turns >= 10, timeout=60)
+    finally:
+        watch.stop()
+    assert 0 < watch.wakes <= 2 * watch.turns, (watch.wakes, watch.turns)

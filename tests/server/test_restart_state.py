@@ -445,3 +445,29 @@ def test_a_temporary_left_by_a_writer_that_is_gone_is_removed_at_once(tmp_path: 
     finally:
         living.kill()
         living.wait()
+
+
+@pytest.mark.asyncio
+async def test_a_change_still_waiting_to_be_saved_is_written_before_a_restart(
+        station: Path, app: ServerApp) -> None:
+    # saves are coalesced (issue 41: at most a second late); File > Restart writes what
+    # waits before the configuration closes, so the reopened engine starts from it
+    await app.open(station)
+    keeper = app._run.keeper  # type: ignore[union-attr]
+    assert keeper is not None
+    await _logger_tunes(app, 1, 14025.0)
+    await keeper.flush()
+    keeper.delay = 3600.0  # what follows waits for a write no test waits for
+    await _logger_tunes(app, 1, 7025.0)
+    await asyncio.sleep(0.05)
+    assert load(state_path(station), fingerprint(station.read_bytes())) is not None
+    assert _saved_khz(station) == 14025.0, "the second change waits"
+    await app.restart()
+    assert _saved_khz(station) == 7025.0
+    assert app.engine is not None and app.engine.radio_view(1, 1).khz == 7025.0
+    assert app._run is not None and app._run.keeper is not keeper
+
+
+def _saved_khz(station: Path) -> float | None:
+    data = json.loads(state_path(station).read_text(encoding="utf-8"))
+    return next(float(r["khz"]) for r in data["engine"]["radios"] if r["radio"] == [1, 1])

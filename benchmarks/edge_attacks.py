@@ -12,7 +12,7 @@ gives less).  Scenarios (issue 38's words):
 
 ``tls-silent``
     8, then 50 silent TCP connections from one address (127.0.0.2), then 50 from each of
-    ten (127.0.0.2-11), to the TLS client port and the HTTPS page; each reopened when the
+    ten (127.0.0.2 and 127.0.0.20-28: never the measuring clients' .1 and .10), to the TLS client port and the HTTPS page; each reopened when the
     server closes it.
 ``report-span``
     a ``contactinfo`` dated 9999-12-31 from the logger's address, then a plain ``GET
@@ -127,7 +127,7 @@ async def tls_silent(s: dict[str, Any], tally: Tally) -> None:
     end = loop.time() + s["hold"]
     each = max(1, round(50 * s["scale"]))
     phases = [(max(1, round(8 * s["scale"])), ["127.0.0.2"]), (each, ["127.0.0.2"]),
-              (each, [f"127.0.0.{n}" for n in range(2, 12)])]
+              (each, ["127.0.0.2", *(f"127.0.0.{n}" for n in range(20, 29))])]
     holders: list[asyncio.Task[None]] = []
     for number, (count, sources) in enumerate(phases):
         phase_end = loop.time() + s["hold"] / 3 if number < 2 else end

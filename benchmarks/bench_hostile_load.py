@@ -17,7 +17,8 @@ address space (an unbounded attack then ends in the server's MemoryError rather 
 the machine's swap).  An operator (``operate``, AG code 160042) and a ``view`` operator
 are made first, and the operator's device (127.0.0.10) signs in once before the attack
 (a known device: docs/security.md).  During ``--hold`` seconds a loopback client (127.0.0.1) and the operator
-(127.0.0.10, with its token) each say hello every half second (over TLS for tls-silent;
+(127.0.0.10, with its token) each say hello every half second (over TLS for tls-silent, where the loopback client
+also loads the HTTPS page every half second;
 for the AG scenarios the operator's AG connection authenticates too).  Prints, for
 each: the hellos served within 1 s and their median, the largest loop lag (the status's
 ``loop_lag_ms``, read after the attack), the server's memory growth, the log lines
@@ -359,16 +360,34 @@ async def ag_auth_once(port: int, source: str) -> float:
         writer.close()
 
 
+async def page_once(port: int, tls: bool) -> float:
+    """The browser page (``GET /``) from loopback, over TLS when the server serves it so."""
+    started = time.perf_counter()
+    reader, writer = await asyncio.open_connection(
+        "127.0.0.1", port, ssl=client_context() if tls else None)
+    try:
+        writer.write(f"GET / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nConnection: close\r\n\r\n"
+                     .encode())
+        status = await reader.readline()
+        if b" 200 " not in status:
+            raise ConnectionError(f"page: {status[:40]!r}")
+        await reader.read()
+        return time.perf_counter() - started
+    finally:
+        writer.close()
+
+
 @dataclass
 class EdgeTries:
     loopback: list[float | None] = field(default_factory=list)
     operator: list[float | None] = field(default_factory=list)
     ag: list[float | None] = field(default_factory=list)
+    page: list[float | None] = field(default_factory=list)
     failures: list[str] = field(default_factory=list)
 
 
 async def measure_edges(tcp: int, ag: int | None, hold: float, token: str,
-                        tls: bool) -> EdgeTries:
+                        tls: bool, web: int | None = None) -> EdgeTries:
     """The loopback client's and the operator's hellos (and the operator's AG sign-in)
     every half second for ``hold`` seconds, each given 5 s."""
     loop = asyncio.get_running_loop()
@@ -393,6 +412,9 @@ async def measure_edges(tcp: int, ag: int | None, hold: float, token: str,
         if ag is not None:
             running.append(asyncio.ensure_future(timed(
                 "AG operator", lambda: ag_auth_once(ag, OPERATOR), tries.ag)))
+        if web is not None:
+            running.append(asyncio.ensure_future(timed(
+                "page", lambda: page_once(web, tls), tries.page)))
         await asyncio.sleep(0.5)
     await asyncio.gather(*running)
     return tries
@@ -500,7 +522,8 @@ async def edge_figures(scenario: str, args: argparse.Namespace, station: Station
     lead = min(2.0, args.hold / 4)
     await asyncio.sleep(lead)  # the attack arrives first
     tries = await measure_edges(station.tcp, ag if scenario.startswith("ag-") else None,
-                                args.hold - lead, token, tls)
+                                args.hold - lead, token, tls,
+                                web if scenario == "tls-silent" else None)
     said, _ = await asyncio.wait_for(attacker.communicate(), args.hold * 2 + 30)
     await asyncio.sleep(args.settle)
     lag = await loop_lag(station.tcp, tls)
@@ -513,6 +536,8 @@ async def edge_figures(scenario: str, args: argparse.Namespace, station: Station
     for note in done["notes"]:
         print(f"  attack: {note}")
     ok = describe_tries("loopback", tries.loopback) & describe_tries("operator", tries.operator)
+    if tries.page:
+        ok = describe_tries("page", tries.page) and ok
     if tries.ag:
         describe_tries("AG operator", tries.ag)
     for failure in tries.failures[:3]:

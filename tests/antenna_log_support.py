@@ -8,7 +8,18 @@ export and the report can be tested on a journal whose every record the test wro
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
+import os
+import signal
+import socket
+import sys
+from collections.abc import AsyncIterator, Callable
 from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Protocol, TypeVar
+
+from helpers import free_port, until
 
 from moas_gui.antenna_log.records import (
     AntennaSpan,
@@ -161,3 +172,48 @@ def contest_journal() -> MemoryJournal:
     contacts.sort(key=lambda c: c.time)
     marks = [HeadingMark("Rotor 20", 45.0, T0 + 10)]
     return MemoryJournal(contacts, spans, keys, marks)
+
+
+class _Running(Protocol):
+    process: asyncio.subprocess.Process
+    lines: list[str]
+
+
+RunningT = TypeVar("RunningT", bound=_Running)
+
+
+@contextlib.asynccontextmanager
+async def headless_server(config: Path, tmp_path: Path,
+                          make: Callable[[asyncio.subprocess.Process, int, int], RunningT],
+                          ) -> AsyncIterator[RunningT]:
+    """``moas-server --headless`` on ``config`` (its own state and configuration folders
+    under ``tmp_path``; the caller sets ``XDG_DATA_HOME``, which its journal reader shares),
+    with the web page and N1MM's port on free ports; ``make(process, udp, web)`` wraps it.
+    Its log lines gather in the wrapper's ``lines``; SIGTERM at the end, which must end it
+    with status 0."""
+    env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_STATE_HOME=str(tmp_path / "state"),
+               XDG_CONFIG_HOME=str(tmp_path / "config"))
+    udp = free_port(socket.SOCK_DGRAM)
+    web = free_port()
+    process = await asyncio.create_subprocess_exec(
+        sys.executable, "-m", "moas_gui.cli.server", "--headless", str(config),
+        "--bind", "127.0.0.1", "--tcp-port", "0", "--web-port", str(web),
+        "--udp-port", str(udp), "--udp-bind", "127.0.0.1", "--no-rotator-program",
+        "--new-instance", "--log-level", "info", stderr=asyncio.subprocess.PIPE, env=env)
+    running = make(process, udp, web)
+
+    async def collect() -> None:
+        assert process.stderr is not None
+        async for line in process.stderr:
+            running.lines.append(line.decode(errors="replace"))
+    reading = asyncio.ensure_future(collect())
+    try:
+        await until(lambda: any("Serving " in line for line in running.lines)
+                    or process.returncode is not None, timeout=30, what="the server serving")
+        assert process.returncode is None, "".join(running.lines)
+        yield running
+    finally:
+        if process.returncode is None:
+            process.send_signal(signal.SIGTERM)
+            assert await asyncio.wait_for(process.wait(), 15) == 0, "".join(running.lines)
+        await reading

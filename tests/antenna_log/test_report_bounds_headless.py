@@ -9,12 +9,10 @@ SIGTERM while reports are being made."""
 from __future__ import annotations
 
 import asyncio
-import os
 import shutil
 import signal
 import socket
 import sqlite3
-import sys
 import time
 import urllib.error
 import urllib.request
@@ -23,7 +21,8 @@ from pathlib import Path
 
 import pytest
 import pytest_asyncio
-from helpers import free_port, until
+from antenna_log_support import headless_server
+from helpers import until
 
 from moas_gui.antenna_log.journal import Journal, journal_path, open_reader
 from moas_gui.antenna_log.records import Period
@@ -84,32 +83,10 @@ async def server(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> AsyncIterat
     shutil.copy(EXAMPLES / "small-station.moas", config)
     monkeypatch.setenv("XDG_DATA_HOME", str(tmp_path / "data"))  # the reader's, the server's
     seed(journal_path(config), time.time())
-    env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_STATE_HOME=str(tmp_path / "state"),
-               XDG_CONFIG_HOME=str(tmp_path / "config"))
-    udp = free_port(socket.SOCK_DGRAM)
-    web = free_port()
-    process = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "moas_gui.cli.server", "--headless", str(config),
-        "--bind", "127.0.0.1", "--tcp-port", "0", "--web-port", str(web),
-        "--udp-port", str(udp), "--udp-bind", "127.0.0.1", "--no-rotator-program",
-        "--new-instance", "--log-level", "info", stderr=asyncio.subprocess.PIPE, env=env)
-    running = Server(process, udp, web, config)
-
-    async def collect() -> None:
-        assert process.stderr is not None
-        async for line in process.stderr:
-            running.lines.append(line.decode(errors="replace"))
-    reading = asyncio.ensure_future(collect())
-    try:
-        await until(lambda: any("Serving " in line for line in running.lines)
-                    or process.returncode is not None, timeout=30, what="the server serving")
-        assert process.returncode is None, "".join(running.lines)
+    async with headless_server(config, tmp_path,
+                               lambda process, udp, web: Server(process, udp, web, config)
+                               ) as running:
         yield running
-    finally:
-        if process.returncode is None:
-            process.send_signal(signal.SIGTERM)
-            assert await asyncio.wait_for(process.wait(), 15) == 0, "".join(running.lines)
-        await reading
 
 
 def contact_dated(contact_id: str, when: str) -> bytes:

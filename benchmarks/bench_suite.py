@@ -155,8 +155,12 @@ def main() -> int:
         done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
                                "-p", "bench_suite", *args], cwd=ROOT, env=env, check=False)
         wall = time.monotonic() - began
+        whole = resource.getrusage(resource.RUSAGE_CHILDREN)
         print(f"\nthe run: {wall:.1f} s wall, exit status {done.returncode}; "
               f"load average after: {_load()}")
+        print(f"the whole run's processor time (pytest, its workers and every process they "
+              f"waited for): {whole.ru_utime + whole.ru_stime:.1f} s "
+              f"(user {whole.ru_utime:.1f}, system {whole.ru_stime:.1f})")
         report(Path(folder), top, by)
     return done.returncode
 

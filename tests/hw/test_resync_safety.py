@@ -31,8 +31,11 @@ from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, remove_link, serve
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming
 
-pytestmark = pytest.mark.skipif(
-    not hasattr(__import__("os"), "openpty"), reason="pseudo-terminals are POSIX")
+pytestmark = [
+    pytest.mark.skipif(not hasattr(__import__("os"), "openpty"),
+                       reason="pseudo-terminals are POSIX"),
+    pytest.mark.realtime,  # the server's link on a pseudo-terminal, its timeouts on the real clock
+]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 FAST = LinkTiming(ping_interval=0.1, answer_timeout=0.5, retry_first=0.05, retry_max=0.2)

@@ -17,6 +17,7 @@ from moas_gui.cli import server
 from moas_gui.testing.flex_radio import FlexRadio
 
 
+@pytest.mark.realtime  # a real moas-server process, listening its 3 s
 def test_flex_list_prints_the_radios_heard(tmp_path: Path) -> None:
     port = free_port(socket.SOCK_DGRAM)
     radio = FlexRadio(port=4994, nickname="Contest")
@@ -42,6 +43,7 @@ def test_flex_list_prints_the_radios_heard(tmp_path: Path) -> None:
         "FLEX-6600\tnickname Contest\tserial 1234-5678-9012-3456\t127.0.0.1:4994"]
 
 
+@pytest.mark.realtime  # a real moas-server process, listening its 3 s
 def test_flex_list_says_when_none_was_heard(tmp_path: Path) -> None:
     port = free_port(socket.SOCK_DGRAM)
     env = dict(os.environ, XDG_STATE_HOME=str(tmp_path / "state"),

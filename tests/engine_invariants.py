@@ -60,6 +60,9 @@ class Facts:
     """Pairs partnered by ``Partner`` lists."""
     partner_functions: tuple[tuple[int, frozenset[RadioRef]], ...] = ()
     """Partner functions and the pair each toggles."""
+    memo: dict[tuple[Any, ...], Any] = field(default_factory=dict, compare=False, repr=False)
+    """Answers already worked out (they depend on the configuration alone): the checks ask
+    the same questions after every event of an evening."""
 
     @staticmethod
     def of(cfg: Config) -> Facts:
@@ -108,6 +111,21 @@ class Facts:
     def conflict(self, a: int, b: int) -> bool:
         """Configured conflicts (either direction), or one physical antenna shared by the two
         selections (a component or an alternate path) that may not be used twice."""
+        key = ("conflict", a, b)
+        known = self.memo.get(key)
+        if known is None:
+            known = self.memo[key] = self._conflict(a, b)
+        return bool(known)
+
+    def conflicting(self, a: int) -> tuple[int, ...]:
+        """The antennas (in the configuration's order) that :meth:`conflict` with ``a``."""
+        key = ("conflicting", a)
+        known = self.memo.get(key)
+        if known is None:
+            known = self.memo[key] = tuple(b for b in self.ants if self.conflict(a, b))
+        return known  # type: ignore[no-any-return]
+
+    def _conflict(self, a: int, b: int) -> bool:
         if b in self.ants[a].conflicts or a in self.ants[b].conflicts:
             return True
         for comp in self.parts[a] & self.parts[b]:
@@ -119,6 +137,13 @@ class Facts:
         return b in self.ants[a].fast or a in self.ants[b].fast
 
     def covers(self, ref: RadioRef, antenna: int, khz: float | None) -> bool:
+        key = ("covers", ref, antenna, khz)
+        known = self.memo.get(key)
+        if known is None:
+            known = self.memo[key] = self._covers(ref, antenna, khz)
+        return bool(known)
+
+    def _covers(self, ref: RadioRef, antenna: int, khz: float | None) -> bool:
         ant = self.ants[antenna]
         for cr in ant.control:
             usable = any(s.applies_to(ref.station, ref.radio) for s in cr.stations)
@@ -183,6 +208,15 @@ class Facts:
         return pairs
 
     def switches_of(self, ref: RadioRef) -> dict[int, list[int]]:
+        """Switch -> the radio's ports on it (one answer shared by every caller: read it,
+        never change it)."""
+        key = ("switches", ref)
+        known = self.memo.get(key)
+        if known is None:
+            known = self.memo[key] = self._switches_of(ref)
+        return known  # type: ignore[no-any-return]
+
+    def _switches_of(self, ref: RadioRef) -> dict[int, list[int]]:
         r = self.cfg.radio(ref.station, ref.radio)
         only = self.cfg.switches[0].id if len(self.cfg.switches) == 1 else None
         out: dict[int, list[int]] = {}
@@ -461,8 +495,9 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
         if ref in facts.receivers or v.rx is None:
             continue
         triggers = [(t, vt) for t, vt in holders
-                    if facts.family[t] != facts.family[ref] and t not in facts.receivers
-                    and vt.transmitting and vt.tx is not None and facts.conflict(v.rx, vt.tx)
+                    if vt.transmitting and vt.tx is not None
+                    and facts.family[t] != facts.family[ref] and t not in facts.receivers
+                    and facts.conflict(v.rx, vt.tx)
                     and e.may_share(ref, v.rx, t, vt.tx)
                     and (facts.ants[v.rx].shared_tx or facts.ants[vt.tx].shared_tx)]
         if not triggers:
@@ -557,6 +592,7 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
     # it, unless the two may share them now.  (A sub receiver without a port of its own
     # rides on its main radio's port: the box sees that port only, so the main radio's
     # pairs are the ones it can enforce.)
+    shares: dict[tuple[RadioRef, int, RadioRef, int], bool] = {}  # the same on every switch
     for w, state in states.items():
         on_w = [(ref, v) for ref, v in holders if w in facts.switches_of(ref)]
         for ra, va in on_w:
@@ -567,11 +603,14 @@ def multiop_violations(e: Engine, facts: Facts, counts: Counter[str]) -> list[st
                 for rb, _vb in on_w:
                     if facts.family[rb] == facts.family[ra]:
                         continue
-                    for y in facts.ants:
-                        if not facts.conflict(x, y) or e.may_share(ra, x, rb, y):
-                            continue
+                    for y in facts.conflicting(x):
                         sb = e.slot_of(w, y, rb.station, rb.radio, as_partner_alt=False)
                         if sb is None:
+                            continue
+                        shared = shares.get((ra, x, rb, y))
+                        if shared is None:
+                            shared = shares[ra, x, rb, y] = e.may_share(ra, x, rb, y)
+                        if shared:
                             continue
                         counts["switch conflict table"] += 1
                         if (min(sa, sb), max(sa, sb)) not in state.conflicts:

@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from enum import Enum
 from pathlib import Path
+from typing import NamedTuple
 
 from . import relays as relay_numbers
 from .rigs import FlexRadioEntry, OtrspPort, RigDaemon
@@ -241,8 +242,7 @@ class Rotator:
         return self.short_name or self.long_name or f"Rotator {self.id}"
 
 
-@dataclass(frozen=True, slots=True, order=True)
-class RadioRef:
+class RadioRef(NamedTuple):
     """A station and radio number pair."""
 
     station: int

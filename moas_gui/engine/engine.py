@@ -29,7 +29,7 @@ from .outputs import Inputs, PortAntennas, build, inhibit_pairs, radio_relays, s
 from .ranges import nearest_range_relays
 from .relative import relative as relative_select
 from .relative import relative_list
-from .rules import unpermitted
+from .rules import permitted, related, unpermitted
 from .selection import recheck, select_by_frequency
 from .slots import SETTLE_MARGIN_S, SlotClasses, SlotMap, allocate, initial_map, receive_seen
 from .state import RadioState, State
@@ -143,7 +143,6 @@ class Engine:
         """Whether radios ``a`` and ``b`` may hold these conflicting antennas together now
         (a shared system in shared mode, or shared transmit antennas between interlocked
         radios; a radio and its own sub or alternate receiver)."""
-        from .rules import permitted, related
         return related(self._ix, a, b) or permitted(self._ix, self._state, a, b, antenna_a,
                                                      antenna_b)
 

@@ -61,6 +61,7 @@ def test_check_explains_mutated_files_in_process(tmp_path: Path,
             assert status == 0 and "Switches:" in out, (kind, out[-300:])
 
 
+@pytest.mark.realtime  # real --check processes
 def test_check_as_a_process_on_files_cut_short() -> None:
     data = FILES["big-station.moas"]
     for cut in (1, len(data) // 3, len(data) - 2):

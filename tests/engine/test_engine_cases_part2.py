@@ -10,8 +10,6 @@ the conflict-table case is judged by the box's own conflict resolver.
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -20,6 +18,7 @@ import pytest
 from engine_builders import example
 from engine_invariants import Facts, violations
 
+from moas_gui.cli import server
 from moas_gui.config import parse_config
 from moas_gui.config.model import Config, RadioRef
 from moas_gui.engine import Engine, EngineError
@@ -205,32 +204,37 @@ def test_the_emulated_box_refuses_the_radios_own_slot_and_takes_the_alternate() 
 
 # -- --check says which entry the flags belong on ---------------------------------------------
 
-def _check(tmp_path: Path, moas: dict[str, Any]) -> list[str]:
+def _check(tmp_path: Path, moas: dict[str, Any], capsys: pytest.CaptureFixture[str]) -> list[str]:
+    """``moas-server --check`` on ``moas`` (its own command, in this process: what it says
+    is the test, not the process; tests/config/test_config_fuzz.py runs it as a process)."""
     path = tmp_path / "station.moas"
     path.write_text(json.dumps(moas, indent=2))
-    done = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--check", str(path)],
-                          capture_output=True, text=True, check=False, timeout=60)
-    assert done.returncode == 0, done.stdout + done.stderr
-    return [line for line in done.stdout.splitlines() if "warning:" in line]
+    capsys.readouterr()
+    status = server.main(["--check", str(path)])
+    out, err = capsys.readouterr()
+    assert status == 0, out + err
+    return [line for line in out.splitlines() if "warning:" in line]
 
 
 def _radio_entry(moas: dict[str, Any], radio: int) -> dict[str, Any]:
     return next(r for r in moas["Radios"] if r["Radio"] == radio)
 
 
-def test_check_is_quiet_about_the_flags_on_the_main_radios_entry(tmp_path: Path) -> None:
+def test_check_is_quiet_about_the_flags_on_the_main_radios_entry(tmp_path: Path,
+        capsys: pytest.CaptureFixture[str]) -> None:
     data, _ = _case("sub-persist.json")
     moas = data["moas"]
     _radio_entry(moas, 1)["UseMainFreq"] = True
-    assert not [w for w in _check(tmp_path, moas) if "SubReceiver" in w]
+    assert not [w for w in _check(tmp_path, moas, capsys) if "SubReceiver" in w]
 
 
-def test_check_says_the_flags_belong_on_the_main_radios_entry(tmp_path: Path) -> None:
+def test_check_says_the_flags_belong_on_the_main_radios_entry(tmp_path: Path,
+        capsys: pytest.CaptureFixture[str]) -> None:
     data, _ = _case("sub-persist.json")
     moas = data["moas"]
     del _radio_entry(moas, 1)["PersistSubReceiver"]
     _radio_entry(moas, 5).update(PersistSubReceiver=True, UseMainFreq=True)
-    warnings = _check(tmp_path, moas)
+    warnings = _check(tmp_path, moas, capsys)
     for key in ("PersistSubReceiver", "UseMainFreq"):
         found = [w for w in warnings if f'"{key}" belongs on the entry of its main radio, '
                  "station 1 radio 1" in w]
@@ -238,11 +242,12 @@ def test_check_says_the_flags_belong_on_the_main_radios_entry(tmp_path: Path) ->
         assert "station 1 radio 5's" in found[0] and "honoured here too" in found[0]
 
 
-def test_check_says_a_flag_without_a_sub_receiver_does_nothing(tmp_path: Path) -> None:
+def test_check_says_a_flag_without_a_sub_receiver_does_nothing(tmp_path: Path,
+        capsys: pytest.CaptureFixture[str]) -> None:
     data, _ = _case("sub-persist.json")
     moas = data["moas"]
     _radio_entry(moas, 2)["PersistSubReceiver"] = True
-    warnings = _check(tmp_path, moas)
+    warnings = _check(tmp_path, moas, capsys)
     assert any("station 1 radio 2's \"PersistSubReceiver\" has no effect" in w
                for w in warnings), warnings
 

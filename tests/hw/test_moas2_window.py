@@ -96,6 +96,7 @@ def test_closing_the_window_stops_listening(qtbot, window: EmulatorWindow,  # ty
     assert window.log.toPlainText() == before
 
 
+@pytest.mark.realtime  # a link to the emulator on a pseudo-terminal, on the real clock
 def test_switch_link_runs_on_the_qt_event_loop(qapp: QApplication, tmp_path: Path) -> None:
     loop = qasync.QEventLoop(qapp)
     timing = LinkTiming(ping_interval=0.05, answer_timeout=1.0, retry_first=0.05, retry_max=0.2)

@@ -31,11 +31,16 @@ from moas_gui.hw.moas2.emulator.model import EmulatorModel
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, remove_link, serve
 from moas_gui.hw.moas2.link import LinkStatus, LinkTiming
 
-pytestmark = pytest.mark.skipif(
-    not hasattr(__import__("os"), "openpty"), reason="pseudo-terminals are POSIX")
+pytestmark = [
+    pytest.mark.skipif(not hasattr(__import__("os"), "openpty"),
+                       reason="pseudo-terminals are POSIX"),
+    pytest.mark.realtime,  # the server's link on a pseudo-terminal, its timeouts on the real clock
+]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 FAST = LinkTiming(ping_interval=0.1, answer_timeout=0.5, retry_first=0.05, retry_max=0.2)
+NOISY = LinkTiming(ping_interval=0.1, answer_timeout=0.2, retry_first=0.05, retry_max=0.2)
+"""For the noisy line: each garbled answer is a question waiting out its answer time."""
 
 
 @dataclass
@@ -123,14 +128,14 @@ def station(tmp_path: Path, box: Box) -> Path:
     return path
 
 
-def new_app() -> ServerApp:
+def new_app(timing: LinkTiming = FAST) -> ServerApp:
     return ServerApp(ServerOptions(bind="127.0.0.1", tcp_port=0, udp_port=0,
                                    udp_bind="127.0.0.1", start_rotator_program=False,
-                                   switch_timing=FAST))
+                                   switch_timing=timing))
 
 
-async def running(path: Path) -> ServerApp:
-    app = new_app()
+async def running(path: Path, timing: LinkTiming = FAST) -> ServerApp:
+    app = new_app(timing)
     assert (await app.open(path)).ok
     await until(lambda: app._run is not None
                 and all(link.ready for link in app._run.links.values()), what="a ready link")
@@ -269,7 +274,7 @@ async def test_a_stall_longer_than_every_timeout_reloads_nothing_under_a_keyed_s
 @pytest.mark.asyncio
 async def test_a_noisy_line_that_garbles_the_status_answers_never_resets_a_keyed_box(
         box: Box, station: Path, caplog: pytest.LogCaptureFixture) -> None:
-    app = await running(station)
+    app = await running(station, NOISY)
     try:
         _, twenty = await band_change_held_while_keyed(app, box)
         link = app._run.links[1]  # type: ignore[union-attr]

@@ -313,6 +313,7 @@ async def rotctl(port: int, *commands: str) -> tuple[int, str]:
     return process.returncode, out.decode()
 
 
+@pytest.mark.realtime  # the real rotctl
 @pytest.mark.asyncio
 async def test_real_rotctl_reads_turns_and_stops_the_rotator(
     served: tuple[RotatorManager, int, Recorder],
@@ -331,6 +332,7 @@ async def test_real_rotctl_reads_turns_and_stops_the_rotator(
     assert not manager.view(6).moving
 
 
+@pytest.mark.realtime  # the real rotctl
 @pytest.mark.asyncio
 async def test_real_rotctl_may_send_plain_compass_bearings_to_a_south_stop_rotator(
     served: tuple[RotatorManager, int, Recorder],
@@ -341,6 +343,7 @@ async def test_real_rotctl_may_send_plain_compass_bearings_to_a_south_stop_rotat
     assert manager.view(6).target == 350
 
 
+@pytest.mark.realtime  # the real rotctl
 @pytest.mark.asyncio
 async def test_real_rotctl_sees_the_errors_of_an_offline_rotator(
     served: tuple[RotatorManager, int, Recorder],
@@ -352,6 +355,7 @@ async def test_real_rotctl_sees_the_errors_of_an_offline_rotator(
     assert code != 0 and "io error" in out.lower() and "timed out" not in out.lower(), out
 
 
+@pytest.mark.realtime  # the real rotctl
 @pytest.mark.asyncio
 async def test_real_rotctl_parks_moves_and_resets(
     caplog: pytest.LogCaptureFixture,

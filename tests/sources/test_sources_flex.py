@@ -34,7 +34,7 @@ def reports(events: list[SourceEvent], ref: tuple[int, int]) -> list[FrequencyRe
 def source_for(radio: FlexRadio, events: list[SourceEvent], slices: SliceMap | None = None,
                **kw: float) -> FlexSource:
     return FlexSource(f"127.0.0.1:{radio.port}", slices or SliceMap(), events.append,
-                      retry=0.05, timeout=2.0, **kw)
+                      retry=0.01, timeout=2.0, **kw)
 
 
 def test_a_target_is_an_address_or_a_name() -> None:
@@ -149,7 +149,8 @@ async def test_the_radio_gone_and_back(radio: FlexRadio, caplog: pytest.LogCaptu
         assert "offline" in source.describe()[0]
         assert source.describe()[1] == "station 1 radio 1: no slice, frequency unknown"
         before = len(events)
-        await asyncio.sleep(0.3)
+        tried = source.link.failures  # it keeps trying: two more attempts, nothing heard
+        await until(lambda: source.link.failures >= tried + 2, what="two more attempts")
         assert len(events) == before
         back = FlexRadio(port=port)
         back.set_slice(0, RF_frequency=28.025, tx=1)
@@ -170,7 +171,7 @@ async def test_the_radio_gone_and_back(radio: FlexRadio, caplog: pytest.LogCaptu
 async def test_keepalive_pings_keep_the_connection(radio: FlexRadio) -> None:
     radio.set_slice(0, RF_frequency=14.025, tx=1)
     events: list[SourceEvent] = []
-    source = source_for(radio, events, ping_interval=0.2, silent_after=30.0)
+    source = source_for(radio, events, ping_interval=0.05, silent_after=30.0)
     await source.start()
     try:
         await until(lambda: radio.commands.count("ping") >= 3, what="three pings")

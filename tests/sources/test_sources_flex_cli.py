@@ -8,7 +8,7 @@ import socket
 import subprocess
 import sys
 import threading
-from pathlib import Path
+from typing import NamedTuple
 
 import pytest
 from helpers import free_port
@@ -17,38 +17,68 @@ from moas_gui.cli import server
 from moas_gui.testing.flex_radio import FlexRadio
 
 
-def test_flex_list_prints_the_radios_heard(tmp_path: Path) -> None:
-    port = free_port(socket.SOCK_DGRAM)
+class Listed(NamedTuple):
+    port: int
+    """The UDP port it listened on."""
+    done: subprocess.CompletedProcess[str]
+
+
+@pytest.fixture(scope="module")
+def flex_lists(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Listed]:
+    """Two ``moas-server --flex-list`` processes at once (each listens its 3 s): ``heard``
+    on a port the test radio announces itself on, ``silent`` on one nobody announces on."""
+    heard = free_port(socket.SOCK_DGRAM)
+    silent = free_port(socket.SOCK_DGRAM)
+    while silent == heard:
+        silent = free_port(socket.SOCK_DGRAM)
     radio = FlexRadio(port=4994, nickname="Contest")
     done = threading.Event()
 
     def announce() -> None:
         while not done.wait(0.2):
-            radio.announce(("127.0.0.1", port))
+            radio.announce(("127.0.0.1", heard))
+
+    def start(name: str, port: int) -> subprocess.Popen[str]:
+        home = tmp_path_factory.mktemp(name)
+        env = dict(os.environ, XDG_STATE_HOME=str(home / "state"),
+                   XDG_CONFIG_HOME=str(home / "config"))
+        return subprocess.Popen([sys.executable, "-m", "moas_gui.cli.server", "--flex-list",
+                                 "--flex-discovery-port", str(port)], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True, env=env)
 
     talker = threading.Thread(target=announce, daemon=True)
     talker.start()
-    env = dict(os.environ, XDG_STATE_HOME=str(tmp_path / "state"),
-               XDG_CONFIG_HOME=str(tmp_path / "config"))
+    running = {name: (port, start(name, port)) for name, port in (("heard", heard),
+                                                                   ("silent", silent))}
+    listed: dict[str, Listed] = {}
     try:
-        listed = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--flex-list",
-                                 "--flex-discovery-port", str(port)], capture_output=True,
-                                text=True, check=False, timeout=60, env=env)
+        for name, (port, process) in running.items():
+            out, err = process.communicate(timeout=60)
+            listed[name] = Listed(port, subprocess.CompletedProcess(process.args,
+                                                                    process.returncode, out, err))
     finally:
         done.set()
         talker.join()
+        for _, process in running.values():
+            if process.poll() is None:
+                process.kill()
+                process.wait()
+    return listed
+
+
+@pytest.mark.realtime  # real moas-server processes, listening their 3 s (both at once)
+@pytest.mark.shared
+def test_flex_list_prints_the_radios_heard(flex_lists: dict[str, Listed]) -> None:
+    listed = flex_lists["heard"].done
     assert listed.returncode == 0, listed.stderr
     assert listed.stdout.splitlines() == [
         "FLEX-6600\tnickname Contest\tserial 1234-5678-9012-3456\t127.0.0.1:4994"]
 
 
-def test_flex_list_says_when_none_was_heard(tmp_path: Path) -> None:
-    port = free_port(socket.SOCK_DGRAM)
-    env = dict(os.environ, XDG_STATE_HOME=str(tmp_path / "state"),
-               XDG_CONFIG_HOME=str(tmp_path / "config"))
-    listed = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--flex-list",
-                             "--flex-discovery-port", str(port)], capture_output=True,
-                            text=True, check=False, timeout=60, env=env)
+@pytest.mark.realtime  # real moas-server processes, listening their 3 s (both at once)
+@pytest.mark.shared
+def test_flex_list_says_when_none_was_heard(flex_lists: dict[str, Listed]) -> None:
+    port, listed = flex_lists["silent"]
     assert listed.returncode == 3
     assert f"no FlexRadio heard on UDP port {port}" in listed.stderr
     assert "--flex ADDR" in listed.stderr

@@ -102,7 +102,7 @@ async def flrig() -> AsyncIterator[tuple[FakeFlrig, FlrigSource, Events]]:
     port = await fake.start()
     events = Events()
     source = FlrigSource(4, 2, events.append, port=port, interval=0.02, timeout=1.0)
-    source._backoff = Pauses(Backoff(first=0.05, most=0.1))
+    source._backoff = Pauses(Backoff(first=0.01, most=0.02))  # a daemon back is found at once
     await source.start()
     yield fake, source, events
     await source.close()
@@ -165,7 +165,8 @@ async def test_garbage_answers_reach_nothing(flrig: tuple,
     while source.bad.total < 3:
         await asyncio.sleep(0.02)
     fake.rig.update(vfoA=3525000)
-    await asyncio.sleep(0.2)
+    seen = source.bad.total  # two more polls after the change, both answered with garbage
+    await until_true(lambda: source.bad.total >= seen + 2)
     assert len(events) == before
     assert len([r for r in caplog.records if "dropped" in r.getMessage()]) == 1
 

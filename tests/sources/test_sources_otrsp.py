@@ -136,6 +136,7 @@ async def source(pty: Pty) -> AsyncIterator[tuple[OtrspSource, Events]]:
     await running.close()
 
 
+@pytest.mark.realtime  # a real pseudo-terminal, on the real clock
 @pty_only
 @pytest.mark.asyncio
 async def test_the_logger_session_over_a_pty(pty: Pty, source: tuple) -> None:
@@ -150,6 +151,7 @@ async def test_the_logger_session_over_a_pty(pty: Pty, source: tuple) -> None:
     assert await pty.read_until(b"?ECR0\r") == b"TX2\rAUX25\rRX1S\r?ECR0\r"
 
 
+@pytest.mark.realtime  # a real pseudo-terminal, on the real clock
 @pty_only
 @pytest.mark.asyncio
 async def test_a_port_that_vanishes_and_returns_is_logged_once_each_way(
@@ -173,6 +175,7 @@ async def test_a_port_that_vanishes_and_returns_is_logged_once_each_way(
     assert sum("is back" in r.getMessage() for r in caplog.records) == 1
 
 
+@pytest.mark.realtime  # a real pseudo-terminal, on the real clock
 @pty_only
 @pytest.mark.asyncio
 async def test_a_flood_of_garbage_on_the_pty_changes_nothing(pty: Pty, source: tuple,

@@ -122,6 +122,7 @@ async def polling(rigctld: tuple[int, list[subprocess.Popen[bytes]]]
     await source.close()
 
 
+@pytest.mark.realtime  # the real rigctld daemon
 @pytest.mark.asyncio
 async def test_rigctl_changing_the_frequency_reaches_the_sink(polling: tuple) -> None:
     _, events, port, _ = polling
@@ -136,6 +137,7 @@ async def test_rigctl_changing_the_frequency_reaches_the_sink(polling: tuple) ->
     assert split.rx_khz == 14025.0
 
 
+@pytest.mark.realtime  # the real rigctld daemon
 @pytest.mark.asyncio
 async def test_an_unchanged_radio_is_reported_once(polling: tuple) -> None:
     source, events, _, _ = polling
@@ -149,6 +151,7 @@ async def test_an_unchanged_radio_is_reported_once(polling: tuple) -> None:
     assert len(events.items) == reported <= 2
 
 
+@pytest.mark.realtime  # the real rigctld daemon
 @pytest.mark.asyncio
 async def test_a_daemon_that_goes_away_and_returns_is_logged_once_each_way(
         polling: tuple, caplog: pytest.LogCaptureFixture) -> None:
@@ -171,6 +174,7 @@ async def test_a_daemon_that_goes_away_and_returns_is_logged_once_each_way(
 
 # -- a daemon that answers garbage --------------------------------------------------------
 
+@pytest.mark.realtime  # the real rigctld daemon
 @pytest.mark.asyncio
 async def test_garbage_replies_reach_nothing_and_log_one_debug_line(
         caplog: pytest.LogCaptureFixture) -> None:

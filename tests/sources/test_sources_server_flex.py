@@ -126,6 +126,7 @@ async def so2r(tmp_path: Path, box: tuple[EmulatedBox, PtyEndpoint]) -> AsyncIte
         yield s
 
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 async def test_band_changes_on_the_radio_move_the_relays(station: Station) -> None:
     await until(lambda: station.khz(1) == 14025.0 and station.khz(2) == 3525.0,
@@ -148,6 +149,7 @@ async def test_band_changes_on_the_radio_move_the_relays(station: Station) -> No
     assert all(not c.startswith(("slice set", "client gui")) for c in station.radio.commands)
 
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 async def test_so2r_slices_feed_two_radios_and_tx_moves_the_focus(so2r: Station) -> None:
     app = so2r.app
@@ -166,6 +168,7 @@ async def test_so2r_slices_feed_two_radios_and_tx_moves_the_focus(so2r: Station)
     await until(lambda: so2r.box_has(1, 2), what="the relays of both")
 
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 async def test_a_slice_removed_leaves_its_radio_unknown_and_the_other_followed(
         so2r: Station) -> None:
@@ -181,6 +184,7 @@ async def test_a_slice_removed_leaves_its_radio_unknown_and_the_other_followed(
     await until(lambda: so2r.khz(2) == 1825.0, what="a new slice B")
 
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 async def test_the_radio_gone_and_back(station: Station,
                                        caplog: pytest.LogCaptureFixture) -> None:
@@ -204,6 +208,7 @@ async def test_the_radio_gone_and_back(station: Station,
     assert "is back" in caplog.text and "frequency unknown until it is back" in caplog.text
 
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 async def test_a_peer_that_is_not_a_flexradio_is_refused_and_the_rest_runs(
         tmp_path: Path, box: tuple[EmulatedBox, PtyEndpoint],

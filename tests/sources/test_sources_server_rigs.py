@@ -30,6 +30,7 @@ from moas_gui.sources.spec import server_spec
 from moas_gui.status import ServerState
 
 pytestmark = [
+    pytest.mark.realtime,  # the server on the emulator's pseudo-terminal, the real rigctld
     pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX"),
     pytest.mark.skipif(shutil.which("rigctld") is None or shutil.which("rigctl") is None,
                        reason="Hamlib's rigctld and rigctl (Debian libhamlib-utils)"),

@@ -68,14 +68,17 @@ class Switching(BoxState):
 
     # ------------------------------------------------------------------ the record
 
-    def _closed_now(self) -> tuple[frozenset[int], ...]:
+    def _closed_now(self) -> tuple[frozenset[int], tuple[frozenset[int], ...]]:
+        """The relays closed now (as :meth:`relays`) and each station's, worked out once
+        (the record asks after every command)."""
         if not self.active:
-            return tuple(frozenset() for _ in self.stations)
-        return tuple(self._closed(st) for st in self.stations.values())
+            return frozenset(), tuple(frozenset() for _ in self.stations)
+        closed = tuple(self._closed(st) for st in self.stations.values())
+        return frozenset(self.station0).union(*closed), closed
 
     def _write(self, event: EntryCause, cause: str) -> None:
         """Add an entry to the record: the box as it is now."""
-        relays, closed = self.relays(), self._closed_now()
+        relays, closed = self._closed_now()
         keyed = frozenset(n for n, st in self.stations.items() if st.key)
         interrupt_mode = frozenset(
             n for n, st in self.stations.items() if st.mode is StationMode.INTERRUPT)
@@ -104,7 +107,7 @@ class Switching(BoxState):
 
     def _note(self, cause: str) -> None:
         """Add an entry if the closed relays changed since the last one."""
-        if (self.relays(), self._closed_now()) != self._recorded:
+        if self._closed_now() != self._recorded:
             self._write(EntryCause.RELAYS, cause)
 
     def _settle(self) -> None:

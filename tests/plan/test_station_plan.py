@@ -82,6 +82,7 @@ def test_the_plan_is_the_same_every_time() -> None:
     assert first.to_json() == second.to_json() and first.to_text() == second.to_text()
 
 
+@pytest.mark.realtime  # the command as a process of its own
 def test_the_command_prints_the_plan_and_its_json() -> None:
     path = "examples/small-station.moas"
     text = run_server("--plan", path)

@@ -206,3 +206,20 @@ def test_a_sans_io_codec_or_the_engine_loads_no_loop_and_no_serial_port(module: 
                           timeout=60, check=False)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]", f"{module} loads {done.stdout.strip()}"
+
+
+def test_check_and_plan_load_no_event_loop() -> None:
+    """``moas-server --check`` and ``--plan`` read a file and print: they load no asyncio
+    (about a sixth of such a run's processor time, paid on every check before); the
+    server's run imports it when it starts one."""
+    example = PACKAGE.parent / "examples" / "small-station.moas"
+    probe = ("import contextlib, io, sys\n"
+             "from moas_gui.cli.server import main\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n"
+             f"    codes = [main(['--check', {str(example)!r}]), "
+             f"main(['--plan', {str(example)!r}])]\n"
+             "print(codes, 'asyncio' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[0, 0] False", done.stdout + done.stderr

@@ -673,10 +673,32 @@ def run_headless(args: argparse.Namespace) -> int:
     from moas_gui.aio import run_until_stopped
 
     try:
-        return run_until_stopped(_serve_headless(args, instance))
+        status = _about_to_serve(args)
+        return status if status is not None else run_until_stopped(
+            _serve_headless(args, instance))
     finally:
         if instance is not None:
             instance.close()
+
+
+def _about_to_serve(args: argparse.Namespace) -> int | None:
+    """What only a launch that serves needs (one that hands its file to the server
+    already running needs neither, nor the switch, rotator and network packages they
+    live in): the tests' shorter clocks, if set, and the open-file limit raised.  None
+    to go on serving, else the exit status (the reason said)."""
+    from moas_gui.hw.moas2.timing import timing_from_environment
+    from moas_gui.hw.rotators.base import rotator_timing_from_environment
+
+    try:  # tests' shorter clocks, if set
+        args.switch_timing = timing_from_environment()
+        args.rotator_timing = rotator_timing_from_environment()
+    except ValueError as exc:
+        print(f"moas-server: {exc}", file=sys.stderr)
+        return 2
+    from moas_gui.net.fd_limit import raise_open_file_limit
+
+    raise_open_file_limit()  # each client holds a file handle
+    return None
 
 
 def run_window(args: argparse.Namespace) -> int:
@@ -690,7 +712,8 @@ def run_window(args: argparse.Namespace) -> int:
     if status is not None:
         return status
     try:
-        return _run_window(args, instance)
+        status = _about_to_serve(args)
+        return status if status is not None else _run_window(args, instance)
     finally:
         if instance is not None:
             instance.close()
@@ -843,18 +866,6 @@ def main(argv: list[str] | None = None) -> int:
             print("moas-server: --check needs a configuration file", file=sys.stderr)
             return 2
         return check(args.file)
-    from moas_gui.hw.moas2.timing import timing_from_environment
-    from moas_gui.hw.rotators.base import rotator_timing_from_environment
-
-    try:  # tests' shorter clocks, if set
-        args.switch_timing = timing_from_environment()
-        args.rotator_timing = rotator_timing_from_environment()
-    except ValueError as exc:
-        print(f"moas-server: {exc}", file=sys.stderr)
-        return 2
-    from moas_gui.net.fd_limit import raise_open_file_limit
-
-    raise_open_file_limit()  # each client holds a file handle
     if args.headless:
         if not args.file:
             print("moas-server: --headless needs a configuration file", file=sys.stderr)

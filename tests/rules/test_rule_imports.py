@@ -223,3 +223,18 @@ def test_check_and_plan_load_no_event_loop() -> None:
                           timeout=60, check=False)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[0, 0] False", done.stdout + done.stderr
+
+
+def test_the_emulated_box_loads_no_engine_and_no_configuration() -> None:
+    """``moas-emulator`` plays the box from the codec and the firmware model: the switch
+    package hands out its planner (:mod:`moas_gui.hw.moas2.sync`, which reads the
+    engine's switch state) only when asked, so an emulator process loads neither the
+    engine nor the configuration (a third of its start-up before)."""
+    probe = ("import sys, moas_gui.hw.moas2.emulator.box, moas_gui.hw.moas2.emulator.serve, "
+             "moas_gui.hw.moas2.emulator.control, moas_gui.cli.emulator\n"
+             "print(sorted(m for m in ('moas_gui.engine', 'moas_gui.config') "
+             "if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]", done.stdout

@@ -10,7 +10,6 @@ double-click does); ``--headless FILE`` runs the same server without a window;
 from __future__ import annotations
 
 import argparse
-import asyncio
 import ipaddress
 import logging
 import sys
@@ -20,18 +19,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 
 from moas_gui import __version__
-from moas_gui.aio import CleanStop, run_until_stopped
 from moas_gui.cli.antenna_log import add_arguments as add_antenna_log_arguments
 from moas_gui.cli.antenna_log import export_antenna_log
 from moas_gui.cli.antenna_log import wants_export as wants_antenna_log_export
 from moas_gui.cli.builder import add_arguments as add_builder_arguments
 from moas_gui.cli.builder import builder_command, wants_builder
-from moas_gui.cli.builder_restart import (
-    RESTART_COMMAND,
-    STATION_COMMAND,
-    restart_request,
-    station_request,
-)
 from moas_gui.cli.options import add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
@@ -272,6 +264,8 @@ def _flex_radios(text: str) -> str:
 def flex_list(args: argparse.Namespace, seconds: float = 3.0) -> int:
     """``--flex-list``: the FlexRadios heard within a few seconds; 0 when any was heard,
     1 when the port cannot be listened on, 3 when none was heard."""
+    import asyncio
+
     from moas_gui.sources.flex_discovery import list_radios
 
     port = args.flex_discovery_port
@@ -311,6 +305,8 @@ def _line_level(text: str) -> bool:
 def probe(args: argparse.Namespace) -> int:
     """``--probe PORT``: print what the box on PORT answers; 0 when it answered, 1 when
     the port cannot be opened, 3 when nothing answered."""
+    import asyncio
+
     from moas_gui.hw.moas2.probe import ProbeRefused
     from moas_gui.hw.moas2.probe import probe as ask_box
     from moas_gui.hw.moas2.recording import SerialRecorder
@@ -625,7 +621,17 @@ def _end_operator(app: RunningServer, name: object) -> str:
 
 
 async def _serve_headless(args: argparse.Namespace, instance: InstanceServer | None) -> int:
+    import asyncio
+
+    from moas_gui.aio import CleanStop
     from moas_gui.app import ServerApp
+    from moas_gui.cli.builder_restart import (
+        RESTART_COMMAND,
+        STATION_COMMAND,
+        restart_request,
+        station_request,
+    )
+
     app = ServerApp(_options(args))
     result = await app.open_or_last_good(args.file)
     if result.config is None:
@@ -664,11 +670,35 @@ def run_headless(args: argparse.Namespace) -> int:
     instance, status = _become_instance(args)
     if status is not None:
         return status
+    from moas_gui.aio import run_until_stopped
+
     try:
-        return run_until_stopped(_serve_headless(args, instance))
+        status = _about_to_serve(args)
+        return status if status is not None else run_until_stopped(
+            _serve_headless(args, instance))
     finally:
         if instance is not None:
             instance.close()
+
+
+def _about_to_serve(args: argparse.Namespace) -> int | None:
+    """What only a launch that serves needs (one that hands its file to the server
+    already running needs neither, nor the switch, rotator and network packages they
+    live in): the tests' shorter clocks, if set, and the open-file limit raised.  None
+    to go on serving, else the exit status (the reason said)."""
+    from moas_gui.hw.moas2.timing import timing_from_environment
+    from moas_gui.hw.rotators.base import rotator_timing_from_environment
+
+    try:  # tests' shorter clocks, if set
+        args.switch_timing = timing_from_environment()
+        args.rotator_timing = rotator_timing_from_environment()
+    except ValueError as exc:
+        print(f"moas-server: {exc}", file=sys.stderr)
+        return 2
+    from moas_gui.net.fd_limit import raise_open_file_limit
+
+    raise_open_file_limit()  # each client holds a file handle
+    return None
 
 
 def run_window(args: argparse.Namespace) -> int:
@@ -682,13 +712,23 @@ def run_window(args: argparse.Namespace) -> int:
     if status is not None:
         return status
     try:
-        return _run_window(args, instance)
+        status = _about_to_serve(args)
+        return status if status is not None else _run_window(args, instance)
     finally:
         if instance is not None:
             instance.close()
 
 
 def _run_window(args: argparse.Namespace, instance: InstanceServer | None) -> int:
+    import asyncio
+
+    from moas_gui.aio import CleanStop
+    from moas_gui.cli.builder_restart import (
+        RESTART_COMMAND,
+        STATION_COMMAND,
+        restart_request,
+        station_request,
+    )
     from moas_gui.ui.qt import load_qasync
 
     qasync = load_qasync()
@@ -826,18 +866,6 @@ def main(argv: list[str] | None = None) -> int:
             print("moas-server: --check needs a configuration file", file=sys.stderr)
             return 2
         return check(args.file)
-    from moas_gui.hw.moas2.timing import timing_from_environment
-    from moas_gui.hw.rotators.base import rotator_timing_from_environment
-
-    try:  # tests' shorter clocks, if set
-        args.switch_timing = timing_from_environment()
-        args.rotator_timing = rotator_timing_from_environment()
-    except ValueError as exc:
-        print(f"moas-server: {exc}", file=sys.stderr)
-        return 2
-    from moas_gui.net.fd_limit import raise_open_file_limit
-
-    raise_open_file_limit()  # each client holds a file handle
     if args.headless:
         if not args.file:
             print("moas-server: --headless needs a configuration file", file=sys.stderr)

@@ -22,6 +22,7 @@ busy server must not pass for a silent switch), runs on its real clock.
 from __future__ import annotations
 
 import asyncio
+import functools
 import json
 import os
 import signal
@@ -35,9 +36,11 @@ from typing import Any
 import pytest
 from helpers import free_port, until
 
-from moas_gui.config import load_config
+from moas_gui.config import read_config
+from moas_gui.config.model import Config
 from moas_gui.engine import Engine
 from moas_gui.engine.snapshot import restore_selections
+from moas_gui.engine.switchstate import SwitchState
 from moas_gui.hw.moas2.commands import encode, split
 from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
@@ -309,6 +312,9 @@ class Station:
     """The server started last."""
     tcp: int = field(default_factory=free_port)
     udp: int = field(default_factory=lambda: free_port(socket.SOCK_DGRAM))
+    answers: dict[object, dict[int, frozenset[int]] | None] = field(
+        default_factory=dict, repr=False)
+    """What :meth:`engine_relays` found, by configuration, saved state and selections."""
 
     @classmethod
     def make(cls, tmp_path: Path, data: dict[str, Any],
@@ -353,19 +359,42 @@ class Station:
 
     def engine_relays(self, snapshot: dict[str, Any]) -> dict[int, frozenset[int]] | None:
         """The relays each switch must close by the engine's decision, once the saved
-        state shows the selections ``snapshot`` (the clients' view) shows; else None."""
+        state shows the selections ``snapshot`` (the clients' view) shows; else None.
+        (The tests ask this many times a second while they wait: the same saved state
+        and the same selections give the same answer, worked out once.)"""
         try:
-            saved = decode(self.state_file.read_bytes(), fingerprint(self.config.read_bytes()))
-        except (OSError, ValueError):
+            saved = self.state_file.read_bytes()
+            config = self.config.read_bytes()
+        except OSError:
             return None
-        engine = Engine(load_config(self.config).unwrap())
-        restore_selections(engine, saved.engine)
+        shown = tuple((r["station"], r["radio"], r["tx"], r["rx"]) for r in snapshot["radios"])
+        key = (config, saved, shown)
+        if key not in self.answers:
+            if len(self.answers) > 200:
+                self.answers.clear()
+            self.answers[key] = self._engine_relays(config, saved, snapshot)
+        return self.answers[key]
+
+    def _engine_relays(self, config: bytes, saved: bytes, snapshot: dict[str, Any],
+                       ) -> dict[int, frozenset[int]] | None:
+        try:
+            stored = decode(saved, fingerprint(config))
+        except ValueError:
+            return None
+        engine = Engine(_configuration(config, self.config))
+        restore_selections(engine, stored.engine)
         for radio in snapshot["radios"]:
             view = engine.radio_view(radio["station"], radio["radio"])
             if (view.tx, view.rx) != (radio["tx"], radio["rx"]):
                 return None
         return {number: reference_relays(state)
                 for number, state in engine.switch_states().items()}
+
+
+@functools.lru_cache(maxsize=8)
+def _configuration(data: bytes, path: Path) -> Config:
+    """The configuration file at ``path`` holding ``data`` (read once for each content)."""
+    return read_config(data, str(path), path).unwrap()
 
 
 async def holds_what_the_engine_says(station: Station, client: Client,
@@ -388,8 +417,10 @@ async def holds_what_the_engine_says(station: Station, client: Client,
         await asyncio.sleep(0.05)
 
 
-def reference_relays(state: Any) -> frozenset[int]:
-    """The relays a freshly loaded box closes for ``state`` (no station keyed)."""
+@functools.lru_cache(maxsize=256)
+def reference_relays(state: SwitchState) -> frozenset[int]:
+    """The relays a freshly loaded box closes for ``state`` (no station keyed; worked
+    out once per state)."""
     box = SteppedBox()
     for command in initialise(state).commands:
         for part in split(command):

@@ -277,13 +277,22 @@ def test_a_second_launch_with_another_file_asks_and_yes_switches_cleanly(tmp_pat
         server.shows(normal("small-station.moas"), "small-station running")
         server.click("View", "Emulator", "Switch 1")
 
-        def launch(file: str, *extra: str) -> subprocess.CompletedProcess[str]:
+        def launch(file: str, *extra: str, python: tuple[str, ...] = ()) -> \
+                subprocess.CompletedProcess[str]:
             return subprocess.run(
-                [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / file), *extra],
+                [sys.executable, *python, "-m", "moas_gui.cli.server", str(EXAMPLES / file),
+                 *extra],
                 env=server.env, capture_output=True, text=True, timeout=30, check=False)
 
-        same = launch("small-station.moas")  # the same file: the window comes forward
+        # the same file: the window comes forward (and the launch, which only hands the
+        # file over, loads none of what serving needs: its imports are listed)
+        same = launch("small-station.moas", python=("-X", "importtime"))
         assert same.returncode == 0, same.stderr
+        loaded = {line.rsplit("|", 1)[-1].strip() for line in same.stderr.splitlines()
+                  if line.startswith("import time:")}
+        assert "moas_gui.single_instance" in loaded, same.stderr[-2000:]
+        assert not loaded & {"moas_gui.hw.moas2", "moas_gui.hw.rotators", "moas_gui.net",
+                             "moas_gui.app", "PySide6"}, sorted(loaded)
         seen = server.look()
         assert not seen["dialogs"]
         handed = [i for i, line in enumerate(seen["log"]) if "handed over" in line]

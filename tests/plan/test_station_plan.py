@@ -2,15 +2,22 @@
 (text and JSON, under ``tests/plan/plans/``), the plan is the same every time, and each kind of
 finding is found, with its line, in a configuration made to show it.
 
+The command runs as a process of its own once (``python -m moas_gui.cli.server --plan``,
+text and JSON); its other options and messages are checked through the same ``main()`` in
+this process (:func:`cli`), which gives the same output and exit status without starting
+an interpreter for each.
+
 To write the golden files again after a reviewed change of the engine or of the plan:
 ``.venv/bin/python tests/plan/test_station_plan.py --write``; then read the diff.
 """
 
 from __future__ import annotations
 
+import functools
 import json
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -30,9 +37,38 @@ def run_server(*args: str) -> subprocess.CompletedProcess[str]:
                           capture_output=True, text=True, check=False, timeout=120, cwd=ROOT)
 
 
+@functools.cache
+def example_plan(path: Path) -> tuple[Plan | None, str]:
+    """``plan_file(path)``, made once per example for the tests that only read it (the
+    plan being the same every time is a test of its own, on fresh plans)."""
+    return plan_file(path)
+
+
+@pytest.fixture
+def cli(monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str],
+        ) -> Callable[..., subprocess.CompletedProcess[str]]:
+    """``moas-server ARGS`` through its ``main()`` in this process, from the checkout's
+    folder: the exit status (a usage error's too, which argparse raises as SystemExit)
+    and what it printed, as :func:`run_server` returns them from a process."""
+    from moas_gui.cli import server
+
+    monkeypatch.chdir(ROOT)
+
+    def run(*args: str) -> subprocess.CompletedProcess[str]:
+        capsys.readouterr()
+        try:
+            code = server.main(list(args))
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else 1
+        out, err = capsys.readouterr()
+        return subprocess.CompletedProcess(["moas-server", *args], code, out, err)
+
+    return run
+
+
 @pytest.mark.parametrize("example", EXAMPLES, ids=lambda p: p.stem)
 def test_each_example_plan_matches_its_golden_files(example: Path) -> None:
-    plan, error = plan_file(example)
+    plan, error = example_plan(example)
     assert plan is not None, error
     assert plan.to_text() == (GOLDEN / f"{example.stem}.txt").read_text(encoding="utf-8")
     assert plan.to_json() == (GOLDEN / f"{example.stem}.json").read_text(encoding="utf-8")
@@ -46,6 +82,7 @@ def test_the_plan_is_the_same_every_time() -> None:
     assert first.to_json() == second.to_json() and first.to_text() == second.to_text()
 
 
+@pytest.mark.realtime  # the command as a process of its own
 def test_the_command_prints_the_plan_and_its_json() -> None:
     path = "examples/small-station.moas"
     text = run_server("--plan", path)
@@ -62,7 +99,7 @@ def test_the_command_prints_the_plan_and_its_json() -> None:
 @pytest.mark.parametrize("example", EXAMPLES, ids=lambda p: p.stem)
 def test_rule_codes_and_antennas_that_merely_do_not_cover_stay_out_of_the_text(
         example: Path) -> None:
-    plan, error = plan_file(example)
+    plan, error = example_plan(example)
     assert plan is not None, error
     text = plan.to_text()
     codes = {o.rule for o in plan.alone} | set(FINDING_KINDS)
@@ -76,7 +113,7 @@ def test_rule_codes_and_antennas_that_merely_do_not_cover_stay_out_of_the_text(
 
 
 def test_a_station_is_planned_only_on_the_bands_its_antennas_cover() -> None:
-    plan, _ = plan_file(ROOT / "examples" / "multi-multi-20.moas")
+    plan, _ = example_plan(ROOT / "examples" / "multi-multi-20.moas")
     assert plan is not None
     assert [b.name for b in plan.bands] == ["20 m"]
     assert {o.khz for o in plan.alone} == {14025, 14250}
@@ -86,7 +123,7 @@ def test_a_station_is_planned_only_on_the_bands_its_antennas_cover() -> None:
 
 
 def test_each_band_is_planned_at_its_cw_and_phone_frequencies() -> None:
-    plan, _ = plan_file(ROOT / "examples" / "small-station.moas")
+    plan, _ = example_plan(ROOT / "examples" / "small-station.moas")
     assert plan is not None
     twenty = plan.band("20 m")
     assert twenty.frequencies == ((14025, "CW"), (14250, "phone"))
@@ -113,26 +150,27 @@ def test_a_station_covering_no_band_says_so() -> None:
         "Bands: none (no antenna of the station covers a band the plan knows)", ""]
 
 
-def test_plan_khz_plans_the_frequencies_the_operator_names() -> None:
-    done = run_server("--plan", "--plan-khz", "14010,14200", "--plan-khz", "1830",
-                      "examples/two-op-shared-tx.moas")
+def test_plan_khz_plans_the_frequencies_the_operator_names(
+        cli: Callable[..., subprocess.CompletedProcess[str]]) -> None:
+    done = cli("--plan", "--plan-khz", "14010,14200", "--plan-khz", "1830",
+               "examples/two-op-shared-tx.moas")
     assert done.returncode == 0, done.stderr
     assert "  160 m at 1830 kHz\n" in done.stdout
     assert "  20 m at 14010 kHz and 14200 kHz\n" in done.stdout
     assert "40 m" not in done.stdout and "14025" not in done.stdout
-    data = run_server("--plan", "--json", "--plan-khz", "7010", "examples/small-station.moas")
+    data = cli("--plan", "--json", "--plan-khz", "7010", "examples/small-station.moas")
     parsed = json.loads(data.stdout)
     assert [b["frequencies"] for b in parsed["bands"]] == [[{"khz": 7010.0, "mode": ""}]]
     assert {o["khz"] for o in parsed["alone"]} == {7010.0}
     for bad, said in (("14o00", "'14o00' is not a frequency in kHz"),
                       ("12345", "12345 kHz is in no amateur band"), ("-5", "above 0")):
-        done = run_server("--plan", "--plan-khz", bad, "examples/small-station.moas")
+        done = cli("--plan", "--plan-khz", bad, "examples/small-station.moas")
         assert done.returncode == 2 and said in done.stderr and not done.stdout
-    assert run_server("--plan-khz", "14000", "examples/small-station.moas").returncode == 2
+    assert cli("--plan-khz", "14000", "examples/small-station.moas").returncode == 2
 
 
 def test_a_pair_shows_only_what_differs_from_each_radio_alone() -> None:
-    plan, _ = plan_file(ROOT / "examples" / "small-station.moas")
+    plan, _ = example_plan(ROOT / "examples" / "small-station.moas")
     assert plan is not None
     text = plan.to_text()
     ((a, b, _meet, scenarios),) = plan.pairs
@@ -169,7 +207,7 @@ def test_a_pair_on_separate_antennas_adds_one_line() -> None:
 
 
 def test_a_finding_about_a_radio_left_with_a_receive_antenna_says_transmit() -> None:
-    plan, _ = plan_file(ROOT / "examples" / "two-op-shared-tx.moas")
+    plan, _ = example_plan(ROOT / "examples" / "two-op-shared-tx.moas")
     assert plan is not None
     text = plan.to_text()
     taken = next(f for f in plan.findings if f.kind == "band_taken")
@@ -191,11 +229,12 @@ def test_a_finding_about_a_radio_left_with_no_antenna_says_so() -> None:
     assert "receive" not in taken.text
 
 
-def test_check_ends_with_the_count_of_findings_and_points_at_the_plan() -> None:
-    done = run_server("--check", "examples/small-station.moas")
+def test_check_ends_with_the_count_of_findings_and_points_at_the_plan(
+        cli: Callable[..., subprocess.CompletedProcess[str]]) -> None:
+    done = cli("--check", "examples/small-station.moas")
     assert done.returncode == 0, done.stderr
     last = done.stdout.splitlines()[-1]
-    plan, _ = plan_file(ROOT / "examples" / "small-station.moas")
+    plan, _ = example_plan(ROOT / "examples" / "small-station.moas")
     assert plan is not None
     assert last == (f"{len(plan.findings)} findings; the whole plan: moas-server --plan "
                     "examples/small-station.moas")
@@ -203,12 +242,13 @@ def test_check_ends_with_the_count_of_findings_and_points_at_the_plan() -> None:
         assert f"examples/small-station.moas:{finding.line}: {finding.text}" in done.stdout
 
 
-def test_plan_options_are_checked(tmp_path: Path) -> None:
-    assert run_server("--plan").returncode == 2
-    assert run_server("--json", "examples/small-station.moas").returncode == 2
+def test_plan_options_are_checked(
+        tmp_path: Path, cli: Callable[..., subprocess.CompletedProcess[str]]) -> None:
+    assert cli("--plan").returncode == 2
+    assert cli("--json", "examples/small-station.moas").returncode == 2
     broken = tmp_path / "broken.moas"
     broken.write_text("{ \"Antennas\": [ }\n")
-    done = run_server("--plan", str(broken))
+    done = cli("--plan", str(broken))
     assert done.returncode == 1
     assert f"{broken}:1:" in done.stderr and "Traceback" not in done.stderr
 
@@ -343,7 +383,7 @@ CASE_29 = ROOT / "tests" / "engine" / "engine_cases" / "alternate-is-transmittin
 
 
 def test_an_alternate_another_radio_can_transmit_on_is_found_at_its_rule(
-        tmp_path: Path) -> None:
+        tmp_path: Path, cli: Callable[..., subprocess.CompletedProcess[str]]) -> None:
     """Issue 29's station: station 2 radio 1's Alternate rule names the SharedTX antenna 0,
     which station 1 radio 1 transmits on when it sets the rule off (5.9, 5.12).  As the case
     has it (``OtherAntennas`` [0]) the rule is never usable; without ``OtherAntennas`` it
@@ -367,7 +407,7 @@ def test_an_alternate_another_radio_can_transmit_on_is_found_at_its_rule(
     # --check says it with the file's line, and the file stays usable (exit status 0)
     path = tmp_path / "station.moas"
     path.write_text(text)
-    done = run_server("--check", str(path))
+    done = cli("--check", str(path))
     assert done.returncode == 0, done.stdout + done.stderr
     assert f"{path}:{rule_line}: {found[0].text}" in done.stdout
     # an alternate nobody can transmit on (a receive-only antenna) is no finding

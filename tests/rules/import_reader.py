@@ -1,14 +1,40 @@
-"""Reading what a module imports, for the rule tests (``test_rule_imports.py``,
-``test_rule_testing_package.py``): every ``import`` and ``from ... import`` with
-:mod:`ast`, those inside functions too, and ``import_module``/``__import__`` given a
-literal name."""
+"""Reading the package's modules for the rule tests: :func:`syntax_tree` and
+:func:`nodes` parse and walk each file once per test process, for every rule test that
+reads the whole package (imports, class names and sizes, complexity, the one door, nested
+loops ...: each read of all of it costs about a second); and what a module imports
+(``test_rule_imports.py``, ``test_rule_testing_package.py``): every ``import`` and
+``from ... import`` with :mod:`ast`, those inside functions too, and
+``import_module``/``__import__`` given a literal name."""
 
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 DYNAMIC = {"import_module", "__import__"}
+
+
+@functools.cache
+def _parsed(path: Path, stamp: tuple[int, int]) -> tuple[ast.Module, tuple[ast.AST, ...]]:
+    tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+    return tree, tuple(ast.walk(tree))
+
+
+def _read(path: Path) -> tuple[ast.Module, tuple[ast.AST, ...]]:
+    stat = path.stat()  # a file written again (a test's own copy) is read again
+    return _parsed(path.resolve(), (stat.st_mtime_ns, stat.st_size))
+
+
+def syntax_tree(path: Path) -> ast.Module:
+    """The module at ``path`` parsed (once per process while the file is unchanged: the
+    rule tests only read the trees, never change them)."""
+    return _read(path)[0]
+
+
+def nodes(path: Path) -> tuple[ast.AST, ...]:
+    """Every node of :func:`syntax_tree` in ``ast.walk`` order (walked once, too)."""
+    return _read(path)[1]
 
 
 def module_name(path: Path, root: Path) -> str:
@@ -24,7 +50,7 @@ def imported_names(path: Path, name: str) -> set[str]:
     and each ``module.name`` a ``from`` import takes."""
     package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
     found: set[str] = set()
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+    for node in nodes(path):
         if isinstance(node, ast.Import):
             found.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):

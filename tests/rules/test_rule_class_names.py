@@ -12,6 +12,8 @@ import ast
 from collections import defaultdict
 from pathlib import Path
 
+from import_reader import nodes
+
 PACKAGE = Path(__file__).resolve().parents[2] / "moas_gui"
 
 MIRRORS = {
@@ -30,7 +32,7 @@ def class_names(root: Path) -> dict[str, list[str]]:
     found: dict[str, list[str]] = defaultdict(list)
     for path in sorted(root.rglob("*.py")):
         where = path.relative_to(root).as_posix()
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in nodes(path):
             if isinstance(node, ast.ClassDef):
                 found[node.name].append(where)
     return found

@@ -10,7 +10,10 @@ parts").  Measured from the source with :mod:`ast`, in process.
 from __future__ import annotations
 
 import ast
+from collections.abc import Iterable
 from pathlib import Path
+
+from import_reader import nodes
 
 ROOT = Path(__file__).resolve().parent.parent.parent
 LAYER = ROOT / "moas_gui" / "hw" / "moas2"
@@ -18,11 +21,12 @@ MAX_LINES = 300
 MAX_METHODS = 25
 
 
-def too_big(source: str, filename: str) -> list[str]:
-    """``file:line Class (N lines, M methods)`` for every class of ``source`` above
-    either limit (classes nested in functions or classes included)."""
+def too_big(source: str | Iterable[ast.AST], filename: str) -> list[str]:
+    """``file:line Class (N lines, M methods)`` for every class of ``source`` (a module's
+    text, or its nodes) above either limit (classes nested in functions or classes
+    included)."""
     found = []
-    for node in ast.walk(ast.parse(source)):
+    for node in ast.walk(ast.parse(source)) if isinstance(source, str) else source:
         if not isinstance(node, ast.ClassDef):
             continue
         lines = (node.end_lineno or node.lineno) - node.lineno + 1
@@ -66,6 +70,6 @@ def test_no_class_of_the_switch_layer_is_above_the_limits() -> None:
     for path in sorted(LAYER.rglob("*.py")):
         if "emulator" in path.relative_to(LAYER).parts:
             continue
-        found += too_big(path.read_text(encoding="utf-8"), str(path.relative_to(ROOT)))
+        found += too_big(nodes(path), str(path.relative_to(ROOT)))
     assert not found, (f"classes above {MAX_LINES} lines or {MAX_METHODS} methods: cut each "
                        "into parts with one job each\n" + "\n".join(found))

@@ -206,3 +206,35 @@ def test_a_sans_io_codec_or_the_engine_loads_no_loop_and_no_serial_port(module: 
                           timeout=60, check=False)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]", f"{module} loads {done.stdout.strip()}"
+
+
+def test_check_and_plan_load_no_event_loop() -> None:
+    """``moas-server --check`` and ``--plan`` read a file and print: they load no asyncio
+    (about a sixth of such a run's processor time, paid on every check before); the
+    server's run imports it when it starts one."""
+    example = PACKAGE.parent / "examples" / "small-station.moas"
+    probe = ("import contextlib, io, sys\n"
+             "from moas_gui.cli.server import main\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n"
+             f"    codes = [main(['--check', {str(example)!r}]), "
+             f"main(['--plan', {str(example)!r}])]\n"
+             "print(codes, 'asyncio' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[0, 0] False", done.stdout + done.stderr
+
+
+def test_the_emulated_box_loads_no_engine_and_no_configuration() -> None:
+    """``moas-emulator`` plays the box from the codec and the firmware model: the switch
+    package hands out its planner (:mod:`moas_gui.hw.moas2.sync`, which reads the
+    engine's switch state) only when asked, so an emulator process loads neither the
+    engine nor the configuration (a third of its start-up before)."""
+    probe = ("import sys, moas_gui.hw.moas2.emulator.box, moas_gui.hw.moas2.emulator.serve, "
+             "moas_gui.hw.moas2.emulator.control, moas_gui.cli.emulator\n"
+             "print(sorted(m for m in ('moas_gui.engine', 'moas_gui.config') "
+             "if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]", done.stdout

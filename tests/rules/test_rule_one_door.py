@@ -13,6 +13,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+from import_reader import nodes
+
 PACKAGE = Path(__file__).resolve().parents[2] / "moas_gui"
 
 CALLBACK_SERVERS = {"start_server", "start_unix_server"}
@@ -26,10 +28,10 @@ def door_breaches(root: Path) -> list[str]:
         where = path.relative_to(root).as_posix()
         if where.startswith(("testing/", "edge/")):
             continue
-        tree = ast.parse(path.read_text(encoding="utf-8"))
+        walked = nodes(path)
         imports_gate = any(isinstance(node, ast.ImportFrom) and node.module is not None
-                           and node.module.endswith("edge.gate") for node in ast.walk(tree))
-        for node in ast.walk(tree):
+                           and node.module.endswith("edge.gate") for node in walked)
+        for node in walked:
             if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)):
                 continue
             name = node.func.attr

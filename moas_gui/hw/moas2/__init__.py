@@ -29,14 +29,19 @@ from .errors import (
     RelayListTooLong,
 )
 from .replies import encode_reply, parse_reply
-from .sync import CommandPlan, count_bytes, difference, initialise
 
 if TYPE_CHECKING:
     from .link import EMULATOR_PORT, LinkStatus, LinkTiming, SwitchLink
+    from .sync import CommandPlan, count_bytes, difference, initialise
 
 _FROM_LINK = frozenset({"EMULATOR_PORT", "LinkStatus", "LinkTiming", "SwitchLink"})
 """Names of :mod:`.link`, imported when first asked for: the codec alone loads
 neither asyncio nor pyserial."""
+
+_FROM_SYNC = frozenset({"CommandPlan", "count_bytes", "difference", "initialise"})
+"""Names of :mod:`.sync`, imported when first asked for too: the planner reads the
+engine's switch state, so importing it loads the engine and the configuration, which
+the codec and the emulator (``moas-emulator``) do without."""
 
 
 def __getattr__(name: str) -> object:
@@ -44,6 +49,10 @@ def __getattr__(name: str) -> object:
         from . import link
 
         return getattr(link, name)
+    if name in _FROM_SYNC:
+        from . import sync
+
+        return getattr(sync, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = [

@@ -97,7 +97,10 @@ class ServerApp(ServerView):
         its engine and opening every port is the operator's pause, not the loop's lag."""
         self.loop_watch.stop()
         try:
-            return await self._open(path, last_good)
+            result = await self._open(path, last_good)
+            if result.config is not None and self.options.settle_garbage:
+                opening.settle_garbage()  # the collection is the opening's, not lag
+            return result
         finally:
             self.loop_watch.start()
 

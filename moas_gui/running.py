@@ -160,6 +160,10 @@ class ServerOptions:
     relay_dwell: float | None = None
     """``--relay-dwell MS``, in seconds: automatic updates move a switch's relays at most
     once in this long (0: every update at once); None for the link's default (0.1 s)."""
+    settle_garbage: bool = False
+    """After each configuration opens, collect garbage once and keep every object then
+    alive out of later collections (:func:`~moas_gui.opening.settle_garbage`): the
+    ``moas-server`` process; not the tests, which open many in one process."""
 
 
 @dataclass

@@ -176,13 +176,15 @@ class ServerApp(ServerView):
                             self.secrets)
         run.serving = True
         self._update_status()
-        run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
+        run.ticker = asyncio.get_running_loop().call_later(0.5, self._tick, run)
 
-    async def _tick(self, run: Running) -> None:
-        """Refresh the status (the number of clients) twice a second while ``run`` runs."""
-        while self._run is run:
-            await asyncio.sleep(0.5)
+    def _tick(self, run: Running) -> None:
+        """Refresh the status (the number of clients) twice a second while ``run`` runs:
+        a timer that arms itself again (one loop turn a refresh, where a task's sleep
+        takes two: the sleep's end, then the task's step)."""
+        if self._run is run:
             self._update_status()
+            run.ticker = asyncio.get_running_loop().call_later(0.5, self._tick, run)
 
     async def _close_running(self) -> None:
         run, self._run = self._run, None
@@ -192,7 +194,7 @@ class ServerApp(ServerView):
         run.intake.close()  # a batch of the sources still waiting is dropped
         await self.antenna.stop()  # open transmissions end; the journal closes
         if run.ticker is not None:
-            run.ticker.cancel()  # and awaited by close_parts, which saves the state last
+            run.ticker.cancel()  # before close_parts, which saves the state last
         await close_parts(run)
         self._update_status()
 

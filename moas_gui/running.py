@@ -193,8 +193,8 @@ class Running:
     serving: bool = False
     """Every part has started and the client and web ports listen: until then the
     title, status bar and tray do not say the configuration runs."""
-    ticker: asyncio.Task[None] | None = None
-    """The status refresh; :func:`close_parts` cancels it and waits for its end."""
+    ticker: asyncio.TimerHandle | None = None
+    """The status refresh's next run; :func:`close_parts` cancels it."""
     keeper: StateKeeper | None = None
     fingerprint: str = ""
     recorder: SerialRecorder | None = None
@@ -466,11 +466,10 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
 
 async def close_parts(run: Running) -> None:
     """Close every listener, the rotators and the links; the relays stay as they are.
-    The status refresh (``run.ticker``) is cancelled and awaited first, then the state
-    is saved a last time."""
+    The status refresh (``run.ticker``) is cancelled first, then the state is saved a
+    last time."""
     if run.ticker is not None:
         run.ticker.cancel()
-        await asyncio.wait({run.ticker})
     if run.keeper is not None:
         try:
             await run.keeper.flush()

@@ -1,7 +1,7 @@
 """The server's speed targets, measured on the real program as a station runs it.
 
 Run:  .venv/bin/python benchmarks/bench_server.py [--runs 3] [--rate 1000[,500,...]]
-          [--seconds 10] [--flood small,big,tune] [--no-window]
+          [--seconds 10] [--flood small,big,tune] [--no-window] [--idle SECONDS]
 
 Prints one table:
 
@@ -43,7 +43,11 @@ Prints one table:
     time: parse RadioInfo, the engine's decision, the switch plan and its bytes).
     ``--costs`` adds the server's CPU per quiet band change by thread, by event-loop
     callback and by part of the path; ``--profile`` a cProfile of the loop's thread;
-    ``--trace`` the stages of a quiet packet's latency (``quiet_path.py``).
+    ``--trace`` the stages of a quiet packet's latency (``quiet_path.py``); ``--idle
+    SECONDS`` the server's own CPU with no packet (its periodic work, which a quiet
+    flood's figure shares among its band changes), by loop callback with ``--costs``.
+    The server's CPU is read to the nanosecond (its process's CPU-time clock), not in
+    ``/proc``'s 10 ms ticks.
 (e) **The quiet path's targets** (issue 33), from figures of the same run: server
     CPU per band change at 10/s at most 5 times the parts of (d) together, and
     packet to first byte at 10/s (median) at most 0.6 ms above the floor's

@@ -161,9 +161,10 @@ class ServerOptions:
     """``--relay-dwell MS``, in seconds: automatic updates move a switch's relays at most
     once in this long (0: every update at once); None for the link's default (0.1 s)."""
     settle_garbage: bool = False
-    """After each configuration opens, collect garbage once and keep every object then
-    alive out of later collections (:func:`~moas_gui.opening.settle_garbage`): the
-    ``moas-server`` process; not the tests, which open many in one process."""
+    """After each configuration opens, keep every object then alive out of later full
+    collections (:func:`~moas_gui.opening.settle_garbage`, which collects first at a
+    later opening): the ``moas-server`` process; not the tests, which open many
+    configurations in one process."""
 
 
 @dataclass

@@ -1,7 +1,7 @@
 """The server's speed targets, measured on the real program as a station runs it.
 
 Run:  .venv/bin/python benchmarks/bench_server.py [--runs 3] [--rate 1000[,500,...]]
-          [--seconds 10] [--flood small,big,tune] [--no-window]
+          [--seconds 10] [--flood small,big,tune] [--no-window] [--idle SECONDS]
 
 Prints one table:
 
@@ -43,7 +43,11 @@ Prints one table:
     time: parse RadioInfo, the engine's decision, the switch plan and its bytes).
     ``--costs`` adds the server's CPU per quiet band change by thread, by event-loop
     callback and by part of the path; ``--profile`` a cProfile of the loop's thread;
-    ``--trace`` the stages of a quiet packet's latency (``quiet_path.py``).
+    ``--trace`` the stages of a quiet packet's latency (``quiet_path.py``); ``--idle
+    SECONDS`` the server's own CPU with no packet (its periodic work, which a quiet
+    flood's figure shares among its band changes), by loop callback with ``--costs``.
+    The server's CPU is read to the nanosecond (its process's CPU-time clock), not in
+    ``/proc``'s 10 ms ticks.
 (e) **The quiet path's targets** (issue 33), from figures of the same run: server
     CPU per band change at 10/s at most 5 times the parts of (d) together, and
     packet to first byte at 10/s (median) at most 0.6 ms above the floor's
@@ -251,7 +255,11 @@ def minor_faults(pid: int) -> int:
 
 
 def cpu_seconds(pid: int) -> float:
-    """User + system CPU time of ``pid`` so far."""
+    """User + system CPU time of ``pid`` so far (to the nanosecond where the system's
+    CPU-time clock of another process works, :func:`quiet_path.cpu_clock`)."""
+    precise = quiet_path.cpu_clock(pid)
+    if precise is not None:
+        return precise
     try:
         fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     except OSError:
@@ -601,7 +609,9 @@ class FloodResult:
 async def bench_flood(name: str, rate: int, seconds: float, work: Path,
                       trace: bool = False, dwell_ms: int = 0,
                       profile: bool = False, costs: bool = False,
-                      extra: Sequence[str] = ()) -> FloodResult:
+                      extra: Sequence[str] = (), idle: bool = False) -> FloodResult:
+    """A flood of ``rate`` packets a second for ``seconds`` into a headless server on
+    emulated switches; ``idle``: no packets, the server's own CPU over ``seconds``."""
     from moas_gui.config import load_config
     from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
     from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
@@ -653,8 +663,11 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
             await asyncio.sleep(0.05)
         else:
             raise RuntimeError("the switches were never loaded:\n" + stderr.read_text()[-3000:])
-        result = await _flood(name, rate, seconds, int(found.group(1)), process, terminals,
-                              config, dwell_ms, profile or costs)
+        if idle:
+            result = await _idle(name, seconds, process, profile or costs)
+        else:
+            result = await _flood(name, rate, seconds, int(found.group(1)), process,
+                                  terminals, config, dwell_ms, profile or costs)
     finally:
         await stop(process)
         for terminal in terminals.values():
@@ -744,6 +757,41 @@ async def _flood(name: str, rate: int, seconds: float, port: int,
         rss_after_kb=rss_after, wall=(sent[-1] - sent[0]) / 1e9, sent_at=sent,
         faults=faults, dwell_ms=dwell_ms, relay_changes=relay_changes, line_bytes=line_bytes,
         threads={k: v - threads_before.get(k, 0.0) for k, v in threads_after.items()})
+
+
+async def _idle(name: str, seconds: float, process: asyncio.subprocess.Process,
+                signal_usr: bool) -> FloodResult:
+    """The server with its switches loaded and no packet: its CPU over ``seconds``."""
+    await asyncio.sleep(1.0)
+    before = cpu_seconds(process.pid)
+    threads_before = quiet_path.thread_cpu(process.pid)
+    if signal_usr:
+        process.send_signal(signal.SIGUSR1)
+    await asyncio.sleep(seconds)
+    threads_after = quiet_path.thread_cpu(process.pid)
+    cpu = {"server": cpu_seconds(process.pid) - before}
+    if signal_usr:
+        process.send_signal(signal.SIGUSR2)
+        await asyncio.sleep(0.5)
+    return FloodResult(
+        name=name, rate=0, sent=0, expected=0, latencies={}, per_second=[],
+        bytes_per_change={}, udp_queue_max=0, udp_drops=0, cpu=cpu, rss_before_kb=0,
+        rss_after_kb=0, wall=seconds,
+        threads={k: v - threads_before.get(k, 0.0) for k, v in threads_after.items()})
+
+
+def idle_rows(result: FloodResult) -> list[Row]:
+    """What the server costs with nothing to do, a second and shared among band changes
+    at the quiet rate (the flood's figure counts it too)."""
+    per_second = result.cpu["server"] / max(result.wall, 1e-9)
+    rows: list[Row] = [(
+        f"idle server ({result.name}), no packets for {result.wall:g} s",
+        (f"{1e3 * per_second:.2f} ms of CPU a second: {1e3 * per_second / QUIET_RATE:.2f} ms "
+         f"of each band change at {QUIET_RATE}/s"), "", "")]
+    for name, seconds in sorted(result.threads.items(), key=lambda item: -item[1]):
+        rows.append((f"  thread {name}", f"{1e3 * seconds / result.wall:.2f} ms a second",
+                     "", ""))
+    return rows
 
 
 LINE_BYTES_PER_SECOND = 960
@@ -983,6 +1031,13 @@ async def run(args: argparse.Namespace) -> None:
         (work / "settings").mkdir()
         if args.runs:
             rows += await bench_start(args.runs, not args.no_window, work)
+        for name in args.flood if args.idle else ():
+            result = await bench_flood(name, 0, args.idle, work, costs=args.costs,
+                                       idle=True)
+            rows += idle_rows(result)
+            if result.costs is not None:  # per second: "changes" are the seconds
+                rows += quiet_path.costs_rows(result.costs, round(args.idle), 0,
+                                              result.threads, per="second")
         for name in args.flood:
             for rate in args.rate:
                 result = await bench_flood(name, rate, args.seconds, work, args.trace,
@@ -1064,6 +1119,10 @@ def main() -> int:
                         help="also measure the machine's floor at each rate: the same hops "
                              "with no work between them")
     parser.add_argument("--seconds", type=float, default=10.0, help="length of each flood")
+    parser.add_argument("--idle", type=float, default=0.0, metavar="SECONDS",
+                        help="also measure each flood's server with no packets for SECONDS "
+                             "(its own periodic work; with --costs, by loop callback, per "
+                             "second)")
     parser.add_argument("--antenna-log", action="store_true",
                         help="also run each quiet flood with --no-antenna-log and print what "
                              "the antenna log costs on the path (issue 34)")

@@ -97,7 +97,10 @@ class ServerApp(ServerView):
         its engine and opening every port is the operator's pause, not the loop's lag."""
         self.loop_watch.stop()
         try:
-            return await self._open(path, last_good)
+            result = await self._open(path, last_good)
+            if result.config is not None and self.options.settle_garbage:
+                opening.settle_garbage()  # the collection is the opening's, not lag
+            return result
         finally:
             self.loop_watch.start()
 
@@ -173,13 +176,15 @@ class ServerApp(ServerView):
                             self.secrets)
         run.serving = True
         self._update_status()
-        run.ticker = asyncio.get_running_loop().create_task(self._tick(run))
+        run.ticker = asyncio.get_running_loop().call_later(0.5, self._tick, run)
 
-    async def _tick(self, run: Running) -> None:
-        """Refresh the status (the number of clients) twice a second while ``run`` runs."""
-        while self._run is run:
-            await asyncio.sleep(0.5)
+    def _tick(self, run: Running) -> None:
+        """Refresh the status (the number of clients) twice a second while ``run`` runs:
+        a timer that arms itself again (one loop turn a refresh, where a task's sleep
+        takes two: the sleep's end, then the task's step)."""
+        if self._run is run:
             self._update_status()
+            run.ticker = asyncio.get_running_loop().call_later(0.5, self._tick, run)
 
     async def _close_running(self) -> None:
         run, self._run = self._run, None
@@ -189,7 +194,7 @@ class ServerApp(ServerView):
         run.intake.close()  # a batch of the sources still waiting is dropped
         await self.antenna.stop()  # open transmissions end; the journal closes
         if run.ticker is not None:
-            run.ticker.cancel()  # and awaited by close_parts, which saves the state last
+            run.ticker.cancel()  # before close_parts, which saves the state last
         await close_parts(run)
         self._update_status()
 

@@ -160,6 +160,11 @@ class ServerOptions:
     relay_dwell: float | None = None
     """``--relay-dwell MS``, in seconds: automatic updates move a switch's relays at most
     once in this long (0: every update at once); None for the link's default (0.1 s)."""
+    settle_garbage: bool = False
+    """After each configuration opens, keep every object then alive out of later full
+    collections (:func:`~moas_gui.opening.settle_garbage`, which collects first at a
+    later opening): the ``moas-server`` process; not the tests, which open many
+    configurations in one process."""
 
 
 @dataclass
@@ -189,8 +194,8 @@ class Running:
     serving: bool = False
     """Every part has started and the client and web ports listen: until then the
     title, status bar and tray do not say the configuration runs."""
-    ticker: asyncio.Task[None] | None = None
-    """The status refresh; :func:`close_parts` cancels it and waits for its end."""
+    ticker: asyncio.TimerHandle | None = None
+    """The status refresh's next run; :func:`close_parts` cancels it."""
     keeper: StateKeeper | None = None
     fingerprint: str = ""
     recorder: SerialRecorder | None = None
@@ -462,11 +467,10 @@ async def start_clients(run: Running, options: ServerOptions, backend: ClientBac
 
 async def close_parts(run: Running) -> None:
     """Close every listener, the rotators and the links; the relays stay as they are.
-    The status refresh (``run.ticker``) is cancelled and awaited first, then the state
-    is saved a last time."""
+    The status refresh (``run.ticker``) is cancelled first, then the state is saved a
+    last time."""
     if run.ticker is not None:
         run.ticker.cancel()
-        await asyncio.wait({run.ticker})
     if run.keeper is not None:
         try:
             await run.keeper.flush()

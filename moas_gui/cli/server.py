@@ -493,7 +493,7 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          record_serial=args.record_serial,
                          switch_dtr=args.switch_dtr, switch_rts=args.switch_rts,
                          relay_dwell=args.relay_dwell,
-                         rotator_timing=args.rotator_timing)
+                         rotator_timing=args.rotator_timing, settle_garbage=True)
 
 
 def _become_instance(args: argparse.Namespace) -> tuple[InstanceServer | None, int | None]:

@@ -250,7 +250,9 @@ class SecretGuard:
         self.trouble = LogLimiter()
         """One line a minute per kind (wrong token, wrong code, throttled, busy)."""
         self._listeners: list[Callable[[str], int]] = []
-        self._watch: asyncio.Task[None] | None = None
+        self._watch: asyncio.Task[None] | asyncio.TimerHandle | None = None
+        """The watch of the operators file: its next glance (a timer), or a look under
+        way (a task)."""
         self._seen: dict[str, tuple[object, ...]] | None = None
         self._signature: object = None
         self.ended: dict[str, tuple[int, float]] = {}
@@ -435,15 +437,29 @@ class SecretGuard:
         return ended if self.clock() - when < 60.0 else 0
 
     async def _watching(self) -> None:
+        """One look (the file read again on the worker when its ``stat`` changed, the
+        known devices read or written), then the next glance in :data:`WATCH_EVERY`."""
         book = self.book
         assert book is not None
-        while True:
-            try:
-                await self._look(book)
-                await self._keep_devices()
-            except Busy:
-                pass  # the worker is full: next time
-            await asyncio.sleep(WATCH_EVERY)
+        try:
+            await self._look(book)
+            await self._keep_devices()
+        except Busy:
+            pass  # the worker is full: next time
+        self._watch = asyncio.get_running_loop().call_later(WATCH_EVERY, self._glance)
+
+    def _glance(self) -> None:
+        """The file's ``stat`` unchanged and nothing of the devices to do: the next glance
+        in :data:`WATCH_EVERY` (one loop turn, no task); else a look (:meth:`_watching`)."""
+        loop = asyncio.get_running_loop()
+        book = self.book
+        quiet = (book is not None and self._seen is not None
+                 and file_signature(book.path) == self._signature
+                 and (self.devices is None or (self._devices_read and not self._devices_dirty)))
+        if quiet:
+            self._watch = loop.call_later(WATCH_EVERY, self._glance)
+        else:
+            self._watch = loop.create_task(self._watching())
 
     async def _look(self, book: OperatorBook) -> None:
         """Reads the operators file again (on the worker) when its ``stat`` changed."""

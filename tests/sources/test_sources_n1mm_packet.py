@@ -279,3 +279,88 @@ def test_the_value_is_frozen_and_the_public_names_do_not_drift() -> None:
     assert sorted(n1mm_packet.__all__) == sorted([
         "MAX_KHZ", "MAX_PACKET_BYTES", "MAX_RADIO_NR", "N1MMPacketError", "REASONS", "RadioInfo",
         "parse_radio_info", "radio_info_packet"])
+
+
+# -- the flat scanner: N1MM's own shape read without the XML parser, the same fields ------
+
+def xml_fields(data: bytes) -> dict[str, str] | None:
+    """What the XML parser makes of ``data``: its fields when it is a RadioInfo
+    document, None when the parser refuses it or its root is another."""
+    try:
+        root = n1mm_packet._parse_xml(data)
+    except N1MMPacketError:
+        return None
+    return n1mm_packet._fields(root) if root.tag == "RadioInfo" else None
+
+
+@pytest.mark.parametrize("data", [
+    SINGLE_RADIO_80M, SO2R_RADIO2_SPLIT_TRANSMITTING, MANUAL_RADIO_20M,
+    radio_info_packet(2, 14025.0, 14030.0, station_name="SO2R PC", is_transmitting=True),
+    b"\xef\xbb\xbf" + radio_info_packet(1, 3522.11),
+    b"<RadioInfo><RadioNr>1</RadioNr><Freq>352211</Freq><RadioName/><Mode /></RadioInfo>\n",
+])
+def test_packets_of_n1mms_own_shape_are_read_without_the_xml_parser(data: bytes) -> None:
+    flat = n1mm_packet._flat_fields(data)
+    assert flat is not None, "N1MM's packet takes the scanner, not the XML parser"
+    assert flat == xml_fields(data)
+
+
+@pytest.mark.parametrize("data", [
+    b' <?xml version="1.0"?><RadioInfo><RadioNr>1</RadioNr></RadioInfo>',  # not at the start
+    b"<RadioInfo><Freq>1&#52;</Freq></RadioInfo>",                      # a reference
+    b"<RadioInfo><Freq>1]]>4</Freq></RadioInfo>",                        # never in text
+    b"<RadioInfo><Freq>14\r\n00</Freq></RadioInfo>",                     # line ends normalised
+    b"<RadioInfo><Freq>1\x014</Freq></RadioInfo>",                       # a control character
+    b"<RadioInfo><Freq>14</freq></RadioInfo>",                           # end tag of another
+    b"<RadioInfo><a:Freq>14</a:Freq></RadioInfo>",                       # a prefix
+    b'<RadioInfo v="1"><Freq>14</Freq></RadioInfo>',                     # an attribute
+    b"<RadioInfo><Freq>14</Freq>tail</RadioInfo>",                       # text beside elements
+    b"<RadioInfo><Freq><x/>14</Freq></RadioInfo>",                       # a second level
+    b"<RadioInfo><!-- c --><Freq>14</Freq></RadioInfo>",                 # a comment
+    b"<RadioInfo><Freq>14</Freq></RadioInfo><RadioInfo/>",               # two roots
+    b"<contactinfo><Freq>14</Freq></contactinfo>",                       # another message
+])
+def test_anything_else_goes_to_the_xml_parser(data: bytes) -> None:
+    assert n1mm_packet._flat_fields(data) is None
+
+
+DECLARATIONS = ["", '<?xml version="1.0" encoding="utf-8"?>', '<?xml version="1.0"?>',
+                '<?xml version="1.0" encoding="UTF-8"?>', '<?xml version="1.1"?>',
+                '<?xml version="1.0" encoding="latin-1"?>', " <?xml version=\"1.0\"?>"]
+ROOTS = ["<RadioInfo>", "<RadioInfo >", "<radioinfo>", '<RadioInfo a="1">', "<contactinfo>"]
+NAMES = ["RadioNr", "Freq", "TXFreq", "_x.y-z", "a:Freq", "1x", "xml", "Freq "]
+SPACES = ["", " ", "\t", "\n", "\r\n", "x", "<!-- -->"]
+TEXTS = ["1", "14", " 7 ", "1\r4", "\x0b", "&amp;", "&#x41;", "&bogus;", ">", "]]>", "\r", "\t", "\x01", "\x7f",
+         "\x85", "\u00e9", "\ufffe", "\U0001f600", "\xa0", "<![CDATA[1]]>", "<x/>", "True",
+         "-1", '"', "'", "="]
+
+
+@st.composite
+def nearly_flat(draw: st.DrawFn) -> bytes:
+    """Documents of N1MM's shape with a piece changed here and there: in the scanner's
+    reach, and just outside it."""
+    def element() -> str:
+        name = draw(st.sampled_from(NAMES))
+        if draw(st.integers(0, 5)) == 0:
+            return f"<{name}{draw(st.sampled_from(['/>', ' />', ' / >']))}"
+        text = "".join(draw(st.lists(st.sampled_from(TEXTS), max_size=4)))
+        end = name if draw(st.integers(0, 7)) else draw(st.sampled_from(NAMES))
+        return f"<{name}>{text}</{end}>"
+    children = "".join(draw(st.sampled_from(SPACES)) + element()
+                       for _ in range(draw(st.integers(0, 6))))
+    root = draw(st.sampled_from(ROOTS))
+    end = "</" + root[1:].split()[0].rstrip(">") + ">"
+    return (draw(st.sampled_from(DECLARATIONS)) + draw(st.sampled_from(SPACES)) + root
+            + children + draw(st.sampled_from(SPACES)) + end
+            + draw(st.sampled_from(SPACES))).encode()
+
+
+@settings(max_examples=1000, deadline=None)
+@given(nearly_flat())
+def test_the_scanner_never_reads_what_the_xml_parser_would_read_otherwise(data: bytes) -> None:
+    """Whatever the scanner accepts, the XML parser reads as the same RadioInfo fields; so
+    a packet it does not accept takes the parser's path as before, and every refusal and
+    its reason stay the parser's."""
+    flat = n1mm_packet._flat_fields(data)
+    if flat is not None:
+        assert flat == xml_fields(data)

@@ -1,31 +1,21 @@
 """The server watches its own event loop: how late it runs, and what held it.
 
 The loop that answers clients also drives the switches, so a turn of it that takes long
-delays every relay change and every switch's ping.  :class:`LoopWatch` measures the
-loop's *lag*: how long a timer or a packet that came due had to wait for the loop.  The
-largest lag since the watch started is :attr:`LoopWatch.largest` (the status shows it:
-``ServerStatus.loop_lag_ms``, the client protocol's snapshot ``loop_lag_ms``).  It is
-measured one of two ways:
-
-* on asyncio's own loop (the headless server), the watch stamps the clock each time the
-  loop wakes from waiting for sockets and timers and each time it goes back to wait
-  (its selector's ``select``, wrapped): the longest stretch of work between the two is
-  the lag -- whatever came due during it waited for its end.  Two clock readings a turn
-  and no timer of its own: a quiet server's loop wakes only for its own work (a timer
-  every 100 ms cost a quiet band change about a tenth of a millisecond, issue 41);
-* on another loop (the window's, Qt's under qasync), a timer that expects to run every
-  :data:`EVERY` seconds (100 ms): how late it runs is the lag at that moment.
+delays every relay change and every switch's ping.  :class:`LoopWatch` keeps a timer
+that expects to run every :data:`EVERY` seconds (100 ms); how late it runs is the
+loop's *lag* at that moment.  The largest lag since the watch started is
+:attr:`LoopWatch.largest` (the status shows it: ``ServerStatus.loop_lag_ms``, the
+client protocol's snapshot ``loop_lag_ms``).
 
 A lag over :data:`LOG_OVER` (100 ms) writes one Warning line, at most one a minute
 with the count of the others left out, saying what the loop was running.  To know
 that without timing every callback (which would cost on every turn), a small thread
-of its own wakes about once a period (:data:`EVERY`; on the timer's way, when the timer
-would be :data:`LOOK_AFTER` seconds late) and, when the loop has been at one stretch
-of work for :data:`LOOK_EVERY` seconds or more (the timer a look overdue), takes one
-look at the loop thread's stack (as text, :func:`faulthandler.dump_traceback` into a
-scratch file): the code that holds the loop, caught in the act.  A stall too short for
-the thread to see (under about 150 ms), or inside code that keeps every other thread
-out, says so instead::
+of its own sleeps until the timer would be a look overdue (:data:`LOOK_AFTER` seconds
+after it last ran: it wakes about once a period, not every :data:`LOOK_EVERY`, as it
+costs a quiet server's processor at each wake); once the timer is overdue, the thread
+takes one look at the loop thread's stack (as text, :func:`faulthandler.dump_traceback`
+into a scratch file): the code that holds the loop, caught in the act.  A stall too short for the thread to see (under
+about 150 ms), or inside code that keeps every other thread out, says so instead::
 
     watch = LoopWatch()
     watch.start()            # in the running loop
@@ -39,27 +29,24 @@ from __future__ import annotations
 import asyncio
 import faulthandler
 import logging
-import selectors
 import tempfile
 import threading
 import time
 from dataclasses import dataclass
-from typing import IO, Any, Final
+from typing import IO, Final
 
 from moas_gui.log_limit import LogLimiter, held_text
 
 log = logging.getLogger(__name__)
 
 EVERY: Final = 0.1
-"""Seconds between two runs of the timer, as asked of the loop; and between two looks of
-the watching thread at a loop that waits."""
+"""Seconds between two runs of the timer, as asked of the loop."""
 
 LOG_OVER: Final = 0.1
 """A lag longer than this (seconds) is logged."""
 
 LOOK_EVERY: Final = 0.05
-"""Seconds a stretch of the loop's work (or the timer's lateness) lasts before the
-thread reads what the loop runs."""
+"""Seconds between two looks of the watching thread."""
 
 LOOK_AFTER: Final = EVERY + LOOK_EVERY
 """Seconds since the timer last ran after which the thread looks at what runs (its
@@ -77,36 +64,8 @@ class Seen:
     what: str
 
 
-class _StampedSelector:
-    """asyncio's selector, with the watch told when the loop goes to wait and when it
-    wakes; every other call goes to the selector itself."""
-
-    def __init__(self, inner: selectors.BaseSelector, watch: LoopWatch) -> None:
-        self.inner = inner
-        self._watch = watch
-
-    def select(self, timeout: float | None = None) -> list[tuple[selectors.SelectorKey, int]]:
-        self._watch._waits()
-        try:
-            return self.inner.select(timeout)
-        finally:
-            self._watch._wakes()
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self.inner, name)
-
-
-def _stampable(loop: asyncio.AbstractEventLoop) -> bool:
-    """Whether ``loop`` is asyncio's own selector loop, whose every turn waits in its
-    selector's ``select`` (Qt's loop under qasync has a selector it never calls)."""
-    return (isinstance(loop, asyncio.selector_events.BaseSelectorEventLoop)
-            and type(loop).run_forever is asyncio.BaseEventLoop.run_forever
-            and isinstance(getattr(loop, "_selector", None), selectors.BaseSelector))
-
-
 class LoopWatch:
-    """The loop's lag, from its turns or from a timer every ``every`` seconds (see the
-    module notes)."""
+    """The loop's lag, measured by a timer every ``every`` seconds (see the module notes)."""
 
     def __init__(self, every: float = EVERY, log_over: float = LOG_OVER,
                  limiter: LogLimiter | None = None) -> None:
@@ -118,20 +77,16 @@ class LoopWatch:
         self.largest = 0.0
         """The largest lag seen since the watch was made, in seconds."""
         self.turns = 0
-        """How many times the timer has run, or the loop has woken (stamped)."""
+        """How many times the timer has run."""
         self.looks = 0
         """How many stacks the watching thread has read (one a stall at most)."""
         self.wakes = 0
         """How many times the watching thread has woken (about one a period)."""
         self._loop: asyncio.AbstractEventLoop | None = None
         self._timer: asyncio.TimerHandle | None = None
-        self._stamped: _StampedSelector | None = None
         self._expected = 0.0
         self._last_run = time.monotonic()
-        """When the timer last ran, or the loop last woke (the thread's clock: read from
-        another thread)."""
-        self._working = False
-        """Stamped: the loop is at a stretch of work (not waiting in ``select``)."""
+        """When the timer last ran (the thread's clock: read from another thread)."""
         self._seen: Seen | None = None
         self._loop_thread = 0
         self._stop = threading.Event()
@@ -143,28 +98,17 @@ class LoopWatch:
 
     @property
     def running(self) -> bool:
-        return self._timer is not None or self._stamped is not None
-
-    @property
-    def stamped(self) -> bool:
-        """Whether the lag is read from the loop's turns (no timer of the watch's own)."""
-        return self._stamped is not None
+        return self._timer is not None
 
     def start(self, loop: asyncio.AbstractEventLoop | None = None) -> None:
         """Starts watching ``loop`` (the running one); again is harmless."""
-        if self.running:
+        if self._timer is not None:
             return
         self._loop = loop if loop is not None else asyncio.get_running_loop()
         self._loop_thread = threading.get_ident()
         self._last_run = time.monotonic()
-        if _stampable(self._loop):
-            inner: selectors.BaseSelector = self._loop._selector  # type: ignore[attr-defined]
-            self._stamped = _StampedSelector(inner, self)
-            self._loop._selector = self._stamped  # type: ignore[attr-defined]
-            self._working = True  # the stretch under way counts from now
-        else:
-            self._expected = self._loop.time() + self.every
-            self._timer = self._loop.call_at(self._expected, self._run)
+        self._expected = self._loop.time() + self.every
+        self._timer = self._loop.call_at(self._expected, self._run)
         self._stop.clear()
         self._thread = threading.Thread(target=self._look_forever, name="loop watch",
                                         daemon=True)
@@ -175,12 +119,6 @@ class LoopWatch:
         if self._timer is not None:
             self._timer.cancel()
             self._timer = None
-        stamped, self._stamped = self._stamped, None
-        if stamped is not None and self._loop is not None:
-            inner = stamped.inner
-            if getattr(self._loop, "_selector", None) is stamped:  # still ours: put back
-                self._loop._selector = inner  # type: ignore[attr-defined]
-            self._working = False
         self._stop.set()
         thread, self._thread = self._thread, None
         if thread is not None and thread is not threading.current_thread():
@@ -197,30 +135,13 @@ class LoopWatch:
         self._last_run = time.monotonic()
         self.largest = max(self.largest, lag)
         if lag > self.log_over:
-            self._report(lag, self.turns - 1)
+            self._report(lag)
         self._expected = now + self.every
         self._timer = loop.call_at(self._expected, self._run)
 
-    def _waits(self) -> None:
-        """Stamped: the loop goes to wait; the stretch of work since it woke is done."""
-        if not self._working or self._stamped is None:
-            return
-        self._working = False
-        lag = time.monotonic() - self._last_run
-        self.largest = max(self.largest, lag)
-        if lag > self.log_over:
-            self._report(lag, self.turns)
-
-    def _wakes(self) -> None:
-        """Stamped: the loop woke; a stretch of work begins."""
-        if self._stamped is not None:
-            self.turns += 1
-            self._last_run = time.monotonic()
-            self._working = True
-
-    def _report(self, lag: float, turn: int) -> None:
+    def _report(self, lag: float) -> None:
         seen = self._seen
-        what = (seen.what if seen is not None and seen.turn == turn else
+        what = (seen.what if seen is not None and seen.turn == self.turns - 1 else
                 "what it ran was not seen (too short a stall for the watching thread, or "
                 "code that kept every other thread out)")
         held = self.limiter.allow("loop lag")
@@ -235,37 +156,23 @@ class LoopWatch:
     # -- the watching thread --------------------------------------------------------------
     def _look_forever(self) -> None:
         with tempfile.TemporaryFile() as sink:
-            while not self._stop.wait(self._until_look()):
+            while not self._stop.wait(self._until_overdue()):
                 self.wakes += 1
                 turn = self.turns
                 seen = self._seen
                 if seen is not None and seen.turn == turn:
                     continue  # this stall already looked at
-                if not self._stalled():
+                if time.monotonic() - self._last_run < self.look_after:
                     continue
                 self._seen = Seen(turn, loop_stack(sink, self._loop_thread))
                 self.looks += 1
 
-    def _stalled(self) -> bool:
-        """Whether the loop has been at one stretch of work (stamped) for a look, or the
-        timer is a look overdue."""
-        since = time.monotonic() - self._last_run
-        if self._stamped is not None:
-            return self._working and since >= LOOK_EVERY
-        return since >= self.look_after
-
-    def _until_look(self) -> float:
-        """How long the thread sleeps, not polling meanwhile: stamped, until the stretch
-        under way would be a look long, or a period while the loop waits; on the timer's
-        way, until the timer would be a look overdue (it runs every ``every`` seconds,
-        so the thread wakes about once a period).  During a stall already looked at, a
-        look's period."""
-        if self._stamped is not None:
-            if not self._working:
-                return self.every
-            overdue = self._last_run + LOOK_EVERY - time.monotonic()
-        else:
-            overdue = self._last_run + self.look_after - time.monotonic()
+    def _until_overdue(self) -> float:
+        """How long the thread sleeps: until the timer would be a look overdue, not
+        polling meanwhile (the timer runs every ``every`` seconds, so the thread wakes
+        about once a period, not once a :data:`LOOK_EVERY`); during a stall already
+        looked at, a look's period."""
+        overdue = self._last_run + self.look_after - time.monotonic()
         return max(LOOK_EVERY if overdue <= 0 else overdue, 0.001)
 
 

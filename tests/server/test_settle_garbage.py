@@ -66,10 +66,7 @@ async def test_without_the_option_nothing_is_frozen() -> None:
 async def test_a_configuration_opened_again_frees_the_one_before(settling: ServerApp) -> None:
     assert (await settling.open(EXAMPLES / "small-station.moas")).ok
     await until(lambda: settling.status.state is ServerState.NORMAL)
-    run = settling._run
-    assert run is not None
-    before = weakref.ref(run)
-    del run
+    before = weakref.ref(settling._run)  # type: ignore[arg-type]
     assert (await settling.open(EXAMPLES / "small-station.moas")).ok
     await until(lambda: settling.status.state is ServerState.NORMAL)
     gc.collect()

@@ -8,7 +8,9 @@ ends, unknown names and everything the builder does not touch stay as they were:
 unchanged file saves to the same bytes, and one edit changes the lines of that value.
 
 Every edit is one :class:`EditStep` of splices, so undo and redo are exact; a
-:meth:`Document.transaction` makes several edits one step.  Saving is atomic
+:meth:`Document.transaction` makes several edits one step.  The readings of the last few
+texts are kept, so an undo or a redo back to one of them reads nothing again (a reading
+is never changed once made).  Saving is atomic
 (:func:`moas_gui.files.write_atomic`) and keeps the previous file as ``FILE.moas.bak``.
 """
 
@@ -18,6 +20,7 @@ import contextlib
 import difflib
 import json
 import re
+from collections import OrderedDict
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path as FilePath
@@ -32,6 +35,10 @@ from .spans import LineStarts, Path, find, plain, value_end
 
 NEW_STATION = "{\n}\n"
 """The text of a station that has nothing yet (the guide fills it)."""
+KEPT_READINGS = 16
+KEPT_CHARACTERS = 1_000_000
+"""The readings of at most this many recent texts are kept, together at most this long
+(the current text's always)."""
 
 
 class EditError(MoasError, ValueError):
@@ -72,6 +79,16 @@ class Style:
         colon = re.search(r'"([ \t]*:[ \t]*)', text)
         return cls(unit.group(1) if unit else "  ", colon.group(1) if colon else ": ",
                    "\r\n" if "\r\n" in text else "\n", "\n" not in text.rstrip("\r\n"))
+
+
+@dataclass(frozen=True, slots=True)
+class Reading:
+    """What one text reads as: its tree and problems, its line starts and its style."""
+
+    root: Node | None
+    syntax: list[Problem]
+    lines: LineStarts
+    style: Style
 
 
 def _tidy(value: object) -> object:
@@ -128,6 +145,7 @@ class Document:
         """Called after every change of the text (an edit, undo, redo, a save)."""
         self.saves = 0
         self._open: list[Splice] | None = None
+        self._readings: OrderedDict[tuple[str, str], Reading] = OrderedDict()
         self._read()
 
     # -- opening -----------------------------------------------------------------------
@@ -154,9 +172,19 @@ class Document:
         return doc
 
     def _read(self) -> None:
-        self.root, self.syntax = parse(self.text, str(self.path or ""))
-        self.lines = LineStarts(self.text)
-        self.style = Style.of(self.text)
+        key = (self.text, str(self.path or ""))
+        reading = self._readings.pop(key, None)
+        if reading is None:
+            root, syntax = parse(*key)
+            reading = Reading(root, syntax, LineStarts(self.text), Style.of(self.text))
+        self._readings[key] = reading
+        kept = sum(len(text) for text, _name in self._readings)
+        while len(self._readings) > 1 and (len(self._readings) > KEPT_READINGS
+                                           or kept > KEPT_CHARACTERS):
+            (text, _name), _ = self._readings.popitem(last=False)
+            kept -= len(text)
+        self.root, self.syntax = reading.root, reading.syntax
+        self.lines, self.style = reading.lines, reading.style
 
     # -- reading -------------------------------------------------------------------------
     @property
@@ -516,6 +544,7 @@ __all__ = [
     "Document",
     "EditError",
     "EditStep",
+    "Reading",
     "Splice",
     "Style",
     "backup_of",

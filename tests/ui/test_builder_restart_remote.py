@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import socket
 import subprocess
 import sys
@@ -23,14 +24,14 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import EXAMPLES, free_port, wait_for
+from helpers import EXAMPLES, free_port, short_runtime_dir, wait_for
 
 from moas_gui.builder.apply import ServerAnswer
 from moas_gui.builder.claims import release
 from moas_gui.cli.builder_restart import ask_to_restart
 from moas_gui.ui.builder_window import BuilderWindow, open_builder
 
-pytestmark = pytest.mark.realtime
+pytestmark = [pytest.mark.realtime, pytest.mark.shared]
 
 KEYED = "station 1 radio 1 (switch 1 port 1)"
 
@@ -95,10 +96,17 @@ class Rig:
     log: Path
     control: Path
     env: dict[str, str]
+    text: str
+    """The station file as the rig started it (each test starts from it)."""
+    since: int = 0
+    """Lines of the server's log before the current test's (see :meth:`said`)."""
+
+    def lines(self) -> list[str]:
+        return self.log.read_text().splitlines()
 
     def said(self, text: str) -> int:
-        """How many lines of the server's log hold ``text``."""
-        return sum(text in line for line in self.log.read_text().splitlines())
+        """How many lines of the server's log since the test began hold ``text``."""
+        return sum(text in line for line in self.lines()[self.since:])
 
     def key(self, on: bool) -> None:
         verb = "key" if on else "unkey"
@@ -125,11 +133,13 @@ def end(process: subprocess.Popen[bytes]) -> None:
             process.wait(timeout=5)
 
 
-@pytest.fixture
-def rig(tmp_path: Path, runtime_dir: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Rig]:
-    private = private_environment(tmp_path, runtime_dir)
-    for name, value in private.items():
-        monkeypatch.setenv(name, value)  # the builder in this process: the same directories
+@pytest.fixture(scope="module")
+def started(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
+    """The emulator and the server, started once for the tests of this module that use
+    :func:`rig` (each of those begins with the station file as it was, running)."""
+    tmp_path = tmp_path_factory.mktemp("rig")
+    runtime = short_runtime_dir()
+    private = private_environment(tmp_path, runtime)
     env = dict(os.environ, **private, PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen")
     box, control = tmp_path / "box", tmp_path / "box.ctl"
     emulator = subprocess.Popen(
@@ -142,7 +152,8 @@ def rig(tmp_path: Path, runtime_dir: Path, monkeypatch: pytest.MonkeyPatch) -> I
         station = tmp_path / "station.moas"
         text = (EXAMPLES / "small-station.moas").read_text()
         assert text.count('"Port": "emulator"') == 1
-        station.write_text(text.replace('"Port": "emulator"', f'"Port": {json.dumps(str(box))}'))
+        text = text.replace('"Port": "emulator"', f'"Port": {json.dumps(str(box))}')
+        station.write_text(text)
         tcp = free_port()
         log = tmp_path / "server.log"
         with log.open("wb") as out:
@@ -151,14 +162,35 @@ def rig(tmp_path: Path, runtime_dir: Path, monkeypatch: pytest.MonkeyPatch) -> I
                  "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
                  "--no-rotator-program"], env=env, stderr=out, stdout=subprocess.DEVNULL)
         wait_for(lambda: first_antenna(tcp) == "station.moas:Tribander", 60, "the server")
-        tune(tcp)
-        wait_for(lambda: keyed(station) == (), 60, "nobody transmitting")
-        yield Rig(station, tcp, log, control, env)
+        yield Rig(station, tcp, log, control, env, text)
         assert server.poll() is None, "the server kept running\n" + log.read_text()
     finally:
         if server is not None:
             end(server)
         end(emulator)
+        shutil.rmtree(runtime, ignore_errors=True)
+
+
+@pytest.fixture
+def rig(started: Rig, monkeypatch: pytest.MonkeyPatch) -> Rig:
+    """The started rig as a test wants it: the builder in this process in the rig's
+    directories, the server running the station file as it was (restarted on it by the
+    builder's own request when a test before changed it), radios tuned, nobody keyed."""
+    for name in ("XDG_RUNTIME_DIR", "XDG_CONFIG_HOME", "XDG_STATE_HOME", "XDG_DATA_HOME"):
+        monkeypatch.setenv(name, started.env[name])  # the builder in this process: the same
+    if started.station.read_text() != started.text or \
+            first_antenna(started.tcp) != "station.moas:Tribander":
+        started.station.write_text(started.text)
+        tune(started.tcp)
+        wait_for(lambda: keyed(started.station) == (), 60, "nobody transmitting")
+        answer = ask_to_restart(started.station, ())
+        assert answer.restarted, answer.said
+        wait_for(lambda: first_antenna(started.tcp) == "station.moas:Tribander", 60,
+                 "the server on the station file as it was")
+    tune(started.tcp)
+    wait_for(lambda: keyed(started.station) == (), 60, "nobody transmitting")
+    started.since = len(started.lines())
+    return started
 
 
 @pytest.fixture

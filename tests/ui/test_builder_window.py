@@ -105,6 +105,20 @@ def test_the_window_fits_1024_by_600(looked_at: tuple[BuilderWindow, Path]) -> N
     assert builder.width() <= 1024 and builder.height() <= 600
 
 
+def test_a_page_is_made_when_it_is_first_shown(window: tuple[BuilderWindow, Answers]) -> None:
+    builder, _ = window
+    assert builder.stack.count() == len(builder.pages) == len(LISTS) + 5
+    assert builder.stack.currentWidget() is builder.pages["Antennas"]
+    assert not builder.pages.made("Rotators") and not builder.pages.made("Relay map")
+    page = builder.go("Rotators")
+    assert builder.pages.made("Rotators") and builder.stack.currentWidget() is page
+    assert builder.stack.indexOf(page) == builder.nav.currentRow() == builder.pages.titles.index("Rotators")
+    assert builder.stack.count() == len(builder.pages)
+    builder.nav.setCurrentRow(builder.pages.titles.index("Relay map"))  # chosen in the list
+    assert builder.stack.currentWidget() is builder.pages["Relay map"]
+    assert isinstance(builder.stack.currentWidget(), RelayPage)
+
+
 @pytest.mark.parametrize("spec", LISTS, ids=lambda s: s.title)
 def test_every_list_has_a_page_whose_fields_quote_the_manual(
         looked_at: tuple[BuilderWindow, Path], spec: Any) -> None:

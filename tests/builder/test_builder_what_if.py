@@ -46,6 +46,7 @@ def test_answers_are_the_engine_s(path: Path) -> None:
         assert answer.why == (view.why.text if view.why else "")
 
 
+@pytest.mark.realtime
 def test_the_command_prints_each_radio_s_antennas_and_why() -> None:
     done = run("--what-if", str(SMALL), "--radio", "1/1", "--khz", "14025",
                "--radio", "1/2", "--khz", "14200", "--transmitting", "1/1")
@@ -62,6 +63,7 @@ def test_the_command_prints_each_radio_s_antennas_and_why() -> None:
     ]
 
 
+@pytest.mark.realtime
 def test_the_command_speaks_json() -> None:
     done = run("--what-if", str(SHARED), "--radio", "1/1", "--khz", "14025",
                "--radio", "2/1", "--khz", "14200", "--json")
@@ -105,6 +107,7 @@ def test_an_unknown_radio_is_refused_in_the_model_too() -> None:
         what_if(config, [], [RadioRef(9, 9)])
 
 
+@pytest.mark.realtime
 def test_edit_opens_the_builder_window_through_the_real_command(tmp_path: Path) -> None:
     """``moas-server --edit FILE`` (offscreen): the window claims the file (so a second
     ``--edit`` is refused, naming it) and runs until it is ended."""

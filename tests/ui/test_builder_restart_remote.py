@@ -123,7 +123,7 @@ def private_environment(tmp_path: Path, runtime: Path) -> dict[str, str]:
             "XDG_STATE_HOME": str(tmp_path / "state"), "XDG_DATA_HOME": str(tmp_path / "data")}
 
 
-def end(process: subprocess.Popen[bytes]) -> None:
+def end(process: subprocess.Popen[Any]) -> None:
     if process.poll() is None:
         process.terminate()
         try:
@@ -393,35 +393,54 @@ def test_the_window_server_restarts_on_the_builder_s_file_and_on_another_after_a
         end(server)
 
 
-def edit(rig: Rig, short: str, answers: str) -> tuple[list[str], str]:
-    """``moas-server --edit`` as a process of its own, its hands the test's hook: the
-    questions it asked and the server's answer it said."""
-    here = str(Path(__file__).resolve().parent)
-    env = dict(rig.env, MOAS_GUI_CONTROL_HOOK="builder_edit_hook", BUILDER_HOOK_SHORT=short,
-               BUILDER_HOOK_ANSWERS=answers,
-               PYTHONPATH=os.pathsep.join([here, rig.env.get("PYTHONPATH", "")]))
-    done = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--edit",
-                           str(rig.station)], env=env, capture_output=True, text=True,
-                          timeout=120, check=False)
-    assert done.returncode == 0, done.stderr
-    lines = done.stdout.splitlines()
-    questions = [json.loads(line.split(" ", 1)[1]) for line in lines
-                 if line.startswith("QUESTION ")]
-    said = [json.loads(line.split(" ", 1)[1]) for line in lines if line.startswith("ANSWER ")]
-    assert len(said) == 1, done.stdout + done.stderr
-    return questions, said[0]
+class Editing:
+    """``moas-server --edit`` as a process of its own, its hands the test's hook
+    (tests/ui/builder_edit_hook.py), one round of Save and Restart at a time."""
+
+    def __init__(self, rig: Rig) -> None:
+        here = str(Path(__file__).resolve().parent)
+        env = dict(rig.env, MOAS_GUI_CONTROL_HOOK="builder_edit_hook",
+                   PYTHONPATH=os.pathsep.join([here, rig.env.get("PYTHONPATH", "")]))
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "moas_gui.cli.server", "--edit", str(rig.station)], env=env,
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def round(self, short: str, answers: str) -> tuple[list[str], str]:
+        """Antenna 0 named ``short``, Save and Restart, the questions answered with
+        ``answers``: the questions it asked and the server's answer it said."""
+        assert self.process.stdin is not None and self.process.stdout is not None
+        self.process.stdin.write(f"{short} {answers}\n")
+        self.process.stdin.flush()
+        questions: list[str] = []
+        for line in self.process.stdout:  # (the test's timeout bounds the wait)
+            if line.startswith("QUESTION "):
+                questions.append(json.loads(line.split(" ", 1)[1]))
+            elif line.startswith("ANSWER "):
+                return questions, json.loads(line.split(" ", 1)[1])
+        raise AssertionError(f"the builder ended without an answer: {self.finish()}")
+
+    def finish(self) -> str:
+        """Closes the window (an empty line); what the process said on standard error."""
+        _, said = self.process.communicate("\n", timeout=60)
+        assert self.process.returncode == 0, said
+        return said
 
 
 def test_moas_server_edit_as_a_process_restarts_the_running_server(rig: Rig) -> None:
-    questions, said = edit(rig, "Yagi", "")
-    assert said == "The running server restarted on station.moas." and questions == []
-    assert first_antenna(rig.tcp) == "station.moas:Yagi"
-    tune(rig.tcp)
-    rig.key(True)
-    wait_for(lambda: keyed(rig.station) == (KEYED,), 60, "the server to see station 1 keyed")
-    questions, said = edit(rig, "Beam", "no")
-    assert said.startswith("Not restarted on station.moas: nothing was sent")
-    assert len(questions) == 1 and f"Transmitting now:\n  {KEYED}\n" in questions[0]
-    assert rig.said("The station builder asked to restart on") == 1  # the first one only
-    assert first_antenna(rig.tcp) == "station.moas:Yagi"
+    editing = Editing(rig)
+    try:
+        questions, said = editing.round("Yagi", "")
+        assert said == "The running server restarted on station.moas." and questions == []
+        assert first_antenna(rig.tcp) == "station.moas:Yagi"
+        tune(rig.tcp)
+        rig.key(True)
+        wait_for(lambda: keyed(rig.station) == (KEYED,), 60, "the server to see station 1 keyed")
+        questions, said = editing.round("Beam", "no")
+        assert said.startswith("Not restarted on station.moas: nothing was sent")
+        assert len(questions) == 1 and f"Transmitting now:\n  {KEYED}\n" in questions[0]
+        assert rig.said("The station builder asked to restart on") == 1  # the first one only
+        assert first_antenna(rig.tcp) == "station.moas:Yagi"
+        editing.finish()
+    finally:
+        end(editing.process)
     rig.key(False)

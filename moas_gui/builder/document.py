@@ -82,7 +82,7 @@ class Style:
 
 
 @dataclass(frozen=True, slots=True)
-class Reading:
+class TextReading:
     """What one text reads as: its tree and problems, its line starts and its style."""
 
     root: Node | None
@@ -145,7 +145,7 @@ class Document:
         """Called after every change of the text (an edit, undo, redo, a save)."""
         self.saves = 0
         self._open: list[Splice] | None = None
-        self._readings: OrderedDict[tuple[str, str], Reading] = OrderedDict()
+        self._readings: OrderedDict[tuple[str, str], TextReading] = OrderedDict()
         self._read()
 
     # -- opening -----------------------------------------------------------------------
@@ -176,7 +176,7 @@ class Document:
         reading = self._readings.pop(key, None)
         if reading is None:
             root, syntax = parse(*key)
-            reading = Reading(root, syntax, LineStarts(self.text), Style.of(self.text))
+            reading = TextReading(root, syntax, LineStarts(self.text), Style.of(self.text))
         self._readings[key] = reading
         kept = sum(len(text) for text, _name in self._readings)
         while len(self._readings) > 1 and (len(self._readings) > KEPT_READINGS
@@ -544,9 +544,9 @@ __all__ = [
     "Document",
     "EditError",
     "EditStep",
-    "Reading",
     "Splice",
     "Style",
+    "TextReading",
     "backup_of",
     "render",
     "shown",

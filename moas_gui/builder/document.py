@@ -25,12 +25,13 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path as FilePath
 
-from moas_gui.config.jsontree import JArray, JObject, Node, parse
+from moas_gui.config.jsontree import JArray, JObject, Node, parse, plain_scalar
 from moas_gui.config.loader import MAX_BYTES
 from moas_gui.config.problems import Problem
 from moas_gui.errors import MoasError
 from moas_gui.files import write_atomic
 
+from .rereading import tree_after
 from .spans import LineStarts, Path, find, plain, value_end
 
 NEW_STATION = "{\n}\n"
@@ -171,9 +172,11 @@ class Document:
         doc.saved = None
         return doc
 
-    def _read(self) -> None:
+    def _read(self, quick: Callable[[], TextReading | None] = lambda: None) -> None:
+        """Read the text (again): a reading kept of it, else ``quick()``'s, else the
+        whole text read."""
         key = (self.text, str(self.path or ""))
-        reading = self._readings.pop(key, None)
+        reading = self._readings.pop(key, None) or quick()
         if reading is None:
             root, syntax = parse(*key)
             reading = TextReading(root, syntax, LineStarts(self.text), Style.of(self.text))
@@ -411,9 +414,26 @@ class Document:
 
     def _apply(self, splice: Splice) -> None:
         end = splice.start + len(splice.old)
-        assert self.text[splice.start:end] == splice.old, "the text is not what the edit expects"
-        self.text = self.text[: splice.start] + splice.new + self.text[end:]
-        self._read()
+        before = self.text
+        assert before[splice.start:end] == splice.old, "the text is not what the edit expects"
+        self.text = before[: splice.start] + splice.new + before[end:]
+        self._read(lambda: self._scalar_replaced(before, splice))
+
+    def _scalar_replaced(self, before: str, splice: Splice) -> TextReading | None:
+        """The reading of the text after ``splice``, made from the reading before it
+        (:mod:`.rereading`) when the splice put a plain value in place of a value on one
+        line of a text without mistakes; else None (the text is read whole)."""
+        if self.syntax or self.root is None or "\n" in splice.old or "\r" in splice.old:
+            return None
+        value = plain_scalar(splice.new)
+        if value is None or value_end(before, splice.start) != splice.start + len(splice.old):
+            return None
+        line = self.lines.line_of(splice.start)
+        column = splice.start - self.lines.starts[line - 1] + 1
+        root = tree_after(self.root, line, column, value[0], len(splice.new) - len(splice.old))
+        if root is None:
+            return None
+        return TextReading(root, [], LineStarts(self.text), Style.of(self.text))
 
     def _changed(self) -> None:
         for listener in list(self.listeners):

@@ -558,6 +558,21 @@ class _Parser:
                                 "a configuration needs far fewer")
 
 
+def plain_scalar(text: str) -> tuple[Scalar] | None:
+    """``(value,)`` when ``text`` is exactly one of the common values the reader reads at
+    once (text without escapes, a whole number of up to 18 digits, true, false, null),
+    read as the reader reads it; else None."""
+    found = _PLAIN_SCALAR.match(text)
+    if found is None or found.end() != len(text):
+        return None
+    quoted, whole, word = found.groups()
+    if quoted is not None:
+        return (quoted,)
+    if whole is not None:
+        return (int(whole),)
+    return (None if word == "null" else word == "true",)
+
+
 def parse(text: str, filename: str = "") -> tuple[Node | None, list[Problem]]:
     """Read ``text``; return the tree (None when unreadable) and the problems found."""
     reader = _Parser(text, filename)
@@ -576,4 +591,4 @@ def parse(text: str, filename: str = "") -> tuple[Node | None, list[Problem]]:
     return root, reader.problems.listed()
 
 
-__all__ = ["MAX_DEPTH", "MAX_SYNTAX_PROBLEMS", "MAX_VALUES", "JArray", "JObject", "JScalar", "Member", "Node", "describe", "parse"]
+__all__ = ["MAX_DEPTH", "MAX_SYNTAX_PROBLEMS", "MAX_VALUES", "JArray", "JObject", "JScalar", "Member", "Node", "describe", "parse", "plain_scalar"]

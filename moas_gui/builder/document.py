@@ -2,8 +2,9 @@
 
 The text is the document.  Each edit finds the value's place in the positioned tree
 (:mod:`moas_gui.config.jsontree`), replaces that value's characters alone (or inserts or
-removes one list item or one group member with its comma) and reads the text again.
-Nothing is ever written out afresh from a model, so the user's order, spacing, line
+removes one list item or one group member with its comma) and reads the text again (a
+plain value put in place of a value on one line: its tree is made from the tree before,
+:mod:`.rereading`).  Nothing is ever written out afresh from a model, so the user's order, spacing, line
 ends, unknown names and everything the builder does not touch stay as they were: an
 unchanged file saves to the same bytes, and one edit changes the lines of that value.
 

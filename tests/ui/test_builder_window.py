@@ -394,7 +394,9 @@ def test_closing_with_changes_asks_first(qtbot: Any, station: Path) -> None:
     answers.answers.append(True)
     builder.close()
     qtbot.waitUntil(lambda: bool(gone))
-    assert open_builder(station) is not None, "the claim went with the window"
+    again = open_builder(station)
+    assert again is not None, "the claim went with the window"
+    again.close()
     release(station)
 
 

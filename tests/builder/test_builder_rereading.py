@@ -96,7 +96,7 @@ def test_a_file_on_one_line_and_one_with_tabs_and_crlf(text: str,
     doc = Document(text)
     reads = Reads(monkeypatch)
     assert doc.root is not None
-    for turn, (where, value) in enumerate(scalars(doc.root)[::5]):
+    for turn, (where, value) in enumerate(scalars(doc.root)[::9]):
         doc.set(where, other(value, turn))
         same_as_read(doc)
     assert reads.count == 0

@@ -345,8 +345,15 @@ class Journal:
 
     def _write(self, db: sqlite3.Connection, rows: list[_Row]) -> None:
         db.execute("BEGIN")
+        new_contacts: list[tuple[object, ...]] = []  # in a row: one statement (a flood's)
         for row in rows:
             kind = row[0]
+            if kind == "c" and row[2].kind == "contactinfo":
+                new_contacts.append(_contact_values(*row[1:]))
+                continue
+            if new_contacts:
+                db.executemany(_NEW_CONTACT, new_contacts)
+                new_contacts = []
             if kind == "a":
                 db.execute("INSERT INTO antenna_changes VALUES (?, ?, ?, ?, ?, ?, ?)", row[1:])
             elif kind == "k":
@@ -359,6 +366,8 @@ class Journal:
                 db.execute("DELETE FROM antennas")
                 db.executemany("INSERT OR REPLACE INTO antennas VALUES (?, ?, ?)",
                                [(a.name, a.rotator, a.offset) for a in row[1]])
+        if new_contacts:
+            db.executemany(_NEW_CONTACT, new_contacts)
         db.execute("COMMIT")
         self._written += len(rows)
         self._since_size += len(rows)
@@ -433,18 +442,28 @@ def _write_contact(db: sqlite3.Connection, received: float, packet: ContactPacke
         return
     # a duplicate (same ID) of a contactinfo is dropped; a contactreplace takes every
     # field but when the contact first arrived (what the join times it by)
-    then = ("DO NOTHING" if packet.kind == "contactinfo" else
-            "DO UPDATE SET " + ", ".join(f"{c} = excluded.{c}" for c in _REPLACED))
-    db.execute(
-        "INSERT INTO contacts VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 0, ?, ?, ?) "
-        f"ON CONFLICT (contact_id) {then}",
-        (packet.contact_id, packet.time if packet.time is not None else received, packet.call,
-         packet.band, packet.mode, station, radio, packet.operator, packet.contest,
-         packet.tx_khz, packet.rx_khz, packet.station_name, packet.radio_nr, received))
+    db.execute(_NEW_CONTACT if packet.kind == "contactinfo" else _REPLACED_CONTACT,
+               _contact_values(received, packet, station, radio))
+
+
+def _contact_values(received: float, packet: ContactPacket, station: int | None,
+                    radio: int | None) -> tuple[object, ...]:
+    return (packet.contact_id, packet.time if packet.time is not None else received,
+            packet.call, packet.band, packet.mode, station, radio, packet.operator,
+            packet.contest, packet.tx_khz, packet.rx_khz, packet.station_name,
+            packet.radio_nr, received)
 
 
 _REPLACED: Final = ("time", "call", "band", "mode", "station", "radio", "operator", "contest",
                     "tx_khz", "rx_khz", "logger_station", "logger_radio")
+_INSERT_CONTACT: Final = ("INSERT INTO contacts VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 0, ?, ?, ?) "
+                          "ON CONFLICT (contact_id) ")
+_NEW_CONTACT: Final = _INSERT_CONTACT + "DO NOTHING"
+"""A contactinfo: a duplicate (same ID) is dropped."""
+_REPLACED_CONTACT: Final = (_INSERT_CONTACT + "DO UPDATE SET "
+                            + ", ".join(f"{c} = excluded.{c}" for c in _REPLACED))
+"""A contactreplace: every field but when the contact first arrived (what the join times
+it by)."""
 
 
 # -- retention ------------------------------------------------------------------------------------

@@ -2,13 +2,16 @@
 
 The text is the document.  Each edit finds the value's place in the positioned tree
 (:mod:`moas_gui.config.jsontree`), replaces that value's characters alone (or inserts or
-removes one list item or one group member with its comma) and reads the text again.
-Nothing is ever written out afresh from a model, so the user's order, spacing, line
+removes one list item or one group member with its comma) and reads the text again (a
+plain value put in place of a value on one line: its tree is made from the tree before,
+:mod:`.rereading`).  Nothing is ever written out afresh from a model, so the user's order, spacing, line
 ends, unknown names and everything the builder does not touch stay as they were: an
 unchanged file saves to the same bytes, and one edit changes the lines of that value.
 
 Every edit is one :class:`EditStep` of splices, so undo and redo are exact; a
-:meth:`Document.transaction` makes several edits one step.  Saving is atomic
+:meth:`Document.transaction` makes several edits one step.  The readings of the last few
+texts are kept, so an undo or a redo back to one of them reads nothing again (a reading
+is never changed once made).  Saving is atomic
 (:func:`moas_gui.files.write_atomic`) and keeps the previous file as ``FILE.moas.bak``.
 """
 
@@ -18,20 +21,26 @@ import contextlib
 import difflib
 import json
 import re
+from collections import OrderedDict
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path as FilePath
 
-from moas_gui.config.jsontree import JArray, JObject, Node, parse
+from moas_gui.config.jsontree import JArray, JObject, Node, parse, plain_scalar
 from moas_gui.config.loader import MAX_BYTES
 from moas_gui.config.problems import Problem
 from moas_gui.errors import MoasError
 from moas_gui.files import write_atomic
 
+from .rereading import tree_after
 from .spans import LineStarts, Path, find, plain, value_end
 
 NEW_STATION = "{\n}\n"
 """The text of a station that has nothing yet (the guide fills it)."""
+KEPT_READINGS = 16
+KEPT_CHARACTERS = 1_000_000
+"""The readings of at most this many recent texts are kept, together at most this long
+(the current text's always)."""
 
 
 class EditError(MoasError, ValueError):
@@ -72,6 +81,16 @@ class Style:
         colon = re.search(r'"([ \t]*:[ \t]*)', text)
         return cls(unit.group(1) if unit else "  ", colon.group(1) if colon else ": ",
                    "\r\n" if "\r\n" in text else "\n", "\n" not in text.rstrip("\r\n"))
+
+
+@dataclass(frozen=True, slots=True)
+class TextReading:
+    """What one text reads as: its tree and problems, its line starts and its style."""
+
+    root: Node | None
+    syntax: list[Problem]
+    lines: LineStarts
+    style: Style
 
 
 def _tidy(value: object) -> object:
@@ -128,6 +147,7 @@ class Document:
         """Called after every change of the text (an edit, undo, redo, a save)."""
         self.saves = 0
         self._open: list[Splice] | None = None
+        self._readings: OrderedDict[tuple[str, str], TextReading] = OrderedDict()
         self._read()
 
     # -- opening -----------------------------------------------------------------------
@@ -153,10 +173,22 @@ class Document:
         doc.saved = None
         return doc
 
-    def _read(self) -> None:
-        self.root, self.syntax = parse(self.text, str(self.path or ""))
-        self.lines = LineStarts(self.text)
-        self.style = Style.of(self.text)
+    def _read(self, quick: Callable[[], TextReading | None] = lambda: None) -> None:
+        """Read the text (again): a reading kept of it, else ``quick()``'s, else the
+        whole text read."""
+        key = (self.text, str(self.path or ""))
+        reading = self._readings.pop(key, None) or quick()
+        if reading is None:
+            root, syntax = parse(*key)
+            reading = TextReading(root, syntax, LineStarts(self.text), Style.of(self.text))
+        self._readings[key] = reading
+        kept = sum(len(text) for text, _name in self._readings)
+        while len(self._readings) > 1 and (len(self._readings) > KEPT_READINGS
+                                           or kept > KEPT_CHARACTERS):
+            (text, _name), _ = self._readings.popitem(last=False)
+            kept -= len(text)
+        self.root, self.syntax = reading.root, reading.syntax
+        self.lines, self.style = reading.lines, reading.style
 
     # -- reading -------------------------------------------------------------------------
     @property
@@ -383,9 +415,26 @@ class Document:
 
     def _apply(self, splice: Splice) -> None:
         end = splice.start + len(splice.old)
-        assert self.text[splice.start:end] == splice.old, "the text is not what the edit expects"
-        self.text = self.text[: splice.start] + splice.new + self.text[end:]
-        self._read()
+        before = self.text
+        assert before[splice.start:end] == splice.old, "the text is not what the edit expects"
+        self.text = before[: splice.start] + splice.new + before[end:]
+        self._read(lambda: self._scalar_replaced(before, splice))
+
+    def _scalar_replaced(self, before: str, splice: Splice) -> TextReading | None:
+        """The reading of the text after ``splice``, made from the reading before it
+        (:mod:`.rereading`) when the splice put a plain value in place of a value on one
+        line of a text without mistakes; else None (the text is read whole)."""
+        if self.syntax or self.root is None or "\n" in splice.old or "\r" in splice.old:
+            return None
+        value = plain_scalar(splice.new)
+        if value is None or value_end(before, splice.start) != splice.start + len(splice.old):
+            return None
+        line = self.lines.line_of(splice.start)
+        column = splice.start - self.lines.starts[line - 1] + 1
+        root = tree_after(self.root, line, column, value[0], len(splice.new) - len(splice.old))
+        if root is None:
+            return None
+        return TextReading(root, [], LineStarts(self.text), Style.of(self.text))
 
     def _changed(self) -> None:
         for listener in list(self.listeners):
@@ -518,6 +567,7 @@ __all__ = [
     "EditStep",
     "Splice",
     "Style",
+    "TextReading",
     "backup_of",
     "render",
     "shown",

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -50,6 +51,12 @@ def edit_command(args: argparse.Namespace) -> int:
     problem = display_problem()
     if problem is not None:
         print(f"moas-server: {problem}; {NO_DISPLAY_ADVICE}", file=sys.stderr)
+        return 1
+    from moas_gui.builder.claims import FileClaimed, holder
+
+    held = holder(Path(args.edit))
+    if held is not None:  # refused at once, before the window's libraries are loaded
+        print(f"moas-server: {FileClaimed(held)}", file=sys.stderr)
         return 1
     from moas_gui.cli.builder_restart import ask_to_restart
     from moas_gui.ui.builder_window import run_builder

@@ -185,6 +185,27 @@ class _Lines:
         return line, offset - start + 1
 
 
+class _Onward:
+    """``(line, column)`` of offsets asked for in increasing order (the names and values of
+    a stretch read at once): each character between them is looked at once."""
+
+    __slots__ = ("at", "line", "start", "text")
+
+    def __init__(self, lines: _Lines, offset: int) -> None:
+        self.text = lines.text
+        self.at = offset
+        self.line, column = lines.where(offset)
+        self.start = offset - column + 1
+
+    def where(self, offset: int) -> tuple[int, int]:
+        newlines = self.text.count("\n", self.at, offset)
+        if newlines:
+            self.line += newlines
+            self.start = self.text.rfind("\n", self.at, offset) + 1
+        self.at = offset
+        return self.line, offset - self.start + 1
+
+
 class _Parser:
     """Reads one configuration text into a tree, collecting every problem on the way."""
 
@@ -199,6 +220,8 @@ class _Parser:
         self.values = 0
         self.wasted = 0
         """Characters read in vain by :meth:`whole` (it is given up beyond a bound)."""
+        self.onward = self.where
+        """Positions within the stretch :meth:`whole` builds (see :class:`_Onward`)."""
 
     # -- positions and messages --------------------------------------------
     def error(self, offset: int, message: str) -> None:
@@ -316,6 +339,7 @@ class _Parser:
             return None
         tokens = _TOKEN.finditer(text, start, end)
         values, depth = self.values, self.depth
+        self.onward = _Onward(self.lines, start).where
         try:
             node = self.build(value, tokens, self.depth)
         except _Slow:
@@ -332,7 +356,7 @@ class _Parser:
         if self.values > MAX_VALUES + 1:
             raise self.stop(at, f"the file holds more than {MAX_VALUES:,} values, far more "
                                 "than any station needs (is this the right file?)")
-        line, column = self.where(at)
+        line, column = self.onward(at)
         if type(value) is _Pairs:
             if depth >= MAX_DEPTH:
                 self.enter_too_deep(at)
@@ -343,7 +367,7 @@ class _Parser:
                 if key in seen:
                     raise _Slow()  # step by step says where both are
                 seen.add(key)
-                key_line, key_column = self.where(next(tokens).start(1))
+                key_line, key_column = self.onward(next(tokens).start(1))
                 members.append(Member(key, key_line, key_column,
                                       self.build(item, tokens, depth + 1)))
             return group
@@ -534,6 +558,21 @@ class _Parser:
                                 "a configuration needs far fewer")
 
 
+def plain_scalar(text: str) -> tuple[Scalar] | None:
+    """``(value,)`` when ``text`` is exactly one of the common values the reader reads at
+    once (text without escapes, a whole number of up to 18 digits, true, false, null),
+    read as the reader reads it; else None."""
+    found = _PLAIN_SCALAR.match(text)
+    if found is None or found.end() != len(text):
+        return None
+    quoted, whole, word = found.groups()
+    if quoted is not None:
+        return (quoted,)
+    if whole is not None:
+        return (int(whole),)
+    return (None if word == "null" else word == "true",)
+
+
 def parse(text: str, filename: str = "") -> tuple[Node | None, list[Problem]]:
     """Read ``text``; return the tree (None when unreadable) and the problems found."""
     reader = _Parser(text, filename)
@@ -552,4 +591,4 @@ def parse(text: str, filename: str = "") -> tuple[Node | None, list[Problem]]:
     return root, reader.problems.listed()
 
 
-__all__ = ["MAX_DEPTH", "MAX_SYNTAX_PROBLEMS", "MAX_VALUES", "JArray", "JObject", "JScalar", "Member", "Node", "describe", "parse"]
+__all__ = ["MAX_DEPTH", "MAX_SYNTAX_PROBLEMS", "MAX_VALUES", "JArray", "JObject", "JScalar", "Member", "Node", "describe", "parse", "plain_scalar"]

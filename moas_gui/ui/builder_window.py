@@ -15,7 +15,8 @@ from __future__ import annotations
 import asyncio
 import logging
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Mapping
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -108,6 +109,59 @@ class ListPage(Page):
         return widget
 
 
+class Pages(Mapping[str, Page]):
+    """The window's pages by title, in the navigation's order, each made the first time it
+    is shown or asked for (a window opens with the page it shows; most are never visited).
+    Until then a page's place in the stack holds an empty widget."""
+
+    def __init__(self, stack: QStackedWidget) -> None:
+        self.stack = stack
+        self.titles: list[str] = []
+        self._make: dict[str, Callable[[], Page]] = {}
+        self._made: dict[str, Page] = {}
+        self._waiting: dict[str, QWidget] = {}
+
+    def add(self, title: str, make: Callable[[], Page] | Page) -> None:
+        """The page ``title`` next: made already, or made by ``make`` when first wanted."""
+        self.titles.append(title)
+        if isinstance(make, Page):
+            self._made[title] = make
+            self.stack.addWidget(make)
+        else:
+            self._make[title] = make
+            self._waiting[title] = QWidget(self.stack)
+            self.stack.addWidget(self._waiting[title])
+
+    def made(self, title: str) -> bool:
+        return title in self._made
+
+    def __getitem__(self, title: str) -> Page:
+        page = self._made.get(title)
+        if page is None:
+            page = self._made[title] = self._make.pop(title)()
+            row = self.titles.index(title)
+            shown = self.stack.currentIndex() == row
+            waiting = self._waiting.pop(title)
+            self.stack.insertWidget(row, page)
+            self.stack.removeWidget(waiting)
+            waiting.deleteLater()
+            if shown:
+                self.stack.setCurrentIndex(row)
+        return page
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.titles)
+
+    def __len__(self) -> int:
+        return len(self.titles)
+
+    def show(self, row: int) -> None:
+        """Show the page at ``row`` of the navigation (made now if it was not yet)."""
+        if 0 <= row < len(self.titles):
+            self[self.titles[row]]
+            self.stack.setCurrentIndex(row)
+
+
 AskServer = Callable[[Path, tuple[str, ...] | None, bool], ServerAnswer]
 """``ask(path, confirmed, replace)``: the running server's answer to a restart on ``path``
 (``confirmed`` None: only a look at what it runs and who transmits); blocking, so called
@@ -159,15 +213,15 @@ class BuilderWindow(QMainWindow):
         self.nav = QListWidget(self)
         self.nav.setFixedWidth(150)
         self.stack = QStackedWidget(self)
-        self.pages: dict[str, Page] = {}
+        self.pages = Pages(self.stack)
         self.guide_page = GuidePage(self.doc, self.say, self)
         self.guide_page.made.connect(lambda: self.go("Antennas"))
         self._add("New station", self.guide_page)
         for spec in LISTS:
-            self._add(spec.title, ListPage(spec, self.editor, self))
-        self._add("Band x antenna", GridPage(self.doc, self.say, self))
-        self._add("Relay map", RelayPage(self.doc, self.say, self))
-        self._add("Layout preview", LayoutPage(self.doc, self.say, self))
+            self._add(spec.title, partial(ListPage, spec, self.editor, self))
+        self._add("Band x antenna", partial(GridPage, self.doc, self.say, self))
+        self._add("Relay map", partial(RelayPage, self.doc, self.say, self))
+        self._add("Layout preview", partial(LayoutPage, self.doc, self.say, self))
         self.what_if = WhatIfPage(self.doc, self.say, self._show_plan, self)
         self._add("What if", self.what_if)
         self.nav.currentRowChanged.connect(self._page_chosen)
@@ -189,9 +243,8 @@ class BuilderWindow(QMainWindow):
         new = self.doc.saved is None and not self.doc.items(("Radios",))
         self.nav.setCurrentRow(0 if new else 2)
 
-    def _add(self, title: str, page: Page) -> None:
-        self.pages[title] = page
-        self.stack.addWidget(page)
+    def _add(self, title: str, make: Callable[[], Page] | Page) -> None:
+        self.pages.add(title, make)
         QListWidgetItem(title, self.nav)
 
     def _menus(self) -> None:
@@ -249,11 +302,11 @@ class BuilderWindow(QMainWindow):
         self.action_redo.setText(f"&Redo {self.doc.redo_steps[-1].what}" if self.doc.can_redo else "&Redo")
 
     def _page_chosen(self, row: int) -> None:
-        self.stack.setCurrentIndex(row)
+        self.pages.show(row)
         self.refresh()
 
     def go(self, title: str) -> Page:
-        row = list(self.pages).index(title)
+        row = self.pages.titles.index(title)
         self.nav.setCurrentRow(row)
         return self.pages[title]
 

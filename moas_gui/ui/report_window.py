@@ -253,7 +253,7 @@ class ReportWindow(_JournalWindow):
         layout.addWidget(self.tabs, 1)
         layout.addLayout(buttons)
         self._stale: set[str] = set()
-        """The charts whose canvas has not been rendered since the report changed."""
+        """The charts not drawn (on their figure) and rendered since the report changed."""
         self._asked = 0
         """How many reports the window has asked for: only the last one's is shown."""
         self.pending = False
@@ -323,18 +323,18 @@ class ReportWindow(_JournalWindow):
         self.report = report
         qsos = f"{report.contacts} QSO{'s' if report.contacts != 1 else ''}"
         self.summary.setText(f"{period_text(report)}: {qsos}")
-        for kind, canvas in self.canvases.items():
-            draw_chart(kind, canvas.figure, report)
         self._stale = set(self.canvases)
         self._draw_shown()
 
     def _draw_shown(self) -> None:
-        """Renders the chart of the tab shown, if the report changed since it was drawn
-        (the other tabs wait until shown: each takes a moment of the loop's thread)."""
+        """Draws and renders the chart of the tab shown, if the report changed since it
+        was drawn (the other tabs wait until shown: each takes a moment of the loop's
+        thread)."""
         shown = self.tabs.currentWidget()
         for kind, canvas in self.canvases.items():
-            if canvas is shown and kind in self._stale:
+            if canvas is shown and kind in self._stale and self.report is not None:
                 self._stale.discard(kind)
+                draw_chart(kind, canvas.figure, self.report)
                 canvas.draw_idle()  # type: ignore[no-untyped-call]
 
     def _nothing(self, notice: str) -> None:

@@ -10,12 +10,15 @@ import sys
 from pathlib import Path
 
 import adif_io
+import pytest
 from antenna_log_support import T0, MemoryJournal, contact
 
 from moas_gui.antenna_log.adif import write_adif
 from moas_gui.antenna_log.records import Period
 
 ROOT = Path(__file__).resolve().parents[2]
+
+pytestmark = pytest.mark.realtime  # real processes, end to end
 
 
 def recipe() -> str:

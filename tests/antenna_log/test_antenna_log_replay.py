@@ -181,6 +181,8 @@ def agrees_with_spans(journal: Journal, qso: Contact, arrived: float) -> None:
         assert keys[-1].antenna == qso.tx_antenna, (keys[-1], qso)
 
 
+@pytest.mark.realtime  # the switch link and the box run on the loop's real clock: each of the
+# hour's band changes and transmissions is waited for as the box confirms it (seconds)
 @pytest.mark.asyncio
 @pytest.mark.timeout(300)
 async def test_every_qso_of_a_seeded_hour_gets_the_antennas_it_was_made_on(

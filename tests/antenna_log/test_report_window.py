@@ -202,9 +202,12 @@ def test_only_the_tab_shown_is_rendered_until_another_is_chosen(qtbot: Any) -> N
     canvases = list(window.canvases.values())
     qtbot.waitUntil(lambda: hasattr(canvases[0], "renderer"))
     assert all(not hasattr(c, "renderer") for c in canvases[1:])
+    assert canvases[0].figure.axes and not any(c.figure.axes for c in canvases[1:]), \
+        "the other charts are not even drawn on their figures yet"
     window.tabs.setCurrentIndex(2)
     qtbot.waitUntil(lambda: hasattr(canvases[2], "renderer"))
     assert not hasattr(canvases[1], "renderer") and not hasattr(canvases[3], "renderer")
+    assert canvases[2].figure.axes and not canvases[1].figure.axes and not canvases[3].figure.axes
 
 
 class HeldJournal(MemoryJournal):

@@ -104,6 +104,7 @@ def the_rest(doc: Document) -> None:
     doc.set(("StartMOASRotator",), False)
 
 
+@pytest.mark.realtime  # ends with moas-server --check as a process
 def test_the_small_station_built_from_nothing_is_the_example(tmp_path: Path) -> None:
     doc = Document.new(tmp_path / "small.moas")
     apply_guide(doc, small_station_guide())

@@ -127,6 +127,7 @@ def test_a_file_open_in_one_builder_window_is_refused_to_another(tmp_path: Path)
     release(station)
 
 
+@pytest.mark.realtime
 def test_a_claim_of_another_living_process_is_honoured_and_a_dead_one_is_not(tmp_path: Path) -> None:
     station = tmp_path / "station.moas"
     station.write_text("{}")

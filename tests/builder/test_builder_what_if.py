@@ -1,5 +1,7 @@
 """What-if: the model layer's answers against the engine itself, and ``moas-server
---what-if`` through the real command (a process of its own)."""
+--what-if`` through the real command (a process of its own; its refusals of bad
+arguments through the command's own ``main`` in this process, as they are about the
+words and the exit status, not the process)."""
 
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from moas_gui.builder.whatif import WhatIfError, what_if
+from moas_gui.cli.server import main as server_main
 from moas_gui.config import load_config
 from moas_gui.config.model import RadioRef
 from moas_gui.engine import Engine
@@ -43,6 +46,7 @@ def test_answers_are_the_engine_s(path: Path) -> None:
         assert answer.why == (view.why.text if view.why else "")
 
 
+@pytest.mark.realtime
 def test_the_command_prints_each_radio_s_antennas_and_why() -> None:
     done = run("--what-if", str(SMALL), "--radio", "1/1", "--khz", "14025",
                "--radio", "1/2", "--khz", "14200", "--transmitting", "1/1")
@@ -59,6 +63,7 @@ def test_the_command_prints_each_radio_s_antennas_and_why() -> None:
     ]
 
 
+@pytest.mark.realtime
 def test_the_command_speaks_json() -> None:
     done = run("--what-if", str(SHARED), "--radio", "1/1", "--khz", "14025",
                "--radio", "2/1", "--khz", "14200", "--json")
@@ -84,10 +89,16 @@ def test_the_command_speaks_json() -> None:
     (["--what-if", str(ROOT / "nowhere.moas"), "--radio", "1/1", "--khz", "7025"], 1,
      "there is no such file"),
 ])
-def test_the_command_says_what_is_wrong(args: list[str], status: int, words: str) -> None:
-    done = run(*args)
-    assert done.returncode == status
-    assert words in done.stderr and done.stdout == ""
+def test_the_command_says_what_is_wrong(capsys: pytest.CaptureFixture[str], args: list[str],
+                                       status: int, words: str) -> None:
+    returned: object
+    try:
+        returned = server_main(args)
+    except SystemExit as exit_:  # argparse's refusals
+        returned = exit_.code
+    said = capsys.readouterr()
+    assert returned == status
+    assert words in said.err and said.out == ""
 
 
 def test_an_unknown_radio_is_refused_in_the_model_too() -> None:
@@ -96,6 +107,7 @@ def test_an_unknown_radio_is_refused_in_the_model_too() -> None:
         what_if(config, [], [RadioRef(9, 9)])
 
 
+@pytest.mark.realtime
 def test_edit_opens_the_builder_window_through_the_real_command(tmp_path: Path) -> None:
     """``moas-server --edit FILE`` (offscreen): the window claims the file (so a second
     ``--edit`` is refused, naming it) and runs until it is ended."""

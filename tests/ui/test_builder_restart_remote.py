@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import socket
 import subprocess
 import sys
@@ -23,14 +24,14 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from helpers import EXAMPLES, free_port, wait_for
+from helpers import EXAMPLES, free_port, short_runtime_dir, wait_for
 
 from moas_gui.builder.apply import ServerAnswer
 from moas_gui.builder.claims import release
 from moas_gui.cli.builder_restart import ask_to_restart
 from moas_gui.ui.builder_window import BuilderWindow, open_builder
 
-pytestmark = pytest.mark.realtime
+pytestmark = [pytest.mark.realtime, pytest.mark.shared]
 
 KEYED = "station 1 radio 1 (switch 1 port 1)"
 
@@ -95,10 +96,17 @@ class Rig:
     log: Path
     control: Path
     env: dict[str, str]
+    text: str
+    """The station file as the rig started it (each test starts from it)."""
+    since: int = 0
+    """Lines of the server's log before the current test's (see :meth:`said`)."""
+
+    def lines(self) -> list[str]:
+        return self.log.read_text().splitlines()
 
     def said(self, text: str) -> int:
-        """How many lines of the server's log hold ``text``."""
-        return sum(text in line for line in self.log.read_text().splitlines())
+        """How many lines of the server's log since the test began hold ``text``."""
+        return sum(text in line for line in self.lines()[self.since:])
 
     def key(self, on: bool) -> None:
         verb = "key" if on else "unkey"
@@ -115,7 +123,7 @@ def private_environment(tmp_path: Path, runtime: Path) -> dict[str, str]:
             "XDG_STATE_HOME": str(tmp_path / "state"), "XDG_DATA_HOME": str(tmp_path / "data")}
 
 
-def end(process: subprocess.Popen[bytes]) -> None:
+def end(process: subprocess.Popen[Any]) -> None:
     if process.poll() is None:
         process.terminate()
         try:
@@ -125,11 +133,13 @@ def end(process: subprocess.Popen[bytes]) -> None:
             process.wait(timeout=5)
 
 
-@pytest.fixture
-def rig(tmp_path: Path, runtime_dir: Path, monkeypatch: pytest.MonkeyPatch) -> Iterator[Rig]:
-    private = private_environment(tmp_path, runtime_dir)
-    for name, value in private.items():
-        monkeypatch.setenv(name, value)  # the builder in this process: the same directories
+@pytest.fixture(scope="module")
+def started(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Rig]:
+    """The emulator and the server, started once for the tests of this module that use
+    :func:`rig` (each of those begins with the station file as it was, running)."""
+    tmp_path = tmp_path_factory.mktemp("rig")
+    runtime = short_runtime_dir()
+    private = private_environment(tmp_path, runtime)
     env = dict(os.environ, **private, PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen")
     box, control = tmp_path / "box", tmp_path / "box.ctl"
     emulator = subprocess.Popen(
@@ -142,7 +152,8 @@ def rig(tmp_path: Path, runtime_dir: Path, monkeypatch: pytest.MonkeyPatch) -> I
         station = tmp_path / "station.moas"
         text = (EXAMPLES / "small-station.moas").read_text()
         assert text.count('"Port": "emulator"') == 1
-        station.write_text(text.replace('"Port": "emulator"', f'"Port": {json.dumps(str(box))}'))
+        text = text.replace('"Port": "emulator"', f'"Port": {json.dumps(str(box))}')
+        station.write_text(text)
         tcp = free_port()
         log = tmp_path / "server.log"
         with log.open("wb") as out:
@@ -151,14 +162,35 @@ def rig(tmp_path: Path, runtime_dir: Path, monkeypatch: pytest.MonkeyPatch) -> I
                  "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
                  "--no-rotator-program"], env=env, stderr=out, stdout=subprocess.DEVNULL)
         wait_for(lambda: first_antenna(tcp) == "station.moas:Tribander", 60, "the server")
-        tune(tcp)
-        wait_for(lambda: keyed(station) == (), 60, "nobody transmitting")
-        yield Rig(station, tcp, log, control, env)
+        yield Rig(station, tcp, log, control, env, text)
         assert server.poll() is None, "the server kept running\n" + log.read_text()
     finally:
         if server is not None:
             end(server)
         end(emulator)
+        shutil.rmtree(runtime, ignore_errors=True)
+
+
+@pytest.fixture
+def rig(started: Rig, monkeypatch: pytest.MonkeyPatch) -> Rig:
+    """The started rig as a test wants it: the builder in this process in the rig's
+    directories, the server running the station file as it was (restarted on it by the
+    builder's own request when a test before changed it), radios tuned, nobody keyed."""
+    for name in ("XDG_RUNTIME_DIR", "XDG_CONFIG_HOME", "XDG_STATE_HOME", "XDG_DATA_HOME"):
+        monkeypatch.setenv(name, started.env[name])  # the builder in this process: the same
+    if started.station.read_text() != started.text or \
+            first_antenna(started.tcp) != "station.moas:Tribander":
+        started.station.write_text(started.text)
+        tune(started.tcp)
+        wait_for(lambda: keyed(started.station) == (), 60, "nobody transmitting")
+        answer = ask_to_restart(started.station, ())
+        assert answer.restarted, answer.said
+        wait_for(lambda: first_antenna(started.tcp) == "station.moas:Tribander", 60,
+                 "the server on the station file as it was")
+    tune(started.tcp)
+    wait_for(lambda: keyed(started.station) == (), 60, "nobody transmitting")
+    started.since = len(started.lines())
+    return started
 
 
 @pytest.fixture
@@ -361,35 +393,54 @@ def test_the_window_server_restarts_on_the_builder_s_file_and_on_another_after_a
         end(server)
 
 
-def edit(rig: Rig, short: str, answers: str) -> tuple[list[str], str]:
-    """``moas-server --edit`` as a process of its own, its hands the test's hook: the
-    questions it asked and the server's answer it said."""
-    here = str(Path(__file__).resolve().parent)
-    env = dict(rig.env, MOAS_GUI_CONTROL_HOOK="builder_edit_hook", BUILDER_HOOK_SHORT=short,
-               BUILDER_HOOK_ANSWERS=answers,
-               PYTHONPATH=os.pathsep.join([here, rig.env.get("PYTHONPATH", "")]))
-    done = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--edit",
-                           str(rig.station)], env=env, capture_output=True, text=True,
-                          timeout=120, check=False)
-    assert done.returncode == 0, done.stderr
-    lines = done.stdout.splitlines()
-    questions = [json.loads(line.split(" ", 1)[1]) for line in lines
-                 if line.startswith("QUESTION ")]
-    said = [json.loads(line.split(" ", 1)[1]) for line in lines if line.startswith("ANSWER ")]
-    assert len(said) == 1, done.stdout + done.stderr
-    return questions, said[0]
+class Editing:
+    """``moas-server --edit`` as a process of its own, its hands the test's hook
+    (tests/ui/builder_edit_hook.py), one round of Save and Restart at a time."""
+
+    def __init__(self, rig: Rig) -> None:
+        here = str(Path(__file__).resolve().parent)
+        env = dict(rig.env, MOAS_GUI_CONTROL_HOOK="builder_edit_hook",
+                   PYTHONPATH=os.pathsep.join([here, rig.env.get("PYTHONPATH", "")]))
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "moas_gui.cli.server", "--edit", str(rig.station)], env=env,
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def round(self, short: str, answers: str) -> tuple[list[str], str]:
+        """Antenna 0 named ``short``, Save and Restart, the questions answered with
+        ``answers``: the questions it asked and the server's answer it said."""
+        assert self.process.stdin is not None and self.process.stdout is not None
+        self.process.stdin.write(f"{short} {answers}\n")
+        self.process.stdin.flush()
+        questions: list[str] = []
+        for line in self.process.stdout:  # (the test's timeout bounds the wait)
+            if line.startswith("QUESTION "):
+                questions.append(json.loads(line.split(" ", 1)[1]))
+            elif line.startswith("ANSWER "):
+                return questions, json.loads(line.split(" ", 1)[1])
+        raise AssertionError(f"the builder ended without an answer: {self.finish()}")
+
+    def finish(self) -> str:
+        """Closes the window (an empty line); what the process said on standard error."""
+        _, said = self.process.communicate("\n", timeout=60)
+        assert self.process.returncode == 0, said
+        return said
 
 
 def test_moas_server_edit_as_a_process_restarts_the_running_server(rig: Rig) -> None:
-    questions, said = edit(rig, "Yagi", "")
-    assert said == "The running server restarted on station.moas." and questions == []
-    assert first_antenna(rig.tcp) == "station.moas:Yagi"
-    tune(rig.tcp)
-    rig.key(True)
-    wait_for(lambda: keyed(rig.station) == (KEYED,), 60, "the server to see station 1 keyed")
-    questions, said = edit(rig, "Beam", "no")
-    assert said.startswith("Not restarted on station.moas: nothing was sent")
-    assert len(questions) == 1 and f"Transmitting now:\n  {KEYED}\n" in questions[0]
-    assert rig.said("The station builder asked to restart on") == 1  # the first one only
-    assert first_antenna(rig.tcp) == "station.moas:Yagi"
+    editing = Editing(rig)
+    try:
+        questions, said = editing.round("Yagi", "")
+        assert said == "The running server restarted on station.moas." and questions == []
+        assert first_antenna(rig.tcp) == "station.moas:Yagi"
+        tune(rig.tcp)
+        rig.key(True)
+        wait_for(lambda: keyed(rig.station) == (KEYED,), 60, "the server to see station 1 keyed")
+        questions, said = editing.round("Beam", "no")
+        assert said.startswith("Not restarted on station.moas: nothing was sent")
+        assert len(questions) == 1 and f"Transmitting now:\n  {KEYED}\n" in questions[0]
+        assert rig.said("The station builder asked to restart on") == 1  # the first one only
+        assert first_antenna(rig.tcp) == "station.moas:Yagi"
+        editing.finish()
+    finally:
+        end(editing.process)
     rig.key(False)

@@ -64,6 +64,26 @@ def window(qtbot: Any, station: Path) -> Iterator[tuple[BuilderWindow, Answers]]
     release(station)
 
 
+@pytest.fixture(scope="module")
+def looked_at(qapp: Any, tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[BuilderWindow, Path]]:
+    """One window on a copy of the small example, shared by the tests that only look at
+    it (they move between pages and select rows, and edit nothing).  Its claim on the file
+    lives in a state directory of its own (each test gets another one)."""
+    folder = tmp_path_factory.mktemp("looked-at")
+    station = folder / "station.moas"
+    shutil.copyfile(EXAMPLES / "small-station.moas", station)
+    with pytest.MonkeyPatch.context() as env:
+        env.setenv("XDG_STATE_HOME", str(folder / "state"))
+        said: list[str] = []
+        opened = open_builder(station, None, said.append)
+        assert opened is not None, said
+        yield opened, station
+        assert not opened.doc.can_undo, "a test that only looks edited the shared window's file"
+        opened.closing_confirmed = True
+        opened.close()
+        release(station)
+
+
 def list_page(window: BuilderWindow, title: str) -> ListPage:
     page = window.go(title)
     assert isinstance(page, ListPage)
@@ -76,8 +96,8 @@ def finish(field: LineField, text: str) -> None:
     field.edit.editingFinished.emit()
 
 
-def test_the_window_fits_1024_by_600(window: tuple[BuilderWindow, Answers]) -> None:
-    builder, _ = window
+def test_the_window_fits_1024_by_600(looked_at: tuple[BuilderWindow, Path]) -> None:
+    builder, _ = looked_at
     for title in builder.pages:
         builder.go(title)
         hint = builder.minimumSizeHint()
@@ -85,10 +105,24 @@ def test_the_window_fits_1024_by_600(window: tuple[BuilderWindow, Answers]) -> N
     assert builder.width() <= 1024 and builder.height() <= 600
 
 
+def test_a_page_is_made_when_it_is_first_shown(window: tuple[BuilderWindow, Answers]) -> None:
+    builder, _ = window
+    assert builder.stack.count() == len(builder.pages) == len(LISTS) + 5
+    assert builder.stack.currentWidget() is builder.pages["Antennas"]
+    assert not builder.pages.made("Rotators") and not builder.pages.made("Relay map")
+    page = builder.go("Rotators")
+    assert builder.pages.made("Rotators") and builder.stack.currentWidget() is page
+    assert builder.stack.indexOf(page) == builder.nav.currentRow() == builder.pages.titles.index("Rotators")
+    assert builder.stack.count() == len(builder.pages)
+    builder.nav.setCurrentRow(builder.pages.titles.index("Relay map"))  # chosen in the list
+    assert builder.stack.currentWidget() is builder.pages["Relay map"]
+    assert isinstance(builder.stack.currentWidget(), RelayPage)
+
+
 @pytest.mark.parametrize("spec", LISTS, ids=lambda s: s.title)
 def test_every_list_has_a_page_whose_fields_quote_the_manual(
-        window: tuple[BuilderWindow, Answers], spec: Any) -> None:
-    builder, _ = window
+        looked_at: tuple[BuilderWindow, Path], spec: Any) -> None:
+    builder, _ = looked_at
     page = list_page(builder, spec.title)
     if page.list is not None:
         count = builder.doc.count((spec.key,))
@@ -360,7 +394,9 @@ def test_closing_with_changes_asks_first(qtbot: Any, station: Path) -> None:
     answers.answers.append(True)
     builder.close()
     qtbot.waitUntil(lambda: bool(gone))
-    assert open_builder(station) is not None, "the claim went with the window"
+    again = open_builder(station)
+    assert again is not None, "the claim went with the window"
+    again.close()
     release(station)
 
 

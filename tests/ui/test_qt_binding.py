@@ -8,8 +8,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ASK = ("from moas_gui.ui.qt import load_qasync; q = load_qasync(); "
        "print(q.QtModuleName)")
+
+pytestmark = pytest.mark.realtime  # real processes, end to end
 
 
 def test_qasync_is_loaded_on_pyside6_beside_a_pyqt6(tmp_path: Path) -> None:

@@ -10,7 +10,11 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+pytestmark = pytest.mark.realtime  # real processes, end to end
 
 
 def test_the_window_server_opens_its_file_and_stops_cleanly_on_sigterm(tmp_path: Path) -> None:

@@ -71,6 +71,7 @@ async def run_cli(*args: str) -> tuple[int, str]:
     return process.returncode or 0, out.decode()
 
 
+@pytest.mark.realtime
 @pytest.mark.asyncio
 @pytest.mark.parametrize(("args", "words"), [
     (["--headless", "--station", "1"], "--headless needs at least one --source"),
@@ -103,6 +104,7 @@ async def servers() -> AsyncIterator[list[Server]]:
         await s.server.close()
 
 
+@pytest.mark.realtime
 @needs_hamlib
 @posix_only
 @pytest.mark.asyncio
@@ -165,6 +167,7 @@ ABSURD = (b"get_freq:\nFrequency: 1e99\nRPRT 0\nget_split_vfo:\nSplit: 0\nTX VFO
           b"RPRT 0\nget_split_freq:\nTX Frequency: 0\nRPRT 0\nget_ptt:\nPTT: 0\nRPRT 0\n")
 
 
+@pytest.mark.realtime
 @posix_only
 @pytest.mark.asyncio
 async def test_a_rig_daemon_answering_garbage_sends_nothing_to_the_server(

@@ -19,6 +19,8 @@ import pytest
 from helpers import free_port, wait_for
 
 from moas_gui.client.connection import ClientConnection
+from moas_gui.operators import FILE_NAME, OperatorBook, Role
+from moas_gui.places import APP
 from moas_gui.tls import client_context, format_fingerprint
 
 pytestmark = pytest.mark.realtime
@@ -35,6 +37,11 @@ def environment(tmp_path: Path, runtime: Path) -> dict[str, str]:
 def server(env: dict[str, str], *args: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run([sys.executable, "-m", "moas_gui.cli.server", *args], env=env,
                           capture_output=True, text=True, check=False, timeout=60)
+
+
+def book_of(env: dict[str, str]) -> OperatorBook:
+    """The operators file the server started with ``env`` reads."""
+    return OperatorBook(Path(env["XDG_CONFIG_HOME"]) / APP / FILE_NAME)
 
 
 def hello(port: int, token: str | None, *, context: ssl.SSLContext | None = None,
@@ -91,11 +98,11 @@ def ask(conn: socket.socket, request_id: int, cmd: str, **args: object) -> dict:
 def test_the_real_engine_refuses_what_a_role_may_not_do(tmp_path: Path,
                                                         runtime_dir: Path) -> None:
     env = environment(tmp_path, runtime_dir)
-    tokens = {name: server(env, "--add-operator", name, "--role", role, *radios)
-              .stdout.splitlines()[-1]
-              for name, role, radios in (("vera", "view", ()),
-                                         ("otto", "operate", ("--radios", "1/1")),
-                                         ("ada", "admin", ()))}
+    book = book_of(env)  # written here as --add-operator writes it (the first test runs that)
+    tokens = {name: book.add(name, role, radios)[1]
+              for name, role, radios in (("vera", Role.VIEW, None),
+                                         ("otto", Role.OPERATE, frozenset({(1, 1)})),
+                                         ("ada", Role.ADMIN, None))}
     tcp = free_port(socket.SOCK_STREAM)
     first = subprocess.Popen(
         [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
@@ -144,7 +151,7 @@ def _greets(port: int, token: str, opened: list[socket.socket]) -> bool:
 def test_remove_operator_reaches_the_running_server_and_ends_its_session(
         tmp_path: Path, runtime_dir: Path) -> None:
     env = environment(tmp_path, runtime_dir)
-    token = server(env, "--add-operator", "otto", "--role", "operate").stdout.splitlines()[-1]
+    token = book_of(env).add("otto", Role.OPERATE)[1]
     tcp = free_port(socket.SOCK_STREAM)
     first = subprocess.Popen(
         [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),

@@ -77,18 +77,58 @@ async def hold(driver: Any, css: str, seconds: float = 0.9) -> None:
     await run(do)
 
 
-@pytest_asyncio.fixture
-async def station(tmp_path: Path) -> AsyncIterator[Station]:
-    made = Station(tmp_path)
+@pytest_asyncio.fixture(scope="module", loop_scope="module")
+async def started(tmp_path_factory: pytest.TempPathFactory) -> AsyncIterator[Station]:
+    """One station (the emulated switch and the server process) for the tests of this
+    module that take :func:`station`: each only sets frequencies and taps, and each sets
+    what it looks at first; the one that stops the server comes last of them."""
+    made = Station(tmp_path_factory.mktemp("station"))
     try:
         await made.start_server()
         yield made
     finally:
         await made.close()
-        print("the server's log:\n" + "".join(made.log))  # shown when a test fails
 
 
-@pytest.mark.asyncio
+@pytest_asyncio.fixture(loop_scope="module")
+async def station(started: Station) -> AsyncIterator[Station]:
+    """The module's station, its server running and no page of a test before connected."""
+    if started.process is None:
+        await started.start_server()
+    await until(lambda: started.pages() == 0, 10, "the pages of the test before gone")
+    since = len(started.log)
+    yield started
+    print("the server's log:\n" + "".join(started.log[since:]))  # shown when a test fails
+
+
+@pytest.mark.asyncio(loop_scope="module")
+@pytest.mark.timeout(120)
+async def test_tapping_the_display_line_shows_why_the_radio_has_its_antennas(
+        station: Station, browser: Any) -> None:
+    tcp = await Protocol.connect(station.tcp)
+    try:
+        await tcp.call("frequency", station=1, radio=1, khz=7025.0)
+        await run(browser.get, station.url + "?station=1&radio=1")
+        display = '.radio[data-radio="1"] .display'
+        why = "document.querySelector('.radio[data-radio=\"1\"] .why')"
+        # the page is built from the server's first state: until then there is no display
+        await page_until(browser, "const d = document.querySelector('.radio[data-radio=\"1\"] "
+                         ".display'); return d !== null && d.textContent.includes('7025.0 kHz')",
+                         what="radio 1")
+        assert await js(browser, f"return {why}.hidden") is True
+        await tap(browser, display)
+        await page_until(browser, f"return !{why}.hidden", what="the reason after a tap")
+        text = await js(browser, f"return {why}.textContent")
+        assert text.startswith("Lowest-numbered antenna covering 7025 kHz")
+        # antennas that merely do not cover the frequency decide nothing: left out
+        assert "does not cover" not in text
+        await tap(browser, display)
+        await page_until(browser, f"return {why}.hidden", what="the reason hidden again")
+    finally:
+        await tcp.close()
+
+
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_taps_select_antennas_a_second_page_follows_and_frequencies_move_the_selection(
         station: Station, browser: Any) -> None:
@@ -156,7 +196,38 @@ async def test_taps_select_antennas_a_second_page_follows_and_frequencies_move_t
         await tcp.close()
 
 
-@pytest.mark.asyncio
+@pytest.mark.asyncio(loop_scope="module")
+@pytest.mark.timeout(120)
+async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
+        station: Station, browser: Any) -> None:
+    tcp = await Protocol.connect(station.tcp)
+    await tcp.call("frequency", station=1, radio=1, khz=14025.0)
+    await tcp.call("frequency", station=1, radio=2, khz=7025.0)
+    await tcp.close()
+    for width, height, side_by_side in ((1024, 600, True), (600, 1024, False),
+                                        (360, 740, False)):
+        await run(viewport, browser, width, height)
+        await run(browser.get, station.url + "?station=1&radio=1&radio2=2")
+        await page_until(browser, f"return {button(1, 0)} !== null")
+        overflow = await js(browser, "return document.documentElement.scrollWidth - innerWidth")
+        assert overflow <= 0, f"{width}x{height}: the page is {overflow} px too wide"
+        boxes = await js(browser, "return [...document.querySelectorAll('.radio')]"
+                         ".filter(r => r.offsetParent !== null).map(r => r.getBoundingClientRect().left)")
+        assert (len(boxes) == 2) == side_by_side, f"{width}x{height}: {boxes}"
+        if not side_by_side:  # one radio at a time, chosen by a tab
+            await tap(browser, "#tabs button:last-child")
+            await page_until(browser, "return document.querySelector('.radio[data-radio=\"2\"]')"
+                             ".offsetParent !== null", what="radio 2 after its tab")
+        small = await js(browser, "return Math.min(...[...document.querySelectorAll("
+                         "'.grid button')].filter(b => b.offsetParent).map(b => b.offsetHeight))")
+        assert small >= 44, f"{width}x{height}: a button is {small} px high, too small to tap"
+    # a page left for another (and kept for the Back button) does not stay connected
+    assert station.pages() == 1
+    await run(browser.get, "about:blank")
+    await until(lambda: station.pages() == 0, 5, "the page left disconnecting")
+
+
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_the_compass_turns_a_test_rotator_and_a_stopped_server_shows_not_connected(
         station: Station, browser: Any) -> None:
@@ -220,38 +291,7 @@ async def test_the_compass_turns_a_test_rotator_and_a_stopped_server_shows_not_c
                      ".textContent !== 'no radio'", what="the new server's state")
 
 
-@pytest.mark.asyncio
-@pytest.mark.timeout(120)
-async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
-        station: Station, browser: Any) -> None:
-    tcp = await Protocol.connect(station.tcp)
-    await tcp.call("frequency", station=1, radio=1, khz=14025.0)
-    await tcp.call("frequency", station=1, radio=2, khz=7025.0)
-    await tcp.close()
-    for width, height, side_by_side in ((1024, 600, True), (600, 1024, False),
-                                        (360, 740, False)):
-        await run(viewport, browser, width, height)
-        await run(browser.get, station.url + "?station=1&radio=1&radio2=2")
-        await page_until(browser, f"return {button(1, 0)} !== null")
-        overflow = await js(browser, "return document.documentElement.scrollWidth - innerWidth")
-        assert overflow <= 0, f"{width}x{height}: the page is {overflow} px too wide"
-        boxes = await js(browser, "return [...document.querySelectorAll('.radio')]"
-                         ".filter(r => r.offsetParent !== null).map(r => r.getBoundingClientRect().left)")
-        assert (len(boxes) == 2) == side_by_side, f"{width}x{height}: {boxes}"
-        if not side_by_side:  # one radio at a time, chosen by a tab
-            await tap(browser, "#tabs button:last-child")
-            await page_until(browser, "return document.querySelector('.radio[data-radio=\"2\"]')"
-                             ".offsetParent !== null", what="radio 2 after its tab")
-        small = await js(browser, "return Math.min(...[...document.querySelectorAll("
-                         "'.grid button')].filter(b => b.offsetParent).map(b => b.offsetHeight))")
-        assert small >= 44, f"{width}x{height}: a button is {small} px high, too small to tap"
-    # a page left for another (and kept for the Back button) does not stay connected
-    assert station.pages() == 1
-    await run(browser.get, "about:blank")
-    await until(lambda: station.pages() == 0, 5, "the page left disconnecting")
-
-
-@pytest.mark.asyncio
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         browser: Any) -> None:
@@ -291,34 +331,7 @@ async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         await page.close(browser)
 
 
-@pytest.mark.asyncio
-@pytest.mark.timeout(120)
-async def test_tapping_the_display_line_shows_why_the_radio_has_its_antennas(
-        station: Station, browser: Any) -> None:
-    tcp = await Protocol.connect(station.tcp)
-    try:
-        await tcp.call("frequency", station=1, radio=1, khz=7025.0)
-        await run(browser.get, station.url + "?station=1&radio=1")
-        display = '.radio[data-radio="1"] .display'
-        why = "document.querySelector('.radio[data-radio=\"1\"] .why')"
-        # the page is built from the server's first state: until then there is no display
-        await page_until(browser, "const d = document.querySelector('.radio[data-radio=\"1\"] "
-                         ".display'); return d !== null && d.textContent.includes('7025.0 kHz')",
-                         what="radio 1")
-        assert await js(browser, f"return {why}.hidden") is True
-        await tap(browser, display)
-        await page_until(browser, f"return !{why}.hidden", what="the reason after a tap")
-        text = await js(browser, f"return {why}.textContent")
-        assert text.startswith("Lowest-numbered antenna covering 7025 kHz")
-        # antennas that merely do not cover the frequency decide nothing: left out
-        assert "does not cover" not in text
-        await tap(browser, display)
-        await page_until(browser, f"return {why}.hidden", what="the reason hidden again")
-    finally:
-        await tcp.close()
-
-
-@pytest.mark.asyncio
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_an_antenna_genius_hold_is_shown_on_the_page_with_who_holds_it(
         tmp_path: Path, browser: Any) -> None:
@@ -362,7 +375,7 @@ async def test_an_antenna_genius_hold_is_shown_on_the_page_with_who_holds_it(
         await made.close()
 
 
-@pytest.mark.asyncio
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_a_station_with_one_radio_shows_no_second_radio_selector(
         tmp_path: Path, browser: Any) -> None:
@@ -382,7 +395,7 @@ async def test_a_station_with_one_radio_shows_no_second_radio_selector(
         await made.close()
 
 
-@pytest.mark.asyncio
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_release_is_offered_on_the_page_only_to_an_operator_whose_role_covers_the_radio(
         tmp_path: Path, browser: Any, monkeypatch: pytest.MonkeyPatch) -> None:

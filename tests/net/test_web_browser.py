@@ -77,12 +77,26 @@ async def hold(driver: Any, css: str, seconds: float = 0.9) -> None:
     await run(do)
 
 
+class SharedStation(Station):
+    """The station of :func:`started`: its server serves an Antenna Genius port too."""
+
+    def __init__(self, tmp: Path) -> None:
+        from web_station import free_port
+
+        super().__init__(tmp)
+        self.ag_port = free_port()
+
+    async def start_server(self, *extra: str) -> None:
+        await super().start_server("--ag-port", str(self.ag_port), *extra)
+
+
 @pytest_asyncio.fixture(scope="module", loop_scope="module")
-async def started(tmp_path_factory: pytest.TempPathFactory) -> AsyncIterator[Station]:
+async def started(tmp_path_factory: pytest.TempPathFactory) -> AsyncIterator[SharedStation]:
     """One station (the emulated switch and the server process) for the tests of this
-    module that take :func:`station`: each only sets frequencies and taps, and each sets
-    what it looks at first; the one that stops the server comes last of them."""
-    made = Station(tmp_path_factory.mktemp("station"))
+    module that take :func:`station`: each only sets frequencies, taps and holds (and
+    releases what it held), and each sets what it looks at first; the one that stops the
+    server comes last of them."""
+    made = SharedStation(tmp_path_factory.mktemp("station"))
     try:
         await made.start_server()
         yield made
@@ -91,7 +105,7 @@ async def started(tmp_path_factory: pytest.TempPathFactory) -> AsyncIterator[Sta
 
 
 @pytest_asyncio.fixture(loop_scope="module")
-async def station(started: Station) -> AsyncIterator[Station]:
+async def station(started: SharedStation) -> AsyncIterator[SharedStation]:
     """The module's station, its server running and no page of a test before connected."""
     if started.process is None:
         await started.start_server()
@@ -229,6 +243,46 @@ async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
 
 @pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
+async def test_an_antenna_genius_hold_is_shown_on_the_page_with_who_holds_it(
+        station: SharedStation, browser: Any) -> None:
+    from ag_client import AgClient
+
+    ag_port = station.ag_port
+    ag: AgClient | None = None
+    try:
+        await run(browser.get, station.url + "?station=1&radio=1")
+        note = "document.querySelector('.radio[data-radio=\"1\"] .note')"
+        await page_until(browser, f"return {note} !== null", what="radio 1")
+        ag = await AgClient.connect(ag_port)
+        assert (await ag.ask("port set 1 band=6")).code == 0  # 14175 kHz, no note
+        await page_until(browser, f"return {note}.hidden", what="radio 1 on 20 m")
+        release = "document.querySelector('.radio[data-radio=\"1\"] .release')"
+        assert await js(browser, f"return {release}.hidden")
+        assert (await ag.ask("port set 1 auto=0")).code == 0
+        await page_until(browser, f"return !{note}.hidden", what="the hold")
+        text = await js(browser, f"return {note}.textContent")
+        assert re.fullmatch(r"Held by an Antenna Genius client at 127\.0\.0\.1 since "
+                            r"\d\d:\d\d: the antennas do not follow the frequency", text), text
+        assert (await ag.ask("port set 1 auto=1")).code == 0
+        await page_until(browser, f"return {note}.hidden", what="the hold released")
+        # the program holds again and goes away: the page releases the radio it pinned
+        assert (await ag.ask("port set 1 auto=0")).code == 0
+        await ag.close()
+        ag = None
+        await page_until(browser, f"return !{release}.hidden", what="Release offered")
+        await tap(browser, '.radio[data-radio="1"] .release')
+        await page_until(browser, f"return {note}.hidden && {release}.hidden",
+                         what="the hold released from the page")
+        ag = await AgClient.connect(ag_port)
+        port = (await ag.ask("port get 1", listing=True)).message
+        assert " auto=1 " in port, port
+    finally:
+        if ag is not None:
+            await ag.close()
+
+
+@pytest.mark.asyncio(loop_scope="module")
+@pytest.mark.timeout(120)
 async def test_the_compass_turns_a_test_rotator_and_a_stopped_server_shows_not_connected(
         station: Station, browser: Any) -> None:
     tcp = await Protocol.connect(station.tcp)
@@ -329,50 +383,6 @@ async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         assert await js(browser, "return document.body.dataset.screen") == "connected"
     finally:
         await page.close(browser)
-
-
-@pytest.mark.asyncio(loop_scope="module")
-@pytest.mark.timeout(120)
-async def test_an_antenna_genius_hold_is_shown_on_the_page_with_who_holds_it(
-        tmp_path: Path, browser: Any) -> None:
-    from ag_client import AgClient
-    from web_station import free_port
-
-    made = Station(tmp_path)
-    ag_port = free_port()
-    ag: AgClient | None = None
-    try:
-        await made.start_server("--ag-port", str(ag_port))
-        await run(browser.get, made.url + "?station=1&radio=1")
-        note = "document.querySelector('.radio[data-radio=\"1\"] .note')"
-        await page_until(browser, f"return {note} !== null", what="radio 1")
-        ag = await AgClient.connect(ag_port)
-        assert (await ag.ask("port set 1 band=6")).code == 0  # 14175 kHz, no note
-        await page_until(browser, f"return {note}.hidden", what="radio 1 on 20 m")
-        release = "document.querySelector('.radio[data-radio=\"1\"] .release')"
-        assert await js(browser, f"return {release}.hidden")
-        assert (await ag.ask("port set 1 auto=0")).code == 0
-        await page_until(browser, f"return !{note}.hidden", what="the hold")
-        text = await js(browser, f"return {note}.textContent")
-        assert re.fullmatch(r"Held by an Antenna Genius client at 127\.0\.0\.1 since "
-                            r"\d\d:\d\d: the antennas do not follow the frequency", text), text
-        assert (await ag.ask("port set 1 auto=1")).code == 0
-        await page_until(browser, f"return {note}.hidden", what="the hold released")
-        # the program holds again and goes away: the page releases the radio it pinned
-        assert (await ag.ask("port set 1 auto=0")).code == 0
-        await ag.close()
-        ag = None
-        await page_until(browser, f"return !{release}.hidden", what="Release offered")
-        await tap(browser, '.radio[data-radio="1"] .release')
-        await page_until(browser, f"return {note}.hidden && {release}.hidden",
-                         what="the hold released from the page")
-        ag = await AgClient.connect(ag_port)
-        port = (await ag.ask("port get 1", listing=True)).message
-        assert " auto=1 " in port, port
-    finally:
-        if ag is not None:
-            await ag.close()
-        await made.close()
 
 
 @pytest.mark.asyncio(loop_scope="module")

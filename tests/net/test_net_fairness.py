@@ -80,6 +80,7 @@ async def test_one_address_over_its_limit_is_refused_while_another_is_served(
     assert made.clients.admission.count == 0
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_a_connection_that_never_says_hello_is_closed(
         caplog: pytest.LogCaptureFixture) -> None:
@@ -103,6 +104,7 @@ async def test_a_connection_that_never_says_hello_is_closed(
         await dispose(rig)
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_a_silent_client_is_closed_and_the_projects_client_keeps_itself_alive(
         caplog: pytest.LogCaptureFixture) -> None:
@@ -126,6 +128,7 @@ async def test_a_silent_client_is_closed_and_the_projects_client_keeps_itself_al
         await dispose(rig)
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_a_websocket_has_the_same_hello_deadline_and_keepalive() -> None:
     made = await make_web(hello_deadline=0.3, keepalive=0.6)

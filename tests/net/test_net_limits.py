@@ -163,6 +163,7 @@ async def test_clients_flooding_requests_they_never_read_are_cut_and_others_serv
         await dispose(rig)
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 @pytest.mark.skipif(sys.platform != "linux", reason="glibc's malloc_trim gives memory back")
 async def test_memory_is_given_back_once_a_crowd_of_clients_has_left(

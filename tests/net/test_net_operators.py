@@ -84,6 +84,7 @@ async def test_this_computer_never_needs_a_token_and_may_stop_the_switches(
         await server.close()
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_with_require_token_a_lan_client_without_one_is_refused_and_closed(
         tmp_path: Path) -> None:
@@ -100,6 +101,7 @@ async def test_with_require_token_a_lan_client_without_one_is_refused_and_closed
         await server.close()
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_a_wrong_token_is_refused_and_never_logged(
         tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:

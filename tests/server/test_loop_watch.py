@@ -29,6 +29,7 @@ def lag_lines(caplog: pytest.LogCaptureFixture) -> list[str]:
             if r.name == "moas_gui.loop_watch" and r.levelno == logging.WARNING]
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_a_blocked_loop_is_logged_once_a_minute_and_its_lag_shown(
         caplog: pytest.LogCaptureFixture) -> None:
@@ -91,6 +92,7 @@ async def test_a_stall_the_thread_could_not_see_says_so(
     assert any("was not seen" in line for line in lag_lines(caplog)), lag_lines(caplog)
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_the_watching_thread_wakes_about_once_a_period_on_a_quiet_loop() -> None:
     # a quiet server pays for every wake of the thread (issue 41: the quiet band change):

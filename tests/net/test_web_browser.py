@@ -15,7 +15,15 @@ from typing import Any
 
 import pytest
 import pytest_asyncio
-from web_station import FakeWeb, Protocol, Station, browser_missing, until, viewport
+from web_station import (
+    FakeWeb,
+    Protocol,
+    Station,
+    browser_missing,
+    until,
+    viewport,
+    wait_in_page,
+)
 
 MISSING = browser_missing()
 pytestmark = [
@@ -37,15 +45,7 @@ async def js(driver: Any, script: str, *args: Any) -> Any:
 
 
 async def page_until(driver: Any, script: str, timeout: float = 10.0, what: str = "") -> Any:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while True:
-        value = await js(driver, script)
-        if value:
-            return value
-        if loop.time() > end:
-            raise AssertionError(f"the page did not show {what or script} in {timeout} s")
-        await asyncio.sleep(0.03)
+    return await wait_in_page(driver, script, timeout, what)
 
 
 def button(radio: int, antenna: int) -> str:

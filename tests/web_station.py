@@ -221,6 +221,38 @@ def blank(driver: Any, width: int = 1024, height: int = 600) -> None:
     viewport(driver, width, height)
 
 
+_WAIT_IN_PAGE = """
+const [body, limit, done] = [arguments[0], arguments[1], arguments[arguments.length - 1]];
+const check = new Function(body);
+const end = performance.now() + limit;
+(function look() {
+  let value;
+  try { value = check(); } catch (error) { done({error: String(error)}); return; }
+  if (value) { done({value: value}); return; }
+  if (performance.now() > end) { done(null); return; }
+  setTimeout(look, 20);
+})();
+"""
+
+
+async def wait_in_page(driver: Any, script: str, timeout: float, what: str) -> Any:
+    """Waits until ``script`` (a function body, as for ``execute_script``) returns a true
+    value in the page, and returns that value.  The page itself looks every 20 ms and
+    answers once: one call to the browser a wait, where asking from here every few
+    milliseconds cost the browser and its driver about 6 ms of processor time a look.
+    A script that throws fails the wait at once, as ``execute_script`` would."""
+    def wait() -> Any:
+        driver.set_script_timeout(timeout + 30)
+        return driver.execute_async_script(_WAIT_IN_PAGE, script, timeout * 1000)
+
+    got = await asyncio.to_thread(wait)
+    if got is None:
+        raise AssertionError(f"the page did not show {what or script} in {timeout:g} s")
+    if "error" in got:
+        raise AssertionError(f"the page's script failed ({got['error']}): {script}")
+    return got["value"]
+
+
 def viewport(driver: Any, width: int, height: int, mobile: bool = True) -> None:
     driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride", {
         "width": width, "height": height, "deviceScaleFactor": 1, "mobile": mobile})

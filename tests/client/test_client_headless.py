@@ -22,6 +22,7 @@ import pytest_asyncio
 from helpers import free_port, until
 from rig_support import Pty, rigctl, start_rigctld
 
+from moas_gui.cli.client import main
 from moas_gui.net.server import ClientServer
 from moas_gui.sources.spec import SourceSpec, parse_spec
 from moas_gui.testing.fake_backend import FakeBackend
@@ -63,23 +64,18 @@ def test_bad_source_options_are_explained(text: str, words: str) -> None:
     assert words in str(refused.value)
 
 
-async def run_cli(*args: str) -> tuple[int, str]:
-    process = await asyncio.create_subprocess_exec(
-        sys.executable, "-m", "moas_gui.cli.client", *args,
-        stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.STDOUT)
-    out, _ = await asyncio.wait_for(process.communicate(), 60)
-    return process.returncode or 0, out.decode()
-
-
-@pytest.mark.asyncio
 @pytest.mark.parametrize(("args", "words"), [
     (["--headless", "--station", "1"], "--headless needs at least one --source"),
     (["--headless", "--source", "rigctld"], "--headless needs --station"),
     (["--source", "bogus"], "--source bogus: 'bogus' is not a source"),
 ])
-async def test_bad_headless_command_lines_are_explained(args: list[str], words: str) -> None:
-    status, out = await run_cli(*args)
-    assert status == 2 and words in out
+def test_bad_headless_command_lines_are_explained(args: list[str], words: str,
+                                                  capsys: pytest.CaptureFixture[str]) -> None:
+    # the command line is read before anything starts: moas-client's main in this process
+    # (as tests/client/test_client_cli.py reads its other usage errors)
+    with pytest.raises(SystemExit) as stopped:
+        main(args)
+    assert stopped.value.code == 2 and words in capsys.readouterr().err
 
 
 # -- the journey --------------------------------------------------------------------------
@@ -103,6 +99,7 @@ async def servers() -> AsyncIterator[list[Server]]:
         await s.server.close()
 
 
+@pytest.mark.realtime
 @needs_hamlib
 @posix_only
 @pytest.mark.asyncio
@@ -165,6 +162,7 @@ ABSURD = (b"get_freq:\nFrequency: 1e99\nRPRT 0\nget_split_vfo:\nSplit: 0\nTX VFO
           b"RPRT 0\nget_split_freq:\nTX Frequency: 0\nRPRT 0\nget_ptt:\nPTT: 0\nRPRT 0\n")
 
 
+@pytest.mark.realtime
 @posix_only
 @pytest.mark.asyncio
 async def test_a_rig_daemon_answering_garbage_sends_nothing_to_the_server(

@@ -167,6 +167,7 @@ def test_the_buffer_stays_bounded_whatever_arrives(data: bytes, ends: LineEnd,
         assert framer.pending <= limit + 1
 
 
+@pytest.mark.realtime
 def test_the_framer_loads_nothing_but_itself() -> None:
     """Every line protocol imports it, so it must bring no loop, port, Qt or other part."""
     probe = ("import sys, moas_gui.line_framer\n"

@@ -80,6 +80,7 @@ async def test_one_address_over_its_limit_is_refused_while_another_is_served(
     assert made.clients.admission.count == 0
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_a_connection_that_never_says_hello_is_closed(
         caplog: pytest.LogCaptureFixture) -> None:
@@ -103,6 +104,7 @@ async def test_a_connection_that_never_says_hello_is_closed(
         await dispose(rig)
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_a_silent_client_is_closed_and_the_projects_client_keeps_itself_alive(
         caplog: pytest.LogCaptureFixture) -> None:
@@ -126,6 +128,7 @@ async def test_a_silent_client_is_closed_and_the_projects_client_keeps_itself_al
         await dispose(rig)
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_a_websocket_has_the_same_hello_deadline_and_keepalive() -> None:
     made = await make_web(hello_deadline=0.3, keepalive=0.6)
@@ -162,8 +165,7 @@ async def slow_request(port: int, head: bytes) -> bytes:
 async def test_a_request_that_never_completes_is_closed(
         caplog: pytest.LogCaptureFixture) -> None:
     caplog.set_level(logging.INFO, logger="moas_gui.net")
-    made = await make_web()
-    made.web.request_deadline = 0.3  # read by each new connection
+    made = await make_web(request_deadline=0.3)
     try:
         port = made.web.port
         # headers never finished, a body never sent, a kept-alive connection left idle
@@ -306,8 +308,7 @@ async def test_a_browsers_preconnect_that_sends_nothing_is_closed_at_debug_only(
     """Chromium opens a connection ahead and never uses it: it is closed at the deadline
     like any other, but that is no trouble for the Info log (issue 30)."""
     caplog.set_level(logging.DEBUG, logger="moas_gui.net")
-    made = await make_web()
-    made.web.request_deadline = 0.3
+    made = await make_web(request_deadline=0.3)
     try:
         assert await slow_request(made.web.port, b"") == b""
         await until(lambda: made.clients.admission.count == 0)

@@ -13,7 +13,7 @@ import sys
 
 import pytest
 from helpers import until
-from test_net_server import HOST, dispose, make_rig
+from test_net_server import HOST, Rig, dispose, make_rig
 
 from moas_gui.log_limit import LogLimiter
 from moas_gui.net.client import ProtocolClient
@@ -91,6 +91,16 @@ async def never_reading_client(port: int, hello: bytes = b"") -> socket.socket:
     return sock
 
 
+def keep_small_send_buffers(rig: Rig, socks: list[socket.socket]) -> None:
+    """The kernel's share of the server's side of each of ``socks`` kept small (it grows to
+    4 MiB on its own): what piles up waits in the server, where the bounds are, sooner."""
+    ports = {sock.getsockname()[1] for sock in socks}
+    for conn in rig.server._connections:
+        if conn.writer.get_extra_info("peername")[1] in ports:
+            conn.writer.get_extra_info("socket").setsockopt(
+                socket.SOL_SOCKET, socket.SO_SNDBUF, 4096)
+
+
 @pytest.mark.asyncio
 @pytest.mark.timeout(60)
 async def test_the_sum_of_unread_output_is_bounded_and_the_slowest_are_cut_first(
@@ -134,6 +144,8 @@ async def test_clients_flooding_requests_they_never_read_are_cut_and_others_serv
     try:
         healthy = await rig.connect("reads everything")
         socks = [await never_reading_client(rig.server.port) for _ in range(10)]
+        await until(lambda: rig.server.client_count == 11, what="the 10 connections taken")
+        keep_small_send_buffers(rig, socks)
         requests = b'{"cmd": "state"}\n' * 2000
         for _round in range(20):
             for sock in socks:
@@ -151,6 +163,7 @@ async def test_clients_flooding_requests_they_never_read_are_cut_and_others_serv
         await dispose(rig)
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 @pytest.mark.skipif(sys.platform != "linux", reason="glibc's malloc_trim gives memory back")
 async def test_memory_is_given_back_once_a_crowd_of_clients_has_left(

@@ -84,10 +84,11 @@ async def test_this_computer_never_needs_a_token_and_may_stop_the_switches(
         await server.close()
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_with_require_token_a_lan_client_without_one_is_refused_and_closed(
         tmp_path: Path) -> None:
-    server, backend = await serve(tmp_path, require_token=True)
+    server, backend = await serve(tmp_path, require_token=True, hello_deadline=1.0)
     client = await ProtocolClient.connect(HOST, server.port, local_host=LAN)
     try:
         assert "token" in await forbidden(client, "select", station=1, radio=1, antenna=2)
@@ -100,6 +101,7 @@ async def test_with_require_token_a_lan_client_without_one_is_refused_and_closed
         await server.close()
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_a_wrong_token_is_refused_and_never_logged(
         tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:

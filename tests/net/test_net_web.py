@@ -42,12 +42,16 @@ class Web:
         return await self.session.ws_connect(self.base + "/ws", headers=extra | headers)
 
 
-async def make_web(allow: list[str] | None = None, **limits: Any) -> Web:
+async def make_web(allow: list[str] | None = None, request_deadline: float | None = None,
+                   **limits: Any) -> Web:
+    """``request_deadline``: the web port's (its default when None); ``limits``: the
+    client port's."""
     backend = FakeBackend()
     clients = ClientServer(backend, host=HOST, port=0, allow=allow, **limits)
     backend.attach(clients)
     await clients.start()
-    web = WebServer(clients, host=HOST, port=0)
+    web = (WebServer(clients, host=HOST, port=0) if request_deadline is None
+           else WebServer(clients, host=HOST, port=0, request_deadline=request_deadline))
     await web.start()
     return Web(backend, clients, web, aiohttp.ClientSession())
 

@@ -202,6 +202,7 @@ def test_the_file_is_read_again_only_when_it_changed(tmp_path: Path,
 
 # -- through the client port -----------------------------------------------------------------
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_the_loop_serves_while_80_wrong_hellos_a_second_carry_a_real_key_id(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

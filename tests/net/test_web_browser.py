@@ -15,7 +15,15 @@ from typing import Any
 
 import pytest
 import pytest_asyncio
-from web_station import FakeWeb, Protocol, Station, browser_missing, until, viewport
+from web_station import (
+    FakeWeb,
+    Protocol,
+    Station,
+    browser_missing,
+    until,
+    viewport,
+    wait_in_page,
+)
 
 MISSING = browser_missing()
 pytestmark = [
@@ -37,15 +45,7 @@ async def js(driver: Any, script: str, *args: Any) -> Any:
 
 
 async def page_until(driver: Any, script: str, timeout: float = 10.0, what: str = "") -> Any:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while True:
-        value = await js(driver, script)
-        if value:
-            return value
-        if loop.time() > end:
-            raise AssertionError(f"the page did not show {what or script} in {timeout} s")
-        await asyncio.sleep(0.03)
+    return await wait_in_page(driver, script, timeout, what)
 
 
 def button(radio: int, antenna: int) -> str:
@@ -77,18 +77,72 @@ async def hold(driver: Any, css: str, seconds: float = 0.9) -> None:
     await run(do)
 
 
-@pytest_asyncio.fixture
-async def station(tmp_path: Path) -> AsyncIterator[Station]:
-    made = Station(tmp_path)
+class SharedStation(Station):
+    """The station of :func:`started`: its server serves an Antenna Genius port too."""
+
+    def __init__(self, tmp: Path) -> None:
+        from web_station import free_port
+
+        super().__init__(tmp)
+        self.ag_port = free_port()
+
+    async def start_server(self, *extra: str) -> None:
+        await super().start_server("--ag-port", str(self.ag_port), *extra)
+
+
+@pytest_asyncio.fixture(scope="module", loop_scope="module")
+async def started(tmp_path_factory: pytest.TempPathFactory) -> AsyncIterator[SharedStation]:
+    """One station (the emulated switch and the server process) for the tests of this
+    module that take :func:`station`: each only sets frequencies, taps and holds (and
+    releases what it held), and each sets what it looks at first; the one that stops the
+    server comes last of them."""
+    made = SharedStation(tmp_path_factory.mktemp("station"))
     try:
         await made.start_server()
         yield made
     finally:
         await made.close()
-        print("the server's log:\n" + "".join(made.log))  # shown when a test fails
 
 
-@pytest.mark.asyncio
+@pytest_asyncio.fixture(loop_scope="module")
+async def station(started: SharedStation) -> AsyncIterator[SharedStation]:
+    """The module's station, its server running and no page of a test before connected."""
+    if started.process is None:
+        await started.start_server()
+    await until(lambda: started.pages() == 0, 10, "the pages of the test before gone")
+    since = len(started.log)
+    yield started
+    print("the server's log:\n" + "".join(started.log[since:]))  # shown when a test fails
+
+
+@pytest.mark.asyncio(loop_scope="module")
+@pytest.mark.timeout(120)
+async def test_tapping_the_display_line_shows_why_the_radio_has_its_antennas(
+        station: Station, browser: Any) -> None:
+    tcp = await Protocol.connect(station.tcp)
+    try:
+        await tcp.call("frequency", station=1, radio=1, khz=7025.0)
+        await run(browser.get, station.url + "?station=1&radio=1")
+        display = '.radio[data-radio="1"] .display'
+        why = "document.querySelector('.radio[data-radio=\"1\"] .why')"
+        # the page is built from the server's first state: until then there is no display
+        await page_until(browser, "const d = document.querySelector('.radio[data-radio=\"1\"] "
+                         ".display'); return d !== null && d.textContent.includes('7025.0 kHz')",
+                         what="radio 1")
+        assert await js(browser, f"return {why}.hidden") is True
+        await tap(browser, display)
+        await page_until(browser, f"return !{why}.hidden", what="the reason after a tap")
+        text = await js(browser, f"return {why}.textContent")
+        assert text.startswith("Lowest-numbered antenna covering 7025 kHz")
+        # antennas that merely do not cover the frequency decide nothing: left out
+        assert "does not cover" not in text
+        await tap(browser, display)
+        await page_until(browser, f"return {why}.hidden", what="the reason hidden again")
+    finally:
+        await tcp.close()
+
+
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_taps_select_antennas_a_second_page_follows_and_frequencies_move_the_selection(
         station: Station, browser: Any) -> None:
@@ -156,7 +210,78 @@ async def test_taps_select_antennas_a_second_page_follows_and_frequencies_move_t
         await tcp.close()
 
 
-@pytest.mark.asyncio
+@pytest.mark.asyncio(loop_scope="module")
+@pytest.mark.timeout(120)
+async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
+        station: Station, browser: Any) -> None:
+    tcp = await Protocol.connect(station.tcp)
+    await tcp.call("frequency", station=1, radio=1, khz=14025.0)
+    await tcp.call("frequency", station=1, radio=2, khz=7025.0)
+    await tcp.close()
+    for width, height, side_by_side in ((1024, 600, True), (600, 1024, False),
+                                        (360, 740, False)):
+        await run(viewport, browser, width, height)
+        await run(browser.get, station.url + "?station=1&radio=1&radio2=2")
+        await page_until(browser, f"return {button(1, 0)} !== null")
+        overflow = await js(browser, "return document.documentElement.scrollWidth - innerWidth")
+        assert overflow <= 0, f"{width}x{height}: the page is {overflow} px too wide"
+        boxes = await js(browser, "return [...document.querySelectorAll('.radio')]"
+                         ".filter(r => r.offsetParent !== null).map(r => r.getBoundingClientRect().left)")
+        assert (len(boxes) == 2) == side_by_side, f"{width}x{height}: {boxes}"
+        if not side_by_side:  # one radio at a time, chosen by a tab
+            await tap(browser, "#tabs button:last-child")
+            await page_until(browser, "return document.querySelector('.radio[data-radio=\"2\"]')"
+                             ".offsetParent !== null", what="radio 2 after its tab")
+        small = await js(browser, "return Math.min(...[...document.querySelectorAll("
+                         "'.grid button')].filter(b => b.offsetParent).map(b => b.offsetHeight))")
+        assert small >= 44, f"{width}x{height}: a button is {small} px high, too small to tap"
+    # a page left for another (and kept for the Back button) does not stay connected
+    assert station.pages() == 1
+    await run(browser.get, "about:blank")
+    await until(lambda: station.pages() == 0, 5, "the page left disconnecting")
+
+
+@pytest.mark.asyncio(loop_scope="module")
+@pytest.mark.timeout(120)
+async def test_an_antenna_genius_hold_is_shown_on_the_page_with_who_holds_it(
+        station: SharedStation, browser: Any) -> None:
+    from ag_client import AgClient
+
+    ag_port = station.ag_port
+    ag: AgClient | None = None
+    try:
+        await run(browser.get, station.url + "?station=1&radio=1")
+        note = "document.querySelector('.radio[data-radio=\"1\"] .note')"
+        await page_until(browser, f"return {note} !== null", what="radio 1")
+        ag = await AgClient.connect(ag_port)
+        assert (await ag.ask("port set 1 band=6")).code == 0  # 14175 kHz, no note
+        await page_until(browser, f"return {note}.hidden", what="radio 1 on 20 m")
+        release = "document.querySelector('.radio[data-radio=\"1\"] .release')"
+        assert await js(browser, f"return {release}.hidden")
+        assert (await ag.ask("port set 1 auto=0")).code == 0
+        await page_until(browser, f"return !{note}.hidden", what="the hold")
+        text = await js(browser, f"return {note}.textContent")
+        assert re.fullmatch(r"Held by an Antenna Genius client at 127\.0\.0\.1 since "
+                            r"\d\d:\d\d: the antennas do not follow the frequency", text), text
+        assert (await ag.ask("port set 1 auto=1")).code == 0
+        await page_until(browser, f"return {note}.hidden", what="the hold released")
+        # the program holds again and goes away: the page releases the radio it pinned
+        assert (await ag.ask("port set 1 auto=0")).code == 0
+        await ag.close()
+        ag = None
+        await page_until(browser, f"return !{release}.hidden", what="Release offered")
+        await tap(browser, '.radio[data-radio="1"] .release')
+        await page_until(browser, f"return {note}.hidden && {release}.hidden",
+                         what="the hold released from the page")
+        ag = await AgClient.connect(ag_port)
+        port = (await ag.ask("port get 1", listing=True)).message
+        assert " auto=1 " in port, port
+    finally:
+        if ag is not None:
+            await ag.close()
+
+
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_the_compass_turns_a_test_rotator_and_a_stopped_server_shows_not_connected(
         station: Station, browser: Any) -> None:
@@ -220,38 +345,7 @@ async def test_the_compass_turns_a_test_rotator_and_a_stopped_server_shows_not_c
                      ".textContent !== 'no radio'", what="the new server's state")
 
 
-@pytest.mark.asyncio
-@pytest.mark.timeout(120)
-async def test_the_page_fits_a_phone_and_a_tablet_both_ways(
-        station: Station, browser: Any) -> None:
-    tcp = await Protocol.connect(station.tcp)
-    await tcp.call("frequency", station=1, radio=1, khz=14025.0)
-    await tcp.call("frequency", station=1, radio=2, khz=7025.0)
-    await tcp.close()
-    for width, height, side_by_side in ((1024, 600, True), (600, 1024, False),
-                                        (360, 740, False)):
-        await run(viewport, browser, width, height)
-        await run(browser.get, station.url + "?station=1&radio=1&radio2=2")
-        await page_until(browser, f"return {button(1, 0)} !== null")
-        overflow = await js(browser, "return document.documentElement.scrollWidth - innerWidth")
-        assert overflow <= 0, f"{width}x{height}: the page is {overflow} px too wide"
-        boxes = await js(browser, "return [...document.querySelectorAll('.radio')]"
-                         ".filter(r => r.offsetParent !== null).map(r => r.getBoundingClientRect().left)")
-        assert (len(boxes) == 2) == side_by_side, f"{width}x{height}: {boxes}"
-        if not side_by_side:  # one radio at a time, chosen by a tab
-            await tap(browser, "#tabs button:last-child")
-            await page_until(browser, "return document.querySelector('.radio[data-radio=\"2\"]')"
-                             ".offsetParent !== null", what="radio 2 after its tab")
-        small = await js(browser, "return Math.min(...[...document.querySelectorAll("
-                         "'.grid button')].filter(b => b.offsetParent).map(b => b.offsetHeight))")
-        assert small >= 44, f"{width}x{height}: a button is {small} px high, too small to tap"
-    # a page left for another (and kept for the Back button) does not stay connected
-    assert station.pages() == 1
-    await run(browser.get, "about:blank")
-    await until(lambda: station.pages() == 0, 5, "the page left disconnecting")
-
-
-@pytest.mark.asyncio
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         browser: Any) -> None:
@@ -291,78 +385,7 @@ async def test_stopped_switches_show_no_antenna_selected_and_a_tap_is_answered(
         await page.close(browser)
 
 
-@pytest.mark.asyncio
-@pytest.mark.timeout(120)
-async def test_tapping_the_display_line_shows_why_the_radio_has_its_antennas(
-        station: Station, browser: Any) -> None:
-    tcp = await Protocol.connect(station.tcp)
-    try:
-        await tcp.call("frequency", station=1, radio=1, khz=7025.0)
-        await run(browser.get, station.url + "?station=1&radio=1")
-        display = '.radio[data-radio="1"] .display'
-        why = "document.querySelector('.radio[data-radio=\"1\"] .why')"
-        # the page is built from the server's first state: until then there is no display
-        await page_until(browser, "const d = document.querySelector('.radio[data-radio=\"1\"] "
-                         ".display'); return d !== null && d.textContent.includes('7025.0 kHz')",
-                         what="radio 1")
-        assert await js(browser, f"return {why}.hidden") is True
-        await tap(browser, display)
-        await page_until(browser, f"return !{why}.hidden", what="the reason after a tap")
-        text = await js(browser, f"return {why}.textContent")
-        assert text.startswith("Lowest-numbered antenna covering 7025 kHz")
-        # antennas that merely do not cover the frequency decide nothing: left out
-        assert "does not cover" not in text
-        await tap(browser, display)
-        await page_until(browser, f"return {why}.hidden", what="the reason hidden again")
-    finally:
-        await tcp.close()
-
-
-@pytest.mark.asyncio
-@pytest.mark.timeout(120)
-async def test_an_antenna_genius_hold_is_shown_on_the_page_with_who_holds_it(
-        tmp_path: Path, browser: Any) -> None:
-    from ag_client import AgClient
-    from web_station import free_port
-
-    made = Station(tmp_path)
-    ag_port = free_port()
-    ag: AgClient | None = None
-    try:
-        await made.start_server("--ag-port", str(ag_port))
-        await run(browser.get, made.url + "?station=1&radio=1")
-        note = "document.querySelector('.radio[data-radio=\"1\"] .note')"
-        await page_until(browser, f"return {note} !== null", what="radio 1")
-        ag = await AgClient.connect(ag_port)
-        assert (await ag.ask("port set 1 band=6")).code == 0  # 14175 kHz, no note
-        await page_until(browser, f"return {note}.hidden", what="radio 1 on 20 m")
-        release = "document.querySelector('.radio[data-radio=\"1\"] .release')"
-        assert await js(browser, f"return {release}.hidden")
-        assert (await ag.ask("port set 1 auto=0")).code == 0
-        await page_until(browser, f"return !{note}.hidden", what="the hold")
-        text = await js(browser, f"return {note}.textContent")
-        assert re.fullmatch(r"Held by an Antenna Genius client at 127\.0\.0\.1 since "
-                            r"\d\d:\d\d: the antennas do not follow the frequency", text), text
-        assert (await ag.ask("port set 1 auto=1")).code == 0
-        await page_until(browser, f"return {note}.hidden", what="the hold released")
-        # the program holds again and goes away: the page releases the radio it pinned
-        assert (await ag.ask("port set 1 auto=0")).code == 0
-        await ag.close()
-        ag = None
-        await page_until(browser, f"return !{release}.hidden", what="Release offered")
-        await tap(browser, '.radio[data-radio="1"] .release')
-        await page_until(browser, f"return {note}.hidden && {release}.hidden",
-                         what="the hold released from the page")
-        ag = await AgClient.connect(ag_port)
-        port = (await ag.ask("port get 1", listing=True)).message
-        assert " auto=1 " in port, port
-    finally:
-        if ag is not None:
-            await ag.close()
-        await made.close()
-
-
-@pytest.mark.asyncio
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_a_station_with_one_radio_shows_no_second_radio_selector(
         tmp_path: Path, browser: Any) -> None:
@@ -382,7 +405,7 @@ async def test_a_station_with_one_radio_shows_no_second_radio_selector(
         await made.close()
 
 
-@pytest.mark.asyncio
+@pytest.mark.asyncio(loop_scope="module")
 @pytest.mark.timeout(120)
 async def test_release_is_offered_on_the_page_only_to_an_operator_whose_role_covers_the_radio(
         tmp_path: Path, browser: Any, monkeypatch: pytest.MonkeyPatch) -> None:

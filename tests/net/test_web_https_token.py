@@ -1,7 +1,9 @@
 """The browser page over HTTPS with the server's self-signed certificate, where a token is
 needed: Debian's Chromium (accepting that certificate) asks for the token once, keeps it,
 and takes one from a pairing link's fragment.  The page connects from 127.0.0.1, so the
-test makes that address count as the LAN (``ClientServer.local_addresses``)."""
+test makes that address count as the LAN (``ClientServer.local_addresses``).  The
+worker's one Chromium (tests/conftest.py) is told to accept any certificate for the test's
+length, instead of a second Chromium started for it."""
 
 from __future__ import annotations
 
@@ -11,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from web_station import CHROMEDRIVER, CHROMIUM, browser_missing
+from web_station import browser_missing, wait_in_page
 
 from moas_gui.net.server import ClientServer
 from moas_gui.net.web import WebServer
@@ -22,24 +24,15 @@ from moas_gui.tls import Certificate, make_self_signed, server_context
 MISSING = browser_missing()
 pytestmark = [
     pytest.mark.realtime,
+    pytest.mark.shared("chromium"),
     pytest.mark.skipif(sys.platform == "win32", reason="Debian's Chromium"),
     pytest.mark.skipif(MISSING is not None, reason=f"no browser to test with: {MISSING}"),
 ]
 
-def insecure_chrome(profile: Path) -> Any:
-    """Chromium that accepts a self-signed certificate (what a user does by clicking
-    through the warning once, or by trusting the fingerprint)."""
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-
-    options = webdriver.ChromeOptions()
-    options.binary_location = CHROMIUM
-    options.accept_insecure_certs = True
-    for argument in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                     "--no-first-run", "--disable-extensions", f"--user-data-dir={profile}",
-                     "--window-size=1024,600"):
-        options.add_argument(argument)
-    return webdriver.Chrome(options=options, service=Service(CHROMEDRIVER))
+def trust_any_certificate(driver: Any, trust: bool) -> None:
+    """The worker's Chromium accepting a self-signed certificate or not (what a user does
+    by clicking through the warning once, or by trusting the fingerprint)."""
+    driver.execute_cdp_cmd("Security.setIgnoreCertificateErrors", {"ignore": trust})
 
 
 async def js(driver: Any, script: str) -> Any:
@@ -47,15 +40,7 @@ async def js(driver: Any, script: str) -> Any:
 
 
 async def page_until(driver: Any, script: str, what: str, timeout: float = 15.0) -> Any:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while True:
-        value = await js(driver, script)
-        if value:
-            return value
-        if loop.time() > end:
-            raise AssertionError(f"the page did not show {what} in {timeout:g} s")
-        await asyncio.sleep(0.05)
+    return await wait_in_page(driver, script, timeout, what)
 
 
 async def type_token(driver: Any, token: str) -> None:
@@ -74,7 +59,8 @@ ASKING = "return !document.querySelector('#signin').hidden"
 
 
 @pytest.mark.asyncio
-async def test_the_page_over_https_asks_for_a_token_once_and_keeps_it(tmp_path: Path) -> None:
+async def test_the_page_over_https_asks_for_a_token_once_and_keeps_it(tmp_path: Path,
+                                                                    browser: Any) -> None:
     where = Certificate(tmp_path / "cert.pem", tmp_path / "key.pem")
     make_self_signed(where, "localhost")
     book = OperatorBook(tmp_path / "operators.json")
@@ -89,7 +75,8 @@ async def test_the_page_over_https_asks_for_a_token_once_and_keeps_it(tmp_path: 
     web = WebServer(clients, host="127.0.0.1", port=0)
     await web.start()
     url = f"https://127.0.0.1:{web.port}/"
-    driver = await asyncio.to_thread(insecure_chrome, tmp_path / "profile")
+    driver = browser  # the worker's Chromium (tests/conftest.py), trusting the certificate
+    await asyncio.to_thread(trust_any_certificate, driver, True)
     try:
         await asyncio.to_thread(driver.get, url)
         await page_until(driver, ASKING, "the token prompt")
@@ -118,6 +105,6 @@ async def test_the_page_over_https_asks_for_a_token_once_and_keeps_it(tmp_path: 
         assert any(c.identity.operator is not None and c.identity.operator.name == "phone"
                    for c in clients._connections)
     finally:
-        await asyncio.to_thread(driver.quit)
+        await asyncio.to_thread(trust_any_certificate, driver, False)
         await web.close()
         await clients.close()

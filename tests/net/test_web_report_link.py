@@ -15,7 +15,7 @@ from typing import Any
 
 import pytest
 from antenna_log_support import contest_journal
-from web_station import browser_missing, viewport
+from web_station import browser_missing, viewport, wait_in_page
 
 from moas_gui.net.server import ClientServer
 from moas_gui.net.web import WebServer
@@ -49,15 +49,7 @@ async def js(driver: Any, script: str) -> Any:
 
 
 async def page_until(driver: Any, script: str, what: str, timeout: float = 30.0) -> Any:
-    loop = asyncio.get_running_loop()
-    end = loop.time() + timeout
-    while True:
-        value = await js(driver, script)
-        if value:
-            return value
-        if loop.time() > end:
-            raise AssertionError(f"the page did not show {what} in {timeout:g} s")
-        await asyncio.sleep(0.05)
+    return await wait_in_page(driver, script, timeout, what)
 
 
 async def click(driver: Any, css: str) -> None:

@@ -110,6 +110,7 @@ async def test_wrong_codes_are_one_log_line_a_minute_however_many(
     assert len(about_codes) <= 3, about_codes
 
 
+@pytest.mark.realtime
 def test_add_operator_refuses_a_code_shorter_than_6_digits_saying_why(tmp_path: Path) -> None:
     env = dict(os.environ, XDG_CONFIG_HOME=str(tmp_path), PYTHONUNBUFFERED="1")
     short = subprocess.run([sys.executable, "-m", "moas_gui.cli.server", "--add-operator",

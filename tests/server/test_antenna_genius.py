@@ -232,6 +232,7 @@ async def test_a_new_configuration_sends_antenna_reload(app: ServerApp,
     assert (await client.ask("antenna list", listing=True)).code == 0
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_keepalive_drops_a_silent_client_and_a_pinging_one_stays() -> None:
     core = AgEngineBackend(ServerApp(options(ag_port=None)))
@@ -328,6 +329,7 @@ async def test_more_radios_are_a_second_device_on_the_next_port(tmp_path: Path) 
             await server.close()
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_discovery_is_sent_to_the_chosen_loopback_address() -> None:
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as listener:
@@ -471,6 +473,7 @@ async def test_a_moas_clients_press_is_pushed_to_antenna_genius_subscribers(
         writer.close()
 
 
+@pytest.mark.realtime  # waits on the real clock: deadlines, keepalives, rates
 @pytest.mark.asyncio
 async def test_with_require_token_a_lan_client_needs_an_operators_ag_code_and_keeps_to_its_role(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -6,6 +6,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.realtime  # each check is a moas-server process
+
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 

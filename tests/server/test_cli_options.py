@@ -48,6 +48,7 @@ def test_an_unknown_log_level_is_a_usage_error_that_lists_the_levels(
     assert "'loud' is not one of debug, info, warning, error" in capsys.readouterr().err
 
 
+@pytest.mark.realtime
 @pytest.mark.parametrize("program", ["moas_gui.cli.emulator", "moas_gui.cli.rotator",
                                      "moas_gui.cli.server"])
 def test_every_program_tells_its_version(program: str) -> None:

@@ -20,6 +20,9 @@ import pytest
 from ag_client import AgClient
 from helpers import free_port, until
 
+from moas_gui.operators import FILE_NAME, OperatorBook, Role
+from moas_gui.places import APP
+
 pytestmark = pytest.mark.realtime
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -123,10 +126,11 @@ async def ws_reply(ws: aiohttp.ClientWebSocketResponse, wanted: int) -> dict[str
 async def test_removing_an_operator_ends_its_sessions_on_every_front(
         tmp_path: Path, runtime_dir: Path, alone: bool) -> None:
     env = environment(tmp_path, runtime_dir)
-    added = command(env, "--add-operator", "otto", "--role", "operate", "--ag-code", "471100")
-    assert added.returncode == 0, added.stderr
-    token = added.stdout.splitlines()[-1]
-    kept = command(env, "--add-operator", "vera", "--role", "view")
+    # the operators written as --add-operator writes them (tests/server/test_server_operators.py
+    # runs that command): here in this process, the server and --remove-operator are processes
+    book = OperatorBook(Path(env["XDG_CONFIG_HOME"]) / APP / FILE_NAME)
+    token = book.add("otto", Role.OPERATE, ag_code="471100")[1]
+    vera = book.add("vera", Role.VIEW)[1]
     ports = {"tcp": free_port(socket.SOCK_STREAM), "web": free_port(socket.SOCK_STREAM),
              "ag": free_port(socket.SOCK_STREAM)}
     server = await asyncio.create_subprocess_exec(
@@ -151,7 +155,6 @@ async def test_removing_an_operator_ends_its_sessions_on_every_front(
                     "the server's fronts")
         await fronts.open(ports, token, "471100")
         assert await fronts.report(ports, token) == 200
-        vera = kept.stdout.splitlines()[-1]
         reader, writer = await asyncio.open_connection("127.0.0.1", ports["tcp"],
                                                        local_addr=(LAN, 0))
         other.tcp = reader, writer

@@ -422,6 +422,7 @@ async def test_stopped_switches_stay_stopped_after_a_restart(station: Path, app:
     await until(lambda: app.emulators()[1].view().relays != frozenset())
 
 
+@pytest.mark.realtime
 def test_a_temporary_left_by_a_writer_that_is_gone_is_removed_at_once(tmp_path: Path) -> None:
     """A server killed in the middle of a save leaves ``.NAME.PID.tmp``: the next one
     removes it at once (its writer is gone), not only a minute later; a temporary of a

@@ -5,15 +5,18 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import socket
 import subprocess
 import sys
+import threading
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import free_port, wait_for
+from helpers import free_port, short_runtime_dir, wait_for
 
-pytestmark = pytest.mark.realtime
+pytestmark = [pytest.mark.realtime, pytest.mark.shared]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -28,18 +31,88 @@ def ask_state(port: int) -> dict:
                 return message["result"]  # type: ignore[no-any-return]
 
 
-def start_headless(tmp_path: Path, runtime: Path, name: str = "small-station") -> tuple[
-        subprocess.Popen[str], dict[str, str], list[str], int]:
-    env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime), XDG_CONFIG_HOME=str(tmp_path),
-               PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen")
-    tcp = free_port(socket.SOCK_STREAM)
-    common = ["--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
-              "--no-rotator-program"]
-    first = subprocess.Popen(
-        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / f"{name}.moas"),
-         "--headless", *common], env=env, stderr=subprocess.PIPE, text=True)
-    wait_for(lambda: ask_state(tcp)["config"] == f"{name}.moas")
-    return first, env, common, tcp
+class First:
+    """The headless server a second launch meets: started once for the tests of this module
+    that take :func:`first` (none of them changes what it runs), its stderr read line by
+    line."""
+
+    def __init__(self, root: Path, runtime: Path, name: str = "small-station") -> None:
+        self.env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime), XDG_CONFIG_HOME=str(root),
+                        PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen")
+        self.tcp = free_port(socket.SOCK_STREAM)
+        self.common = ["--bind", "127.0.0.1", "--tcp-port", str(self.tcp), "--udp-port", "0",
+                       "--no-rotator-program"]
+        self.lines: list[str] = []
+        self.since = 0
+        self.barriers = 0
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / f"{name}.moas"),
+             "--headless", *self.common], env=self.env, stderr=subprocess.PIPE, text=True)
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+        wait_for(lambda: ask_state(self.tcp)["config"] == f"{name}.moas")
+
+    def _read(self) -> None:
+        assert self.process.stderr is not None
+        for line in self.process.stderr:
+            self.lines.append(line)
+
+    def said(self) -> str:
+        """What the server wrote to stderr since the test began, up to now: a hello from a
+        client of a new name is logged after everything the server did before it, so once
+        its line is read, nothing written earlier is still in the pipe."""
+        self.barriers += 1
+        name = f"barrier {self.barriers}"
+        with socket.create_connection(("127.0.0.1", self.tcp), timeout=5) as conn:
+            conn.sendall(json.dumps({"id": 1, "cmd": "hello", "client": name}).encode() + b"\n")
+            with conn.makefile("rb") as reader:
+                reader.readline()
+        wait_for(lambda: any(f'is "{name}"' in line for line in self.lines[self.since:]),
+                 what="the server's log line of the hello")
+        lines = self.lines[self.since:]
+        upto = next(n for n, line in enumerate(lines) if f'is "{name}"' in line)
+        return "".join(lines[:upto])
+
+    def stop(self) -> str:
+        self.process.terminate()
+        try:
+            self.process.wait(timeout=15)
+        finally:
+            if self.process.poll() is None:
+                self.process.kill()
+                self.process.wait()
+        self._reader.join(10)
+        if self.process.stderr is not None:
+            self.process.stderr.close()
+        assert self.process.returncode == 0, "".join(self.lines)
+        return "".join(self.lines)
+
+
+@pytest.fixture(scope="module")
+def started(tmp_path_factory: pytest.TempPathFactory) -> Iterator[First]:
+    runtime = short_runtime_dir()
+    try:
+        server = First(tmp_path_factory.mktemp("first"), runtime)
+        try:
+            yield server
+        finally:
+            server.stop()
+    finally:
+        shutil.rmtree(runtime, ignore_errors=True)
+
+
+@pytest.fixture
+def first(started: First) -> First:
+    """The module's headless server, still running what it started with; what it says
+    from here on is the test's (:meth:`First.said`)."""
+    assert started.process.poll() is None, "".join(started.lines)
+    assert ask_state(started.tcp)["config"] == "small-station.moas"
+    # what a test before left to be said (a repeated line's count is told with the next
+    # line) is said before the barrier's line, and is not this test's
+    started.since = len(started.lines)
+    started.said()
+    started.since = len(started.lines)
+    return started
 
 
 def second_launch(env: dict[str, str], *args: str) -> subprocess.CompletedProcess[str]:
@@ -47,48 +120,32 @@ def second_launch(env: dict[str, str], *args: str) -> subprocess.CompletedProces
                           env=env, capture_output=True, text=True, check=False, timeout=30)
 
 
-def stop(first: subprocess.Popen[str]) -> str:
-    first.terminate()
-    _, stderr = first.communicate(timeout=15)
-    assert first.returncode == 0, stderr
-    return stderr
-
-
-def test_a_headless_server_is_never_taken_over_by_a_double_click(tmp_path: Path,
-                                                                 runtime_dir: Path) -> None:
-    first, env, common, tcp = start_headless(tmp_path, runtime_dir)
-    try:
-        for args in ([str(EXAMPLES / "big-station.moas")],                 # a double-click
-                     [str(EXAMPLES / "2x6.moas"), "--headless", *common]):  # another service
-            second = second_launch(env, *args)
-            assert second.returncode != 0, second.stderr
-            assert "refused" in second.stderr and "headless" in second.stderr, second.stderr
-            assert ask_state(tcp)["config"] == "small-station.moas"
-        assert first.poll() is None, "the headless server keeps running"
-    finally:
-        stderr = stop(first)
+def test_a_headless_server_is_never_taken_over_by_a_double_click(first: First) -> None:
+    for args in ([str(EXAMPLES / "big-station.moas")],                      # a double-click
+                 [str(EXAMPLES / "2x6.moas"), "--headless", *first.common]):  # another service
+        second = second_launch(first.env, *args)
+        assert second.returncode != 0, second.stderr
+        assert "refused" in second.stderr and "headless" in second.stderr, second.stderr
+        assert ask_state(first.tcp)["config"] == "small-station.moas"
+    assert first.process.poll() is None, "the headless server keeps running"
+    stderr = first.said()
     assert "Refused a hand-over" in stderr and "Another moas-server handed over" not in stderr
 
 
-def test_a_refused_window_launch_shows_the_reason_in_a_message_window(
-        tmp_path: Path, runtime_dir: Path) -> None:
-    first, env, _common, tcp = start_headless(tmp_path, runtime_dir)
-    try:
-        double_click = [str(EXAMPLES / "big-station.moas")]
-        for args, what in ((double_click, "big-station.moas was not opened"),
-                           ([], "no window opened")):  # a menu entry: no file
-            second = second_launch(env, *args)
-            assert second.returncode == 1, second.stderr
-            lines = second.stderr.splitlines()
-            refusal = next(line for line in lines if line.startswith("moas-server: "))
-            assert refusal.startswith(f"moas-server: {what}: the moas-server that is already "
-                                      "running refused: it runs small-station.moas headless")
-            assert "stop it first" in refusal
-            assert "moas-server: showed a message window" in second.stderr, second.stderr
-            assert "None" not in second.stderr, second.stderr
-        assert ask_state(tcp)["config"] == "small-station.moas"
-    finally:
-        stop(first)
+def test_a_refused_window_launch_shows_the_reason_in_a_message_window(first: First) -> None:
+    double_click = [str(EXAMPLES / "big-station.moas")]
+    for args, what in ((double_click, "big-station.moas was not opened"),
+                       ([], "no window opened")):  # a menu entry: no file
+        second = second_launch(first.env, *args)
+        assert second.returncode == 1, second.stderr
+        lines = second.stderr.splitlines()
+        refusal = next(line for line in lines if line.startswith("moas-server: "))
+        assert refusal.startswith(f"moas-server: {what}: the moas-server that is already "
+                                  "running refused: it runs small-station.moas headless")
+        assert "stop it first" in refusal
+        assert "moas-server: showed a message window" in second.stderr, second.stderr
+        assert "None" not in second.stderr, second.stderr
+    assert ask_state(first.tcp)["config"] == "small-station.moas"
 
 
 def test_a_window_launch_without_a_display_says_so_instead_of_aborting(
@@ -107,23 +164,19 @@ def test_a_window_launch_without_a_display_says_so_instead_of_aborting(
 
 
 def test_a_broken_or_missing_file_is_refused_by_the_new_process_alone(
-        tmp_path: Path, runtime_dir: Path) -> None:
-    first, env, _common, tcp = start_headless(tmp_path, runtime_dir)
+        tmp_path: Path, first: First) -> None:
     broken = tmp_path / "broken.moas"
     broken.write_text('{"Switches": [}')
-    try:
-        for path, why in ((broken, "broken.moas:1"), (tmp_path / "missing.moas", "missing.moas")):
-            second = second_launch(env, str(path))
-            assert second.returncode != 0
-            assert why in second.stderr and "goes on untouched" in second.stderr, second.stderr
-            assert "Traceback" not in second.stderr
-            assert "where the lines below say" in second.stderr, "what to do"
-            assert "moas-server --check" not in second.stderr  # no command to a double-click
-            assert "moas-server: showed a message window" in second.stderr
-        assert ask_state(tcp)["config"] == "small-station.moas"
-    finally:
-        stderr = stop(first)
-    assert "hand-over" not in stderr, "the running server never heard of the bad files"
+    for path, why in ((broken, "broken.moas:1"), (tmp_path / "missing.moas", "missing.moas")):
+        second = second_launch(first.env, str(path))
+        assert second.returncode != 0
+        assert why in second.stderr and "goes on untouched" in second.stderr, second.stderr
+        assert "Traceback" not in second.stderr
+        assert "where the lines below say" in second.stderr, "what to do"
+        assert "moas-server --check" not in second.stderr  # no command to a double-click
+        assert "moas-server: showed a message window" in second.stderr
+    assert ask_state(first.tcp)["config"] == "small-station.moas"
+    assert "hand-over" not in first.said(), "the running server never heard of the bad files"
 
 
 def test_new_instance_does_not_hand_over(tmp_path: Path, runtime_dir: Path) -> None:

@@ -13,15 +13,19 @@ import ssl
 import stat
 import subprocess
 import sys
+import threading
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import free_port, wait_for
+from helpers import free_port, short_runtime_dir, until, wait_for
 
 from moas_gui.client.connection import ClientConnection
+from moas_gui.operators import FILE_NAME, OperatorBook, Role
+from moas_gui.places import APP
 from moas_gui.tls import client_context, format_fingerprint
 
-pytestmark = pytest.mark.realtime
+pytestmark = [pytest.mark.realtime, pytest.mark.shared]
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -37,13 +41,18 @@ def server(env: dict[str, str], *args: str) -> subprocess.CompletedProcess[str]:
                           capture_output=True, text=True, check=False, timeout=60)
 
 
+def book_of(env: dict[str, str]) -> OperatorBook:
+    """The operators file the server started with ``env`` reads."""
+    return OperatorBook(Path(env["XDG_CONFIG_HOME"]) / APP / FILE_NAME)
+
+
 def hello(port: int, token: str | None, *, context: ssl.SSLContext | None = None,
-          source: str = "127.0.0.2") -> tuple[dict, socket.socket]:
+          source: str = "127.0.0.2", name: str = "test") -> tuple[dict, socket.socket]:
     raw = socket.create_connection(("127.0.0.1", port), timeout=10,
                                    source_address=(source, 0))
     conn: socket.socket = (context.wrap_socket(raw, server_hostname="127.0.0.1")
                            if context is not None else raw)
-    message: dict[str, object] = {"id": 1, "cmd": "hello", "client": "test"}
+    message: dict[str, object] = {"id": 1, "cmd": "hello", "client": name}
     if token is not None:
         message["token"] = token
     conn.sendall(json.dumps(message).encode() + b"\n")
@@ -88,45 +97,115 @@ def ask(conn: socket.socket, request_id: int, cmd: str, **args: object) -> dict:
             return reply  # type: ignore[no-any-return]
 
 
-def test_the_real_engine_refuses_what_a_role_may_not_do(tmp_path: Path,
-                                                        runtime_dir: Path) -> None:
-    env = environment(tmp_path, runtime_dir)
-    tokens = {name: server(env, "--add-operator", name, "--role", role, *radios)
-              .stdout.splitlines()[-1]
-              for name, role, radios in (("vera", "view", ()),
-                                         ("otto", "operate", ("--radios", "1/1")),
-                                         ("ada", "admin", ()))}
-    tcp = free_port(socket.SOCK_STREAM)
-    first = subprocess.Popen(
-        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
-         "--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
-         "--no-rotator-program", "--require-token", "--new-instance"],
-        env=env, stderr=subprocess.PIPE, text=True)
-    opened: list[socket.socket] = []
-    try:
-        wait_for(lambda: _greets(tcp, tokens["ada"], opened))
-        conns = {}
-        for name, token in tokens.items():
-            reply, conns[name] = hello(tcp, token)
-            assert reply["ok"], reply
-        anonymous, conns["nobody"] = hello(tcp, None)
-        assert anonymous["error"]["code"] == "forbidden"
-        assert ask(conns["otto"], 2, "frequency", station=1, radio=1, khz=14025)["ok"]
-        mine = ask(conns["otto"], 3, "select", station=1, radio=1, antenna=3)
-        assert mine["ok"], mine
-        other = ask(conns["otto"], 4, "frequency", station=1, radio=2, khz=7025)
-        assert other["error"]["code"] == "forbidden" and "1/2" in other["error"]["message"]
-        assert ask(conns["otto"], 5, "stop_switches")["error"]["code"] == "forbidden"
-        assert ask(conns["vera"], 6, "frequency", station=1, radio=1,
-                   khz=7025)["error"]["code"] == "forbidden"
-        assert ask(conns["ada"], 7, "frequency", station=1, radio=2, khz=7025)["ok"]
-        assert ask(conns["ada"], 8, "stop_switches")["ok"]
-        assert ask(conns["ada"], 9, "start_switches")["ok"]
-        for each in (*conns.values(), *opened):
+class Guarded:
+    """``moas-server --headless --require-token`` with four operators (vera views, otto
+    operates radio 1/1, ada is an admin, rita operates every radio), started once for the
+    tests of this module that take :func:`guarded`; its stderr read line by line."""
+
+    def __init__(self, root: Path, runtime: Path) -> None:
+        self.env = environment(root, runtime)
+        book = book_of(self.env)  # written here as --add-operator writes it (tested above)
+        self.tokens = {name: book.add(name, role, radios)[1]
+                       for name, role, radios in (("vera", Role.VIEW, None),
+                                                  ("otto", Role.OPERATE, frozenset({(1, 1)})),
+                                                  ("ada", Role.ADMIN, None),
+                                                  ("rita", Role.OPERATE, None))}
+        self.tcp = free_port(socket.SOCK_STREAM)
+        self.lines: list[str] = []
+        self.since = 0
+        self.barriers = 0
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
+             "--headless", "--bind", "127.0.0.1", "--tcp-port", str(self.tcp), "--udp-port",
+             "0", "--no-rotator-program", "--require-token"],
+            env=self.env, stderr=subprocess.PIPE, text=True)
+        self._reader = threading.Thread(target=self._read, daemon=True)
+        self._reader.start()
+        opened: list[socket.socket] = []
+        wait_for(lambda: _greets(self.tcp, self.tokens["ada"], opened))
+        for each in opened:
             each.close()
+
+    def _read(self) -> None:
+        assert self.process.stderr is not None
+        for line in self.process.stderr:
+            self.lines.append(line)
+
+    def said(self) -> str:
+        """What the server wrote to stderr since the test began, up to now: a hello from
+        this computer under a new name is logged after everything the server did before
+        it, so once its line is read nothing written earlier is still in the pipe."""
+        self.barriers += 1
+        name = f"barrier {self.barriers}"
+        reply, conn = hello(self.tcp, None, source="127.0.0.1", name=name)
+        conn.close()
+        assert reply.get("ok"), reply
+        wait_for(lambda: any(f'is "{name}"' in line for line in self.lines[self.since:]),
+                 what="the server's log line of the hello")
+        lines = self.lines[self.since:]
+        upto = next(n for n, line in enumerate(lines) if f'is "{name}"' in line)
+        return "".join(lines[:upto])
+
+    def stop(self) -> None:
+        self.process.terminate()
+        try:
+            self.process.wait(timeout=15)
+        finally:
+            if self.process.poll() is None:
+                self.process.kill()
+                self.process.wait()
+        self._reader.join(10)
+        if self.process.stderr is not None:
+            self.process.stderr.close()
+        assert self.process.returncode == 0, "".join(self.lines)
+
+
+@pytest.fixture(scope="module")
+def started(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Guarded]:
+    runtime = short_runtime_dir()
+    try:
+        server = Guarded(tmp_path_factory.mktemp("guarded"), runtime)
+        try:
+            yield server
+        finally:
+            server.stop()
     finally:
-        first.terminate()
-        _, stderr = first.communicate(timeout=15)
+        shutil.rmtree(runtime, ignore_errors=True)
+
+
+@pytest.fixture
+def guarded(started: Guarded) -> Guarded:
+    """The module's server, running; what it says from here on is the test's."""
+    assert started.process.poll() is None, "".join(started.lines)
+    started.since = len(started.lines)
+    started.said()  # a repeated line's count a test before left is said before this
+    started.since = len(started.lines)
+    return started
+
+
+def test_the_real_engine_refuses_what_a_role_may_not_do(guarded: Guarded) -> None:
+    tcp = guarded.tcp
+    tokens = {name: guarded.tokens[name] for name in ("vera", "otto", "ada")}
+    conns = {}
+    for name, token in tokens.items():
+        reply, conns[name] = hello(tcp, token)
+        assert reply["ok"], reply
+    anonymous, conns["nobody"] = hello(tcp, None)
+    assert anonymous["error"]["code"] == "forbidden"
+    assert ask(conns["otto"], 2, "frequency", station=1, radio=1, khz=14025)["ok"]
+    mine = ask(conns["otto"], 3, "select", station=1, radio=1, antenna=3)
+    assert mine["ok"], mine
+    other = ask(conns["otto"], 4, "frequency", station=1, radio=2, khz=7025)
+    assert other["error"]["code"] == "forbidden" and "1/2" in other["error"]["message"]
+    assert ask(conns["otto"], 5, "stop_switches")["error"]["code"] == "forbidden"
+    assert ask(conns["vera"], 6, "frequency", station=1, radio=1,
+               khz=7025)["error"]["code"] == "forbidden"
+    assert ask(conns["ada"], 7, "frequency", station=1, radio=2, khz=7025)["ok"]
+    assert ask(conns["ada"], 8, "stop_switches")["ok"]
+    assert ask(conns["ada"], 9, "start_switches")["ok"]
+    for each in conns.values():
+        each.close()
+    stderr = guarded.said()
     assert "otto at 127.0.0.2:" in stderr and "tuning radio 1/1" in stderr
     assert "ada at 127.0.0.2:" in stderr and "stop the switches" in stderr
     assert all(token.rsplit(".", 1)[1][:10] not in stderr for token in tokens.values())
@@ -142,41 +221,22 @@ def _greets(port: int, token: str, opened: list[socket.socket]) -> bool:
 
 
 def test_remove_operator_reaches_the_running_server_and_ends_its_session(
-        tmp_path: Path, runtime_dir: Path) -> None:
-    env = environment(tmp_path, runtime_dir)
-    token = server(env, "--add-operator", "otto", "--role", "operate").stdout.splitlines()[-1]
-    tcp = free_port(socket.SOCK_STREAM)
-    first = subprocess.Popen(
-        [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
-         "--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
-         "--no-rotator-program", "--require-token"],
-        env=env, stderr=subprocess.PIPE, text=True)
-    try:
-        def greeted() -> bool:
-            try:
-                reply, conn = hello(tcp, token)
-            except OSError:
-                return False
-            held.append(conn)
-            return bool(reply.get("ok"))
-
-        held: list[socket.socket] = []
-        wait_for(greeted)
-        session = held[-1]
-        removed = server(env, "--remove-operator", "otto")
-        assert removed.returncode == 0, removed.stderr
-        assert "1 session of operator otto ended" in removed.stdout
-        session.settimeout(10)
-        while session.recv(65536):  # the state event, then the end
-            pass
-        reply, conn = hello(tcp, token)
-        assert reply["error"]["code"] == "forbidden"
-        for each in (*held, conn):
-            each.close()
-    finally:
-        first.terminate()
-        _, stderr = first.communicate(timeout=15)
-    assert 'Operator "otto" was removed: 1 session ended' in stderr
+        guarded: Guarded) -> None:
+    env, tcp, token = guarded.env, guarded.tcp, guarded.tokens["rita"]
+    reply, session = hello(tcp, token)
+    assert reply["ok"], reply
+    removed = server(env, "--remove-operator", "rita")
+    assert removed.returncode == 0, removed.stderr
+    assert "1 session of operator rita ended" in removed.stdout
+    session.settimeout(10)
+    while session.recv(65536):  # the state event, then the end
+        pass
+    reply, conn = hello(tcp, token)
+    assert reply["error"]["code"] == "forbidden"
+    for each in (session, conn):
+        each.close()
+    stderr = guarded.said()
+    assert 'Operator "rita" was removed: 1 session ended' in stderr
     assert token.rsplit(".", 1)[1][:10] not in stderr
 
 
@@ -196,7 +256,11 @@ def test_both_ports_serve_tls_to_openssl_and_the_client_pins_the_fingerprint(
         env=env, stderr=subprocess.PIPE, text=True)
     try:
         wait_for(lambda: _tls_answers(tcp))
-        for port, request in ((tcp, b'{"id": 1, "cmd": "state"}\n'),
+        # openssl's s_client -quiet waits for the server to close the connection (it
+        # ignores the end of its input): the HTTP/1.0 page is closed after its answer, the
+        # client port after the state's answer and three lines that are no requests
+        # (its rule), rather than at the 5 s deadline for a hello
+        for port, request in ((tcp, b'{"id": 1, "cmd": "state"}\n' + b"no request\n" * 3),
                               (web, b"GET / HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n")):
             shown = subprocess.run(
                 ["openssl", "s_client", "-connect", f"127.0.0.1:{port}", "-quiet",
@@ -243,9 +307,9 @@ async def _pinned_client(port: int, pin: str) -> None:
     wrong = "00:" * 31 + "00"
     bad = ClientConnection("127.0.0.1", port, tls=True, pin=wrong, connect_timeout=10)
     bad.start()
-    with pytest.raises(TimeoutError):
-        await bad.wait_connected(2)
-    assert bad.connects == 0 and "not the pinned" in bad._last_problem
+    # its handshake is refused for the certificate (not waited out for 2 s as before)
+    await until(lambda: "not the pinned" in bad._last_problem, 20, "the pin's refusal")
+    assert bad.connects == 0 and not bad._connected.is_set()
     await bad.aclose()
 
 

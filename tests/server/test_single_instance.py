@@ -68,6 +68,7 @@ def directory(tmp_path: Path) -> Path:
     return tmp_path / "run"
 
 
+@pytest.mark.realtime
 @pytest.mark.parametrize("transport", ["unix", "tcp"])
 def test_a_second_launch_hands_its_file_to_the_running_one_and_exits(
     directory: Path, tmp_path: Path, transport: str,
@@ -89,6 +90,7 @@ def test_a_second_launch_hands_its_file_to_the_running_one_and_exits(
     assert not (directory / f"{NAME}.sock").exists() and not (directory / f"{NAME}.port").exists()
 
 
+@pytest.mark.realtime
 def test_simultaneous_launches_end_with_one_instance_holding_every_file(
     directory: Path, tmp_path: Path,
 ) -> None:
@@ -114,6 +116,7 @@ def test_simultaneous_launches_end_with_one_instance_holding_every_file(
     assert opened == expected
 
 
+@pytest.mark.realtime
 def test_a_crashed_instance_leaves_a_socket_that_the_next_one_takes_over(
     directory: Path, tmp_path: Path,
 ) -> None:

@@ -9,12 +9,12 @@ import shutil
 import socket
 import subprocess
 import sys
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from helpers import free_port, short_runtime_dir, wait_for
+from logged_server import LoggedServer
 
 pytestmark = [pytest.mark.realtime, pytest.mark.shared]
 
@@ -31,61 +31,19 @@ def ask_state(port: int) -> dict:
                 return message["result"]  # type: ignore[no-any-return]
 
 
-class First:
+class First(LoggedServer):
     """The headless server a second launch meets: started once for the tests of this module
-    that take :func:`first` (none of them changes what it runs), its stderr read line by
-    line."""
+    that take :func:`first` (none of them changes what it runs)."""
 
     def __init__(self, root: Path, runtime: Path, name: str = "small-station") -> None:
-        self.env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime), XDG_CONFIG_HOME=str(root),
-                        PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen")
-        self.tcp = free_port(socket.SOCK_STREAM)
-        self.common = ["--bind", "127.0.0.1", "--tcp-port", str(self.tcp), "--udp-port", "0",
+        env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime), XDG_CONFIG_HOME=str(root),
+                   PYTHONUNBUFFERED="1", QT_QPA_PLATFORM="offscreen")
+        tcp = free_port(socket.SOCK_STREAM)
+        self.common = ["--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port", "0",
                        "--no-rotator-program"]
-        self.lines: list[str] = []
-        self.since = 0
-        self.barriers = 0
-        self.process = subprocess.Popen(
-            [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / f"{name}.moas"),
-             "--headless", *self.common], env=self.env, stderr=subprocess.PIPE, text=True)
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
+        super().__init__([sys.executable, "-m", "moas_gui.cli.server",
+                          str(EXAMPLES / f"{name}.moas"), "--headless", *self.common], env, tcp)
         wait_for(lambda: ask_state(self.tcp)["config"] == f"{name}.moas")
-
-    def _read(self) -> None:
-        assert self.process.stderr is not None
-        for line in self.process.stderr:
-            self.lines.append(line)
-
-    def said(self) -> str:
-        """What the server wrote to stderr since the test began, up to now: a hello from a
-        client of a new name is logged after everything the server did before it, so once
-        its line is read, nothing written earlier is still in the pipe."""
-        self.barriers += 1
-        name = f"barrier {self.barriers}"
-        with socket.create_connection(("127.0.0.1", self.tcp), timeout=5) as conn:
-            conn.sendall(json.dumps({"id": 1, "cmd": "hello", "client": name}).encode() + b"\n")
-            with conn.makefile("rb") as reader:
-                reader.readline()
-        wait_for(lambda: any(f'is "{name}"' in line for line in self.lines[self.since:]),
-                 what="the server's log line of the hello")
-        lines = self.lines[self.since:]
-        upto = next(n for n, line in enumerate(lines) if f'is "{name}"' in line)
-        return "".join(lines[:upto])
-
-    def stop(self) -> str:
-        self.process.terminate()
-        try:
-            self.process.wait(timeout=15)
-        finally:
-            if self.process.poll() is None:
-                self.process.kill()
-                self.process.wait()
-        self._reader.join(10)
-        if self.process.stderr is not None:
-            self.process.stderr.close()
-        assert self.process.returncode == 0, "".join(self.lines)
-        return "".join(self.lines)
 
 
 @pytest.fixture(scope="module")
@@ -105,13 +63,8 @@ def started(tmp_path_factory: pytest.TempPathFactory) -> Iterator[First]:
 def first(started: First) -> First:
     """The module's headless server, still running what it started with; what it says
     from here on is the test's (:meth:`First.said`)."""
-    assert started.process.poll() is None, "".join(started.lines)
+    started.begin()
     assert ask_state(started.tcp)["config"] == "small-station.moas"
-    # what a test before left to be said (a repeated line's count is told with the next
-    # line) is said before the barrier's line, and is not this test's
-    started.since = len(started.lines)
-    started.said()
-    started.since = len(started.lines)
     return started
 
 

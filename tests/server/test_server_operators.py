@@ -13,12 +13,12 @@ import ssl
 import stat
 import subprocess
 import sys
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 from helpers import free_port, short_runtime_dir, until, wait_for
+from logged_server import LoggedServer
 
 from moas_gui.client.connection import ClientConnection
 from moas_gui.operators import FILE_NAME, OperatorBook, Role
@@ -97,67 +97,28 @@ def ask(conn: socket.socket, request_id: int, cmd: str, **args: object) -> dict:
             return reply  # type: ignore[no-any-return]
 
 
-class Guarded:
+class Guarded(LoggedServer):
     """``moas-server --headless --require-token`` with four operators (vera views, otto
     operates radio 1/1, ada is an admin, rita operates every radio), started once for the
-    tests of this module that take :func:`guarded`; its stderr read line by line."""
+    tests of this module that take :func:`guarded`."""
 
     def __init__(self, root: Path, runtime: Path) -> None:
-        self.env = environment(root, runtime)
-        book = book_of(self.env)  # written here as --add-operator writes it (tested above)
+        env = environment(root, runtime)
+        book = book_of(env)  # written here as --add-operator writes it (tested above)
         self.tokens = {name: book.add(name, role, radios)[1]
                        for name, role, radios in (("vera", Role.VIEW, None),
                                                   ("otto", Role.OPERATE, frozenset({(1, 1)})),
                                                   ("ada", Role.ADMIN, None),
                                                   ("rita", Role.OPERATE, None))}
-        self.tcp = free_port(socket.SOCK_STREAM)
-        self.lines: list[str] = []
-        self.since = 0
-        self.barriers = 0
-        self.process = subprocess.Popen(
+        tcp = free_port(socket.SOCK_STREAM)
+        super().__init__(
             [sys.executable, "-m", "moas_gui.cli.server", str(EXAMPLES / "small-station.moas"),
-             "--headless", "--bind", "127.0.0.1", "--tcp-port", str(self.tcp), "--udp-port",
-             "0", "--no-rotator-program", "--require-token"],
-            env=self.env, stderr=subprocess.PIPE, text=True)
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
+             "--headless", "--bind", "127.0.0.1", "--tcp-port", str(tcp), "--udp-port",
+             "0", "--no-rotator-program", "--require-token"], env, tcp)
         opened: list[socket.socket] = []
         wait_for(lambda: _greets(self.tcp, self.tokens["ada"], opened))
         for each in opened:
             each.close()
-
-    def _read(self) -> None:
-        assert self.process.stderr is not None
-        for line in self.process.stderr:
-            self.lines.append(line)
-
-    def said(self) -> str:
-        """What the server wrote to stderr since the test began, up to now: a hello from
-        this computer under a new name is logged after everything the server did before
-        it, so once its line is read nothing written earlier is still in the pipe."""
-        self.barriers += 1
-        name = f"barrier {self.barriers}"
-        reply, conn = hello(self.tcp, None, source="127.0.0.1", name=name)
-        conn.close()
-        assert reply.get("ok"), reply
-        wait_for(lambda: any(f'is "{name}"' in line for line in self.lines[self.since:]),
-                 what="the server's log line of the hello")
-        lines = self.lines[self.since:]
-        upto = next(n for n, line in enumerate(lines) if f'is "{name}"' in line)
-        return "".join(lines[:upto])
-
-    def stop(self) -> None:
-        self.process.terminate()
-        try:
-            self.process.wait(timeout=15)
-        finally:
-            if self.process.poll() is None:
-                self.process.kill()
-                self.process.wait()
-        self._reader.join(10)
-        if self.process.stderr is not None:
-            self.process.stderr.close()
-        assert self.process.returncode == 0, "".join(self.lines)
 
 
 @pytest.fixture(scope="module")
@@ -176,10 +137,7 @@ def started(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Guarded]:
 @pytest.fixture
 def guarded(started: Guarded) -> Guarded:
     """The module's server, running; what it says from here on is the test's."""
-    assert started.process.poll() is None, "".join(started.lines)
-    started.since = len(started.lines)
-    started.said()  # a repeated line's count a test before left is said before this
-    started.since = len(started.lines)
+    started.begin()
     return started
 
 

@@ -355,7 +355,7 @@ def nearly_flat(draw: st.DrawFn) -> bytes:
             + draw(st.sampled_from(SPACES))).encode()
 
 
-@settings(max_examples=1000, deadline=None)
+@settings(max_examples=250, deadline=None)
 @given(nearly_flat())
 def test_the_scanner_never_reads_what_the_xml_parser_would_read_otherwise(data: bytes) -> None:
     """Whatever the scanner accepts, the XML parser reads as the same RadioInfo fields; so

@@ -25,8 +25,10 @@ fifth less of the processor time).
 
 from __future__ import annotations
 
+import errno
 import html
 import io
+import os
 import zlib
 from collections.abc import Callable
 from datetime import UTC, datetime
@@ -305,13 +307,24 @@ def report_figure(report: ContestReport, dpi: float = 100) -> Figure:
     return figure
 
 
+def _folder_ready(path: Path) -> None:
+    """Raises the error writing ``path`` would end in when its folder is missing (or is
+    not a folder), before the report is drawn for nothing."""
+    folder = path.parent
+    if not folder.is_dir():
+        code = errno.ENOTDIR if folder.exists() else errno.ENOENT
+        raise OSError(code, os.strerror(code), str(folder))
+
+
 def save_png(report: ContestReport, path: Path) -> None:
     """Writes :func:`report_png` to ``path`` (whole or not at all)."""
+    _folder_ready(path)
     write_atomic(path, report_png(report))
 
 
 def save_html(report: ContestReport, path: Path) -> None:
     """Writes :func:`report_html` to ``path`` (whole or not at all)."""
+    _folder_ready(path)
     write_text_atomic(path, report_html(report))
 
 

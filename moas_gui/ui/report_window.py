@@ -3,7 +3,7 @@ as charts, and as an ADIF file.
 
 :class:`ReportWindow` shows the four charts of :mod:`moas_gui.antenna_log.report_charts`
 for a chosen period, each on a tab, drawn by matplotlib's Qt canvas (a tab's chart is
-drawn when it is shown), and exports the report as PNG or as one HTML page.
+drawn when it is on the screen: its tab chosen, the window shown), and exports the report as PNG or as one HTML page.
 :class:`AdifExportWindow` writes the contacts of a chosen period as ADIF.  Both read
 the journal they are given (``None``: the journal is turned off) and say plainly when
 there is nothing to show.  The report is read from the journal in the report's own
@@ -55,6 +55,7 @@ from .qt import (
     QLabel,
     QLineEdit,
     QPushButton,
+    QShowEvent,
     QSpinBox,
     Qt,
     QTabWidget,
@@ -326,11 +327,19 @@ class ReportWindow(_JournalWindow):
         self._stale = set(self.canvases)
         self._draw_shown()
 
+    def showEvent(self, event: QShowEvent) -> None:
+        super().showEvent(event)
+        self._draw_shown()  # a report that came while the window was hidden
+
     def _draw_shown(self) -> None:
         """Draws and renders the chart of the tab shown, if the report changed since it
         was drawn (the other tabs wait until shown: each takes a moment of the loop's
-        thread)."""
+        thread); none while the window is hidden (a report that comes before the window
+        is shown, or after it was closed, would be rendered for nobody, and once more at
+        the size the window then has)."""
         shown = self.tabs.currentWidget()
+        if not shown.isVisible():
+            return
         for kind, canvas in self.canvases.items():
             if canvas is shown and kind in self._stale and self.report is not None:
                 self._stale.discard(kind)

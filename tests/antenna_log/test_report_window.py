@@ -157,11 +157,14 @@ def test_an_export_that_cannot_be_written_says_why(qtbot: Any, tmp_path: Path) -
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
     made(qtbot, window)
-    target = tmp_path / "missing" / "r.html"
-    answer_with(window, str(target))
+    target, image = tmp_path / "missing" / "r.html", tmp_path / "missing" / "r.png"
+    answer_with(window, str(target), str(image))
     window.export_html.click()
     assert window.status.text().startswith(f"Could not save {target}: ")
     assert not target.exists()
+    window.export_png.click()
+    assert window.status.text() == f"Could not save {image}: No such file or directory"
+    assert not image.exists()
 
 
 def test_export_antenna_log_writes_the_chosen_period(qtbot: Any, tmp_path: Path) -> None:

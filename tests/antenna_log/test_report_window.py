@@ -200,9 +200,10 @@ def test_only_the_tab_shown_is_rendered_until_another_is_chosen(qtbot: Any) -> N
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
     made(qtbot, window)
+    canvases = list(window.canvases.values())
+    assert not any(c.figure.axes for c in canvases), "nothing drawn while the window is hidden"
     window.show()
     qtbot.waitExposed(window)
-    canvases = list(window.canvases.values())
     qtbot.waitUntil(lambda: hasattr(canvases[0], "renderer"))
     assert all(not hasattr(c, "renderer") for c in canvases[1:])
     assert canvases[0].figure.axes and not any(c.figure.axes for c in canvases[1:]), \

@@ -332,7 +332,7 @@ def report_png(report: ContestReport, dpi: int = 100) -> bytes:
     """The four charts as one PNG image."""
     buffer = io.BytesIO()
     # one draw, the layout in it (savefig would draw twice: see the module's docstring)
-    FigureCanvasAgg(report_figure(report, dpi)).print_png(buffer)
+    FigureCanvasAgg(report_figure(report, dpi)).print_png(buffer)  # type: ignore[no-untyped-call]
     return buffer.getvalue()
 
 
@@ -340,8 +340,9 @@ def _svg(figure: Figure) -> str:
     from matplotlib import rc_context
 
     buffer = io.StringIO()
-    with rc_context({"svg.fonttype": "none"}):  # text as text: searchable, no glyph paths
-        FigureCanvasSVG(figure).print_svg(buffer)  # one draw, the layout in it
+    # one draw, the layout in it; the text as text: searchable, no glyph paths
+    with rc_context({"svg.fonttype": "none"}):
+        FigureCanvasSVG(figure).print_svg(buffer)  # type: ignore[no-untyped-call]
     text = buffer.getvalue()
     return text[text.index("<svg") :].strip()  # the element alone, for an HTML page
 

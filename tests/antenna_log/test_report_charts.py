@@ -9,12 +9,12 @@ import xml.etree.ElementTree as ET
 from html.parser import HTMLParser
 
 import pytest
-from antenna_log_support import T0, contest_journal
+from antenna_log_support import T0, MemoryJournal, contest_journal
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.image import imread
 
-from moas_gui.antenna_log.records import Period
+from moas_gui.antenna_log.records import KeySpan, Period
 from moas_gui.antenna_log.report import HOUR, contest_report
 from moas_gui.antenna_log.report_charts import (
     CHARTS,
@@ -141,11 +141,13 @@ def test_the_charts_of_an_empty_period_say_so() -> None:
 
 
 def test_names_are_escaped_in_the_page() -> None:
-    journal = contest_journal()
-    journal.keys[0] = type(journal.keys[0])(1, 1, "<b>Yagi</b> & Co", T0, T0 + 60)
+    # the name where the contest journal's first transmission has its antenna's, alone:
+    # the charts without it draw only their "nothing in this period"
+    journal = MemoryJournal(keys=[KeySpan(1, 1, "<b>Yagi</b> & Co", T0, T0 + 60)])
     page = report_html(contest_report(journal, Period(T0, T0 + 2 * HOUR)))
     assert "<b>Yagi" not in page
-    assert "&lt;b&gt;Yagi&lt;/b&gt; &amp; Co" in page
+    assert "<td>&lt;b&gt;Yagi&lt;/b&gt; &amp; Co</td>" in page  # the table
+    assert "<b>Yagi</b> & Co" in svg_texts(figures(page)["transmit"])  # the chart, as text
 
 
 def test_a_chart_redraws_on_the_same_figure(report) -> None:

@@ -18,7 +18,7 @@ from antenna_log_support import T0, MemoryJournal, contest_journal
 from helpers import until
 from multidict import CIMultiDict
 
-from moas_gui.antenna_log.records import JournalReader, Period
+from moas_gui.antenna_log.records import JournalReader, KeySpan, Period
 from moas_gui.antenna_log.report import HOUR, REPORTS
 from moas_gui.net.server import ClientServer
 from moas_gui.net.web import WebServer
@@ -174,11 +174,17 @@ async def test_a_period_outside_the_journal_says_what_it_holds(site: Site) -> No
             "journal holds 2026-11-18 11:00 UTC to 2026-11-18 13:00 UTC.") in page
 
 
+def one_transmission() -> MemoryJournal:
+    """A journal of one transmission: a whole report (four charts) for the tests that read
+    no more of it than that it came, the three charts without it cheap to draw."""
+    return MemoryJournal(keys=[KeySpan(1, 1, "Yagi 20", T0, T0 + 60)])
+
+
 class HeldJournal(MemoryJournal):
     """A journal whose reading waits until the test lets it go (a report in the making)."""
 
     def __init__(self) -> None:
-        super().__init__(**vars(contest_journal()))
+        super().__init__(**vars(one_transmission()))
         self.go = threading.Event()
 
     def extent(self) -> Period | None:
@@ -225,6 +231,7 @@ async def test_where_a_token_is_needed_a_view_token_shows_the_report(tmp_path: P
     _op, viewer = book.add("wall display", Role.VIEW)
     made = await make_site(allow=["127.0.0.0/8"], require_token=True, operators=book)
     made.clients.local_addresses = ()  # 127.0.0.1 counts as the LAN, which needs a token
+    made.journal = one_transmission()
     try:
         status, text, headers = await made.get("/report")
         assert status == 401 and "needs an operator's token" in text

@@ -5,13 +5,14 @@ as charts, and as an ADIF file.
 for a chosen period, each on a tab, drawn by matplotlib's Qt canvas (a tab's chart is
 drawn when it is on the screen: its tab chosen, the window shown), and exports the
 report as PNG or as one HTML page (drawn and written in the report's thread, in turn
-with the reports).  :class:`AdifExportWindow` writes the contacts of a chosen period as ADIF.  Both read
-the journal they are given (``None``: the journal is turned off) and say plainly when
-there is nothing to show.  The report is read from the journal in the report's own
-thread, one report at a time (:data:`~moas_gui.antenna_log.report.REPORTS`, shared with
-the web page's ``/report``), its period bounded as the page's is; only the charts on
-the screen are drawn on the window's thread.  Their file dialogs open with ``open()``, never ``exec()``:
-the server's event loop keeps running.
+with the reports).  :class:`AdifExportWindow` writes the contacts of a chosen period
+as ADIF.  Both read the journal they are given (``None``: the journal is turned off)
+and say plainly when there is nothing to show.  The report is read from the journal
+in the report's own thread, one report at a time
+(:data:`~moas_gui.antenna_log.report.REPORTS`, shared with the web page's
+``/report``), its period bounded as the page's is; only the charts on the screen are
+drawn on the window's thread.  Their file dialogs open with ``open()``, never
+``exec()``: the server's event loop keeps running.
 """
 
 from __future__ import annotations

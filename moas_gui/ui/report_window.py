@@ -3,14 +3,16 @@ as charts, and as an ADIF file.
 
 :class:`ReportWindow` shows the four charts of :mod:`moas_gui.antenna_log.report_charts`
 for a chosen period, each on a tab, drawn by matplotlib's Qt canvas (a tab's chart is
-drawn when it is shown), and exports the report as PNG or as one HTML page.
-:class:`AdifExportWindow` writes the contacts of a chosen period as ADIF.  Both read
-the journal they are given (``None``: the journal is turned off) and say plainly when
-there is nothing to show.  The report is read from the journal in the report's own
-thread, one report at a time (:data:`~moas_gui.antenna_log.report.REPORTS`, shared with
-the web page's ``/report``), its period bounded as the page's is; only the charts are
-drawn on the window's thread.  Their file dialogs open with ``open()``, never ``exec()``:
-the server's event loop keeps running.
+drawn when it is on the screen: its tab chosen, the window shown), and exports the
+report as PNG or as one HTML page (drawn and written in the report's thread, in turn
+with the reports).  :class:`AdifExportWindow` writes the contacts of a chosen period
+as ADIF.  Both read the journal they are given (``None``: the journal is turned off)
+and say plainly when there is nothing to show.  The report is read from the journal
+in the report's own thread, one report at a time
+(:data:`~moas_gui.antenna_log.report.REPORTS`, shared with the web page's
+``/report``), its period bounded as the page's is; only the charts on the screen are
+drawn on the window's thread.  Their file dialogs open with ``open()``, never
+``exec()``: the server's event loop keeps running.
 """
 
 from __future__ import annotations
@@ -55,6 +57,7 @@ from .qt import (
     QLabel,
     QLineEdit,
     QPushButton,
+    QShowEvent,
     QSpinBox,
     Qt,
     QTabWidget,
@@ -220,6 +223,8 @@ class ReportWindow(_JournalWindow):
 
     _made = Signal(int, object, object)
     """A report asked for came from the report's thread (number, :class:`_Made`, error)."""
+    _saved = Signal(str, object)
+    """An export was written, or not, in the report's thread (path, error or None)."""
 
     def __init__(
         self,
@@ -259,6 +264,7 @@ class ReportWindow(_JournalWindow):
         self.pending = False
         """A report asked for has not come yet."""
         self._made.connect(self._show)
+        self._saved.connect(self._said_saved)
         self.chooser.changed.connect(self.refresh)
         self.tabs.currentChanged.connect(self._draw_shown)
         self.export_png.clicked.connect(self.save_png)
@@ -326,11 +332,19 @@ class ReportWindow(_JournalWindow):
         self._stale = set(self.canvases)
         self._draw_shown()
 
+    def showEvent(self, event: QShowEvent) -> None:
+        super().showEvent(event)
+        self._draw_shown()  # a report that came while the window was hidden
+
     def _draw_shown(self) -> None:
         """Draws and renders the chart of the tab shown, if the report changed since it
         was drawn (the other tabs wait until shown: each takes a moment of the loop's
-        thread)."""
+        thread); none while the window is hidden (a report that comes before the window
+        is shown, or after it was closed, would be rendered for nobody, and once more at
+        the size the window then has)."""
         shown = self.tabs.currentWidget()
+        if not shown.isVisible():
+            return
         for kind, canvas in self.canvases.items():
             if canvas is shown and kind in self._stale and self.report is not None:
                 self._stale.discard(kind)
@@ -366,16 +380,27 @@ class ReportWindow(_JournalWindow):
             )
 
     def _save(self, path: str, write: Callable[[], None]) -> None:
+        """Draws and writes the export in the report's thread, one at a time with the
+        reports (not on the window's thread, which is the loop's: a PNG and an HTML
+        page take some 0.3 s each); the window says how it went when it is done."""
         if not path:
             return
-        try:
-            write()
-        except OSError as exc:
-            self.status.setText(f"Could not save {path}: {exc.strerror or exc}")
-            log.error("Could not save the contest report to %s: %s", path, exc.strerror or exc)
-        else:
+        self.status.setText(f"Saving {path}...")
+        REPORTS.start(write, partial(self._written, path))
+
+    def _written(self, path: str, _result: None, error: BaseException | None) -> None:
+        # in the report's thread: handed to the window's (a queued signal)
+        with contextlib.suppress(RuntimeError):  # the window is gone
+            self._saved.emit(path, error)
+
+    def _said_saved(self, path: str, error: BaseException | None) -> None:
+        if error is None:
             self.status.setText(f"Saved {path}")
             log.info("Contest report saved to %s", path)
+            return
+        why = error.strerror if isinstance(error, OSError) and error.strerror else str(error)
+        self.status.setText(f"Could not save {path}: {why}")
+        log.error("Could not save the contest report to %s: %s", path, why)
 
 
 class AdifExportWindow(_JournalWindow):

@@ -9,12 +9,12 @@ import xml.etree.ElementTree as ET
 from html.parser import HTMLParser
 
 import pytest
-from antenna_log_support import T0, contest_journal
+from antenna_log_support import T0, MemoryJournal, contest_journal
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.image import imread
 
-from moas_gui.antenna_log.records import Period
+from moas_gui.antenna_log.records import KeySpan, Period
 from moas_gui.antenna_log.report import HOUR, contest_report
 from moas_gui.antenna_log.report_charts import (
     CHARTS,
@@ -22,7 +22,6 @@ from moas_gui.antenna_log.report_charts import (
     period_text,
     report_html,
     report_png,
-    report_svgs,
 )
 
 SVG = "{http://www.w3.org/2000/svg}"
@@ -123,24 +122,32 @@ def test_the_page_gives_the_numbers_per_antenna(page: str, report) -> None:
     assert f"{period_text(report)}: 15 QSOs" in page
 
 
+def figures(page: str) -> dict[str, str]:
+    """The page's charts (its ``report_svgs``), by key."""
+    return dict(re.findall(r'<figure id="(\w+)">(<svg.*?</svg>)</figure>', page, re.DOTALL))
+
+
 def test_the_charts_of_an_empty_period_say_so() -> None:
     empty = contest_report(contest_journal(), Period(T0 - 2 * HOUR, T0 - HOUR))
-    svgs = report_svgs(empty)
+    page = report_html(empty)  # the charts rendered once: read off the page
+    svgs = figures(page)
+    assert list(svgs) == list(CHARTS)
     assert "No contacts in this period" in svg_texts(svgs["qsos"])
     assert "No contacts in this period" in svg_texts(svgs["rate"])
     assert "No transmissions in this period" in svg_texts(svgs["transmit"])
     assert "No antenna in use in this period" in svg_texts(svgs["timeline"])
-    page = report_html(empty)
     assert "Nothing was recorded in this period." in page
     assert parsed(page).rows == [["Antenna", "QSOs", "Minutes transmitted"]]
 
 
 def test_names_are_escaped_in_the_page() -> None:
-    journal = contest_journal()
-    journal.keys[0] = type(journal.keys[0])(1, 1, "<b>Yagi</b> & Co", T0, T0 + 60)
+    # the name where the contest journal's first transmission has its antenna's, alone:
+    # the charts without it draw only their "nothing in this period"
+    journal = MemoryJournal(keys=[KeySpan(1, 1, "<b>Yagi</b> & Co", T0, T0 + 60)])
     page = report_html(contest_report(journal, Period(T0, T0 + 2 * HOUR)))
     assert "<b>Yagi" not in page
-    assert "&lt;b&gt;Yagi&lt;/b&gt; &amp; Co" in page
+    assert "<td>&lt;b&gt;Yagi&lt;/b&gt; &amp; Co</td>" in page  # the table
+    assert "<b>Yagi</b> & Co" in svg_texts(figures(page)["transmit"])  # the chart, as text
 
 
 def test_a_chart_redraws_on_the_same_figure(report) -> None:

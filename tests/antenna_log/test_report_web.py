@@ -16,8 +16,9 @@ import pytest
 import pytest_asyncio
 from antenna_log_support import T0, MemoryJournal, contest_journal
 from helpers import until
+from multidict import CIMultiDict
 
-from moas_gui.antenna_log.records import JournalReader, Period
+from moas_gui.antenna_log.records import JournalReader, KeySpan, Period
 from moas_gui.antenna_log.report import HOUR, REPORTS
 from moas_gui.net.server import ClientServer
 from moas_gui.net.web import WebServer
@@ -71,14 +72,30 @@ async def site() -> AsyncIterator[Site]:
     await made.close()
 
 
+@pytest.fixture(scope="module")
+def lan_report() -> tuple[int, str, CIMultiDict[str]]:
+    """``/report`` (the whole journal) asked once from the LAN of a site open to it
+    without ``require_token``: status, page and headers.  The tests that only read that
+    page share it (one report drawn for them, not one each)."""
+    async def ask() -> tuple[int, str, CIMultiDict[str]]:
+        made = await make_site(allow=["127.0.0.0/8"])
+        made.clients.local_addresses = ()  # 127.0.0.1 counts as the LAN
+        try:
+            status, page, headers = await made.get("/report")
+            return status, page, CIMultiDict(headers)
+        finally:
+            await made.close()
+    return asyncio.run(ask())
+
+
 def cells(page: str) -> list[list[str]]:
     rows = re.findall(r"<tr>(.*?)</tr>", page)
     return [re.findall(r"<t[dh]>(.*?)</t[dh]>", row) for row in rows]
 
 
-@pytest.mark.asyncio
-async def test_the_report_page_holds_the_charts_and_the_numbers(site: Site) -> None:
-    status, page, headers = await site.get("/report")
+def test_the_report_page_holds_the_charts_and_the_numbers(
+        lan_report: tuple[int, str, CIMultiDict[str]]) -> None:
+    status, page, headers = lan_report
     assert status == 200
     assert headers["Content-Type"] == "text/html; charset=utf-8"
     assert "script-src" not in headers["Content-Security-Policy"]
@@ -157,11 +174,17 @@ async def test_a_period_outside_the_journal_says_what_it_holds(site: Site) -> No
             "journal holds 2026-11-18 11:00 UTC to 2026-11-18 13:00 UTC.") in page
 
 
+def one_transmission() -> MemoryJournal:
+    """A journal of one transmission: a whole report (four charts) for the tests that read
+    no more of it than that it came, the three charts without it cheap to draw."""
+    return MemoryJournal(keys=[KeySpan(1, 1, "Yagi 20", T0, T0 + 60)])
+
+
 class HeldJournal(MemoryJournal):
     """A journal whose reading waits until the test lets it go (a report in the making)."""
 
     def __init__(self) -> None:
-        super().__init__(**vars(contest_journal()))
+        super().__init__(**vars(one_transmission()))
         self.go = threading.Event()
 
     def extent(self) -> Period | None:
@@ -208,6 +231,7 @@ async def test_where_a_token_is_needed_a_view_token_shows_the_report(tmp_path: P
     _op, viewer = book.add("wall display", Role.VIEW)
     made = await make_site(allow=["127.0.0.0/8"], require_token=True, operators=book)
     made.clients.local_addresses = ()  # 127.0.0.1 counts as the LAN, which needs a token
+    made.journal = one_transmission()
     try:
         status, text, headers = await made.get("/report")
         assert status == 401 and "needs an operator's token" in text
@@ -224,15 +248,10 @@ async def test_where_a_token_is_needed_a_view_token_shows_the_report(tmp_path: P
         await made.close()
 
 
-@pytest.mark.asyncio
-async def test_the_page_is_open_to_the_lan_without_require_token() -> None:
-    made = await make_site(allow=["127.0.0.0/8"])
-    made.clients.local_addresses = ()
-    try:
-        status, page, _ = await made.get("/report")
-        assert status == 200 and page.count("<svg") == 4
-    finally:
-        await made.close()
+def test_the_page_is_open_to_the_lan_without_require_token(
+        lan_report: tuple[int, str, CIMultiDict[str]]) -> None:
+    status, page, _ = lan_report  # asked from the LAN, no token
+    assert status == 200 and page.count("<svg") == 4
 
 
 @pytest.mark.asyncio

@@ -75,11 +75,10 @@ def test_the_report_shows_the_whole_journal(qtbot: Any, tmp_path: Path) -> None:
     twenty = ((abs(image[..., 0] - red) < 0.02) & (abs(image[..., 1] - green) < 0.02)
               & (abs(image[..., 2] - blue) < 0.02))
     assert twenty.sum() > 5000
-    if SCREENSHOTS:
+    if SCREENSHOTS:  # the timeline's tab is drawn only for its picture
         window.grab().save(str(Path(SCREENSHOTS) / "contest-report.png"))
-    window.tabs.setCurrentIndex(3)
-    qtbot.wait(50)
-    if SCREENSHOTS:
+        window.tabs.setCurrentIndex(3)
+        qtbot.waitUntil(lambda: hasattr(window.canvases["timeline"], "renderer"))
         window.grab().save(str(Path(SCREENSHOTS) / "contest-report-timeline.png"))
 
 
@@ -144,24 +143,37 @@ def test_export_png_and_html(qtbot: Any, tmp_path: Path) -> None:
     made(qtbot, window)
     png, page = tmp_path / "r.png", tmp_path / "r.html"
     titles = answer_with(window, str(png), str(page))
-    window.export_png.click()
+    other = ReportWindow(held := HeldJournal())  # a report in the making holds the desk
+    qtbot.addWidget(other)
+    qtbot.waitUntil(lambda: REPORTS.busy)
+    try:
+        window.export_png.click()  # drawn and written in the report's thread, in its turn
+        assert window.status.text() == f"Saving {png}..." and not png.exists()
+    finally:
+        held.go.set()
+    qtbot.waitUntil(lambda: window.status.text() == f"Saved {png}", timeout=20_000)
     window.export_html.click()
+    qtbot.waitUntil(lambda: window.status.text() == f"Saved {page}", timeout=20_000)
     assert titles == ["Export the contest report as PNG", "Export the contest report as HTML"]
     assert imread(str(png)).shape[:2] == (900, 1600)
     text = page.read_text(encoding="utf-8")
     assert text.count("<svg") == 4 and "<td>4-Square</td><td>6</td>" in text
-    assert window.status.text() == f"Saved {page}"
 
 
 def test_an_export_that_cannot_be_written_says_why(qtbot: Any, tmp_path: Path) -> None:
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
     made(qtbot, window)
-    target = tmp_path / "missing" / "r.html"
-    answer_with(window, str(target))
+    target, image = tmp_path / "missing" / "r.html", tmp_path / "missing" / "r.png"
+    answer_with(window, str(target), str(image))
     window.export_html.click()
-    assert window.status.text().startswith(f"Could not save {target}: ")
+    qtbot.waitUntil(lambda: window.status.text().startswith(f"Could not save {target}: "),
+                    timeout=20_000)
     assert not target.exists()
+    window.export_png.click()
+    qtbot.waitUntil(lambda: window.status.text()
+                    == f"Could not save {image}: No such file or directory", timeout=20_000)
+    assert not image.exists()
 
 
 def test_export_antenna_log_writes_the_chosen_period(qtbot: Any, tmp_path: Path) -> None:
@@ -197,9 +209,10 @@ def test_only_the_tab_shown_is_rendered_until_another_is_chosen(qtbot: Any) -> N
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
     made(qtbot, window)
+    canvases = list(window.canvases.values())
+    assert not any(c.figure.axes for c in canvases), "nothing drawn while the window is hidden"
     window.show()
     qtbot.waitExposed(window)
-    canvases = list(window.canvases.values())
     qtbot.waitUntil(lambda: hasattr(canvases[0], "renderer"))
     assert all(not hasattr(c, "renderer") for c in canvases[1:])
     assert canvases[0].figure.axes and not any(c.figure.axes for c in canvases[1:]), \

@@ -1,0 +1,95 @@
+"""A server loads the parts of the program its station uses, and the others only when used
+(issue 41): a tower computer (a Raspberry Pi) starts faster when a station with a Test
+rotator and N1MM Logger does not load the Rotator Genius, Hamlib and MOAS Rotator drivers,
+the FlexRadio API, the Antenna Genius front and so on.  One headless server on
+``examples/small-station.moas`` is traced with ``python -X importtime`` from its start to a
+client's ``state`` answered; the modules of the parts its station has are seen loaded (the
+check can fire), those of the parts it has not are not."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from helpers import free_port, wait_for
+from test_headless_imports import EXAMPLE, ask_state, imported
+
+pytestmark = [
+    pytest.mark.realtime,
+    pytest.mark.skipif(sys.platform == "win32", reason="the server is stopped with SIGTERM"),
+]
+
+USED = {
+    # the station's Test rotator and its N1MM Logger feed
+    "moas_gui.hw.rotators.manager", "moas_gui.hw.rotators.simulated", "moas_gui.sources.n1mm",
+}
+"""Modules of parts small-station.moas has: seen loaded, so the trace is read right."""
+
+NOT_USED = {
+    # rotators of kinds the station has none of
+    "moas_gui.hw.rotators.genius", "moas_gui.hw.rotators.genius_codec",
+    "moas_gui.hw.rotators.hamlib", "moas_gui.hw.rotators.hamlib_codec",
+    "moas_gui.hw.rotators.moas_rotator_codec", "moas_gui.hw.rotators.moas_rotator_link",
+    "moas_gui.hw.rotators.moas_rotator_process", "moas_gui.hw.rotators.controllers",
+    "moas_gui.hw.rotators.controllers.models",
+}
+"""Modules of parts small-station.moas does not have: loaded only when a station has them."""
+
+
+@pytest.fixture(scope="module")
+def trace(tmp_path_factory: pytest.TempPathFactory) -> str:
+    """The import trace of one headless server's run: start, a ``state`` answered, SIGTERM."""
+    folder = tmp_path_factory.mktemp("start")
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    for name in ("XDG_RUNTIME_DIR", "XDG_CONFIG_HOME", "XDG_DATA_HOME", "XDG_STATE_HOME",
+                 "XDG_CACHE_HOME"):
+        place = folder / name.lower()
+        place.mkdir(mode=0o700)
+        env[name] = str(place)
+    env.pop("QT_QPA_PLATFORM", None)
+    tcp = free_port()
+    log = folder / "stderr.txt"
+    with log.open("w") as stderr:
+        server = subprocess.Popen(
+            [sys.executable, "-X", "importtime", "-m", "moas_gui.cli.server", str(EXAMPLE),
+             "--headless", "--new-instance", "--bind", "127.0.0.1", "--tcp-port", str(tcp),
+             "--udp-port", "0", "--udp-bind", "127.0.0.1", "--no-rotator-program"],
+            stderr=stderr, env=env)
+    try:
+        state = wait_for(lambda: server.poll() is not None or ask_state(tcp), timeout=60,
+                         what="the headless server answering a client")
+        assert server.poll() is None, log.read_text()[-3000:]
+        assert isinstance(state, dict) and state.get("config") == "small-station.moas"
+        server.send_signal(signal.SIGTERM)
+        server.wait(60)
+    finally:
+        if server.poll() is None:
+            server.kill()
+            server.wait()
+    text = log.read_text()
+    assert server.returncode == 0, text[-3000:]
+    return text
+
+
+@pytest.mark.timeout(90)
+def test_the_parts_the_station_has_are_loaded(trace: str) -> None:
+    assert USED <= imported(trace), sorted(USED - imported(trace))
+
+
+@pytest.mark.timeout(90)
+def test_the_parts_the_station_has_not_are_not_loaded(trace: str) -> None:
+    assert sorted(NOT_USED & imported(trace)) == []
+
+
+def test_the_check_fires_on_a_module_loaded_at_start(tmp_path: Path) -> None:
+    """A program that loads one of them at start is seen to."""
+    done = subprocess.run([sys.executable, "-X", "importtime", "-c",
+                           "import moas_gui.hw.rotators.genius"],
+                          capture_output=True, text=True, timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert {"moas_gui.hw.rotators.genius", "moas_gui.hw.rotators.genius_codec"} \
+        <= NOT_USED & imported(done.stderr)

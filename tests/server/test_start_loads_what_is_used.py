@@ -36,6 +36,10 @@ NOT_USED = {
     "moas_gui.hw.rotators.moas_rotator_codec", "moas_gui.hw.rotators.moas_rotator_link",
     "moas_gui.hw.rotators.moas_rotator_process", "moas_gui.hw.rotators.controllers",
     "moas_gui.hw.rotators.controllers.models",
+    # frequency sources the station does not turn on
+    "moas_gui.sources.flex", "moas_gui.sources.flex_api", "moas_gui.sources.flex_discovery",
+    "moas_gui.sources.dxlog", "moas_gui.sources.wintest", "moas_gui.sources.wintest_frame",
+    "moas_gui.sources.n1mm_rotor", "moas_gui.sources.n1mm_rotor_packet",
 }
 """Modules of parts small-station.moas does not have: loaded only when a station has them."""
 
@@ -93,3 +97,11 @@ def test_the_check_fires_on_a_module_loaded_at_start(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     assert {"moas_gui.hw.rotators.genius", "moas_gui.hw.rotators.genius_codec"} \
         <= NOT_USED & imported(done.stderr)
+
+
+def test_the_written_out_flex_port_is_the_api_port() -> None:
+    """The sources' settings name FlexRadio's discovery port without loading its API."""
+    from moas_gui.sources.flex_api import API_PORT
+    from moas_gui.sources.server import SourceSettings
+
+    assert SourceSettings().flex_discovery_port == API_PORT

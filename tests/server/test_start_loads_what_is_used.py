@@ -40,6 +40,10 @@ NOT_USED = {
     "moas_gui.sources.flex", "moas_gui.sources.flex_api", "moas_gui.sources.flex_discovery",
     "moas_gui.sources.dxlog", "moas_gui.sources.wintest", "moas_gui.sources.wintest_frame",
     "moas_gui.sources.n1mm_rotor", "moas_gui.sources.n1mm_rotor_packet",
+    # the Antenna Genius front (no AGPort) and the rotctld ports (no RotctldPort)
+    "moas_gui.net.antenna_genius", "moas_gui.net.antenna_genius.server",
+    "moas_gui.net.antenna_genius.codec", "moas_gui.net.antenna_genius.access",
+    "moas_gui.net.rotctld_server", "moas_gui.net.rotctld_codec",
 }
 """Modules of parts small-station.moas does not have: loaded only when a station has them."""
 

@@ -44,6 +44,8 @@ NOT_USED = {
     "moas_gui.net.antenna_genius", "moas_gui.net.antenna_genius.server",
     "moas_gui.net.antenna_genius.codec", "moas_gui.net.antenna_genius.access",
     "moas_gui.net.rotctld_server", "moas_gui.net.rotctld_codec",
+    # the station builder (the server answers its restart requests without it)
+    "moas_gui.builder", "moas_gui.builder.apply", "moas_gui.builder.document",
 }
 """Modules of parts small-station.moas does not have: loaded only when a station has them."""
 

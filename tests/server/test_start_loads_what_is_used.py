@@ -1,13 +1,15 @@
 """A server loads the parts of the program its station uses, and the others only when used
 (issue 41): a tower computer (a Raspberry Pi) starts faster when a station with a Test
 rotator and N1MM Logger does not load the Rotator Genius, Hamlib and MOAS Rotator drivers,
-the FlexRadio API, the Antenna Genius front and so on.  One headless server on
-``examples/small-station.moas`` is traced with ``python -X importtime`` from its start to a
+the FlexRadio API, the Antenna Genius front, the built-in emulator and so on.  One headless
+server on ``examples/small-station.moas`` with its switch on a serial port (one that is not
+there: the server waits for it) is traced with ``python -X importtime`` from its start to a
 client's ``state`` answered; the modules of the parts its station has are seen loaded (the
 check can fire), those of the parts it has not are not."""
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -24,8 +26,9 @@ pytestmark = [
 ]
 
 USED = {
-    # the station's Test rotator and its N1MM Logger feed
+    # the station's Test rotator, its N1MM Logger feed and its switch's serial port
     "moas_gui.hw.rotators.manager", "moas_gui.hw.rotators.simulated", "moas_gui.sources.n1mm",
+    "moas_gui.serial.port", "serial",
 }
 """Modules of parts small-station.moas has: seen loaded, so the trace is read right."""
 
@@ -46,6 +49,9 @@ NOT_USED = {
     "moas_gui.net.rotctld_server", "moas_gui.net.rotctld_codec",
     # the station builder (the server answers its restart requests without it)
     "moas_gui.builder", "moas_gui.builder.apply", "moas_gui.builder.document",
+    # the built-in emulator (no switch's Port is "emulator")
+    "moas_gui.hw.moas2.emulator", "moas_gui.hw.moas2.emulator.box",
+    "moas_gui.hw.moas2.emulator.model",
 }
 """Modules of parts small-station.moas does not have: loaded only when a station has them."""
 
@@ -61,11 +67,17 @@ def trace(tmp_path_factory: pytest.TempPathFactory) -> str:
         place.mkdir(mode=0o700)
         env[name] = str(place)
     env.pop("QT_QPA_PLATFORM", None)
+    station = folder / "serial-station.moas"
+    text = EXAMPLE.read_text(encoding="utf-8")
+    assert text.count('"Port": "emulator"') == 1
+    station.write_text(text.replace('"Port": "emulator"',
+                                    json.dumps({"Port": str(folder / "no-such-port")})[1:-1]),
+                       encoding="utf-8")
     tcp = free_port()
     log = folder / "stderr.txt"
     with log.open("w") as stderr:
         server = subprocess.Popen(
-            [sys.executable, "-X", "importtime", "-m", "moas_gui.cli.server", str(EXAMPLE),
+            [sys.executable, "-X", "importtime", "-m", "moas_gui.cli.server", str(station),
              "--headless", "--new-instance", "--bind", "127.0.0.1", "--tcp-port", str(tcp),
              "--udp-port", "0", "--udp-bind", "127.0.0.1", "--no-rotator-program"],
             stderr=stderr, env=env)
@@ -73,16 +85,17 @@ def trace(tmp_path_factory: pytest.TempPathFactory) -> str:
         state = wait_for(lambda: server.poll() is not None or ask_state(tcp), timeout=60,
                          what="the headless server answering a client")
         assert server.poll() is None, log.read_text()[-3000:]
-        assert isinstance(state, dict) and state.get("config") == "small-station.moas"
+        assert isinstance(state, dict) and state.get("config") == station.name
         server.send_signal(signal.SIGTERM)
         server.wait(60)
     finally:
         if server.poll() is None:
             server.kill()
             server.wait()
-    text = log.read_text()
-    assert server.returncode == 0, text[-3000:]
-    return text
+    trace = log.read_text()
+    assert server.returncode == 0, trace[-3000:]
+    assert "cannot open the port" in trace, trace[-3000:]
+    return trace
 
 
 @pytest.mark.timeout(90)

@@ -29,6 +29,8 @@ USED = {
     # the station's Test rotator, its N1MM Logger feed and its switch's serial port
     "moas_gui.hw.rotators.manager", "moas_gui.hw.rotators.simulated", "moas_gui.sources.n1mm",
     "moas_gui.serial.port", "serial",
+    # the client server's memory trimming (its C library is looked up when first used)
+    "moas_gui.net.memory",
 }
 """Modules of parts small-station.moas has: seen loaded, so the trace is read right."""
 
@@ -52,6 +54,8 @@ NOT_USED = {
     # the built-in emulator (no switch's Port is "emulator")
     "moas_gui.hw.moas2.emulator", "moas_gui.hw.moas2.emulator.box",
     "moas_gui.hw.moas2.emulator.model",
+    # ctypes and the C library's malloc_trim, until a crowd of clients has left
+    "ctypes",
 }
 """Modules of parts small-station.moas does not have: loaded only when a station has them."""
 

@@ -128,3 +128,22 @@ def test_the_written_out_flex_port_is_the_api_port() -> None:
     from moas_gui.sources.server import SourceSettings
 
     assert SourceSettings().flex_discovery_port == API_PORT
+
+
+def test_the_rotator_program_loads_no_configuration_and_no_rotator_drivers() -> None:
+    """``moas-rotator`` runs serial controllers from ``controllers/`` and the MOAS Rotator
+    codec: the rotators package hands out its drivers and manager only when asked, so
+    the program loads neither them nor the configuration they read (a tenth of its
+    start-up before)."""
+    probe = ("import sys, moas_gui.cli.rotator, moas_gui.rotator_program.program\n"
+             "print(sorted(m for m in ('moas_gui.config', 'moas_gui.hw.rotators.base', "
+             "'moas_gui.hw.rotators.manager') if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]", done.stdout
+    asked = subprocess.run([sys.executable, "-c", "import sys\n"
+                            "from moas_gui.hw.rotators import RotatorManager\n"
+                            "print('moas_gui.config' in sys.modules)"],
+                           capture_output=True, text=True, timeout=60, check=False)
+    assert asked.stdout.strip() == "True", asked.stdout + asked.stderr

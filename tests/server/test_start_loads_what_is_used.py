@@ -147,3 +147,18 @@ def test_the_rotator_program_loads_no_configuration_and_no_rotator_drivers() -> 
                             "print('moas_gui.config' in sys.modules)"],
                            capture_output=True, text=True, timeout=60, check=False)
     assert asked.stdout.strip() == "True", asked.stdout + asked.stderr
+
+
+def test_the_programs_load_platformdirs_when_a_directory_is_asked_for() -> None:
+    """``moas-emulator``, ``moas-client`` and ``moas-server --check`` start without
+    platformdirs (and the tempfile, shutil and random it brings): the directories are
+    looked up when first asked for."""
+    probe = ("import sys, moas_gui.cli.emulator, moas_gui.cli.client, moas_gui.cli.server\n"
+             "from moas_gui import places\n"
+             "before = 'platformdirs' in sys.modules\n"
+             "places.state_dir()\n"
+             "print(before, 'platformdirs' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "False True", done.stdout

@@ -162,3 +162,19 @@ def test_the_programs_load_platformdirs_when_a_directory_is_asked_for() -> None:
                           timeout=60, check=False)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "False True", done.stdout
+
+
+def test_the_client_reads_its_sources_without_the_configuration_model() -> None:
+    """``moas-client --source`` parses rig sources with the rig entries' rules alone: the
+    configuration package hands out its model and reader only when asked for."""
+    probe = ("import sys, moas_gui.cli.client\n"
+             "from moas_gui.sources.spec import parse_spec\n"
+             "parse_spec('rigctld:127.0.0.1:4532,station=1,radio=1')\n"
+             "before = sorted(m for m in ('moas_gui.config.model', 'moas_gui.config.loader') "
+             "if m in sys.modules)\n"
+             "from moas_gui.config import Config\n"
+             "print(before, 'moas_gui.config.model' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          timeout=60, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[] True", done.stdout

@@ -178,3 +178,24 @@ def test_the_client_reads_its_sources_without_the_configuration_model() -> None:
                           timeout=60, check=False)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[] True", done.stdout
+
+
+def test_the_display_check_loads_ctypes_only_to_ask_an_x_server() -> None:
+    """A window program checks its display first: on a windowless platform (offscreen)
+    the check needs no ctypes; asking an X server (here one that is not there) loads it."""
+    probe = ("import sys\n"
+             "from moas_gui.ui.display import display_problem\n"
+             "print(display_problem(), 'ctypes' in sys.modules)")
+    env = {key: value for key, value in os.environ.items()
+           if key not in ("QT_QPA_PLATFORM", "WAYLAND_DISPLAY", "DISPLAY")}
+    offscreen = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                               env=dict(env, QT_QPA_PLATFORM="offscreen"), timeout=60,
+                               check=False)
+    assert offscreen.stdout.strip() == "None False", offscreen.stdout + offscreen.stderr
+    x11 = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         env=dict(env, DISPLAY=":97"), timeout=60, check=False)
+    if sys.platform == "darwin":  # macOS windows open without asking an X server
+        assert x11.stdout.strip() == "None False", x11.stdout + x11.stderr
+        return
+    assert x11.stdout.strip().startswith("cannot open the display :97"), x11.stdout + x11.stderr
+    assert x11.stdout.strip().endswith(" True"), x11.stdout

@@ -142,10 +142,10 @@ def test_the_rotator_program_loads_no_configuration_and_no_rotator_drivers() -> 
                           timeout=60, check=False)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]", done.stdout
-    asked = subprocess.run([sys.executable, "-c", "import sys\n"
-                            "from moas_gui.hw.rotators import RotatorManager\n"
-                            "print('moas_gui.config' in sys.modules)"],
-                           capture_output=True, text=True, timeout=60, check=False)
+    asking = ("import sys\n"
+              "from moas_gui.hw.rotators import RotatorManager\n"
+              "print('moas_gui.config' in sys.modules)")
+    asked = subprocess.run([sys.executable, "-c", asking], capture_output=True, text=True, timeout=60, check=False)
     assert asked.stdout.strip() == "True", asked.stdout + asked.stderr
 
 

@@ -199,3 +199,20 @@ def test_the_display_check_loads_ctypes_only_to_ask_an_x_server() -> None:
         return
     assert x11.stdout.strip().startswith("cannot open the display :97"), x11.stdout + x11.stderr
     assert x11.stdout.strip().endswith(" True"), x11.stdout
+
+
+def test_a_window_builds_the_qt_types_it_uses() -> None:
+    """The Qt names of :mod:`moas_gui.ui.qt` are looked up when first asked for (PySide6
+    builds a class's type then): the server window's modules build its own, not the
+    builder's tables and splitters; a name asked for later is the same Qt class."""
+    probe = ("import moas_gui.ui.server_window\n"
+             "from moas_gui.ui import qt\n"
+             "held = vars(qt)\n"
+             "before = ['QMainWindow' in held, 'QTableWidget' in held, 'QSplitter' in held]\n"
+             "from PySide6.QtWidgets import QTableWidget\n"
+             "print(before, qt.QTableWidget is QTableWidget, 'QTableWidget' in vars(qt))")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          env=dict(os.environ, QT_QPA_PLATFORM="offscreen"), timeout=60,
+                          check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[True, False, False] True True", done.stdout

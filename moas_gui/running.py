@@ -53,17 +53,18 @@ from moas_gui.net.secrets import SecretGuard
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
 from moas_gui.source_intake import Act, SourceIntake
 from moas_gui.sources.base import SourceSink
-from moas_gui.sources.n1mm import ContactCallback, N1MMListener
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 from moas_gui.sources.spec import SourceSpec
 from moas_gui.state_store import SavedState, StateKeeper, switch_to_data
 
 if TYPE_CHECKING:
     # loaded only when a station asks for them: the web server (aiohttp), the Antenna
-    # Genius front (AGPort, --ag-port) and the rotctld ports (a rotator's RotctldPort)
+    # Genius front (AGPort, --ag-port), the rotctld ports (a rotator's RotctldPort) and
+    # the N1MM Logger listener (UseN1MMLogger)
     from moas_gui.net.antenna_genius.server import AgBackend, AgServer
     from moas_gui.net.rotctld_server import RotctldServer
     from moas_gui.net.web import WebServer
+    from moas_gui.sources.n1mm import ContactCallback, N1MMListener
 
 from moas_gui.net.access import allowed_networks, parse_allow_list
 from moas_gui.net.identity import Identity, anonymous, as_operator

@@ -23,19 +23,19 @@ from typing import TYPE_CHECKING, TypeVar
 
 from moas_gui.config.model import Config
 from moas_gui.sources.base import DEFAULT_RETRY, Bursts, SourceHub, SourceSink
-from moas_gui.sources.n1mm import ContactCallback, N1MMListener
 from moas_gui.sources.otrsp import OtrspSource
 from moas_gui.sources.polling import PolledRig
 from moas_gui.sources.spec import SourceSpec, config_specs, make_source
 from moas_gui.sources.udp import DatagramSource
 
 if TYPE_CHECKING:
-    # The listeners a configuration may leave off (DXLog.net, Win-Test, N1MM's rotor
-    # window, FlexRadios) are loaded when it turns them on: a station without them
-    # starts without their codecs.
+    # The listeners a configuration may leave off (N1MM Logger, DXLog.net, Win-Test,
+    # N1MM's rotor window, FlexRadios) are loaded when it turns them on: a station
+    # without them starts without their codecs.
     from moas_gui.sources.dxlog import DXLogListener
     from moas_gui.sources.flex import FlexSource
     from moas_gui.sources.flex_api import RadioRef, SliceMap
+    from moas_gui.sources.n1mm import ContactCallback, N1MMListener
     from moas_gui.sources.n1mm_rotor import N1MMRotorServer
     from moas_gui.sources.wintest import WinTestListener
 
@@ -116,6 +116,8 @@ class ServerSources:
         n1mm_port = c.udp_port if s.udp_port is None else s.udp_port
         dxlog_port = c.dxlog_port if s.dxlog_port is None else s.dxlog_port
         if c.use_n1mm_logger:
+            from moas_gui.sources.n1mm import N1MMListener
+
             self.n1mm = await self._bind(
                 N1MMListener(c.n1mm_logger, on_event=self.hub, on_contact=self._contacts,
                              port=n1mm_port, host=host),

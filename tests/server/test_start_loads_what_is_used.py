@@ -3,7 +3,7 @@
 rotator and N1MM Logger does not load the Rotator Genius, Hamlib and MOAS Rotator drivers,
 the FlexRadio API, the Antenna Genius front, the built-in emulator and so on.  One headless
 server on ``examples/small-station.moas`` with its switch on a serial port (one that is not
-there: the server waits for it) is traced with ``python -X importtime`` from its start to a
+there: the server waits for it) and N1MM Logger off is traced with ``python -X importtime`` from its start to a
 client's ``state`` answered; the modules of the parts its station has are seen loaded (the
 check can fire), those of the parts it has not are not."""
 
@@ -26,9 +26,9 @@ pytestmark = [
 ]
 
 USED = {
-    # the station's Test rotator, its N1MM Logger feed and its switch's serial port
-    "moas_gui.hw.rotators.manager", "moas_gui.hw.rotators.simulated", "moas_gui.sources.n1mm",
-    "moas_gui.serial.port", "serial",
+    # the station's Test rotator and its switch's serial port
+    "moas_gui.hw.rotators.manager", "moas_gui.hw.rotators.simulated", "moas_gui.serial.port",
+    "serial",
     # the client server's memory trimming (its C library is looked up when first used)
     "moas_gui.net.memory",
 }
@@ -41,7 +41,8 @@ NOT_USED = {
     "moas_gui.hw.rotators.moas_rotator_codec", "moas_gui.hw.rotators.moas_rotator_link",
     "moas_gui.hw.rotators.moas_rotator_process", "moas_gui.hw.rotators.controllers",
     "moas_gui.hw.rotators.controllers.models",
-    # frequency sources the station does not turn on
+    # frequency sources the station does not turn on (N1MM Logger's packets are XML)
+    "moas_gui.sources.n1mm", "moas_gui.sources.n1mm_packet", "xml.etree.ElementTree",
     "moas_gui.sources.flex", "moas_gui.sources.flex_api", "moas_gui.sources.flex_discovery",
     "moas_gui.sources.dxlog", "moas_gui.sources.wintest", "moas_gui.sources.wintest_frame",
     "moas_gui.sources.n1mm_rotor", "moas_gui.sources.n1mm_rotor_packet",
@@ -73,9 +74,10 @@ def trace(tmp_path_factory: pytest.TempPathFactory) -> str:
     env.pop("QT_QPA_PLATFORM", None)
     station = folder / "serial-station.moas"
     text = EXAMPLE.read_text(encoding="utf-8")
-    assert text.count('"Port": "emulator"') == 1
-    station.write_text(text.replace('"Port": "emulator"',
-                                    json.dumps({"Port": str(folder / "no-such-port")})[1:-1]),
+    assert text.count('"Port": "emulator"') == 1 and text.count('"UseN1MMLogger": true') == 1
+    text = text.replace('"Port": "emulator"',
+                        json.dumps({"Port": str(folder / "no-such-port")})[1:-1])
+    station.write_text(text.replace('"UseN1MMLogger": true', '"UseN1MMLogger": false'),
                        encoding="utf-8")
     tcp = free_port()
     log = folder / "stderr.txt"

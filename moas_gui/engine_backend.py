@@ -14,7 +14,7 @@ import asyncio
 import logging
 import time
 from collections.abc import Callable
-from typing import Protocol, TypeVar
+from typing import TYPE_CHECKING, Protocol, TypeVar
 
 from moas_gui.engine import Engine
 from moas_gui.engine.operations import (
@@ -29,7 +29,6 @@ from moas_gui.engine.operations import (
 from moas_gui.engine.views import RadioView
 from moas_gui.errors import RequestRefused
 from moas_gui.hw.rotators.manager import RotatorManager
-from moas_gui.net.antenna_genius.server import PortRequest
 from moas_gui.net.backend import (
     ErrorCode,
     FocusKind,
@@ -41,6 +40,9 @@ from moas_gui.net.backend import (
 from moas_gui.net.identity import Action, Forbidden, check, current, enforce
 from moas_gui.rights import action_for, rotator_radios
 from moas_gui.status import ServerStatus
+
+if TYPE_CHECKING:  # the Antenna Genius front is loaded when a station serves it
+    from moas_gui.net.antenna_genius.server import PortRequest
 
 T = TypeVar("T")
 

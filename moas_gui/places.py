@@ -35,9 +35,10 @@ import contextlib
 import os
 import sys
 from pathlib import Path
-from typing import Final, TextIO
+from typing import TYPE_CHECKING, Final, TextIO
 
-from platformdirs import PlatformDirsABC
+if TYPE_CHECKING:  # platformdirs is loaded when a directory is first asked for
+    from platformdirs import PlatformDirsABC
 
 APP: Final = "moas-gui"
 LOG_KEEP_BYTES: Final = 1_000_000

@@ -47,22 +47,24 @@ from moas_gui.hw.rotators.base import (
 from moas_gui.hw.rotators.electrical import SelectDirection
 from moas_gui.hw.rotators.headings import Travel
 from moas_gui.hw.rotators.manager import RotatorManager
-from moas_gui.net.antenna_genius.access import SimpleAccess
-from moas_gui.net.antenna_genius.server import AgBackend, AgServer
 from moas_gui.net.backend import ClientBackend
 from moas_gui.net.log_events import ClientLogHandler
-from moas_gui.net.rotctld_server import RotctldServer, rotctld_peers, start_rotctld_servers
 from moas_gui.net.secrets import SecretGuard
 from moas_gui.net.server import DEFAULT_MAX_CLIENTS, ClientServer
 from moas_gui.source_intake import Act, SourceIntake
 from moas_gui.sources.base import SourceSink
-from moas_gui.sources.n1mm import ContactCallback, N1MMListener
 from moas_gui.sources.server import RotatorHooks, ServerSources, SourceSettings
 from moas_gui.sources.spec import SourceSpec
 from moas_gui.state_store import SavedState, StateKeeper, switch_to_data
 
-if TYPE_CHECKING:  # the web server (aiohttp) is loaded only when a station asks for it
+if TYPE_CHECKING:
+    # loaded only when a station asks for them: the web server (aiohttp), the Antenna
+    # Genius front (AGPort, --ag-port), the rotctld ports (a rotator's RotctldPort) and
+    # the N1MM Logger listener (UseN1MMLogger)
+    from moas_gui.net.antenna_genius.server import AgBackend, AgServer
+    from moas_gui.net.rotctld_server import RotctldServer
     from moas_gui.net.web import WebServer
+    from moas_gui.sources.n1mm import ContactCallback, N1MMListener
 
 from moas_gui.net.access import allowed_networks, parse_allow_list
 from moas_gui.net.identity import Identity, anonymous, as_operator
@@ -345,7 +347,7 @@ class _WithoutRotatorProgram(RotatorManager):
 
     def _build(self, rotator: Rotator, travel: Travel,
                publish: Callable[[RotatorStatus], None], antennas: Sequence[Antenna],
-               select: SelectDirection | None, moas_port: int) -> RotatorDriver:
+               select: SelectDirection | None, moas_port: int | None) -> RotatorDriver:
         if rotator.control is RotatorControl.SERIAL:
             return _LeftOut(rotator, travel, publish, "it goes through the MOAS Rotator "
                             "program, which --no-rotator-program leaves out")
@@ -402,8 +404,13 @@ async def start_rotators(run: Running, options: ServerOptions,
 async def start_rotctld(run: Running, rotators: RotatorManager, options: ServerOptions) -> None:
     """The rotctld-compatible listeners of the rotators with a ``RotctldPort``, taking
     the peers ``--require-token`` and ``--rotctld-allow`` leave them."""
-    allows = rotctld_peers(options.require_token, None if options.rotctld_allow is None
-                           else parse_allow_list(options.rotctld_allow))
+    networks = None if options.rotctld_allow is None else parse_allow_list(options.rotctld_allow)
+    if all(rotator.rotctld_port is None for rotator in run.config.rotators):
+        run.rotctld = []
+        return
+    from moas_gui.net.rotctld_server import rotctld_peers, start_rotctld_servers
+
+    allows = rotctld_peers(options.require_token, networks)
     # this computer's programs only, unless other computers are listed: then where the
     # client port listens (--bind), taking this computer and those alone
     host = ROTCTLD_HOST if not options.rotctld_allow else options.bind
@@ -536,6 +543,9 @@ class AntennaGenius:
         if server is not None:
             await server.reload(config)
             return
+        from moas_gui.net.antenna_genius.access import SimpleAccess
+        from moas_gui.net.antenna_genius.server import AgServer
+
         book = guard.book
         access = SimpleAccess(allow, require_token=options.require_token, guard=guard)
 

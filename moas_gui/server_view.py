@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from moas_gui.addresses import WebPage, network_address
 from moas_gui.antenna_feed import AntennaFeed
@@ -19,13 +20,15 @@ from moas_gui.antenna_log.journal import Journal
 from moas_gui.config import Config
 from moas_gui.engine import Engine, NotRunning
 from moas_gui.engine.views import RadioView
-from moas_gui.hw.moas2.emulator.box import EmulatedBox
 from moas_gui.hw.rotators.manager import RotatorManager
 from moas_gui.loop_watch import LoopWatch
 from moas_gui.running import AntennaGenius, Running, ServerOptions
 from moas_gui.sources.base import SourceEvent
 from moas_gui.sources.server import ServerSources
 from moas_gui.status import ServerStatus, overall_state
+
+if TYPE_CHECKING:  # the built-in emulator is loaded when a switch's port names it
+    from moas_gui.hw.moas2.emulator.box import EmulatedBox
 
 
 class ServerView:

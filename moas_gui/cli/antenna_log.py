@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Callable
-from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -87,6 +86,8 @@ def _bounds(args: argparse.Namespace) -> tuple[float | None, float | None, str]:
 
 
 def _utc(seconds: float) -> str:
+    from datetime import UTC, datetime  # the export's alone: moas-server --add-operator needs none
+
     return datetime.fromtimestamp(seconds, UTC).strftime("%Y-%m-%d %H:%M:%S UTC")
 
 

@@ -25,9 +25,9 @@ from collections.abc import Awaitable, Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 
-from moas_gui.builder.apply import NOT_REACHABLE, ServerAnswer
-
 if TYPE_CHECKING:
+    # the builder's side only: a server answering the builder does not load the builder
+    from moas_gui.builder.apply import ServerAnswer
     from moas_gui.config import LoadResult
 
 log = logging.getLogger(__name__)
@@ -134,6 +134,7 @@ def ask_to_restart(path: Path, confirmed: Sequence[str] | None = None, replace: 
     the operator agreed to a file other than the running one); ``confirmed`` None only
     looks (:func:`station_request`).  Blocks: the builder calls it off its window's
     thread."""
+    from moas_gui.builder.apply import NOT_REACHABLE, ServerAnswer
     from moas_gui.single_instance import command
 
     if confirmed is None:

@@ -8,8 +8,7 @@ asks glibc to return what it can (``malloc_trim``); elsewhere it does nothing.
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
+import functools
 import logging
 import sys
 from collections.abc import Callable
@@ -17,9 +16,15 @@ from collections.abc import Callable
 log = logging.getLogger(__name__)
 
 
+@functools.cache
 def _find_trim() -> Callable[[int], int] | None:
+    """glibc's ``malloc_trim``, looked up on the first call (a server no crowd of clients
+    ever leaves does not load ctypes nor look for the C library)."""
     if not sys.platform.startswith("linux"):
         return None
+    import ctypes
+    import ctypes.util
+
     try:
         libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
         trim: Callable[[int], int] = libc.malloc_trim
@@ -28,14 +33,12 @@ def _find_trim() -> Callable[[int], int] | None:
     return trim
 
 
-_TRIM = _find_trim()
-
-
 def give_back_memory() -> bool:
     """Returns freed heap memory to the system where the C library can; says whether it could."""
-    if _TRIM is None:
+    trim = _find_trim()
+    if trim is None:
         return False
-    _TRIM(0)
+    trim(0)
     return True
 
 

@@ -19,20 +19,25 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 from moas_gui.config.model import Config
 from moas_gui.sources.base import DEFAULT_RETRY, Bursts, SourceHub, SourceSink
-from moas_gui.sources.dxlog import DXLogListener
-from moas_gui.sources.flex import FlexSource
-from moas_gui.sources.flex_api import API_PORT, RadioRef, SliceMap, parse_slice_map
-from moas_gui.sources.n1mm import ContactCallback, N1MMListener
-from moas_gui.sources.n1mm_rotor import N1MMRotorServer, parse_destination
 from moas_gui.sources.otrsp import OtrspSource
 from moas_gui.sources.polling import PolledRig
 from moas_gui.sources.spec import SourceSpec, config_specs, make_source
 from moas_gui.sources.udp import DatagramSource
-from moas_gui.sources.wintest import WinTestListener
+
+if TYPE_CHECKING:
+    # The listeners a configuration may leave off (N1MM Logger, DXLog.net, Win-Test,
+    # N1MM's rotor window, FlexRadios) are loaded when it turns them on: a station
+    # without them starts without their codecs.
+    from moas_gui.sources.dxlog import DXLogListener
+    from moas_gui.sources.flex import FlexSource
+    from moas_gui.sources.flex_api import RadioRef, SliceMap
+    from moas_gui.sources.n1mm import ContactCallback, N1MMListener
+    from moas_gui.sources.n1mm_rotor import N1MMRotorServer
+    from moas_gui.sources.wintest import WinTestListener
 
 log = logging.getLogger(__name__)
 
@@ -55,8 +60,10 @@ class SourceSettings:
     """FlexRadios read beside the configuration's (``--flex``: address, serial or nickname)."""
     flex_radios: str = ""
     """``--flex-radios A=1/1,B=1/2`` for the ``--flex`` radios; empty: by transmit."""
-    flex_discovery_port: int = API_PORT
-    """Where a FlexRadio named by serial or nickname is listened for."""
+    flex_discovery_port: int = 4992
+    """Where a FlexRadio named by serial or nickname is listened for (FlexRadio's API port,
+    ``flex_api.API_PORT``, written out so that a station without FlexRadios does not load
+    the API)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -109,15 +116,21 @@ class ServerSources:
         n1mm_port = c.udp_port if s.udp_port is None else s.udp_port
         dxlog_port = c.dxlog_port if s.dxlog_port is None else s.dxlog_port
         if c.use_n1mm_logger:
+            from moas_gui.sources.n1mm import N1MMListener
+
             self.n1mm = await self._bind(
                 N1MMListener(c.n1mm_logger, on_event=self.hub, on_contact=self._contacts,
                              port=n1mm_port, host=host),
                 "N1MM Logger packets", n1mm_port)
         if c.use_dxlog and not (self.n1mm is not None and dxlog_port == n1mm_port):
+            from moas_gui.sources.dxlog import DXLogListener
+
             self.dxlog = await self._bind(
                 DXLogListener(c.n1mm_logger, on_event=self.hub, port=dxlog_port, host=host),
                 "DXLog.net packets", dxlog_port)
         if c.use_wintest:
+            from moas_gui.sources.wintest import WinTestListener
+
             port = c.wintest_port if s.wintest_port is None else s.wintest_port
             table = {w.station_name: (w.station, w.radio) for w in c.wintest}
             self.wintest = await self._bind(
@@ -148,6 +161,10 @@ class ServerSources:
         c, s = self._config, self._settings
         wanted = [(e.address, e.station, e.slices, e.retry) for e in c.flex_radios if e.enabled]
         wanted += [(target, 1, s.flex_radios, DEFAULT_RETRY) for target in s.flex]
+        if not wanted:
+            return
+        from moas_gui.sources.flex import FlexSource
+
         for address, station, slices, retry in wanted:
             mapping = self._flex_map(address, station, slices)
             if mapping is None:
@@ -161,6 +178,8 @@ class ServerSources:
     def _flex_map(self, address: str, station: int, slices: str) -> SliceMap | None:
         """The slice map of one FlexRadio, or None (said) when it names radios the
         configuration lacks."""
+        from moas_gui.sources.flex_api import SliceMap, parse_slice_map
+
         c = self._config
         if slices.strip():
             try:
@@ -202,6 +221,8 @@ class ServerSources:
         return not wrong
 
     async def _start_rotor(self, host: str) -> None:
+        from moas_gui.sources.n1mm_rotor import N1MMRotorServer, parse_destination
+
         c, s, hooks = self._config, self._settings, self._rotators
         assert hooks is not None
         port = c.n1mm_rotor_port if s.n1mm_rotor_port is None else s.n1mm_rotor_port

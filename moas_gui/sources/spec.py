@@ -40,9 +40,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Final
+from typing import TYPE_CHECKING, Final
 
-from moas_gui.config.model import Config
 from moas_gui.config.rigs import (
     FLRIG_PORT,
     HIGHEST_RATE,
@@ -53,6 +52,9 @@ from moas_gui.config.rigs import (
     split_address,
 )
 from moas_gui.sources.base import DEFAULT_RETRY, Source, SourceSink
+
+if TYPE_CHECKING:  # the client's --source reads no configuration file
+    from moas_gui.config.model import Config
 
 KINDS: Final = ("rigctld", "flrig", "otrsp", "n1mm", "dxlog", "wintest", "flex")
 SERVER_KINDS: Final = ("rigctld", "flrig", "otrsp")

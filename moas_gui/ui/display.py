@@ -12,8 +12,6 @@ No Qt is imported here.
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
 import os
 import sys
 
@@ -53,6 +51,11 @@ def _wayland_reachable(name: str) -> bool:
 
 
 def _x11_problem(display: str) -> str | None:
+    # ctypes only here: under Wayland, Windows, macOS or a windowless platform
+    # (offscreen) the check loads none of it
+    import ctypes
+    import ctypes.util
+
     found = ctypes.util.find_library("xcb")
     if found is None:
         return (f"cannot open the display {display}: libxcb is not installed "

@@ -41,7 +41,7 @@ from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from ...aio import cancel_and_wait
 from ...clock import LOOP_CLOCK, Clock, timeout
@@ -64,7 +64,6 @@ from .actions import (
 )
 from .calls import SessionCalls
 from .diagnostics import switch_data
-from .emulator.box import EmulatedBox
 from .errors import PortError
 from .listener import SwitchListener, Told
 from .messages import (
@@ -87,6 +86,9 @@ from .session import SwitchSession
 from .sync import DEFAULT_EVENTS
 from .timing import REAL_TIMING, LinkTiming
 from .transport import EMULATOR_PORT, SWITCH_PORT, EmulatorTransport, Transport, transport_for
+
+if TYPE_CHECKING:  # the built-in emulator is loaded when a switch's port names it
+    from .emulator.box import EmulatedBox
 
 log = logging.getLogger(__name__)
 

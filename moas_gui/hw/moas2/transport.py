@@ -16,13 +16,14 @@ from __future__ import annotations
 import asyncio
 from collections.abc import Callable
 from dataclasses import replace
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from ...clock import Clock
 from ...serial import PortError
 from ...serial.port import PortSettings, SerialPort
-from .emulator.box import EmulatedBox
-from .emulator.model import EmulatorModel
+
+if TYPE_CHECKING:  # the built-in emulator is loaded when a switch's port names it
+    from .emulator.box import EmulatedBox
 
 DataCallback = Callable[[bytes], None]
 LostCallback = Callable[[str], None]
@@ -99,6 +100,9 @@ def transport_for(port: str, echo: int | None, clock: Clock,
     """The transport a port name stands for: the built-in emulator (an emulated box of
     unit ``echo``, on ``clock``) for :data:`EMULATOR_PORT`, else that serial port."""
     if port == EMULATOR_PORT:
+        from .emulator.box import EmulatedBox
+        from .emulator.model import EmulatorModel
+
         return EmulatorTransport(EmulatedBox(EmulatorModel(unit_id=echo or 0), clock=clock))
     return SerialTransport(port, settings=settings)
 

@@ -28,6 +28,7 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable, Coroutine, Iterable, Sequence
+from typing import TYPE_CHECKING
 
 from moas_gui.aio import BackgroundTasks
 from moas_gui.config.model import Antenna, Config, Rotator, RotatorControl
@@ -43,14 +44,13 @@ from .base import (
     describe,
 )
 from .electrical import ElectricalRotator, SelectDirection
-from .genius import GENIUS_PORT, GeniusLink, GeniusRotator
-from .hamlib import HamlibRotator
-from .hamlib_codec import HAMLIB_PORT
 from .headings import Travel, normalize
-from .moas_rotator_codec import check_field, model_field
-from .moas_rotator_link import MOAS_ROTATOR_PORT, MoasRotatorLink, SerialRotator
-from .moas_rotator_process import LocalMoasRotator, default_command
 from .simulated import SimulatedRotator
+
+if TYPE_CHECKING:
+    from .genius import GeniusLink
+    from .moas_rotator_link import MoasRotatorLink
+    from .moas_rotator_process import LocalMoasRotator
 
 log = logging.getLogger(__name__)
 
@@ -66,7 +66,7 @@ class RotatorManager:
         antennas: Sequence[Antenna] = (),
         select_direction: SelectDirection | None = None,
         start_moas_rotator: bool = True,
-        moas_rotator_port: int = MOAS_ROTATOR_PORT,
+        moas_rotator_port: int | None = None,
         moas_rotator_command: Sequence[str] | None = None,
         timing: Timing | None = None,
     ) -> None:
@@ -86,14 +86,21 @@ class RotatorManager:
         self.local_program: LocalMoasRotator | None = None
         local = [port for host, port in self._moas_links if is_local(host)]
         if start_moas_rotator and local:
-            ports = [r.comm_port for r in rotators
-                     if r.control is RotatorControl.SERIAL and r.comm_port]
-            command = moas_rotator_command or default_command(local[0], ports)
-            self.local_program = LocalMoasRotator(
-                command, local[0], restart_min=self.timing.restart_min,
-                restart_max=self.timing.restart_max, clock=self.timing.clock)
+            self.local_program = self._program(rotators, local[0], moas_rotator_command)
         self._tasks = BackgroundTasks(self._failed)
         """Turns and stops started for callers that cannot wait (:meth:`start_rotate`)."""
+
+    def _program(self, rotators: Sequence[Rotator], port: int,
+                 command: Sequence[str] | None) -> LocalMoasRotator:
+        """The MOAS Rotator program this computer starts for its Serial rotators."""
+        from . import moas_rotator_process as program
+
+        ports = [r.comm_port for r in rotators
+                 if r.control is RotatorControl.SERIAL and r.comm_port]
+        return program.LocalMoasRotator(
+            command or program.default_command(port, ports), port,
+            restart_min=self.timing.restart_min, restart_max=self.timing.restart_max,
+            clock=self.timing.clock)
 
     @classmethod
     def from_config(cls, config: Config, **options: object) -> RotatorManager:
@@ -104,7 +111,7 @@ class RotatorManager:
     # ---- building --------------------------------------------------------------------
 
     def _driver(self, rotator: Rotator, antennas: Sequence[Antenna],
-                select: SelectDirection | None, moas_port: int) -> RotatorDriver:
+                select: SelectDirection | None, moas_port: int | None) -> RotatorDriver:
         publish = self._publisher(rotator)
         try:
             travel = Travel(rotator.ccw_limit, rotator.rotation, rotator.has_stop)
@@ -117,7 +124,7 @@ class RotatorManager:
 
     def _build(self, rotator: Rotator, travel: Travel, publish: Callable[[RotatorStatus], None],
                antennas: Sequence[Antenna], select: SelectDirection | None,
-               moas_port: int) -> RotatorDriver:
+               moas_port: int | None) -> RotatorDriver:
         control = rotator.control
         if control is RotatorControl.TEST:
             return SimulatedRotator(rotator, travel, publish, self.timing)
@@ -125,29 +132,50 @@ class RotatorManager:
             directions = tuple(float(a.offset) for a in _antennas_turned_by(rotator, antennas))
             return ElectricalRotator(rotator, travel, publish, directions, select)
         if control is RotatorControl.SERIAL:
-            field, scale = model_field(rotator.model)
-            if not rotator.comm_port:
-                raise ValueError("CommPort is missing (the serial port on the MOAS Rotator "
-                                 "computer, e.g. COM14)")
-            check_field("CommPort", rotator.comm_port)
-            key = split_address(rotator.address or "127.0.0.1", moas_port)
-            link = self._moas_links.get(key)
-            if link is None:
-                link = self._moas_links[key] = MoasRotatorLink(key[0], key[1], self.timing)
-            return SerialRotator(rotator, travel, publish, self.timing, link, field, scale)
+            return self._serial(rotator, travel, publish, moas_port)
         if control is RotatorControl.ROTATOR_GENIUS:
-            if rotator.port not in (1, 2):
-                raise ValueError(f"Port must be 1 or 2 (which rotator of the Rotator Genius), "
-                                 f"not {rotator.port}")
-            key = split_address(rotator.address, GENIUS_PORT)
-            genius = self._genius_links.get(key)
-            if genius is None:
-                genius = self._genius_links[key] = GeniusLink(key[0], key[1], self.timing)
-            return GeniusRotator(rotator, travel, publish, genius)
+            return self._genius(rotator, travel, publish)
         if control is RotatorControl.HAMLIB:
+            from .hamlib import HamlibRotator
+            from .hamlib_codec import HAMLIB_PORT
+
             host, port = split_address(rotator.address, HAMLIB_PORT)
             return HamlibRotator(rotator, travel, publish, self.timing, host, port)
         raise ValueError(f"Control {control!r} is not a kind of rotator this server knows")
+
+    # The drivers and codecs of the kinds a station does not use are loaded only when a
+    # rotator of that kind is configured: a tower computer with Test or Electrical rotators
+    # starts without them.
+
+    def _serial(self, rotator: Rotator, travel: Travel, publish: Callable[[RotatorStatus], None],
+                moas_port: int | None) -> RotatorDriver:
+        from .moas_rotator_codec import PORT, check_field, model_field
+        from .moas_rotator_link import MoasRotatorLink, SerialRotator
+
+        field, scale = model_field(rotator.model)
+        if not rotator.comm_port:
+            raise ValueError("CommPort is missing (the serial port on the MOAS Rotator "
+                             "computer, e.g. COM14)")
+        check_field("CommPort", rotator.comm_port)
+        port = PORT if moas_port is None else moas_port
+        key = split_address(rotator.address or "127.0.0.1", port)
+        link = self._moas_links.get(key)
+        if link is None:
+            link = self._moas_links[key] = MoasRotatorLink(key[0], key[1], self.timing)
+        return SerialRotator(rotator, travel, publish, self.timing, link, field, scale)
+
+    def _genius(self, rotator: Rotator, travel: Travel,
+                publish: Callable[[RotatorStatus], None]) -> RotatorDriver:
+        from .genius import GENIUS_PORT, GeniusLink, GeniusRotator
+
+        if rotator.port not in (1, 2):
+            raise ValueError(f"Port must be 1 or 2 (which rotator of the Rotator Genius), "
+                             f"not {rotator.port}")
+        key = split_address(rotator.address, GENIUS_PORT)
+        genius = self._genius_links.get(key)
+        if genius is None:
+            genius = self._genius_links[key] = GeniusLink(key[0], key[1], self.timing)
+        return GeniusRotator(rotator, travel, publish, genius)
 
     def _publisher(self, rotator: Rotator) -> Callable[[RotatorStatus], None]:
         def publish(status: RotatorStatus) -> None:

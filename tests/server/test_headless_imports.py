@@ -61,25 +61,22 @@ def ask_state(port: int) -> dict[str, object] | None:
         return None
 
 
-@pytest.mark.timeout(90)
-def test_the_headless_server_serves_a_client_without_importing_qt(runtime_dir: Path,
-                                                                 tmp_path: Path) -> None:
+def traced_run(station: Path, env: dict[str, str], log: Path, *extra: str) -> str:
+    """The ``-X importtime`` trace (standard error, kept in ``log``) of one headless server
+    on ``station`` with ``extra`` options: its start, a client's ``state`` answered,
+    SIGTERM.  The server must have served ``station`` and ended cleanly."""
     tcp = free_port()
-    log = tmp_path / "stderr.txt"
-    env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime_dir), PYTHONUNBUFFERED="1")
-    env.pop("QT_QPA_PLATFORM", None)
     with log.open("w") as stderr:
         server = subprocess.Popen(
-            [sys.executable, "-X", "importtime", "-m", "moas_gui.cli.server", str(EXAMPLE),
+            [sys.executable, "-X", "importtime", "-m", "moas_gui.cli.server", str(station),
              "--headless", "--new-instance", "--bind", "127.0.0.1", "--tcp-port", str(tcp),
-             "--udp-port", "0", "--udp-bind", "127.0.0.1", "--web-port", "0",
-             "--no-rotator-program"],
+             "--udp-port", "0", "--udp-bind", "127.0.0.1", "--no-rotator-program", *extra],
             stderr=stderr, env=env)
     try:
         state = wait_for(lambda: server.poll() is not None or ask_state(tcp), timeout=60,
                          what="the headless server answering a client")
         assert server.poll() is None, log.read_text()[-3000:]
-        assert isinstance(state, dict) and state.get("config") == "small-station.moas"
+        assert isinstance(state, dict) and state.get("config") == station.name
         server.send_signal(signal.SIGTERM)
         server.wait(60)
     finally:
@@ -88,6 +85,15 @@ def test_the_headless_server_serves_a_client_without_importing_qt(runtime_dir: P
             server.wait()
     trace = log.read_text()
     assert server.returncode == 0, trace[-3000:]
+    return trace
+
+
+@pytest.mark.timeout(90)
+def test_the_headless_server_serves_a_client_without_importing_qt(runtime_dir: Path,
+                                                                 tmp_path: Path) -> None:
+    env = dict(os.environ, XDG_RUNTIME_DIR=str(runtime_dir), PYTHONUNBUFFERED="1")
+    env.pop("QT_QPA_PLATFORM", None)
+    trace = traced_run(EXAMPLE, env, tmp_path / "stderr.txt", "--web-port", "0")
     names = imported(trace)
     # the trace covers the serving path: the network server and the browser client's
     assert {"moas_gui.app", "moas_gui.net.server", "aiohttp"} <= names, sorted(names)[:50]

@@ -11,14 +11,12 @@ from __future__ import annotations
 
 import json
 import os
-import signal
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
-from helpers import free_port, wait_for
-from test_headless_imports import EXAMPLE, ask_state, imported
+from test_headless_imports import EXAMPLE, imported, traced_run
 
 pytestmark = [
     pytest.mark.realtime,
@@ -79,27 +77,7 @@ def trace(tmp_path_factory: pytest.TempPathFactory) -> str:
                         json.dumps({"Port": str(folder / "no-such-port")})[1:-1])
     station.write_text(text.replace('"UseN1MMLogger": true', '"UseN1MMLogger": false'),
                        encoding="utf-8")
-    tcp = free_port()
-    log = folder / "stderr.txt"
-    with log.open("w") as stderr:
-        server = subprocess.Popen(
-            [sys.executable, "-X", "importtime", "-m", "moas_gui.cli.server", str(station),
-             "--headless", "--new-instance", "--bind", "127.0.0.1", "--tcp-port", str(tcp),
-             "--udp-port", "0", "--udp-bind", "127.0.0.1", "--no-rotator-program"],
-            stderr=stderr, env=env)
-    try:
-        state = wait_for(lambda: server.poll() is not None or ask_state(tcp), timeout=60,
-                         what="the headless server answering a client")
-        assert server.poll() is None, log.read_text()[-3000:]
-        assert isinstance(state, dict) and state.get("config") == station.name
-        server.send_signal(signal.SIGTERM)
-        server.wait(60)
-    finally:
-        if server.poll() is None:
-            server.kill()
-            server.wait()
-    trace = log.read_text()
-    assert server.returncode == 0, trace[-3000:]
+    trace = traced_run(station, env, folder / "stderr.txt")
     assert "cannot open the port" in trace, trace[-3000:]
     return trace
 

@@ -10,11 +10,18 @@ server wrote since the test began, up to now.
 from __future__ import annotations
 
 import json
+import shutil
 import socket
 import subprocess
 import threading
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import TypeVar
 
-from helpers import wait_for
+import pytest
+from helpers import short_runtime_dir, wait_for
+
+S = TypeVar("S", bound="LoggedServer")
 
 
 class LoggedServer:
@@ -75,3 +82,18 @@ class LoggedServer:
             self.process.stderr.close()
         assert self.process.returncode == 0, "".join(self.lines)
         return "".join(self.lines)
+
+
+def module_server(make: Callable[[Path, Path], S], factory: pytest.TempPathFactory,
+                  name: str) -> Iterator[S]:
+    """The body of a module-scoped fixture: ``make(folder, runtime)`` started in a folder
+    ``name`` of its own and a short runtime directory, stopped (cleanly) after the module."""
+    runtime = short_runtime_dir()
+    try:
+        server = make(factory.mktemp(name), runtime)
+        try:
+            yield server
+        finally:
+            server.stop()
+    finally:
+        shutil.rmtree(runtime, ignore_errors=True)

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 import socket
 import subprocess
 import sys
@@ -13,8 +12,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import free_port, short_runtime_dir, wait_for
-from logged_server import LoggedServer
+from helpers import free_port, wait_for
+from logged_server import LoggedServer, module_server
 
 pytestmark = [pytest.mark.realtime, pytest.mark.shared]
 
@@ -48,15 +47,7 @@ class First(LoggedServer):
 
 @pytest.fixture(scope="module")
 def started(tmp_path_factory: pytest.TempPathFactory) -> Iterator[First]:
-    runtime = short_runtime_dir()
-    try:
-        server = First(tmp_path_factory.mktemp("first"), runtime)
-        try:
-            yield server
-        finally:
-            server.stop()
-    finally:
-        shutil.rmtree(runtime, ignore_errors=True)
+    yield from module_server(First, tmp_path_factory, "first")
 
 
 @pytest.fixture

@@ -17,8 +17,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from helpers import free_port, short_runtime_dir, until, wait_for
-from logged_server import LoggedServer
+from helpers import free_port, until, wait_for
+from logged_server import LoggedServer, module_server
 
 from moas_gui.client.connection import ClientConnection
 from moas_gui.operators import FILE_NAME, OperatorBook, Role
@@ -123,15 +123,7 @@ class Guarded(LoggedServer):
 
 @pytest.fixture(scope="module")
 def started(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Guarded]:
-    runtime = short_runtime_dir()
-    try:
-        server = Guarded(tmp_path_factory.mktemp("guarded"), runtime)
-        try:
-            yield server
-        finally:
-            server.stop()
-    finally:
-        shutil.rmtree(runtime, ignore_errors=True)
+    yield from module_server(Guarded, tmp_path_factory, "guarded")
 
 
 @pytest.fixture

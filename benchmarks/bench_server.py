@@ -609,9 +609,11 @@ class FloodResult:
 async def bench_flood(name: str, rate: int, seconds: float, work: Path,
                       trace: bool = False, dwell_ms: int = 0,
                       profile: bool = False, costs: bool = False,
-                      extra: Sequence[str] = (), idle: bool = False) -> FloodResult:
+                      extra: Sequence[str] = (), idle: bool = False,
+                      bare: bool = False) -> FloodResult:
     """A flood of ``rate`` packets a second for ``seconds`` into a headless server on
-    emulated switches; ``idle``: no packets, the server's own CPU over ``seconds``."""
+    emulated switches; ``idle``: no packets, the server's own CPU over ``seconds``;
+    ``bare``: into the bare path (``quiet_path.bare``) instead of the server."""
     from moas_gui.config import load_config
     from moas_gui.hw.moas2.emulator.box import EmulatedBox, Traffic
     from moas_gui.hw.moas2.emulator.serve import PtyEndpoint, make_link, serve
@@ -644,9 +646,15 @@ async def bench_flood(name: str, rate: int, seconds: float, work: Path,
     counted = work / f"costs-{name}-{rate}.json"
     if costs:
         env[quiet_path.COSTS_ENV] = str(counted)
-    process, _ = await spawn_server(
-        server_args(flood_config(name, work, links), True)
-        + ["--log-level", "info", "--relay-dwell", str(dwell_ms), *extra], env, stderr)
+    if bare:
+        with stderr.open("wb") as err:
+            process = await asyncio.create_subprocess_exec(
+                sys.executable, __file__, "--bare", str(flood_config(name, work, links)),
+                stdout=asyncio.subprocess.PIPE, stderr=err, env=env, cwd=str(ROOT))
+    else:
+        process, _ = await spawn_server(
+            server_args(flood_config(name, work, links), True)
+            + ["--log-level", "info", "--relay-dwell", str(dwell_ms), *extra], env, stderr)
     try:
         await read_marks(process, {"opened"}, timeout=30)
         found = None
@@ -945,9 +953,10 @@ QUIET_FLOOR_MS = 0.6
 
 
 def target_rows(quiet: list[FloodResult], parts: dict[str, dict[str, float]],
-                floors: dict[int, list[float]]) -> list[Row]:
+                floors: dict[int, list[float]],
+                title: str = "The quiet path's targets (this run)") -> list[Row]:
     """The quiet path's two targets (issue 33), each from figures of this one run."""
-    rows: list[Row] = [("The quiet path's targets (this run)", "", "", "")]
+    rows: list[Row] = [(title, "", "", "")]
     for result in quiet:
         label = f"{result.name} {result.rate}/s"
         if result.name in parts:
@@ -997,18 +1006,25 @@ def antenna_log_rows(on: FloodResult, off: FloodResult) -> list[Row]:
 # --------------------------------------------------------------------------- main
 
 
-async def floor_latencies(rates: Sequence[int], seconds: float) -> dict[int, list[float]]:
-    """The machine's floor at each rate: the same hops with nothing done between them."""
-    return {rate: await quiet_path.floor(Path(__file__), ROOT, rate, seconds) for rate in rates}
+async def floor_latencies(rates: Sequence[int], seconds: float
+                          ) -> tuple[dict[int, list[float]], dict[int, float]]:
+    """The machine's floor at each rate: the same hops with nothing done between them; and
+    the middle process's CPU seconds per packet at each rate."""
+    latencies: dict[int, list[float]] = {}
+    hops: dict[int, float] = {}
+    for rate in rates:
+        latencies[rate], hops[rate] = await quiet_path.floor(Path(__file__), ROOT, rate, seconds)
+    return latencies, hops
 
 
-def floor_rows(floors: dict[int, list[float]]) -> list[Row]:
+def floor_rows(floors: dict[int, list[float]], hops: dict[int, float]) -> list[Row]:
     rows: list[Row] = []
     for rate, lat in floors.items():
         if lat:
             rows.append((f"floor {rate}/s: UDP -> an asyncio process -> a pseudo-terminal",
                          (f"median {statistics.median(lat):.2f} ms, p90 {pct(lat, 90):.2f} ms, "
-                          f"p99 {pct(lat, 99):.2f} ms ({len(lat)} packets)"), "", ""))
+                          f"p99 {pct(lat, 99):.2f} ms ({len(lat)} packets); the middle "
+                          f"process's CPU {1e3 * hops[rate]:.2f} ms a packet"), "", ""))
     return rows
 
 
@@ -1025,6 +1041,7 @@ async def run(args: argparse.Namespace) -> None:
     print(f"Machine: {machine()}")
     rows: list[Row] = []
     quiet: list[FloodResult] = []
+    bare: list[FloodResult] = []
     floors: dict[int, list[float]] = {}
     with tempfile.TemporaryDirectory(prefix="bench-server-") as folder:
         work = Path(folder)
@@ -1046,6 +1063,13 @@ async def run(args: argparse.Namespace) -> None:
                 rows += flood_rows(result)
                 if rate <= QUIET_RATE:
                     quiet.append(result)
+                    if args.bare:
+                        alone = await bench_flood(name, rate, args.seconds, work, bare=True)
+                        rows += [(f"bare path: {label}", text, target, verdict)
+                                 for label, text, target, verdict in flood_rows(alone)[:2]]
+                        rows.append(("  bare path CPU per packet",
+                                     f"{1000 * alone.cpu['server'] / alone.sent:.2f} ms", "", ""))
+                        bare.append(alone)
                     if args.antenna_log:
                         off = await bench_flood(name, rate, args.seconds, work,
                                                 extra=["--no-antenna-log"])
@@ -1065,13 +1089,16 @@ async def run(args: argparse.Namespace) -> None:
                     if args.profile != "-":
                         shutil.copyfile(result.profile, args.profile)
         if args.floor:
-            floors = await floor_latencies(args.rate, args.seconds)
-            rows += floor_rows(floors)
+            floors, hops = await floor_latencies(args.rate, args.seconds)
+            rows += floor_rows(floors, hops)
     parts = {name: band_change_parts(name) for name in ("small", "big")}
     for name, timed in parts.items():
         rows += cost_rows(name, timed)
     rows += bytes_rows()
     rows += target_rows(quiet, parts, floors)
+    if bare:
+        rows += target_rows(bare, parts, floors, "The bare path against the same targets: "
+                            "the floor's hops with only the parts between them")
     print_table(rows)
     print(f"Load average after: {_load()}")
 
@@ -1090,6 +1117,9 @@ def main() -> int:
         return serve_child(sys.argv[2:])
     if len(sys.argv) > 1 and sys.argv[1] == "--send":
         send(int(sys.argv[2]), sys.argv[3])
+        return 0
+    if len(sys.argv) > 1 and sys.argv[1] == "--bare":
+        quiet_path.bare(sys.argv[2], MARK)
         return 0
     if len(sys.argv) > 1 and sys.argv[1] == "--relay":
         quiet_path.relay(sys.argv[2])
@@ -1118,6 +1148,10 @@ def main() -> int:
     parser.add_argument("--floor", action="store_true",
                         help="also measure the machine's floor at each rate: the same hops "
                              "with no work between them")
+    parser.add_argument("--bare", action="store_true",
+                        help="also run each quiet flood into the bare path: the floor's hops "
+                             "with only the parts between them (parse, engine, plan, write; "
+                             "quiet_path.bare), what any server on these parts must spend")
     parser.add_argument("--seconds", type=float, default=10.0, help="length of each flood")
     parser.add_argument("--idle", type=float, default=0.0, metavar="SECONDS",
                         help="also measure each flood's server with no packets for SECONDS "

@@ -25,6 +25,7 @@ import gc
 import json
 import os
 import pty
+import signal
 import socket
 import statistics
 import subprocess
@@ -152,7 +153,7 @@ def install_costs(path: str) -> None:
             entry[0] += 1
             entry[1] += spent
 
-    asyncio.events.Handle._run = measured  # type: ignore[method-assign]
+    asyncio.events.Handle._run = measured  # type: ignore[method-assign,assignment]
     _measure_parts(costs, on, clock)
     loop_cpu = [0]
 
@@ -438,8 +439,62 @@ def relay(slave: str) -> None:
     asyncio.run(main())
 
 
-async def floor(bench: Path, root: Path, rate: int, seconds: float) -> list[float]:
-    """Milliseconds from each ``sendto`` to its byte read from the pseudo-terminal."""
+def bare(config_path: str, mark: str) -> None:
+    """The bare path: the floor's middle process with the parts of a band change between its
+    hops -- each datagram parsed (RadioInfo), decided (the engine) and planned (the switch's
+    fewest commands), the bytes written to the switch's terminal -- and nothing else: no
+    log, no clients, no saved state, no periodic work.  What any server built on these
+    parts must spend, read beside the server's figures (``--bare``)."""
+    from moas_gui.config import load_config
+    from moas_gui.engine import Engine
+    from moas_gui.hw.moas2.sync import difference, initialise
+    from moas_gui.serial import PortSettings
+    from moas_gui.serial.port import SerialPort
+    from moas_gui.sources.n1mm_packet import parse_radio_info
+
+    config = load_config(Path(config_path)).unwrap()
+    engine = Engine(config)
+    states = dict(engine.switch_states())
+
+    async def main() -> None:
+        loop = asyncio.get_running_loop()
+        ports = {}
+        for switch in config.switches:
+            port = SerialPort(switch.port, PortSettings(exclusive=False))
+            port.open(lambda data: None, lambda why: None)
+            port.write(initialise(states[switch.id]).encode())
+            ports[switch.id] = port
+        sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        sock.bind(("127.0.0.1", 0))
+        sock.setblocking(False)
+        began = loop.time()
+
+        def readable() -> None:
+            try:
+                data = sock.recv(4096)
+            except BlockingIOError:
+                return
+            info = parse_radio_info(data)
+            changes = engine.set_frequency(1, info.radio_nr, info.khz or 0.0,
+                                           now=1.0 + loop.time() - began)
+            for switch_id, state in changes.switches.items():
+                ports[switch_id].write(difference(states[switch_id], state).encode())
+                states[switch_id] = state
+
+        loop.add_reader(sock.fileno(), readable)
+        print(f"N1MM Logger on UDP 127.0.0.1:{sock.getsockname()[1]}", file=sys.stderr,
+              flush=True)
+        print(f"{mark} opened {time.monotonic_ns()} bare path", flush=True)
+        ended = loop.create_future()
+        loop.add_signal_handler(signal.SIGTERM, ended.set_result, None)
+        await ended
+
+    asyncio.run(main())
+
+
+async def floor(bench: Path, root: Path, rate: int, seconds: float) -> tuple[list[float], float]:
+    """Milliseconds from each ``sendto`` to its byte read from the pseudo-terminal, and the
+    middle process's CPU seconds per packet (the hops' own cost: a wake, a read, a write)."""
     master, slave = pty.openpty()
     tty.setraw(slave)
     os.set_blocking(master, False)
@@ -467,11 +522,13 @@ async def floor(bench: Path, root: Path, rate: int, seconds: float) -> list[floa
         port = int((await relay_process.stdout.readline()).decode())
         loop.add_reader(master, readable)
         count = int(rate * seconds)
+        before = cpu_clock(relay_process.pid) or 0.0
         sender = await asyncio.create_subprocess_exec(
             sys.executable, str(bench), "--floor-send", str(port), str(rate), str(count),
             stdout=subprocess.PIPE, cwd=str(root))
         stdout, _ = await sender.communicate()
         await asyncio.sleep(0.5)
+        hops = ((cpu_clock(relay_process.pid) or 0.0) - before) / max(1, count)
         sent: list[int] = json.loads(stdout)
     finally:
         loop.remove_reader(master)
@@ -484,7 +541,7 @@ async def floor(bench: Path, root: Path, rate: int, seconds: float) -> list[floa
             await relay_process.wait()
         os.close(master)
         os.close(slave)
-    return [(arrivals[seq] - at) / 1e6 for seq, at in enumerate(sent) if seq in arrivals]
+    return [(arrivals[seq] - at) / 1e6 for seq, at in enumerate(sent) if seq in arrivals], hops
 
 
 def send_numbers(port: int, rate: int, count: int) -> None:
@@ -503,6 +560,6 @@ def send_numbers(port: int, rate: int, count: int) -> None:
     print(json.dumps(sent))
 
 
-__all__ = ["COSTS_ENV", "PROFILE_ENV", "STAGES", "TRACE_ENV", "costs_rows", "cpu_clock", "floor",
+__all__ = ["COSTS_ENV", "PROFILE_ENV", "STAGES", "TRACE_ENV", "bare", "costs_rows", "cpu_clock", "floor",
            "install_costs", "install_profiler", "install_stamps", "profile_rows", "relay",
            "send_numbers", "stage_rows", "thread_cpu"]

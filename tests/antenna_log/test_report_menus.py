@@ -12,7 +12,6 @@ from client_support import run_on_qt
 
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.ui.qt import QSettings
-from moas_gui.ui.report_window import NO_JOURNAL, AdifExportWindow, ReportWindow
 from moas_gui.ui.server_window import ServerWindow
 
 
@@ -40,6 +39,8 @@ async def close(window: ServerWindow, app: ServerApp) -> None:
 def test_view_contest_report_shows_the_servers_journal(
     qapp: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    from moas_gui.ui.report_window import ReportWindow
+
     async def scenario() -> None:
         window, app = make_window(tmp_path)
         journal = contest_journal()
@@ -60,6 +61,8 @@ def test_view_contest_report_shows_the_servers_journal(
 
 
 def test_without_a_journal_the_report_says_so(qapp: Any, tmp_path: Path) -> None:
+    from moas_gui.ui.report_window import NO_JOURNAL, ReportWindow
+
     async def scenario() -> None:
         window, app = make_window(tmp_path)
         window.action_report.trigger()
@@ -75,6 +78,8 @@ def test_without_a_journal_the_report_says_so(qapp: Any, tmp_path: Path) -> None
 def test_file_export_antenna_log_opens_the_export(
     qapp: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    from moas_gui.ui.report_window import AdifExportWindow
+
     async def scenario() -> None:
         window, app = make_window(tmp_path)
         journal = contest_journal()

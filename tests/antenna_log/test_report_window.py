@@ -1,6 +1,10 @@
 """View > Contest report and File > Export antenna log as windows (offscreen, pytest-qt)
 on an in-memory journal: the period chooser, the charts on matplotlib's Qt canvas, the
-exports, and what each says when there is no journal."""
+exports, and what each says when there is no journal.
+
+The windows' module (and matplotlib, which it loads) is imported in the tests, not at the
+top: collecting the suite loads every test module in every worker, and matplotlib costs
+about 0.4 s of processor time to load."""
 
 from __future__ import annotations
 
@@ -8,17 +12,17 @@ import os
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import adif_io
 import pytest
 from antenna_log_support import T0, MemoryJournal, contest_journal
-from matplotlib.image import imread
 
 from moas_gui.antenna_log.records import Period
 from moas_gui.antenna_log.report import HOUR, REPORTS
-from moas_gui.antenna_log.report_charts import BAND_COLOURS
-from moas_gui.ui.report_window import NO_JOURNAL, AdifExportWindow, ReportWindow
+
+if TYPE_CHECKING:
+    from moas_gui.ui.report_window import ReportWindow
 
 SCREENSHOTS = os.environ.get("MOAS_SCREENSHOTS")
 """Where to save the windows' pictures (docs/images), when set."""
@@ -50,6 +54,11 @@ def chart_texts(window: ReportWindow, kind: str) -> list[str]:
 
 
 def test_the_report_shows_the_whole_journal(qtbot: Any, tmp_path: Path) -> None:
+    from matplotlib.image import imread
+
+    from moas_gui.antenna_log.report_charts import BAND_COLOURS
+    from moas_gui.ui.report_window import ReportWindow
+
     window = ReportWindow(contest_journal(), now=lambda: T0 + 3 * HOUR)
     qtbot.addWidget(window)
     made(qtbot, window)
@@ -83,6 +92,8 @@ def test_the_report_shows_the_whole_journal(qtbot: Any, tmp_path: Path) -> None:
 
 
 def test_the_last_hours_and_a_from_to(qtbot: Any) -> None:
+    from moas_gui.ui.report_window import ReportWindow
+
     window = ReportWindow(contest_journal(), now=lambda: T0 + 2 * HOUR)
     qtbot.addWidget(window)
     made(qtbot, window)
@@ -102,6 +113,8 @@ def test_the_last_hours_and_a_from_to(qtbot: Any) -> None:
 
 
 def test_a_bad_time_says_so_and_keeps_the_charts(qtbot: Any) -> None:
+    from moas_gui.ui.report_window import ReportWindow
+
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
     made(qtbot, window)
@@ -116,6 +129,8 @@ def test_a_bad_time_says_so_and_keeps_the_charts(qtbot: Any) -> None:
 
 
 def test_with_the_journal_turned_off_it_says_so_plainly(qtbot: Any, tmp_path: Path) -> None:
+    from moas_gui.ui.report_window import NO_JOURNAL, ReportWindow
+
     window = ReportWindow(None)
     qtbot.addWidget(window)
     made(qtbot, window)
@@ -129,6 +144,8 @@ def test_with_the_journal_turned_off_it_says_so_plainly(qtbot: Any, tmp_path: Pa
 
 
 def test_an_empty_journal_says_so(qtbot: Any) -> None:
+    from moas_gui.ui.report_window import ReportWindow
+
     window = ReportWindow(MemoryJournal())
     qtbot.addWidget(window)
     made(qtbot, window)
@@ -138,6 +155,10 @@ def test_an_empty_journal_says_so(qtbot: Any) -> None:
 
 
 def test_export_png_and_html(qtbot: Any, tmp_path: Path) -> None:
+    from matplotlib.image import imread
+
+    from moas_gui.ui.report_window import ReportWindow
+
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
     made(qtbot, window)
@@ -161,6 +182,8 @@ def test_export_png_and_html(qtbot: Any, tmp_path: Path) -> None:
 
 
 def test_an_export_that_cannot_be_written_says_why(qtbot: Any, tmp_path: Path) -> None:
+    from moas_gui.ui.report_window import ReportWindow
+
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
     made(qtbot, window)
@@ -177,6 +200,8 @@ def test_an_export_that_cannot_be_written_says_why(qtbot: Any, tmp_path: Path) -
 
 
 def test_export_antenna_log_writes_the_chosen_period(qtbot: Any, tmp_path: Path) -> None:
+    from moas_gui.ui.report_window import AdifExportWindow
+
     window = AdifExportWindow(contest_journal(), now=lambda: T0 + 2 * HOUR)
     qtbot.addWidget(window)
     window.show()
@@ -198,6 +223,8 @@ def test_export_antenna_log_writes_the_chosen_period(qtbot: Any, tmp_path: Path)
 
 @pytest.mark.parametrize("reader", [None, MemoryJournal()])
 def test_export_antenna_log_without_a_journal(qtbot: Any, reader: Any) -> None:
+    from moas_gui.ui.report_window import AdifExportWindow
+
     window = AdifExportWindow(reader)
     qtbot.addWidget(window)
     window.show()
@@ -206,6 +233,8 @@ def test_export_antenna_log_without_a_journal(qtbot: Any, reader: Any) -> None:
 
 
 def test_only_the_tab_shown_is_rendered_until_another_is_chosen(qtbot: Any) -> None:
+    from moas_gui.ui.report_window import ReportWindow
+
     window = ReportWindow(contest_journal())
     qtbot.addWidget(window)
     made(qtbot, window)
@@ -236,6 +265,8 @@ class HeldJournal(MemoryJournal):
 
 
 def test_the_report_is_read_off_the_window_s_thread_one_at_a_time(qtbot: Any) -> None:
+    from moas_gui.ui.report_window import ReportWindow
+
     first = ReportWindow(held := HeldJournal())
     qtbot.addWidget(first)
     assert first.pending and first.report is None  # the window is back before the journal
@@ -252,6 +283,8 @@ def test_the_report_is_read_off_the_window_s_thread_one_at_a_time(qtbot: Any) ->
 
 
 def test_more_than_a_year_is_refused_and_a_period_beyond_the_journal_clamped(qtbot: Any) -> None:
+    from moas_gui.ui.report_window import ReportWindow
+
     window = ReportWindow(contest_journal(), now=lambda: T0 + 3 * HOUR)
     qtbot.addWidget(window)
     made(qtbot, window)

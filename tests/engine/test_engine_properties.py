@@ -3,6 +3,7 @@ relative steps, directions and T/R changes through every example station."""
 
 from __future__ import annotations
 
+import functools
 import os
 from typing import Any
 
@@ -39,8 +40,14 @@ def _shared_tx_station() -> Config:
     ], radios)
 
 
-CONFIGS: dict[str, Config] = {name: example(name) for name in EXAMPLE_NAMES}
-CONFIGS["shared-tx"] = _shared_tx_station()
+NAMES = [*EXAMPLE_NAMES, "shared-tx"]
+
+
+@functools.cache
+def station(name: str) -> Config:
+    """The station ``name``, read when its test first asks (not when every worker collects
+    the suite: reading the examples cost each worker 0.06 s of processor time)."""
+    return _shared_tx_station() if name == "shared-tx" else example(name)
 
 
 def _operations(cfg: Config) -> st.SearchStrategy[list[tuple[Any, ...]]]:
@@ -99,9 +106,9 @@ def _check(e: Engine, cfg: Config) -> None:
                 assert sp.port in states[w].inhibited, (view, w)
 
 
-@pytest.mark.parametrize("name", sorted(CONFIGS))
+@pytest.mark.parametrize("name", sorted(NAMES))
 def test_random_evenings_keep_every_safety_rule(name: str) -> None:
-    cfg = CONFIGS[name]
+    cfg = station(name)
 
     @settings(max_examples=int(os.environ.get("MOAS_ENGINE_EXAMPLES", "25")), deadline=None,
               derandomize=True,

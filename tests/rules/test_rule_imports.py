@@ -7,6 +7,7 @@ Every ``import`` and ``from ... import`` of every module is read with :mod:`ast`
 from __future__ import annotations
 
 import functools
+import json
 import subprocess
 import sys
 from collections import defaultdict
@@ -192,20 +193,38 @@ def test_the_rules_see_late_imports_too(tmp_path: Path) -> None:
                                                                            module)
 
 
-@pytest.mark.parametrize("module", ["moas_gui.hw.moas2.messages", "moas_gui.hw.moas2.decoder",
-                                    "moas_gui.hw.moas2.sync", "moas_gui.hw.moas2.resync",
-                                    "moas_gui.hw.moas2.plan", "moas_gui.engine",
-                                    "moas_gui.config"])
-def test_a_sans_io_codec_or_the_engine_loads_no_loop_and_no_serial_port(module: str) -> None:
-    """Importing the codec (or the engine) loads neither asyncio nor pyserial: the switch
-    package's ``__init__`` imports its link only when ``SwitchLink`` is asked for."""
-    probe = (f"import sys, {module}\n"
-             "print(sorted(m for m in ('asyncio', 'serial', 'PySide6', 'socket') "
-             "if m in sys.modules))")
+SANS_IO = ["moas_gui.hw.moas2.messages", "moas_gui.hw.moas2.decoder", "moas_gui.hw.moas2.sync",
+           "moas_gui.hw.moas2.resync", "moas_gui.hw.moas2.plan", "moas_gui.engine",
+           "moas_gui.config"]
+"""The codec's modules and the engine, which load no event loop and no serial port."""
+LOOP_OR_PORT = ("asyncio", "serial", "PySide6", "socket")
+
+
+@functools.cache
+def loaded_after_each() -> dict[str, list[str]]:
+    """What of :data:`LOOP_OR_PORT` one fresh interpreter holds after importing each of
+    :data:`SANS_IO` in turn (one process for all of them, not one each: what the first
+    *k* load together is all that the *k*-th loads alone, and more, so none of them
+    found after the *k*-th means the *k*-th alone loads none)."""
+    probe = ("import importlib, json, sys\n"
+             "found = {}\n"
+             f"for name in {SANS_IO!r}:\n"
+             "    importlib.import_module(name)\n"
+             f"    found[name] = sorted(m for m in {LOOP_OR_PORT!r} if m in sys.modules)\n"
+             "print(json.dumps(found))")
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
                           timeout=60, check=False)
     assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == "[]", f"{module} loads {done.stdout.strip()}"
+    found: dict[str, list[str]] = json.loads(done.stdout)
+    return found
+
+
+@pytest.mark.parametrize("module", SANS_IO)
+def test_a_sans_io_codec_or_the_engine_loads_no_loop_and_no_serial_port(module: str) -> None:
+    """Importing the codec (or the engine) loads neither asyncio nor pyserial: the switch
+    package's ``__init__`` imports its link only when ``SwitchLink`` is asked for."""
+    loaded = loaded_after_each()[module]
+    assert loaded == [], f"{module} loads {loaded} (or one imported before it in the probe)"
 
 
 def test_check_and_plan_load_no_event_loop() -> None:

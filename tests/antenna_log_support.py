@@ -10,6 +10,9 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import functools
+import gc
+import importlib
 import os
 import signal
 import socket
@@ -29,11 +32,30 @@ from moas_gui.antenna_log.records import (
     Period,
 )
 
-__all__ = ["T0", "MemoryJournal", "contact", "contest_journal"]
+__all__ = ["T0", "MemoryJournal", "charts_loaded", "contact", "contest_journal"]
 
 T0 = 1_795_000_000.0
 """2026-11-18 ... UTC: the contest journal's first second (a whole hour)."""
 T0 -= T0 % 3600
+
+CHART_MODULES = ("matplotlib.figure", "matplotlib.image", "matplotlib.backends.backend_agg",
+                 "matplotlib.backends.backend_svg", "moas_gui.antenna_log.report_charts",
+                 "moas_gui.ui.report_window")
+"""matplotlib and the report's modules that load it."""
+
+
+@functools.cache
+def charts_loaded() -> None:
+    """Imports :data:`CHART_MODULES` once per process, then keeps what they made (about
+    66,000 objects) out of the cyclic collector (:func:`gc.freeze`, as ``tests/conftest.py``
+    does with what collection loaded): every full collection after them -- one after each
+    Qt test of the worker -- would walk them again, about 20 ms each.  The test modules
+    that draw charts call it (a module fixture) before they make anything of their own;
+    they import matplotlib where they use it, so that collecting the suite does not."""
+    for name in CHART_MODULES:
+        importlib.import_module(name)
+    gc.collect()  # the garbage of what ran before is not kept with them
+    gc.freeze()
 
 
 @dataclass

@@ -14,7 +14,7 @@ from html.parser import HTMLParser
 from typing import TYPE_CHECKING
 
 import pytest
-from antenna_log_support import T0, MemoryJournal, contest_journal
+from antenna_log_support import T0, MemoryJournal, charts_loaded, contest_journal
 
 from moas_gui.antenna_log.records import KeySpan, Period
 from moas_gui.antenna_log.report import HOUR, contest_report
@@ -23,6 +23,11 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 SVG = "{http://www.w3.org/2000/svg}"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _charts_loaded() -> None:
+    charts_loaded()  # matplotlib, imported here and kept out of the collector (see there)
 
 
 @pytest.fixture(scope="module")

@@ -7,12 +7,17 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from antenna_log_support import contest_journal
+from antenna_log_support import charts_loaded, contest_journal
 from client_support import run_on_qt
 
 from moas_gui.app import ServerApp, ServerOptions
 from moas_gui.ui.qt import QSettings
 from moas_gui.ui.server_window import ServerWindow
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _charts_loaded() -> None:
+    charts_loaded()  # matplotlib, imported here and kept out of the collector (see there)
 
 
 def make_window(tmp_path: Path) -> tuple[ServerWindow, ServerApp]:

@@ -14,7 +14,7 @@ from typing import Any
 import aiohttp
 import pytest
 import pytest_asyncio
-from antenna_log_support import T0, MemoryJournal, contest_journal
+from antenna_log_support import T0, MemoryJournal, charts_loaded, contest_journal
 from helpers import until
 from multidict import CIMultiDict
 
@@ -26,6 +26,11 @@ from moas_gui.operators import OperatorBook, Role
 from moas_gui.testing.fake_backend import FakeBackend
 
 HOST = "127.0.0.1"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _charts_loaded() -> None:
+    charts_loaded()  # matplotlib, imported here and kept out of the collector (see there)
 
 
 class Site:

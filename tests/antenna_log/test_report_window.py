@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import adif_io
 import pytest
-from antenna_log_support import T0, MemoryJournal, contest_journal
+from antenna_log_support import T0, MemoryJournal, charts_loaded, contest_journal
 
 from moas_gui.antenna_log.records import Period
 from moas_gui.antenna_log.report import HOUR, REPORTS
@@ -26,6 +26,11 @@ if TYPE_CHECKING:
 
 SCREENSHOTS = os.environ.get("MOAS_SCREENSHOTS")
 """Where to save the windows' pictures (docs/images), when set."""
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _charts_loaded() -> None:
+    charts_loaded()  # matplotlib, imported here and kept out of the collector (see there)
 
 
 def answer_with(window: Any, *paths: str) -> list[str]:

@@ -159,7 +159,7 @@ class ServerApp(ServerView):
     async def _start(self, config: Config) -> None:
         engine = Engine(config, now=asyncio.get_running_loop().time())
         self._run = run = Running(config=config, engine=engine, act=self.act)
-        saved = run.restore(self._path) if self._path is not None else None
+        saved = run.restore(self._path, self.options.save_delay) if self._path is not None else None
         await self.antenna.start(run, self._path)  # before the switches: none of their news lost
         events = self.switch_events
         events.start(run)

@@ -65,7 +65,7 @@ from helpers import EXAMPLES, until
 from moas_gui.hw.moas2.emulator.record import Entry, EntryCause
 from moas_gui.hw.moas2.emulator.serve import make_link
 from moas_gui.sources.n1mm_packet import radio_info_packet
-from moas_gui.state_store import SAVE_DELAY_HOOK, decode, fingerprint
+from moas_gui.state_store import decode, fingerprint
 
 STATIONS = (1, 2)
 """The switch stations the configuration drives (radio n on station n)."""
@@ -89,11 +89,7 @@ def small_station(tmp_path: Path, port: Path, save_delay: float | None = None) -
     data["N1MMLogger"] = [{"Address": "127.0.0.1", "Station": 1}]
     for radio in data["Radios"]:
         assert radio["Interrupt"] is False  # the invariants allow no interrupt mode
-    station = Station.make(tmp_path, data, SWITCH_TIMING)
-    station.env.pop(SAVE_DELAY_HOOK, None)
-    if save_delay is not None:
-        station.env[SAVE_DELAY_HOOK] = str(save_delay)
-    return station
+    return Station.make(tmp_path, data, SWITCH_TIMING, save_delay)
 
 
 # --------------------------------------------------------------------------- the invariants

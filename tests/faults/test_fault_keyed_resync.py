@@ -8,7 +8,12 @@ every relay change and reset with each station's key state (see
 The first four tests are the issue's reproductions, each with station 1 keyed; then a
 fixed-seed share of the random walk of ``benchmarks/bench_resync_model.py``; then the
 walk without faults (keys and band changes only), and the checker itself on a box's
-record."""
+record.
+
+The reproductions' servers write their state every ``QUICK_SAVES`` (each waits for a
+change to be saved before its fault); the random walk with faults keeps the real
+second, as the benchmark's walk does, since how stale a restart finds the file is part
+of what it explores."""
 
 from __future__ import annotations
 
@@ -17,7 +22,7 @@ import contextlib
 from pathlib import Path
 
 import pytest
-from fault_harness import FAULT_MARKS, SWITCH_TIMING, reference_relays
+from fault_harness import FAULT_MARKS, QUICK_SAVES, SWITCH_TIMING, reference_relays
 from helpers import until
 from keyed_resync import STALL_S, STEPS, ModelRun, Rig, violations
 
@@ -34,12 +39,6 @@ HOLD_14 = frozenset({0, 19})
 """... and on 14.2 MHz."""
 
 SOME_PINGS = 10 * SWITCH_TIMING.ping_interval
-
-QUICK_SAVES = 0.1
-"""The reproductions' servers write their state at most this often (the real second
-only makes each wait for a saved change longer): the random walk with faults keeps the
-real second, as the benchmark's walk does, since how stale a restart finds the file is
-part of what it explores."""
 
 
 async def keyed_with_a_held_change(rig: Rig) -> None:

@@ -65,7 +65,7 @@ from moas_gui.running import (
 )
 from moas_gui.server_view import ServerView
 from moas_gui.source_intake import RadioKey
-from moas_gui.state_store import SavedState
+from moas_gui.state_store import SAVE_DELAY_HOOK, SavedState, save_delay_from_environment
 from moas_gui.switch_events import SwitchEvents
 
 log = logging.getLogger(__name__)
@@ -335,4 +335,5 @@ class ServerApp(ServerView):
 
 
 
-__all__ = ["ROTCTLD_HOST", "ServerApp", "ServerOptions"]
+__all__ = ["ROTCTLD_HOST", "SAVE_DELAY_HOOK", "ServerApp", "ServerOptions",
+           "save_delay_from_environment"]

@@ -458,10 +458,9 @@ def _plan_khz(values: list[str] | None) -> tuple[list[float] | None, str]:
 
 
 def _options(args: argparse.Namespace) -> ServerOptions:
-    from moas_gui.app import ServerOptions
+    from moas_gui.app import SAVE_DELAY_HOOK, ServerOptions
     from moas_gui.hw.moas2.timing import ENVIRONMENT
     from moas_gui.hw.rotators.base import TIMING_HOOK
-    from moas_gui.state_store import SAVE_DELAY_HOOK, SAVE_DELAY_S
 
     if args.switch_timing is not None:
         log.info("Switch link clocks from %s (a test hook): %s", ENVIRONMENT, args.switch_timing)
@@ -493,7 +492,7 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          **({} if args.rotator_program_port is None
                             else {"rotator_program_port": args.rotator_program_port}),
                          switch_timing=args.switch_timing,
-                         save_delay=SAVE_DELAY_S if args.save_delay is None else args.save_delay,
+                         **({} if args.save_delay is None else {"save_delay": args.save_delay}),
                          antenna_log=not args.no_antenna_log,
                          record_serial=args.record_serial,
                          switch_dtr=args.switch_dtr, switch_rts=args.switch_rts,
@@ -691,9 +690,9 @@ def _about_to_serve(args: argparse.Namespace) -> int | None:
     already running needs neither, nor the switch, rotator and network packages they
     live in): the tests' shorter clocks, if set, and the open-file limit raised.  None
     to go on serving, else the exit status (the reason said)."""
+    from moas_gui.app import save_delay_from_environment
     from moas_gui.hw.moas2.timing import timing_from_environment
     from moas_gui.hw.rotators.base import rotator_timing_from_environment
-    from moas_gui.state_store import save_delay_from_environment
 
     try:  # tests' shorter clocks, if set
         args.switch_timing = timing_from_environment()

@@ -6,6 +6,7 @@ running configuration's state keeper."""
 
 from __future__ import annotations
 
+import logging
 import shutil
 from pathlib import Path
 
@@ -43,7 +44,17 @@ def test_moas_server_refuses_to_start_on_a_delay_it_cannot_use(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str],
 ) -> None:
     monkeypatch.setenv(SAVE_DELAY_HOOK, "later")
-    status = server.main(["--headless", "--new-instance", str(tmp_path / "none.moas")])
+    # (a headless start hands its log to standard error: this process's loggers are
+    # put back as they were afterwards)
+    loggers = [logging.getLogger(name) for name in ("moas_gui", "aiohttp")]
+    kept = [(logger.handlers[:], logger.level, logger.propagate) for logger in loggers]
+    try:
+        status = server.main(["--headless", "--new-instance", str(tmp_path / "none.moas")])
+    finally:
+        for logger, (handlers, level, propagate) in zip(loggers, kept, strict=True):
+            logger.handlers[:] = handlers
+            logger.setLevel(level)
+            logger.propagate = propagate
     assert status == 2
     assert capsys.readouterr().err == (
         f"moas-server: {SAVE_DELAY_HOOK}: 'later' is not a number of seconds\n")

@@ -65,7 +65,7 @@ from moas_gui.running import (
 )
 from moas_gui.server_view import ServerView
 from moas_gui.source_intake import RadioKey
-from moas_gui.state_store import SavedState
+from moas_gui.state_store import SAVE_DELAY_HOOK, SavedState, save_delay_from_environment
 from moas_gui.switch_events import SwitchEvents
 
 log = logging.getLogger(__name__)
@@ -159,7 +159,7 @@ class ServerApp(ServerView):
     async def _start(self, config: Config) -> None:
         engine = Engine(config, now=asyncio.get_running_loop().time())
         self._run = run = Running(config=config, engine=engine, act=self.act)
-        saved = run.restore(self._path) if self._path is not None else None
+        saved = run.restore(self._path, self.options.save_delay) if self._path is not None else None
         await self.antenna.start(run, self._path)  # before the switches: none of their news lost
         events = self.switch_events
         events.start(run)
@@ -335,4 +335,5 @@ class ServerApp(ServerView):
 
 
 
-__all__ = ["ROTCTLD_HOST", "ServerApp", "ServerOptions"]
+__all__ = ["ROTCTLD_HOST", "SAVE_DELAY_HOOK", "ServerApp", "ServerOptions",
+           "save_delay_from_environment"]

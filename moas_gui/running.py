@@ -162,6 +162,10 @@ class ServerOptions:
     relay_dwell: float | None = None
     """``--relay-dwell MS``, in seconds: automatic updates move a switch's relays at most
     once in this long (0: every update at once); None for the link's default (0.1 s)."""
+    save_delay: float = state_store.SAVE_DELAY_S
+    """How long after a state write the changes that follow wait, to be written together
+    (:class:`~moas_gui.state_store.StateKeeper`); shorter only through the test hook
+    ``MOAS_GUI_SAVE_DELAY``."""
     settle_garbage: bool = False
     """After each configuration opens, keep every object then alive out of later full
     collections (:func:`~moas_gui.opening.settle_garbage`, which collects first at a
@@ -231,12 +235,13 @@ class Running:
                     if heading is not None:
                         self.rotators.note_direction(rotator.id, heading)
 
-    def restore(self, path: Path) -> SavedState | None:
-        """Start keeping the state of this configuration (opened from ``path``); put the
-        saved one, if usable, into its engine and its intake's focus."""
+    def restore(self, path: Path, delay: float = state_store.SAVE_DELAY_S) -> SavedState | None:
+        """Start keeping the state of this configuration (opened from ``path``, written
+        at most every ``delay`` seconds); put the saved one, if usable, into its engine
+        and its intake's focus."""
         self.fingerprint, saved = state_store.restore(path, self.engine)
         if self.fingerprint:
-            self.keeper = StateKeeper(state_store.state_path(path), self.saved_state)
+            self.keeper = StateKeeper(state_store.state_path(path), self.saved_state, delay)
         if saved is not None:
             self.intake.restore_focus(saved.focus)
         return saved

@@ -31,7 +31,7 @@ import os
 import stat
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -50,6 +50,30 @@ SAVE_DELAY_S = 1.0
 A logger at a contest's pace (a band change every 100 ms) then costs one write a
 second rather than one every other change; a restart within that second finds the
 box holding a newer state than the file, and the box wins (docs/server.md)."""
+
+SAVE_DELAY_HOOK = "MOAS_GUI_SAVE_DELAY"
+"""The test hook: a shorter :data:`SAVE_DELAY_S` for a ``moas-server`` process, in
+seconds (``0.1``), read by ``moas-server`` alone when it starts serving (not a user
+setting; docs/reliability.md).  The fault tests' servers use it so that a change
+after a write is on disk in a tenth of a second rather than a second."""
+
+
+def save_delay_from_environment(environ: Mapping[str, str] = os.environ) -> float | None:
+    """The test hook's delay (:data:`SAVE_DELAY_HOOK`), or None when it is not set.
+
+    Raises ValueError naming the variable unless it is a number of seconds above 0 and
+    at most :data:`SAVE_DELAY_S` (saves may lag the engine by a second, never more)."""
+    text = environ.get(SAVE_DELAY_HOOK)
+    if text is None:
+        return None
+    try:
+        seconds = float(text)
+    except ValueError:
+        raise ValueError(f"{SAVE_DELAY_HOOK}: {text!r} is not a number of seconds") from None
+    if not 0 < seconds <= SAVE_DELAY_S:
+        raise ValueError(f"{SAVE_DELAY_HOOK}: {text} is not a number of seconds above 0 and "
+                         f"at most {SAVE_DELAY_S:g}")
+    return seconds
 
 
 class StateError(MoasError, ValueError):
@@ -501,6 +525,7 @@ class StateKeeper:
 
 __all__ = [
     "MAX_STATE_BYTES",
+    "SAVE_DELAY_HOOK",
     "SAVE_DELAY_S",
     "SavedState",
     "StateError",
@@ -514,6 +539,7 @@ __all__ = [
     "read_state_file",
     "remove_stale_temporaries",
     "restore",
+    "save_delay_from_environment",
     "state_dir",
     "state_path",
     "switch_from_data",

@@ -204,7 +204,7 @@ def _parser() -> argparse.ArgumentParser:
     add_builder_arguments(parser)
     parser.add_argument("--version", action="version", version=f"moas-server {__version__}")
     # no options: only the test hooks set these (main)
-    parser.set_defaults(switch_timing=None, rotator_timing=None)
+    parser.set_defaults(switch_timing=None, rotator_timing=None, save_delay=None)
     return parser
 
 
@@ -458,7 +458,7 @@ def _plan_khz(values: list[str] | None) -> tuple[list[float] | None, str]:
 
 
 def _options(args: argparse.Namespace) -> ServerOptions:
-    from moas_gui.app import ServerOptions
+    from moas_gui.app import SAVE_DELAY_HOOK, ServerOptions
     from moas_gui.hw.moas2.timing import ENVIRONMENT
     from moas_gui.hw.rotators.base import TIMING_HOOK
 
@@ -466,6 +466,9 @@ def _options(args: argparse.Namespace) -> ServerOptions:
         log.info("Switch link clocks from %s (a test hook): %s", ENVIRONMENT, args.switch_timing)
     if args.rotator_timing is not None:
         log.info("Rotator delays from %s (a test hook): %s", TIMING_HOOK, args.rotator_timing)
+    if args.save_delay is not None:
+        log.info("State saves at most every %g s, from %s (a test hook)", args.save_delay,
+                 SAVE_DELAY_HOOK)
     return ServerOptions(bind=args.bind or "0.0.0.0", tcp_port=args.tcp_port,
                          udp_port=args.udp_port, udp_bind=args.udp_bind or "0.0.0.0",
                          dxlog_port=args.dxlog_port, wintest_port=args.wintest_port,
@@ -489,6 +492,7 @@ def _options(args: argparse.Namespace) -> ServerOptions:
                          **({} if args.rotator_program_port is None
                             else {"rotator_program_port": args.rotator_program_port}),
                          switch_timing=args.switch_timing,
+                         **({} if args.save_delay is None else {"save_delay": args.save_delay}),
                          antenna_log=not args.no_antenna_log,
                          record_serial=args.record_serial,
                          switch_dtr=args.switch_dtr, switch_rts=args.switch_rts,
@@ -686,12 +690,14 @@ def _about_to_serve(args: argparse.Namespace) -> int | None:
     already running needs neither, nor the switch, rotator and network packages they
     live in): the tests' shorter clocks, if set, and the open-file limit raised.  None
     to go on serving, else the exit status (the reason said)."""
+    from moas_gui.app import save_delay_from_environment
     from moas_gui.hw.moas2.timing import timing_from_environment
     from moas_gui.hw.rotators.base import rotator_timing_from_environment
 
     try:  # tests' shorter clocks, if set
         args.switch_timing = timing_from_environment()
         args.rotator_timing = rotator_timing_from_environment()
+        args.save_delay = save_delay_from_environment()
     except ValueError as exc:
         print(f"moas-server: {exc}", file=sys.stderr)
         return 2

@@ -48,7 +48,7 @@ from moas_gui.hw.moas2.emulator.stepped import SteppedBox
 from moas_gui.hw.moas2.sync import initialise
 from moas_gui.hw.moas2.timing import ENVIRONMENT as SWITCH_TIMING_HOOK
 from moas_gui.hw.moas2.timing import LinkTiming
-from moas_gui.state_store import decode, fingerprint, state_path
+from moas_gui.state_store import SAVE_DELAY_HOOK, decode, fingerprint, state_path
 
 LEVELS = ("WARNING", "ERROR", "CRITICAL")
 
@@ -56,6 +56,12 @@ SWITCH_TIMING = LinkTiming(ping_interval=0.1, answer_timeout=0.5, retry_first=0.
                            retry_max=0.4)
 """The switch links' clocks in the fault tests' servers: pings ten times a second,
 half a second of silence makes a switch unresponsive, retries after 0.1 s to 0.4 s."""
+
+QUICK_SAVES = 0.1
+"""How often the servers of the tests that wait for a change to be saved
+(:func:`holds_what_the_engine_says` waits for the saved state) write their state: the
+test hook ``MOAS_GUI_SAVE_DELAY`` (docs/reliability.md); the real second only made each
+such wait longer."""
 
 
 @dataclass
@@ -318,9 +324,11 @@ class Station:
 
     @classmethod
     def make(cls, tmp_path: Path, data: dict[str, Any],
-             switch_timing: LinkTiming | None = None) -> Station:
+             switch_timing: LinkTiming | None = None,
+             save_delay: float | None = None) -> Station:
         """A station on ``data``; its servers' switch links run on ``switch_timing``
-        (None: the real clocks)."""
+        (None: the real clocks) and write their state at most every ``save_delay``
+        seconds (None: the real second)."""
         runtime = tmp_path / "run"
         runtime.mkdir(mode=0o700, exist_ok=True)
         env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_RUNTIME_DIR=str(runtime),
@@ -328,6 +336,9 @@ class Station:
                    XDG_DATA_HOME=str(tmp_path / "data"),
                    XDG_STATE_HOME=str(tmp_path / "state"))
         env.pop(SWITCH_TIMING_HOOK, None)
+        env.pop(SAVE_DELAY_HOOK, None)
+        if save_delay is not None:
+            env[SAVE_DELAY_HOOK] = str(save_delay)
         if switch_timing is not None:
             env[SWITCH_TIMING_HOOK] = " ".join(
                 f"{item.name}={getattr(switch_timing, item.name)}" for item in fields(LinkTiming))

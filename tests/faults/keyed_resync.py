@@ -79,14 +79,17 @@ STALL_S = 2 * SWITCH_TIMING.answer_timeout + SWITCH_TIMING.retry_max
 NOISES = ("garbage", "truncated", "reordered", "no box status", "silence")
 
 
-def small_station(tmp_path: Path, port: Path) -> Station:
+def small_station(tmp_path: Path, port: Path, save_delay: float | None = None) -> Station:
+    """The small example on ``port``, its servers on the short switch clocks and, with
+    ``save_delay``, writing their state at most that often (the test hook
+    ``MOAS_GUI_SAVE_DELAY``; None: the real second, as the benchmark's walk runs)."""
     data = json.loads((EXAMPLES / "small-station.moas").read_text())
     data["Switches"][0]["Port"] = str(port)
     data["UseN1MMLogger"] = True
     data["N1MMLogger"] = [{"Address": "127.0.0.1", "Station": 1}]
     for radio in data["Radios"]:
         assert radio["Interrupt"] is False  # the invariants allow no interrupt mode
-    return Station.make(tmp_path, data, SWITCH_TIMING)
+    return Station.make(tmp_path, data, SWITCH_TIMING, save_delay)
 
 
 # --------------------------------------------------------------------------- the invariants
@@ -331,9 +334,9 @@ class Cable:
 class Rig:
     """The box, the cable, the server and the logger, and the faults of each."""
 
-    def __init__(self, tmp_path: Path) -> None:
+    def __init__(self, tmp_path: Path, save_delay: float | None = None) -> None:
         self.tmp_path = tmp_path
-        self.station = small_station(tmp_path, tmp_path / "moas1")
+        self.station = small_station(tmp_path, tmp_path / "moas1", save_delay)
         self.box: Box | None = None
         self.cable: Cable | None = None
         self.server: Process | None = None
@@ -349,8 +352,10 @@ class Rig:
 
     @classmethod
     @contextlib.asynccontextmanager
-    async def up(cls, tmp_path: Path) -> AsyncIterator[Rig]:
-        rig = cls(tmp_path)
+    async def up(cls, tmp_path: Path, save_delay: float | None = None) -> AsyncIterator[Rig]:
+        """The rig started: the box, the cable plugged, the server with its switch ok
+        (its state saves at most every ``save_delay`` seconds: :func:`small_station`)."""
+        rig = cls(tmp_path, save_delay)
         try:
             rig.box = await Box.start(rig.station, tmp_path)
             rig.cable = Cable(rig.station.config.parent / "moas1", rig.box.port).connect_box()

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from fault_harness import (
     FAULT_MARKS,
+    QUICK_SAVES,
     Client,
     ScriptedSwitch,
     Station,
@@ -40,7 +41,7 @@ async def test_misbehaving_clients_do_not_stop_a_band_change(tmp_path: Path) -> 
     data["Switches"][0]["Port"] = str(switch.link)
     data["UseN1MMLogger"] = True
     data["N1MMLogger"] = [{"Address": "127.0.0.1", "Station": 1}]
-    station = Station.make(tmp_path, data)
+    station = Station.make(tmp_path, data, save_delay=QUICK_SAVES)
     server = await station.server("--no-rotator-program")
     sockets: list[socket.socket] = []
     try:

@@ -8,7 +8,12 @@ every relay change and reset with each station's key state (see
 The first four tests are the issue's reproductions, each with station 1 keyed; then a
 fixed-seed share of the random walk of ``benchmarks/bench_resync_model.py``; then the
 walk without faults (keys and band changes only), and the checker itself on a box's
-record."""
+record.
+
+The reproductions' servers write their state every ``QUICK_SAVES`` (each waits for a
+change to be saved before its fault); the random walk with faults keeps the real
+second, as the benchmark's walk does, since how stale a restart finds the file is part
+of what it explores."""
 
 from __future__ import annotations
 
@@ -17,7 +22,7 @@ import contextlib
 from pathlib import Path
 
 import pytest
-from fault_harness import FAULT_MARKS, SWITCH_TIMING, reference_relays
+from fault_harness import FAULT_MARKS, QUICK_SAVES, SWITCH_TIMING, reference_relays
 from helpers import until
 from keyed_resync import STALL_S, STEPS, ModelRun, Rig, violations
 
@@ -79,7 +84,7 @@ def keyed_rule_kept(found: list[str], rig: Rig) -> None:
 
 @pytest.mark.asyncio
 async def test_restart_with_a_change_held_under_a_keyed_station(tmp_path: Path) -> None:
-    async with Rig.up(tmp_path) as rig:
+    async with Rig.up(tmp_path, QUICK_SAVES) as rig:
         await keyed_with_a_held_change(rig)
         await rig.restart()  # kill -9, and started again
         await rig.switch_ok()
@@ -91,7 +96,7 @@ async def test_restart_with_a_change_held_under_a_keyed_station(tmp_path: Path) 
 @pytest.mark.asyncio
 async def test_cable_replugged_under_a_keyed_station_with_a_held_change(
         tmp_path: Path) -> None:
-    async with Rig.up(tmp_path) as rig:
+    async with Rig.up(tmp_path, QUICK_SAVES) as rig:
         await keyed_with_a_held_change(rig)
         assert rig.cable is not None and rig.client is not None
         told = len(rig.client.told)
@@ -109,7 +114,7 @@ async def test_cable_replugged_under_a_keyed_station_with_a_held_change(
 @pytest.mark.asyncio
 async def test_server_stalled_under_a_keyed_station_with_a_held_change(
         tmp_path: Path) -> None:
-    async with Rig.up(tmp_path) as rig:
+    async with Rig.up(tmp_path, QUICK_SAVES) as rig:
         await keyed_with_a_held_change(rig)
         rig.stall()  # SIGSTOP: a laptop suspended, a virtual machine paused
         await rig.resume()  # SIGCONT after longer than every link timeout
@@ -122,7 +127,7 @@ async def test_server_stalled_under_a_keyed_station_with_a_held_change(
 
 @pytest.mark.asyncio
 async def test_noisy_line_under_a_keyed_station_with_nothing_held(tmp_path: Path) -> None:
-    async with Rig.up(tmp_path) as rig:
+    async with Rig.up(tmp_path, QUICK_SAVES) as rig:
         assert rig.box is not None and rig.cable is not None and rig.client is not None
         rig.band(1, 21200.0)
         await rig.saved(1, 21200.0)
@@ -159,7 +164,7 @@ async def test_restart_finding_both_stations_keyed_on_antennas_newer_than_the_sa
     has radio 1 on the vertical (1.83 MHz) and radio 2 on the 80 m dipole; the box
     holds the tribander for radio 1 and the vertical for radio 2, both keyed.  The new
     server adopts both stations together, so the box ends up holding its state."""
-    async with Rig.up(tmp_path) as rig:
+    async with Rig.up(tmp_path, QUICK_SAVES) as rig:
         assert rig.box is not None
         rig.band(1, 1830.0)
         await rig.saved(1, 1830.0)
@@ -212,7 +217,7 @@ async def test_random_keys_band_changes_and_faults_keep_the_rule(tmp_path: Path)
 async def test_keys_and_band_changes_without_faults_keep_the_rule(tmp_path: Path) -> None:
     """The walk with no fault at all: the rule holds and every held change is carried
     out (the checker finds nothing where there is nothing to find)."""
-    async with Rig.up(tmp_path) as rig:
+    async with Rig.up(tmp_path, QUICK_SAVES) as rig:
         kinds = {kind: weight for kind, weight in STEPS.items()
                  if kind in ("key", "band", "settle")}
         run = ModelRun(rig, seed=7, kinds=kinds, pause=0.05)

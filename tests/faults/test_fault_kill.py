@@ -13,6 +13,7 @@ from pathlib import Path
 
 from fault_harness import (
     FAULT_MARKS,
+    QUICK_SAVES,
     Client,
     ScriptedSwitch,
     Station,
@@ -36,7 +37,7 @@ async def test_kill_9_mid_band_changes_and_restart(tmp_path: Path) -> None:
     data["Switches"][0]["Port"] = str(switch.link)
     data["UseN1MMLogger"] = True
     data["N1MMLogger"] = [{"Address": "127.0.0.1", "Station": 1}]
-    station = Station.make(tmp_path, data)
+    station = Station.make(tmp_path, data, save_delay=QUICK_SAVES)
     server = await station.server("--no-rotator-program")
     try:
         client = await Client.connect(station.tcp, server)

@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 from fault_harness import (
     FAULT_MARKS,
+    QUICK_SAVES,
     SWITCH_TIMING,
     Client,
     FaultyPty,
@@ -53,7 +54,7 @@ def small_station(tmp_path: Path, port: Path,
     data["Switches"][0]["Port"] = str(port)
     data["UseN1MMLogger"] = True
     data["N1MMLogger"] = [{"Address": "127.0.0.1", "Station": 1}]
-    return Station.make(tmp_path, data, switch_timing)
+    return Station.make(tmp_path, data, switch_timing, QUICK_SAVES)
 
 
 async def test_emulator_killed_mid_transmit_and_started_again(tmp_path: Path) -> None:

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from fault_harness import (
     FAULT_MARKS,
+    QUICK_SAVES,
     SWITCH_TIMING,
     Client,
     ScriptedSwitch,
@@ -32,7 +33,7 @@ async def test_second_switch_fails_while_the_first_keeps_working(tmp_path: Path)
     data["Switches"][1]["Port"] = str(two.link)
     data["N1MMLogger"] = [{"Address": "127.0.0.1", "Station": 1}]
     data["StartMOASRotator"] = False
-    station = Station.make(tmp_path, data, SWITCH_TIMING)
+    station = Station.make(tmp_path, data, SWITCH_TIMING, QUICK_SAVES)
     server = await station.server("--no-rotator-program")
     try:
         client = await Client.connect(station.tcp, server)

@@ -26,7 +26,7 @@ from moas_gui.config import load_config
 from moas_gui.engine import Engine, EngineError
 from moas_gui.engine.snapshot import restore_selections
 from moas_gui.sources.n1mm_packet import radio_info_packet
-from moas_gui.state_store import decode, fingerprint, state_path
+from moas_gui.state_store import SAVE_DELAY_HOOK, decode, fingerprint, state_path
 
 pytestmark = [
     pytest.mark.realtime,
@@ -152,8 +152,12 @@ class Station:
 async def station(tmp_path: Path) -> AsyncIterator[Station]:
     runtime = tmp_path / "run"
     runtime.mkdir(mode=0o700)
+    # the servers write their state at most every 0.1 s (the test hook; the real second
+    # only made the first journey wait for its save, and gave the heavy traffic's kills
+    # fewer writes to land in)
     env = dict(os.environ, PYTHONUNBUFFERED="1", XDG_RUNTIME_DIR=str(runtime),
-               XDG_CONFIG_HOME=str(tmp_path / "config"), XDG_STATE_HOME=str(tmp_path / "state"))
+               XDG_CONFIG_HOME=str(tmp_path / "config"), XDG_STATE_HOME=str(tmp_path / "state"),
+               **{SAVE_DELAY_HOOK: "0.1"})
     link = tmp_path / "moas1"
     emulator = await Process.start("-m", "moas_gui.cli.emulator", "--headless", "--link",
                                    str(link), "--log-level", "info", env=env)

@@ -63,8 +63,11 @@ def install_fresh(base: Path) -> Path:
     assert made.returncode == 0, made.stderr
     scripts = fresh / ("Scripts" if WINDOWS else "bin")
     python = scripts / ("python.exe" if WINDOWS else "python")
+    # (--no-compile: pip's byte-compiling of every module, which never fails an install,
+    # is left to the imports of the programs run below, for what they load)
     done = run(sys.executable, "-m", "pip", "--python", python, "install", "--quiet",
-               "--no-deps", "--no-index", "--disable-pip-version-check", wheels[0])
+               "--no-deps", "--no-index", "--disable-pip-version-check", "--no-compile",
+               wheels[0])
     assert done.returncode == 0, done.stdout + done.stderr
     purelib = run(python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])")
     (Path(purelib.stdout.strip()) / "borrowed-libraries.pth").write_text(

@@ -1,4 +1,6 @@
-"""``moas-server --check`` as a user runs it: a separate process, its output and exit status."""
+"""``moas-server --check`` as a user runs it: a separate process, its output and exit status
+(every example checked through the same ``main`` in this process, one process in all for
+them: what a process adds, the exit status and the streams, the other tests see)."""
 
 from __future__ import annotations
 
@@ -7,6 +9,8 @@ import sys
 from pathlib import Path
 
 import pytest
+
+from moas_gui.cli import server
 
 pytestmark = pytest.mark.realtime  # each check is a moas-server process
 
@@ -18,14 +22,19 @@ def run_check(path: Path | str) -> subprocess.CompletedProcess[str]:
                           capture_output=True, text=True, check=False, timeout=60)
 
 
-def test_every_example_is_usable_and_summarised() -> None:
+def test_every_example_is_usable_and_summarised(capsys: pytest.CaptureFixture[str]) -> None:
     examples = sorted(EXAMPLES.glob("*.moas"))
     assert examples, "the examples folder holds the example stations"
+    first = run_check(examples[0])  # as a user runs it ...
+    assert first.returncode == 0, first.stdout + first.stderr
+    assert server.main(["--check", str(examples[0])]) == 0  # ... and as this test does
+    assert capsys.readouterr().out == first.stdout
     for example in examples:
-        done = run_check(example)
-        assert done.returncode == 0, done.stdout + done.stderr
-        assert "Switches:" in done.stdout and "Antennas per band:" in done.stdout
-        assert "error" not in done.stdout
+        status = server.main(["--check", str(example)])
+        out, err = capsys.readouterr()
+        assert status == 0, out + err
+        assert "Switches:" in out and "Antennas per band:" in out
+        assert "error" not in out
 
 
 def test_a_broken_file_lists_every_problem_with_its_place_and_exits_1(tmp_path: Path) -> None:

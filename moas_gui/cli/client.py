@@ -20,6 +20,7 @@ import sys
 
 from moas_gui import __version__
 from moas_gui.aio import CleanStop, run_until_stopped
+from moas_gui.cli.options import HelpFormatter
 from moas_gui.client.address import DEFAULT_HOST, DEFAULT_PORT, parse_address
 from moas_gui.places import output_without_console
 from moas_gui.sources.spec import SourceSpec, parse_spec
@@ -29,7 +30,7 @@ EXIT_NEVER_CONNECTED = 3
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="moas-client",
+        prog="moas-client", formatter_class=HelpFormatter,
         description="The MOAS button and compass client: antenna buttons and rotator "
                     "control for one radio, from any computer on the station's network.")
     parser.add_argument("address", nargs="?", default=None, metavar="HOST[:PORT]",

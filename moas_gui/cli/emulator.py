@@ -62,14 +62,14 @@ from ..hw.moas2.emulator.serve import (
 )
 from ..hw.moas2.errors import PortError
 from ..places import output_without_console
-from .options import add_log_level, log_level_number
+from .options import HelpFormatter, add_log_level, log_level_number
 
 log = logging.getLogger("moas_gui.cli.emulator")
 
 
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
-        prog="moas-emulator",
+        prog="moas-emulator", formatter_class=HelpFormatter,
         description="Emulate a YCCC MOAS II switch on a pseudo-terminal or a serial port.",
     )
     p.add_argument("--headless", action="store_true", help="no window; stop with Ctrl-C")

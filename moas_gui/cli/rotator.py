@@ -21,7 +21,7 @@ from typing import Any
 
 from moas_gui import __version__
 from moas_gui.aio import CleanStop, run_until_stopped
-from moas_gui.cli.options import add_log_level, log_level_number
+from moas_gui.cli.options import HelpFormatter, add_log_level, log_level_number
 from moas_gui.hw.rotators.controllers.base import DEFAULT_SPEED, UnknownModel
 from moas_gui.hw.rotators.controllers.models import find_model, known_models
 from moas_gui.hw.rotators.moas_rotator_codec import PORT
@@ -32,7 +32,7 @@ log = logging.getLogger("moas_gui.cli.rotator")
 
 def _arguments(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
-        prog="moas-rotator",
+        prog="moas-rotator", formatter_class=HelpFormatter,
         description="The MOAS Rotator program: drives rotator controllers on serial ports "
                     "for a MOAS Server connecting on TCP.",
     )

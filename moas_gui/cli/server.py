@@ -24,7 +24,7 @@ from moas_gui.cli.antenna_log import export_antenna_log
 from moas_gui.cli.antenna_log import wants_export as wants_antenna_log_export
 from moas_gui.cli.builder import add_arguments as add_builder_arguments
 from moas_gui.cli.builder import builder_command, wants_builder
-from moas_gui.cli.options import add_log_level, log_level_number
+from moas_gui.cli.options import HelpFormatter, add_log_level, log_level_number
 from moas_gui.places import output_without_console
 
 if TYPE_CHECKING:  # loaded only by the commands that serve (--check and --plan stay quick)
@@ -54,7 +54,7 @@ class RunningServer(Protocol):
 
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="moas-server",
+        prog="moas-server", formatter_class=HelpFormatter,
         description="The MOAS II antenna switch server. With FILE, opens that configuration.")
     parser.add_argument("file", nargs="?", help="a .moas configuration file")
     parser.add_argument("--check", action="store_true",

@@ -27,9 +27,10 @@ about 150 ms), or inside code that keeps every other thread out, says so instead
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import faulthandler
 import logging
-import tempfile
+import os
 import threading
 import time
 from dataclasses import dataclass
@@ -155,7 +156,7 @@ class LoopWatch:
 
     # -- the watching thread --------------------------------------------------------------
     def _look_forever(self) -> None:
-        with tempfile.TemporaryFile() as sink:
+        with scratch_file() as sink:
             while not self._stop.wait(self._until_overdue()):
                 self.wakes += 1
                 turn = self.turns
@@ -174,6 +175,20 @@ class LoopWatch:
         looked at, a look's period."""
         overdue = self._last_run + self.look_after - time.monotonic()
         return max(LOOK_EVERY if overdue <= 0 else overdue, 0.001)
+
+
+def scratch_file() -> IO[bytes]:
+    """An unnamed file for :func:`loop_stack`'s dumps: a file in memory where the system
+    makes them (Linux's ``memfd_create``), else a temporary file (:mod:`tempfile`, which
+    loads :mod:`shutil` and its compressors, is then loaded; on Linux a start does without
+    it)."""
+    make = getattr(os, "memfd_create", None)
+    if make is not None:
+        with contextlib.suppress(OSError):
+            return open(make("moas-loop-stack", os.MFD_CLOEXEC), "w+b")
+    import tempfile  # only where there is no memory file
+
+    return tempfile.TemporaryFile()
 
 
 def loop_stack(sink: IO[bytes], thread: int) -> str:

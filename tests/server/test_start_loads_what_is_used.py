@@ -111,13 +111,17 @@ def test_the_written_out_flex_port_is_the_api_port() -> None:
 
 
 SHORT_PROGRAMS_PROBE = """
-import json, sys
+import json, os, sys
 import moas_gui.cli.rotator, moas_gui.rotator_program.program
 import moas_gui.cli.emulator, moas_gui.cli.client, moas_gui.cli.server
 from moas_gui.sources.spec import parse_spec
 parse_spec("rigctld:127.0.0.1:4532,station=1,radio=1")
 seen = {"start": sorted(m for m in sys.modules if m in WATCHED)}
 from moas_gui import places
+os.environ["XDG_STATE_HOME"] = os.path.abspath("given-state")
+places.state_dir()
+seen["a given directory asked for"] = "platformdirs" in sys.modules
+del os.environ["XDG_STATE_HOME"]
 places.state_dir()
 seen["a directory asked for"] = "platformdirs" in sys.modules
 from moas_gui.hw.rotators import RotatorManager
@@ -134,7 +138,8 @@ def test_the_short_programs_start_without_what_they_do_not_use() -> None:
     configuration package hands out its model and reader only when asked for.
     ``moas-emulator``, ``moas-client`` and ``moas-server --check`` start without
     platformdirs (and the tempfile, shutil and random it brings): the directories are
-    looked up when first asked for.  One process imports the programs' modules; what each
+    looked up when first asked for, and a state directory given by ``$XDG_STATE_HOME``
+    (every test's server is given one) without it.  One process imports the programs' modules; what each
     loads when asked for is seen loaded then, so the check can fire."""
     watched = ["moas_gui.config.model", "moas_gui.config.loader", "moas_gui.hw.rotators.base",
                "moas_gui.hw.rotators.manager", "platformdirs"]
@@ -142,7 +147,8 @@ def test_the_short_programs_start_without_what_they_do_not_use() -> None:
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
                           timeout=60, check=False)
     assert done.returncode == 0, done.stderr
-    assert json.loads(done.stdout) == {"start": [], "a directory asked for": True,
+    assert json.loads(done.stdout) == {"start": [], "a given directory asked for": False,
+                                       "a directory asked for": True,
                                        "the rotator manager asked for": True}, done.stdout
 
 

@@ -9,7 +9,6 @@ object came from, so later checks can point at the right line.
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -128,6 +127,8 @@ class Reading:
 
 
 def _unknown(key: str, spec: GroupSpec, label: str) -> str:
+    import difflib  # only for a key the file misspelt
+
     close = difflib.get_close_matches(key, list(spec.fields), n=1, cutoff=0.6)
     hint = f' (did you mean "{close[0]}"?)' if close else ""
     return f'unknown name "{key}" in {label}{hint}; it is ignored'

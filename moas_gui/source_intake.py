@@ -34,6 +34,7 @@ from moas_gui.engine.focus import FocusKind, FocusTable, active_first
 from moas_gui.engine.operations import Operation, Select, SetFrequency
 from moas_gui.sources.base import (
     ActiveRadio,
+    AuxAntenna,
     FocusRadio,
     FrequencyReport,
     RunOrSearch,
@@ -41,7 +42,6 @@ from moas_gui.sources.base import (
     event_key,
 )
 from moas_gui.sources.log_bursts import BurstLog
-from moas_gui.sources.otrsp import AuxAntenna
 
 log = logging.getLogger(__name__)
 

@@ -94,6 +94,19 @@ class RunOrSearch:
     origin: str
 
 
+@dataclass(frozen=True, slots=True)
+class AuxAntenna:
+    """The logger chose antenna ``antenna`` (this server's ID) for ``radio`` of ``station``
+    by OTRSP AUX value ``aux`` (the OTRSP source's event; here so that the server takes
+    it without loading that source where no OTRSP port is set)."""
+
+    station: int
+    radio: int
+    antenna: int
+    aux: int
+    origin: str
+
+
 SourceEvent: TypeAlias = FrequencyReport | ActiveRadio | FocusRadio | RunOrSearch
 SourceSink: TypeAlias = Callable[[SourceEvent], object]
 """Where a source hands its events (the app's entry into the engine, or the client link)."""
@@ -301,6 +314,7 @@ __all__ = [
     "MAX_KHZ",
     "RETRY_LIMIT",
     "ActiveRadio",
+    "AuxAntenna",
     "BadInputLog",
     "Bursts",
     "ConnectionLog",

@@ -38,6 +38,7 @@ from moas_gui.sources.base import (
     DEFAULT_RETRY,
     RETRY_LIMIT,
     ActiveRadio,
+    AuxAntenna,
     BadInputLog,
     ConnectionLog,
     FocusRadio,
@@ -56,18 +57,6 @@ from moas_gui.sources.otrsp_command import (
 log = logging.getLogger(__name__)
 
 DEVICE_NAME = "moas-gui"
-
-
-@dataclass(frozen=True, slots=True)
-class AuxAntenna:
-    """The logger chose antenna ``antenna`` (this server's ID) for ``radio`` of ``station``
-    by OTRSP AUX value ``aux``."""
-
-    station: int
-    radio: int
-    antenna: int
-    aux: int
-    origin: str
 
 
 @dataclass(frozen=True, slots=True)

@@ -23,20 +23,20 @@ from typing import TYPE_CHECKING, TypeVar
 
 from moas_gui.config.model import Config
 from moas_gui.sources.base import DEFAULT_RETRY, Bursts, SourceHub, SourceSink
-from moas_gui.sources.otrsp import OtrspSource
 from moas_gui.sources.polling import PolledRig
 from moas_gui.sources.spec import SourceSpec, config_specs, make_source
 from moas_gui.sources.udp import DatagramSource
 
 if TYPE_CHECKING:
     # The listeners a configuration may leave off (N1MM Logger, DXLog.net, Win-Test,
-    # N1MM's rotor window, FlexRadios) are loaded when it turns them on: a station
+    # N1MM's rotor window, FlexRadios, OTRSP ports) are loaded when it turns them on: a station
     # without them starts without their codecs.
     from moas_gui.sources.dxlog import DXLogListener
     from moas_gui.sources.flex import FlexSource
     from moas_gui.sources.flex_api import RadioRef, SliceMap
     from moas_gui.sources.n1mm import ContactCallback, N1MMListener
     from moas_gui.sources.n1mm_rotor import N1MMRotorServer
+    from moas_gui.sources.otrsp import OtrspSource
     from moas_gui.sources.wintest import WinTestListener
 
 log = logging.getLogger(__name__)
@@ -151,7 +151,10 @@ class ServerSources:
                 self.polled.append(source)
                 log.info("Polling %s for station %d radio %d, %g times a second",
                          source.origin, source.station, source.radio, 1.0 / source.interval)
-            elif isinstance(source, OtrspSource):
+            elif spec.kind == "otrsp":  # make_source loaded the OTRSP source for it
+                from moas_gui.sources.otrsp import OtrspSource
+
+                assert isinstance(source, OtrspSource)
                 self.otrsp.append(source)
                 log.info("Reading OTRSP on %s for station %d", source.port,
                          source.mapping.station)

@@ -44,6 +44,7 @@ NOT_USED = {
     "moas_gui.sources.flex", "moas_gui.sources.flex_api", "moas_gui.sources.flex_discovery",
     "moas_gui.sources.dxlog", "moas_gui.sources.wintest", "moas_gui.sources.wintest_frame",
     "moas_gui.sources.n1mm_rotor", "moas_gui.sources.n1mm_rotor_packet",
+    "moas_gui.sources.otrsp", "moas_gui.sources.otrsp_command",
     # the Antenna Genius front (no AGPort) and the rotctld ports (no RotctldPort)
     "moas_gui.net.antenna_genius", "moas_gui.net.antenna_genius.server",
     "moas_gui.net.antenna_genius.codec", "moas_gui.net.antenna_genius.access",

@@ -17,6 +17,8 @@ class ServerState(str, Enum):
 
 @dataclass(frozen=True, slots=True)
 class ServerStatus:
+    """What the window's status bar and tray icon show of the server."""
+
     state: ServerState = ServerState.NO_CONFIG
     file: str | None = None
     switches: tuple[tuple[int, str], ...] = ()

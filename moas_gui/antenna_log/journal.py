@@ -135,6 +135,9 @@ class AntennaInfo:
 
 @dataclass(frozen=True, slots=True)
 class JournalStats:
+    """The journal writer's counts of records queued, written, failed, dropped and
+    refused."""
+
     queued: int
     written: int
     failed: int

@@ -36,17 +36,23 @@ Scalar = str | int | float | bool | None
 
 @dataclass(slots=True, eq=False)
 class Node:
+    """A value of the file, with the line and column it starts at (1-based)."""
+
     line: int
     column: int
 
 
 @dataclass(slots=True, eq=False)
 class JScalar(Node):
+    """A string, number, true, false or null."""
+
     value: Scalar
 
 
 @dataclass(slots=True, eq=False)
 class Member:
+    """A key of a group and its value, with where the key is."""
+
     key: str
     line: int
     column: int
@@ -55,6 +61,9 @@ class Member:
 
 @dataclass(slots=True, eq=False)
 class JObject(Node):
+    """A group ``{ }``: its members in the file's order (a name given twice is kept twice,
+    and reported)."""
+
     members: list[Member] = field(default_factory=list)
 
     def get(self, key: str) -> Member | None:
@@ -66,6 +75,8 @@ class JObject(Node):
 
 @dataclass(slots=True, eq=False)
 class JArray(Node):
+    """A list ``[ ]``: its items in order."""
+
     items: list[Node] = field(default_factory=list)
 
 

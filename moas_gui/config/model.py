@@ -63,6 +63,8 @@ ALL_FREQUENCIES = FrequencyRange()
 
 @dataclass(frozen=True, slots=True)
 class TemplateInfo:
+    """What an antenna template says of one frequency range: elements, 3 dB beamwidth, lobes."""
+
     range: FrequencyRange = ALL_FREQUENCIES
     elements: int | None = None
     beamwidth_3db: float | None = None
@@ -71,6 +73,8 @@ class TemplateInfo:
 
 @dataclass(frozen=True, slots=True)
 class Template:
+    """An antenna template: maker and model, and what it is on each of its ranges."""
+
     name: str
     manufacturer: str = ""
     model: str = ""
@@ -106,6 +110,8 @@ class ControlRange:
 
 @dataclass(frozen=True, slots=True)
 class Antenna:
+    """An antenna (or an additive one made of others), its names, flags and relays per range."""
+
     id: int
     display_name: str = ""
     template: str = ""
@@ -139,6 +145,8 @@ class Antenna:
 
 @dataclass(frozen=True, slots=True)
 class System:
+    """A system of antennas (stacks, arrays): its member antennas and systems by kind."""
+
     id: int
     display_name: str = ""
     antenna_count: int | None = None
@@ -162,6 +170,8 @@ class System:
 
 @dataclass(frozen=True, slots=True)
 class Function:
+    """A function button's action (one of :data:`FUNCTION_NAMES`) with its parameters."""
+
     id: int
     name: str
     """One of :data:`FUNCTION_NAMES`."""
@@ -178,6 +188,8 @@ class Function:
 
 @dataclass(frozen=True, slots=True)
 class Button:
+    """One button of a layout's matrix: where it sits and the antenna, system or function it is."""
+
     row: int
     column: int
     type: ButtonType
@@ -186,12 +198,16 @@ class Button:
 
 @dataclass(frozen=True, slots=True)
 class MatrixEntry:
+    """The buttons a layout shows on one frequency range."""
+
     range: FrequencyRange = ALL_FREQUENCIES
     buttons: tuple[Button, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
 class Layout:
+    """A button layout: its size, the station and radio it is for, and its matrix by range."""
+
     rows: int = 0
     columns: int = 0
     station: int | None = None
@@ -201,6 +217,8 @@ class Layout:
 
 @dataclass(frozen=True, slots=True)
 class RelativeRange:
+    """The antennas (and receive antennas) a radio may use on one frequency range."""
+
     range: FrequencyRange = ALL_FREQUENCIES
     ids: tuple[int, ...] = ()
     rx_ids: tuple[int, ...] | None = None
@@ -208,6 +226,8 @@ class RelativeRange:
 
 @dataclass(frozen=True, slots=True)
 class RelativeAntennas:
+    """The antennas one station and radio may use, by frequency range."""
+
     station: int | None = None
     radio: int | None = None
     antennas: tuple[RelativeRange, ...] = ()
@@ -215,6 +235,8 @@ class RelativeAntennas:
 
 @dataclass(frozen=True, slots=True)
 class Rotator:
+    """A rotator: its names, travel, the controller that drives it and how to reach it."""
+
     id: int
     short_name: str = ""
     long_name: str = ""
@@ -254,6 +276,8 @@ class RadioRef(NamedTuple):
 
 @dataclass(frozen=True, slots=True)
 class SwitchPort:
+    """A port of a switch a radio is wired to."""
+
     switch: int
     port: int
 
@@ -281,6 +305,8 @@ class TransmitRelays:
 
 @dataclass(frozen=True, slots=True)
 class Radio:
+    """A radio of a station: the switch ports it is wired to and its rules with other radios."""
+
     station: int
     radio: int
     switches: tuple[SwitchPort, ...] = ()
@@ -307,6 +333,8 @@ class Radio:
 
 @dataclass(frozen=True, slots=True)
 class Switch:
+    """A MOAS II switch: the serial port (or the built-in emulator) and how it is driven."""
+
     id: int
     port: str
     """``"emulator"`` for the built-in emulator, otherwise a serial port name."""
@@ -327,6 +355,8 @@ class Switch:
 
 @dataclass(frozen=True, slots=True)
 class N1MMStation:
+    """An N1MM Logger+ computer, by address or station name, and the station it is."""
+
     address: str = ""
     station: int = 0
     station_name: str = ""

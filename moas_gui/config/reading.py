@@ -136,6 +136,10 @@ def _unknown(key: str, spec: GroupSpec, label: str) -> str:
 
 @dataclass(frozen=True, slots=True)
 class Field:
+    """How one key of a group is read: the attribute it fills (None: read and checked
+    only), its kind, whether the group needs it, and what it means (for the message when
+    it is missing)."""
+
     attr: str | None
     kind: Kind
     required: bool = False
@@ -144,6 +148,8 @@ class Field:
 
 @dataclass(frozen=True, slots=True)
 class GroupSpec:
+    """How a group is read: its keys, and what builds the object from their values."""
+
     fields: dict[str, Field]
     build: Callable[[dict[str, Any]], object]
 

@@ -27,6 +27,8 @@ from .work import Work, radio_name
 
 @dataclass(frozen=True, slots=True)
 class Status:
+    """Whether a function can be used now, and why not when it cannot."""
+
     available: bool
     reason: str = ""
 

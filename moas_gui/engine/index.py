@@ -39,6 +39,9 @@ class RadioKind(str, Enum):
 
 @dataclass(frozen=True, slots=True)
 class IndexedRadio:
+    """A radio as the engine looks it up: its kind, the radios it goes with, its
+    switch ports, and the paths and frequency segments of the antennas it can use."""
+
     ref: RadioRef
     kind: RadioKind
     radio: Radio

@@ -145,6 +145,9 @@ def _alternate_relays(ix: ConfigIndex, st: State, info: IndexedRadio, rs: RadioS
 
 @dataclass(slots=True)
 class Built:
+    """What building the outputs gives: each switch's state, and who owns each of its
+    station 0 relays."""
+
     states: dict[int, SwitchState]
     station0_owner: dict[int, dict[int, RadioRef | None]]
     """Per switch: each station 0 relay and the radio it belongs to (None: nobody)."""

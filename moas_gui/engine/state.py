@@ -19,6 +19,9 @@ from .why import Why
 
 @dataclass(frozen=True, slots=True)
 class RadioState:
+    """What the engine holds of one radio: its frequencies, its transmit and receive
+    antennas, whether it transmits, and where it is in its relative antenna list."""
+
     khz: float | None = None
     tx_khz: float | None = None
     """The transmit frequency when split; None means the same as ``khz``."""

@@ -34,12 +34,16 @@ class Link(str, Enum):
 
 @dataclass(frozen=True, slots=True)
 class Membership:
+    """The system an antenna or a system is listed in, and how (its link)."""
+
     system: int
     link: Link
 
 
 @dataclass(frozen=True, slots=True)
 class SystemIndex:
+    """Where each antenna and system sits in the station's systems."""
+
     antenna_parent: Mapping[int, Membership]
     """Canonical antenna id -> the system it is listed in."""
     system_parent: Mapping[int, Membership]

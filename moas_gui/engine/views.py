@@ -86,6 +86,8 @@ UNAVAILABLE = "unavailable"
 
 @dataclass(frozen=True, slots=True)
 class ButtonView:
+    """One button as a client shows it: its place, what it is, its label and state."""
+
     row: int
     column: int
     type: str

@@ -57,6 +57,9 @@ class Kind(Enum):
 
 @dataclass(frozen=True, slots=True)
 class Arg:
+    """One argument of a client command: its name, kind, whether it is needed, its
+    default and its description."""
+
     name: str
     kind: Kind
     required: bool = True
@@ -66,6 +69,8 @@ class Arg:
 
 @dataclass(frozen=True, slots=True)
 class Command:
+    """A client command: its arguments, what it answers, and its description."""
+
     name: str
     args: tuple[Arg, ...]
     result: str

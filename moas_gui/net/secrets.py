@@ -126,6 +126,8 @@ class SecretWorker:
 
 @dataclass(slots=True)
 class _Failures:
+    """One key's failures so far, when the last one was, and its checks under way."""
+
     count: int
     last: float
     checking: int = 0

@@ -60,6 +60,9 @@ class CrowdLimiter:
 
 @dataclass(slots=True)
 class _Burst:
+    """One key's burst: when it began, until when its lines are held, how many were
+    held, the last one held, and the timer that ends it."""
+
     began: float
     """The wall-clock time of the first line (for the count's "since")."""
     until: float

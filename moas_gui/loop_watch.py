@@ -31,6 +31,7 @@ import contextlib
 import faulthandler
 import logging
 import os
+import sys
 import threading
 import time
 from dataclasses import dataclass
@@ -178,14 +179,12 @@ class LoopWatch:
 
 
 def scratch_file() -> IO[bytes]:
-    """An unnamed file for :func:`loop_stack`'s dumps: a file in memory where the system
-    makes them (Linux's ``memfd_create``), else a temporary file (:mod:`tempfile`, which
-    loads :mod:`shutil` and its compressors, is then loaded; on Linux a start does without
-    it)."""
-    make = getattr(os, "memfd_create", None)
-    if make is not None:
+    """An unnamed file for :func:`loop_stack`'s dumps: a file in memory on Linux
+    (``memfd_create``), else a temporary file (:mod:`tempfile`, which loads :mod:`shutil`
+    and its compressors: a Linux start does without them)."""
+    if sys.platform == "linux":
         with contextlib.suppress(OSError):
-            return open(make("moas-loop-stack", os.MFD_CLOEXEC), "w+b")
+            return open(os.memfd_create("moas-loop-stack", os.MFD_CLOEXEC), "w+b")
     import tempfile  # only where there is no memory file
 
     return tempfile.TemporaryFile()

@@ -56,6 +56,10 @@ NOT_USED = {
     "moas_gui.hw.moas2.emulator.model",
     # ctypes and the C library's malloc_trim, until a crowd of clients has left
     "ctypes",
+    # the standard library's heavier helpers: shutil (with bz2 and lzma) for help text
+    # widths, tempfile for the loop watcher's scratch file, platformdirs for a state
+    # directory $XDG_STATE_HOME gives, difflib for a misspelt key's suggestion
+    "shutil", "lzma", "bz2", "tempfile", "platformdirs", "difflib",
 }
 """Modules of parts small-station.moas does not have: loaded only when a station has them."""
 

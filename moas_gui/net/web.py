@@ -34,6 +34,8 @@ with a Close 1002, as RFC 6455 requires (:mod:`.web_frames`).  ``docs/web-client
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import html
 import logging
 import math
@@ -42,9 +44,9 @@ import time
 from collections.abc import Awaitable, Callable, Mapping
 from dataclasses import dataclass
 from importlib import resources
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
-from aiohttp import web
+from aiohttp import WSCloseCode, web
 
 from moas_gui.edge.admission import Ticket, checking
 from moas_gui.edge.gate import gate_of
@@ -119,6 +121,10 @@ MAX_REPORT_HOURS = 24 * 31
 
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
 
+STOP_GRACE: Final = 0.5
+"""Seconds a stop gives the pages' WebSockets to close (a page answers at once), and
+then aiohttp's request handlers to end."""
+
 _TICKET: web.RequestKey[Ticket] = web.RequestKey("ticket", Ticket)
 """A request's connection's admission ticket (its peer on it), set by the guard."""
 
@@ -138,6 +144,8 @@ class WebServer:
         self._files = page_files()
         self._names = local_names()
         self._runner: web.AppRunner | None = None
+        self._pages: set[web.WebSocketResponse] = set()
+        """The pages' open WebSockets, which a stop closes first."""
         self._listener: Listener | None = None
         self._quiet = QuietAiohttp(clients.trouble)
         self._closing = False
@@ -149,7 +157,8 @@ class WebServer:
         app.router.add_get("/ws", self._websocket)
         app.router.add_get("/report", self._report)
         app.router.add_get("/{name:.*}", self._static)
-        runner = web.AppRunner(app, access_log=None, handle_signals=False, shutdown_timeout=0.5,
+        runner = web.AppRunner(app, access_log=None, handle_signals=False,
+                               shutdown_timeout=STOP_GRACE,
                                keepalive_timeout=self.request_deadline, lingering_time=1.0)
         await runner.setup()
         assert runner.server is not None
@@ -183,6 +192,13 @@ class WebServer:
         if self._listener is not None:
             listener, self._listener = self._listener, None
             await listener.close()
+        if self._pages:  # told "going away", each page answers and its handler ends:
+            # aiohttp's shutdown then has no handler to wait out (a second, before)
+            closing = [page.close(code=WSCloseCode.GOING_AWAY, message=b"server stopping")
+                       for page in list(self._pages)]
+            with contextlib.suppress(TimeoutError):
+                async with asyncio.timeout(STOP_GRACE):
+                    await asyncio.gather(*closing, return_exceptions=True)
         if self._runner is not None:
             runner, self._runner = self._runner, None
             await runner.cleanup()
@@ -254,7 +270,11 @@ class WebServer:
                                       "unmasked frames; WebSockets are refused")
             await ws.close(code=1011)
             return ws
-        await converse(self.clients, ws, ticket)
+        self._pages.add(ws)
+        try:
+            await converse(self.clients, ws, ticket)
+        finally:
+            self._pages.discard(ws)
         return ws
 
     async def _report(self, request: web.Request) -> web.StreamResponse:

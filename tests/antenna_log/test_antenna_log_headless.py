@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import html
+import math
 import re
 import shutil
 import socket
@@ -102,12 +103,14 @@ def names(config: Path) -> dict[int, str]:
 
 
 async def landed(reader: Journal, station: int, radio: int) -> str:
-    """The radio's transmit antenna once the journal has one, a second after it landed
-    (a logger's timestamp has whole seconds)."""
+    """The radio's transmit antenna once the journal has its transmit and receive
+    antennas and the clock is past the next whole second after they landed (a logger's
+    timestamp has whole seconds: a contact stamped now then falls within both)."""
     def found() -> bool:
         spans = [s for s in reader.antenna_spans(EVER)
-                 if (s.station, s.radio, s.role) == (station, radio, "tx") and s.antenna]
-        return bool(spans) and time.time() > spans[-1].start + 1.1
+                 if (s.station, s.radio) == (station, radio) and s.antenna]
+        return ({"tx", "rx"} <= {s.role for s in spans}
+                and time.time() >= math.ceil(max(s.start for s in spans)))
     await until(found, timeout=20, what=f"radio {station}/{radio}'s antenna in the journal")
     return [s for s in reader.antenna_spans(EVER)
             if (s.station, s.radio, s.role) == (station, radio, "tx")][-1].antenna

@@ -20,7 +20,7 @@ import pytest
 from client_support import LOOPBACK, run_on_qt
 from helpers import free_port, until
 from test_journeys_server import Server, normal
-from web_station import blank, browser_missing
+from web_station import blank, browser_missing, wait_in_page
 
 from moas_gui.client import Backoff, ButtonState, ButtonType, ClientConnection, LinkState
 from moas_gui.ui.client_window import ClientWindow
@@ -51,23 +51,17 @@ class Page:
         return await asyncio.to_thread(self.driver.execute_script, script)
 
     async def until(self, script: str, what: str, timeout: float = PATIENCE) -> Any:
-        loop = asyncio.get_running_loop()
-        end = loop.time() + timeout
-        while True:
-            value = await self.js(script)
-            if value:
-                return value
-            if loop.time() > end:
-                raise AssertionError(f"the page did not show {what} in {timeout} s")
-            await asyncio.sleep(0.05)
+        """The page looks itself (one call to the browser a wait, not one every 50 ms)."""
+        return await wait_in_page(self.driver, script, timeout, what)
 
     async def tap(self, css: str) -> None:
+        """A tap where a finger puts it: the pointer there at once (not Selenium's 250 ms glide)."""
         from selenium.webdriver.common.action_chains import ActionChains
         from selenium.webdriver.common.by import By
 
         def do() -> None:
             element = self.driver.find_element(By.CSS_SELECTOR, css)
-            ActionChains(self.driver).move_to_element(element).click().perform()
+            ActionChains(self.driver, duration=0).move_to_element(element).click().perform()
         await asyncio.to_thread(do)
 
     async def selected(self) -> list[str]:

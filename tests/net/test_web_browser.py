@@ -54,13 +54,15 @@ def button(radio: int, antenna: int) -> str:
 
 
 async def tap(driver: Any, css: str, dx: int = 0, dy: int = 0) -> None:
-    """A real pointer tap (pointerdown and pointerup) where a finger would put it."""
+    """A real pointer tap (pointerdown and pointerup) where a finger would put it.  The
+    pointer gets there at once, as a finger does (Selenium's default glides there over
+    250 ms, a quarter of a second of waiting a tap)."""
     from selenium.webdriver.common.action_chains import ActionChains
     from selenium.webdriver.common.by import By
 
     def do() -> None:
         element = driver.find_element(By.CSS_SELECTOR, css)
-        ActionChains(driver).move_to_element_with_offset(element, dx, dy).click().perform()
+        ActionChains(driver, duration=0).move_to_element_with_offset(element, dx, dy).click().perform()
 
     await run(do)
 
@@ -72,7 +74,7 @@ async def hold(driver: Any, css: str, seconds: float = 0.9) -> None:
 
     def do() -> None:
         element = driver.find_element(By.CSS_SELECTOR, css)
-        ActionChains(driver).click_and_hold(element).pause(seconds).release().perform()
+        ActionChains(driver, duration=0).click_and_hold(element).pause(seconds).release().perform()
 
     await run(do)
 

@@ -106,5 +106,7 @@ async def test_the_page_over_https_asks_for_a_token_once_and_keeps_it(tmp_path: 
                    for c in clients._connections)
     finally:
         await asyncio.to_thread(trust_any_certificate, driver, False)
+        # the page leaves first, as a person closes the tab before the server stops
+        await asyncio.to_thread(driver.get, "about:blank")
         await web.close()
         await clients.close()

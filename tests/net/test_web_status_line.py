@@ -73,7 +73,7 @@ async def test_every_status_message_goes_with_the_state_and_radio_it_was_shown_i
         assert sent("function") == 0
         # Why? by a right-click on any button: an available one says what a click does
         await run(lambda: __import__("selenium.webdriver.common.action_chains",
-                                     fromlist=["ActionChains"]).ActionChains(browser)
+                                     fromlist=["ActionChains"]).ActionChains(browser, duration=0)
                   .context_click(browser.find_element("css selector", antenna("Tribander")))
                   .perform())
         assert await shows(browser, "available; a click selects it", "Why? answered") \

@@ -75,10 +75,13 @@ def rotctl(hamlib: int, path: str, *commands: str,
            timeout: int = 5000) -> subprocess.Popen[str]:
     """rotctl on ``path``, pausing :data:`QUIET` ms after each command and waiting up to
     ``timeout`` ms for a reply (5 s, not rotctl's 0.4-1.5 s: on a busy machine the
-    emulator's thread can be that late, which would prove nothing)."""
+    emulator's thread can be that late, which would prove nothing).  A last command
+    ``-`` makes it read further commands from its standard input (the test writes them)."""
     assert ROTCTL is not None, "Hamlib's rotctl is missing: scripts/setup.sh --test installs it"
     conf = ["-C", f"timeout={timeout},post_write_delay={QUIET}"]
     process = subprocess.Popen([ROTCTL, "-m", str(hamlib), "-r", path, *conf, *commands],
+                               stdin=subprocess.PIPE if commands[-1:] == ("-",)
+                               else subprocess.DEVNULL,
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     RUNNING.append(process)
     return process
@@ -87,7 +90,7 @@ def rotctl(hamlib: int, path: str, *commands: str,
 def finish(process: subprocess.Popen[str]) -> tuple[int, list[float], str]:
     """Exit code, the numbers printed, and all text printed (rotctl puts errors on stdout)."""
     try:
-        out, err = process.communicate(timeout=30)
+        out, err = process.communicate(timeout=30)  # closes its standard input, if any
     except subprocess.TimeoutExpired:
         process.kill()
         out, err = process.communicate()
@@ -115,14 +118,23 @@ def test_rotctl_reads_sets_and_stops_the_emulator(host: EmulatorHost, model: str
     has_readback = maker.info.has_readback
 
     read = ["p"] if has_readback else []
-    fast_run = rotctl(hamlib, fast.path, *options, *read, "P", "200", "0", *read)
+    # the read after the set waits until the emulator has moved: read at once, a loaded
+    # machine's emulator thread could take the set and the read in the same instant
+    fast_run = rotctl(hamlib, fast.path, *options, *read, "P", "200", "0",
+                      *(["-"] if has_readback else []))
     slow_run = rotctl(hamlib, slow.path, *options, "P", "300", "0", "S", *read)
+    if has_readback:
+        wait_for(lambda: state(host, fast)[0] != START, timeout=10.0,
+                 what="the fast rotator to move after the set")
+        assert fast_run.stdin is not None
+        fast_run.stdin.write("p\n")
+        fast_run.stdin.flush()  # finish() closes it: rotctl reads no more and ends
 
     code, numbers, err = finish(fast_run)
     assert code == 0, err[-800:]
     if has_readback:
         assert numbers[0] == pytest.approx(START, abs=0.05)
-        # Some models read at once after the set: the turn is under way, or over.
+        # read once the emulator moved: the turn is under way, or over
         assert numbers[2] != START
     # the last turn ends (a Hy-Gain box may have more than 300 degrees to go: 0.2 s)
     wait_for(lambda: not state(host, fast)[1], timeout=2.0, what="the fast turn to end")
